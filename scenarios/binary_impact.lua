@@ -1,0 +1,149 @@
+-- Binary impact of two spheres (dissertation 3.4, Fig. 3.3; Table 3.1 defaults),
+-- or of one sphere on a flat wall (target = "wall").
+--
+-- Sphere A comes from the left, B from the right; their relative velocity has
+-- magnitude `velocity` and makes `angle` degrees with the line of centres
+-- (0 = head-on). Each sphere spins at `spin` rad/s about z. The run records the
+-- force paths of Figs 3.4-3.8 into the /impact series and prints one summary line.
+--
+--   granule run scenarios/binary_impact.lua -D velocity=1 -D angle=30
+--   /usr/bin/python3 tools/plot_binary_impact.py binary_impact.h5
+local granule = require "granule"
+
+local p = parameters {
+  velocity = { default = 1.0, unit = "m/s", doc = "relative impact speed" },
+  angle = { default = 0.0, unit = "deg", doc = "angle between relative velocity and line of centres" },
+  spin = { default = 0.0, unit = "rad/s", doc = "initial spin of each sphere about z" },
+  model = { default = "walton_braun", doc = "walton_braun | linear (| Thornton models when available)" },
+  target = { default = "sphere", doc = "sphere | wall" },
+  dimension = { default = 2, doc = "2 or 3" },
+  radius = { default = 0.2e-3, unit = "m" },
+  density = { default = 1200, unit = "kg/m^3" },
+  k_load = { default = 20000, unit = "N/m", doc = "loading stiffness (linear: k_normal)" },
+  restitution = { default = 0.85, unit = "-" },
+  friction = { default = 0.4, unit = "-" },
+  tangential_ratio = { default = 0.8, unit = "-", doc = "initial tangential / normal stiffness" },
+  young = { default = 0.0, unit = "Pa", doc = "Young's modulus (Thornton models)" },
+  poisson = { default = 0.0, unit = "-", doc = "Poisson's ratio (Thornton models)" },
+  surface_energy = { default = 0.0, unit = "J/m^2", doc = "surface energy (JKR model)" },
+  steps_per_contact = { default = 40, unit = "-", doc = "n of Eq. 4.1" },
+}
+
+assert(p.angle >= 0 and p.angle < 90, "angle must be in [0, 90) degrees")
+assert(p.velocity > 0, "velocity must be > 0")
+assert(p.target == "sphere" or p.target == "wall", "target must be 'sphere' or 'wall'")
+
+local sim = simulation { dimension = p.dimension, steps_per_contact = p.steps_per_contact,
+                         record_contacts = true }
+sim:material { name = "particle", density = p.density, young = p.young, poisson = p.poisson,
+               surface_energy = p.surface_energy }
+sim:material { name = "wall", density = 0, young = p.young, poisson = p.poisson,
+               surface_energy = p.surface_energy }
+
+local function law(model)
+  if model == "walton_braun" then
+    return { model = model, k_load = p.k_load, restitution = p.restitution, friction = p.friction,
+             tangential_ratio = p.tangential_ratio }
+  elseif model == "linear" then
+    return { model = model, k_normal = p.k_load, restitution = p.restitution, friction = p.friction,
+             tangential_ratio = p.tangential_ratio }
+  end
+  error("model '" .. model .. "' is not available in this build (walton_braun, linear)")
+end
+for _, other in ipairs { "particle", "wall" } do
+  local c = law(p.model)
+  c[1], c[2] = "particle", other
+  sim:contact(c)
+end
+
+local r = p.radius
+local a_dir = { math.cos(math.rad(p.angle)), math.sin(math.rad(p.angle)) }
+local function v3(t) if p.dimension == 3 then return { t[1], t[2], 0 } end return { t[1], t[2] } end
+local gap = 0.01 * r
+local spin = p.dimension == 3 and { 0, 0, p.spin } or p.spin
+local a, b
+if p.target == "sphere" then
+  a = sim:add_particle { position = v3 { -r - gap / 2, 0 }, velocity = v3(granule.vec.scale(a_dir, p.velocity / 2)),
+                         spin = spin, radius = r, material = "particle" }
+  b = sim:add_particle { position = v3 { r + gap / 2, 0 }, velocity = v3(granule.vec.scale(a_dir, -p.velocity / 2)),
+                         spin = spin, radius = r, material = "particle" }
+else
+  sim:wall_plane { name = "target", point = v3 { 0, 0 }, normal = v3 { -1, 0 }, material = "wall" }
+  a = sim:add_particle { position = v3 { -r - gap, 0 }, velocity = v3(granule.vec.scale(a_dir, p.velocity)),
+                         spin = spin, radius = r, material = "particle" }
+end
+
+local out = sim:output {}
+sim:series("impact", { "time", "overlap", "normal_force", "tangential_force" })
+
+-- Relative state of B with respect to A (or of the wall with respect to A):
+-- normal approach speed, tangential speed, and the unit normal from B to A.
+local function relative()
+  local pa = sim:particle(a)
+  local xb, vb = { r + 0, 0 }, { 0, 0 }
+  local normal
+  if b then
+    local pb = sim:particle(b)
+    xb, vb = pb.position, pb.velocity
+    normal = granule.vec.unit(granule.vec.sub(pa.position, xb))
+  else
+    normal = { -1, 0 }
+  end
+  local v = granule.vec.sub({ vb[1], vb[2] }, { pa.velocity[1], pa.velocity[2] })
+  local n2 = { normal[1], normal[2] }
+  local vn = granule.vec.dot(v, n2)
+  local tangent = { -n2[2], n2[1] }
+  return vn, granule.vec.dot(v, tangent), tangent
+end
+
+local vn_before = relative()
+local touching_steps, max_overlap, max_normal, seen, ended = 0, 0, 0, false, false
+sim:every { steps = 1, function(s)
+  local list = s:contacts()
+  if #list == 0 then
+    if seen then ended = true end
+    return
+  end
+  seen = true
+  local c = list[1]
+  local tangent = { -c.normal[2], c.normal[1] }
+  local t_signed = c.tangential_force[1] * tangent[1] + c.tangential_force[2] * tangent[2]
+  s:append("impact", { s:time(), c.overlap, c.normal_force, t_signed })
+  if c.normal_force > 0 then touching_steps = touching_steps + 1 end
+  if c.overlap > max_overlap then max_overlap = c.overlap end
+  if c.normal_force > max_normal then max_normal = c.normal_force end
+end }
+
+local dt = sim:time_step()
+local m = granule.sphere_mass(r, p.density)
+local approach_time = gap / (p.velocity * math.cos(math.rad(p.angle)))
+local contact_time = 20 * math.pi * math.sqrt(m / p.k_load)
+sim:run { duration = approach_time + contact_time, check_every = 1, stop_when = function() return ended end }
+assert(seen, "the spheres never touched")
+assert(ended, "the contact did not end within the time allowed")
+
+local vn_after, vt_after = relative()
+local result = {
+  model = p.model,
+  target = p.target,
+  velocity = p.velocity,
+  angle = p.angle,
+  rebound_normal_velocity = -vn_after,
+  rebound_tangential_velocity = vt_after,
+  spin_a = p.dimension == 2 and sim:particle(a).spin or sim:particle(a).spin[3],
+  spin_b = b and (p.dimension == 2 and sim:particle(b).spin or sim:particle(b).spin[3]) or 0,
+  restitution = -vn_after / vn_before,
+  contact_duration = touching_steps * dt,
+  max_overlap = max_overlap,
+  max_normal_force = max_normal,
+  time_step = dt,
+}
+sim:result { restitution = result.restitution, contact_duration = result.contact_duration,
+             max_overlap = result.max_overlap, max_normal_force = result.max_normal_force,
+             rebound_normal_velocity = result.rebound_normal_velocity,
+             rebound_tangential_velocity = result.rebound_tangential_velocity,
+             spin_a = result.spin_a, spin_b = result.spin_b }
+print(granule.summary_line(result, { "model", "target", "velocity", "angle", "rebound_normal_velocity",
+  "rebound_tangential_velocity", "spin_a", "spin_b", "restitution", "contact_duration", "max_overlap",
+  "max_normal_force", "time_step" }))
+io.stderr:write("wrote " .. out .. "\n")

@@ -1,0 +1,45 @@
+// What a contact model is told about one contact at one step, and what it
+// answers. Sign conventions (used by every model and by Eq. 3.10):
+//  - `normal` is the unit vector from particle j (or the wall) to particle i;
+//  - the force returned is the force ON i: normal_force * normal + tangential;
+//    j receives the opposite;
+//  - `tangential_velocity` is the velocity of j's contact point relative to
+//    i's, projected on the tangent plane (Eq. 3.10 divided by dt), so friction
+//    on i points along it.
+#pragma once
+
+#include "core/types.hpp"
+
+namespace granule {
+
+template <int D>
+struct ContactState {
+  Vec<D> normal;
+  double overlap;          // m, positive when the surfaces interpenetrate
+  double normal_velocity;  // m/s, rate of change of the overlap (positive: approaching)
+  Vec<D> tangential_velocity;  // m/s
+  double effective_mass;       // kg, m_i m_j / (m_i + m_j); m_i against a wall or fixed particle
+  double effective_radius;     // m, r_i r_j / (r_i + r_j); r_i against a flat wall
+  double dt;                   // s
+};
+
+template <int D>
+struct ContactForce {
+  double normal = 0;                      // N, positive = repulsive
+  Vec<D> tangential = Vec<D>::Zero();     // N, on i
+};
+
+// Steps 2-3 of Walton-Braun (Eqs. 3.7-3.8), used by every model that keeps a
+// tangential vector in its history: project onto the current tangent plane,
+// then restore the old magnitude so that a rotating contact does not lose force.
+template <int D>
+inline Vec<D> rotate_onto_plane(const Vec<D>& old, const Vec<D>& normal) {
+  double old_sq = old.squaredNorm();
+  if (old_sq == 0.0) return old;
+  Vec<D> projected = old - normal * normal.dot(old);
+  double projected_sq = projected.squaredNorm();
+  if (projected_sq <= 1e-30 * old_sq) return Vec<D>::Zero();
+  return projected * std::sqrt(old_sq / projected_sq);
+}
+
+}  // namespace granule

@@ -1,0 +1,111 @@
+// Linear spring-dashpot with a Coulomb-capped tangential spring (Cundall and
+// Strack), as LAMMPS' gran/hooke/history and LIGGGHTS' hooke define it, so
+// users of those codes can compare (SPEC 3.4; not in the dissertation).
+//
+// Normal: N = k_n a + c_n da/dt with c_n = 2 zeta sqrt(m* k_n); the damping
+// ratio zeta comes from the restitution e, e = exp(-pi zeta / sqrt(1 - zeta^2)).
+// Like LAMMPS, the normal force may turn slightly tensile at the end of an
+// impact (that is what makes the closed form exact); allow_tension = 0 clamps
+// it at zero instead, which raises the restitution a little.
+// Tangential: spring k_t = ratio * k_n on the accumulated slip, dashpot
+// c_t = ratio_damping * c_n, capped at mu |N|; the spring is shortened when
+// sliding so that it stores exactly the capped force.
+#pragma once
+
+#include <cmath>
+#include <vector>
+
+#include "contact/contact_state.hpp"
+#include "contact/parameters.hpp"
+
+namespace granule {
+
+struct LinearSpringDashpot {
+  static constexpr const char* name = "linear";
+  static constexpr const char* doc =
+      "linear spring-dashpot normal force with a Coulomb-capped tangential spring "
+      "(Cundall-Strack; LAMMPS gran/hooke/history)";
+  static constexpr bool adhesive = false;
+
+  static std::vector<ParamSpec> parameters() {
+    return {
+        {"k_normal", "N/m", required, 0, unbounded, false, "normal spring stiffness k_n"},
+        {"restitution", "-", required, 0, 1, false, "normal coefficient of restitution e"},
+        {"friction", "-", 0.0, 0, unbounded, true, "Coulomb friction coefficient mu"},
+        {"tangential_ratio", "-", 2.0 / 7.0, 0, unbounded, true, "k_t / k_n"},
+        {"tangential_damping_ratio", "-", 0.5, 0, unbounded, true,
+         "c_t / c_n (LAMMPS' default 0.5)"},
+        {"allow_tension", "-", 1, 0, 1, true,
+         "1: the dashpot may pull at the end of an impact (closed-form restitution); 0: N >= 0"},
+    };
+  }
+
+  struct Params {
+    double k_normal, damping_ratio, friction, k_tangential, tangential_damping_ratio;
+    bool allow_tension;
+  };
+
+  static double damping_ratio_for(double restitution) {
+    double l = std::log(restitution);
+    return -l / std::sqrt(pi * pi + l * l);
+  }
+
+  static Params make(const ParamValues& v) {
+    Params p;
+    p.k_normal = v.at("k_normal");
+    p.damping_ratio = damping_ratio_for(v.at("restitution"));
+    p.friction = v.at("friction");
+    p.k_tangential = v.at("tangential_ratio") * p.k_normal;
+    p.tangential_damping_ratio = v.at("tangential_damping_ratio");
+    p.allow_tension = v.at("allow_tension") != 0;
+    return p;
+  }
+
+  template <int D>
+  struct History {
+    Vec<D> slip = Vec<D>::Zero();  // accumulated tangential spring elongation, m
+  };
+
+  template <int D>
+  static bool touching(const Params&, const History<D>&, double overlap) {
+    return overlap > 0;
+  }
+
+  static double contact_duration(const Params& p, double effective_mass) {
+    double omega0 = std::sqrt(p.k_normal / effective_mass);
+    return pi / (omega0 * std::sqrt(1 - p.damping_ratio * p.damping_ratio));
+  }
+  static double rule_time_step(const Params& p, double effective_mass, double steps_per_contact) {
+    return contact_duration(p, effective_mass) / steps_per_contact;
+  }
+  static double max_frequency(const Params& p, double effective_mass) {
+    return std::sqrt(p.k_normal / effective_mass);
+  }
+
+  template <int D>
+  static ContactForce<D> force(const Params& p, History<D>& h, const ContactState<D>& c) {
+    ContactForce<D> out;
+    const double c_n = 2.0 * p.damping_ratio * std::sqrt(c.effective_mass * p.k_normal);
+    double normal = p.k_normal * c.overlap + c_n * c.normal_velocity;
+    if (!p.allow_tension && normal < 0) normal = 0;
+    out.normal = normal;
+    if (p.friction == 0 && p.k_tangential == 0) return out;
+
+    Vec<D> slip = rotate_onto_plane<D>(h.slip, c.normal) + c.tangential_velocity * c.dt;
+    const double c_t = p.tangential_damping_ratio * c_n;
+    Vec<D> t = p.k_tangential * slip + c_t * c.tangential_velocity;
+    const double limit = p.friction * std::abs(normal);
+    const double t_sq = t.squaredNorm();
+    if (t_sq > limit * limit) {
+      t *= limit / std::sqrt(t_sq);
+      // Keep the spring consistent with the capped force (LAMMPS does the same).
+      slip = p.k_tangential > 0 ? Vec<D>((t - c_t * c.tangential_velocity) / p.k_tangential)
+                                : Vec<D>(Vec<D>::Zero());
+    }
+    h.slip = slip;
+    out.tangential = t;
+    return out;
+  }
+};
+
+}  // namespace granule

@@ -1,0 +1,39 @@
+// Parameter descriptors: one list per contact model, used to validate scene
+// input, to print help in the REPL and docs, and to record provenance in the
+// HDF5 header. A parameter has a name, a unit, a default (NaN = required), a
+// valid range and a one-line doc.
+#pragma once
+
+#include <cmath>
+#include <limits>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace granule {
+
+struct ParamSpec {
+  const char* name;
+  const char* unit;
+  double default_value;  // NaN: the scene must give it
+  double min;
+  double max;
+  bool min_inclusive;
+  const char* doc;
+};
+
+constexpr double required = std::numeric_limits<double>::quiet_NaN();
+constexpr double unbounded = std::numeric_limits<double>::infinity();
+
+using ParamValues = std::map<std::string, double>;
+
+// Checks names against the spec (unknown names are errors that suggest the
+// nearest valid one), fills defaults, checks ranges. Throws InputError whose
+// message starts with `context` (e.g. "contact 'pmma'-'pmma' (walton_braun)").
+ParamValues resolve_parameters(const std::vector<ParamSpec>& spec, const ParamValues& given,
+                               const std::string& context);
+
+// The closest name in `candidates` to `name` (edit distance), or "" if none is close.
+std::string nearest_name(const std::string& name, const std::vector<std::string>& candidates);
+
+}  // namespace granule

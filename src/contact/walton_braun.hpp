@@ -1,0 +1,168 @@
+// Walton-Braun partially latching spring with incrementally slipping friction
+// (dissertation section 3.3; SPEC 3.1 settles the details).
+//
+// Normal (Eqs. 3.1-3.2): load along K1, unload along K2 = K1 / e^2 towards the
+// permanent set a0 = a_max (1 - K1/K2); reloading follows the K2 line until it
+// meets the K1 line at a_max, then K1 again. Never tensile.
+//
+// Tangential: the 13 steps of section 3.3 (Eqs. 3.3-3.17). We keep T and the
+// reversal value T* as vectors in the tangent plane, so that both rotate with
+// the contact (steps 2-3) and T* can be read along any direction. The loading
+// direction u is the direction of the parallel slip increment; Eq. 3.3's two
+// branches are the same formula read along u (for T decreasing, u = -t and the
+// signs of T and T* flip), which keeps the hysteresis right when T passes
+// through zero and its own direction flips.
+#pragma once
+
+#include <cmath>
+#include <vector>
+
+#include "contact/contact_state.hpp"
+#include "contact/parameters.hpp"
+
+namespace granule {
+
+struct WaltonBraun {
+  static constexpr const char* name = "walton_braun";
+  static constexpr const char* doc =
+      "Walton-Braun partially latching spring (K1 loading, K2 = K1/e^2 unloading) with "
+      "incrementally slipping friction; dissertation section 3.3, Eqs. 3.1-3.17";
+  static constexpr bool adhesive = false;
+
+  static std::vector<ParamSpec> parameters() {
+    return {
+        {"k_load", "N/m", required, 0, unbounded, false,
+         "loading stiffness K1 (Eq. 3.2); Eq. 4.2 gives 0.01 pi E r"},
+        {"restitution", "-", required, 0, 1, false, "coefficient of restitution e = sqrt(K1/K2), Eq. 3.1"},
+        {"friction", "-", 0.0, 0, unbounded, true, "Coulomb friction coefficient mu"},
+        {"tangential_ratio", "-", 0.8, 0, unbounded, false,
+         "tau: initial tangential over normal stiffness, Eq. 3.4; the Mindlin value "
+         "2(1-nu)/(2-nu) is 0.8 for PMMA (nu = 0.35)"},
+        {"slip_exponent", "-", 1.0, 0, unbounded, false, "nu: exponent of Eq. 3.3 (usually 1)"},
+    };
+  }
+
+  struct Params {
+    double k_load, k_unload, friction, tangential_ratio, slip_exponent;
+    double permanent_set_fraction;  // 1 - K1/K2: a0 = a_max * this
+  };
+
+  static Params make(const ParamValues& v) {
+    Params p;
+    p.k_load = v.at("k_load");
+    double e = v.at("restitution");
+    p.k_unload = p.k_load / (e * e);  // Eq. 3.1
+    p.friction = v.at("friction");
+    p.tangential_ratio = v.at("tangential_ratio");
+    p.slip_exponent = v.at("slip_exponent");
+    p.permanent_set_fraction = 1.0 - p.k_load / p.k_unload;
+    return p;
+  }
+
+  template <int D>
+  struct History {
+    Vec<D> tangential = Vec<D>::Zero();       // T, force on i
+    Vec<D> reversal = Vec<D>::Zero();         // T*
+    Vec<D> load_direction = Vec<D>::Zero();   // u of the last slip increment
+    double previous_normal = 0;               // N(n-1), for step 8
+    double max_overlap = 0;                   // a_max
+  };
+
+  template <int D>
+  static bool touching(const Params&, const History<D>&, double overlap) {
+    return overlap > 0;
+  }
+
+  // Eq. 4.1: dt = pi e sqrt(m/(2 K_N)) / n, with m/2 the reduced mass of two equal spheres.
+  static double rule_time_step(const Params& p, double effective_mass, double steps_per_contact) {
+    double e = std::sqrt(p.k_load / p.k_unload);
+    return pi * e * std::sqrt(effective_mass / p.k_load) / steps_per_contact;
+  }
+  // Contact duration with force, (pi/2)(sqrt(m*/K1) + sqrt(m*/K2)).
+  static double contact_duration(const Params& p, double effective_mass) {
+    return 0.5 * pi * (std::sqrt(effective_mass / p.k_load) + std::sqrt(effective_mass / p.k_unload));
+  }
+  // Highest angular frequency: the stiffer unloading spring. Leap-frog needs dt < 2/omega.
+  static double max_frequency(const Params& p, double effective_mass) {
+    return std::sqrt(p.k_unload / effective_mass);
+  }
+
+  template <int D>
+  static ContactForce<D> force(const Params& p, History<D>& h, const ContactState<D>& c) {
+    ContactForce<D> out;
+    // Normal, Eqs. 3.1-3.2 with partial latching.
+    const double a = c.overlap;
+    const bool loading = a >= h.max_overlap;
+    if (loading) h.max_overlap = a;
+    const double permanent_set = h.max_overlap * p.permanent_set_fraction;
+    double normal = loading ? p.k_load * a : p.k_unload * (a - permanent_set);
+    if (normal < 0) normal = 0;
+    out.normal = normal;
+
+    // Step 4 and Eq. 3.4: initial tangential stiffness follows the normal branch.
+    const double k0 = p.tangential_ratio * (loading ? p.k_load : p.k_unload);
+    const double limit = p.friction * normal;
+    if (limit <= 0) {  // no friction, or N = 0 in the permanent-set gap: |T| <= mu N = 0
+      h.tangential.setZero();
+      h.reversal.setZero();
+      h.previous_normal = normal;
+      return out;
+    }
+
+    // Steps 2-3 (Eqs. 3.7-3.8): carry T, T* and u onto the current tangent plane.
+    Vec<D> t_force = rotate_onto_plane<D>(h.tangential, c.normal);
+    Vec<D> reversal = rotate_onto_plane<D>(h.reversal, c.normal);
+    Vec<D> previous_u = rotate_onto_plane<D>(h.load_direction, c.normal);
+
+    // Step 5 (Eq. 3.10): slip increment of j's surface relative to i's.
+    const Vec<D> slip = c.tangential_velocity * c.dt;
+
+    // Step 4 (Eq. 3.9): unit vector of T; for T = 0 take the slip direction.
+    const double t_mag = t_force.norm();
+    Vec<D> t_hat;
+    if (t_mag > 0) {
+      t_hat = t_force / t_mag;
+    } else {
+      double s = slip.norm();
+      t_hat = s > 0 ? Vec<D>(slip / s) : Vec<D>(Vec<D>::Zero());
+    }
+    // Steps 6-7 (Eqs. 3.11-3.12).
+    const double slip_parallel = slip.dot(t_hat);
+    const Vec<D> slip_par = slip_parallel * t_hat;
+    const Vec<D> slip_perp = slip - slip_par;
+
+    // Step 8 (Eq. 3.13): scale T* with the normal force; N(n-1) = 0 means a fresh contact.
+    if (h.previous_normal > 0)
+      reversal *= normal / h.previous_normal;
+    else
+      reversal.setZero();
+
+    double k_t = k0;
+    if (slip_parallel != 0) {
+      const Vec<D> u = slip_parallel > 0 ? t_hat : Vec<D>(-t_hat);
+      // Loading reversal: T* takes the value T had when the direction of change flipped.
+      if (u.dot(previous_u) < 0) reversal = t_force;
+      previous_u = u;
+      // Step 9 (Eq. 3.3) read along u.
+      const double t_u = t_force.dot(u), star_u = reversal.dot(u);
+      const double room = limit - star_u;
+      double fraction = room > 0 ? 1.0 - (t_u - star_u) / room : 0.0;
+      fraction = fraction < 0 ? 0 : (fraction > 1 ? 1 : fraction);
+      k_t = k0 * (p.slip_exponent == 1.0 ? fraction : std::pow(fraction, p.slip_exponent));
+    }
+    // Steps 10-12 (Eqs. 3.14-3.16).
+    Vec<D> t_new = t_force + k_t * slip_par + k0 * slip_perp;
+    // Step 13 (Eq. 3.17): |T| <= mu N.
+    const double new_sq = t_new.squaredNorm();
+    if (new_sq > limit * limit) t_new *= limit / std::sqrt(new_sq);
+
+    h.tangential = t_new;
+    h.reversal = reversal;
+    h.load_direction = previous_u;
+    h.previous_normal = normal;
+    out.tangential = t_new;
+    return out;
+  }
+};
+
+}  // namespace granule

@@ -1,0 +1,58 @@
+// Particle storage: one array per quantity (structure of arrays), hot data
+// (position, velocity, force...) apart from cold (id, material). A particle's
+// persistent id never changes; its storage index may (re-sorting, removal),
+// so Lua handles and contact histories hold ids, never indices.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/types.hpp"
+
+namespace granule {
+
+template <int D>
+struct Particles {
+  using V = Vec<D>;
+  using S = Spin<D>;
+  // hot
+  std::vector<V> position, velocity, force;
+  std::vector<S> spin, torque;
+  std::vector<double> radius, inv_mass, inv_inertia;
+  // cold
+  std::vector<double> mass;  // kg, also for fixed particles (reported, not integrated)
+  std::vector<std::int64_t> id;
+  std::vector<std::int32_t> material;
+  std::vector<std::uint8_t> fixed;  // immobile, infinite mass
+  std::vector<std::int32_t> index_of_id;  // -1 for removed ids
+  std::int64_t next_id = 0;
+
+  std::size_t size() const { return position.size(); }
+
+  int add(const V& x, const V& v, const S& w, double r, double density, int mat, bool is_fixed) {
+    const double m = sphere_mass(r, density);
+    const double inertia = sphere_inertia(m, r);
+    position.push_back(x);
+    velocity.push_back(is_fixed ? V(V::Zero()) : v);
+    force.push_back(V::Zero());
+    spin.push_back(is_fixed ? Dim<D>::zero_spin() : w);
+    torque.push_back(Dim<D>::zero_spin());
+    radius.push_back(r);
+    mass.push_back(m);
+    inv_mass.push_back(is_fixed ? 0.0 : 1.0 / m);
+    inv_inertia.push_back(is_fixed ? 0.0 : 1.0 / inertia);
+    id.push_back(next_id);
+    material.push_back(mat);
+    fixed.push_back(is_fixed ? 1 : 0);
+    index_of_id.push_back(static_cast<std::int32_t>(size() - 1));
+    return static_cast<int>(next_id++);
+  }
+
+  // Index of a live particle, or -1.
+  int index(std::int64_t pid) const {
+    if (pid < 0 || pid >= static_cast<std::int64_t>(index_of_id.size())) return -1;
+    return index_of_id[pid];
+  }
+};
+
+}  // namespace granule

@@ -1,0 +1,1005 @@
+#include "core/simulation.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+
+#include "core/errors.hpp"
+#include "core/random.hpp"
+
+namespace granule {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+inline double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+bool finite3(const Triple& t) {
+  return std::isfinite(t[0]) && std::isfinite(t[1]) && std::isfinite(t[2]);
+}
+}  // namespace
+
+// ----------------------------------------------------------------------------
+// The step. Stages in order; each is timed so the REPL can show where time goes.
+// ----------------------------------------------------------------------------
+template <int D>
+void Simulation<D>::step() {
+  auto t0 = Clock::now();
+  // 1. Neighbour lists: rebuilt only when something moved more than half the skin.
+  if (!lists_valid_ || lists_stale()) rebuild_lists();
+  auto t1 = Clock::now();
+  stage_times_.neighbor += std::chrono::duration<double>(t1 - t0).count();
+
+  // 2. Forces: clear, body forces, then one inlined kernel per contact model.
+  const std::size_t n = p_.size();
+  std::fill(p_.force.begin(), p_.force.end(), V::Zero());
+  std::fill(p_.torque.begin(), p_.torque.end(), Dim<D>::zero_spin());
+  for (auto& w : walls_) w.force.setZero(), w.axial_torque = 0;
+  if (body_.active()) body_.apply(p_);
+  contacts_particle_ = contacts_wall_ = 0;
+  max_overlap_ratio_ = 0;
+  for_each_model([&](auto index) {
+    constexpr int I = decltype(index)::value;
+    auto& pb = std::get<I>(pair_buckets_);
+    if (pb.size()) pair_forces(pb, pairs_.params<I>());
+    auto& wb = std::get<I>(wall_buckets_);
+    if (wb.size()) wall_forces(wb, pairs_.params<I>());
+  });
+  auto t2 = Clock::now();
+  stage_times_.force += std::chrono::duration<double>(t2 - t1).count();
+
+  // 3. Leap-frog (Eqs. 4.8-4.9), moving walls, non-finite check.
+  integrate();
+  if (non_finite_index_ != SIZE_MAX) report_non_finite(non_finite_index_);
+  time_ += dt_;
+  ++step_;
+  auto t3 = Clock::now();
+  stage_times_.integrate += std::chrono::duration<double>(t3 - t2).count();
+
+  // 4. Hooks (diagnostics, output, script callbacks): one check when there are none.
+  if (!hooks_.empty()) {
+    fire_hooks();
+    stage_times_.hooks += seconds_since(t3);
+  }
+  (void)n;
+}
+
+template <int D>
+void Simulation<D>::advance(std::int64_t steps) {
+  if (steps < 0) throw InputError(fmt::format("cannot advance a negative number of steps ({})", steps));
+  if (!prepared_) prepare();
+  for (std::int64_t s = 0; s < steps; ++s) step();
+}
+
+// ----------------------------------------------------------------------------
+// Contact kernels
+// ----------------------------------------------------------------------------
+template <int D>
+template <typename M>
+void Simulation<D>::pair_forces(PairBucket<D, M>& b, const std::vector<typename M::Params>& params) {
+  using History = typename M::template History<D>;
+  const bool record = record_contacts_;
+  if (record) {
+    b.overlap.assign(b.size(), 0.0);
+    b.normal_force.assign(b.size(), 0.0);
+    b.tangential_force.assign(b.size(), V::Zero());
+    b.normal.assign(b.size(), V::Zero());
+  }
+  ContactState<D> c;
+  c.dt = dt_;
+  const std::size_t count = b.size();
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::uint32_t i = b.i[k], j = b.j[k];
+    const typename M::Params& par = params[b.slot[k]];
+    History& h = b.history[k];
+    const V d = separation(p_.position[i], p_.position[j]);
+    const double dist_sq = d.squaredNorm();
+    const double r_sum = p_.radius[i] + p_.radius[j];
+    if (!M::adhesive && dist_sq >= r_sum * r_sum) {
+      h = History{};
+      continue;
+    }
+    const double dist = std::sqrt(dist_sq);
+    const double overlap = r_sum - dist;
+    if (!M::touching(par, h, overlap)) {
+      h = History{};
+      continue;
+    }
+    // Coincident centres: any direction is as good as another, but it must be finite.
+    c.normal = dist > 0 ? V(d / dist) : V(V::UnitX());
+    c.overlap = overlap;
+    const V v_rel = p_.velocity[j] - p_.velocity[i];
+    c.normal_velocity = v_rel.dot(c.normal);
+    // Eq. 3.10: tangential slip of j's surface relative to i's.
+    c.tangential_velocity = v_rel - c.normal * c.normal_velocity +
+                            p_.radius[i] * Dim<D>::spin_cross(p_.spin[i], c.normal) +
+                            p_.radius[j] * Dim<D>::spin_cross(p_.spin[j], c.normal);
+    c.effective_mass = 1.0 / (p_.inv_mass[i] + p_.inv_mass[j]);
+    c.effective_radius = p_.radius[i] * p_.radius[j] / r_sum;
+    const ContactForce<D> f = M::force(par, h, c);
+    const V total = f.normal * c.normal + f.tangential;
+    p_.force[i] += total;
+    p_.force[j] -= total;
+    // Torques about each centre, applied at the contact point: lever -(r_i - a/2) n
+    // on i and +(r_j - a/2) n on j (which feels -T). With these levers the pair
+    // exerts no net torque, so angular momentum is conserved to round-off.
+    p_.torque[i] += Dim<D>::torque(-(p_.radius[i] - 0.5 * overlap) * c.normal, f.tangential);
+    p_.torque[j] += Dim<D>::torque(-(p_.radius[j] - 0.5 * overlap) * c.normal, f.tangential);
+    ++contacts_particle_;
+    const double ratio = overlap / std::min(p_.radius[i], p_.radius[j]);
+    if (ratio > max_overlap_ratio_) max_overlap_ratio_ = ratio;
+    if (record) {
+      b.overlap[k] = overlap;
+      b.normal_force[k] = f.normal;
+      b.tangential_force[k] = f.tangential;
+      b.normal[k] = c.normal;
+    }
+  }
+}
+
+template <int D>
+template <typename M>
+void Simulation<D>::wall_forces(WallBucket<D, M>& b, const std::vector<typename M::Params>& params) {
+  using History = typename M::template History<D>;
+  const bool record = record_contacts_;
+  if (record) {
+    b.overlap.assign(b.size(), 0.0);
+    b.normal_force.assign(b.size(), 0.0);
+    b.tangential_force.assign(b.size(), V::Zero());
+    b.normal.assign(b.size(), V::Zero());
+  }
+  ContactState<D> c;
+  c.dt = dt_;
+  const std::size_t count = b.size();
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::uint32_t i = b.particle[k];
+    Wall<D>& w = walls_[b.wall[k]];
+    const typename M::Params& par = params[b.slot[k]];
+    History& h = b.history[k];
+    V n, surface_velocity, lever;
+    const double overlap = w.contact(p_.position[i], p_.radius[i], n, surface_velocity, lever);
+    if (!M::touching(par, h, overlap)) {
+      h = History{};
+      continue;
+    }
+    c.normal = n;
+    c.overlap = overlap;
+    const V v_rel = surface_velocity - p_.velocity[i];
+    c.normal_velocity = v_rel.dot(n);
+    c.tangential_velocity =
+        v_rel - n * c.normal_velocity + p_.radius[i] * Dim<D>::spin_cross(p_.spin[i], n);
+    c.effective_mass = p_.mass[i];
+    double r = p_.radius[i];
+    c.effective_radius = w.type == WallType::plane
+                             ? r
+                             : (w.inside ? r * w.radius / (w.radius - r) : r * w.radius / (w.radius + r));
+    const ContactForce<D> f = M::force(par, h, c);
+    const V total = f.normal * n + f.tangential;
+    p_.force[i] += total;
+    p_.torque[i] += Dim<D>::torque(-(r - overlap) * n, f.tangential);  // at the wall surface
+    w.force -= total;
+    w.axial_torque -= w.axial_moment(lever, total);
+    ++contacts_wall_;
+    if (overlap / r > max_overlap_ratio_) max_overlap_ratio_ = overlap / r;
+    if (record) {
+      b.overlap[k] = overlap;
+      b.normal_force[k] = f.normal;
+      b.tangential_force[k] = f.tangential;
+      b.normal[k] = n;
+    }
+  }
+}
+
+// ----------------------------------------------------------------------------
+// Integration: leap-frog, a = F/m and dw/dt = M/I (SPEC 2: Eq. 4.7's minus
+// sign belongs to its force convention).
+// ----------------------------------------------------------------------------
+template <int D>
+void Simulation<D>::integrate() {
+  const std::size_t n = p_.size();
+  const double dt = dt_;
+  double max_sq = max_displacement_sq_;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (p_.fixed[i]) continue;
+    p_.velocity[i] += p_.force[i] * (p_.inv_mass[i] * dt);  // Eq. 4.8
+    p_.position[i] += p_.velocity[i] * dt;                  // Eq. 4.9
+    p_.spin[i] += p_.torque[i] * (p_.inv_inertia[i] * dt);
+    if (periodic_.on()) {
+      double& x = p_.position[i][periodic_.axis];
+      x -= periodic_.length * std::floor((x - periodic_.origin) / periodic_.length);
+    }
+    const double moved = separation(p_.position[i], position_at_rebuild_[i]).squaredNorm();
+    if (!(moved <= max_sq)) {  // also true for NaN
+      if (!std::isfinite(moved) || !std::isfinite(Dim<D>::spin_sq(p_.spin[i]))) {
+        if (non_finite_index_ == SIZE_MAX) non_finite_index_ = i;
+        continue;
+      }
+      max_sq = moved;
+    }
+  }
+  max_displacement_sq_ = max_sq;
+  for (auto& w : walls_) {
+    if (w.type == WallType::plane && !w.velocity.isZero()) {
+      w.point += w.velocity * dt;
+      w.moved_since_rebuild += w.velocity * dt;
+    }
+  }
+}
+
+template <int D>
+bool Simulation<D>::lists_stale() const {
+  // Two particles closing on each other each move at most half the skin.
+  const double half = 0.5 * skin_;
+  if (max_displacement_sq_ > half * half) return true;
+  double wall_moved = 0;
+  for (const auto& w : walls_) wall_moved = std::max(wall_moved, w.moved_since_rebuild.norm());
+  return wall_moved > 0 && std::sqrt(max_displacement_sq_) + wall_moved > skin_;
+}
+
+template <int D>
+void Simulation<D>::report_non_finite(std::size_t index) {
+  non_finite_index_ = SIZE_MAX;
+  const std::int64_t pid = p_.id[index];
+  std::string detail;
+  // Name the strongest contact on that particle, the usual culprit.
+  double strongest = -1;
+  for_each_model([&](auto model_index) {
+    constexpr int I = decltype(model_index)::value;
+    using M = ContactModelAt<I>;
+    const auto& b = std::get<I>(pair_buckets_);
+    for (std::size_t k = 0; k < b.size(); ++k) {
+      if (b.i[k] != index && b.j[k] != index) continue;
+      std::uint32_t other = b.i[k] == index ? b.j[k] : b.i[k];
+      double overlap = p_.radius[index] + p_.radius[other] -
+                       separation(p_.position[index], p_.position[other]).norm();
+      if (!(overlap > strongest) && std::isfinite(overlap)) continue;
+      strongest = std::isfinite(overlap) ? overlap : 1e300;
+      detail = fmt::format("; its contact with particle {} ({} model, overlap {:.4g} m)",
+                           p_.id[other], M::name, overlap);
+    }
+  });
+  fail(fmt::format("step {} (t = {:.6g} s): particle {} has a non-finite position, velocity or "
+                   "spin (force {} {}){}; time step {:.4g} s",
+                   step_, time_, pid, p_.force[index][0], p_.force[index][1], detail, dt_));
+}
+
+// ----------------------------------------------------------------------------
+// Neighbour lists and history transfer
+// ----------------------------------------------------------------------------
+namespace {
+// Compressed rows of old entries by owner id, so each new contact finds its
+// old history by scanning only its owner's few old contacts.
+struct OwnerIndex {
+  std::vector<std::uint32_t> start, order;
+  void build(const std::vector<std::int64_t>& owner, std::int64_t max_id) {
+    start.assign(static_cast<std::size_t>(max_id) + 2, 0);
+    for (auto o : owner) ++start[o + 1];
+    for (std::size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
+    order.resize(owner.size());
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t k = 0; k < owner.size(); ++k) order[fill[owner[k]]++] = static_cast<std::uint32_t>(k);
+  }
+};
+}  // namespace
+
+template <int D>
+void Simulation<D>::rebuild_lists() {
+  const std::size_t n = p_.size();
+  candidates_.clear();
+  grid_.build(p_, skin_, periodic_, candidates_);
+  const std::int64_t max_id = p_.next_id;
+
+  for_each_model([&](auto index) {
+    constexpr int I = decltype(index)::value;
+    using B = PairBucket<D, ContactModelAt<I>>;
+    using WB = WallBucket<D, ContactModelAt<I>>;
+    B old = std::move(std::get<I>(pair_buckets_));
+    B& fresh = std::get<I>(pair_buckets_);
+    fresh = B{};
+    for (auto [a, b] : candidates_) {
+      if (p_.id[a] > p_.id[b]) std::swap(a, b);
+      const PairTable::Entry& e = pairs_.at(p_.material[a], p_.material[b]);
+      if (e.model != I) continue;
+      fresh.i.push_back(a);
+      fresh.j.push_back(b);
+      fresh.slot.push_back(static_cast<std::uint32_t>(e.slot));
+      fresh.id_i.push_back(p_.id[a]);
+      fresh.id_j.push_back(p_.id[b]);
+    }
+    fresh.history.assign(fresh.size(), typename B::History{});
+    if (old.size()) {
+      OwnerIndex idx;
+      idx.build(old.id_i, max_id);
+      for (std::size_t k = 0; k < fresh.size(); ++k) {
+        const std::int64_t owner = fresh.id_i[k];
+        for (std::uint32_t s = idx.start[owner]; s < idx.start[owner + 1]; ++s) {
+          std::uint32_t o = idx.order[s];
+          if (old.id_j[o] == fresh.id_j[k]) {
+            fresh.history[k] = old.history[o];
+            break;
+          }
+        }
+      }
+    }
+
+    WB old_w = std::move(std::get<I>(wall_buckets_));
+    WB& fresh_w = std::get<I>(wall_buckets_);
+    fresh_w = WB{};
+    for (std::size_t w = 0; w < walls_.size(); ++w) {
+      for (std::size_t i = 0; i < n; ++i) {
+        if (p_.fixed[i]) continue;
+        const PairTable::Entry& e = pairs_.at(p_.material[i], walls_[w].material);
+        if (e.model != I) continue;
+        if (walls_[w].clearance(p_.position[i], p_.radius[i]) >= skin_) continue;
+        fresh_w.particle.push_back(static_cast<std::uint32_t>(i));
+        fresh_w.wall.push_back(static_cast<std::uint32_t>(w));
+        fresh_w.slot.push_back(static_cast<std::uint32_t>(e.slot));
+        fresh_w.id.push_back(p_.id[i]);
+      }
+    }
+    fresh_w.history.assign(fresh_w.size(), typename WB::History{});
+    if (old_w.size()) {
+      OwnerIndex idx;
+      idx.build(old_w.id, max_id);
+      for (std::size_t k = 0; k < fresh_w.size(); ++k) {
+        const std::int64_t owner = fresh_w.id[k];
+        for (std::uint32_t s = idx.start[owner]; s < idx.start[owner + 1]; ++s) {
+          std::uint32_t o = idx.order[s];
+          if (old_w.wall[o] == fresh_w.wall[k]) {
+            fresh_w.history[k] = old_w.history[o];
+            break;
+          }
+        }
+      }
+    }
+  });
+
+  position_at_rebuild_ = p_.position;
+  max_displacement_sq_ = 0;
+  for (auto& w : walls_) w.moved_since_rebuild.setZero();
+  lists_valid_ = true;
+  ++rebuilds_;
+}
+
+template <int D>
+void Simulation<D>::sort_particles() {
+  const std::size_t n = p_.size();
+  if (n < 2) return;
+  // Order by a coarse cell key (x-major within rows of cells): enough locality
+  // for the force loop, and it exercises the id-based history transfer.
+  double cell = 0;
+  for (double r : p_.radius) cell = std::max(cell, 2 * r);
+  V lo = p_.position[0];
+  for (const auto& x : p_.position) lo = lo.cwiseMin(x);
+  std::vector<std::uint64_t> key(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::uint64_t k = 0;
+    for (int d = D - 1; d >= 0; --d)
+      k = k * 1000003u + static_cast<std::uint64_t>((p_.position[i][d] - lo[d]) / cell);
+    key[i] = k;
+  }
+  std::vector<std::size_t> perm(n);
+  std::iota(perm.begin(), perm.end(), 0);
+  std::stable_sort(perm.begin(), perm.end(), [&](auto a, auto b) { return key[a] < key[b]; });
+  auto apply = [&](auto& v) {
+    auto copy = v;
+    for (std::size_t k = 0; k < n; ++k) v[k] = copy[perm[k]];
+  };
+  apply(p_.position), apply(p_.velocity), apply(p_.force), apply(p_.spin), apply(p_.torque);
+  apply(p_.radius), apply(p_.inv_mass), apply(p_.inv_inertia), apply(p_.mass), apply(p_.id);
+  apply(p_.material), apply(p_.fixed);
+  for (std::size_t k = 0; k < n; ++k) p_.index_of_id[p_.id[k]] = static_cast<std::int32_t>(k);
+  // Histories are keyed by id: rebuild now (positions unchanged, so pairs are the same).
+  if (lists_valid_) {
+    position_at_rebuild_ = p_.position;
+    rebuild_lists();
+  }
+}
+
+// ----------------------------------------------------------------------------
+// Set-up and validation
+// ----------------------------------------------------------------------------
+template <int D>
+typename Simulation<D>::V Simulation<D>::to_vec(const Triple& t) const {
+  V v;
+  for (int k = 0; k < D; ++k) v[k] = t[k];
+  return v;
+}
+template <int D>
+Triple Simulation<D>::to_triple(const V& v) const {
+  Triple t{0, 0, 0};
+  for (int k = 0; k < D; ++k) t[k] = v[k];
+  return t;
+}
+template <int D>
+typename Simulation<D>::S Simulation<D>::to_spin(const Triple& t) const {
+  if constexpr (D == 2) {
+    return t[2];
+  } else {
+    return S(t[0], t[1], t[2]);
+  }
+}
+template <int D>
+Triple Simulation<D>::spin_triple(const S& s) const {
+  if constexpr (D == 2) {
+    return Triple{0, 0, s};
+  } else {
+    return Triple{s[0], s[1], s[2]};
+  }
+}
+
+template <int D>
+int Simulation<D>::checked(std::int64_t id) const {
+  int i = p_.index(id);
+  if (i < 0) throw InputError(fmt::format("no particle with id {}", id));
+  return i;
+}
+
+template <int D>
+void Simulation<D>::check_particle_input(const ParticleSpec& s, const std::string& context) const {
+  if (!(s.radius > 0) || !std::isfinite(s.radius))
+    throw InputError(fmt::format("{}: radius must be > 0 [m], got {}", context, s.radius));
+  if (s.material < 0 || s.material >= static_cast<int>(materials_.size()))
+    throw InputError(fmt::format("{}: unknown material", context));
+  if (!(materials_[s.material].density > 0))
+    throw InputError(fmt::format("{}: material '{}' needs a density > 0 [kg/m^3] for particles",
+                                 context, materials_[s.material].name));
+  if (!finite3(s.position) || !finite3(s.velocity) || !finite3(s.spin))
+    throw InputError(fmt::format("{}: position, velocity and spin must be finite", context));
+}
+
+template <int D>
+std::int64_t Simulation<D>::add_particle(const ParticleSpec& s) {
+  check_particle_input(s, "particle");
+  std::int64_t id = p_.add(to_vec(s.position), to_vec(s.velocity), to_spin(s.spin), s.radius,
+                           materials_[s.material].density, s.material, s.fixed);
+  position_at_rebuild_.push_back(p_.position.back());
+  lists_valid_ = false;
+  prepared_ = false;
+  return id;
+}
+
+template <int D>
+void Simulation<D>::remove_particle(std::int64_t id) {
+  const std::size_t i = checked(id), last = p_.size() - 1;
+  auto erase = [&](auto& v) {
+    v[i] = v[last];
+    v.pop_back();
+  };
+  erase(p_.position), erase(p_.velocity), erase(p_.force), erase(p_.spin), erase(p_.torque);
+  erase(p_.radius), erase(p_.inv_mass), erase(p_.inv_inertia), erase(p_.mass), erase(p_.id);
+  erase(p_.material), erase(p_.fixed), erase(position_at_rebuild_);
+  p_.index_of_id[id] = -1;
+  if (i != last) p_.index_of_id[p_.id[i]] = static_cast<std::int32_t>(i);
+  lists_valid_ = false;
+}
+
+template <int D>
+std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
+  if (f.count < 0) throw InputError(fmt::format("fill: count must be >= 0, got {}", f.count));
+  if (f.material < 0 || f.material >= static_cast<int>(materials_.size()))
+    throw InputError("fill: unknown material");
+  if (f.radii.empty() && !(f.radius_min > 0 && f.radius_max >= f.radius_min))
+    throw InputError("fill: give 'radius' > 0, 'radii' or 0 < radius_min <= radius_max [m]");
+  for (double r : f.radii)
+    if (!(r > 0) || !std::isfinite(r)) throw InputError(fmt::format("fill: radii must be > 0 [m], got {}", r));
+  if (!(f.max_speed >= 0) || !std::isfinite(f.max_speed))
+    throw InputError(fmt::format("fill: max_speed must be >= 0 [m/s], got {}", f.max_speed));
+  Random rng(f.seed);
+  const double density = materials_[f.material].density;
+  if (!(density > 0))
+    throw InputError(fmt::format("fill: material '{}' needs a density > 0", materials_[f.material].name));
+
+  // Region as a bounding box plus an inside test for a sphere of radius r.
+  V lo, hi;
+  V centre = to_vec(f.center);
+  auto inside_region = [&](const V& x, double r) {
+    switch (f.shape) {
+      case RegionShape::ball:
+        return (x - centre).norm() + r <= f.radius;
+      case RegionShape::box:
+        for (int k = 0; k < D; ++k)
+          if (x[k] - r < f.lo[k] || x[k] + r > f.hi[k]) return false;
+        return true;
+      case RegionShape::cylinder: {
+        V d = x - centre;
+        if constexpr (D == 3) {
+          if (x[2] - r < f.z_min || x[2] + r > f.z_max) return false;
+          d[2] = 0;
+        }
+        return d.norm() + r <= f.radius;
+      }
+    }
+    return false;
+  };
+  switch (f.shape) {
+    case RegionShape::ball:
+    case RegionShape::cylinder:
+      if (!(f.radius > 0)) throw InputError("fill: region radius must be > 0 [m]");
+      lo = centre - V::Constant(f.radius);
+      hi = centre + V::Constant(f.radius);
+      if constexpr (D == 3) {
+        if (f.shape == RegionShape::cylinder) {
+          if (!(f.z_max > f.z_min)) throw InputError("fill: cylinder region needs z_max > z_min");
+          lo[2] = f.z_min;
+          hi[2] = f.z_max;
+        }
+      }
+      break;
+    case RegionShape::box:
+      lo = to_vec(f.lo);
+      hi = to_vec(f.hi);
+      for (int k = 0; k < D; ++k)
+        if (!(hi[k] > lo[k])) throw InputError("fill: box region needs hi > lo on every axis");
+      break;
+  }
+  // Fixed particles must not be overlapped (SPEC 2); free ones may be.
+  std::vector<std::size_t> fixed_indices;
+  for (std::size_t i = 0; i < p_.size(); ++i)
+    if (p_.fixed[i]) fixed_indices.push_back(i);
+
+  const std::int64_t attempts_allowed = f.max_attempts > 0 ? f.max_attempts : 2000 * std::max<std::int64_t>(f.count, 1);
+  std::vector<std::int64_t> ids;
+  std::int64_t attempts = 0;
+  std::vector<V> velocities;
+  while (static_cast<std::int64_t>(ids.size()) < f.count) {
+    if (++attempts > attempts_allowed)
+      throw InputError(fmt::format(
+          "fill: placed only {} of {} particles after {} attempts; the region is too full or lies "
+          "outside the walls",
+          ids.size(), f.count, attempts_allowed));
+    double r = f.radii.empty() ? rng.uniform(f.radius_min, f.radius_max)
+                               : f.radii[std::min(f.radii.size() - 1,
+                                                  static_cast<std::size_t>(rng.uniform() * f.radii.size()))];
+    V x;
+    for (int k = 0; k < D; ++k) x[k] = rng.uniform(lo[k], hi[k]);
+    if (!inside_region(x, r)) continue;
+    bool ok = true;
+    for (const auto& w : walls_)
+      if (w.clearance(x, r) < 0) {
+        ok = false;
+        break;
+      }
+    if (!ok) continue;
+    for (std::size_t q : fixed_indices)
+      if (separation(x, p_.position[q]).norm() < r + p_.radius[q]) {
+        ok = false;
+        break;
+      }
+    if (!ok) continue;
+    // Random direction, speed uniform in [0, max_speed].
+    V v = V::Zero();
+    if (f.max_speed > 0) {
+      V dir;
+      do {
+        for (int k = 0; k < D; ++k) dir[k] = rng.uniform(-1, 1);
+      } while (dir.squaredNorm() > 1 || dir.squaredNorm() < 1e-6);
+      v = dir.normalized() * rng.uniform(0, f.max_speed);
+    }
+    ids.push_back(p_.add(x, v, Dim<D>::zero_spin(), r, density, f.material, false));
+    position_at_rebuild_.push_back(x);
+  }
+  // Zero net momentum of the filled set (SPEC 2).
+  if (!ids.empty() && f.max_speed > 0) {
+    V momentum = V::Zero();
+    double mass = 0;
+    for (auto id : ids) {
+      int i = p_.index(id);
+      momentum += p_.mass[i] * p_.velocity[i];
+      mass += p_.mass[i];
+    }
+    V mean = momentum / mass;
+    for (auto id : ids) p_.velocity[p_.index(id)] -= mean;
+  }
+  lists_valid_ = false;
+  prepared_ = false;
+  return ids;
+}
+
+template <int D>
+int Simulation<D>::add_wall(const WallSpec& s) {
+  std::string ctx = fmt::format("wall '{}'", s.name);
+  if (s.name.empty()) throw InputError("wall: 'name' must not be empty");
+  for (const auto& w : walls_)
+    if (w.name == s.name) throw InputError(fmt::format("{} is declared twice", ctx));
+  if (s.material < 0 || s.material >= static_cast<int>(materials_.size()))
+    throw InputError(fmt::format("{}: unknown material", ctx));
+  Wall<D> w;
+  w.name = s.name;
+  w.type = s.type;
+  w.material = s.material;
+  if (s.type == WallType::plane) {
+    if (!finite3(s.point) || !finite3(s.normal) || !finite3(s.velocity))
+      throw InputError(fmt::format("{}: point, normal and velocity must be finite", ctx));
+    w.point = to_vec(s.point);
+    V nn = to_vec(s.normal);
+    if (!(nn.norm() > 0)) throw InputError(fmt::format("{}: normal must be non-zero", ctx));
+    w.normal = nn.normalized();
+    w.velocity = to_vec(s.velocity);
+  } else {
+    if (!(s.radius > 0) || !std::isfinite(s.radius))
+      throw InputError(fmt::format("{}: radius must be > 0 [m], got {}", ctx, s.radius));
+    if (!finite3(s.center) || !finite3(s.axis) || !std::isfinite(s.angular_velocity))
+      throw InputError(fmt::format("{}: center, axis and angular_velocity must be finite", ctx));
+    w.center = to_vec(s.center);
+    w.radius = s.radius;
+    w.inside = s.inside;
+    w.angular_velocity = s.angular_velocity;
+    if constexpr (D == 3) {
+      V a = to_vec(s.axis);
+      if (!(a.norm() > 0)) throw InputError(fmt::format("{}: axis must be non-zero", ctx));
+      w.axis = a.normalized();
+    }
+  }
+  walls_.push_back(w);
+  lists_valid_ = false;
+  prepared_ = false;
+  return static_cast<int>(walls_.size() - 1);
+}
+
+template <int D>
+TimeStepReport Simulation<D>::time_step_rule() {
+  TimeStepReport r;
+  r.rule = INFINITY;
+  r.stability_limit = INFINITY;
+  const int nm = static_cast<int>(materials_.size());
+  // Smallest free-particle mass per material (the shortest contacts), and whether any fixed.
+  std::vector<double> min_mass(nm, INFINITY);
+  std::vector<char> used(nm, 0), free_used(nm, 0);
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    int m = p_.material[i];
+    used[m] = 1;
+    if (!p_.fixed[i]) {
+      free_used[m] = 1;
+      min_mass[m] = std::min(min_mass[m], p_.mass[i]);
+    }
+  }
+  std::vector<char> wall_material(nm, 0);
+  for (const auto& w : walls_) wall_material[w.material] = 1;
+  auto consider = [&](int a, int b, double m_eff, const char* kind) {
+    const PairTable::Entry& e = pairs_.at(a, b);
+    if (e.model < 0)
+      throw InputError(fmt::format(
+          "no contact law for materials '{}' and '{}' ({} contacts can occur): declare "
+          "contact {{ '{}', '{}', model = ... }}",
+          materials_[a].name, materials_[b].name, kind, materials_[a].name, materials_[b].name));
+    for_each_model([&](auto index) {
+      constexpr int I = decltype(index)::value;
+      if (e.model != I) return;
+      using M = ContactModelAt<I>;
+      const auto& par = pairs_.params<I>()[e.slot];
+      double rule = M::rule_time_step(par, m_eff, steps_per_contact_);
+      double limit = 2.0 / M::max_frequency(par, m_eff);
+      if (rule < r.rule) {
+        r.rule = rule;
+        r.governing_pair = fmt::format("{}-{} ({}, {})", materials_[a].name, materials_[b].name,
+                                       M::name, kind);
+      }
+      r.stability_limit = std::min(r.stability_limit, limit);
+    });
+  };
+  for (int a = 0; a < nm; ++a) {
+    if (!free_used[a]) continue;
+    for (int b = 0; b < nm; ++b) {
+      if (!used[b]) continue;
+      double mb = free_used[b] ? min_mass[b] : INFINITY;
+      double m_eff = std::isinf(mb) ? min_mass[a] : min_mass[a] * mb / (min_mass[a] + mb);
+      consider(a, b, m_eff, "particle-particle");
+    }
+    for (int w = 0; w < nm; ++w)
+      if (wall_material[w]) consider(a, w, min_mass[a], "particle-wall");
+  }
+  return r;
+}
+
+template <int D>
+void Simulation<D>::prepare() {
+  // Particles must start inside every wall (their centres on the allowed side).
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    for (const auto& w : walls_) {
+      double c = w.clearance(p_.position[i], p_.radius[i]);
+      if (c + p_.radius[i] < 0)
+        throw InputError(fmt::format("particle {} at ({}) lies outside wall '{}'", p_.id[i],
+                                     fmt::join(to_triple(p_.position[i]), ", "), w.name));
+      if (c < 0 && !p_.fixed[i])
+        warn(fmt::format("particle {} starts overlapping wall '{}' by {:.3g} m", p_.id[i], w.name,
+                         -c));
+    }
+  }
+  // Skin: automatic = half the median radius.
+  if (skin_set_ > 0) {
+    skin_ = skin_set_;
+  } else if (p_.size()) {
+    std::vector<double> r = p_.radius;
+    std::nth_element(r.begin(), r.begin() + r.size() / 2, r.end());
+    skin_ = 0.5 * r[r.size() / 2];
+  }
+  if (periodic_.on()) {
+    double r_max = 0;
+    for (double r : p_.radius) r_max = std::max(r_max, r);
+    if (periodic_.length < 2 * (2 * r_max + skin_))
+      throw InputError(fmt::format(
+          "periodic length {} m is too short: it must exceed twice the largest contact reach "
+          "(2 (2 r_max + skin) = {} m)",
+          periodic_.length, 2 * (2 * r_max + skin_)));
+  }
+  if (p_.size()) {
+    TimeStepReport rule = time_step_rule();
+    if (dt_fixed_ > 0) {
+      dt_ = dt_fixed_;
+      if (dt_ >= rule.stability_limit)
+        throw InputError(fmt::format(
+            "time_step {:.4g} s is above the stability limit 2/omega = {:.4g} s of {}: refused",
+            dt_, rule.stability_limit, rule.governing_pair));
+      if (dt_ > rule.rule * (1 + 1e-9))
+        warn(fmt::format("time_step {:.4g} s exceeds the Eq. 4.1 rule {:.4g} s (n = {} steps per "
+                         "contact) for {}",
+                         dt_, rule.rule, steps_per_contact_, rule.governing_pair));
+    } else if (dt_ == 0 || std::isinf(dt_)) {
+      if (std::isinf(rule.rule))
+        throw InputError("cannot choose a time step: no contact can occur; set time_step");
+      dt_ = rule.rule;
+    } else if (dt_ >= rule.stability_limit) {
+      // An automatic dt chosen earlier no longer suits changed parameters: choose again.
+      dt_ = rule.rule;
+    }
+  } else if (dt_ == 0) {
+    dt_ = dt_fixed_;
+  }
+  if (!(dt_ > 0)) throw InputError("no time step: the scene has no particles and no time_step");
+  rebuild_lists();
+  prepared_ = true;
+}
+
+// ----------------------------------------------------------------------------
+// Accessors
+// ----------------------------------------------------------------------------
+template <int D>
+void Simulation<D>::set_gravity(const Triple& g) {
+  if (!finite3(g)) throw InputError("gravity must be finite");
+  body_.gravity = to_vec(g);
+  body_.gravity_on = !body_.gravity.isZero();
+}
+template <int D>
+void Simulation<D>::set_central_field(const Triple& point, double strength) {
+  if (!finite3(point)) throw InputError("central_field: point must be finite");
+  body_.central_on = true;
+  body_.central_point = to_vec(point);
+  set_central_strength(strength);
+}
+template <int D>
+void Simulation<D>::set_central_strength(double strength) {
+  if (!std::isfinite(strength) || strength < 0)
+    throw InputError(fmt::format("central field strength must be >= 0 [m/s^2], got {}", strength));
+  body_.central_strength = strength;
+}
+
+template <int D>
+int Simulation<D>::wall_id(const std::string& name) const {
+  std::vector<std::string> names;
+  for (std::size_t w = 0; w < walls_.size(); ++w) {
+    if (walls_[w].name == name) return static_cast<int>(w);
+    names.push_back(walls_[w].name);
+  }
+  std::string hint = nearest_name(name, names);
+  throw InputError(fmt::format("unknown wall '{}'{}", name,
+                               hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint)));
+}
+template <int D>
+WallSpec Simulation<D>::wall(int w) const {
+  const Wall<D>& x = walls_.at(w);
+  WallSpec s;
+  s.name = x.name;
+  s.type = x.type;
+  s.material = x.material;
+  s.point = to_triple(x.point);
+  s.normal = to_triple(x.normal);
+  s.velocity = to_triple(x.velocity);
+  s.center = to_triple(x.center);
+  if constexpr (D == 3) s.axis = to_triple(x.axis);
+  s.radius = x.radius;
+  s.inside = x.inside;
+  s.angular_velocity = x.angular_velocity;
+  return s;
+}
+template <int D>
+void Simulation<D>::set_wall_velocity(int w, const Triple& v) {
+  if (!finite3(v)) throw InputError("wall velocity must be finite");
+  if (walls_.at(w).type != WallType::plane)
+    throw InputError(fmt::format("wall '{}' is a cylinder: set its angular velocity", walls_[w].name));
+  walls_[w].velocity = to_vec(v);
+}
+template <int D>
+void Simulation<D>::set_wall_angular_velocity(int w, double omega) {
+  if (!std::isfinite(omega)) throw InputError("wall angular velocity must be finite");
+  if (walls_.at(w).type != WallType::cylinder)
+    throw InputError(fmt::format("wall '{}' is a plane: set its velocity", walls_[w].name));
+  walls_[w].angular_velocity = omega;
+}
+template <int D>
+Triple Simulation<D>::wall_force(int w) const {
+  return to_triple(walls_.at(w).force);
+}
+template <int D>
+double Simulation<D>::wall_axial_torque(int w) const {
+  return walls_.at(w).axial_torque;
+}
+
+template <int D>
+Triple Simulation<D>::position(std::int64_t id) const {
+  return to_triple(p_.position[checked(id)]);
+}
+template <int D>
+Triple Simulation<D>::velocity(std::int64_t id) const {
+  return to_triple(p_.velocity[checked(id)]);
+}
+template <int D>
+Triple Simulation<D>::spin(std::int64_t id) const {
+  return spin_triple(p_.spin[checked(id)]);
+}
+template <int D>
+Triple Simulation<D>::force(std::int64_t id) const {
+  return to_triple(p_.force[checked(id)]);
+}
+template <int D>
+void Simulation<D>::set_position(std::int64_t id, const Triple& x) {
+  if (!finite3(x)) throw InputError("position must be finite");
+  p_.position[checked(id)] = to_vec(x);
+  lists_valid_ = false;
+}
+template <int D>
+void Simulation<D>::set_velocity(std::int64_t id, const Triple& v) {
+  if (!finite3(v)) throw InputError("velocity must be finite");
+  int i = checked(id);
+  if (p_.fixed[i]) throw InputError(fmt::format("particle {} is fixed: it cannot move", id));
+  p_.velocity[i] = to_vec(v);
+}
+template <int D>
+void Simulation<D>::set_spin(std::int64_t id, const Triple& w) {
+  if (!finite3(w)) throw InputError("spin must be finite");
+  int i = checked(id);
+  if (p_.fixed[i]) throw InputError(fmt::format("particle {} is fixed: it cannot spin", id));
+  p_.spin[i] = to_spin(w);
+}
+
+template <int D>
+typename SimulationBase::FlatState Simulation<D>::flat_state() const {
+  FlatState s;
+  const std::size_t n = p_.size();
+  s.id = p_.id;
+  s.radius = p_.radius;
+  s.material = p_.material;
+  s.fixed = p_.fixed;
+  s.position.resize(n * D);
+  s.velocity.resize(n * D);
+  s.spin.resize(n * Dim<D>::spin_components);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (int k = 0; k < D; ++k) {
+      s.position[i * D + k] = p_.position[i][k];
+      s.velocity[i * D + k] = p_.velocity[i][k];
+    }
+    if constexpr (D == 2) {
+      s.spin[i] = p_.spin[i];
+    } else {
+      for (int k = 0; k < 3; ++k) s.spin[i * 3 + k] = p_.spin[i][k];
+    }
+  }
+  return s;
+}
+
+template <int D>
+GlobalStats Simulation<D>::stats() const {
+  GlobalStats g;
+  g.time = time_;
+  g.step = step_;
+  g.particles = static_cast<std::int64_t>(p_.size());
+  V momentum = V::Zero();
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    if (p_.fixed[i]) continue;
+    const double m = p_.mass[i];
+    g.kinetic_translational += 0.5 * m * p_.velocity[i].squaredNorm();
+    g.kinetic_rotational += 0.5 * sphere_inertia(m, p_.radius[i]) * Dim<D>::spin_sq(p_.spin[i]);
+    momentum += m * p_.velocity[i];
+    const V& x = p_.position[i];
+    const V& v = p_.velocity[i];
+    double spin_z;
+    if constexpr (D == 2) {
+      spin_z = p_.spin[i];
+    } else {
+      spin_z = p_.spin[i][2];
+    }
+    g.angular_momentum_z += m * (x[0] * v[1] - x[1] * v[0]) + sphere_inertia(m, p_.radius[i]) * spin_z;
+  }
+  g.momentum = to_triple(momentum);
+  g.contacts_particle = contacts_particle_;
+  g.contacts_wall = contacts_wall_;
+  g.max_overlap_ratio = max_overlap_ratio_;
+  return g;
+}
+
+template <int D>
+std::vector<ContactRecord> Simulation<D>::contacts() const {
+  if (!record_contacts_)
+    throw InputError(
+        "contact forces are not recorded in this scene: set record_contacts = true in "
+        "simulation { ... } (it costs a few stores per contact)");
+  std::vector<ContactRecord> out;
+  for_each_model([&](auto index) {
+    constexpr int I = decltype(index)::value;
+    using M = ContactModelAt<I>;
+    const auto& b = std::get<I>(pair_buckets_);
+    for (std::size_t k = 0; k < b.overlap.size() && k < b.size(); ++k) {
+      if (b.normal_force[k] == 0 && b.tangential_force[k].isZero() && b.overlap[k] == 0) continue;
+      ContactRecord r;
+      r.id_a = b.id_i[k];
+      r.id_b = b.id_j[k];
+      r.model = M::name;
+      r.overlap = b.overlap[k];
+      r.normal_force = b.normal_force[k];
+      r.tangential_force = to_triple(b.tangential_force[k]);
+      r.normal = to_triple(b.normal[k]);
+      out.push_back(r);
+    }
+    const auto& w = std::get<I>(wall_buckets_);
+    for (std::size_t k = 0; k < w.overlap.size() && k < w.size(); ++k) {
+      if (w.normal_force[k] == 0 && w.tangential_force[k].isZero() && w.overlap[k] == 0) continue;
+      ContactRecord r;
+      r.id_a = w.id[k];
+      r.wall = static_cast<int>(w.wall[k]);
+      r.model = M::name;
+      r.overlap = w.overlap[k];
+      r.normal_force = w.normal_force[k];
+      r.tangential_force = to_triple(w.tangential_force[k]);
+      r.normal = to_triple(w.normal[k]);
+      out.push_back(r);
+    }
+  });
+  return out;
+}
+
+template <int D>
+std::vector<std::string> Simulation<D>::describe() const {
+  std::vector<std::string> lines;
+  std::size_t fixed = 0;
+  for (auto f : p_.fixed) fixed += f;
+  lines.push_back(fmt::format("dimension: {}D{}", D,
+                              periodic_.on() ? fmt::format(", periodic along axis {} ({} m)",
+                                                           periodic_.axis, periodic_.length)
+                                             : std::string()));
+  lines.push_back(fmt::format("particles: {} ({} fixed)", p_.size(), fixed));
+  auto catalogue = contact_model_catalogue();
+  for (int a = 0; a < pairs_.material_count(); ++a)
+    for (int b = a; b < pairs_.material_count(); ++b) {
+      const auto& e = pairs_.at(a, b);
+      if (e.model < 0) continue;
+      std::vector<std::string> kv;
+      for (const auto& [k, v] : pairs_.values(a, b)) kv.push_back(fmt::format("{}={}", k, v));
+      lines.push_back(fmt::format("contact {}-{}: {} ({})", materials_[a].name, materials_[b].name,
+                                  catalogue[e.model].name, fmt::join(kv, ", ")));
+    }
+  for (const auto& w : walls_) {
+    if (w.type == WallType::plane)
+      lines.push_back(fmt::format("wall {}: plane, material {}", w.name, materials_[w.material].name));
+    else
+      lines.push_back(fmt::format("wall {}: cylinder r={} m {}, {} rad/s, material {}", w.name,
+                                  w.radius, w.inside ? "inside" : "outside", w.angular_velocity,
+                                  materials_[w.material].name));
+  }
+  lines.push_back(fmt::format("gravity: {}", body_.gravity_on ? "on" : "off"));
+  lines.push_back(fmt::format("central field: {}", body_.central_on ? "on" : "off"));
+  lines.push_back(fmt::format("contact forces recorded: {}", record_contacts_ ? "yes" : "no"));
+  lines.push_back(fmt::format("hooks: {}", hooks_.size()));
+  lines.push_back(fmt::format("time step: {:.6g} s ({}), skin {:.4g} m", dt_,
+                              dt_fixed_ > 0 ? "set by the scene"
+                                            : fmt::format("Eq. 4.1, n = {}", steps_per_contact_),
+                              skin_));
+  return lines;
+}
+
+template class Simulation<2>;
+template class Simulation<3>;
+
+}  // namespace granule

@@ -1,0 +1,154 @@
+// Simulation<D>: the state of one scene and the step that advances it.
+// step() (simulation.cpp) is the whole pipeline: neighbour lists, body forces,
+// contacts per model, integration, hooks.
+#pragma once
+
+#include <tuple>
+#include <vector>
+
+#include "contact/models.hpp"
+#include "core/particles.hpp"
+#include "core/simulation_base.hpp"
+#include "fields/body_forces.hpp"
+#include "geometry/walls.hpp"
+#include "neighbor/cell_grid.hpp"
+
+namespace granule {
+
+// Contacts between particles handled by model M, as flat arrays. A pair is
+// oriented so that id(i) < id(j): the history (force on i) keeps its meaning
+// when particles are re-sorted or lists rebuilt.
+template <int D, typename M>
+struct PairBucket {
+  using History = typename M::template History<D>;
+  std::vector<std::uint32_t> i, j, slot;
+  std::vector<History> history;
+  std::vector<std::int64_t> id_i, id_j;  // cold: for carrying histories across rebuilds
+  // filled only when contacts are recorded
+  std::vector<double> overlap, normal_force;
+  std::vector<Vec<D>> tangential_force, normal;
+  void clear() {
+    i.clear(), j.clear(), slot.clear(), history.clear(), id_i.clear(), id_j.clear();
+  }
+  std::size_t size() const { return i.size(); }
+};
+
+template <int D, typename M>
+struct WallBucket {
+  using History = typename M::template History<D>;
+  std::vector<std::uint32_t> particle, wall, slot;
+  std::vector<History> history;
+  std::vector<std::int64_t> id;  // cold
+  std::vector<double> overlap, normal_force;
+  std::vector<Vec<D>> tangential_force, normal;
+  void clear() { particle.clear(), wall.clear(), slot.clear(), history.clear(), id.clear(); }
+  std::size_t size() const { return particle.size(); }
+};
+
+template <int D, typename Tuple>
+struct BucketsOf;
+template <int D, typename... Ms>
+struct BucketsOf<D, std::tuple<Ms...>> {
+  using pairs = std::tuple<PairBucket<D, Ms>...>;
+  using walls = std::tuple<WallBucket<D, Ms>...>;
+};
+
+template <int D>
+class Simulation final : public SimulationBase {
+ public:
+  using V = Vec<D>;
+  using S = Spin<D>;
+
+  int dimension() const override { return D; }
+
+  int add_wall(const WallSpec& spec) override;
+  std::int64_t add_particle(const ParticleSpec& spec) override;
+  std::vector<std::int64_t> fill(const FillSpec& spec) override;
+  void remove_particle(std::int64_t id) override;
+
+  void set_gravity(const Triple& g) override;
+  void set_central_field(const Triple& point, double strength) override;
+  void set_central_strength(double strength) override;
+  void clear_central_field() override { body_.central_on = false; }
+  double central_strength() const override { return body_.central_on ? body_.central_strength : 0; }
+
+  int wall_count() const override { return static_cast<int>(walls_.size()); }
+  int wall_id(const std::string& name) const override;
+  WallSpec wall(int w) const override;
+  void set_wall_velocity(int w, const Triple& v) override;
+  void set_wall_angular_velocity(int w, double omega) override;
+  Triple wall_force(int w) const override;
+  double wall_axial_torque(int w) const override;
+
+  std::int64_t particle_count() const override { return static_cast<std::int64_t>(p_.size()); }
+  std::vector<std::int64_t> particle_ids() const override { return p_.id; }
+  bool has_particle(std::int64_t id) const override { return p_.index(id) >= 0; }
+  Triple position(std::int64_t id) const override;
+  Triple velocity(std::int64_t id) const override;
+  Triple spin(std::int64_t id) const override;
+  Triple force(std::int64_t id) const override;
+  double radius(std::int64_t id) const override { return p_.radius[checked(id)]; }
+  double mass(std::int64_t id) const override { return p_.mass[checked(id)]; }
+  int material_of(std::int64_t id) const override { return p_.material[checked(id)]; }
+  bool is_fixed(std::int64_t id) const override { return p_.fixed[checked(id)] != 0; }
+  void set_position(std::int64_t id, const Triple& x) override;
+  void set_velocity(std::int64_t id, const Triple& v) override;
+  void set_spin(std::int64_t id, const Triple& w) override;
+  FlatState flat_state() const override;
+
+  void prepare() override;
+  void advance(std::int64_t steps) override;
+  TimeStepReport time_step_rule() override;
+  GlobalStats stats() const override;
+  std::vector<ContactRecord> contacts() const override;
+  std::vector<std::string> describe() const override;
+
+  // One step of the pipeline.
+  void step();
+  // Re-sorts particle storage along cells (locality); histories follow by id.
+  void sort_particles();
+
+  // Direct access for C++ tests and diagnostics.
+  const Particles<D>& particles() const { return p_; }
+  const std::vector<Wall<D>>& walls() const { return walls_; }
+
+ private:
+  int checked(std::int64_t id) const;
+  V to_vec(const Triple& t) const;
+  Triple to_triple(const V& v) const;
+  S to_spin(const Triple& t) const;
+  Triple spin_triple(const S& s) const;
+  V separation(const V& a, const V& b) const {
+    V d = a - b;
+    if (periodic_.on())
+      d[periodic_.axis] -= periodic_.length * std::nearbyint(d[periodic_.axis] / periodic_.length);
+    return d;
+  }
+  void check_particle_input(const ParticleSpec& s, const std::string& context) const;
+  void rebuild_lists();
+  bool lists_stale() const;
+  template <typename M>
+  void pair_forces(PairBucket<D, M>& bucket, const std::vector<typename M::Params>& params);
+  template <typename M>
+  void wall_forces(WallBucket<D, M>& bucket, const std::vector<typename M::Params>& params);
+  void integrate();
+  void report_non_finite(std::size_t index);
+
+  Particles<D> p_;
+  std::vector<Wall<D>> walls_;
+  BodyForces<D> body_;
+  CellGrid<D> grid_;
+  typename BucketsOf<D, ContactModels>::pairs pair_buckets_;
+  typename BucketsOf<D, ContactModels>::walls wall_buckets_;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> candidates_;
+  std::vector<V> position_at_rebuild_;
+  double max_displacement_sq_ = 0;
+  bool lists_valid_ = false;
+  std::size_t rebuilds_ = 0;
+  // per-step counters
+  std::int64_t contacts_particle_ = 0, contacts_wall_ = 0;
+  double max_overlap_ratio_ = 0;
+  std::size_t non_finite_index_ = SIZE_MAX;
+};
+
+}  // namespace granule

@@ -1,0 +1,161 @@
+#include "core/simulation_base.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <iostream>
+
+#include "core/errors.hpp"
+#include "core/simulation.hpp"
+
+namespace granule {
+
+int SimulationBase::add_material(const Material& m) {
+  if (m.name.empty()) throw InputError("material: 'name' must not be empty");
+  for (const auto& existing : materials_)
+    if (existing.name == m.name)
+      throw InputError(fmt::format("material '{}' is declared twice", m.name));
+  auto positive_or_zero = [&](double v, const char* what, const char* unit) {
+    if (!std::isfinite(v) || v < 0)
+      throw InputError(
+          fmt::format("material '{}': '{}' must be >= 0 [{}], got {}", m.name, what, unit, v));
+  };
+  positive_or_zero(m.density, "density", "kg/m^3");
+  positive_or_zero(m.young, "young", "Pa");
+  positive_or_zero(m.surface_energy, "surface_energy", "J/m^2");
+  if (!std::isfinite(m.poisson) || m.poisson < -1 || m.poisson >= 0.5 + 1e-12)
+    throw InputError(fmt::format("material '{}': 'poisson' must be in (-1, 0.5], got {}", m.name,
+                                 m.poisson));
+  materials_.push_back(m);
+  pairs_.resize(static_cast<int>(materials_.size()));
+  prepared_ = false;
+  return static_cast<int>(materials_.size() - 1);
+}
+
+int SimulationBase::material_id(const std::string& name) const {
+  std::vector<std::string> names;
+  for (std::size_t i = 0; i < materials_.size(); ++i) {
+    if (materials_[i].name == name) return static_cast<int>(i);
+    names.push_back(materials_[i].name);
+  }
+  std::string hint = nearest_name(name, names);
+  throw InputError(fmt::format("unknown material '{}'{}", name,
+                               hint.empty() ? std::string(names.empty() ? " (no material declared yet)" : "")
+                                            : fmt::format(" (did you mean '{}'?)", hint)));
+}
+
+void SimulationBase::set_contact(const std::string& a, const std::string& b,
+                                 const std::string& model, const ParamValues& given) {
+  int ia = material_id(a), ib = material_id(b);
+  int m = contact_model_id(model);
+  std::string context = fmt::format("contact '{}'-'{}' ({})", a, b, model);
+  ParamValues resolved =
+      resolve_parameters(contact_model_catalogue()[m].parameters, given, context);
+  pairs_.set(ia, ib, m, resolved);
+  prepared_ = false;
+}
+
+void SimulationBase::update_contact(const std::string& a, const std::string& b,
+                                    const ParamValues& changes) {
+  int ia = material_id(a), ib = material_id(b);
+  pairs_.update(ia, ib, changes, fmt::format("contact '{}'-'{}'", a, b));
+  prepared_ = false;  // re-check the time step against the new parameters
+}
+
+void SimulationBase::set_time_step(double dt) {
+  if (!std::isfinite(dt) || dt < 0)
+    throw InputError(fmt::format("time_step must be > 0 [s] (or 0 for Eq. 4.1), got {}", dt));
+  dt_fixed_ = dt;
+  if (dt > 0) dt_ = dt;
+  prepared_ = false;
+}
+
+void SimulationBase::set_steps_per_contact(double n) {
+  if (!std::isfinite(n) || n < 1)
+    throw InputError(fmt::format("steps_per_contact must be >= 1, got {}", n));
+  steps_per_contact_ = n;
+  if (dt_fixed_ == 0) dt_ = 0;
+  prepared_ = false;
+}
+
+void SimulationBase::set_skin(double skin) {
+  if (!std::isfinite(skin) || skin < 0)
+    throw InputError(fmt::format("skin must be >= 0 [m] (0 = automatic), got {}", skin));
+  skin_set_ = skin;
+  prepared_ = false;
+}
+
+void SimulationBase::set_periodic(int axis, double origin, double length) {
+  if (axis < 0 || axis >= dimension())
+    throw InputError(fmt::format("periodic axis {} does not exist in {}D", axis, dimension()));
+  if (dimension() != 3) throw InputError("a periodic axis is available in 3D scenes only");
+  if (!std::isfinite(length) || length <= 0 || !std::isfinite(origin))
+    throw InputError(fmt::format("periodic length must be > 0 [m], got {}", length));
+  periodic_ = {axis, origin, length};
+  prepared_ = false;
+}
+
+int SimulationBase::add_hook(Hook hook) {
+  if (hook.every_steps <= 0 && !(hook.every_time > 0))
+    throw InputError(fmt::format("hook '{}': give every_steps > 0 or every_time > 0", hook.name));
+  if (!hook.fire) throw InputError(fmt::format("hook '{}': no function", hook.name));
+  hook.id = next_hook_id_++;
+  if (hook.every_time > 0) hook.next_time = time_ + hook.every_time;
+  hooks_.push_back(std::move(hook));
+  return hooks_.back().id;
+}
+
+void SimulationBase::remove_hook(int id) {
+  for (auto it = hooks_.begin(); it != hooks_.end(); ++it)
+    if (it->id == id) {
+      hooks_.erase(it);
+      return;
+    }
+}
+
+void SimulationBase::fire_hooks() {
+  // Index loop: a hook may add or remove hooks.
+  for (std::size_t k = 0; k < hooks_.size(); ++k) {
+    Hook& h = hooks_[k];
+    bool due = false;
+    if (h.every_steps > 0) {
+      due = step_ % h.every_steps == 0;
+    } else if (time_ >= h.next_time - 1e-9 * dt_) {
+      due = true;
+      // Next multiple strictly after now, robust to dt not dividing every_time.
+      h.next_time += h.every_time * std::max(1.0, std::floor((time_ - h.next_time) / h.every_time) + 1);
+    }
+    if (due) {
+      int id = h.id;
+      auto fn = h.fire;  // copy: the hook may remove itself
+      fn();
+      (void)id;
+    }
+  }
+}
+
+void SimulationBase::warn(const std::string& message) const {
+  if (warn_)
+    warn_(message);
+  else
+    std::cerr << "warning: " << message << "\n";
+}
+
+void SimulationBase::fail(const std::string& message) {
+  if (on_failure_) {
+    try {
+      on_failure_(message);
+    } catch (const std::exception& e) {
+      throw RunError(message + fmt::format(" (and writing the failed state also failed: {})", e.what()));
+    }
+  }
+  throw RunError(message);
+}
+
+std::unique_ptr<SimulationBase> make_simulation(int dimension) {
+  if (dimension == 2) return std::make_unique<Simulation<2>>();
+  if (dimension == 3) return std::make_unique<Simulation<3>>();
+  throw InputError(fmt::format("dimension must be 2 or 3, got {}", dimension));
+}
+
+}  // namespace granule

@@ -1,0 +1,227 @@
+// The dimension-free face of a simulation: what the Lua layer, the output
+// writers and the CLI see. Everything that loops over particles or contacts
+// lives in Simulation<D> (simulation.hpp), instantiated for D = 2 and 3.
+#pragma once
+
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "contact/pair_table.hpp"
+#include "core/material.hpp"
+#include "geometry/walls.hpp"
+#include "neighbor/cell_grid.hpp"
+
+namespace granule {
+
+using Triple = std::array<double, 3>;  // a vector in 2D or 3D; z is ignored in 2D
+
+struct ParticleSpec {
+  Triple position{};
+  Triple velocity{};
+  Triple spin{};  // 2D: spin[2] is the spin about z
+  double radius = 0;
+  int material = -1;
+  bool fixed = false;
+};
+
+struct WallSpec {
+  std::string name;
+  WallType type = WallType::plane;
+  int material = -1;
+  Triple point{}, normal{}, velocity{};       // plane
+  Triple center{}, axis{0, 0, 1};              // cylinder
+  double radius = 0;
+  bool inside = true;
+  double angular_velocity = 0;
+};
+
+enum class RegionShape { ball, box, cylinder };
+
+struct FillSpec {
+  RegionShape shape = RegionShape::ball;
+  Triple center{}, lo{}, hi{};
+  double radius = 0;              // ball / cylinder radius
+  double z_min = 0, z_max = 0;    // cylinder (3D) extent along z
+  std::int64_t count = 0;
+  std::vector<double> radii;      // drawn uniformly from this list
+  double radius_min = 0, radius_max = 0;  // or uniform in [min, max] when radii is empty
+  int material = -1;
+  std::uint64_t seed = 1;
+  double max_speed = 0;  // m/s, random velocities in [0, max_speed], then zero net momentum
+  std::int64_t max_attempts = 0;  // 0: 2000 per particle
+};
+
+struct GlobalStats {
+  double time = 0;
+  std::int64_t step = 0;
+  std::int64_t particles = 0;
+  double kinetic_translational = 0;  // J
+  double kinetic_rotational = 0;     // J
+  Triple momentum{};                 // kg m/s
+  double angular_momentum_z = 0;     // kg m^2/s about the origin (z component)
+  std::int64_t contacts_particle = 0;
+  std::int64_t contacts_wall = 0;
+  double max_overlap_ratio = 0;  // largest overlap / smaller radius in the last step
+};
+
+// One contact as the last step saw it (recorded only when asked for).
+struct ContactRecord {
+  std::int64_t id_a = -1;
+  std::int64_t id_b = -1;  // -1 for a wall contact
+  int wall = -1;
+  std::string model;
+  double overlap = 0;
+  double normal_force = 0;
+  Triple tangential_force{};  // on a
+  Triple normal{};            // from b (or the wall) to a
+};
+
+struct Hook {
+  std::string name;
+  std::int64_t every_steps = 0;  // fire when step % every_steps == 0 (if > 0)
+  double every_time = 0;         // or every this many simulated seconds (if > 0)
+  double next_time = 0;
+  std::function<void()> fire;
+  int id = 0;
+};
+
+struct TimeStepReport {
+  double rule = 0;            // Eq. 4.1 (or the model's analogue) over the pairs in use, s
+  double stability_limit = 0; // 2 / omega_max, s
+  std::string governing_pair; // "a-b (model)"
+};
+
+class SimulationBase {
+ public:
+  virtual ~SimulationBase() = default;
+  virtual int dimension() const = 0;
+
+  // ---- set-up ----
+  int add_material(const Material& m);
+  int material_id(const std::string& name) const;  // throws InputError with a suggestion
+  const std::vector<Material>& materials() const { return materials_; }
+  void set_contact(const std::string& a, const std::string& b, const std::string& model,
+                   const ParamValues& given);
+  void update_contact(const std::string& a, const std::string& b, const ParamValues& changes);
+  const PairTable& pair_table() const { return pairs_; }
+
+  virtual int add_wall(const WallSpec& spec) = 0;
+  virtual std::int64_t add_particle(const ParticleSpec& spec) = 0;
+  virtual std::vector<std::int64_t> fill(const FillSpec& spec) = 0;
+  virtual void remove_particle(std::int64_t id) = 0;
+
+  // ---- settings ----
+  void set_time_step(double dt);  // > 0 fixed; 0 = Eq. 4.1 rule (default)
+  void set_steps_per_contact(double n);
+  void set_skin(double skin);     // m; 0 = automatic (half the median radius)
+  void set_periodic(int axis, double origin, double length);
+  void set_record_contacts(bool on) { record_contacts_ = on; }
+  bool record_contacts() const { return record_contacts_; }
+  void set_warning_handler(std::function<void(const std::string&)> f) { warn_ = std::move(f); }
+
+  // body forces
+  virtual void set_gravity(const Triple& g) = 0;
+  virtual void set_central_field(const Triple& point, double strength) = 0;
+  virtual void set_central_strength(double strength) = 0;
+  virtual void clear_central_field() = 0;
+  virtual double central_strength() const = 0;
+
+  // walls
+  virtual int wall_count() const = 0;
+  virtual int wall_id(const std::string& name) const = 0;
+  virtual WallSpec wall(int w) const = 0;
+  virtual void set_wall_velocity(int w, const Triple& v) = 0;
+  virtual void set_wall_angular_velocity(int w, double omega) = 0;
+  virtual Triple wall_force(int w) const = 0;      // N, by the particles on the wall, last step
+  virtual double wall_axial_torque(int w) const = 0;
+
+  // ---- particle access by persistent id ----
+  virtual std::int64_t particle_count() const = 0;
+  virtual std::vector<std::int64_t> particle_ids() const = 0;
+  virtual bool has_particle(std::int64_t id) const = 0;
+  virtual Triple position(std::int64_t id) const = 0;
+  virtual Triple velocity(std::int64_t id) const = 0;
+  virtual Triple spin(std::int64_t id) const = 0;
+  virtual Triple force(std::int64_t id) const = 0;
+  virtual double radius(std::int64_t id) const = 0;
+  virtual double mass(std::int64_t id) const = 0;
+  virtual int material_of(std::int64_t id) const = 0;
+  virtual bool is_fixed(std::int64_t id) const = 0;
+  virtual void set_position(std::int64_t id, const Triple& x) = 0;
+  virtual void set_velocity(std::int64_t id, const Triple& v) = 0;
+  virtual void set_spin(std::int64_t id, const Triple& w) = 0;
+
+  // Flat copies of the state, ids in storage order; position/velocity rows of `dimension()`.
+  struct FlatState {
+    std::vector<std::int64_t> id;
+    std::vector<double> radius, position, velocity, spin;
+    std::vector<std::int32_t> material;
+    std::vector<std::uint8_t> fixed;
+  };
+  virtual FlatState flat_state() const = 0;
+
+  // ---- running ----
+  // Validates the scene (contact laws for every pair in use, particles inside
+  // the walls, periodic box large enough), chooses dt, builds neighbour lists.
+  virtual void prepare() = 0;
+  void ensure_prepared() {
+    if (!prepared_) prepare();
+  }
+  virtual void advance(std::int64_t steps) = 0;  // prepare() if needed, then `steps` steps
+  virtual TimeStepReport time_step_rule() = 0;
+  double time() const { return time_; }
+  std::int64_t step_count() const { return step_; }
+  double time_step() const { return dt_; }
+  bool time_step_is_automatic() const { return dt_fixed_ == 0; }
+  double steps_per_contact() const { return steps_per_contact_; }
+  double skin() const { return skin_; }
+  virtual GlobalStats stats() const = 0;
+  virtual std::vector<ContactRecord> contacts() const = 0;
+  // Lines describing what this scene simulates (models in use, walls, fields, hooks).
+  virtual std::vector<std::string> describe() const = 0;
+
+  // ---- hooks ----
+  int add_hook(Hook hook);
+  void remove_hook(int id);
+  std::size_t hook_count() const { return hooks_.size(); }
+  // Called when a run fails (NaN, escape) just before the error propagates.
+  void set_failure_handler(std::function<void(const std::string&)> f) { on_failure_ = std::move(f); }
+
+  // Wall-clock seconds spent per stage of step() since construction.
+  struct StageTimes {
+    double neighbor = 0, force = 0, integrate = 0, hooks = 0;
+  };
+  const StageTimes& stage_times() const { return stage_times_; }
+
+ protected:
+  void warn(const std::string& message) const;
+  void fire_hooks();
+  void fail(const std::string& message);  // calls the failure handler, throws RunError
+
+  std::vector<Material> materials_;
+  PairTable pairs_;
+  double dt_ = 0;
+  double dt_fixed_ = 0;
+  double steps_per_contact_ = 40;  // Eq. 4.1, n = 40 in the dissertation
+  double skin_ = 0;
+  double skin_set_ = 0;
+  Periodicity periodic_;
+  bool record_contacts_ = false;
+  bool prepared_ = false;
+  double time_ = 0;
+  std::int64_t step_ = 0;
+  std::vector<Hook> hooks_;
+  int next_hook_id_ = 1;
+  std::function<void(const std::string&)> warn_;
+  std::function<void(const std::string&)> on_failure_;
+  StageTimes stage_times_;
+};
+
+std::unique_ptr<SimulationBase> make_simulation(int dimension);
+
+}  // namespace granule

@@ -1,0 +1,100 @@
+// Analytic walls. The dissertation built its cylinders out of boundary
+// particles; analytic surfaces are smoother and cheaper, and carry the two
+// things the physics needs (SPEC 4.1): their own material (so wall friction
+// differs from particle friction) and their surface velocity at the contact
+// point, which enters the slip of Eq. 3.10.
+#pragma once
+
+#include <cmath>
+#include <string>
+
+#include "core/types.hpp"
+
+namespace granule {
+
+enum class WallType { plane, cylinder };
+
+template <int D>
+struct Wall {
+  using V = Vec<D>;
+  std::string name;
+  WallType type = WallType::plane;
+  int material = -1;
+  // plane: particles live on the side `normal` points to
+  V point = V::Zero();
+  V normal = V::Zero();
+  V velocity = V::Zero();  // m/s, translation set by the script
+  // cylinder: axis through `center` along `axis` (always z in 2D)
+  V center = V::Zero();
+  V axis = V::Zero();
+  double radius = 0;
+  bool inside = true;             // particles inside the cylinder (a chamber) or outside (a post)
+  double angular_velocity = 0;    // rad/s about `axis`, right-handed
+  // reaction: force and axial torque exerted BY the particles ON the wall in the last step
+  V force = V::Zero();
+  double axial_torque = 0;  // N m about the cylinder axis (z for planes in 2D)
+  V moved_since_rebuild = V::Zero();
+
+  // Signed clearance between the particle surface and the wall (negative: overlap).
+  double clearance(const V& x, double r) const {
+    if (type == WallType::plane) return (x - point).dot(normal) - r;
+    double rho = radial(x).norm();
+    return inside ? radius - rho - r : rho - radius - r;
+  }
+
+  // The part of x - center perpendicular to the axis.
+  V radial(const V& x) const {
+    V d = x - center;
+    if constexpr (D == 3) d -= axis * axis.dot(d);
+    return d;
+  }
+
+  // Contact geometry for a particle at x with radius r. Returns the overlap;
+  // fills the unit normal pointing from the wall to the particle, the wall's
+  // surface velocity at the contact point and the lever arm from the axis
+  // (for the reaction torque).
+  double contact(const V& x, double r, V& n, V& surface_velocity, V& lever) const {
+    if (type == WallType::plane) {
+      n = normal;
+      surface_velocity = velocity;
+      lever = x - normal * r - point;
+      return r - (x - point).dot(normal);
+    }
+    V d = radial(x);
+    double rho = d.norm();
+    V d_hat;
+    if (rho > 1e-300) {
+      d_hat = d / rho;
+    } else {  // on the axis: any radial direction will do
+      d_hat = V::Zero();
+      d_hat[axis[0] != 0 && D == 3 ? 1 : 0] = 1;
+      if constexpr (D == 3) d_hat = (d_hat - axis * axis.dot(d_hat)).normalized();
+    }
+    double overlap;
+    if (inside) {
+      n = -d_hat;
+      overlap = rho + r - radius;
+    } else {
+      n = d_hat;
+      overlap = radius + r - rho;
+    }
+    lever = d_hat * radius;
+    if constexpr (D == 2) {
+      surface_velocity = V(-d_hat.y(), d_hat.x()) * (angular_velocity * radius);
+    } else {
+      surface_velocity = axis.cross(d_hat) * (angular_velocity * radius);
+    }
+    return overlap;
+  }
+
+  // Axial torque of a force applied at `lever` from the axis.
+  double axial_moment(const V& lever, const V& f) const {
+    if constexpr (D == 2) {
+      return lever.x() * f.y() - lever.y() * f.x();
+    } else {
+      return axis.dot(lever.cross(f));
+    }
+  }
+};
+
+}  // namespace granule

@@ -1,0 +1,209 @@
+#include "io/run_output.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "core/errors.hpp"
+
+namespace granule::io {
+
+namespace {
+const std::vector<std::string> series_columns = {
+    "time", "step", "kinetic_energy_translational", "kinetic_energy_rotational",
+    "contacts_particle", "contacts_wall", "max_overlap_ratio", "momentum_x", "momentum_y",
+    "momentum_z", "angular_momentum_z"};
+const std::vector<std::string> series_units = {"s", "-", "J", "J", "-", "-", "-",
+                                               "kg m/s", "kg m/s", "kg m/s", "kg m^2/s"};
+}  // namespace
+
+RunOutput::RunOutput(SimulationBase& sim, RunOutputSettings settings)
+    : sim_(sim), settings_(std::move(settings)) {
+  if (settings_.path.empty()) throw InputError("output: 'file' must not be empty");
+  if (settings_.snapshot_every < 0 || !std::isfinite(settings_.snapshot_every))
+    throw InputError(fmt::format("output: snapshot_every must be >= 0 [s], got {}", settings_.snapshot_every));
+  if (settings_.series_every < 0 || !std::isfinite(settings_.series_every))
+    throw InputError(fmt::format("output: series_every must be >= 0 [s], got {}", settings_.series_every));
+  file_ = std::make_unique<H5Output>(settings_.path);
+  file_->series_declare("/series", series_columns, series_units);
+  Hook series;
+  series.name = "output.series";
+  if (settings_.series_every > 0)
+    series.every_time = settings_.series_every;
+  else
+    series.every_steps = 100;
+  series.fire = [this] { write_series_row(); };
+  hook_ids_.push_back(sim_.add_hook(series));
+  if (settings_.snapshot_every > 0) {
+    Hook snap;
+    snap.name = "output.snapshot";
+    snap.every_time = settings_.snapshot_every;
+    snap.fire = [this] { write_snapshot(); };
+    hook_ids_.push_back(sim_.add_hook(snap));
+  }
+  sim_.set_failure_handler([this](const std::string& m) { write_failure(m); });
+}
+
+RunOutput::~RunOutput() {
+  for (int id : hook_ids_) sim_.remove_hook(id);
+  sim_.set_failure_handler(nullptr);
+  try {
+    finish();
+  } catch (...) {
+    // A destructor must not throw; finish() already reported through the file it could write.
+  }
+}
+
+void RunOutput::finish() {
+  if (finished_) return;
+  finished_ = true;
+  write_header();
+  if (sim_.step_count() != last_snapshot_step_ && sim_.particle_count() > 0) write_snapshot();
+  file_->flush();
+}
+
+void RunOutput::write_header() {
+  // Written lazily, at the first output of the run, so that it describes the
+  // scene as it runs, whatever order the script declared things in.
+  if (header_written_) return;
+  header_written_ = true;
+  H5Output& f = *file_;
+  f.write_attribute("/", "dimension", static_cast<std::int64_t>(sim_.dimension()));
+  f.write_attribute("/", "program", std::string("granule"));
+  if (!settings_.scene_source.empty()) f.write_text("/scene/source", settings_.scene_source);
+  if (!settings_.scene_path.empty()) f.write_attribute("/scene", "path", settings_.scene_path);
+  for (const auto& [name, value] : settings_.parameters) {
+    auto it = settings_.numeric_parameters.find(name);
+    if (it != settings_.numeric_parameters.end())
+      f.write_attribute("/scene/parameters", name, it->second);
+    else
+      f.write_attribute("/scene/parameters", name, value);
+  }
+  // Materials and contact laws with their resolved parameters (provenance).
+  const auto& mats = sim_.materials();
+  const PairTable& table = sim_.pair_table();
+  auto catalogue = contact_model_catalogue();
+  for (const auto& m : mats) {
+    std::string g = "/materials/" + m.name;
+    f.write_attribute(g, "density", m.density);
+    f.write_attribute(g, "young", m.young);
+    f.write_attribute(g, "poisson", m.poisson);
+    f.write_attribute(g, "surface_energy", m.surface_energy);
+  }
+  for (int a = 0; a < table.material_count(); ++a)
+    for (int b = a; b < table.material_count(); ++b) {
+      const auto& e = table.at(a, b);
+      if (e.model < 0) continue;
+      std::string g = fmt::format("/contacts/{}-{}", mats[a].name, mats[b].name);
+      f.write_attribute(g, "model", catalogue[e.model].name);
+      for (const auto& [k, v] : table.values(a, b)) f.write_attribute(g, k, v);
+    }
+  for (int w = 0; w < sim_.wall_count(); ++w) {
+    WallSpec s = sim_.wall(w);
+    std::string g = "/walls/" + s.name;
+    std::vector<double> centre(s.center.begin(), s.center.begin() + sim_.dimension());
+    std::vector<double> point(s.point.begin(), s.point.begin() + sim_.dimension());
+    std::vector<double> normal(s.normal.begin(), s.normal.begin() + sim_.dimension());
+    f.write_attribute(g, "type", std::string(s.type == WallType::plane ? "plane" : "cylinder"));
+    f.write_attribute(g, "material", mats[s.material].name);
+    if (s.type == WallType::plane) {
+      f.write_attribute(g, "point", point);
+      f.write_attribute(g, "normal", normal);
+    } else {
+      f.write_attribute(g, "center", centre);
+      f.write_attribute(g, "radius", s.radius);
+      f.write_attribute(g, "inside", static_cast<std::int64_t>(s.inside ? 1 : 0));
+      f.write_attribute(g, "angular_velocity", s.angular_velocity);
+    }
+  }
+  std::string lines;
+  for (const auto& l : sim_.describe()) lines += l + "\n";
+  f.write_text("/scene/description", lines);
+  f.flush();
+}
+
+SnapshotView RunOutput::view(const SimulationBase::FlatState& s, std::vector<std::string> names) const {
+  SnapshotView v;
+  v.step = sim_.step_count();
+  v.time = sim_.time();
+  v.dimension = sim_.dimension();
+  v.spin_components = sim_.dimension() == 2 ? 1 : 3;
+  v.count = s.id.size();
+  v.id = s.id.data();
+  v.radius = s.radius.data();
+  v.position = s.position.data();
+  v.velocity = s.velocity.data();
+  v.spin = s.spin.data();
+  v.material = s.material.data();
+  v.fixed = s.fixed.data();
+  v.material_names = std::move(names);
+  return v;
+}
+
+void RunOutput::write_snapshot() {
+  write_header();
+  SimulationBase::FlatState s = sim_.flat_state();
+  std::vector<std::string> names;
+  for (const auto& m : sim_.materials()) names.push_back(m.name);
+  file_->write_snapshot(view(s, names));
+  last_snapshot_step_ = sim_.step_count();
+}
+
+void RunOutput::write_series_row() {
+  write_header();
+  GlobalStats g = sim_.stats();
+  file_->series_append("/series", {g.time, static_cast<double>(g.step), g.kinetic_translational,
+                                   g.kinetic_rotational, static_cast<double>(g.contacts_particle),
+                                   static_cast<double>(g.contacts_wall), g.max_overlap_ratio,
+                                   g.momentum[0], g.momentum[1], g.momentum[2],
+                                   g.angular_momentum_z});
+}
+
+void RunOutput::declare_series(const std::string& name, const std::vector<std::string>& columns) {
+  if (name.empty() || name.find('/') != std::string::npos || name == "series")
+    throw InputError(fmt::format("series name '{}' must be a plain word other than 'series'", name));
+  file_->series_declare("/" + name, columns);
+}
+
+void RunOutput::append_series(const std::string& name, const std::vector<double>& row) {
+  file_->series_append("/" + name, row);
+}
+
+void RunOutput::write_result(const std::string& name, double value) {
+  file_->write_attribute("/results", name, value);
+  file_->flush();
+}
+
+void RunOutput::write_failure(const std::string& message) {
+  write_header();
+  // Keep what can be kept: the particles whose state is still finite, and the reason.
+  SimulationBase::FlatState s = sim_.flat_state();
+  const int d = sim_.dimension(), sc = d == 2 ? 1 : 3;
+  SimulationBase::FlatState kept;
+  for (std::size_t i = 0; i < s.id.size(); ++i) {
+    bool finite = true;
+    for (int k = 0; k < d; ++k)
+      finite = finite && std::isfinite(s.position[i * d + k]) && std::isfinite(s.velocity[i * d + k]);
+    for (int k = 0; k < sc; ++k) finite = finite && std::isfinite(s.spin[i * sc + k]);
+    if (!finite) continue;
+    kept.id.push_back(s.id[i]);
+    kept.radius.push_back(s.radius[i]);
+    kept.material.push_back(s.material[i]);
+    kept.fixed.push_back(s.fixed[i]);
+    for (int k = 0; k < d; ++k) {
+      kept.position.push_back(s.position[i * d + k]);
+      kept.velocity.push_back(s.velocity[i * d + k]);
+    }
+    for (int k = 0; k < sc; ++k) kept.spin.push_back(s.spin[i * sc + k]);
+  }
+  std::vector<std::string> names;
+  for (const auto& m : sim_.materials()) names.push_back(m.name);
+  std::string group = file_->write_snapshot(view(kept, names));
+  file_->write_attribute(group, "failure", message);
+  file_->write_attribute("/", "failure", message);
+  last_snapshot_step_ = sim_.step_count();
+  finished_ = true;  // do not append a normal final snapshot after a failure
+  file_->flush();
+}
+
+}  // namespace granule::io

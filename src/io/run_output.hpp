@@ -1,0 +1,57 @@
+// Attaches HDF5 output to a running simulation: the scene's provenance
+// (source text, parameters, what is simulated), a time series of global
+// quantities, particle snapshots at set intervals, scene-declared series, and
+// the state at a failure. Everything is flushed as it is written, so a crash
+// keeps what was written before it.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/simulation_base.hpp"
+#include "io/h5_output.hpp"
+
+namespace granule::io {
+
+struct RunOutputSettings {
+  std::string path;
+  double snapshot_every = 0;  // s of simulated time; 0 = first and last only
+  double series_every = 0;    // s; 0 = every 100 steps
+  std::string scene_path;
+  std::string scene_source;
+  std::vector<std::pair<std::string, std::string>> parameters;  // name -> value as text
+  std::map<std::string, double> numeric_parameters;
+};
+
+class RunOutput {
+ public:
+  RunOutput(SimulationBase& sim, RunOutputSettings settings);
+  ~RunOutput();  // writes the final snapshot if the run advanced since the last one; never throws
+  RunOutput(const RunOutput&) = delete;
+  RunOutput& operator=(const RunOutput&) = delete;
+
+  void write_snapshot();
+  void write_series_row();
+  void declare_series(const std::string& name, const std::vector<std::string>& columns);
+  void append_series(const std::string& name, const std::vector<double>& row);
+  void write_result(const std::string& name, double value);  // /results attributes
+  void write_failure(const std::string& message);            // finite particles + message
+  void finish();                                              // final snapshot + flush
+  const std::string& path() const { return settings_.path; }
+  H5Output& file() { return *file_; }
+
+ private:
+  void write_header();
+  SnapshotView view(const SimulationBase::FlatState& s, std::vector<std::string> names) const;
+  SimulationBase& sim_;
+  RunOutputSettings settings_;
+  std::unique_ptr<H5Output> file_;
+  std::vector<int> hook_ids_;
+  std::int64_t last_snapshot_step_ = -1;
+  bool finished_ = false;
+  bool header_written_ = false;
+};
+
+}  // namespace granule::io

@@ -1,0 +1,259 @@
+#include "lua/lua_util.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "contact/parameters.hpp"
+
+namespace granule::lua {
+
+std::string type_name(lua_State* L, int index) { return luaL_typename(L, index); }
+
+TableReader::TableReader(lua_State* L, int index, std::string context)
+    : L_(L), index_(lua_absindex(L, index)), context_(std::move(context)) {
+  if (!lua_istable(L, index_))
+    throw std::runtime_error(fmt::format("{}: expected a table {{ ... }}, got {}", context_,
+                                         type_name(L, index_)));
+}
+
+int TableReader::push(const char* key) {
+  used_.insert(key);
+  return lua_getfield(L_, index_, key);
+}
+
+bool TableReader::has(const char* key) {
+  int t = lua_getfield(L_, index_, key);
+  lua_pop(L_, 1);
+  return t != LUA_TNIL;
+}
+
+double TableReader::number(const char* key) {
+  if (!has(key)) throw std::runtime_error(fmt::format("{}: '{}' is required", context_, key));
+  return number(key, 0);
+}
+
+double TableReader::number(const char* key, double fallback) {
+  int t = push(key);
+  if (t == LUA_TNIL) {
+    lua_pop(L_, 1);
+    return fallback;
+  }
+  if (t != LUA_TNUMBER) {
+    std::string got = type_name(L_, -1);
+    lua_pop(L_, 1);
+    throw std::runtime_error(fmt::format("{}: '{}' must be a number, got {}", context_, key, got));
+  }
+  double v = lua_tonumber(L_, -1);
+  lua_pop(L_, 1);
+  if (!std::isfinite(v))
+    throw std::runtime_error(fmt::format("{}: '{}' must be finite, got {}", context_, key, v));
+  return v;
+}
+
+std::int64_t TableReader::integer(const char* key) {
+  if (!has(key)) throw std::runtime_error(fmt::format("{}: '{}' is required", context_, key));
+  return integer(key, 0);
+}
+
+std::int64_t TableReader::integer(const char* key, std::int64_t fallback) {
+  int t = push(key);
+  if (t == LUA_TNIL) {
+    lua_pop(L_, 1);
+    return fallback;
+  }
+  int ok = 0;
+  lua_Integer v = lua_tointegerx(L_, -1, &ok);
+  std::string got = type_name(L_, -1);
+  lua_pop(L_, 1);
+  if (!ok || t != LUA_TNUMBER)
+    throw std::runtime_error(fmt::format("{}: '{}' must be an integer, got {}", context_, key, got));
+  return v;
+}
+
+bool TableReader::boolean(const char* key, bool fallback) {
+  int t = push(key);
+  if (t == LUA_TNIL) {
+    lua_pop(L_, 1);
+    return fallback;
+  }
+  if (t != LUA_TBOOLEAN) {
+    std::string got = type_name(L_, -1);
+    lua_pop(L_, 1);
+    throw std::runtime_error(fmt::format("{}: '{}' must be true or false, got {}", context_, key, got));
+  }
+  bool v = lua_toboolean(L_, -1);
+  lua_pop(L_, 1);
+  return v;
+}
+
+std::string TableReader::string(const char* key) {
+  if (!has(key)) throw std::runtime_error(fmt::format("{}: '{}' is required", context_, key));
+  return string(key, "");
+}
+
+std::string TableReader::string(const char* key, const std::string& fallback) {
+  int t = push(key);
+  if (t == LUA_TNIL) {
+    lua_pop(L_, 1);
+    return fallback;
+  }
+  if (t != LUA_TSTRING) {
+    std::string got = type_name(L_, -1);
+    lua_pop(L_, 1);
+    throw std::runtime_error(fmt::format("{}: '{}' must be a string, got {}", context_, key, got));
+  }
+  std::string v = lua_tostring(L_, -1);
+  lua_pop(L_, 1);
+  return v;
+}
+
+std::array<double, 3> TableReader::vector(const char* key, int dimension) {
+  if (!has(key)) throw std::runtime_error(fmt::format("{}: '{}' is required", context_, key));
+  return vector(key, dimension, {0, 0, 0});
+}
+
+std::array<double, 3> TableReader::vector(const char* key, int dimension,
+                                          const std::array<double, 3>& fallback) {
+  int t = push(key);
+  if (t == LUA_TNIL) {
+    lua_pop(L_, 1);
+    return fallback;
+  }
+  std::array<double, 3> v;
+  try {
+    v = read_vector(L_, -1, dimension, fmt::format("{}: '{}'", context_, key));
+  } catch (...) {
+    lua_pop(L_, 1);
+    throw;
+  }
+  lua_pop(L_, 1);
+  return v;
+}
+
+std::vector<double> TableReader::numbers(const char* key) {
+  std::vector<double> out;
+  int t = push(key);
+  if (t == LUA_TNIL) {
+    lua_pop(L_, 1);
+    return out;
+  }
+  if (t != LUA_TTABLE) {
+    lua_pop(L_, 1);
+    throw std::runtime_error(fmt::format("{}: '{}' must be a list of numbers", context_, key));
+  }
+  lua_Integer n = luaL_len(L_, -1);
+  for (lua_Integer k = 1; k <= n; ++k) {
+    lua_geti(L_, -1, k);
+    if (!lua_isnumber(L_, -1)) {
+      lua_pop(L_, 2);
+      throw std::runtime_error(fmt::format("{}: '{}'[{}] must be a number", context_, key, k));
+    }
+    out.push_back(lua_tonumber(L_, -1));
+    lua_pop(L_, 1);
+  }
+  lua_pop(L_, 1);
+  return out;
+}
+
+bool TableReader::push_function(const char* key) {
+  int t = push(key);
+  if (t == LUA_TFUNCTION) return true;
+  std::string got = type_name(L_, -1);
+  lua_pop(L_, 1);
+  if (t == LUA_TNIL) return false;
+  throw std::runtime_error(fmt::format("{}: '{}' must be a function, got {}", context_, key, got));
+}
+
+bool TableReader::push_table(const char* key) {
+  int t = push(key);
+  if (t == LUA_TTABLE) return true;
+  std::string got = type_name(L_, -1);
+  lua_pop(L_, 1);
+  if (t == LUA_TNIL) return false;
+  throw std::runtime_error(fmt::format("{}: '{}' must be a table, got {}", context_, key, got));
+}
+
+std::vector<std::string> TableReader::keys() {
+  std::vector<std::string> out;
+  lua_pushnil(L_);
+  while (lua_next(L_, index_) != 0) {
+    if (lua_type(L_, -2) == LUA_TSTRING) out.emplace_back(lua_tostring(L_, -2));
+    lua_pop(L_, 1);
+  }
+  return out;
+}
+
+void TableReader::finish() {
+  std::vector<std::string> known(used_.begin(), used_.end());
+  lua_pushnil(L_);
+  while (lua_next(L_, index_) != 0) {
+    lua_pop(L_, 1);
+    if (lua_type(L_, -1) != LUA_TSTRING) continue;  // positional entries are read by callers
+    std::string key = lua_tostring(L_, -1);
+    if (used_.count(key)) continue;
+    lua_pop(L_, 1);
+    std::string hint = nearest_name(key, known);
+    throw std::runtime_error(fmt::format("{}: unknown key '{}'{}", context_, key,
+                                         hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint)));
+  }
+}
+
+std::array<double, 3> read_vector(lua_State* L, int index, int dimension, const std::string& what) {
+  index = lua_absindex(L, index);
+  if (!lua_istable(L, index))
+    throw std::runtime_error(fmt::format("{} must be a vector {{x, y{}}}, got {}", what,
+                                         dimension == 3 ? ", z" : "", type_name(L, index)));
+  lua_Integer n = luaL_len(L, index);
+  if (n != dimension && !(dimension == 2 && n == 3))
+    throw std::runtime_error(
+        fmt::format("{} must have {} components, got {}", what, dimension, static_cast<long long>(n)));
+  std::array<double, 3> v{0, 0, 0};
+  for (lua_Integer k = 1; k <= n; ++k) {
+    lua_geti(L, index, k);
+    if (lua_type(L, -1) != LUA_TNUMBER) {
+      std::string got = type_name(L, -1);
+      lua_pop(L, 1);
+      throw std::runtime_error(fmt::format("{}[{}] must be a number, got {}", what, k, got));
+    }
+    v[k - 1] = lua_tonumber(L, -1);
+    lua_pop(L, 1);
+    if (!std::isfinite(v[k - 1]))
+      throw std::runtime_error(fmt::format("{}[{}] must be finite", what, k));
+  }
+  if (dimension == 2 && v[2] != 0)
+    throw std::runtime_error(fmt::format("{}: a 2D scene has no z component (got {})", what, v[2]));
+  return v;
+}
+
+double read_number(lua_State* L, int index, const std::string& what) {
+  if (lua_type(L, index) != LUA_TNUMBER)
+    throw std::runtime_error(fmt::format("{} must be a number, got {}", what, type_name(L, index)));
+  double v = lua_tonumber(L, index);
+  if (!std::isfinite(v)) throw std::runtime_error(fmt::format("{} must be finite, got {}", what, v));
+  return v;
+}
+
+std::int64_t read_integer(lua_State* L, int index, const std::string& what) {
+  int ok = 0;
+  lua_Integer v = lua_tointegerx(L, index, &ok);
+  if (!ok || lua_type(L, index) != LUA_TNUMBER)
+    throw std::runtime_error(fmt::format("{} must be an integer, got {}", what, type_name(L, index)));
+  return v;
+}
+
+std::string read_string(lua_State* L, int index, const std::string& what) {
+  if (lua_type(L, index) != LUA_TSTRING)
+    throw std::runtime_error(fmt::format("{} must be a string, got {}", what, type_name(L, index)));
+  return lua_tostring(L, index);
+}
+
+void push_vector(lua_State* L, const std::array<double, 3>& v, int dimension) {
+  lua_createtable(L, dimension, 0);
+  for (int k = 0; k < dimension; ++k) {
+    lua_pushnumber(L, v[k]);
+    lua_rawseti(L, -2, k + 1);
+  }
+}
+
+}  // namespace granule::lua

@@ -1,0 +1,97 @@
+// Discipline at the C++/Lua boundary (Debian's Lua is built as C: a Lua error
+// is a longjmp that would skip C++ destructors).
+//  - Every binding runs its body inside `protect`, which catches C++
+//    exceptions and raises the Lua error only after the C++ frames are gone.
+//  - Bindings read arguments with the readers below, which throw C++
+//    exceptions instead of calling luaL_check* (which would longjmp).
+//  - Lua callbacks are called with lua_pcall, and their errors become C++
+//    exceptions (ScriptError) on the way back into the engine.
+#pragma once
+
+#include <lua.hpp>
+
+#include <array>
+#include <cstdint>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace granule::lua {
+
+// An error raised by Lua code (a callback); its message already carries file:line.
+struct ScriptError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// Runs body(L) -> int; converts any C++ exception into a Lua error prefixed with
+// the caller's file:line (luaL_where level 1).
+template <typename Body>
+int protect(lua_State* L, Body&& body) {
+  int result = 0;
+  bool failed = false;
+  bool script = false;
+  {
+    std::string message;
+    try {
+      result = body(L);
+    } catch (const ScriptError& e) {
+      message = e.what();
+      failed = script = true;
+    } catch (const std::exception& e) {
+      message = e.what();
+      failed = true;
+    }
+    if (failed) {
+      if (!script) luaL_where(L, 1);
+      lua_pushstring(L, message.c_str());
+      if (!script) lua_concat(L, 2);
+    }
+  }
+  if (failed) return lua_error(L);
+  return result;
+}
+
+std::string type_name(lua_State* L, int index);
+
+// Reads fields of a Lua table at a stack index; throws std::runtime_error naming
+// the context and key. finish() refuses keys that were not read, suggesting
+// the nearest known name.
+class TableReader {
+ public:
+  TableReader(lua_State* L, int index, std::string context);
+  bool has(const char* key);
+  double number(const char* key);                       // required
+  double number(const char* key, double fallback);      // optional
+  std::int64_t integer(const char* key);
+  std::int64_t integer(const char* key, std::int64_t fallback);
+  bool boolean(const char* key, bool fallback);
+  std::string string(const char* key);
+  std::string string(const char* key, const std::string& fallback);
+  std::array<double, 3> vector(const char* key, int dimension);  // {x, y[, z]}
+  std::array<double, 3> vector(const char* key, int dimension, const std::array<double, 3>& fallback);
+  std::vector<double> numbers(const char* key);
+  // Leaves the field on the stack top if it is a function and returns true.
+  bool push_function(const char* key);
+  bool push_table(const char* key);  // the same for a table
+  void finish();
+  const std::string& context() const { return context_; }
+  int index() const { return index_; }
+  void mark(const char* key) { used_.insert(key); }
+  std::vector<std::string> keys();  // string keys present
+
+ private:
+  int push(const char* key);  // pushes field, returns its type
+  lua_State* L_;
+  int index_;
+  std::string context_;
+  std::set<std::string> used_;
+};
+
+std::array<double, 3> read_vector(lua_State* L, int index, int dimension, const std::string& what);
+double read_number(lua_State* L, int index, const std::string& what);
+std::string read_string(lua_State* L, int index, const std::string& what);
+std::int64_t read_integer(lua_State* L, int index, const std::string& what);
+void push_vector(lua_State* L, const std::array<double, 3>& v, int dimension);
+
+}  // namespace granule::lua

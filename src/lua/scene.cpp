@@ -1,0 +1,220 @@
+#include "lua/scene.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "contact/parameters.hpp"
+#include "lua/lua_util.hpp"
+
+namespace granule::lua {
+
+namespace {
+const char* context_key = "granule.context";
+
+int traceback(lua_State* L) {
+  const char* msg = lua_tostring(L, 1);
+  if (!msg) msg = lua_pushfstring(L, "(error object is a %s value)", luaL_typename(L, 1));
+  luaL_traceback(L, L, msg, 1);
+  return 1;
+}
+
+// parameters { name = default, other = { default = 1.0, unit = "m/s", doc = "..." } }
+// Returns a read-only table of values; -D name=value overrides a default.
+int l_parameters(lua_State* L) {
+  return protect(L, [](lua_State* L) {
+    SceneContext* ctx = context(L);
+    if (ctx->parameters_declared) throw std::runtime_error("parameters{...} may be called only once per scene");
+    ctx->parameters_declared = true;
+    if (!lua_istable(L, 1)) throw std::runtime_error("parameters: expected a table { name = default, ... }");
+    lua_newtable(L);  // values
+    int values = lua_gettop(L);
+    std::vector<std::string> names;
+    lua_pushnil(L);
+    while (lua_next(L, 1) != 0) {
+      if (lua_type(L, -2) != LUA_TSTRING) throw std::runtime_error("parameters: every key must be a name");
+      std::string name = lua_tostring(L, -2);
+      names.push_back(name);
+      int spec = lua_gettop(L);
+      if (lua_istable(L, spec)) {
+        lua_getfield(L, spec, "default");
+        lua_replace(L, spec);
+      }
+      int t = lua_type(L, spec);
+      if (t != LUA_TNUMBER && t != LUA_TSTRING && t != LUA_TBOOLEAN)
+        throw std::runtime_error(fmt::format(
+            "parameters: '{}' needs a default that is a number, string or boolean, got {}", name,
+            luaL_typename(L, spec)));
+      auto ov = ctx->overrides.find(name);
+      if (ov != ctx->overrides.end()) {
+        ctx->consumed.insert(name);
+        const std::string& text = ov->second;
+        if (t == LUA_TNUMBER) {
+          if (!lua_stringtonumber(L, text.c_str()))
+            throw std::runtime_error(fmt::format("-D {}={}: '{}' expects a number", name, text, name));
+          if (!std::isfinite(lua_tonumber(L, -1)))
+            throw std::runtime_error(fmt::format("-D {}={}: must be finite", name, text));
+        } else if (t == LUA_TBOOLEAN) {
+          if (text != "true" && text != "false")
+            throw std::runtime_error(fmt::format("-D {}={}: '{}' expects true or false", name, text, name));
+          lua_pushboolean(L, text == "true");
+        } else {
+          lua_pushstring(L, text.c_str());
+        }
+        lua_replace(L, spec);
+      }
+      // record for provenance
+      std::string shown;
+      if (lua_type(L, spec) == LUA_TNUMBER) {
+        ctx->numeric_parameters[name] = lua_tonumber(L, spec);
+        shown = fmt::format("{}", lua_tonumber(L, spec));
+      } else if (lua_type(L, spec) == LUA_TBOOLEAN) {
+        shown = lua_toboolean(L, spec) ? "true" : "false";
+      } else {
+        shown = lua_tostring(L, spec);
+      }
+      ctx->parameter_values.emplace_back(name, shown);
+      lua_pushvalue(L, -2);
+      lua_pushvalue(L, spec);
+      lua_settable(L, values);
+      lua_settop(L, values + 1);  // keep key for lua_next
+    }
+    for (const auto& [name, value] : ctx->overrides) {
+      if (ctx->consumed.count(name)) continue;
+      std::string hint = nearest_name(name, names);
+      throw std::runtime_error(fmt::format("-D {}={}: this scene has no parameter '{}'{}", name, value, name,
+                                           hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint)));
+    }
+    // Read-only proxy that refuses unknown names.
+    lua_newtable(L);
+    lua_newtable(L);
+    lua_pushvalue(L, values);
+    lua_pushcclosure(
+        L,
+        [](lua_State* L) -> int {
+          lua_pushvalue(L, 2);
+          if (lua_rawget(L, lua_upvalueindex(1)) == LUA_TNIL)
+            return luaL_error(L, "unknown parameter '%s'", luaL_tolstring(L, 2, nullptr));
+          return 1;
+        },
+        1);
+    lua_setfield(L, -2, "__index");
+    lua_pushcfunction(L, [](lua_State* L) -> int {
+      return luaL_error(L, "parameters are read-only: override them with -D name=value");
+    });
+    lua_setfield(L, -2, "__newindex");
+    lua_pushvalue(L, values);
+    lua_pushcclosure(
+        L,
+        [](lua_State* L) -> int {  // __pairs so scripts can list them
+          lua_getglobal(L, "next");
+          lua_pushvalue(L, lua_upvalueindex(1));
+          lua_pushnil(L);
+          return 3;
+        },
+        1);
+    lua_setfield(L, -2, "__pairs");
+    lua_setmetatable(L, -2);
+    return 1;
+  });
+}
+
+int strict_index(lua_State* L) {
+  const char* name = lua_tostring(L, 2);
+  return luaL_error(L, "undeclared global '%s' (a typo? locals need 'local')", name ? name : "?");
+}
+int strict_newindex(lua_State* L) {
+  const char* name = lua_tostring(L, 2);
+  return luaL_error(L, "assignment to undeclared global '%s': declare it with 'local'",
+                    name ? name : "?");
+}
+}  // namespace
+
+SceneContext* context(lua_State* L) {
+  lua_getfield(L, LUA_REGISTRYINDEX, context_key);
+  auto* ctx = static_cast<SceneContext*>(lua_touserdata(L, -1));
+  lua_pop(L, 1);
+  return ctx;
+}
+
+lua_State* new_state(SceneContext* ctx) {
+  lua_State* L = luaL_newstate();
+  if (!L) throw std::runtime_error("cannot create a Lua state (out of memory)");
+  luaL_openlibs(L);
+  lua_pushlightuserdata(L, ctx);
+  lua_setfield(L, LUA_REGISTRYINDEX, context_key);
+  // lua/ of the source tree (or $GRANULE_LUA_PATH) on package.path.
+  const char* env = std::getenv("GRANULE_LUA_PATH");
+  std::string dir = env ? env : GRANULE_LUA_DIR;
+  lua_getglobal(L, "package");
+  lua_getfield(L, -1, "path");
+  std::string path = fmt::format("{0}/?.lua;{0}/?/init.lua;{1}", dir, lua_tostring(L, -1));
+  lua_pop(L, 1);
+  lua_pushstring(L, path.c_str());
+  lua_setfield(L, -2, "path");
+  lua_pop(L, 1);
+  lua_pushcfunction(L, l_parameters);
+  lua_setglobal(L, "parameters");
+  lua_pushstring(L, GRANULE_VERSION);
+  lua_setglobal(L, "GRANULE_VERSION");
+  lua_pushstring(L, ctx->scene_path.c_str());
+  lua_setglobal(L, "SCENE_PATH");
+  open_simulation(L);
+  return L;
+}
+
+void make_globals_strict(lua_State* L) {
+  lua_pushglobaltable(L);
+  lua_newtable(L);
+  lua_pushcfunction(L, strict_index);
+  lua_setfield(L, -2, "__index");
+  lua_pushcfunction(L, strict_newindex);
+  lua_setfield(L, -2, "__newindex");
+  lua_setmetatable(L, -2);
+  lua_pop(L, 1);
+}
+
+std::string run_file(lua_State* L, const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return fmt::format("cannot open scene file '{}'", path);
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  std::string source = buffer.str();
+  if (SceneContext* ctx = context(L); ctx && ctx->scene_source.empty()) ctx->scene_source = source;
+  lua_pushcfunction(L, traceback);
+  int handler = lua_gettop(L);
+  std::string chunk_name = "@" + path;
+  if (luaL_loadbuffer(L, source.data(), source.size(), chunk_name.c_str()) != LUA_OK) {
+    std::string err = lua_tostring(L, -1);
+    lua_settop(L, handler - 1);
+    return err;
+  }
+  std::string err;
+  if (lua_pcall(L, 0, 0, handler) != LUA_OK) err = lua_tostring(L, -1) ? lua_tostring(L, -1) : "error";
+  lua_settop(L, handler - 1);
+  if (err.empty()) {
+    SceneContext* ctx = context(L);
+    if (ctx && !ctx->parameters_declared && !ctx->overrides.empty())
+      err = fmt::format("{}: -D {} given, but the scene declares no parameters{{...}}", path,
+                        ctx->overrides.begin()->first);
+  }
+  return err;
+}
+
+std::string run_string(lua_State* L, const std::string& chunk, const std::string& chunk_name) {
+  lua_pushcfunction(L, traceback);
+  int handler = lua_gettop(L);
+  if (luaL_loadbuffer(L, chunk.data(), chunk.size(), chunk_name.c_str()) != LUA_OK) {
+    std::string err = lua_tostring(L, -1);
+    lua_settop(L, handler - 1);
+    return err;
+  }
+  std::string err;
+  if (lua_pcall(L, 0, 0, handler) != LUA_OK) err = lua_tostring(L, -1) ? lua_tostring(L, -1) : "error";
+  lua_settop(L, handler - 1);
+  return err;
+}
+
+}  // namespace granule::lua

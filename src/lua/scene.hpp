@@ -1,0 +1,42 @@
+// Running a scene file: a Lua state with the Granule API, strict globals,
+// -D parameter overrides, and one protected call with a traceback so every
+// error reaches the user with its file and line.
+#pragma once
+
+#include <map>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+struct lua_State;
+
+namespace granule::lua {
+
+struct SceneContext {
+  std::string scene_path;
+  std::string scene_source;
+  std::string output_path;  // from -o; empty = the scene's own choice or <scene>.h5
+  std::map<std::string, std::string> overrides;  // -D name=value
+  std::set<std::string> consumed;
+  bool parameters_declared = false;
+  std::vector<std::pair<std::string, std::string>> parameter_values;  // for provenance
+  std::map<std::string, double> numeric_parameters;
+  bool quiet = false;
+  std::vector<std::string> outputs_written;
+};
+
+// A fresh state with the standard libraries, the granule API and lua/ on package.path.
+lua_State* new_state(SceneContext* context);
+// Makes reading or writing an undeclared global an error.
+void make_globals_strict(lua_State* L);
+// Loads and runs a file in protected mode; returns "" or the error with traceback.
+std::string run_file(lua_State* L, const std::string& path);
+// Runs a string chunk (the REPL); returns "" or the error.
+std::string run_string(lua_State* L, const std::string& chunk, const std::string& chunk_name);
+
+// Registers simulation{...} and its methods (lua_simulation.cpp).
+void open_simulation(lua_State* L);
+SceneContext* context(lua_State* L);
+
+}  // namespace granule::lua

@@ -1,0 +1,176 @@
+#include "neighbor/cell_grid.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace granule {
+
+namespace {
+template <int D>
+inline Vec<D> separation(const Vec<D>& a, const Vec<D>& b, const Periodicity& per) {
+  Vec<D> d = a - b;
+  if (per.on()) d[per.axis] -= per.length * std::nearbyint(d[per.axis] / per.length);
+  return d;
+}
+}  // namespace
+
+template <int D>
+void CellGrid<D>::build(const Particles<D>& p, double skin, const Periodicity& per,
+                        std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs) {
+  const std::size_t n = p.size();
+  if (n < 2) return;
+
+  // Split small from large by the median radius.
+  scratch_.assign(p.radius.begin(), p.radius.end());
+  std::nth_element(scratch_.begin(), scratch_.begin() + n / 2, scratch_.end());
+  const double large_threshold = 2.0 * scratch_[n / 2];
+  large_.clear();
+  double r_small_max = 0;
+  Vec<D> lo = Vec<D>::Constant(INFINITY), hi = Vec<D>::Constant(-INFINITY);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (p.radius[i] > large_threshold) {
+      large_.push_back(static_cast<std::uint32_t>(i));
+    } else {
+      r_small_max = std::max(r_small_max, p.radius[i]);
+    }
+    lo = lo.cwiseMin(p.position[i]);
+    hi = hi.cwiseMax(p.position[i]);
+  }
+  cell_size_ = 2 * r_small_max + skin;
+  // Keep the grid at most ~2 cells per particle: a run-away particle must not allocate a huge grid.
+  const double max_cells = 2.0 * static_cast<double>(n) + 64;
+  for (;;) {
+    double cells = 1;
+    for (int k = 0; k < D; ++k) {
+      double extent = (per.on() && k == per.axis) ? per.length : hi[k] - lo[k];
+      cells *= std::floor(extent / cell_size_) + 1;
+    }
+    if (cells <= max_cells) break;
+    cell_size_ *= 1.5;
+  }
+  origin_ = lo;
+  for (int k = 0; k < D; ++k) {
+    if (per.on() && k == per.axis) {
+      origin_[k] = per.origin;
+      // Cells must span the period exactly; fewer than three cannot host a 3-cell stencil.
+      dims_[k] = std::max(1, static_cast<int>(std::floor(per.length / cell_size_)));
+    } else {
+      dims_[k] = static_cast<int>(std::floor((hi[k] - lo[k]) / cell_size_)) + 1;
+    }
+  }
+  std::vector<double> inv_side(D);
+  for (int k = 0; k < D; ++k)
+    inv_side[k] = (per.on() && k == per.axis) ? dims_[k] / per.length : 1.0 / cell_size_;
+
+  auto coord = [&](const Vec<D>& x, int k) {
+    int c = static_cast<int>(std::floor((x[k] - origin_[k]) * inv_side[k]));
+    if (per.on() && k == per.axis) {
+      c %= dims_[k];
+      if (c < 0) c += dims_[k];
+      return c;
+    }
+    return std::clamp(c, 0, dims_[k] - 1);
+  };
+  auto flat = [&](const std::array<int, D>& c) {
+    std::size_t f = 0;
+    for (int k = D - 1; k >= 0; --k) f = f * dims_[k] + c[k];
+    return f;
+  };
+  std::size_t total = 1;
+  for (int k = 0; k < D; ++k) total *= dims_[k];
+
+  // Counting sort of small particles into cells.
+  cell_start_.assign(total + 1, 0);
+  particle_cell_.assign(n, UINT32_MAX);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (p.radius[i] > large_threshold) continue;
+    std::array<int, D> c;
+    for (int k = 0; k < D; ++k) c[k] = coord(p.position[i], k);
+    particle_cell_[i] = static_cast<std::uint32_t>(flat(c));
+    ++cell_start_[particle_cell_[i] + 1];
+  }
+  for (std::size_t c = 0; c < total; ++c) cell_start_[c + 1] += cell_start_[c];
+  cell_particles_.resize(cell_start_[total]);
+  {
+    std::vector<std::uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
+    for (std::size_t i = 0; i < n; ++i)
+      if (particle_cell_[i] != UINT32_MAX)
+        cell_particles_[fill[particle_cell_[i]]++] = static_cast<std::uint32_t>(i);
+  }
+
+  auto consider = [&](std::uint32_t i, std::uint32_t j) {
+    if (p.fixed[i] && p.fixed[j]) return;
+    const double reach = p.radius[i] + p.radius[j] + skin;
+    if (separation<D>(p.position[i], p.position[j], per).squaredNorm() < reach * reach)
+      pairs.emplace_back(i, j);
+  };
+
+  // Neighbour cell offsets along each axis, deduplicated when a periodic axis has < 3 cells.
+  auto axis_offsets = [&](int k, int c, int reach_cells, std::vector<int>& out) {
+    out.clear();
+    for (int o = -reach_cells; o <= reach_cells; ++o) {
+      int cc = c + o;
+      if (per.on() && k == per.axis) {
+        cc %= dims_[k];
+        if (cc < 0) cc += dims_[k];
+      } else if (cc < 0 || cc >= dims_[k]) {
+        continue;
+      }
+      if (std::find(out.begin(), out.end(), cc) == out.end()) out.push_back(cc);
+    }
+  };
+
+  // Visits every cell in the box of cells around `centre` (reach cells per axis).
+  std::array<std::vector<int>, D> ranges;
+  auto for_cells = [&](const std::array<int, D>& centre, const std::array<int, D>& reach,
+                       auto&& visit) {
+    for (int k = 0; k < D; ++k) axis_offsets(k, centre[k], reach[k], ranges[k]);
+    std::array<std::size_t, D> idx{};
+    for (;;) {
+      std::array<int, D> c;
+      for (int k = 0; k < D; ++k) c[k] = ranges[k][idx[k]];
+      visit(flat(c));
+      int k = 0;
+      while (k < D && ++idx[k] == ranges[k].size()) idx[k++] = 0;
+      if (k == D) break;
+      for (int q = 0; q < D; ++q)
+        if (ranges[q].empty()) return;
+    }
+  };
+
+  // small-small: each unordered pair once (j > i).
+  std::array<int, D> one;
+  one.fill(1);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (particle_cell_[i] == UINT32_MAX) continue;
+    std::array<int, D> c;
+    for (int k = 0; k < D; ++k) c[k] = coord(p.position[i], k);
+    for_cells(c, one, [&](std::size_t cell) {
+      for (std::uint32_t s = cell_start_[cell]; s < cell_start_[cell + 1]; ++s) {
+        std::uint32_t j = cell_particles_[s];
+        if (j > i) consider(static_cast<std::uint32_t>(i), j);
+      }
+    });
+  }
+  // large-small: scan the cells within the large particle's reach.
+  for (std::uint32_t i : large_) {
+    std::array<int, D> c, reach;
+    const double r = p.radius[i] + r_small_max + skin;
+    for (int k = 0; k < D; ++k) {
+      c[k] = coord(p.position[i], k);
+      reach[k] = static_cast<int>(std::ceil(r * inv_side[k])) + 1;
+    }
+    for_cells(c, reach, [&](std::size_t cell) {
+      for (std::uint32_t s = cell_start_[cell]; s < cell_start_[cell + 1]; ++s)
+        consider(i, cell_particles_[s]);
+    });
+  }
+  // large-large: few, so directly.
+  for (std::size_t a = 0; a < large_.size(); ++a)
+    for (std::size_t b = a + 1; b < large_.size(); ++b) consider(large_[a], large_[b]);
+}
+
+template class CellGrid<2>;
+template class CellGrid<3>;
+
+}  // namespace granule

@@ -1,0 +1,47 @@
+// Candidate pairs by cell lists: every pair of particles whose surfaces are
+// closer than `skin`. Cost is linear in N for any size distribution:
+//  - "small" particles (all but the few much larger than the median) are
+//    binned in cells of side 2 r_small_max + skin and paired through the
+//    3^D neighbouring cells;
+//  - each "large" particle (radius above twice the median) scans the cells its
+//    own reach covers, and large ones are paired with each other directly.
+// So one 80:1 particle does not inflate the cells of thousands of small ones.
+// An optional periodic axis wraps the cell grid and uses the minimum image.
+#pragma once
+
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "core/particles.hpp"
+
+namespace granule {
+
+struct Periodicity {
+  int axis = -1;       // -1: none
+  double origin = 0;   // lower bound of the periodic box along `axis`, m
+  double length = 0;   // m
+  bool on() const { return axis >= 0; }
+};
+
+template <int D>
+class CellGrid {
+ public:
+  // Appends to `pairs` each (i, j), i != j, with |x_i - x_j| < r_i + r_j + skin,
+  // skipping pairs of two fixed particles. Each pair appears once.
+  void build(const Particles<D>& p, double skin, const Periodicity& periodic,
+             std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs);
+
+  double cell_size() const { return cell_size_; }
+  std::size_t large_count() const { return large_.size(); }
+
+ private:
+  double cell_size_ = 0;
+  Vec<D> origin_;
+  std::array<int, D> dims_{};
+  std::vector<std::uint32_t> cell_start_, cell_particles_, particle_cell_;
+  std::vector<std::uint32_t> large_;
+  std::vector<double> scratch_;
+};
+
+}  // namespace granule

@@ -1,0 +1,158 @@
+// Scenes that must be refused, each with a message naming the file, the line
+// and the parameter; and scenes that must run.
+#include <catch2/catch.hpp>
+
+#include <lua.hpp>
+
+#include <filesystem>
+#include <fstream>
+
+#include <unistd.h>
+
+#include "lua/scene.hpp"
+
+using namespace granule;
+
+namespace {
+struct SceneRun {
+  std::string error;
+  std::string path;
+};
+
+// Writes `source` to a scene file, runs it with strict globals, returns the error ("" = ok).
+SceneRun run_scene(const std::string& source, std::map<std::string, std::string> overrides = {}) {
+  static int counter = 0;
+  auto dir = std::filesystem::temp_directory_path() / "granule_lua_tests";
+  std::filesystem::create_directories(dir);
+  SceneRun r;
+  // Unique per process: ctest runs test cases in parallel processes.
+  const std::string tag = std::to_string(getpid()) + "_" + std::to_string(++counter);
+  r.path = (dir / ("scene_" + tag + ".lua")).string();
+  std::ofstream(r.path) << source;
+  lua::SceneContext ctx;
+  ctx.scene_path = r.path;
+  ctx.overrides = std::move(overrides);
+  ctx.output_path = (dir / ("out_" + tag + ".h5")).string();
+  ctx.quiet = true;
+  lua_State* L = lua::new_state(&ctx);
+  lua::make_globals_strict(L);
+  r.error = lua::run_file(L, r.path);
+  lua_close(L);
+  std::filesystem::remove(r.path);
+  std::filesystem::remove(ctx.output_path);
+  return r;
+}
+
+const char* header = R"(local sim = simulation { dimension = 2 }
+sim:material { name = "glass", density = 2500 }
+sim:material { name = "steel", density = 7800 }
+sim:contact { "glass", "glass", model = "walton_braun", k_load = 1e4, restitution = 0.9, friction = 0.3 }
+sim:contact { "glass", "steel", model = "walton_braun", k_load = 1e4, restitution = 0.9, friction = 0.5 }
+)";  // five lines
+
+void expect_refused(const std::string& body, int line, const std::string& needle) {
+  auto r = run_scene(std::string(header) + body);
+  INFO("scene body: " << body << "\nerror: " << r.error);
+  REQUIRE_FALSE(r.error.empty());
+  CHECK_THAT(r.error, Catch::Contains(std::filesystem::path(r.path).filename().string() + ":" +
+                                      std::to_string(line) + ":"));
+  CHECK_THAT(r.error, Catch::Contains(needle));
+}
+}  // namespace
+
+TEST_CASE("lua: a valid scene runs", "[lua]") {
+  auto r = run_scene(std::string(header) + R"(
+sim:wall_cylinder { name = "drum", center = {0, 0}, radius = 0.01, material = "steel", angular_velocity = 10 }
+sim:fill { region = { circle = { center = {0, 0}, radius = 0.01 } }, count = 50, radius = 5e-4, material = "glass", max_speed = 0.01 }
+local n = 0
+sim:every { steps = 10, function(s) n = n + 1 end }
+local res = sim:run { steps = 100 }
+assert(res.steps == 100 and n == 10, "callbacks fired " .. n .. " times")
+assert(#sim:particles() == 50)
+)");
+  CHECK(r.error == "");
+}
+
+TEST_CASE("lua: bad physical input is refused with the parameter named", "[lua][errors]") {
+  expect_refused("sim:add_particle { position = {0, 0}, radius = -1e-3, material = 'glass' }\n", 6,
+                 "radius must be > 0");
+  expect_refused("sim:material { name = 'x', density = -5 }\n", 6, "'density' must be >= 0");
+  expect_refused("sim:contact { 'glass', 'glass', model = 'walton_braun', k_load = 1e4, restitution = 1.5 }\n", 6,
+                 "'restitution' = 1.5");
+  expect_refused("sim:contact { 'glass', 'glass', model = 'walton_braun', k_load = 1e4, restitution = 0 }\n", 6,
+                 "'restitution' = 0");
+  expect_refused("sim:contact { 'glass', 'glass', model = 'linear', k_normal = 1e4, restitution = 0.5, friction = -0.1 }\n",
+                 6, "'friction' = -0.1");
+  expect_refused("sim:add_particle { position = {0, 0}, radius = 1e-3, material = 'glas' }\n", 6,
+                 "unknown material 'glas' (did you mean 'glass'?)");
+  expect_refused("sim:contact { 'glass', 'glass', model = 'walton_braun', k_lod = 1e4, restitution = 0.5 }\n", 6,
+                 "unknown parameter 'k_lod' (did you mean 'k_load'?)");
+  expect_refused("sim:contact { 'glass', 'glass', model = 'waltonbraun', k_load = 1, restitution = 0.5 }\n", 6,
+                 "unknown contact model 'waltonbraun'");
+  expect_refused("sim:contact { 'glass', 'glass', model = 'walton_braun', restitution = 0.5 }\n", 6,
+                 "'k_load' [N/m] is required");
+  expect_refused("sim:add_particle { position = {0, 0}, radius = 1e-3, material = 'glass', velocity = {0/0, 0} }\n", 6,
+                 "must be finite");
+  expect_refused("sim:add_particle { position = {0, 0}, radius = 1e-3, material = 'glass', colour = 'red' }\n", 6,
+                 "unknown key 'colour'");
+}
+
+TEST_CASE("lua: a particle outside the walls is refused when the run starts", "[lua][errors]") {
+  expect_refused(R"(sim:wall_cylinder { name = "drum", center = {0, 0}, radius = 0.01, material = "steel" }
+sim:add_particle { position = {0.02, 0}, radius = 1e-3, material = "glass" }
+sim:run { steps = 1 }
+)",
+                 8, "lies outside wall 'drum'");
+}
+
+TEST_CASE("lua: a pair without a contact law is named", "[lua][errors]") {
+  expect_refused(R"(sim:material { name = "rubber", density = 1000 }
+sim:add_particle { position = {0, 0}, radius = 1e-3, material = "rubber" }
+sim:add_particle { position = {3e-3, 0}, radius = 1e-3, material = "glass" }
+sim:run { steps = 1 }
+)",
+                 9, "no contact law for materials 'glass' and 'rubber'");
+}
+
+TEST_CASE("lua: a time step above the stability limit is refused, above the rule warned", "[lua][errors]") {
+  auto r = run_scene(R"(local sim = simulation { dimension = 2, time_step = 1e-3 }
+sim:material { name = "glass", density = 2500 }
+sim:contact { "glass", "glass", model = "linear", k_normal = 1e4, restitution = 0.9 }
+sim:add_particle { position = {0, 0}, radius = 1e-3, material = "glass" }
+sim:run { steps = 1 }
+)");
+  CHECK_THAT(r.error, Catch::Contains(":5:"));
+  CHECK_THAT(r.error, Catch::Contains("above the stability limit"));
+}
+
+TEST_CASE("lua: accidental globals and unknown methods are errors", "[lua][errors]") {
+  expect_refused("velocity = 3\n", 6, "assignment to undeclared global 'velocity'");
+  expect_refused("local x = undefined_thing + 1\n", 6, "undeclared global 'undefined_thing'");
+  expect_refused("sim:add_partcle { }\n", 6, "no method 'add_partcle'");
+}
+
+TEST_CASE("lua: callback errors carry the callback's line", "[lua][errors]") {
+  expect_refused(R"(sim:add_particle { position = {0, 0}, radius = 1e-3, material = "glass" }
+sim:every { steps = 1, function(s)
+  error("boom")
+end }
+sim:run { steps = 5 }
+)",
+                 8, "boom");
+}
+
+TEST_CASE("lua: -D overrides declared parameters and refuses unknown ones", "[lua][parameters]") {
+  const std::string scene = R"(local p = parameters { speed = { default = 1.0, unit = "m/s" }, label = "a", flag = false }
+assert(p.speed == 2.5, "speed " .. p.speed)
+assert(p.label == "b")
+assert(p.flag == true)
+)";
+  CHECK(run_scene(scene, {{"speed", "2.5"}, {"label", "b"}, {"flag", "true"}}).error == "");
+  auto bad = run_scene(scene, {{"sped", "2.5"}});
+  CHECK_THAT(bad.error, Catch::Contains("no parameter 'sped' (did you mean 'speed'?)"));
+  auto wrong_type = run_scene(scene, {{"speed", "fast"}});
+  CHECK_THAT(wrong_type.error, Catch::Contains("expects a number"));
+  auto read_unknown = run_scene("local p = parameters { a = 1 }\nlocal x = p.b\n");
+  CHECK_THAT(read_unknown.error, Catch::Contains(":2:"));
+  CHECK_THAT(read_unknown.error, Catch::Contains("unknown parameter 'b'"));
+}

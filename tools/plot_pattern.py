@@ -1,0 +1,211 @@
+#!/usr/bin/python3
+"""Draw the particles of a Granule snapshot in the x-y plane.
+
+usage: /usr/bin/python3 tools/plot_pattern.py out.h5 [--index -1 | --all-every K] [-o pattern.png]
+
+Particles are circles of their true radius, coloured by speed (m/s); fixed
+particles are dark grey. Walls described under /walls are drawn too: a cylinder
+(type="cylinder", center, radius, inside; axis taken along z) as a circle -
+an outline if the particles are inside it, filled grey if outside - and a plane
+(type="plane", point, normal) as the line where it cuts the x-y plane through
+its point, clipped to the particles' bounding box. In 3D the particles are
+projected onto x-y, the highest z drawn last.
+
+--index I draws snapshot I (negative counts from the end; default -1, the last).
+--all-every K draws every K-th snapshot and the last, one PNG each, named
+<output stem>_NNNNNN.png, with one speed scale and one view for all, so that the
+frames can be put together into an animation.
+Writes PNGs (default: <file>_pattern.png next to the input) and prints their paths.
+"""
+
+import argparse
+import math
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib.collections import EllipseCollection  # noqa: E402
+from matplotlib.patches import Circle  # noqa: E402
+from matplotlib.ticker import MaxNLocator  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import granule_h5 as g  # noqa: E402
+
+FIXED_COLOUR = "0.25"
+
+
+def _circles(ax, xy, radius, **kwargs):
+    """Circles with radii in data units, whatever the zoom."""
+    d = 2 * np.asarray(radius)
+    try:
+        c = EllipseCollection(d, d, np.zeros_like(d), units="xy", offsets=xy,
+                              offset_transform=ax.transData, **kwargs)
+    except TypeError:  # matplotlib before 3.6 calls it transOffset
+        c = EllipseCollection(d, d, np.zeros_like(d), units="xy", offsets=xy,
+                              transOffset=ax.transData, **kwargs)
+    ax.add_collection(c)
+    return c
+
+
+def clip_line(point, direction, box):
+    """The segment of the infinite line point + t*direction inside box = (x0, x1, y0, y1),
+    or None if it misses the box."""
+    lo, hi = -math.inf, math.inf
+    for k, (bmin, bmax) in enumerate(((box[0], box[1]), (box[2], box[3]))):
+        p, d = point[k], direction[k]
+        if abs(d) < 1e-300:
+            if p < bmin or p > bmax:
+                return None
+            continue
+        t0, t1 = sorted(((bmin - p) / d, (bmax - p) / d))
+        lo, hi = max(lo, t0), min(hi, t1)
+    if lo > hi:
+        return None
+    return [point[0] + lo * direction[0], point[0] + hi * direction[0]], [
+        point[1] + lo * direction[1],
+        point[1] + hi * direction[1],
+    ]
+
+
+def _wall_extent(walls):
+    """Bounding box of the cylinders, which the view should include."""
+    boxes = []
+    for w in walls.values():
+        if w.get("type") == "cylinder" and "center" in w and "radius" in w:
+            c, r = np.asarray(w["center"], dtype=float), float(w["radius"])
+            boxes.append((c[0] - r, c[0] + r, c[1] - r, c[1] + r))
+    return boxes
+
+
+def _draw_walls(ax, walls, particle_box):
+    for name, w in walls.items():
+        kind = w.get("type")
+        if kind == "cylinder":
+            try:
+                c, r = np.asarray(w["center"], dtype=float), float(w["radius"])
+            except KeyError as e:
+                print(f"note: wall '{name}' lacks {e}; not drawn", file=sys.stderr)
+                continue
+            inside = int(w.get("inside", 1))
+            ax.add_patch(Circle((c[0], c[1]), r, fill=not inside, facecolor="0.85",
+                                edgecolor="k", lw=1.2, zorder=0 if not inside else 3))
+        elif kind == "plane":
+            try:
+                p, n = np.asarray(w["point"], dtype=float), np.asarray(w["normal"], dtype=float)
+            except KeyError as e:
+                print(f"note: wall '{name}' lacks {e}; not drawn", file=sys.stderr)
+                continue
+            if math.hypot(n[0], n[1]) < 1e-9 * np.linalg.norm(n):
+                continue  # parallel to the x-y plane: no line to draw
+            seg = clip_line(p[:2], (-n[1], n[0]), particle_box)
+            if seg is not None:
+                ax.plot(seg[0], seg[1], color="k", lw=1.2, zorder=3)
+        else:
+            print(f"note: wall '{name}' has unknown type {kind!r}; not drawn", file=sys.stderr)
+
+
+def _particle_box(snaps):
+    x0 = min(float(np.min(s["position"][:, 0] - s["radius"])) for s in snaps)
+    x1 = max(float(np.max(s["position"][:, 0] + s["radius"])) for s in snaps)
+    y0 = min(float(np.min(s["position"][:, 1] - s["radius"])) for s in snaps)
+    y1 = max(float(np.max(s["position"][:, 1] + s["radius"])) for s in snaps)
+    return x0, x1, y0, y1
+
+
+def _draw(snap, walls, view, particle_box, vmax, path, output):
+    pos, radius = snap["position"], snap["radius"]
+    speed = np.linalg.norm(snap["velocity"], axis=1)
+    order = np.argsort(pos[:, 2]) if pos.shape[1] > 2 else np.arange(len(radius))
+    fixed = snap["fixed"][order]
+    xy, r, v = pos[order, :2], radius[order], speed[order]
+
+    fig, ax = plt.subplots(figsize=(7, 6.2))
+    moving = _circles(ax, xy[~fixed], r[~fixed], cmap="viridis", edgecolors="none", zorder=2)
+    moving.set_array(v[~fixed])
+    moving.set_clim(0, vmax)
+    if fixed.any():
+        _circles(ax, xy[fixed], r[fixed], facecolors=FIXED_COLOUR, edgecolors="none", zorder=2)
+    _draw_walls(ax, walls, particle_box)
+    fig.colorbar(moving, ax=ax, label="speed [m/s]")
+    ax.set_xlim(view[0], view[1])
+    ax.set_ylim(view[2], view[3])
+    ax.set_aspect("equal")
+    ax.xaxis.set_major_locator(MaxNLocator(6))  # metre tick labels are long
+    ax.yaxis.set_major_locator(MaxNLocator(6))
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_title(
+        f"{os.path.basename(path)}  t = {snap['time']:.6g} s  (step {snap['step']}, "
+        f"{len(radius)} particles, {int(fixed.sum())} fixed)",
+        fontsize=9,
+    )
+    fig.tight_layout()
+    fig.savefig(output, dpi=130)
+    plt.close(fig)
+
+
+def plot_pattern(path, index=-1, every=None, output=None):
+    with g.open_run(path) as f:
+        names = g.snapshots(f)
+        if not names:
+            raise g.GranuleH5Error(f"{path}: no snapshots")
+        if every is not None:
+            if every < 1:
+                raise g.GranuleH5Error(f"--all-every must be 1 or more, got {every}")
+            indices = list(range(0, len(names), every))
+            if indices[-1] != len(names) - 1:
+                indices.append(len(names) - 1)
+        else:
+            indices = [index]
+        snaps = [g.snapshot(f, i) for i in indices]
+        walls = g.walls(f)
+
+    drawable = [s for s in snaps if len(s["radius"])]
+    if not drawable:
+        raise g.GranuleH5Error(f"{path}: the chosen snapshots hold no particles")
+    particle_box = _particle_box(drawable)
+    boxes = [particle_box] + _wall_extent(walls)
+    view = [min(b[0] for b in boxes), max(b[1] for b in boxes),
+            min(b[2] for b in boxes), max(b[3] for b in boxes)]
+    pad = 0.03 * max(view[1] - view[0], view[3] - view[2], 1e-12)
+    view = [view[0] - pad, view[1] + pad, view[2] - pad, view[3] + pad]
+    speeds = [np.linalg.norm(s["velocity"][~s["fixed"]], axis=1) for s in drawable]
+    vmax = max((float(sp.max()) for sp in speeds if sp.size), default=0.0) or 1e-12
+
+    base = os.path.splitext(output or os.path.splitext(path)[0] + "_pattern.png")
+    written = []
+    for s in snaps:
+        if not len(s["radius"]):
+            print(f"note: {s['name']} holds no particles; skipped", file=sys.stderr)
+            continue
+        out = base[0] + (base[1] or ".png")
+        if every is not None:
+            out = f"{base[0]}_{s['name'].rsplit('/', 1)[-1]}{base[1] or '.png'}"
+        _draw(s, walls, view, particle_box, vmax, path, out)
+        written.append(out)
+    return written
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("file", help="Granule output file (.h5)")
+    which = parser.add_mutually_exclusive_group()
+    which.add_argument("--index", type=int, default=-1,
+                       help="snapshot to draw; negative counts from the end (default -1)")
+    which.add_argument("--all-every", type=int, metavar="K",
+                       help="draw every K-th snapshot (and the last), one PNG each")
+    parser.add_argument("-o", "--output", help="PNG to write (a stem for --all-every)")
+    args = parser.parse_args(argv)
+    try:
+        for out in plot_pattern(args.file, args.index, args.all_every, args.output):
+            print(out)
+    except g.GranuleH5Error as e:
+        sys.exit(f"{parser.prog}: error: {e}")
+
+
+if __name__ == "__main__":
+    main()
