@@ -704,7 +704,7 @@ void Simulation<D>::prepare() {
       if (c + p_.radius[i] < 0)
         throw InputError(fmt::format("particle {} at ({}) lies outside wall '{}'", p_.id[i],
                                      fmt::join(to_triple(p_.position[i]), ", "), w.name));
-      if (c < 0 && !p_.fixed[i])
+      if (c < 0 && !p_.fixed[i] && step_ == 0)
         warn(fmt::format("particle {} starts overlapping wall '{}' by {:.3g} m", p_.id[i], w.name,
                          -c));
     }

@@ -23,6 +23,7 @@ struct LuaSim {
   std::unique_ptr<io::RunOutput> output;
   int self_ref = LUA_NOREF;
   bool running = false;
+  bool header_printed = false;
 };
 
 LuaSim& self(lua_State* L) {
@@ -426,7 +427,13 @@ int l_run(lua_State* L) {
     if (t.push_function("stop_when")) stop_ref = luaL_ref(L, LUA_REGISTRYINDEX);
     t.finish();
 
+    const bool first_run = s.sim->step_count() == 0 && !s.header_printed;
     s.sim->ensure_prepared();
+    // The run's header: what this scene simulates (and so what it pays for).
+    if (first_run && !(context(L) && context(L)->quiet)) {
+      for (const auto& line : s.sim->describe()) std::cerr << "granule: " << line << "\n";
+      s.header_printed = true;
+    }
     if (has_duration) steps = static_cast<std::int64_t>(std::ceil(duration / s.sim->time_step() - 1e-9));
     std::int64_t done = 0;
     bool stopped = false;
