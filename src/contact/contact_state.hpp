@@ -8,6 +8,7 @@
 //    on i points along it.
 #pragma once
 
+#include "core/material.hpp"
 #include "core/types.hpp"
 
 namespace granule {
@@ -21,6 +22,20 @@ struct ContactState {
   double effective_mass;       // kg, m_i m_j / (m_i + m_j); m_i against a wall or fixed particle
   double effective_radius;     // m, r_i r_j / (r_i + r_j); r_i against a flat wall
   double dt;                   // s
+};
+
+// What a model may derive its parameters from, once per material pair.
+struct PairMaterials {
+  const Material& a;
+  const Material& b;  // another particle's, or a wall's (a material may serve both)
+};
+
+// The scale of the shortest contacts a material pair can have in this scene
+// (smallest particles), for the time-step rule and the stability limit.
+struct PairScale {
+  double effective_mass;    // kg
+  double effective_radius;  // m (a flat wall counts as infinite)
+  double rayleigh_time;     // s, Eq. 6.1 for the smallest particle; infinity if E is not given
 };
 
 template <int D>

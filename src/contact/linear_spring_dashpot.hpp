@@ -50,7 +50,7 @@ struct LinearSpringDashpot {
     return -l / std::sqrt(pi * pi + l * l);
   }
 
-  static Params make(const ParamValues& v) {
+  static Params make(const ParamValues& v, const PairMaterials&) {
     Params p;
     p.k_normal = v.at("k_normal");
     p.damping_ratio = damping_ratio_for(v.at("restitution"));
@@ -75,11 +75,11 @@ struct LinearSpringDashpot {
     double omega0 = std::sqrt(p.k_normal / effective_mass);
     return pi / (omega0 * std::sqrt(1 - p.damping_ratio * p.damping_ratio));
   }
-  static double rule_time_step(const Params& p, double effective_mass, double steps_per_contact) {
-    return contact_duration(p, effective_mass) / steps_per_contact;
+  static double rule_time_step(const Params& p, const PairScale& s, double steps_per_contact) {
+    return contact_duration(p, s.effective_mass) / steps_per_contact;
   }
-  static double max_frequency(const Params& p, double effective_mass) {
-    return std::sqrt(p.k_normal / effective_mass);
+  static double stability_limit(const Params& p, const PairScale& s) {
+    return 2.0 / std::sqrt(p.k_normal / s.effective_mass);
   }
 
   template <int D>

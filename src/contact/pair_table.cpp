@@ -6,14 +6,15 @@
 
 namespace granule {
 
-void PairTable::set(int a, int b, int model, const ParamValues& values) {
+void PairTable::set(int a, int b, int model, const ParamValues& values,
+                    const PairMaterials& materials) {
   if (values_.size() != table_.size()) values_.resize(table_.size());
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
     if (I != model) return;
     using M = ContactModelAt<I>;
     auto& vec = std::get<I>(params_);
-    typename M::Params p = M::make(values);
+    typename M::Params p = M::make(values, materials);
     Entry& ab = table_[key(a, b)];
     int slot;
     if (ab.model == model) {
@@ -30,14 +31,15 @@ void PairTable::set(int a, int b, int model, const ParamValues& values) {
   values_[key(b, a)] = values;
 }
 
-void PairTable::update(int a, int b, const ParamValues& changes, const std::string& context) {
+void PairTable::update(int a, int b, const ParamValues& changes, const std::string& context,
+                       const PairMaterials& materials) {
   const Entry& e = at(a, b);
   if (e.model < 0) throw InputError(fmt::format("{}: no contact law declared for this pair", context));
   ParamValues merged = values_[key(a, b)];
   for (const auto& [k, v] : changes) merged[k] = v;
   auto catalogue = contact_model_catalogue();
   ParamValues resolved = resolve_parameters(catalogue[e.model].parameters, merged, context);
-  set(a, b, e.model, resolved);
+  set(a, b, e.model, resolved, materials);
 }
 
 }  // namespace granule

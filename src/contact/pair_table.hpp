@@ -37,9 +37,10 @@ class PairTable {
   const Entry& at(int a, int b) const { return table_[static_cast<std::size_t>(a) * materials_ + b]; }
 
   // Declares (or replaces) the law between a and b. `values` must already be resolved.
-  void set(int a, int b, int model, const ParamValues& values);
+  void set(int a, int b, int model, const ParamValues& values, const PairMaterials& materials);
   // Changes some parameters of an existing law (friction or surface-energy ramps).
-  void update(int a, int b, const ParamValues& changes, const std::string& context);
+  void update(int a, int b, const ParamValues& changes, const std::string& context,
+              const PairMaterials& materials);
   const ParamValues& values(int a, int b) const { return values_[key(a, b)]; }
 
   template <int I>

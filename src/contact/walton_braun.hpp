@@ -47,7 +47,7 @@ struct WaltonBraun {
     double permanent_set_fraction;  // 1 - K1/K2: a0 = a_max * this
   };
 
-  static Params make(const ParamValues& v) {
+  static Params make(const ParamValues& v, const PairMaterials&) {
     Params p;
     p.k_load = v.at("k_load");
     double e = v.at("restitution");
@@ -74,17 +74,17 @@ struct WaltonBraun {
   }
 
   // Eq. 4.1: dt = pi e sqrt(m/(2 K_N)) / n, with m/2 the reduced mass of two equal spheres.
-  static double rule_time_step(const Params& p, double effective_mass, double steps_per_contact) {
+  static double rule_time_step(const Params& p, const PairScale& s, double steps_per_contact) {
     double e = std::sqrt(p.k_load / p.k_unload);
-    return pi * e * std::sqrt(effective_mass / p.k_load) / steps_per_contact;
+    return pi * e * std::sqrt(s.effective_mass / p.k_load) / steps_per_contact;
   }
   // Contact duration with force, (pi/2)(sqrt(m*/K1) + sqrt(m*/K2)).
   static double contact_duration(const Params& p, double effective_mass) {
     return 0.5 * pi * (std::sqrt(effective_mass / p.k_load) + std::sqrt(effective_mass / p.k_unload));
   }
-  // Highest angular frequency: the stiffer unloading spring. Leap-frog needs dt < 2/omega.
-  static double max_frequency(const Params& p, double effective_mass) {
-    return std::sqrt(p.k_unload / effective_mass);
+  // Leap-frog is stable for dt < 2/omega; omega from the stiffer unloading spring.
+  static double stability_limit(const Params& p, const PairScale& s) {
+    return 2.0 / std::sqrt(p.k_unload / s.effective_mass);
   }
 
   template <int D>

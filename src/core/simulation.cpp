@@ -646,20 +646,29 @@ TimeStepReport Simulation<D>::time_step_rule() {
   r.rule = INFINITY;
   r.stability_limit = INFINITY;
   const int nm = static_cast<int>(materials_.size());
-  // Smallest free-particle mass per material (the shortest contacts), and whether any fixed.
-  std::vector<double> min_mass(nm, INFINITY);
+  // Smallest free-particle mass and radius per material (the shortest contacts).
+  std::vector<double> min_mass(nm, INFINITY), min_radius(nm, INFINITY), min_radius_any(nm, INFINITY);
   std::vector<char> used(nm, 0), free_used(nm, 0);
   for (std::size_t i = 0; i < p_.size(); ++i) {
     int m = p_.material[i];
     used[m] = 1;
+    min_radius_any[m] = std::min(min_radius_any[m], p_.radius[i]);
     if (!p_.fixed[i]) {
       free_used[m] = 1;
       min_mass[m] = std::min(min_mass[m], p_.mass[i]);
+      min_radius[m] = std::min(min_radius[m], p_.radius[i]);
     }
   }
+  // Eq. 6.1-6.2: Rayleigh time of the smallest particle of a material.
+  auto rayleigh = [&](int m, double radius) -> double {
+    const Material& mat = materials_[m];
+    if (!(mat.young > 0) || !(mat.density > 0) || std::isinf(radius)) return INFINITY;
+    const double shear = mat.young / (2 * (1 + mat.poisson));
+    return pi * radius / (0.1631 * mat.poisson + 0.876605) * std::sqrt(mat.density / shear);
+  };
   std::vector<char> wall_material(nm, 0);
   for (const auto& w : walls_) wall_material[w.material] = 1;
-  auto consider = [&](int a, int b, double m_eff, const char* kind) {
+  auto consider = [&](int a, int b, const PairScale& scale, const char* kind) {
     const PairTable::Entry& e = pairs_.at(a, b);
     if (e.model < 0)
       throw InputError(fmt::format(
@@ -671,8 +680,8 @@ TimeStepReport Simulation<D>::time_step_rule() {
       if (e.model != I) return;
       using M = ContactModelAt<I>;
       const auto& par = pairs_.params<I>()[e.slot];
-      double rule = M::rule_time_step(par, m_eff, steps_per_contact_);
-      double limit = 2.0 / M::max_frequency(par, m_eff);
+      double rule = M::rule_time_step(par, scale, steps_per_contact_);
+      double limit = M::stability_limit(par, scale);
       if (rule < r.rule) {
         r.rule = rule;
         r.governing_pair = fmt::format("{}-{} ({}, {})", materials_[a].name, materials_[b].name,
@@ -685,12 +694,19 @@ TimeStepReport Simulation<D>::time_step_rule() {
     if (!free_used[a]) continue;
     for (int b = 0; b < nm; ++b) {
       if (!used[b]) continue;
+      PairScale scale;
       double mb = free_used[b] ? min_mass[b] : INFINITY;
-      double m_eff = std::isinf(mb) ? min_mass[a] : min_mass[a] * mb / (min_mass[a] + mb);
-      consider(a, b, m_eff, "particle-particle");
+      scale.effective_mass = std::isinf(mb) ? min_mass[a] : min_mass[a] * mb / (min_mass[a] + mb);
+      double ra = min_radius[a], rb = min_radius_any[b];
+      scale.effective_radius = ra * rb / (ra + rb);
+      scale.rayleigh_time = std::min(rayleigh(a, ra), rayleigh(b, free_used[b] ? min_radius[b] : INFINITY));
+      consider(a, b, scale, "particle-particle");
     }
     for (int w = 0; w < nm; ++w)
-      if (wall_material[w]) consider(a, w, min_mass[a], "particle-wall");
+      if (wall_material[w]) {
+        PairScale scale{min_mass[a], min_radius[a], rayleigh(a, min_radius[a])};
+        consider(a, w, scale, "particle-wall");
+      }
   }
   return r;
 }

@@ -51,14 +51,15 @@ void SimulationBase::set_contact(const std::string& a, const std::string& b,
   std::string context = fmt::format("contact '{}'-'{}' ({})", a, b, model);
   ParamValues resolved =
       resolve_parameters(contact_model_catalogue()[m].parameters, given, context);
-  pairs_.set(ia, ib, m, resolved);
+  pairs_.set(ia, ib, m, resolved, {materials_[ia], materials_[ib]});
   prepared_ = false;
 }
 
 void SimulationBase::update_contact(const std::string& a, const std::string& b,
                                     const ParamValues& changes) {
   int ia = material_id(a), ib = material_id(b);
-  pairs_.update(ia, ib, changes, fmt::format("contact '{}'-'{}'", a, b));
+  pairs_.update(ia, ib, changes, fmt::format("contact '{}'-'{}'", a, b),
+                {materials_[ia], materials_[ib]});
   prepared_ = false;  // re-check the time step against the new parameters
 }
 

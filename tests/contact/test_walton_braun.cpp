@@ -14,7 +14,10 @@ ParamValues table_3_1(double friction = 0.4) {
   return {{"k_load", 20000}, {"restitution", 0.85}, {"friction", friction}, {"tangential_ratio", 0.8},
           {"slip_exponent", 1}};
 }
-WaltonBraun::Params params(const ParamValues& v) { return WaltonBraun::make(v); }
+const Material any_material{"m", 1000, 0, 0, 0};
+WaltonBraun::Params params(const ParamValues& v) {
+  return WaltonBraun::make(v, {any_material, any_material});
+}
 }  // namespace
 
 TEMPLATE_TEST_CASE_SIG("walton_braun: restitution is sqrt(K1/K2) (Eq. 3.1) and the force lasts "
