@@ -14,7 +14,7 @@ local p = parameters {
   velocity = { default = 1.0, unit = "m/s", doc = "relative impact speed" },
   angle = { default = 0.0, unit = "deg", doc = "angle between relative velocity and line of centres" },
   spin = { default = 0.0, unit = "rad/s", doc = "initial spin of each sphere about z" },
-  model = { default = "walton_braun", doc = "walton_braun | linear (| Thornton models when available)" },
+  model = { default = "walton_braun", doc = "walton_braun | linear | hertz_mindlin" },
   target = { default = "sphere", doc = "sphere | wall" },
   dimension = { default = 2, doc = "2 or 3" },
   radius = { default = 0.2e-3, unit = "m" },
@@ -47,8 +47,10 @@ local function law(model)
   elseif model == "linear" then
     return { model = model, k_normal = p.k_load, restitution = p.restitution, friction = p.friction,
              tangential_ratio = p.tangential_ratio }
+  elseif model == "hertz_mindlin" then   -- E*, G* from young and poisson (-D young=... -D poisson=...)
+    return { model = model, restitution = p.restitution, friction = p.friction }
   end
-  error("model '" .. model .. "' is not available in this build (walton_braun, linear)")
+  error("model '" .. model .. "' is not available in this build (walton_braun, linear, hertz_mindlin)")
 end
 for _, other in ipairs { "particle", "wall" } do
   local c = law(p.model)

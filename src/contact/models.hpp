@@ -9,13 +9,14 @@
 #include <tuple>
 #include <vector>
 
+#include "contact/hertz_mindlin.hpp"
 #include "contact/linear_spring_dashpot.hpp"
 #include "contact/parameters.hpp"
 #include "contact/walton_braun.hpp"
 
 namespace granule {
 
-using ContactModels = std::tuple<LinearSpringDashpot, WaltonBraun>;
+using ContactModels = std::tuple<LinearSpringDashpot, WaltonBraun, HertzMindlin>;
 
 constexpr int contact_model_count = std::tuple_size_v<ContactModels>;
 

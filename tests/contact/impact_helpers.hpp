@@ -27,6 +27,7 @@ struct ImpactSetup {
   std::string model = "walton_braun";
   ParamValues params;
   double radius = 0.2e-3, density = 1200;
+  double young = 0, poisson = 0;  // for Hertzian models (the wall gets the same)
   double velocity = 1.0;  // relative
   double angle_deg = 0;
   double spin = 0;
@@ -56,8 +57,8 @@ template <int D>
 ImpactResult run_impact(const ImpactSetup& s) {
   Simulation<D> sim;
   sim.set_warning_handler([](const std::string&) {});
-  sim.add_material({"p", s.density, 0, 0, 0});
-  sim.add_material({"w", 0, 0, 0, 0});
+  sim.add_material({"p", s.density, s.young, s.poisson, 0});
+  sim.add_material({"w", 0, s.young, s.poisson, 0});
   sim.set_contact("p", "p", s.model, s.params);
   sim.set_contact("p", "w", s.model, s.params);
   sim.set_steps_per_contact(s.steps_per_contact);
