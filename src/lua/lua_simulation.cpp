@@ -714,6 +714,22 @@ int l_describe(lua_State* L) {
     return 1;
   });
 }
+// Wall-clock seconds spent per stage of the step since the simulation was made.
+int l_timings(lua_State* L) {
+  return protect(L, [](lua_State* L) {
+    const auto& t = self(L).sim->stage_times();
+    lua_newtable(L);
+    lua_pushnumber(L, t.neighbor);
+    lua_setfield(L, -2, "neighbor");
+    lua_pushnumber(L, t.force);
+    lua_setfield(L, -2, "force");
+    lua_pushnumber(L, t.integrate);
+    lua_setfield(L, -2, "integrate");
+    lua_pushnumber(L, t.hooks);
+    lua_setfield(L, -2, "hooks");
+    return 1;
+  });
+}
 int l_dimension(lua_State* L) {
   return protect(L, [](lua_State* L) {
     lua_pushinteger(L, dim(L));
@@ -814,6 +830,7 @@ const luaL_Reg methods[] = {
     {"time_step_rule", l_time_step_rule},
     {"describe", l_describe},
     {"dimension", l_dimension},
+    {"timings", l_timings},
     {nullptr, nullptr},
 };
 }  // namespace
