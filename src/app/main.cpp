@@ -3,11 +3,11 @@
 //   granule repl [scene.lua] [-D ...]
 //   granule models          list contact models and their parameters
 #include <fmt/format.h>
-#include <lua.hpp>
 
 #include <cmath>
 #include <cstring>
 #include <iostream>
+#include <lua.hpp>
 #include <string>
 #include <vector>
 
@@ -46,7 +46,8 @@ int run_scene(Options& o) {
   lua_close(L);  // closes output files (their final snapshot) even after an error
   if (!err.empty()) {
     std::cerr << "error: " << err << "\n";
-    for (const auto& f : o.ctx.outputs_written) std::cerr << "partial results kept in " << f << "\n";
+    for (const auto& f : o.ctx.outputs_written)
+      std::cerr << "partial results kept in " << f << "\n";
     return 1;
   }
   return 0;
@@ -119,7 +120,8 @@ int list_models() {
   for (const auto& m : granule::contact_model_catalogue()) {
     std::cout << m.name << ": " << m.doc << "\n";
     for (const auto& p : m.parameters) {
-      std::string def = std::isnan(p.default_value) ? "required" : fmt::format("default {}", p.default_value);
+      std::string def =
+          std::isnan(p.default_value) ? "required" : fmt::format("default {}", p.default_value);
       std::cout << fmt::format("    {:<26} [{}] {}; {}\n", p.name, p.unit, def, p.doc);
     }
   }
@@ -142,7 +144,8 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (o.command == "models") return list_models();
-  if (o.command != "run" && o.command != "repl") return fail_usage("unknown command '" + o.command + "'");
+  if (o.command != "run" && o.command != "repl")
+    return fail_usage("unknown command '" + o.command + "'");
   for (std::size_t k = 1; k < args.size(); ++k) {
     const std::string& a = args[k];
     if (a == "-D" || a == "-o") {
@@ -152,13 +155,15 @@ int main(int argc, char** argv) {
         o.ctx.output_path = v;
       } else {
         auto eq = v.find('=');
-        if (eq == std::string::npos || eq == 0) return fail_usage("-D expects name=value, got '" + v + "'");
+        if (eq == std::string::npos || eq == 0)
+          return fail_usage("-D expects name=value, got '" + v + "'");
         o.ctx.overrides[v.substr(0, eq)] = v.substr(eq + 1);
       }
     } else if (a.rfind("-D", 0) == 0 && a.size() > 2) {
       std::string v = a.substr(2);
       auto eq = v.find('=');
-      if (eq == std::string::npos || eq == 0) return fail_usage("-D expects name=value, got '" + v + "'");
+      if (eq == std::string::npos || eq == 0)
+        return fail_usage("-D expects name=value, got '" + v + "'");
       o.ctx.overrides[v.substr(0, eq)] = v.substr(eq + 1);
     } else if (a == "--quiet" || a == "-q") {
       o.ctx.quiet = true;

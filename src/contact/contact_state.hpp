@@ -16,8 +16,8 @@ namespace granule {
 template <int D>
 struct ContactState {
   Vec<D> normal;
-  double overlap;          // m, positive when the surfaces interpenetrate
-  double normal_velocity;  // m/s, rate of change of the overlap (positive: approaching)
+  double overlap;              // m, positive when the surfaces interpenetrate
+  double normal_velocity;      // m/s, rate of change of the overlap (positive: approaching)
   Vec<D> tangential_velocity;  // m/s
   double effective_mass;       // kg, m_i m_j / (m_i + m_j); m_i against a wall or fixed particle
   double effective_radius;     // m, r_i r_j / (r_i + r_j); r_i against a flat wall
@@ -40,8 +40,8 @@ struct PairScale {
 
 template <int D>
 struct ContactForce {
-  double normal = 0;                      // N, positive = repulsive
-  Vec<D> tangential = Vec<D>::Zero();     // N, on i
+  double normal = 0;                   // N, positive = repulsive
+  Vec<D> tangential = Vec<D>::Zero();  // N, on i
 };
 
 // Steps 2-3 of Walton-Braun (Eqs. 3.7-3.8), used by every model that keeps a

@@ -1,8 +1,8 @@
 // Damped Hertz-Mindlin ("Hertz-Mindlin (no slip)" of EDEM, LIGGGHTS'
 // hertz/tangential_history), so users of those codes can compare (SPEC 3.4).
 //
-// Normal:     N = 4/3 E* sqrt(R*) a^{3/2} + 2 sqrt(5/6) b sqrt(S_n m*) da/dt,  S_n = 2 E* sqrt(R* a)
-// Tangential: T = S_t xi + 2 sqrt(5/6) b sqrt(S_t m*) v_t, S_t = 8 G* sqrt(R* a), |T| <= mu N,
+// Normal:     N = 4/3 E* sqrt(R*) a^{3/2} + 2 sqrt(5/6) b sqrt(S_n m*) da/dt,  S_n = 2 E* sqrt(R*
+// a) Tangential: T = S_t xi + 2 sqrt(5/6) b sqrt(S_t m*) v_t, S_t = 8 G* sqrt(R* a), |T| <= mu N,
 // with xi the accumulated slip (rotated onto the tangent plane, shortened when sliding).
 // The normal force is kept >= 0, as those codes do.
 //
@@ -90,8 +90,8 @@ struct HertzMindlin {
         throw InputError(fmt::format(
             "contact model hertz_mindlin needs material '{}' to have 'young' > 0 [Pa]", mat->name));
     Params p;
-    const double inv_e = (1 - m.a.poisson * m.a.poisson) / m.a.young +
-                         (1 - m.b.poisson * m.b.poisson) / m.b.young;
+    const double inv_e =
+        (1 - m.a.poisson * m.a.poisson) / m.a.young + (1 - m.b.poisson * m.b.poisson) / m.b.young;
     const double ga = m.a.young / (2 * (1 + m.a.poisson)), gb = m.b.young / (2 * (1 + m.b.poisson));
     const double inv_g = (2 - m.a.poisson) / ga + (2 - m.b.poisson) / gb;  // Mindlin's G*
     p.young_eff = 1 / inv_e;
@@ -123,7 +123,8 @@ struct HertzMindlin {
     const double root = std::sqrt(c.effective_radius * c.overlap);  // contact radius a
     const double s_n = 2 * p.young_eff * root;
     const double damp = 2 * std::sqrt(5.0 / 6.0) * p.damping;
-    double normal = (2.0 / 3.0) * s_n * c.overlap + damp * std::sqrt(s_n * c.effective_mass) * c.normal_velocity;
+    double normal = (2.0 / 3.0) * s_n * c.overlap +
+                    damp * std::sqrt(s_n * c.effective_mass) * c.normal_velocity;
     if (normal < 0) normal = 0;
     out.normal = normal;
     const double s_t = 8 * p.shear_eff * root;

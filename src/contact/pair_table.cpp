@@ -34,7 +34,8 @@ void PairTable::set(int a, int b, int model, const ParamValues& values,
 void PairTable::update(int a, int b, const ParamValues& changes, const std::string& context,
                        const PairMaterials& materials) {
   const Entry& e = at(a, b);
-  if (e.model < 0) throw InputError(fmt::format("{}: no contact law declared for this pair", context));
+  if (e.model < 0)
+    throw InputError(fmt::format("{}: no contact law declared for this pair", context));
   ParamValues merged = values_[key(a, b)];
   for (const auto& [k, v] : changes) merged[k] = v;
   auto catalogue = contact_model_catalogue();

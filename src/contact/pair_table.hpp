@@ -34,7 +34,9 @@ class PairTable {
   }
   int material_count() const { return materials_; }
 
-  const Entry& at(int a, int b) const { return table_[static_cast<std::size_t>(a) * materials_ + b]; }
+  const Entry& at(int a, int b) const {
+    return table_[static_cast<std::size_t>(a) * materials_ + b];
+  }
 
   // Declares (or replaces) the law between a and b. `values` must already be resolved.
   void set(int a, int b, int model, const ParamValues& values, const PairMaterials& materials);

@@ -54,10 +54,11 @@ ParamValues resolve_parameters(const std::vector<ParamSpec>& spec, const ParamVa
     auto it = given.find(p.name);
     double v = it != given.end() ? it->second : p.default_value;
     if (std::isnan(v))
-      throw InputError(fmt::format("{}: parameter '{}' [{}] is required ({})", context, p.name,
-                                   p.unit, p.doc));
+      throw InputError(
+          fmt::format("{}: parameter '{}' [{}] is required ({})", context, p.name, p.unit, p.doc));
     if (!std::isfinite(v))
-      throw InputError(fmt::format("{}: parameter '{}' must be finite, got {}", context, p.name, v));
+      throw InputError(
+          fmt::format("{}: parameter '{}' must be finite, got {}", context, p.name, v));
     bool below = p.min_inclusive ? v < p.min : v <= p.min;
     if (below || v > p.max)
       throw InputError(fmt::format("{}: parameter '{}' = {} [{}] is outside {}{}, {}]", context,

@@ -33,7 +33,8 @@ struct WaltonBraun {
     return {
         {"k_load", "N/m", required, 0, unbounded, false,
          "loading stiffness K1 (Eq. 3.2); Eq. 4.2 gives 0.01 pi E r"},
-        {"restitution", "-", required, 0, 1, false, "coefficient of restitution e = sqrt(K1/K2), Eq. 3.1"},
+        {"restitution", "-", required, 0, 1, false,
+         "coefficient of restitution e = sqrt(K1/K2), Eq. 3.1"},
         {"friction", "-", 0.0, 0, unbounded, true, "Coulomb friction coefficient mu"},
         {"tangential_ratio", "-", 0.8, 0, unbounded, false,
          "tau: initial tangential over normal stiffness, Eq. 3.4; the Mindlin value "
@@ -61,11 +62,11 @@ struct WaltonBraun {
 
   template <int D>
   struct History {
-    Vec<D> tangential = Vec<D>::Zero();       // T, force on i
-    Vec<D> reversal = Vec<D>::Zero();         // T*
-    Vec<D> load_direction = Vec<D>::Zero();   // u of the last slip increment
-    double previous_normal = 0;               // N(n-1), for step 8
-    double max_overlap = 0;                   // a_max
+    Vec<D> tangential = Vec<D>::Zero();      // T, force on i
+    Vec<D> reversal = Vec<D>::Zero();        // T*
+    Vec<D> load_direction = Vec<D>::Zero();  // u of the last slip increment
+    double previous_normal = 0;              // N(n-1), for step 8
+    double max_overlap = 0;                  // a_max
   };
 
   template <int D>
@@ -80,7 +81,8 @@ struct WaltonBraun {
   }
   // Contact duration with force, (pi/2)(sqrt(m*/K1) + sqrt(m*/K2)).
   static double contact_duration(const Params& p, double effective_mass) {
-    return 0.5 * pi * (std::sqrt(effective_mass / p.k_load) + std::sqrt(effective_mass / p.k_unload));
+    return 0.5 * pi *
+           (std::sqrt(effective_mass / p.k_load) + std::sqrt(effective_mass / p.k_unload));
   }
   // Leap-frog is stable for dt < 2/omega; omega from the stiffer unloading spring.
   static double stability_limit(const Params& p, const PairScale& s) {

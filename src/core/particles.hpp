@@ -23,7 +23,7 @@ struct Particles {
   std::vector<double> mass;  // kg, also for fixed particles (reported, not integrated)
   std::vector<std::int64_t> id;
   std::vector<std::int32_t> material;
-  std::vector<std::uint8_t> fixed;  // immobile, infinite mass
+  std::vector<std::uint8_t> fixed;        // immobile, infinite mass
   std::vector<std::int32_t> index_of_id;  // -1 for removed ids
   std::int64_t next_id = 0;
 

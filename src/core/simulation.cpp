@@ -69,7 +69,8 @@ void Simulation<D>::step() {
 
 template <int D>
 void Simulation<D>::advance(std::int64_t steps) {
-  if (steps < 0) throw InputError(fmt::format("cannot advance a negative number of steps ({})", steps));
+  if (steps < 0)
+    throw InputError(fmt::format("cannot advance a negative number of steps ({})", steps));
   if (!prepared_) prepare();
   for (std::int64_t s = 0; s < steps; ++s) step();
 }
@@ -79,7 +80,8 @@ void Simulation<D>::advance(std::int64_t steps) {
 // ----------------------------------------------------------------------------
 template <int D>
 template <typename M>
-void Simulation<D>::pair_forces(PairBucket<D, M>& b, const std::vector<typename M::Params>& params) {
+void Simulation<D>::pair_forces(PairBucket<D, M>& b,
+                                const std::vector<typename M::Params>& params) {
   using History = typename M::template History<D>;
   const bool record = record_contacts_;
   if (record) {
@@ -142,7 +144,8 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b, const std::vector<typename 
 
 template <int D>
 template <typename M>
-void Simulation<D>::wall_forces(WallBucket<D, M>& b, const std::vector<typename M::Params>& params) {
+void Simulation<D>::wall_forces(WallBucket<D, M>& b,
+                                const std::vector<typename M::Params>& params) {
   using History = typename M::template History<D>;
   const bool record = record_contacts_;
   if (record) {
@@ -173,9 +176,9 @@ void Simulation<D>::wall_forces(WallBucket<D, M>& b, const std::vector<typename 
         v_rel - n * c.normal_velocity + p_.radius[i] * Dim<D>::spin_cross(p_.spin[i], n);
     c.effective_mass = p_.mass[i];
     double r = p_.radius[i];
-    c.effective_radius = w.type == WallType::plane
-                             ? r
-                             : (w.inside ? r * w.radius / (w.radius - r) : r * w.radius / (w.radius + r));
+    c.effective_radius = w.type == WallType::plane ? r
+                                                   : (w.inside ? r * w.radius / (w.radius - r)
+                                                               : r * w.radius / (w.radius + r));
     const ContactForce<D> f = M::force(par, h, c);
     const V total = f.normal * n + f.tangential;
     p_.force[i] += total;
@@ -261,9 +264,10 @@ void Simulation<D>::report_non_finite(std::size_t index) {
                            p_.id[other], M::name, overlap);
     }
   });
-  fail(fmt::format("step {} (t = {:.6g} s): particle {} has a non-finite position, velocity or "
-                   "spin (force {} {}){}; time step {:.4g} s",
-                   step_, time_, pid, p_.force[index][0], p_.force[index][1], detail, dt_));
+  fail(
+      fmt::format("step {} (t = {:.6g} s): particle {} has a non-finite position, velocity or "
+                  "spin (force {} {}){}; time step {:.4g} s",
+                  step_, time_, pid, p_.force[index][0], p_.force[index][1], detail, dt_));
 }
 
 // ----------------------------------------------------------------------------
@@ -280,7 +284,8 @@ struct OwnerIndex {
     for (std::size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
     order.resize(owner.size());
     std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t k = 0; k < owner.size(); ++k) order[fill[owner[k]]++] = static_cast<std::uint32_t>(k);
+    for (std::size_t k = 0; k < owner.size(); ++k)
+      order[fill[owner[k]]++] = static_cast<std::uint32_t>(k);
   }
 };
 }  // namespace
@@ -485,13 +490,15 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
   if (f.radii.empty() && !(f.radius_min > 0 && f.radius_max >= f.radius_min))
     throw InputError("fill: give 'radius' > 0, 'radii' or 0 < radius_min <= radius_max [m]");
   for (double r : f.radii)
-    if (!(r > 0) || !std::isfinite(r)) throw InputError(fmt::format("fill: radii must be > 0 [m], got {}", r));
+    if (!(r > 0) || !std::isfinite(r))
+      throw InputError(fmt::format("fill: radii must be > 0 [m], got {}", r));
   if (!(f.max_speed >= 0) || !std::isfinite(f.max_speed))
     throw InputError(fmt::format("fill: max_speed must be >= 0 [m/s], got {}", f.max_speed));
   Random rng(f.seed);
   const double density = materials_[f.material].density;
   if (!(density > 0))
-    throw InputError(fmt::format("fill: material '{}' needs a density > 0", materials_[f.material].name));
+    throw InputError(
+        fmt::format("fill: material '{}' needs a density > 0", materials_[f.material].name));
 
   // Region as a bounding box plus an inside test for a sphere of radius r.
   V lo, hi;
@@ -541,7 +548,8 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
   for (std::size_t i = 0; i < p_.size(); ++i)
     if (p_.fixed[i]) fixed_indices.push_back(i);
 
-  const std::int64_t attempts_allowed = f.max_attempts > 0 ? f.max_attempts : 2000 * std::max<std::int64_t>(f.count, 1);
+  const std::int64_t attempts_allowed =
+      f.max_attempts > 0 ? f.max_attempts : 2000 * std::max<std::int64_t>(f.count, 1);
   std::vector<std::int64_t> ids;
   std::int64_t attempts = 0;
   std::vector<V> velocities;
@@ -551,9 +559,10 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
           "fill: placed only {} of {} particles after {} attempts; the region is too full or lies "
           "outside the walls",
           ids.size(), f.count, attempts_allowed));
-    double r = f.radii.empty() ? rng.uniform(f.radius_min, f.radius_max)
-                               : f.radii[std::min(f.radii.size() - 1,
-                                                  static_cast<std::size_t>(rng.uniform() * f.radii.size()))];
+    double r = f.radii.empty()
+                   ? rng.uniform(f.radius_min, f.radius_max)
+                   : f.radii[std::min(f.radii.size() - 1,
+                                      static_cast<std::size_t>(rng.uniform() * f.radii.size()))];
     V x;
     for (int k = 0; k < D; ++k) x[k] = rng.uniform(lo[k], hi[k]);
     if (!inside_region(x, r)) continue;
@@ -647,7 +656,8 @@ TimeStepReport Simulation<D>::time_step_rule() {
   r.stability_limit = INFINITY;
   const int nm = static_cast<int>(materials_.size());
   // Smallest free-particle mass and radius per material (the shortest contacts).
-  std::vector<double> min_mass(nm, INFINITY), min_radius(nm, INFINITY), min_radius_any(nm, INFINITY);
+  std::vector<double> min_mass(nm, INFINITY), min_radius(nm, INFINITY),
+      min_radius_any(nm, INFINITY);
   std::vector<char> used(nm, 0), free_used(nm, 0);
   for (std::size_t i = 0; i < p_.size(); ++i) {
     int m = p_.material[i];
@@ -684,8 +694,8 @@ TimeStepReport Simulation<D>::time_step_rule() {
       double limit = M::stability_limit(par, scale);
       if (rule < r.rule) {
         r.rule = rule;
-        r.governing_pair = fmt::format("{}-{} ({}, {})", materials_[a].name, materials_[b].name,
-                                       M::name, kind);
+        r.governing_pair =
+            fmt::format("{}-{} ({}, {})", materials_[a].name, materials_[b].name, M::name, kind);
       }
       r.stability_limit = std::min(r.stability_limit, limit);
     });
@@ -699,7 +709,8 @@ TimeStepReport Simulation<D>::time_step_rule() {
       scale.effective_mass = std::isinf(mb) ? min_mass[a] : min_mass[a] * mb / (min_mass[a] + mb);
       double ra = min_radius[a], rb = min_radius_any[b];
       scale.effective_radius = ra * rb / (ra + rb);
-      scale.rayleigh_time = std::min(rayleigh(a, ra), rayleigh(b, free_used[b] ? min_radius[b] : INFINITY));
+      scale.rayleigh_time =
+          std::min(rayleigh(a, ra), rayleigh(b, free_used[b] ? min_radius[b] : INFINITY));
       consider(a, b, scale, "particle-particle");
     }
     for (int w = 0; w < nm; ++w)
@@ -751,9 +762,10 @@ void Simulation<D>::prepare() {
             "time_step {:.4g} s is above the stability limit 2/omega = {:.4g} s of {}: refused",
             dt_, rule.stability_limit, rule.governing_pair));
       if (dt_ > rule.rule * (1 + 1e-9))
-        warn(fmt::format("time_step {:.4g} s exceeds the Eq. 4.1 rule {:.4g} s (n = {} steps per "
-                         "contact) for {}",
-                         dt_, rule.rule, steps_per_contact_, rule.governing_pair));
+        warn(
+            fmt::format("time_step {:.4g} s exceeds the Eq. 4.1 rule {:.4g} s (n = {} steps per "
+                        "contact) for {}",
+                        dt_, rule.rule, steps_per_contact_, rule.governing_pair));
     } else if (dt_ == 0 || std::isinf(dt_)) {
       if (std::isinf(rule.rule))
         throw InputError("cannot choose a time step: no contact can occur; set time_step");
@@ -825,7 +837,8 @@ template <int D>
 void Simulation<D>::set_wall_velocity(int w, const Triple& v) {
   if (!finite3(v)) throw InputError("wall velocity must be finite");
   if (walls_.at(w).type != WallType::plane)
-    throw InputError(fmt::format("wall '{}' is a cylinder: set its angular velocity", walls_[w].name));
+    throw InputError(
+        fmt::format("wall '{}' is a cylinder: set its angular velocity", walls_[w].name));
   walls_[w].velocity = to_vec(v);
 }
 template <int D>
@@ -927,7 +940,8 @@ GlobalStats Simulation<D>::stats() const {
     } else {
       spin_z = p_.spin[i][2];
     }
-    g.angular_momentum_z += m * (x[0] * v[1] - x[1] * v[0]) + sphere_inertia(m, p_.radius[i]) * spin_z;
+    g.angular_momentum_z +=
+        m * (x[0] * v[1] - x[1] * v[0]) + sphere_inertia(m, p_.radius[i]) * spin_z;
   }
   g.momentum = to_triple(momentum);
   g.contacts_particle = contacts_particle_;
@@ -998,7 +1012,8 @@ std::vector<std::string> Simulation<D>::describe() const {
     }
   for (const auto& w : walls_) {
     if (w.type == WallType::plane)
-      lines.push_back(fmt::format("wall {}: plane, material {}", w.name, materials_[w.material].name));
+      lines.push_back(
+          fmt::format("wall {}: plane, material {}", w.name, materials_[w.material].name));
     else
       lines.push_back(fmt::format("wall {}: cylinder r={} m {}, {} rad/s, material {}", w.name,
                                   w.radius, w.inside ? "inside" : "outside", w.angular_velocity,
@@ -1008,10 +1023,10 @@ std::vector<std::string> Simulation<D>::describe() const {
   lines.push_back(fmt::format("central field: {}", body_.central_on ? "on" : "off"));
   lines.push_back(fmt::format("contact forces recorded: {}", record_contacts_ ? "yes" : "no"));
   lines.push_back(fmt::format("hooks: {}", hooks_.size()));
-  lines.push_back(fmt::format("time step: {:.6g} s ({}), skin {:.4g} m", dt_,
-                              dt_fixed_ > 0 ? "set by the scene"
-                                            : fmt::format("Eq. 4.1, n = {}", steps_per_contact_),
-                              skin_));
+  lines.push_back(fmt::format(
+      "time step: {:.6g} s ({}), skin {:.4g} m", dt_,
+      dt_fixed_ > 0 ? "set by the scene" : fmt::format("Eq. 4.1, n = {}", steps_per_contact_),
+      skin_));
   return lines;
 }
 

@@ -27,9 +27,7 @@ struct PairBucket {
   // filled only when contacts are recorded
   std::vector<double> overlap, normal_force;
   std::vector<Vec<D>> tangential_force, normal;
-  void clear() {
-    i.clear(), j.clear(), slot.clear(), history.clear(), id_i.clear(), id_j.clear();
-  }
+  void clear() { i.clear(), j.clear(), slot.clear(), history.clear(), id_i.clear(), id_j.clear(); }
   std::size_t size() const { return i.size(); }
 };
 

@@ -24,8 +24,8 @@ int SimulationBase::add_material(const Material& m) {
   positive_or_zero(m.young, "young", "Pa");
   positive_or_zero(m.surface_energy, "surface_energy", "J/m^2");
   if (!std::isfinite(m.poisson) || m.poisson < -1 || m.poisson >= 0.5 + 1e-12)
-    throw InputError(fmt::format("material '{}': 'poisson' must be in (-1, 0.5], got {}", m.name,
-                                 m.poisson));
+    throw InputError(
+        fmt::format("material '{}': 'poisson' must be in (-1, 0.5], got {}", m.name, m.poisson));
   materials_.push_back(m);
   pairs_.resize(static_cast<int>(materials_.size()));
   prepared_ = false;
@@ -40,8 +40,9 @@ int SimulationBase::material_id(const std::string& name) const {
   }
   std::string hint = nearest_name(name, names);
   throw InputError(fmt::format("unknown material '{}'{}", name,
-                               hint.empty() ? std::string(names.empty() ? " (no material declared yet)" : "")
-                                            : fmt::format(" (did you mean '{}'?)", hint)));
+                               hint.empty()
+                                   ? std::string(names.empty() ? " (no material declared yet)" : "")
+                                   : fmt::format(" (did you mean '{}'?)", hint)));
 }
 
 void SimulationBase::set_contact(const std::string& a, const std::string& b,
@@ -124,7 +125,8 @@ void SimulationBase::fire_hooks() {
     } else if (time_ >= h.next_time - 1e-9 * dt_) {
       due = true;
       // Next multiple strictly after now, robust to dt not dividing every_time.
-      h.next_time += h.every_time * std::max(1.0, std::floor((time_ - h.next_time) / h.every_time) + 1);
+      h.next_time +=
+          h.every_time * std::max(1.0, std::floor((time_ - h.next_time) / h.every_time) + 1);
     }
     if (due) {
       int id = h.id;
@@ -147,7 +149,8 @@ void SimulationBase::fail(const std::string& message) {
     try {
       on_failure_(message);
     } catch (const std::exception& e) {
-      throw RunError(message + fmt::format(" (and writing the failed state also failed: {})", e.what()));
+      throw RunError(message +
+                     fmt::format(" (and writing the failed state also failed: {})", e.what()));
     }
   }
   throw RunError(message);

@@ -33,8 +33,8 @@ struct WallSpec {
   std::string name;
   WallType type = WallType::plane;
   int material = -1;
-  Triple point{}, normal{}, velocity{};       // plane
-  Triple center{}, axis{0, 0, 1};              // cylinder
+  Triple point{}, normal{}, velocity{};  // plane
+  Triple center{}, axis{0, 0, 1};        // cylinder
   double radius = 0;
   bool inside = true;
   double angular_velocity = 0;
@@ -45,10 +45,10 @@ enum class RegionShape { ball, box, cylinder };
 struct FillSpec {
   RegionShape shape = RegionShape::ball;
   Triple center{}, lo{}, hi{};
-  double radius = 0;              // ball / cylinder radius
-  double z_min = 0, z_max = 0;    // cylinder (3D) extent along z
+  double radius = 0;            // ball / cylinder radius
+  double z_min = 0, z_max = 0;  // cylinder (3D) extent along z
   std::int64_t count = 0;
-  std::vector<double> radii;      // drawn uniformly from this list
+  std::vector<double> radii;              // drawn uniformly from this list
   double radius_min = 0, radius_max = 0;  // or uniform in [min, max] when radii is empty
   int material = -1;
   std::uint64_t seed = 1;
@@ -91,9 +91,9 @@ struct Hook {
 };
 
 struct TimeStepReport {
-  double rule = 0;            // Eq. 4.1 (or the model's analogue) over the pairs in use, s
-  double stability_limit = 0; // 2 / omega_max, s
-  std::string governing_pair; // "a-b (model)"
+  double rule = 0;             // Eq. 4.1 (or the model's analogue) over the pairs in use, s
+  double stability_limit = 0;  // 2 / omega_max, s
+  std::string governing_pair;  // "a-b (model)"
 };
 
 class SimulationBase {
@@ -118,7 +118,7 @@ class SimulationBase {
   // ---- settings ----
   void set_time_step(double dt);  // > 0 fixed; 0 = Eq. 4.1 rule (default)
   void set_steps_per_contact(double n);
-  void set_skin(double skin);     // m; 0 = automatic (half the median radius)
+  void set_skin(double skin);  // m; 0 = automatic (half the median radius)
   void set_periodic(int axis, double origin, double length);
   void set_record_contacts(bool on) { record_contacts_ = on; }
   bool record_contacts() const { return record_contacts_; }
@@ -137,7 +137,7 @@ class SimulationBase {
   virtual WallSpec wall(int w) const = 0;
   virtual void set_wall_velocity(int w, const Triple& v) = 0;
   virtual void set_wall_angular_velocity(int w, double omega) = 0;
-  virtual Triple wall_force(int w) const = 0;      // N, by the particles on the wall, last step
+  virtual Triple wall_force(int w) const = 0;  // N, by the particles on the wall, last step
   virtual double wall_axial_torque(int w) const = 0;
 
   // ---- particle access by persistent id ----
@@ -190,7 +190,9 @@ class SimulationBase {
   void remove_hook(int id);
   std::size_t hook_count() const { return hooks_.size(); }
   // Called when a run fails (NaN, escape) just before the error propagates.
-  void set_failure_handler(std::function<void(const std::string&)> f) { on_failure_ = std::move(f); }
+  void set_failure_handler(std::function<void(const std::string&)> f) {
+    on_failure_ = std::move(f);
+  }
 
   // Wall-clock seconds spent per stage of step() since construction.
   struct StageTimes {

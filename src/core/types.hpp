@@ -52,6 +52,8 @@ constexpr double pi = 3.14159265358979323846;
 inline double sphere_mass(double radius, double density) {
   return 4.0 / 3.0 * pi * radius * radius * radius * density;
 }
-inline double sphere_inertia(double mass, double radius) { return 0.4 * mass * radius * radius; }
+inline double sphere_inertia(double mass, double radius) {
+  return 0.4 * mass * radius * radius;
+}
 
 }  // namespace granule

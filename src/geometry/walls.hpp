@@ -28,8 +28,8 @@ struct Wall {
   V center = V::Zero();
   V axis = V::Zero();
   double radius = 0;
-  bool inside = true;             // particles inside the cylinder (a chamber) or outside (a post)
-  double angular_velocity = 0;    // rad/s about `axis`, right-handed
+  bool inside = true;           // particles inside the cylinder (a chamber) or outside (a post)
+  double angular_velocity = 0;  // rad/s about `axis`, right-handed
   // reaction: force and axial torque exerted BY the particles ON the wall in the last step
   V force = V::Zero();
   double axial_torque = 0;  // N m about the cylinder axis (z for planes in 2D)

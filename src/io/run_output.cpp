@@ -9,21 +9,30 @@
 namespace granule::io {
 
 namespace {
-const std::vector<std::string> series_columns = {
-    "time", "step", "kinetic_energy_translational", "kinetic_energy_rotational",
-    "contacts_particle", "contacts_wall", "max_overlap_ratio", "momentum_x", "momentum_y",
-    "momentum_z", "angular_momentum_z"};
-const std::vector<std::string> series_units = {"s", "-", "J", "J", "-", "-", "-",
-                                               "kg m/s", "kg m/s", "kg m/s", "kg m^2/s"};
+const std::vector<std::string> series_columns = {"time",
+                                                 "step",
+                                                 "kinetic_energy_translational",
+                                                 "kinetic_energy_rotational",
+                                                 "contacts_particle",
+                                                 "contacts_wall",
+                                                 "max_overlap_ratio",
+                                                 "momentum_x",
+                                                 "momentum_y",
+                                                 "momentum_z",
+                                                 "angular_momentum_z"};
+const std::vector<std::string> series_units = {"s", "-",      "J",      "J",      "-",       "-",
+                                               "-", "kg m/s", "kg m/s", "kg m/s", "kg m^2/s"};
 }  // namespace
 
 RunOutput::RunOutput(SimulationBase& sim, RunOutputSettings settings)
     : sim_(sim), settings_(std::move(settings)) {
   if (settings_.path.empty()) throw InputError("output: 'file' must not be empty");
   if (settings_.snapshot_every < 0 || !std::isfinite(settings_.snapshot_every))
-    throw InputError(fmt::format("output: snapshot_every must be >= 0 [s], got {}", settings_.snapshot_every));
+    throw InputError(
+        fmt::format("output: snapshot_every must be >= 0 [s], got {}", settings_.snapshot_every));
   if (settings_.series_every < 0 || !std::isfinite(settings_.series_every))
-    throw InputError(fmt::format("output: series_every must be >= 0 [s], got {}", settings_.series_every));
+    throw InputError(
+        fmt::format("output: series_every must be >= 0 [s], got {}", settings_.series_every));
   file_ = std::make_unique<H5Output>(settings_.path);
   file_->series_declare("/series", series_columns, series_units);
   Hook series;
@@ -122,7 +131,8 @@ void RunOutput::write_header() {
   f.flush();
 }
 
-SnapshotView RunOutput::view(const SimulationBase::FlatState& s, std::vector<std::string> names) const {
+SnapshotView RunOutput::view(const SimulationBase::FlatState& s,
+                             std::vector<std::string> names) const {
   SnapshotView v;
   v.step = sim_.step_count();
   v.time = sim_.time();
@@ -152,16 +162,17 @@ void RunOutput::write_snapshot() {
 void RunOutput::write_series_row() {
   write_header();
   GlobalStats g = sim_.stats();
-  file_->series_append("/series", {g.time, static_cast<double>(g.step), g.kinetic_translational,
-                                   g.kinetic_rotational, static_cast<double>(g.contacts_particle),
-                                   static_cast<double>(g.contacts_wall), g.max_overlap_ratio,
-                                   g.momentum[0], g.momentum[1], g.momentum[2],
-                                   g.angular_momentum_z});
+  file_->series_append(
+      "/series",
+      {g.time, static_cast<double>(g.step), g.kinetic_translational, g.kinetic_rotational,
+       static_cast<double>(g.contacts_particle), static_cast<double>(g.contacts_wall),
+       g.max_overlap_ratio, g.momentum[0], g.momentum[1], g.momentum[2], g.angular_momentum_z});
 }
 
 void RunOutput::declare_series(const std::string& name, const std::vector<std::string>& columns) {
   if (name.empty() || name.find('/') != std::string::npos || name == "series")
-    throw InputError(fmt::format("series name '{}' must be a plain word other than 'series'", name));
+    throw InputError(
+        fmt::format("series name '{}' must be a plain word other than 'series'", name));
   file_->series_declare("/" + name, columns);
 }
 
@@ -183,7 +194,8 @@ void RunOutput::write_failure(const std::string& message) {
   for (std::size_t i = 0; i < s.id.size(); ++i) {
     bool finite = true;
     for (int k = 0; k < d; ++k)
-      finite = finite && std::isfinite(s.position[i * d + k]) && std::isfinite(s.velocity[i * d + k]);
+      finite =
+          finite && std::isfinite(s.position[i * d + k]) && std::isfinite(s.velocity[i * d + k]);
     for (int k = 0; k < sc; ++k) finite = finite && std::isfinite(s.spin[i * sc + k]);
     if (!finite) continue;
     kept.id.push_back(s.id[i]);

@@ -38,7 +38,7 @@ class RunOutput {
   void append_series(const std::string& name, const std::vector<double>& row);
   void write_result(const std::string& name, double value);  // /results attributes
   void write_failure(const std::string& message);            // finite particles + message
-  void finish();                                              // final snapshot + flush
+  void finish();                                             // final snapshot + flush
   const std::string& path() const { return settings_.path; }
   H5Output& file() { return *file_; }
 

@@ -34,7 +34,9 @@ LuaSim& self(lua_State* L) {
   return *s;
 }
 
-int dim(lua_State* L) { return self(L).sim->dimension(); }
+int dim(lua_State* L) {
+  return self(L).sim->dimension();
+}
 
 std::int64_t particle_id(lua_State* L, int index, const SimulationBase& sim) {
   std::int64_t id = read_integer(L, index, "particle id");
@@ -66,7 +68,8 @@ int l_material(lua_State* L) {
 int l_contact(lua_State* L) {
   return protect(L, [](lua_State* L) {
     LuaSim& s = self(L);
-    if (!lua_istable(L, 2)) throw std::runtime_error("contact: expected { 'a', 'b', model = ..., ... }");
+    if (!lua_istable(L, 2))
+      throw std::runtime_error("contact: expected { 'a', 'b', model = ..., ... }");
     lua_geti(L, 2, 1);
     lua_geti(L, 2, 2);
     if (lua_type(L, -2) != LUA_TSTRING || lua_type(L, -1) != LUA_TSTRING)
@@ -218,7 +221,8 @@ int l_fill(lua_State* L) {
       c.finish();
       lua_pop(L, 1);
     } else {
-      throw std::runtime_error(fmt::format("fill.region: give one of {}", d == 2 ? "circle, box" : "sphere, box, cylinder"));
+      throw std::runtime_error(fmt::format("fill.region: give one of {}",
+                                           d == 2 ? "circle, box" : "sphere, box, cylinder"));
     }
     r.finish();
     lua_pop(L, 1);
@@ -281,7 +285,8 @@ int l_set_wall(lua_State* L) {
     int w = s.sim->wall_id(read_string(L, 2, "set_wall: wall name"));
     TableReader t(L, 3, "set_wall");
     if (t.has("velocity")) s.sim->set_wall_velocity(w, t.vector("velocity", dim(L)));
-    if (t.has("angular_velocity")) s.sim->set_wall_angular_velocity(w, t.number("angular_velocity"));
+    if (t.has("angular_velocity"))
+      s.sim->set_wall_angular_velocity(w, t.number("angular_velocity"));
     t.finish();
     return 0;
   });
@@ -413,13 +418,16 @@ void call_lua(lua_State* L, int function_ref, int self_ref, int results, const c
 int l_run(lua_State* L) {
   return protect(L, [](lua_State* L) {
     LuaSim& s = self(L);
-    if (s.running) throw std::runtime_error("run: cannot run a simulation from inside its own callback");
+    if (s.running)
+      throw std::runtime_error("run: cannot run a simulation from inside its own callback");
     TableReader t(L, 2, "run");
     bool has_duration = t.has("duration"), has_steps = t.has("steps");
-    if (has_duration == has_steps) throw std::runtime_error("run: give exactly one of 'duration' [s] or 'steps'");
+    if (has_duration == has_steps)
+      throw std::runtime_error("run: give exactly one of 'duration' [s] or 'steps'");
     double duration = has_duration ? t.number("duration") : 0;
     std::int64_t steps = has_steps ? t.integer("steps") : 0;
-    if (has_duration && !(duration >= 0)) throw std::runtime_error("run: duration must be >= 0 [s]");
+    if (has_duration && !(duration >= 0))
+      throw std::runtime_error("run: duration must be >= 0 [s]");
     if (has_steps && steps < 0) throw std::runtime_error("run: steps must be >= 0");
     std::int64_t check_every = t.integer("check_every", 100);
     if (check_every < 1) throw std::runtime_error("run: check_every must be >= 1");
@@ -434,13 +442,15 @@ int l_run(lua_State* L) {
       for (const auto& line : s.sim->describe()) std::cerr << "granule: " << line << "\n";
       s.header_printed = true;
     }
-    if (has_duration) steps = static_cast<std::int64_t>(std::ceil(duration / s.sim->time_step() - 1e-9));
+    if (has_duration)
+      steps = static_cast<std::int64_t>(std::ceil(duration / s.sim->time_step() - 1e-9));
     std::int64_t done = 0;
     bool stopped = false;
     s.running = true;
     try {
       while (done < steps) {
-        std::int64_t chunk = std::min<std::int64_t>(stop_ref != LUA_NOREF ? check_every : 1000, steps - done);
+        std::int64_t chunk =
+            std::min<std::int64_t>(stop_ref != LUA_NOREF ? check_every : 1000, steps - done);
         s.sim->advance(chunk);
         done += chunk;
         if (stop_ref != LUA_NOREF) {
@@ -483,7 +493,8 @@ int l_every(lua_State* L) {
     if ((h.every_steps > 0) == (h.every_time > 0))
       throw std::runtime_error("every: give exactly one of steps = N (> 0) or time = T [s] (> 0)");
     lua_geti(L, 2, 1);
-    if (!lua_isfunction(L, -1)) throw std::runtime_error("every: the first entry must be a function(sim)");
+    if (!lua_isfunction(L, -1))
+      throw std::runtime_error("every: the first entry must be a function(sim)");
     int ref = luaL_ref(L, LUA_REGISTRYINDEX);
     t.finish();
     int self_ref = s.self_ref;

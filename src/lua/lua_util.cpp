@@ -8,13 +8,15 @@
 
 namespace granule::lua {
 
-std::string type_name(lua_State* L, int index) { return luaL_typename(L, index); }
+std::string type_name(lua_State* L, int index) {
+  return luaL_typename(L, index);
+}
 
 TableReader::TableReader(lua_State* L, int index, std::string context)
     : L_(L), index_(lua_absindex(L, index)), context_(std::move(context)) {
   if (!lua_istable(L, index_))
-    throw std::runtime_error(fmt::format("{}: expected a table {{ ... }}, got {}", context_,
-                                         type_name(L, index_)));
+    throw std::runtime_error(
+        fmt::format("{}: expected a table {{ ... }}, got {}", context_, type_name(L, index_)));
 }
 
 int TableReader::push(const char* key) {
@@ -67,7 +69,8 @@ std::int64_t TableReader::integer(const char* key, std::int64_t fallback) {
   std::string got = type_name(L_, -1);
   lua_pop(L_, 1);
   if (!ok || t != LUA_TNUMBER)
-    throw std::runtime_error(fmt::format("{}: '{}' must be an integer, got {}", context_, key, got));
+    throw std::runtime_error(
+        fmt::format("{}: '{}' must be an integer, got {}", context_, key, got));
   return v;
 }
 
@@ -80,7 +83,8 @@ bool TableReader::boolean(const char* key, bool fallback) {
   if (t != LUA_TBOOLEAN) {
     std::string got = type_name(L_, -1);
     lua_pop(L_, 1);
-    throw std::runtime_error(fmt::format("{}: '{}' must be true or false, got {}", context_, key, got));
+    throw std::runtime_error(
+        fmt::format("{}: '{}' must be true or false, got {}", context_, key, got));
   }
   bool v = lua_toboolean(L_, -1);
   lua_pop(L_, 1);
@@ -194,8 +198,9 @@ void TableReader::finish() {
     if (used_.count(key)) continue;
     lua_pop(L_, 1);
     std::string hint = nearest_name(key, known);
-    throw std::runtime_error(fmt::format("{}: unknown key '{}'{}", context_, key,
-                                         hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint)));
+    throw std::runtime_error(
+        fmt::format("{}: unknown key '{}'{}", context_, key,
+                    hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint)));
   }
 }
 
@@ -206,8 +211,8 @@ std::array<double, 3> read_vector(lua_State* L, int index, int dimension, const 
                                          dimension == 3 ? ", z" : "", type_name(L, index)));
   lua_Integer n = luaL_len(L, index);
   if (n != dimension && !(dimension == 2 && n == 3))
-    throw std::runtime_error(
-        fmt::format("{} must have {} components, got {}", what, dimension, static_cast<long long>(n)));
+    throw std::runtime_error(fmt::format("{} must have {} components, got {}", what, dimension,
+                                         static_cast<long long>(n)));
   std::array<double, 3> v{0, 0, 0};
   for (lua_Integer k = 1; k <= n; ++k) {
     lua_geti(L, index, k);
@@ -230,7 +235,8 @@ double read_number(lua_State* L, int index, const std::string& what) {
   if (lua_type(L, index) != LUA_TNUMBER)
     throw std::runtime_error(fmt::format("{} must be a number, got {}", what, type_name(L, index)));
   double v = lua_tonumber(L, index);
-  if (!std::isfinite(v)) throw std::runtime_error(fmt::format("{} must be finite, got {}", what, v));
+  if (!std::isfinite(v))
+    throw std::runtime_error(fmt::format("{} must be finite, got {}", what, v));
   return v;
 }
 
@@ -238,7 +244,8 @@ std::int64_t read_integer(lua_State* L, int index, const std::string& what) {
   int ok = 0;
   lua_Integer v = lua_tointegerx(L, index, &ok);
   if (!ok || lua_type(L, index) != LUA_TNUMBER)
-    throw std::runtime_error(fmt::format("{} must be an integer, got {}", what, type_name(L, index)));
+    throw std::runtime_error(
+        fmt::format("{} must be an integer, got {}", what, type_name(L, index)));
   return v;
 }
 

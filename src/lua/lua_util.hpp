@@ -8,10 +8,9 @@
 //    exceptions (ScriptError) on the way back into the engine.
 #pragma once
 
-#include <lua.hpp>
-
 #include <array>
 #include <cstdint>
+#include <lua.hpp>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -61,15 +60,16 @@ class TableReader {
  public:
   TableReader(lua_State* L, int index, std::string context);
   bool has(const char* key);
-  double number(const char* key);                       // required
-  double number(const char* key, double fallback);      // optional
+  double number(const char* key);                   // required
+  double number(const char* key, double fallback);  // optional
   std::int64_t integer(const char* key);
   std::int64_t integer(const char* key, std::int64_t fallback);
   bool boolean(const char* key, bool fallback);
   std::string string(const char* key);
   std::string string(const char* key, const std::string& fallback);
   std::array<double, 3> vector(const char* key, int dimension);  // {x, y[, z]}
-  std::array<double, 3> vector(const char* key, int dimension, const std::array<double, 3>& fallback);
+  std::array<double, 3> vector(const char* key, int dimension,
+                               const std::array<double, 3>& fallback);
   std::vector<double> numbers(const char* key);
   // Leaves the field on the stack top if it is a function and returns true.
   bool push_function(const char* key);

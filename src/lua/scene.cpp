@@ -26,15 +26,18 @@ int traceback(lua_State* L) {
 int l_parameters(lua_State* L) {
   return protect(L, [](lua_State* L) {
     SceneContext* ctx = context(L);
-    if (ctx->parameters_declared) throw std::runtime_error("parameters{...} may be called only once per scene");
+    if (ctx->parameters_declared)
+      throw std::runtime_error("parameters{...} may be called only once per scene");
     ctx->parameters_declared = true;
-    if (!lua_istable(L, 1)) throw std::runtime_error("parameters: expected a table { name = default, ... }");
+    if (!lua_istable(L, 1))
+      throw std::runtime_error("parameters: expected a table { name = default, ... }");
     lua_newtable(L);  // values
     int values = lua_gettop(L);
     std::vector<std::string> names;
     lua_pushnil(L);
     while (lua_next(L, 1) != 0) {
-      if (lua_type(L, -2) != LUA_TSTRING) throw std::runtime_error("parameters: every key must be a name");
+      if (lua_type(L, -2) != LUA_TSTRING)
+        throw std::runtime_error("parameters: every key must be a name");
       std::string name = lua_tostring(L, -2);
       names.push_back(name);
       int spec = lua_gettop(L);
@@ -53,12 +56,14 @@ int l_parameters(lua_State* L) {
         const std::string& text = ov->second;
         if (t == LUA_TNUMBER) {
           if (!lua_stringtonumber(L, text.c_str()))
-            throw std::runtime_error(fmt::format("-D {}={}: '{}' expects a number", name, text, name));
+            throw std::runtime_error(
+                fmt::format("-D {}={}: '{}' expects a number", name, text, name));
           if (!std::isfinite(lua_tonumber(L, -1)))
             throw std::runtime_error(fmt::format("-D {}={}: must be finite", name, text));
         } else if (t == LUA_TBOOLEAN) {
           if (text != "true" && text != "false")
-            throw std::runtime_error(fmt::format("-D {}={}: '{}' expects true or false", name, text, name));
+            throw std::runtime_error(
+                fmt::format("-D {}={}: '{}' expects true or false", name, text, name));
           lua_pushboolean(L, text == "true");
         } else {
           lua_pushstring(L, text.c_str());
@@ -84,8 +89,9 @@ int l_parameters(lua_State* L) {
     for (const auto& [name, value] : ctx->overrides) {
       if (ctx->consumed.count(name)) continue;
       std::string hint = nearest_name(name, names);
-      throw std::runtime_error(fmt::format("-D {}={}: this scene has no parameter '{}'{}", name, value, name,
-                                           hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint)));
+      throw std::runtime_error(
+          fmt::format("-D {}={}: this scene has no parameter '{}'{}", name, value, name,
+                      hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint)));
     }
     // Read-only proxy that refuses unknown names.
     lua_newtable(L);
@@ -192,7 +198,8 @@ std::string run_file(lua_State* L, const std::string& path) {
     return err;
   }
   std::string err;
-  if (lua_pcall(L, 0, 0, handler) != LUA_OK) err = lua_tostring(L, -1) ? lua_tostring(L, -1) : "error";
+  if (lua_pcall(L, 0, 0, handler) != LUA_OK)
+    err = lua_tostring(L, -1) ? lua_tostring(L, -1) : "error";
   lua_settop(L, handler - 1);
   if (err.empty()) {
     SceneContext* ctx = context(L);
@@ -212,7 +219,8 @@ std::string run_string(lua_State* L, const std::string& chunk, const std::string
     return err;
   }
   std::string err;
-  if (lua_pcall(L, 0, 0, handler) != LUA_OK) err = lua_tostring(L, -1) ? lua_tostring(L, -1) : "error";
+  if (lua_pcall(L, 0, 0, handler) != LUA_OK)
+    err = lua_tostring(L, -1) ? lua_tostring(L, -1) : "error";
   lua_settop(L, handler - 1);
   return err;
 }

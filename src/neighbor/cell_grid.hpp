@@ -18,9 +18,9 @@
 namespace granule {
 
 struct Periodicity {
-  int axis = -1;       // -1: none
-  double origin = 0;   // lower bound of the periodic box along `axis`, m
-  double length = 0;   // m
+  int axis = -1;      // -1: none
+  double origin = 0;  // lower bound of the periodic box along `axis`, m
+  double length = 0;  // m
   bool on() const { return axis >= 0; }
 };
 

@@ -28,7 +28,7 @@ struct ImpactSetup {
   ParamValues params;
   double radius = 0.2e-3, density = 1200;
   double young = 0, poisson = 0;  // for Hertzian models (the wall gets the same)
-  double velocity = 1.0;  // relative
+  double velocity = 1.0;          // relative
   double angle_deg = 0;
   double spin = 0;
   double steps_per_contact = 40;

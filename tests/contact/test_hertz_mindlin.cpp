@@ -25,9 +25,10 @@ ImpactSetup quartz(double e, double v, bool wall) {
 }
 }  // namespace
 
-TEMPLATE_TEST_CASE_SIG("hertz_mindlin: elastic impacts match Hertz's contact duration and maximum "
-                       "overlap within 1%",
-                       "[hertz_mindlin]", ((int D), D), 2, 3) {
+TEMPLATE_TEST_CASE_SIG(
+    "hertz_mindlin: elastic impacts match Hertz's contact duration and maximum "
+    "overlap within 1%",
+    "[hertz_mindlin]", ((int D), D), 2, 3) {
   for (bool wall : {false, true}) {
     for (double v : {0.01, 0.1, 1.0}) {
       ImpactSetup s = quartz(1.0, v, wall);
@@ -62,8 +63,9 @@ TEST_CASE("hertz_mindlin: calibrated restitution is within 2% of its target at e
   }
 }
 
-TEST_CASE("hertz_mindlin: the codes' uncalibrated formula misses the target, so calibration matters",
-          "[hertz_mindlin]") {
+TEST_CASE(
+    "hertz_mindlin: the codes' uncalibrated formula misses the target, so calibration matters",
+    "[hertz_mindlin]") {
   // The self-similar impact: e depends only on the damping factor.
   const double e = 0.5;
   const double standard = HertzMindlin::damping_for(e, false);
@@ -72,9 +74,11 @@ TEST_CASE("hertz_mindlin: the codes' uncalibrated formula misses the target, so 
   CHECK(std::abs(HertzMindlin::dimensionless_restitution(standard) - e) > 0.02);
 }
 
-TEST_CASE("hertz_mindlin: a material without a Young's modulus is refused by name", "[hertz_mindlin]") {
+TEST_CASE("hertz_mindlin: a material without a Young's modulus is refused by name",
+          "[hertz_mindlin]") {
   Material a{"sand", 2650, 0, 0.3, 0}, b{"steel", 7800, 200e9, 0.3, 0};
-  CHECK_THROWS_WITH(HertzMindlin::make({{"restitution", 0.5}, {"friction", 0.3}, {"calibrate_restitution", 1}},
-                                       {a, b}),
-                    Catch::Contains("'sand'") && Catch::Contains("young"));
+  CHECK_THROWS_WITH(
+      HertzMindlin::make({{"restitution", 0.5}, {"friction", 0.3}, {"calibrate_restitution", 1}},
+                         {a, b}),
+      Catch::Contains("'sand'") && Catch::Contains("young"));
 }

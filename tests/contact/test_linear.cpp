@@ -34,8 +34,11 @@ TEMPLATE_TEST_CASE_SIG("linear: restitution and duration match the damped-oscill
 
 TEST_CASE("linear: tangential force is capped at mu |N| and the spring shortened", "[linear]") {
   const Material material{"m", 1000, 0, 0, 0};
-  auto p = LinearSpringDashpot::make({{"k_normal", 1e4}, {"restitution", 0.8}, {"friction", 0.2},
-                                      {"tangential_ratio", 2.0 / 7}, {"tangential_damping_ratio", 0.5},
+  auto p = LinearSpringDashpot::make({{"k_normal", 1e4},
+                                      {"restitution", 0.8},
+                                      {"friction", 0.2},
+                                      {"tangential_ratio", 2.0 / 7},
+                                      {"tangential_damping_ratio", 0.5},
                                       {"allow_tension", 1}},
                                      {material, material});
   LinearSpringDashpot::History<2> h;

@@ -11,7 +11,10 @@ using granule::test::run_impact;
 
 namespace {
 ParamValues table_3_1(double friction = 0.4) {
-  return {{"k_load", 20000}, {"restitution", 0.85}, {"friction", friction}, {"tangential_ratio", 0.8},
+  return {{"k_load", 20000},
+          {"restitution", 0.85},
+          {"friction", friction},
+          {"tangential_ratio", 0.8},
           {"slip_exponent", 1}};
 }
 const Material any_material{"m", 1000, 0, 0, 0};
@@ -20,9 +23,10 @@ WaltonBraun::Params params(const ParamValues& v) {
 }
 }  // namespace
 
-TEMPLATE_TEST_CASE_SIG("walton_braun: restitution is sqrt(K1/K2) (Eq. 3.1) and the force lasts "
-                       "(pi/2)(sqrt(m*/K1)+sqrt(m*/K2))",
-                       "[walton_braun]", ((int D), D), 2, 3) {
+TEMPLATE_TEST_CASE_SIG(
+    "walton_braun: restitution is sqrt(K1/K2) (Eq. 3.1) and the force lasts "
+    "(pi/2)(sqrt(m*/K1)+sqrt(m*/K2))",
+    "[walton_braun]", ((int D), D), 2, 3) {
   const double k1 = 20000, e = GENERATE(0.5, 0.85, 0.95);
   const double r = 0.2e-3, rho = 1200;
   const double m = sphere_mass(r, rho);
@@ -98,9 +102,10 @@ TEST_CASE("walton_braun: monotonic slip follows the closed form of Eq. 3.3 with 
   }
 }
 
-TEST_CASE("walton_braun: a slip reversal restores the full stiffness K0 and T* holds the reversal "
-          "force",
-          "[walton_braun]") {
+TEST_CASE(
+    "walton_braun: a slip reversal restores the full stiffness K0 and T* holds the reversal "
+    "force",
+    "[walton_braun]") {
   auto p = params(table_3_1());
   WaltonBraun::History<2> h;
   const double overlap = 1e-6, mu_n = 0.4 * p.k_load * overlap, k0 = 0.8 * p.k_load;
@@ -116,7 +121,8 @@ TEST_CASE("walton_braun: a slip reversal restores the full stiffness K0 and T* h
   CHECK(h.reversal.y() == Approx(t));
   // keep going: the force passes through zero towards -mu N and is limited there
   double lowest = t_after;
-  for (int k = 0; k < 20000; ++k) lowest = std::min(lowest, WaltonBraun::force<2>(p, h, c).tangential.y());
+  for (int k = 0; k < 20000; ++k)
+    lowest = std::min(lowest, WaltonBraun::force<2>(p, h, c).tangential.y());
   CHECK(lowest >= -mu_n * (1 + 1e-12));
   CHECK(lowest == Approx(-mu_n).epsilon(1e-3));
 }
@@ -148,8 +154,8 @@ TEST_CASE("walton_braun: zero friction and zero normal force give no tangential 
   CHECK(std::isfinite(f.normal));
 }
 
-TEMPLATE_TEST_CASE_SIG("walton_braun: |T| <= mu N at every step of oblique impacts", "[walton_braun]",
-                       ((int D), D), 2, 3) {
+TEMPLATE_TEST_CASE_SIG("walton_braun: |T| <= mu N at every step of oblique impacts",
+                       "[walton_braun]", ((int D), D), 2, 3) {
   for (double angle : {10.0, 30.0, 60.0, 80.0}) {
     for (double spin : {0.0, 500.0}) {
       ImpactSetup s;

@@ -2,7 +2,6 @@
 // free particles; angular momentum exchanged with a rotating cylinder only
 // through its contacts; energy in elastic frictionless collisions.
 #include <catch2/catch.hpp>
-
 #include <cmath>
 
 #include "core/random.hpp"
@@ -38,8 +37,9 @@ void dense_gas(Simulation<D>& sim, const std::string& model, const ParamValues& 
 }
 }  // namespace
 
-TEMPLATE_TEST_CASE_SIG("conservation: linear momentum is conserved in collisions between free particles",
-                       "[conservation]", ((int D), D), 2, 3) {
+TEMPLATE_TEST_CASE_SIG(
+    "conservation: linear momentum is conserved in collisions between free particles",
+    "[conservation]", ((int D), D), 2, 3) {
   for (std::string model : {"walton_braun", "linear"}) {
     Simulation<D> sim;
     ParamValues law = model == "walton_braun"
@@ -53,7 +53,8 @@ TEMPLATE_TEST_CASE_SIG("conservation: linear momentum is conserved in collisions
     CHECK(after.contacts_particle + 0 >= 0);
     double scale = 0;
     for (auto id : sim.particle_ids()) scale += sim.mass(id) * 0.5;
-    for (int k = 0; k < D; ++k) CHECK(after.momentum[k] == Approx(before.momentum[k]).margin(1e-12 * scale));
+    for (int k = 0; k < D; ++k)
+      CHECK(after.momentum[k] == Approx(before.momentum[k]).margin(1e-12 * scale));
     // Collisions happened: kinetic energy was dissipated.
     CHECK(after.kinetic_translational + after.kinetic_rotational <
           before.kinetic_translational + before.kinetic_rotational);
@@ -63,7 +64,8 @@ TEMPLATE_TEST_CASE_SIG("conservation: linear momentum is conserved in collisions
 TEMPLATE_TEST_CASE_SIG("conservation: elastic frictionless collisions conserve energy",
                        "[conservation]", ((int D), D), 2, 3) {
   Simulation<D> sim;
-  dense_gas(sim, "linear", {{"k_normal", 1e4}, {"restitution", 1.0}, {"friction", 0.0}}, 200, 0.015, 3);
+  dense_gas(sim, "linear", {{"k_normal", 1e4}, {"restitution", 1.0}, {"friction", 0.0}}, 200, 0.015,
+            3);
   sim.set_steps_per_contact(200);
   GlobalStats before = sim.stats();
   std::int64_t contacts = 0;
@@ -123,7 +125,8 @@ TEST_CASE("conservation: a rotating cylinder transfers angular momentum only thr
   for (int k = 0; k < 20000; ++k) {
     sim.advance(1);
     Triple fi = sim.wall_force(1);
-    double torque_on_walls = sim.wall_axial_torque(0) + sim.wall_axial_torque(1) + (5.9e-3 * fi[1] - 0 * fi[0]);
+    double torque_on_walls =
+        sim.wall_axial_torque(0) + sim.wall_axial_torque(1) + (5.9e-3 * fi[1] - 0 * fi[0]);
     impulse -= torque_on_walls * dt;
   }
   GlobalStats after = sim.stats();

@@ -1,8 +1,7 @@
 // Cell-list candidate pairs against brute force, for polydisperse sets up to
 // 80:1 in size, with and without a periodic axis.
-#include <catch2/catch.hpp>
-
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <set>
 
 #include "core/random.hpp"
@@ -39,8 +38,8 @@ void compare(double size_ratio, bool periodic, std::uint64_t seed) {
   for (int k = 0; k < 3; ++k) {  // a few giants
     Vec<D> x;
     for (int d = 0; d < D; ++d) x[d] = rng.uniform(0, box);
-    p.add(x, Vec<D>::Zero(), Dim<D>::zero_spin(), small * size_ratio * rng.uniform(0.5, 1.0), 1000, 0,
-          false);
+    p.add(x, Vec<D>::Zero(), Dim<D>::zero_spin(), small * size_ratio * rng.uniform(0.5, 1.0), 1000,
+          0, false);
   }
   Periodicity per;
   if (periodic) per = {D - 1, 0.0, box};
@@ -65,7 +64,8 @@ TEST_CASE("neighbors: cell lists find exactly the brute-force pairs", "[neighbor
     for (bool periodic : {false, true}) {
       INFO("ratio " << ratio << " periodic " << periodic);
       compare<2>(ratio, false, 11);
-      compare<3>(ratio, periodic && ratio == 1.0, 12);  // a giant wider than half the period has no minimum image
+      compare<3>(ratio, periodic && ratio == 1.0,
+                 12);  // a giant wider than half the period has no minimum image
     }
   }
 }

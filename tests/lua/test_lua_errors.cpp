@@ -1,13 +1,11 @@
 // Scenes that must be refused, each with a message naming the file, the line
 // and the parameter; and scenes that must run.
+#include <unistd.h>
+
 #include <catch2/catch.hpp>
-
-#include <lua.hpp>
-
 #include <filesystem>
 #include <fstream>
-
-#include <unistd.h>
+#include <lua.hpp>
 
 #include "lua/scene.hpp"
 
@@ -77,32 +75,42 @@ TEST_CASE("lua: bad physical input is refused with the parameter named", "[lua][
   expect_refused("sim:add_particle { position = {0, 0}, radius = -1e-3, material = 'glass' }\n", 6,
                  "radius must be > 0");
   expect_refused("sim:material { name = 'x', density = -5 }\n", 6, "'density' must be >= 0");
-  expect_refused("sim:contact { 'glass', 'glass', model = 'walton_braun', k_load = 1e4, restitution = 1.5 }\n", 6,
-                 "'restitution' = 1.5");
-  expect_refused("sim:contact { 'glass', 'glass', model = 'walton_braun', k_load = 1e4, restitution = 0 }\n", 6,
-                 "'restitution' = 0");
-  expect_refused("sim:contact { 'glass', 'glass', model = 'linear', k_normal = 1e4, restitution = 0.5, friction = -0.1 }\n",
-                 6, "'friction' = -0.1");
+  expect_refused(
+      "sim:contact { 'glass', 'glass', model = 'walton_braun', k_load = 1e4, restitution = 1.5 }\n",
+      6, "'restitution' = 1.5");
+  expect_refused(
+      "sim:contact { 'glass', 'glass', model = 'walton_braun', k_load = 1e4, restitution = 0 }\n",
+      6, "'restitution' = 0");
+  expect_refused(
+      "sim:contact { 'glass', 'glass', model = 'linear', k_normal = 1e4, restitution = 0.5, "
+      "friction = -0.1 }\n",
+      6, "'friction' = -0.1");
   expect_refused("sim:add_particle { position = {0, 0}, radius = 1e-3, material = 'glas' }\n", 6,
                  "unknown material 'glas' (did you mean 'glass'?)");
-  expect_refused("sim:contact { 'glass', 'glass', model = 'walton_braun', k_lod = 1e4, restitution = 0.5 }\n", 6,
-                 "unknown parameter 'k_lod' (did you mean 'k_load'?)");
-  expect_refused("sim:contact { 'glass', 'glass', model = 'waltonbraun', k_load = 1, restitution = 0.5 }\n", 6,
-                 "unknown contact model 'waltonbraun'");
+  expect_refused(
+      "sim:contact { 'glass', 'glass', model = 'walton_braun', k_lod = 1e4, restitution = 0.5 }\n",
+      6, "unknown parameter 'k_lod' (did you mean 'k_load'?)");
+  expect_refused(
+      "sim:contact { 'glass', 'glass', model = 'waltonbraun', k_load = 1, restitution = 0.5 }\n", 6,
+      "unknown contact model 'waltonbraun'");
   expect_refused("sim:contact { 'glass', 'glass', model = 'walton_braun', restitution = 0.5 }\n", 6,
                  "'k_load' [N/m] is required");
-  expect_refused("sim:add_particle { position = {0, 0}, radius = 1e-3, material = 'glass', velocity = {0/0, 0} }\n", 6,
-                 "must be finite");
-  expect_refused("sim:add_particle { position = {0, 0}, radius = 1e-3, material = 'glass', colour = 'red' }\n", 6,
-                 "unknown key 'colour'");
+  expect_refused(
+      "sim:add_particle { position = {0, 0}, radius = 1e-3, material = 'glass', velocity = {0/0, "
+      "0} }\n",
+      6, "must be finite");
+  expect_refused(
+      "sim:add_particle { position = {0, 0}, radius = 1e-3, material = 'glass', colour = 'red' }\n",
+      6, "unknown key 'colour'");
 }
 
 TEST_CASE("lua: a particle outside the walls is refused when the run starts", "[lua][errors]") {
-  expect_refused(R"(sim:wall_cylinder { name = "drum", center = {0, 0}, radius = 0.01, material = "steel" }
+  expect_refused(
+      R"(sim:wall_cylinder { name = "drum", center = {0, 0}, radius = 0.01, material = "steel" }
 sim:add_particle { position = {0.02, 0}, radius = 1e-3, material = "glass" }
 sim:run { steps = 1 }
 )",
-                 8, "lies outside wall 'drum'");
+      8, "lies outside wall 'drum'");
 }
 
 TEST_CASE("lua: a pair without a contact law is named", "[lua][errors]") {
@@ -114,7 +122,8 @@ sim:run { steps = 1 }
                  9, "no contact law for materials 'glass' and 'rubber'");
 }
 
-TEST_CASE("lua: a time step above the stability limit is refused, above the rule warned", "[lua][errors]") {
+TEST_CASE("lua: a time step above the stability limit is refused, above the rule warned",
+          "[lua][errors]") {
   auto r = run_scene(R"(local sim = simulation { dimension = 2, time_step = 1e-3 }
 sim:material { name = "glass", density = 2500 }
 sim:contact { "glass", "glass", model = "linear", k_normal = 1e4, restitution = 0.9 }
@@ -142,7 +151,8 @@ sim:run { steps = 5 }
 }
 
 TEST_CASE("lua: -D overrides declared parameters and refuses unknown ones", "[lua][parameters]") {
-  const std::string scene = R"(local p = parameters { speed = { default = 1.0, unit = "m/s" }, label = "a", flag = false }
+  const std::string scene =
+      R"(local p = parameters { speed = { default = 1.0, unit = "m/s" }, label = "a", flag = false }
 assert(p.speed == 2.5, "speed " .. p.speed)
 assert(p.label == "b")
 assert(p.flag == true)
