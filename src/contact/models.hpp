@@ -12,11 +12,14 @@
 #include "contact/hertz_mindlin.hpp"
 #include "contact/linear_spring_dashpot.hpp"
 #include "contact/parameters.hpp"
+#include "contact/thornton_elastic.hpp"
+#include "contact/thornton_jkr.hpp"
 #include "contact/walton_braun.hpp"
 
 namespace granule {
 
-using ContactModels = std::tuple<LinearSpringDashpot, WaltonBraun, HertzMindlin>;
+using ContactModels =
+    std::tuple<LinearSpringDashpot, WaltonBraun, HertzMindlin, ThorntonElastic, ThorntonJkr>;
 
 constexpr int contact_model_count = std::tuple_size_v<ContactModels>;
 

@@ -1,0 +1,228 @@
+// Thornton's frictional auto-adhesive contact (dissertation section 6.3.3; SPEC 3.3):
+// JKR normal force, Savkoor-Briggs peeling, then Mindlin-Deresiewicz partial slip
+// with N replaced by N + 2Nc and Thornton's two sliding criteria.
+//
+// Normal (Eqs. 6.12-6.17). The contact radius a is the state. For an overlap alpha
+// we solve Eq. 6.14, alpha = a^2/R* - sqrt(2 pi Gamma a / E*), for a on its stable
+// branch (a >= a_f, where d(alpha)/da >= 0) and take the JKR force
+//   N = 4 E* a^3 / (3 R*) - sqrt(8 pi Gamma E* a^3),
+// which is Eqs. 6.12-6.13 solved for N (N' = 4 E* a^3/(3 R*) is the Hertz force of
+// the same area) and integrates the incremental Eq. 6.15 exactly. Pull-off force
+// Nc = 1.5 pi Gamma R*, reached at a_c^3 = 3 Nc R*/(4 E*) (Eq. 6.17).
+//
+// Contact formation and separation. A contact forms when the overlap first becomes
+// positive: a jumps from 0 to the root of Eq. 6.14 (a^3 = 2 pi Gamma R*^2/E* at
+// alpha = 0+, N = -8/9 Nc: the snap-on). It then persists into negative overlap.
+// DEM integrates positions, so the contact is displacement-controlled: it passes
+// the load-controlled pull-off point a_c = a0/4^{1/3} (N = -Nc, the minimum force)
+// stably and separates where Eq. 6.14 has no stable root any more, at the minimum
+// of alpha(a): a_f = a0/6^{2/3} = (pi Gamma R*^2/(8 E*))^{1/3}, where
+//   alpha_f = -3 a_f^2/R* = -(3/4) (pi^2 Gamma^2 R*/E*^2)^{1/3},  N = -5/9 Nc
+// (Thornton and Ning 1998). touching() keeps the contact while alpha > alpha_f.
+// (a = a0/4^{1/3} is a_c, not the separation point; its alpha is only -0.36 of
+// the same scale.) The neighbour search must therefore see pairs up to |alpha_f|
+// apart, or the history is lost early.
+//
+// Tangential (Eqs. 6.18-6.25). While peeling, T grows without slip, dT = 8 G* a
+// d(delta) (Eq. 6.19), with a the peeled radius of Eq. 6.20 (larger root) for the
+// current N and the T of the previous step. Peeling ends, once and for all in this
+// contact, when |T| reaches Tc (Eq. 6.21); T then holds Tc, or falls to the sliding
+// force if Tc is above it. After peeling the contact radius is a_p of Eq. 6.22 and
+// T follows thornton_elastic's Mindlin-Deresiewicz increments (Eqs. 6.5-6.11) with
+// N replaced by N + 2Nc, capped by the sliding force: Eq. 6.23 (with N' of 6.24)
+// for N < -0.3 Nc, else Eq. 6.25, mu (N + 2Nc).
+//
+// Gamma = 0 hands the step to thornton_elastic, so the two models agree exactly.
+#pragma once
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "contact/contact_state.hpp"
+#include "contact/parameters.hpp"
+#include "contact/thornton_elastic.hpp"
+#include "core/errors.hpp"
+
+namespace granule {
+
+struct ThorntonJkr {
+  static constexpr const char* name = "thornton_jkr";
+  static constexpr const char* doc =
+      "Thornton frictional auto-adhesive spheres: JKR normal force (pull-off 1.5 pi Gamma R*, "
+      "separation at alpha_f), Savkoor-Briggs peeling then Mindlin-Deresiewicz slip with N + 2Nc; "
+      "dissertation section 6.3.3, Eqs. 6.12-6.25";
+  static constexpr bool adhesive = true;
+
+  static std::vector<ParamSpec> parameters() {
+    return {
+        {"friction", "-", 0.0, 0, unbounded, true, "Coulomb friction coefficient mu"},
+        {"surface_energy", "J/m^2", -1.0, -1, unbounded, true,
+         "interface energy Gamma (Nc = 1.5 pi Gamma R*); -1: the mean of the two materials' "
+         "surface_energy"},
+    };
+  }
+
+  struct Params {
+    ThorntonElastic::Params elastic;  // E*, G*, mu
+    double surface_energy;            // Gamma, J/m^2
+  };
+
+  static Params make(const ParamValues& v, const PairMaterials& m) {
+    Params p;
+    p.elastic = ThorntonElastic::from_materials(v.at("friction"), m, name);
+    const double given = v.at("surface_energy");
+    const double gamma = given == -1.0 ? 0.5 * (m.a.surface_energy + m.b.surface_energy) : given;
+    if (!(gamma >= 0) || !std::isfinite(gamma))
+      throw InputError(fmt::format(
+          "{} contact: 'surface_energy' must be >= 0 [J/m^2] (got {}{}); give it in the contact "
+          "or as surface_energy of materials '{}' and '{}'",
+          name, gamma, given == -1.0 ? ", the mean of the materials' values" : "", m.a.name,
+          m.b.name));
+    p.surface_energy = gamma;
+    return p;
+  }
+
+  template <int D>
+  struct History {
+    ThorntonElastic::History<D> md;  // T, T*, T**, u, branch, previous N
+    double contact_radius = 0;       // a; 0: no contact yet
+    double separation_overlap = 0;   // alpha_f of this contact (<= 0)
+    bool peeled = false;             // Eq. 6.21 reached: Mindlin-Deresiewicz from now on
+  };
+
+  template <int D>
+  static bool touching(const Params&, const History<D>& h, double overlap) {
+    return overlap > 0 || (h.contact_radius > 0 && overlap > h.separation_overlap);
+  }
+
+  static double rule_time_step(const Params& p, const PairScale& s, double steps_per_contact) {
+    return ThorntonElastic::rule_time_step(p.elastic, s, steps_per_contact);
+  }
+  static double stability_limit(const Params& p, const PairScale& s) {
+    return ThorntonElastic::stability_limit(p.elastic, s);
+  }
+
+  // Closed forms for a pair (R*, E*, Gamma), used by force() and by tests.
+  static double pull_off_force(double gamma, double r_star) { return 1.5 * pi * gamma * r_star; }
+  // a0: contact radius at N = 0.
+  static double zero_load_radius(double gamma, double r_star, double e_star) {
+    return std::cbrt(4.5 * pi * gamma * r_star * r_star / e_star);
+  }
+  // alpha_f: the overlap at which the contact separates (<= 0).
+  static double separation_overlap(double gamma, double r_star, double e_star) {
+    return -0.75 * std::cbrt(pi * pi * gamma * gamma * r_star / (e_star * e_star));
+  }
+  // N for a contact radius a (Eqs. 6.12-6.13 solved for N).
+  static double jkr_force(double a, double gamma, double r_star, double e_star) {
+    const double a3 = a * a * a;
+    return 4 * e_star * a3 / (3 * r_star) - std::sqrt(8 * pi * gamma * e_star * a3);
+  }
+  // The stable root a of Eq. 6.14 for overlap alpha > alpha_f, by safeguarded Newton
+  // iteration in s = sqrt(a), where f(s) = s^4/R* - k s - alpha (k = sqrt(2 pi Gamma/E*))
+  // is convex and increasing on [s_f, inf), s_f^3 = k R*/4. `guess` is the last a (or 0).
+  static double contact_radius_for(double alpha, double gamma, double r_star, double e_star,
+                                   double guess) {
+    const double k = std::sqrt(2 * pi * gamma / e_star);
+    const double s_f = std::cbrt(0.25 * k * r_star);
+    // f(s) > 0 beyond s_hi: s^4/(2R*) >= k s and, for alpha > 0, s^4/(2R*) >= alpha.
+    double hi = std::cbrt(2 * k * r_star);
+    if (alpha > 0) hi = std::max(hi, std::sqrt(std::sqrt(2 * alpha * r_star)));
+    double lo = s_f;
+    const double g = std::sqrt(guess > 0 ? guess : 0.0);
+    double s = (g > lo && g < hi) ? g : hi;
+    for (int it = 0; it < 200; ++it) {
+      const double s2 = s * s;
+      const double f = s2 * s2 / r_star - k * s - alpha;
+      if (f == 0) break;
+      if (f > 0)
+        hi = s;
+      else
+        lo = s;
+      const double slope = 4 * s2 * s / r_star - k;
+      double next = slope > 0 ? s - f / slope : 0.5 * (lo + hi);
+      if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+      const bool done = std::abs(next - s) <= 1e-15 * s || hi - lo <= 1e-15 * hi;
+      s = next;
+      if (done) break;
+    }
+    return s * s;
+  }
+  // The sliding force after peeling: Eq. 6.23 with N' of Eq. 6.24 for N < -0.3 Nc,
+  // else Eq. 6.25.
+  static double sliding_force(double mu, double normal, double nc) {
+    if (normal < -0.3 * nc) {
+      const double n1 = normal + 2 * nc + 2 * std::sqrt(std::max(0.0, normal * nc + nc * nc));
+      if (!(n1 > 0)) return 0;
+      const double base = 1 - (n1 - normal) / (3 * n1);
+      return base > 0 ? mu * n1 * base * std::sqrt(base) : 0.0;
+    }
+    return mu * std::max(0.0, normal + 2 * nc);
+  }
+
+  template <int D>
+  static ContactForce<D> force(const Params& p, History<D>& h, const ContactState<D>& c) {
+    const double gamma = p.surface_energy;
+    if (gamma == 0) {  // no adhesion: exactly thornton_elastic
+      h.contact_radius = 0;
+      h.separation_overlap = 0;
+      h.peeled = false;
+      return ThorntonElastic::force<D>(p.elastic, h.md, c);
+    }
+    ContactForce<D> out;
+    const double r = c.effective_radius, e = p.elastic.e_star, g = p.elastic.g_star;
+    const double mu = p.elastic.friction;
+    const double alpha_f = separation_overlap(gamma, r, e);
+    const bool fresh = !(h.contact_radius > 0);
+    if (!(c.overlap > alpha_f) || (fresh && !(c.overlap > 0))) {  // not (or no longer) in contact
+      h = History<D>{};
+      return out;
+    }
+    // Normal, Eqs. 6.12-6.17.
+    const double a = contact_radius_for(c.overlap, gamma, r, e, h.contact_radius);
+    const double normal = jkr_force(a, gamma, r, e);
+    h.contact_radius = a;
+    h.separation_overlap = alpha_f;
+    out.normal = normal;
+
+    const double nc = pull_off_force(gamma, r);
+    const double n_eff = std::max(0.0, normal + 2 * nc);  // N + 2Nc (>= Nc on the stable branch)
+    const double dn = fresh ? 0.0 : normal - h.md.previous_normal;
+    h.md.previous_normal = normal;
+    const double slide = sliding_force(mu, normal, nc);
+
+    if (h.peeled) {
+      const double a_p = std::cbrt(3 * r * n_eff / (4 * e));  // Eq. 6.22
+      out.tangential =
+          ThorntonElastic::mindlin_deresiewicz<D>(h.md, c, 8 * g * a_p, mu * n_eff, mu * dn, slide);
+      return out;
+    }
+    // Peeling, Eqs. 6.18-6.21.
+    const Vec<D> t = rotate_onto_plane<D>(h.md.tangential, c.normal);
+    const double adhesion_sq = 4 * nc * (normal + nc);  // 4 N Nc + 4 Nc^2
+    const double root = std::sqrt(std::max(0.0, adhesion_sq - t.squaredNorm() * e / (4 * g)));
+    const double a_t = std::cbrt(3 * r / (4 * e) * (n_eff + root));               // Eq. 6.20
+    const double t_c = 4 * std::sqrt(std::max(0.0, g / e * nc * (normal + nc)));  // Eq. 6.21
+    const Vec<D> slip = c.tangential_velocity * c.dt;
+    Vec<D> t_new = t + 8 * g * a_t * slip;  // Eq. 6.19
+    const double t_mag = t_new.norm();
+    if (t_mag > 0 && t_mag >= t_c) {
+      // Peeling complete (Eq. 6.22): T stops at Tc, or falls to the sliding force.
+      h.peeled = true;
+      const double keep = std::min(t_c, slide);
+      t_new *= keep / t_mag;
+      h.md.branch = ThorntonElastic::loading;
+      h.md.load_direction =
+          t_new.squaredNorm() > 0 ? Vec<D>(t_new / t_new.norm()) : Vec<D>(Vec<D>::Zero());
+      h.md.reversal.setZero();
+      h.md.reversal2.setZero();
+    }
+    h.md.tangential = t_new;
+    out.tangential = t_new;
+    return out;
+  }
+};
+
+}  // namespace granule
