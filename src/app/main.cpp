@@ -24,7 +24,7 @@ namespace {
 
 const char* usage =
     "usage:\n"
-    "  granule run SCENE.lua [-D name=value ...] [-o OUT.h5] [--quiet]\n"
+    "  granule run SCENE.lua [-D name=value ...] [-o OUT.h5] [--quiet] [--threads N]\n"
     "  granule repl [SCENE.lua] [-D name=value ...]\n"
     "  granule models\n"
     "  granule --version\n";
@@ -167,6 +167,14 @@ int main(int argc, char** argv) {
       o.ctx.overrides[v.substr(0, eq)] = v.substr(eq + 1);
     } else if (a == "--quiet" || a == "-q") {
       o.ctx.quiet = true;
+    } else if (a == "--threads") {
+      if (k + 1 >= args.size()) return fail_usage("--threads needs a value");
+      const std::string& v = args[++k];
+      char* end = nullptr;
+      long n = std::strtol(v.c_str(), &end, 10);
+      if (v.empty() || *end != 0 || n < 1 || n > 4096)
+        return fail_usage("--threads expects a whole number >= 1, got '" + v + "'");
+      o.ctx.threads = static_cast<int>(n);
     } else if (!a.empty() && a[0] == '-') {
       return fail_usage("unknown option '" + a + "'");
     } else if (o.scene.empty()) {

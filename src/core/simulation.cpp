@@ -5,7 +5,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <numeric>
+#include <type_traits>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "core/errors.hpp"
 #include "core/random.hpp"
@@ -33,38 +39,61 @@ void Simulation<D>::step() {
   auto t1 = Clock::now();
   stage_times_.neighbor += std::chrono::duration<double>(t1 - t0).count();
 
-  // 2. Forces: clear, body forces, then one inlined kernel per contact model.
-  const std::size_t n = p_.size();
-  std::fill(p_.force.begin(), p_.force.end(), V::Zero());
-  std::fill(p_.torque.begin(), p_.torque.end(), Dim<D>::zero_spin());
-  for (auto& w : walls_) w.force.setZero(), w.axial_torque = 0;
-  if (body_.active()) body_.apply(p_);
+  // 2. Contact forces: one inlined kernel per contact model, each contact
+  // writing its own slot. The contact log is filled only on steps where the
+  // scene records contacts or an attached diagnostic needs them.
+  bool observed = record_contacts_ || tracking_;
+  for (const auto& d : diagnostics_)
+    if (d.needs.contacts && step_ % d.every == 0) observed = true;
+  if (observed) log_.resize(slot_count_);
+  log_.filled = observed;
   contacts_particle_ = contacts_wall_ = 0;
   max_overlap_ratio_ = 0;
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
+    using M = ContactModelAt<I>;
     auto& pb = std::get<I>(pair_buckets_);
-    if (pb.size()) pair_forces(pb, pairs_.params<I>());
     auto& wb = std::get<I>(wall_buckets_);
-    if (wb.size()) wall_forces(wb, pairs_.params<I>());
+    const auto& params = pairs_.params<I>();
+    if (observed) {
+      if (pb.size()) pair_forces<M, true>(pb, params);
+      if (wb.size()) wall_forces<M, true>(wb, params);
+    } else {
+      if (pb.size()) pair_forces<M, false>(pb, params);
+      if (wb.size()) wall_forces<M, false>(wb, params);
+    }
   });
+  // Reactions on the walls (the inner-piece force of 4.4.1), summed in slot order.
+  for (auto& w : walls_) w.force.setZero(), w.axial_torque = 0;
+  for (auto [s, wall] : wall_slots_) {
+    Wall<D>& w = walls_[wall];
+    w.force -= slot_force_[s];
+    w.axial_torque -= slot_axial_torque_[s];
+  }
   auto t2 = Clock::now();
   stage_times_.force += std::chrono::duration<double>(t2 - t1).count();
 
-  // 3. Leap-frog (Eqs. 4.8-4.9), moving walls, non-finite check.
-  integrate();
+  // 3. Diagnostics: contact events, then the observers due this step.
+  if (!diagnostics_.empty()) {
+    if (tracking_) track_contacts();
+    observe(observed);
+  }
+  auto t3 = Clock::now();
+  stage_times_.diagnostics += std::chrono::duration<double>(t3 - t2).count();
+
+  // 4. Forces per particle in a fixed order, body forces, leap-frog (Eqs. 4.8-4.9).
+  gather_and_integrate();
   if (non_finite_index_ != SIZE_MAX) report_non_finite(non_finite_index_);
   time_ += dt_;
   ++step_;
-  auto t3 = Clock::now();
-  stage_times_.integrate += std::chrono::duration<double>(t3 - t2).count();
+  auto t4 = Clock::now();
+  stage_times_.integrate += std::chrono::duration<double>(t4 - t3).count();
 
-  // 4. Hooks (diagnostics, output, script callbacks): one check when there are none.
+  // 5. Hooks (output, script callbacks): one check when there are none.
   if (!hooks_.empty()) {
     fire_hooks();
-    stage_times_.hooks += seconds_since(t3);
+    stage_times_.hooks += seconds_since(t4);
   }
-  (void)n;
 }
 
 template <int D>
@@ -76,40 +105,47 @@ void Simulation<D>::advance(std::int64_t steps) {
 }
 
 // ----------------------------------------------------------------------------
-// Contact kernels
+// Contact kernels. Observed = false is the plain loop; Observed = true also
+// writes the contact log. Each contact k writes only slot offset + k, so the
+// loop runs in parallel and the result does not depend on the thread count.
 // ----------------------------------------------------------------------------
 template <int D>
-template <typename M>
+template <typename M, bool Observed>
 void Simulation<D>::pair_forces(PairBucket<D, M>& b,
                                 const std::vector<typename M::Params>& params) {
   using History = typename M::template History<D>;
-  const bool record = record_contacts_;
-  if (record) {
-    b.overlap.assign(b.size(), 0.0);
-    b.normal_force.assign(b.size(), 0.0);
-    b.tangential_force.assign(b.size(), V::Zero());
-    b.normal.assign(b.size(), V::Zero());
-  }
-  ContactState<D> c;
-  c.dt = dt_;
-  const std::size_t count = b.size();
-  for (std::size_t k = 0; k < count; ++k) {
+  const std::int64_t count = static_cast<std::int64_t>(b.size());
+  const std::size_t offset = b.offset;
+  const double dt = dt_;
+  std::int64_t touching = 0;
+  double max_ratio = 0;
+  const int threads = threads_;
+#pragma omp parallel for schedule(static) reduction(+ : touching) reduction(max : max_ratio) \
+    num_threads(threads > 0 ? threads : omp_get_max_threads()) if (count > 256)
+  for (std::int64_t k = 0; k < count; ++k) {
+    const std::size_t s = offset + k;
     const std::uint32_t i = b.i[k], j = b.j[k];
     const typename M::Params& par = params[b.slot[k]];
     History& h = b.history[k];
     const V d = separation(p_.position[i], p_.position[j]);
     const double dist_sq = d.squaredNorm();
     const double r_sum = p_.radius[i] + p_.radius[j];
-    if (!M::adhesive && dist_sq >= r_sum * r_sum) {
+    bool in_contact = M::adhesive || dist_sq < r_sum * r_sum;
+    double dist = 0, overlap = 0;
+    if (in_contact) {
+      dist = std::sqrt(dist_sq);
+      overlap = r_sum - dist;
+      in_contact = M::touching(par, h, overlap);
+    }
+    if (!in_contact) {
       h = History{};
+      slot_force_[s] = V::Zero();
+      slot_torque_a_[s] = slot_torque_b_[s] = Dim<D>::zero_spin();
+      if constexpr (Observed) log_.active[s] = 0;
       continue;
     }
-    const double dist = std::sqrt(dist_sq);
-    const double overlap = r_sum - dist;
-    if (!M::touching(par, h, overlap)) {
-      h = History{};
-      continue;
-    }
+    ContactState<D> c;
+    c.dt = dt;
     // Coincident centres: any direction is as good as another, but it must be finite.
     c.normal = dist > 0 ? V(d / dist) : V(V::UnitX());
     c.overlap = overlap;
@@ -122,52 +158,62 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
     c.effective_mass = 1.0 / (p_.inv_mass[i] + p_.inv_mass[j]);
     c.effective_radius = p_.radius[i] * p_.radius[j] / r_sum;
     const ContactForce<D> f = M::force(par, h, c);
-    const V total = f.normal * c.normal + f.tangential;
-    p_.force[i] += total;
-    p_.force[j] -= total;
+    slot_force_[s] = f.normal * c.normal + f.tangential;
     // Torques about each centre, applied at the contact point: lever -(r_i - a/2) n
     // on i and +(r_j - a/2) n on j (which feels -T). With these levers the pair
     // exerts no net torque, so angular momentum is conserved to round-off.
-    p_.torque[i] += Dim<D>::torque(-(p_.radius[i] - 0.5 * overlap) * c.normal, f.tangential);
-    p_.torque[j] += Dim<D>::torque(-(p_.radius[j] - 0.5 * overlap) * c.normal, f.tangential);
-    ++contacts_particle_;
+    slot_torque_a_[s] = Dim<D>::torque(-(p_.radius[i] - 0.5 * overlap) * c.normal, f.tangential);
+    slot_torque_b_[s] = Dim<D>::torque(-(p_.radius[j] - 0.5 * overlap) * c.normal, f.tangential);
+    ++touching;
     const double ratio = overlap / std::min(p_.radius[i], p_.radius[j]);
-    if (ratio > max_overlap_ratio_) max_overlap_ratio_ = ratio;
-    if (record) {
-      b.overlap[k] = overlap;
-      b.normal_force[k] = f.normal;
-      b.tangential_force[k] = f.tangential;
-      b.normal[k] = c.normal;
+    if (ratio > max_ratio) max_ratio = ratio;
+    if constexpr (Observed) {
+      log_.active[s] = 1;
+      log_.a[s] = static_cast<std::int32_t>(i);
+      log_.b[s] = static_cast<std::int32_t>(j);
+      log_.overlap[s] = overlap;
+      log_.normal_force[s] = f.normal;
+      log_.overlap_rate[s] = c.normal_velocity;
+      log_.normal[s] = c.normal;
+      log_.tangential[s] = f.tangential;
+      log_.point[s] = p_.position[i] - (p_.radius[i] - 0.5 * overlap) * c.normal;
     }
   }
+  contacts_particle_ += touching;
+  if (max_ratio > max_overlap_ratio_) max_overlap_ratio_ = max_ratio;
 }
 
 template <int D>
-template <typename M>
+template <typename M, bool Observed>
 void Simulation<D>::wall_forces(WallBucket<D, M>& b,
                                 const std::vector<typename M::Params>& params) {
   using History = typename M::template History<D>;
-  const bool record = record_contacts_;
-  if (record) {
-    b.overlap.assign(b.size(), 0.0);
-    b.normal_force.assign(b.size(), 0.0);
-    b.tangential_force.assign(b.size(), V::Zero());
-    b.normal.assign(b.size(), V::Zero());
-  }
-  ContactState<D> c;
-  c.dt = dt_;
-  const std::size_t count = b.size();
-  for (std::size_t k = 0; k < count; ++k) {
+  const std::int64_t count = static_cast<std::int64_t>(b.size());
+  const std::size_t offset = b.offset;
+  const double dt = dt_;
+  std::int64_t touching = 0;
+  double max_ratio = 0;
+  const int threads = threads_;
+#pragma omp parallel for schedule(static) reduction(+ : touching) reduction(max : max_ratio) \
+    num_threads(threads > 0 ? threads : omp_get_max_threads()) if (count > 256)
+  for (std::int64_t k = 0; k < count; ++k) {
+    const std::size_t s = offset + k;
     const std::uint32_t i = b.particle[k];
-    Wall<D>& w = walls_[b.wall[k]];
+    const Wall<D>& w = walls_[b.wall[k]];
     const typename M::Params& par = params[b.slot[k]];
     History& h = b.history[k];
     V n, surface_velocity, lever;
     const double overlap = w.contact(p_.position[i], p_.radius[i], n, surface_velocity, lever);
     if (!M::touching(par, h, overlap)) {
       h = History{};
+      slot_force_[s] = V::Zero();
+      slot_torque_a_[s] = Dim<D>::zero_spin();
+      slot_axial_torque_[s] = 0;
+      if constexpr (Observed) log_.active[s] = 0;
       continue;
     }
+    ContactState<D> c;
+    c.dt = dt;
     c.normal = n;
     c.overlap = overlap;
     const V v_rel = surface_velocity - p_.velocity[i];
@@ -175,55 +221,171 @@ void Simulation<D>::wall_forces(WallBucket<D, M>& b,
     c.tangential_velocity =
         v_rel - n * c.normal_velocity + p_.radius[i] * Dim<D>::spin_cross(p_.spin[i], n);
     c.effective_mass = p_.mass[i];
-    double r = p_.radius[i];
+    const double r = p_.radius[i];
     c.effective_radius = w.type == WallType::plane ? r
                                                    : (w.inside ? r * w.radius / (w.radius - r)
                                                                : r * w.radius / (w.radius + r));
     const ContactForce<D> f = M::force(par, h, c);
     const V total = f.normal * n + f.tangential;
-    p_.force[i] += total;
-    p_.torque[i] += Dim<D>::torque(-(r - overlap) * n, f.tangential);  // at the wall surface
-    w.force -= total;
-    w.axial_torque -= w.axial_moment(lever, total);
-    ++contacts_wall_;
-    if (overlap / r > max_overlap_ratio_) max_overlap_ratio_ = overlap / r;
-    if (record) {
-      b.overlap[k] = overlap;
-      b.normal_force[k] = f.normal;
-      b.tangential_force[k] = f.tangential;
-      b.normal[k] = n;
+    slot_force_[s] = total;
+    slot_torque_a_[s] = Dim<D>::torque(-(r - overlap) * n, f.tangential);  // at the wall surface
+    slot_axial_torque_[s] = w.axial_moment(lever, total);
+    ++touching;
+    if (overlap / r > max_ratio) max_ratio = overlap / r;
+    if constexpr (Observed) {
+      log_.active[s] = 1;
+      log_.a[s] = static_cast<std::int32_t>(i);
+      log_.b[s] = -1 - static_cast<std::int32_t>(b.wall[k]);
+      log_.overlap[s] = overlap;
+      log_.normal_force[s] = f.normal;
+      log_.overlap_rate[s] = c.normal_velocity;
+      log_.normal[s] = n;
+      log_.tangential[s] = f.tangential;
+      log_.point[s] = p_.position[i] - (r - overlap) * n;
+    }
+  }
+  contacts_wall_ += touching;
+  if (max_ratio > max_overlap_ratio_) max_overlap_ratio_ = max_ratio;
+}
+
+// ----------------------------------------------------------------------------
+// Contact events for observers: a serial pass over the logged slots, so event
+// order is the slot order whatever the thread count.
+// ----------------------------------------------------------------------------
+template <int D>
+template <typename Bucket>
+void Simulation<D>::track_bucket(Bucket& b) {
+  if (b.track.size() != b.size()) b.track.assign(b.size(), ContactTrack<D>{});
+  auto identify = [&](std::size_t k, ContactEvent<D>& e) {
+    if constexpr (Bucket::is_pair) {
+      e.id_a = b.id_i[k];
+      e.id_b = b.id_j[k];
+      const double ri = p_.radius[b.i[k]], rj = p_.radius[b.j[k]];
+      e.effective_radius = ri * rj / (ri + rj);
+    } else {
+      e.id_a = b.id[k];
+      e.wall = static_cast<int>(b.wall[k]);
+      e.effective_radius = walls_[b.wall[k]].effective_radius(p_.radius[b.particle[k]]);
+    }
+  };
+  for (std::size_t k = 0; k < b.size(); ++k) {
+    const std::size_t s = b.offset + k;
+    ContactTrack<D>& t = b.track[k];
+    if (log_.active[s]) {
+      const double fn = log_.normal_force[s], a = log_.overlap[s];
+      if (t.begin_time < 0) {
+        t.begin_time = time_;
+        t.impact_velocity = log_.overlap_rate[s];
+        t.peak_normal_force = fn;
+        t.peak_overlap = a;
+        t.position = log_.point[s];
+        ContactEvent<D> e;
+        identify(k, e);
+        e.begin_time = time_;
+        e.impact_velocity = t.impact_velocity;
+        e.position = t.position;
+        log_.began.push_back(e);
+      } else {
+        if (fn > t.peak_normal_force) t.peak_normal_force = fn;
+        if (a > t.peak_overlap) t.peak_overlap = a;
+      }
+    } else if (t.begin_time >= 0) {
+      ContactEvent<D> e;
+      identify(k, e);
+      e.begin_time = t.begin_time;
+      e.end_time = time_;
+      e.impact_velocity = t.impact_velocity;
+      e.peak_normal_force = t.peak_normal_force;
+      e.peak_overlap = t.peak_overlap;
+      e.position = t.position;
+      log_.ended.push_back(e);
+      t = ContactTrack<D>{};
+    }
+  }
+}
+
+template <int D>
+void Simulation<D>::track_contacts() {
+  log_.began.clear();
+  log_.ended.clear();
+  for_each_model([&](auto index) {
+    constexpr int I = decltype(index)::value;
+    track_bucket(std::get<I>(pair_buckets_));
+    track_bucket(std::get<I>(wall_buckets_));
+  });
+}
+
+template <int D>
+void Simulation<D>::observe(bool contacts_logged) {
+  StepView<D> view{p_, walls_, log_, time_, dt_, step_};
+  for (auto& d : diagnostics_) {
+    if (d.needs.events) d.diagnostic->on_events(view);
+    if (step_ % d.every == 0) {
+      if (d.needs.contacts && !contacts_logged) continue;  // cannot happen: observed covers it
+      d.diagnostic->observe(view);
     }
   }
 }
 
 // ----------------------------------------------------------------------------
-// Integration: leap-frog, a = F/m and dw/dt = M/I (SPEC 2: Eq. 4.7's minus
-// sign belongs to its force convention).
+// Forces per particle and integration, in one parallel pass. Each particle
+// sums its contacts' slots in slot order, fixed at the last rebuild, so the
+// sum is the same for any number of threads. Leap-frog: a = F/m and
+// dw/dt = M/I (SPEC 2: Eq. 4.7's minus sign belongs to its force convention).
 // ----------------------------------------------------------------------------
 template <int D>
-void Simulation<D>::integrate() {
-  const std::size_t n = p_.size();
+void Simulation<D>::gather_and_integrate() {
+  const std::int64_t n = static_cast<std::int64_t>(p_.size());
   const double dt = dt_;
+  const bool body = body_.active();
+  const bool periodic = periodic_.on();
   double max_sq = max_displacement_sq_;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (p_.fixed[i]) continue;
-    p_.velocity[i] += p_.force[i] * (p_.inv_mass[i] * dt);  // Eq. 4.8
-    p_.position[i] += p_.velocity[i] * dt;                  // Eq. 4.9
-    p_.spin[i] += p_.torque[i] * (p_.inv_inertia[i] * dt);
-    if (periodic_.on()) {
+  std::int64_t bad = std::numeric_limits<std::int64_t>::max();
+  const int threads = threads_;
+#pragma omp parallel for schedule(static) reduction(max                        \
+                                                    : max_sq) reduction(min    \
+                                                                        : bad) \
+    num_threads(threads > 0 ? threads : omp_get_max_threads()) if (n > 512)
+  for (std::int64_t i = 0; i < n; ++i) {
+    V f = V::Zero();
+    S t = Dim<D>::zero_spin();
+    for (std::uint32_t e = gather_start_[i]; e < gather_start_[i + 1]; ++e) {
+      const std::uint32_t entry = gather_entry_[e], s = entry >> 1;
+      if (entry & 1) {
+        f -= slot_force_[s];
+        t += slot_torque_b_[s];
+      } else {
+        f += slot_force_[s];
+        t += slot_torque_a_[s];
+      }
+    }
+    if (p_.fixed[i]) {  // immobile: keep the contact force for reports, move nothing
+      p_.force[i] = f;
+      p_.torque[i] = t;
+      continue;
+    }
+    if (body) f += body_.force(p_.mass[i], p_.position[i]);
+    p_.force[i] = f;
+    p_.torque[i] = t;
+    p_.velocity[i] += f * (p_.inv_mass[i] * dt);  // Eq. 4.8
+    p_.position[i] += p_.velocity[i] * dt;        // Eq. 4.9
+    p_.spin[i] += t * (p_.inv_inertia[i] * dt);
+    if (periodic) {
       double& x = p_.position[i][periodic_.axis];
       x -= periodic_.length * std::floor((x - periodic_.origin) / periodic_.length);
     }
     const double moved = separation(p_.position[i], position_at_rebuild_[i]).squaredNorm();
     if (!(moved <= max_sq)) {  // also true for NaN
       if (!std::isfinite(moved) || !std::isfinite(Dim<D>::spin_sq(p_.spin[i]))) {
-        if (non_finite_index_ == SIZE_MAX) non_finite_index_ = i;
+        if (i < bad) bad = i;
         continue;
       }
       max_sq = moved;
     }
   }
   max_displacement_sq_ = max_sq;
+  if (bad != std::numeric_limits<std::int64_t>::max() && non_finite_index_ == SIZE_MAX)
+    non_finite_index_ = static_cast<std::size_t>(bad);
   for (auto& w : walls_) {
     if (w.type == WallType::plane && !w.velocity.isZero()) {
       w.point += w.velocity * dt;
@@ -240,6 +402,159 @@ bool Simulation<D>::lists_stale() const {
   double wall_moved = 0;
   for (const auto& w : walls_) wall_moved = std::max(wall_moved, w.moved_since_rebuild.norm());
   return wall_moved > 0 && std::sqrt(max_displacement_sq_) + wall_moved > skin_;
+}
+
+// ----------------------------------------------------------------------------
+// Neighbour lists and history transfer
+// ----------------------------------------------------------------------------
+namespace {
+// Compressed rows of old entries by owner id, so each new contact finds its
+// old history by scanning only its owner's few old contacts.
+struct OwnerIndex {
+  std::vector<std::uint32_t> start, order;
+  void build(const std::vector<std::int64_t>& owner, std::int64_t max_id) {
+    start.assign(static_cast<std::size_t>(max_id) + 2, 0);
+    for (auto o : owner) ++start[o + 1];
+    for (std::size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
+    order.resize(owner.size());
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t k = 0; k < owner.size(); ++k)
+      order[fill[owner[k]]++] = static_cast<std::uint32_t>(k);
+  }
+};
+
+// Carries history (and tracking state) from `old` to `fresh` for every entry
+// whose owner id and partner match; `partner_old(o)` / `partner_new(k)` give
+// the second key (the other particle's id, or the wall index).
+template <typename Bucket, typename OwnerOf, typename PartnerOld, typename PartnerNew>
+void carry_history(const Bucket& old, Bucket& fresh, std::int64_t max_id, bool tracking,
+                   const OwnerOf& owner_ids, PartnerOld partner_old, PartnerNew partner_new) {
+  fresh.history.assign(fresh.size(), typename Bucket::History{});
+  if (tracking) fresh.track.assign(fresh.size(), {});
+  if (!old.size()) return;
+  OwnerIndex idx;
+  idx.build(owner_ids(old), max_id);
+  const auto& fresh_owner = owner_ids(fresh);
+  const bool carry_track = tracking && old.track.size() == old.size();
+  for (std::size_t k = 0; k < fresh.size(); ++k) {
+    const std::int64_t owner = fresh_owner[k];
+    for (std::uint32_t s = idx.start[owner]; s < idx.start[owner + 1]; ++s) {
+      const std::uint32_t o = idx.order[s];
+      if (partner_old(o) == partner_new(k)) {
+        fresh.history[k] = old.history[o];
+        if (carry_track) fresh.track[k] = old.track[o];
+        break;
+      }
+    }
+  }
+}
+}  // namespace
+
+template <int D>
+void Simulation<D>::rebuild_lists() {
+  const std::size_t n = p_.size();
+  candidates_.clear();
+  grid_.build(p_, skin_, periodic_, candidates_);
+  const std::int64_t max_id = p_.next_id;
+
+  std::size_t slots = 0;
+  // Pair slots first (all models), then wall slots.
+  for_each_model([&](auto index) {
+    constexpr int I = decltype(index)::value;
+    using B = PairBucket<D, ContactModelAt<I>>;
+    B old = std::move(std::get<I>(pair_buckets_));
+    B& fresh = std::get<I>(pair_buckets_);
+    fresh = B{};
+    for (auto [a, b] : candidates_) {
+      if (p_.id[a] > p_.id[b]) std::swap(a, b);
+      const PairTable::Entry& e = pairs_.at(p_.material[a], p_.material[b]);
+      if (e.model != I) continue;
+      fresh.i.push_back(a);
+      fresh.j.push_back(b);
+      fresh.slot.push_back(static_cast<std::uint32_t>(e.slot));
+      fresh.id_i.push_back(p_.id[a]);
+      fresh.id_j.push_back(p_.id[b]);
+    }
+    carry_history(
+        old, fresh, max_id, tracking_, [](const B& x) -> const auto& { return x.id_i; },
+        [&](std::uint32_t o) { return old.id_j[o]; }, [&](std::size_t k) { return fresh.id_j[k]; });
+    fresh.offset = slots;
+    slots += fresh.size();
+  });
+  const std::size_t pair_slots = slots;
+  for_each_model([&](auto index) {
+    constexpr int I = decltype(index)::value;
+    using WB = WallBucket<D, ContactModelAt<I>>;
+    WB old = std::move(std::get<I>(wall_buckets_));
+    WB& fresh = std::get<I>(wall_buckets_);
+    fresh = WB{};
+    for (std::size_t w = 0; w < walls_.size(); ++w) {
+      for (std::size_t i = 0; i < n; ++i) {
+        if (p_.fixed[i]) continue;
+        const PairTable::Entry& e = pairs_.at(p_.material[i], walls_[w].material);
+        if (e.model != I) continue;
+        if (walls_[w].clearance(p_.position[i], p_.radius[i]) >= skin_) continue;
+        fresh.particle.push_back(static_cast<std::uint32_t>(i));
+        fresh.wall.push_back(static_cast<std::uint32_t>(w));
+        fresh.slot.push_back(static_cast<std::uint32_t>(e.slot));
+        fresh.id.push_back(p_.id[i]);
+      }
+    }
+    carry_history(
+        old, fresh, max_id, tracking_, [](const WB& x) -> const auto& { return x.id; },
+        [&](std::uint32_t o) { return static_cast<std::int64_t>(old.wall[o]); },
+        [&](std::size_t k) { return static_cast<std::int64_t>(fresh.wall[k]); });
+    fresh.offset = slots;
+    slots += fresh.size();
+  });
+  slot_count_ = slots;
+  if (slots >= (std::size_t{1} << 31))
+    throw RunError(fmt::format("{} candidate contacts: more than this build supports", slots));
+  slot_force_.assign(slots, V::Zero());
+  slot_torque_a_.assign(slots, Dim<D>::zero_spin());
+  slot_torque_b_.assign(slots, Dim<D>::zero_spin());
+  slot_axial_torque_.assign(slots, 0.0);
+
+  // Gather lists: each particle's slots in increasing slot order (counting sort).
+  gather_start_.assign(n + 1, 0);
+  wall_slots_.clear();
+  for_each_model([&](auto index) {
+    constexpr int I = decltype(index)::value;
+    const auto& pb = std::get<I>(pair_buckets_);
+    for (std::size_t k = 0; k < pb.size(); ++k)
+      ++gather_start_[pb.i[k] + 1], ++gather_start_[pb.j[k] + 1];
+    const auto& wb = std::get<I>(wall_buckets_);
+    for (std::size_t k = 0; k < wb.size(); ++k) {
+      ++gather_start_[wb.particle[k] + 1];
+      wall_slots_.emplace_back(static_cast<std::uint32_t>(wb.offset + k), wb.wall[k]);
+    }
+  });
+  for (std::size_t i = 0; i < n; ++i) gather_start_[i + 1] += gather_start_[i];
+  gather_entry_.resize(gather_start_[n]);
+  std::vector<std::uint32_t> cursor(gather_start_.begin(), gather_start_.end() - 1);
+  // Buckets are visited in slot order (pairs by model, then walls by model).
+  for_each_model([&](auto index) {
+    constexpr int I = decltype(index)::value;
+    const auto& pb = std::get<I>(pair_buckets_);
+    for (std::size_t k = 0; k < pb.size(); ++k) {
+      const auto s = static_cast<std::uint32_t>(pb.offset + k);
+      gather_entry_[cursor[pb.i[k]]++] = s << 1;
+      gather_entry_[cursor[pb.j[k]]++] = s << 1 | 1u;
+    }
+  });
+  for_each_model([&](auto index) {
+    constexpr int I = decltype(index)::value;
+    const auto& wb = std::get<I>(wall_buckets_);
+    for (std::size_t k = 0; k < wb.size(); ++k)
+      gather_entry_[cursor[wb.particle[k]]++] = static_cast<std::uint32_t>(wb.offset + k) << 1;
+  });
+  (void)pair_slots;
+
+  position_at_rebuild_ = p_.position;
+  max_displacement_sq_ = 0;
+  for (auto& w : walls_) w.moved_since_rebuild.setZero();
+  lists_valid_ = true;
+  ++rebuilds_;
 }
 
 template <int D>
@@ -268,105 +583,6 @@ void Simulation<D>::report_non_finite(std::size_t index) {
       fmt::format("step {} (t = {:.6g} s): particle {} has a non-finite position, velocity or "
                   "spin (force {} {}){}; time step {:.4g} s",
                   step_, time_, pid, p_.force[index][0], p_.force[index][1], detail, dt_));
-}
-
-// ----------------------------------------------------------------------------
-// Neighbour lists and history transfer
-// ----------------------------------------------------------------------------
-namespace {
-// Compressed rows of old entries by owner id, so each new contact finds its
-// old history by scanning only its owner's few old contacts.
-struct OwnerIndex {
-  std::vector<std::uint32_t> start, order;
-  void build(const std::vector<std::int64_t>& owner, std::int64_t max_id) {
-    start.assign(static_cast<std::size_t>(max_id) + 2, 0);
-    for (auto o : owner) ++start[o + 1];
-    for (std::size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
-    order.resize(owner.size());
-    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t k = 0; k < owner.size(); ++k)
-      order[fill[owner[k]]++] = static_cast<std::uint32_t>(k);
-  }
-};
-}  // namespace
-
-template <int D>
-void Simulation<D>::rebuild_lists() {
-  const std::size_t n = p_.size();
-  candidates_.clear();
-  grid_.build(p_, skin_, periodic_, candidates_);
-  const std::int64_t max_id = p_.next_id;
-
-  for_each_model([&](auto index) {
-    constexpr int I = decltype(index)::value;
-    using B = PairBucket<D, ContactModelAt<I>>;
-    using WB = WallBucket<D, ContactModelAt<I>>;
-    B old = std::move(std::get<I>(pair_buckets_));
-    B& fresh = std::get<I>(pair_buckets_);
-    fresh = B{};
-    for (auto [a, b] : candidates_) {
-      if (p_.id[a] > p_.id[b]) std::swap(a, b);
-      const PairTable::Entry& e = pairs_.at(p_.material[a], p_.material[b]);
-      if (e.model != I) continue;
-      fresh.i.push_back(a);
-      fresh.j.push_back(b);
-      fresh.slot.push_back(static_cast<std::uint32_t>(e.slot));
-      fresh.id_i.push_back(p_.id[a]);
-      fresh.id_j.push_back(p_.id[b]);
-    }
-    fresh.history.assign(fresh.size(), typename B::History{});
-    if (old.size()) {
-      OwnerIndex idx;
-      idx.build(old.id_i, max_id);
-      for (std::size_t k = 0; k < fresh.size(); ++k) {
-        const std::int64_t owner = fresh.id_i[k];
-        for (std::uint32_t s = idx.start[owner]; s < idx.start[owner + 1]; ++s) {
-          std::uint32_t o = idx.order[s];
-          if (old.id_j[o] == fresh.id_j[k]) {
-            fresh.history[k] = old.history[o];
-            break;
-          }
-        }
-      }
-    }
-
-    WB old_w = std::move(std::get<I>(wall_buckets_));
-    WB& fresh_w = std::get<I>(wall_buckets_);
-    fresh_w = WB{};
-    for (std::size_t w = 0; w < walls_.size(); ++w) {
-      for (std::size_t i = 0; i < n; ++i) {
-        if (p_.fixed[i]) continue;
-        const PairTable::Entry& e = pairs_.at(p_.material[i], walls_[w].material);
-        if (e.model != I) continue;
-        if (walls_[w].clearance(p_.position[i], p_.radius[i]) >= skin_) continue;
-        fresh_w.particle.push_back(static_cast<std::uint32_t>(i));
-        fresh_w.wall.push_back(static_cast<std::uint32_t>(w));
-        fresh_w.slot.push_back(static_cast<std::uint32_t>(e.slot));
-        fresh_w.id.push_back(p_.id[i]);
-      }
-    }
-    fresh_w.history.assign(fresh_w.size(), typename WB::History{});
-    if (old_w.size()) {
-      OwnerIndex idx;
-      idx.build(old_w.id, max_id);
-      for (std::size_t k = 0; k < fresh_w.size(); ++k) {
-        const std::int64_t owner = fresh_w.id[k];
-        for (std::uint32_t s = idx.start[owner]; s < idx.start[owner + 1]; ++s) {
-          std::uint32_t o = idx.order[s];
-          if (old_w.wall[o] == fresh_w.wall[k]) {
-            fresh_w.history[k] = old_w.history[o];
-            break;
-          }
-        }
-      }
-    }
-  });
-
-  position_at_rebuild_ = p_.position;
-  max_displacement_sq_ = 0;
-  for (auto& w : walls_) w.moved_since_rebuild.setZero();
-  lists_valid_ = true;
-  ++rebuilds_;
 }
 
 template <int D>
@@ -402,632 +618,6 @@ void Simulation<D>::sort_particles() {
     position_at_rebuild_ = p_.position;
     rebuild_lists();
   }
-}
-
-// ----------------------------------------------------------------------------
-// Set-up and validation
-// ----------------------------------------------------------------------------
-template <int D>
-typename Simulation<D>::V Simulation<D>::to_vec(const Triple& t) const {
-  V v;
-  for (int k = 0; k < D; ++k) v[k] = t[k];
-  return v;
-}
-template <int D>
-Triple Simulation<D>::to_triple(const V& v) const {
-  Triple t{0, 0, 0};
-  for (int k = 0; k < D; ++k) t[k] = v[k];
-  return t;
-}
-template <int D>
-typename Simulation<D>::S Simulation<D>::to_spin(const Triple& t) const {
-  if constexpr (D == 2) {
-    return t[2];
-  } else {
-    return S(t[0], t[1], t[2]);
-  }
-}
-template <int D>
-Triple Simulation<D>::spin_triple(const S& s) const {
-  if constexpr (D == 2) {
-    return Triple{0, 0, s};
-  } else {
-    return Triple{s[0], s[1], s[2]};
-  }
-}
-
-template <int D>
-int Simulation<D>::checked(std::int64_t id) const {
-  int i = p_.index(id);
-  if (i < 0) throw InputError(fmt::format("no particle with id {}", id));
-  return i;
-}
-
-template <int D>
-void Simulation<D>::check_particle_input(const ParticleSpec& s, const std::string& context) const {
-  if (!(s.radius > 0) || !std::isfinite(s.radius))
-    throw InputError(fmt::format("{}: radius must be > 0 [m], got {}", context, s.radius));
-  if (s.material < 0 || s.material >= static_cast<int>(materials_.size()))
-    throw InputError(fmt::format("{}: unknown material", context));
-  if (!(materials_[s.material].density > 0))
-    throw InputError(fmt::format("{}: material '{}' needs a density > 0 [kg/m^3] for particles",
-                                 context, materials_[s.material].name));
-  if (!finite3(s.position) || !finite3(s.velocity) || !finite3(s.spin))
-    throw InputError(fmt::format("{}: position, velocity and spin must be finite", context));
-}
-
-template <int D>
-std::int64_t Simulation<D>::add_particle(const ParticleSpec& s) {
-  check_particle_input(s, "particle");
-  std::int64_t id = p_.add(to_vec(s.position), to_vec(s.velocity), to_spin(s.spin), s.radius,
-                           materials_[s.material].density, s.material, s.fixed);
-  position_at_rebuild_.push_back(p_.position.back());
-  lists_valid_ = false;
-  prepared_ = false;
-  return id;
-}
-
-template <int D>
-void Simulation<D>::remove_particle(std::int64_t id) {
-  const std::size_t i = checked(id), last = p_.size() - 1;
-  auto erase = [&](auto& v) {
-    v[i] = v[last];
-    v.pop_back();
-  };
-  erase(p_.position), erase(p_.velocity), erase(p_.force), erase(p_.spin), erase(p_.torque);
-  erase(p_.radius), erase(p_.inv_mass), erase(p_.inv_inertia), erase(p_.mass), erase(p_.id);
-  erase(p_.material), erase(p_.fixed), erase(position_at_rebuild_);
-  p_.index_of_id[id] = -1;
-  if (i != last) p_.index_of_id[p_.id[i]] = static_cast<std::int32_t>(i);
-  lists_valid_ = false;
-}
-
-template <int D>
-std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
-  if (f.count < 0) throw InputError(fmt::format("fill: count must be >= 0, got {}", f.count));
-  if (f.material < 0 || f.material >= static_cast<int>(materials_.size()))
-    throw InputError("fill: unknown material");
-  if (f.radii.empty() && !(f.radius_min > 0 && f.radius_max >= f.radius_min))
-    throw InputError("fill: give 'radius' > 0, 'radii' or 0 < radius_min <= radius_max [m]");
-  for (double r : f.radii)
-    if (!(r > 0) || !std::isfinite(r))
-      throw InputError(fmt::format("fill: radii must be > 0 [m], got {}", r));
-  if (!(f.max_speed >= 0) || !std::isfinite(f.max_speed))
-    throw InputError(fmt::format("fill: max_speed must be >= 0 [m/s], got {}", f.max_speed));
-  Random rng(f.seed);
-  const double density = materials_[f.material].density;
-  if (!(density > 0))
-    throw InputError(
-        fmt::format("fill: material '{}' needs a density > 0", materials_[f.material].name));
-
-  // Region as a bounding box plus an inside test for a sphere of radius r.
-  V lo, hi;
-  V centre = to_vec(f.center);
-  auto inside_region = [&](const V& x, double r) {
-    switch (f.shape) {
-      case RegionShape::ball:
-        return (x - centre).norm() + r <= f.radius;
-      case RegionShape::box:
-        for (int k = 0; k < D; ++k)
-          if (x[k] - r < f.lo[k] || x[k] + r > f.hi[k]) return false;
-        return true;
-      case RegionShape::cylinder: {
-        V d = x - centre;
-        if constexpr (D == 3) {
-          if (x[2] - r < f.z_min || x[2] + r > f.z_max) return false;
-          d[2] = 0;
-        }
-        return d.norm() + r <= f.radius;
-      }
-    }
-    return false;
-  };
-  switch (f.shape) {
-    case RegionShape::ball:
-    case RegionShape::cylinder:
-      if (!(f.radius > 0)) throw InputError("fill: region radius must be > 0 [m]");
-      lo = centre - V::Constant(f.radius);
-      hi = centre + V::Constant(f.radius);
-      if constexpr (D == 3) {
-        if (f.shape == RegionShape::cylinder) {
-          if (!(f.z_max > f.z_min)) throw InputError("fill: cylinder region needs z_max > z_min");
-          lo[2] = f.z_min;
-          hi[2] = f.z_max;
-        }
-      }
-      break;
-    case RegionShape::box:
-      lo = to_vec(f.lo);
-      hi = to_vec(f.hi);
-      for (int k = 0; k < D; ++k)
-        if (!(hi[k] > lo[k])) throw InputError("fill: box region needs hi > lo on every axis");
-      break;
-  }
-  // Fixed particles must not be overlapped (SPEC 2); free ones may be.
-  std::vector<std::size_t> fixed_indices;
-  for (std::size_t i = 0; i < p_.size(); ++i)
-    if (p_.fixed[i]) fixed_indices.push_back(i);
-
-  const std::int64_t attempts_allowed =
-      f.max_attempts > 0 ? f.max_attempts : 2000 * std::max<std::int64_t>(f.count, 1);
-  std::vector<std::int64_t> ids;
-  std::int64_t attempts = 0;
-  std::vector<V> velocities;
-  while (static_cast<std::int64_t>(ids.size()) < f.count) {
-    if (++attempts > attempts_allowed)
-      throw InputError(fmt::format(
-          "fill: placed only {} of {} particles after {} attempts; the region is too full or lies "
-          "outside the walls",
-          ids.size(), f.count, attempts_allowed));
-    double r = f.radii.empty()
-                   ? rng.uniform(f.radius_min, f.radius_max)
-                   : f.radii[std::min(f.radii.size() - 1,
-                                      static_cast<std::size_t>(rng.uniform() * f.radii.size()))];
-    V x;
-    for (int k = 0; k < D; ++k) x[k] = rng.uniform(lo[k], hi[k]);
-    if (!inside_region(x, r)) continue;
-    bool ok = true;
-    for (const auto& w : walls_)
-      if (w.clearance(x, r) < 0) {
-        ok = false;
-        break;
-      }
-    if (!ok) continue;
-    for (std::size_t q : fixed_indices)
-      if (separation(x, p_.position[q]).norm() < r + p_.radius[q]) {
-        ok = false;
-        break;
-      }
-    if (!ok) continue;
-    // Random direction, speed uniform in [0, max_speed].
-    V v = V::Zero();
-    if (f.max_speed > 0) {
-      V dir;
-      do {
-        for (int k = 0; k < D; ++k) dir[k] = rng.uniform(-1, 1);
-      } while (dir.squaredNorm() > 1 || dir.squaredNorm() < 1e-6);
-      v = dir.normalized() * rng.uniform(0, f.max_speed);
-    }
-    ids.push_back(p_.add(x, v, Dim<D>::zero_spin(), r, density, f.material, false));
-    position_at_rebuild_.push_back(x);
-  }
-  // Zero net momentum of the filled set (SPEC 2).
-  if (!ids.empty() && f.max_speed > 0) {
-    V momentum = V::Zero();
-    double mass = 0;
-    for (auto id : ids) {
-      int i = p_.index(id);
-      momentum += p_.mass[i] * p_.velocity[i];
-      mass += p_.mass[i];
-    }
-    V mean = momentum / mass;
-    for (auto id : ids) p_.velocity[p_.index(id)] -= mean;
-  }
-  lists_valid_ = false;
-  prepared_ = false;
-  return ids;
-}
-
-template <int D>
-int Simulation<D>::add_wall(const WallSpec& s) {
-  std::string ctx = fmt::format("wall '{}'", s.name);
-  if (s.name.empty()) throw InputError("wall: 'name' must not be empty");
-  for (const auto& w : walls_)
-    if (w.name == s.name) throw InputError(fmt::format("{} is declared twice", ctx));
-  if (s.material < 0 || s.material >= static_cast<int>(materials_.size()))
-    throw InputError(fmt::format("{}: unknown material", ctx));
-  Wall<D> w;
-  w.name = s.name;
-  w.type = s.type;
-  w.material = s.material;
-  if (s.type == WallType::plane) {
-    if (!finite3(s.point) || !finite3(s.normal) || !finite3(s.velocity))
-      throw InputError(fmt::format("{}: point, normal and velocity must be finite", ctx));
-    w.point = to_vec(s.point);
-    V nn = to_vec(s.normal);
-    if (!(nn.norm() > 0)) throw InputError(fmt::format("{}: normal must be non-zero", ctx));
-    w.normal = nn.normalized();
-    w.velocity = to_vec(s.velocity);
-  } else {
-    if (!(s.radius > 0) || !std::isfinite(s.radius))
-      throw InputError(fmt::format("{}: radius must be > 0 [m], got {}", ctx, s.radius));
-    if (!finite3(s.center) || !finite3(s.axis) || !std::isfinite(s.angular_velocity))
-      throw InputError(fmt::format("{}: center, axis and angular_velocity must be finite", ctx));
-    w.center = to_vec(s.center);
-    w.radius = s.radius;
-    w.inside = s.inside;
-    w.angular_velocity = s.angular_velocity;
-    if constexpr (D == 3) {
-      V a = to_vec(s.axis);
-      if (!(a.norm() > 0)) throw InputError(fmt::format("{}: axis must be non-zero", ctx));
-      w.axis = a.normalized();
-    }
-  }
-  walls_.push_back(w);
-  lists_valid_ = false;
-  prepared_ = false;
-  return static_cast<int>(walls_.size() - 1);
-}
-
-template <int D>
-TimeStepReport Simulation<D>::time_step_rule() {
-  TimeStepReport r;
-  r.rule = INFINITY;
-  r.stability_limit = INFINITY;
-  const int nm = static_cast<int>(materials_.size());
-  // Smallest free-particle mass and radius per material (the shortest contacts).
-  std::vector<double> min_mass(nm, INFINITY), min_radius(nm, INFINITY),
-      min_radius_any(nm, INFINITY);
-  std::vector<char> used(nm, 0), free_used(nm, 0);
-  for (std::size_t i = 0; i < p_.size(); ++i) {
-    int m = p_.material[i];
-    used[m] = 1;
-    min_radius_any[m] = std::min(min_radius_any[m], p_.radius[i]);
-    if (!p_.fixed[i]) {
-      free_used[m] = 1;
-      min_mass[m] = std::min(min_mass[m], p_.mass[i]);
-      min_radius[m] = std::min(min_radius[m], p_.radius[i]);
-    }
-  }
-  // Eq. 6.1-6.2: Rayleigh time of the smallest particle of a material.
-  auto rayleigh = [&](int m, double radius) -> double {
-    const Material& mat = materials_[m];
-    if (!(mat.young > 0) || !(mat.density > 0) || std::isinf(radius)) return INFINITY;
-    const double shear = mat.young / (2 * (1 + mat.poisson));
-    return pi * radius / (0.1631 * mat.poisson + 0.876605) * std::sqrt(mat.density / shear);
-  };
-  std::vector<char> wall_material(nm, 0);
-  for (const auto& w : walls_) wall_material[w.material] = 1;
-  auto consider = [&](int a, int b, const PairScale& scale, const char* kind) {
-    const PairTable::Entry& e = pairs_.at(a, b);
-    if (e.model < 0)
-      throw InputError(fmt::format(
-          "no contact law for materials '{}' and '{}' ({} contacts can occur): declare "
-          "contact {{ '{}', '{}', model = ... }}",
-          materials_[a].name, materials_[b].name, kind, materials_[a].name, materials_[b].name));
-    for_each_model([&](auto index) {
-      constexpr int I = decltype(index)::value;
-      if (e.model != I) return;
-      using M = ContactModelAt<I>;
-      const auto& par = pairs_.params<I>()[e.slot];
-      double rule = M::rule_time_step(par, scale, steps_per_contact_);
-      double limit = M::stability_limit(par, scale);
-      if (rule < r.rule) {
-        r.rule = rule;
-        r.governing_pair =
-            fmt::format("{}-{} ({}, {})", materials_[a].name, materials_[b].name, M::name, kind);
-      }
-      r.stability_limit = std::min(r.stability_limit, limit);
-    });
-  };
-  for (int a = 0; a < nm; ++a) {
-    if (!free_used[a]) continue;
-    for (int b = 0; b < nm; ++b) {
-      if (!used[b]) continue;
-      PairScale scale;
-      double mb = free_used[b] ? min_mass[b] : INFINITY;
-      scale.effective_mass = std::isinf(mb) ? min_mass[a] : min_mass[a] * mb / (min_mass[a] + mb);
-      double ra = min_radius[a], rb = min_radius_any[b];
-      scale.effective_radius = ra * rb / (ra + rb);
-      scale.rayleigh_time =
-          std::min(rayleigh(a, ra), rayleigh(b, free_used[b] ? min_radius[b] : INFINITY));
-      consider(a, b, scale, "particle-particle");
-    }
-    for (int w = 0; w < nm; ++w)
-      if (wall_material[w]) {
-        PairScale scale{min_mass[a], min_radius[a], rayleigh(a, min_radius[a])};
-        consider(a, w, scale, "particle-wall");
-      }
-  }
-  return r;
-}
-
-template <int D>
-void Simulation<D>::prepare() {
-  // Particles must start inside every wall (their centres on the allowed side).
-  for (std::size_t i = 0; i < p_.size(); ++i) {
-    for (const auto& w : walls_) {
-      double c = w.clearance(p_.position[i], p_.radius[i]);
-      if (c + p_.radius[i] < 0)
-        throw InputError(fmt::format("particle {} at ({}) lies outside wall '{}'", p_.id[i],
-                                     fmt::join(to_triple(p_.position[i]), ", "), w.name));
-      if (c < 0 && !p_.fixed[i] && step_ == 0)
-        warn(fmt::format("particle {} starts overlapping wall '{}' by {:.3g} m", p_.id[i], w.name,
-                         -c));
-    }
-  }
-  // Skin: automatic = half the median radius.
-  if (skin_set_ > 0) {
-    skin_ = skin_set_;
-  } else if (p_.size()) {
-    std::vector<double> r = p_.radius;
-    std::nth_element(r.begin(), r.begin() + r.size() / 2, r.end());
-    skin_ = 0.5 * r[r.size() / 2];
-  }
-  if (periodic_.on()) {
-    double r_max = 0;
-    for (double r : p_.radius) r_max = std::max(r_max, r);
-    if (periodic_.length < 2 * (2 * r_max + skin_))
-      throw InputError(fmt::format(
-          "periodic length {} m is too short: it must exceed twice the largest contact reach "
-          "(2 (2 r_max + skin) = {} m)",
-          periodic_.length, 2 * (2 * r_max + skin_)));
-  }
-  if (p_.size()) {
-    TimeStepReport rule = time_step_rule();
-    if (dt_fixed_ > 0) {
-      dt_ = dt_fixed_;
-      if (dt_ >= rule.stability_limit)
-        throw InputError(fmt::format(
-            "time_step {:.4g} s is above the stability limit 2/omega = {:.4g} s of {}: refused",
-            dt_, rule.stability_limit, rule.governing_pair));
-      if (dt_ > rule.rule * (1 + 1e-9))
-        warn(
-            fmt::format("time_step {:.4g} s exceeds the Eq. 4.1 rule {:.4g} s (n = {} steps per "
-                        "contact) for {}",
-                        dt_, rule.rule, steps_per_contact_, rule.governing_pair));
-    } else if (dt_ == 0 || std::isinf(dt_)) {
-      if (std::isinf(rule.rule))
-        throw InputError("cannot choose a time step: no contact can occur; set time_step");
-      dt_ = rule.rule;
-    } else if (dt_ >= rule.stability_limit) {
-      // An automatic dt chosen earlier no longer suits changed parameters: choose again.
-      dt_ = rule.rule;
-    }
-  } else if (dt_ == 0) {
-    dt_ = dt_fixed_;
-  }
-  if (!(dt_ > 0)) throw InputError("no time step: the scene has no particles and no time_step");
-  rebuild_lists();
-  prepared_ = true;
-}
-
-// ----------------------------------------------------------------------------
-// Accessors
-// ----------------------------------------------------------------------------
-template <int D>
-void Simulation<D>::set_gravity(const Triple& g) {
-  if (!finite3(g)) throw InputError("gravity must be finite");
-  body_.gravity = to_vec(g);
-  body_.gravity_on = !body_.gravity.isZero();
-}
-template <int D>
-void Simulation<D>::set_central_field(const Triple& point, double strength) {
-  if (!finite3(point)) throw InputError("central_field: point must be finite");
-  body_.central_on = true;
-  body_.central_point = to_vec(point);
-  set_central_strength(strength);
-}
-template <int D>
-void Simulation<D>::set_central_strength(double strength) {
-  if (!std::isfinite(strength) || strength < 0)
-    throw InputError(fmt::format("central field strength must be >= 0 [m/s^2], got {}", strength));
-  body_.central_strength = strength;
-}
-
-template <int D>
-int Simulation<D>::wall_id(const std::string& name) const {
-  std::vector<std::string> names;
-  for (std::size_t w = 0; w < walls_.size(); ++w) {
-    if (walls_[w].name == name) return static_cast<int>(w);
-    names.push_back(walls_[w].name);
-  }
-  std::string hint = nearest_name(name, names);
-  throw InputError(fmt::format("unknown wall '{}'{}", name,
-                               hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint)));
-}
-template <int D>
-WallSpec Simulation<D>::wall(int w) const {
-  const Wall<D>& x = walls_.at(w);
-  WallSpec s;
-  s.name = x.name;
-  s.type = x.type;
-  s.material = x.material;
-  s.point = to_triple(x.point);
-  s.normal = to_triple(x.normal);
-  s.velocity = to_triple(x.velocity);
-  s.center = to_triple(x.center);
-  if constexpr (D == 3) s.axis = to_triple(x.axis);
-  s.radius = x.radius;
-  s.inside = x.inside;
-  s.angular_velocity = x.angular_velocity;
-  return s;
-}
-template <int D>
-void Simulation<D>::set_wall_velocity(int w, const Triple& v) {
-  if (!finite3(v)) throw InputError("wall velocity must be finite");
-  if (walls_.at(w).type != WallType::plane)
-    throw InputError(
-        fmt::format("wall '{}' is a cylinder: set its angular velocity", walls_[w].name));
-  walls_[w].velocity = to_vec(v);
-}
-template <int D>
-void Simulation<D>::set_wall_angular_velocity(int w, double omega) {
-  if (!std::isfinite(omega)) throw InputError("wall angular velocity must be finite");
-  if (walls_.at(w).type != WallType::cylinder)
-    throw InputError(fmt::format("wall '{}' is a plane: set its velocity", walls_[w].name));
-  walls_[w].angular_velocity = omega;
-}
-template <int D>
-Triple Simulation<D>::wall_force(int w) const {
-  return to_triple(walls_.at(w).force);
-}
-template <int D>
-double Simulation<D>::wall_axial_torque(int w) const {
-  return walls_.at(w).axial_torque;
-}
-
-template <int D>
-Triple Simulation<D>::position(std::int64_t id) const {
-  return to_triple(p_.position[checked(id)]);
-}
-template <int D>
-Triple Simulation<D>::velocity(std::int64_t id) const {
-  return to_triple(p_.velocity[checked(id)]);
-}
-template <int D>
-Triple Simulation<D>::spin(std::int64_t id) const {
-  return spin_triple(p_.spin[checked(id)]);
-}
-template <int D>
-Triple Simulation<D>::force(std::int64_t id) const {
-  return to_triple(p_.force[checked(id)]);
-}
-template <int D>
-void Simulation<D>::set_position(std::int64_t id, const Triple& x) {
-  if (!finite3(x)) throw InputError("position must be finite");
-  p_.position[checked(id)] = to_vec(x);
-  lists_valid_ = false;
-}
-template <int D>
-void Simulation<D>::set_velocity(std::int64_t id, const Triple& v) {
-  if (!finite3(v)) throw InputError("velocity must be finite");
-  int i = checked(id);
-  if (p_.fixed[i]) throw InputError(fmt::format("particle {} is fixed: it cannot move", id));
-  p_.velocity[i] = to_vec(v);
-}
-template <int D>
-void Simulation<D>::set_spin(std::int64_t id, const Triple& w) {
-  if (!finite3(w)) throw InputError("spin must be finite");
-  int i = checked(id);
-  if (p_.fixed[i]) throw InputError(fmt::format("particle {} is fixed: it cannot spin", id));
-  p_.spin[i] = to_spin(w);
-}
-
-template <int D>
-typename SimulationBase::FlatState Simulation<D>::flat_state() const {
-  FlatState s;
-  const std::size_t n = p_.size();
-  s.id = p_.id;
-  s.radius = p_.radius;
-  s.material = p_.material;
-  s.fixed = p_.fixed;
-  s.position.resize(n * D);
-  s.velocity.resize(n * D);
-  s.spin.resize(n * Dim<D>::spin_components);
-  for (std::size_t i = 0; i < n; ++i) {
-    for (int k = 0; k < D; ++k) {
-      s.position[i * D + k] = p_.position[i][k];
-      s.velocity[i * D + k] = p_.velocity[i][k];
-    }
-    if constexpr (D == 2) {
-      s.spin[i] = p_.spin[i];
-    } else {
-      for (int k = 0; k < 3; ++k) s.spin[i * 3 + k] = p_.spin[i][k];
-    }
-  }
-  return s;
-}
-
-template <int D>
-GlobalStats Simulation<D>::stats() const {
-  GlobalStats g;
-  g.time = time_;
-  g.step = step_;
-  g.particles = static_cast<std::int64_t>(p_.size());
-  V momentum = V::Zero();
-  for (std::size_t i = 0; i < p_.size(); ++i) {
-    if (p_.fixed[i]) continue;
-    const double m = p_.mass[i];
-    g.kinetic_translational += 0.5 * m * p_.velocity[i].squaredNorm();
-    g.kinetic_rotational += 0.5 * sphere_inertia(m, p_.radius[i]) * Dim<D>::spin_sq(p_.spin[i]);
-    momentum += m * p_.velocity[i];
-    const V& x = p_.position[i];
-    const V& v = p_.velocity[i];
-    double spin_z;
-    if constexpr (D == 2) {
-      spin_z = p_.spin[i];
-    } else {
-      spin_z = p_.spin[i][2];
-    }
-    g.angular_momentum_z +=
-        m * (x[0] * v[1] - x[1] * v[0]) + sphere_inertia(m, p_.radius[i]) * spin_z;
-  }
-  g.momentum = to_triple(momentum);
-  g.contacts_particle = contacts_particle_;
-  g.contacts_wall = contacts_wall_;
-  g.max_overlap_ratio = max_overlap_ratio_;
-  return g;
-}
-
-template <int D>
-std::vector<ContactRecord> Simulation<D>::contacts() const {
-  if (!record_contacts_)
-    throw InputError(
-        "contact forces are not recorded in this scene: set record_contacts = true in "
-        "simulation { ... } (it costs a few stores per contact)");
-  std::vector<ContactRecord> out;
-  for_each_model([&](auto index) {
-    constexpr int I = decltype(index)::value;
-    using M = ContactModelAt<I>;
-    const auto& b = std::get<I>(pair_buckets_);
-    for (std::size_t k = 0; k < b.overlap.size() && k < b.size(); ++k) {
-      if (b.normal_force[k] == 0 && b.tangential_force[k].isZero() && b.overlap[k] == 0) continue;
-      ContactRecord r;
-      r.id_a = b.id_i[k];
-      r.id_b = b.id_j[k];
-      r.model = M::name;
-      r.overlap = b.overlap[k];
-      r.normal_force = b.normal_force[k];
-      r.tangential_force = to_triple(b.tangential_force[k]);
-      r.normal = to_triple(b.normal[k]);
-      out.push_back(r);
-    }
-    const auto& w = std::get<I>(wall_buckets_);
-    for (std::size_t k = 0; k < w.overlap.size() && k < w.size(); ++k) {
-      if (w.normal_force[k] == 0 && w.tangential_force[k].isZero() && w.overlap[k] == 0) continue;
-      ContactRecord r;
-      r.id_a = w.id[k];
-      r.wall = static_cast<int>(w.wall[k]);
-      r.model = M::name;
-      r.overlap = w.overlap[k];
-      r.normal_force = w.normal_force[k];
-      r.tangential_force = to_triple(w.tangential_force[k]);
-      r.normal = to_triple(w.normal[k]);
-      out.push_back(r);
-    }
-  });
-  return out;
-}
-
-template <int D>
-std::vector<std::string> Simulation<D>::describe() const {
-  std::vector<std::string> lines;
-  std::size_t fixed = 0;
-  for (auto f : p_.fixed) fixed += f;
-  lines.push_back(fmt::format("dimension: {}D{}", D,
-                              periodic_.on() ? fmt::format(", periodic along axis {} ({} m)",
-                                                           periodic_.axis, periodic_.length)
-                                             : std::string()));
-  lines.push_back(fmt::format("particles: {} ({} fixed)", p_.size(), fixed));
-  auto catalogue = contact_model_catalogue();
-  for (int a = 0; a < pairs_.material_count(); ++a)
-    for (int b = a; b < pairs_.material_count(); ++b) {
-      const auto& e = pairs_.at(a, b);
-      if (e.model < 0) continue;
-      std::vector<std::string> kv;
-      for (const auto& [k, v] : pairs_.values(a, b)) kv.push_back(fmt::format("{}={}", k, v));
-      lines.push_back(fmt::format("contact {}-{}: {} ({})", materials_[a].name, materials_[b].name,
-                                  catalogue[e.model].name, fmt::join(kv, ", ")));
-    }
-  for (const auto& w : walls_) {
-    if (w.type == WallType::plane)
-      lines.push_back(
-          fmt::format("wall {}: plane, material {}", w.name, materials_[w.material].name));
-    else
-      lines.push_back(fmt::format("wall {}: cylinder r={} m {}, {} rad/s, material {}", w.name,
-                                  w.radius, w.inside ? "inside" : "outside", w.angular_velocity,
-                                  materials_[w.material].name));
-  }
-  lines.push_back(fmt::format("gravity: {}", body_.gravity_on ? "on" : "off"));
-  lines.push_back(fmt::format("central field: {}", body_.central_on ? "on" : "off"));
-  lines.push_back(fmt::format("contact forces recorded: {}", record_contacts_ ? "yes" : "no"));
-  lines.push_back(fmt::format("hooks: {}", hooks_.size()));
-  lines.push_back(fmt::format(
-      "time step: {:.6g} s ({}), skin {:.4g} m", dt_,
-      dt_fixed_ > 0 ? "set by the scene" : fmt::format("Eq. 4.1, n = {}", steps_per_contact_),
-      skin_));
-  return lines;
 }
 
 template class Simulation<2>;

@@ -11,35 +11,37 @@
 #include "core/simulation_base.hpp"
 #include "fields/body_forces.hpp"
 #include "geometry/walls.hpp"
+#include "hooks/contact_log.hpp"
+#include "hooks/diagnostic.hpp"
 #include "neighbor/cell_grid.hpp"
 
 namespace granule {
 
 // Contacts between particles handled by model M, as flat arrays. A pair is
 // oriented so that id(i) < id(j): the history (force on i) keeps its meaning
-// when particles are re-sorted or lists rebuilt.
+// when particles are re-sorted or lists rebuilt. Entry k writes its results
+// to slot `offset + k` of the step's contact buffers.
 template <int D, typename M>
 struct PairBucket {
+  static constexpr bool is_pair = true;
   using History = typename M::template History<D>;
   std::vector<std::uint32_t> i, j, slot;
   std::vector<History> history;
   std::vector<std::int64_t> id_i, id_j;  // cold: for carrying histories across rebuilds
-  // filled only when contacts are recorded
-  std::vector<double> overlap, normal_force;
-  std::vector<Vec<D>> tangential_force, normal;
-  void clear() { i.clear(), j.clear(), slot.clear(), history.clear(), id_i.clear(), id_j.clear(); }
+  std::vector<ContactTrack<D>> track;    // only while an observer tracks contact events
+  std::size_t offset = 0;
   std::size_t size() const { return i.size(); }
 };
 
 template <int D, typename M>
 struct WallBucket {
+  static constexpr bool is_pair = false;
   using History = typename M::template History<D>;
   std::vector<std::uint32_t> particle, wall, slot;
   std::vector<History> history;
   std::vector<std::int64_t> id;  // cold
-  std::vector<double> overlap, normal_force;
-  std::vector<Vec<D>> tangential_force, normal;
-  void clear() { particle.clear(), wall.clear(), slot.clear(), history.clear(), id.clear(); }
+  std::vector<ContactTrack<D>> track;
+  std::size_t offset = 0;
   std::size_t size() const { return particle.size(); }
 };
 
@@ -101,6 +103,15 @@ class Simulation final : public SimulationBase {
   std::vector<ContactRecord> contacts() const override;
   std::vector<std::string> describe() const override;
 
+  int attach_diagnostic(const std::string& name, DiagnosticOptions& options) override;
+  // Attaches a diagnostic built in C++ (tests, embedding programs); returns its id.
+  int attach(std::unique_ptr<Diagnostic<D>> diagnostic, const std::string& name);
+  void detach_diagnostic(int id) override;
+  std::map<std::string, double> diagnostic_results(int id) const override;
+  std::map<std::string, std::vector<double>> diagnostic_arrays(int id) const override;
+  void set_output_sink(OutputSink* sink) override;
+  void flush_diagnostics() override;
+
   // One step of the pipeline.
   void step();
   // Re-sorts particle storage along cells (locality); histories follow by id.
@@ -109,6 +120,7 @@ class Simulation final : public SimulationBase {
   // Direct access for C++ tests and diagnostics.
   const Particles<D>& particles() const { return p_; }
   const std::vector<Wall<D>>& walls() const { return walls_; }
+  const ContactLog<D>& contact_log() const { return log_; }
 
  private:
   int checked(std::int64_t id) const;
@@ -125,13 +137,25 @@ class Simulation final : public SimulationBase {
   void check_particle_input(const ParticleSpec& s, const std::string& context) const;
   void rebuild_lists();
   bool lists_stale() const;
-  template <typename M>
+  template <typename M, bool Observed>
   void pair_forces(PairBucket<D, M>& bucket, const std::vector<typename M::Params>& params);
-  template <typename M>
+  template <typename M, bool Observed>
   void wall_forces(WallBucket<D, M>& bucket, const std::vector<typename M::Params>& params);
-  void integrate();
+  template <typename Bucket>
+  void track_bucket(Bucket& bucket);
+  void track_contacts();
+  void observe(bool contacts_logged);
+  void gather_and_integrate();
   void report_non_finite(std::size_t index);
+  Diagnostic<D>& diagnostic(int id) const;
 
+  struct AttachedDiagnostic {
+    int id = 0;
+    std::string name;
+    std::unique_ptr<Diagnostic<D>> diagnostic;
+    typename Diagnostic<D>::Needs needs;
+    std::int64_t every = 1;
+  };
   Particles<D> p_;
   std::vector<Wall<D>> walls_;
   BodyForces<D> body_;
@@ -139,6 +163,21 @@ class Simulation final : public SimulationBase {
   typename BucketsOf<D, ContactModels>::pairs pair_buckets_;
   typename BucketsOf<D, ContactModels>::walls wall_buckets_;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> candidates_;
+  // The step's contact buffers, one slot per candidate contact (pairs, then walls):
+  // the force on the slot's first particle and the torques on both, written by
+  // the kernels in parallel and summed per particle in slot order (gather_*),
+  // so the result does not depend on the number of threads.
+  std::size_t slot_count_ = 0;
+  std::vector<V> slot_force_;
+  std::vector<S> slot_torque_a_, slot_torque_b_;
+  std::vector<double> slot_axial_torque_;  // wall slots: torque on the wall about its axis
+  std::vector<std::uint32_t> gather_start_, gather_entry_;  // entry = slot << 1 | is_second
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> wall_slots_;  // (slot, wall), in order
+  ContactLog<D> log_;
+  std::vector<AttachedDiagnostic> diagnostics_;
+  int next_diagnostic_id_ = 1;
+  bool tracking_ = false;  // an attached diagnostic needs contact events
+  OutputSink* sink_ = nullptr;
   std::vector<V> position_at_rebuild_;
   double max_displacement_sq_ = 0;
   bool lists_valid_ = false;
@@ -147,6 +186,7 @@ class Simulation final : public SimulationBase {
   std::int64_t contacts_particle_ = 0, contacts_wall_ = 0;
   double max_overlap_ratio_ = 0;
   std::size_t non_finite_index_ = SIZE_MAX;
+  double contact_reach_ = 0;  // m, how far apart adhesive contacts persist (<= skin)
 };
 
 }  // namespace granule

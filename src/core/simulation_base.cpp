@@ -97,6 +97,12 @@ void SimulationBase::set_periodic(int axis, double origin, double length) {
   prepared_ = false;
 }
 
+void SimulationBase::set_threads(int threads) {
+  if (threads < 0 || threads > 4096)
+    throw InputError(fmt::format("threads must be >= 0 (0 = all cores), got {}", threads));
+  threads_ = threads;
+}
+
 int SimulationBase::add_hook(Hook hook) {
   if (hook.every_steps <= 0 && !(hook.every_time > 0))
     throw InputError(fmt::format("hook '{}': give every_steps > 0 or every_time > 0", hook.name));

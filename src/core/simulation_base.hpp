@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -17,6 +18,9 @@
 #include "neighbor/cell_grid.hpp"
 
 namespace granule {
+
+class DiagnosticOptions;
+class OutputSink;
 
 using Triple = std::array<double, 3>;  // a vector in 2D or 3D; z is ignored in 2D
 
@@ -121,6 +125,11 @@ class SimulationBase {
   void set_skin(double skin);  // m; 0 = automatic (half the median radius)
   void set_periodic(int axis, double origin, double length);
   void set_record_contacts(bool on) { record_contacts_ = on; }
+  // Threads for the contact and integration loops (0 = OpenMP's default). The
+  // results do not depend on it: each contact force is computed once and the
+  // forces on a particle are summed in a fixed order.
+  void set_threads(int threads);
+  int threads() const { return threads_; }
   bool record_contacts() const { return record_contacts_; }
   void set_warning_handler(std::function<void(const std::string&)> f) { warn_ = std::move(f); }
 
@@ -185,6 +194,16 @@ class SimulationBase {
   // Lines describing what this scene simulates (models in use, walls, fields, hooks).
   virtual std::vector<std::string> describe() const = 0;
 
+  // ---- diagnostics (src/hooks): C++ observers attached by name ----
+  virtual int attach_diagnostic(const std::string& name, DiagnosticOptions& options) = 0;
+  virtual void detach_diagnostic(int id) = 0;
+  virtual std::map<std::string, double> diagnostic_results(int id) const = 0;
+  virtual std::map<std::string, std::vector<double>> diagnostic_arrays(int id) const = 0;
+  // Where diagnostics write their rows (the run's HDF5 output); nullptr detaches.
+  virtual void set_output_sink(OutputSink* sink) = 0;
+  // Writes partly filled windows (end of a run).
+  virtual void flush_diagnostics() = 0;
+
   // ---- hooks ----
   int add_hook(Hook hook);
   void remove_hook(int id);
@@ -196,7 +215,7 @@ class SimulationBase {
 
   // Wall-clock seconds spent per stage of step() since construction.
   struct StageTimes {
-    double neighbor = 0, force = 0, integrate = 0, hooks = 0;
+    double neighbor = 0, force = 0, diagnostics = 0, integrate = 0, hooks = 0;
   };
   const StageTimes& stage_times() const { return stage_times_; }
 
@@ -214,6 +233,7 @@ class SimulationBase {
   double skin_set_ = 0;
   Periodicity periodic_;
   bool record_contacts_ = false;
+  int threads_ = 0;
   bool prepared_ = false;
   double time_ = 0;
   std::int64_t step_ = 0;

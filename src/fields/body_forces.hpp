@@ -18,20 +18,16 @@ struct BodyForces {
 
   bool active() const { return gravity_on || (central_on && central_strength != 0); }
 
-  void apply(Particles<D>& p) const {
-    const std::size_t n = p.size();
-    if (gravity_on) {
-      for (std::size_t i = 0; i < n; ++i)
-        if (!p.fixed[i]) p.force[i] += p.mass[i] * gravity;
-    }
+  // The body force on a free particle of mass m at x (called only when active()).
+  Vec<D> force(double mass, const Vec<D>& x) const {
+    Vec<D> f = Vec<D>::Zero();
+    if (gravity_on) f += mass * gravity;
     if (central_on && central_strength != 0) {
-      for (std::size_t i = 0; i < n; ++i) {
-        if (p.fixed[i]) continue;
-        Vec<D> d = central_point - p.position[i];
-        double len = d.norm();
-        if (len > 0) p.force[i] += (p.mass[i] * central_strength / len) * d;
-      }
+      const Vec<D> d = central_point - x;
+      const double len = d.norm();
+      if (len > 0) f += (mass * central_strength / len) * d;
     }
+    return f;
   }
 };
 

@@ -87,6 +87,13 @@ struct Wall {
     return overlap;
   }
 
+  // R* of a sphere of radius r touching this wall: r against a plane; against a
+  // cylinder, the two curvatures combine (concave inside, convex outside).
+  double effective_radius(double r) const {
+    if (type == WallType::plane) return r;
+    return inside ? r * radius / (radius - r) : r * radius / (radius + r);
+  }
+
   // Axial torque of a force applied at `lever` from the axis.
   double axial_moment(const V& lever, const V& f) const {
     if constexpr (D == 2) {

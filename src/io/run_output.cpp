@@ -51,6 +51,7 @@ RunOutput::RunOutput(SimulationBase& sim, RunOutputSettings settings)
     hook_ids_.push_back(sim_.add_hook(snap));
   }
   sim_.set_failure_handler([this](const std::string& m) { write_failure(m); });
+  sim_.set_output_sink(this);
 }
 
 RunOutput::~RunOutput() {
@@ -61,12 +62,14 @@ RunOutput::~RunOutput() {
   } catch (...) {
     // A destructor must not throw; finish() already reported through the file it could write.
   }
+  sim_.set_output_sink(nullptr);
 }
 
 void RunOutput::finish() {
   if (finished_) return;
   finished_ = true;
   write_header();
+  sim_.flush_diagnostics();  // partly filled windows, while the file is open
   if (sim_.step_count() != last_snapshot_step_ && sim_.particle_count() > 0) write_snapshot();
   file_->flush();
 }
@@ -170,10 +173,31 @@ void RunOutput::write_series_row() {
 }
 
 void RunOutput::declare_series(const std::string& name, const std::vector<std::string>& columns) {
-  if (name.empty() || name.find('/') != std::string::npos || name == "series")
-    throw InputError(
-        fmt::format("series name '{}' must be a plain word other than 'series'", name));
+  // A scene's own series are plain words; diagnostics write under "diagnostics/<label>".
+  static const char* reserved[] = {"series",   "snapshots", "scene",  "materials",
+                                   "contacts", "walls",     "results"};
+  const std::string first = name.substr(0, name.find('/'));
+  bool ok =
+      !name.empty() && name[0] != '/' && name.back() != '/' && name.find("//") == std::string::npos;
+  for (const char* r : reserved) ok = ok && first != r;
+  if (!ok)
+    throw InputError(fmt::format(
+        "series name '{}' must be a plain word (or 'diagnostics/<label>') other than series, "
+        "snapshots, scene, materials, contacts, walls and results",
+        name));
   file_->series_declare("/" + name, columns);
+}
+
+void RunOutput::write_attribute(const std::string& group, const std::string& name, double value) {
+  file_->write_attribute("/" + group, name, value);
+}
+void RunOutput::write_attribute(const std::string& group, const std::string& name,
+                                const std::string& value) {
+  file_->write_attribute("/" + group, name, value);
+}
+void RunOutput::write_attribute(const std::string& group, const std::string& name,
+                                const std::vector<double>& value) {
+  file_->write_attribute("/" + group, name, value);
 }
 
 void RunOutput::append_series(const std::string& name, const std::vector<double>& row) {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/simulation_base.hpp"
+#include "hooks/diagnostic.hpp"
 #include "io/h5_output.hpp"
 
 namespace granule::io {
@@ -25,7 +26,7 @@ struct RunOutputSettings {
   std::map<std::string, double> numeric_parameters;
 };
 
-class RunOutput {
+class RunOutput final : public OutputSink {
  public:
   RunOutput(SimulationBase& sim, RunOutputSettings settings);
   ~RunOutput();  // writes the final snapshot if the run advanced since the last one; never throws
@@ -34,12 +35,19 @@ class RunOutput {
 
   void write_snapshot();
   void write_series_row();
-  void declare_series(const std::string& name, const std::vector<std::string>& columns);
-  void append_series(const std::string& name, const std::vector<double>& row);
   void write_result(const std::string& name, double value);  // /results attributes
   void write_failure(const std::string& message);            // finite particles + message
   void finish();                                             // final snapshot + flush
   const std::string& path() const { return settings_.path; }
+
+  // OutputSink: where the scene's diagnostics write.
+  void declare_series(const std::string& group, const std::vector<std::string>& columns) override;
+  void append_series(const std::string& group, const std::vector<double>& row) override;
+  void write_attribute(const std::string& group, const std::string& name, double value) override;
+  void write_attribute(const std::string& group, const std::string& name,
+                       const std::string& value) override;
+  void write_attribute(const std::string& group, const std::string& name,
+                       const std::vector<double>& value) override;
   H5Output& file() { return *file_; }
 
  private:

@@ -1,5 +1,7 @@
 // simulation { ... } and the methods of a Simulation userdata. Bindings only:
 // each method reads its arguments, calls SimulationBase, pushes results.
+#include "lua/lua_simulation.hpp"
+
 #include <fmt/format.h>
 
 #include <cmath>
@@ -15,24 +17,16 @@
 
 namespace granule::lua {
 
-namespace {
-const char* metatable_name = "granule.Simulation";
-
-struct LuaSim {
-  std::unique_ptr<SimulationBase> sim;
-  std::unique_ptr<io::RunOutput> output;
-  int self_ref = LUA_NOREF;
-  bool running = false;
-  bool header_printed = false;
-};
-
 LuaSim& self(lua_State* L) {
-  void* p = luaL_testudata(L, 1, metatable_name);
+  void* p = luaL_testudata(L, 1, simulation_metatable);
   if (!p) throw std::runtime_error("expected a simulation: call methods as sim:method(...)");
   auto* s = static_cast<LuaSim*>(p);
   if (!s->sim) throw std::runtime_error("this simulation has been closed");
   return *s;
 }
+
+namespace {
+const char* metatable_name = simulation_metatable;
 
 int dim(lua_State* L) {
   return self(L).sim->dimension();
@@ -777,6 +771,8 @@ int l_simulation(lua_State* L) {
     sim->set_steps_per_contact(t.number("steps_per_contact", 40));
     sim->set_skin(t.number("skin", 0));
     sim->set_record_contacts(t.boolean("record_contacts", false));
+    sim->set_threads(static_cast<int>(t.integer("threads", 0)));
+    if (context(L) && context(L)->threads > 0) sim->set_threads(context(L)->threads);
     if (t.push_table("periodic")) {
       TableReader p(L, -1, "simulation.periodic");
       std::string axis = p.string("axis", "z");
@@ -850,6 +846,7 @@ void open_simulation(lua_State* L) {
   luaL_newmetatable(L, metatable_name);
   lua_newtable(L);
   luaL_setfuncs(L, methods, 0);
+  luaL_setfuncs(L, diagnostic_methods, 0);
   // Unknown method names are errors with a suggestion, not silent nils.
   lua_newtable(L);
   lua_pushcfunction(L, [](lua_State* L) -> int {

@@ -1,0 +1,77 @@
+// What the contact stage tells observers about one step: one entry per
+// candidate contact slot (the engine's flat contact buffers), filled only on
+// steps where something asked for it, and contact events (begin, end with the
+// peak values reached) on every step while an observer tracks them.
+//
+// Slots are written by the force kernels in parallel, each its own entry, so
+// logging costs a few stores per contact and nothing when nobody asks.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/types.hpp"
+
+namespace granule {
+
+// A contact that began or ended this step.
+template <int D>
+struct ContactEvent {
+  std::int64_t id_a = -1;            // persistent ids; the lower id of a particle pair
+  std::int64_t id_b = -1;            // -1 for a wall contact
+  int wall = -1;                     // wall index for a wall contact
+  double begin_time = 0;             // s, first step in contact
+  double end_time = 0;               // s, first step out of contact (ended events only)
+  double impact_velocity = 0;        // m/s, normal approach speed at the first step in contact
+  double peak_normal_force = 0;      // N, largest normal force during the contact (ended only)
+  double peak_overlap = 0;           // m, largest overlap during the contact (ended only)
+  double effective_radius = 0;       // m, R* of the contact
+  Vec<D> position = Vec<D>::Zero();  // contact point at the first step in contact
+};
+
+// Per-slot tracking state, carried across neighbour-list rebuilds like a history.
+template <int D>
+struct ContactTrack {
+  double begin_time = -1;  // < 0: not in contact
+  double impact_velocity = 0;
+  double peak_normal_force = 0;
+  double peak_overlap = 0;
+  Vec<D> position = Vec<D>::Zero();
+};
+
+template <int D>
+struct ContactLog {
+  using V = Vec<D>;
+  // One entry per slot; `active` is 0 for candidate pairs not touching this step.
+  std::vector<std::uint8_t> active;
+  std::vector<std::int32_t> a;  // particle index (storage order of this step)
+  std::vector<std::int32_t> b;  // particle index, or -1 - wall for a wall contact
+  std::vector<double> overlap;  // m (negative for adhesive contacts in tension past zero overlap)
+  std::vector<double> normal_force;  // N, positive = repulsive
+  std::vector<double> overlap_rate;  // m/s, d(overlap)/dt (positive: approaching)
+  std::vector<V> normal;             // unit, from b (or the wall) to a
+  std::vector<V> tangential;         // N, tangential force on a
+  std::vector<V> point;              // contact point, m
+  bool filled = false;               // the arrays describe this step
+
+  // Events of this step (only while tracking).
+  std::vector<ContactEvent<D>> began, ended;
+
+  std::size_t size() const { return active.size(); }
+  static bool is_wall(std::int32_t b) { return b < 0; }
+  static int wall_of(std::int32_t b) { return -1 - b; }
+
+  void resize(std::size_t n) {
+    active.assign(n, 0);
+    a.resize(n);
+    b.resize(n);
+    overlap.resize(n);
+    normal_force.resize(n);
+    overlap_rate.resize(n);
+    normal.resize(n);
+    tangential.resize(n);
+    point.resize(n);
+  }
+};
+
+}  // namespace granule

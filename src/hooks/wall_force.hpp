@@ -1,0 +1,145 @@
+// Force on a wall (dissertation 4.4.1, the force on the inner piece): the sum
+// of the contact normal forces N and of the tangential forces along the
+// wall's direction of positive rotation (for a cylinder; the magnitude of the
+// summed tangential vector for a plane), their time series averaged over
+// windows, and long-time means since the diagnostic was attached.
+#pragma once
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <string>
+
+#include "core/errors.hpp"
+#include "hooks/diagnostic.hpp"
+
+namespace granule {
+
+template <int D>
+class WallForceDiagnostic final : public Diagnostic<D> {
+ public:
+  using V = Vec<D>;
+  static constexpr const char* name = "wall_force";
+  static constexpr const char* doc =
+      "normal and tangential contact force on a wall (4.4.1): window-averaged series and "
+      "long-time means; options wall (name), every (steps), window (s), label";
+
+  explicit WallForceDiagnostic(DiagnosticOptions& o) {
+    wall_name_ = o.string("wall", "");
+    if (wall_name_.empty()) throw InputError(fmt::format("{}: give wall = '<name>'", o.context()));
+    every_ = o.integer("every", 1, 1);
+    window_ = o.number_in("window", 1e-3, 0, 1e9, "s");
+    if (!(window_ > 0)) throw InputError(fmt::format("{}: window must be > 0 [s]", o.context()));
+    label_ = o.string("label", "wall_force_" + wall_name_);
+  }
+
+  typename Diagnostic<D>::Needs needs() const override { return {true, false}; }
+  std::int64_t every() const override { return every_; }
+
+  void attach_output(OutputSink* sink) override {
+    sink_ = sink;
+    if (!sink_) return;
+    group_ = "diagnostics/" + label_;
+    sink_->declare_series(group_, {"time", "normal_force", "tangential_force", "force_x", "force_y",
+                                   "force_z", "samples"});
+    sink_->write_attribute(group_, "wall", wall_name_);
+    sink_->write_attribute(group_, "window", window_);
+    sink_->write_attribute(group_, "every_steps", static_cast<double>(every_));
+    sink_->write_attribute(group_, "units", std::string("s, N, N, N, N, N, -"));
+  }
+
+  void observe(const StepView<D>& v) override {
+    if (wall_ < 0) wall_ = find_wall(v);
+    const Wall<D>& w = v.walls[wall_];
+    double normal = 0;
+    V tangential = V::Zero(), total = V::Zero();
+    double tangential_signed = 0;
+    const auto& log = v.contacts;
+    for (std::size_t s = 0; s < log.size(); ++s) {
+      if (!log.active[s] || log.b[s] != -1 - wall_) continue;
+      normal += log.normal_force[s];
+      const V t_on_wall = -log.tangential[s];
+      tangential += t_on_wall;
+      total -= log.normal_force[s] * log.normal[s] + log.tangential[s];
+      if (w.type == WallType::cylinder)
+        tangential_signed += t_on_wall.dot(rotation_sense(w, log, s));
+    }
+    const double tangential_value =
+        w.type == WallType::cylinder ? tangential_signed : tangential.norm();
+    if (window_start_ < 0) window_start_ = v.time;
+    last_time_ = v.time;
+    add(normal, tangential_value, total);
+    if (v.time + 0.5 * v.dt >= window_start_ + window_) emit(v.time);
+  }
+
+  void flush() override {
+    if (window_samples_ > 0) emit(last_time_);
+  }
+
+  std::map<std::string, double> results() const override {
+    const double n = total_samples_ > 0 ? total_samples_ : 1;
+    return {{"mean_normal_force", sum_normal_ / n},
+            {"mean_tangential_force", sum_tangential_ / n},
+            {"samples", static_cast<double>(total_samples_)}};
+  }
+
+  std::string describe() const override {
+    return fmt::format("force on wall '{}' every {} steps, {} s windows", wall_name_, every_,
+                       window_);
+  }
+
+ private:
+  int find_wall(const StepView<D>& v) const {
+    for (std::size_t w = 0; w < v.walls.size(); ++w)
+      if (v.walls[w].name == wall_name_) return static_cast<int>(w);
+    throw InputError(fmt::format("diagnostic 'wall_force': no wall named '{}'", wall_name_));
+  }
+  // Unit tangent of a cylinder's positive rotation at the contact point.
+  static V rotation_sense(const Wall<D>& w, const ContactLog<D>& log, std::size_t s) {
+    V d = w.radial(log.point[s]);
+    const double len = d.norm();
+    if (!(len > 0)) return V::Zero();
+    d /= len;
+    if constexpr (D == 2) {
+      return V(-d.y(), d.x());
+    } else {
+      return w.axis.cross(d);
+    }
+  }
+  void add(double normal, double tangential, const V& total) {
+    window_normal_ += normal;
+    window_tangential_ += tangential;
+    window_total_ += total;
+    ++window_samples_;
+    sum_normal_ += normal;
+    sum_tangential_ += tangential;
+    ++total_samples_;
+  }
+  void emit(double time) {
+    last_time_ = time;
+    if (sink_ && window_samples_ > 0) {
+      const double n = window_samples_;
+      const V mean = window_total_ / n;
+      sink_->append_series(group_, {time, window_normal_ / n, window_tangential_ / n, mean[0],
+                                    mean[1], D == 3 ? mean[D - 1] : 0.0, n});
+    }
+    window_start_ = time;
+    window_normal_ = window_tangential_ = 0;
+    window_total_.setZero();
+    window_samples_ = 0;
+  }
+
+  std::string wall_name_, label_, group_;
+  std::int64_t every_ = 1;
+  double window_ = 1e-3;
+  int wall_ = -1;
+  OutputSink* sink_ = nullptr;
+  double window_start_ = -1, last_time_ = 0;
+  double window_normal_ = 0, window_tangential_ = 0;
+  V window_total_ = V::Zero();
+  std::int64_t window_samples_ = 0;
+  double sum_normal_ = 0, sum_tangential_ = 0;
+  std::int64_t total_samples_ = 0;
+};
+
+}  // namespace granule
