@@ -23,9 +23,6 @@ using Clock = std::chrono::steady_clock;
 inline double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
-bool finite3(const Triple& t) {
-  return std::isfinite(t[0]) && std::isfinite(t[1]) && std::isfinite(t[2]);
-}
 }  // namespace
 
 // ----------------------------------------------------------------------------
