@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "contact/models.hpp"
+#include "lua/lua_simulation.hpp"
 #include "lua/scene.hpp"
 
 #ifdef GRANULE_HAVE_READLINE
@@ -20,11 +21,14 @@
 #endif
 #include <unistd.h>
 
+#include <csignal>
+
 namespace {
 
 const char* usage =
     "usage:\n"
     "  granule run SCENE.lua [-D name=value ...] [-o OUT.h5] [--quiet] [--threads N]\n"
+    "              [--restart CHECKPOINT.h5]\n"
     "  granule repl [SCENE.lua] [-D name=value ...]\n"
     "  granule models\n"
     "  granule --version\n";
@@ -39,7 +43,14 @@ int fail_usage(const std::string& message) {
   return 2;
 }
 
+// Ctrl-C during a run: the run loop writes a checkpoint at the next chunk
+// boundary and stops; a second Ctrl-C ends the program at once.
+extern "C" void on_interrupt(int) {
+  if (granule::lua::interrupt_requested.exchange(true)) std::_Exit(130);
+}
+
 int run_scene(Options& o) {
+  std::signal(SIGINT, on_interrupt);
   lua_State* L = granule::lua::new_state(&o.ctx);
   granule::lua::make_globals_strict(L);
   std::string err = granule::lua::run_file(L, o.scene);
@@ -48,7 +59,7 @@ int run_scene(Options& o) {
     std::cerr << "error: " << err << "\n";
     for (const auto& f : o.ctx.outputs_written)
       std::cerr << "partial results kept in " << f << "\n";
-    return 1;
+    return granule::lua::interrupt_requested.load() ? 130 : 1;
   }
   return 0;
 }
@@ -167,6 +178,9 @@ int main(int argc, char** argv) {
       o.ctx.overrides[v.substr(0, eq)] = v.substr(eq + 1);
     } else if (a == "--quiet" || a == "-q") {
       o.ctx.quiet = true;
+    } else if (a == "--restart") {
+      if (k + 1 >= args.size()) return fail_usage("--restart needs a checkpoint file");
+      o.ctx.restart_path = args[++k];
     } else if (a == "--threads") {
       if (k + 1 >= args.size()) return fail_usage("--threads needs a value");
       const std::string& v = args[++k];

@@ -447,62 +447,16 @@ void carry_history(const Bucket& old, Bucket& fresh, std::int64_t max_id, bool t
 }
 }  // namespace
 
+// The step's contact buffers and each particle's gather list, from the
+// buckets' sizes and offsets (after a rebuild, or a checkpoint is loaded).
 template <int D>
-void Simulation<D>::rebuild_lists() {
+void Simulation<D>::build_slots() {
   const std::size_t n = p_.size();
-  candidates_.clear();
-  grid_.build(p_, skin_, periodic_, candidates_);
-  const std::int64_t max_id = p_.next_id;
-
   std::size_t slots = 0;
-  // Pair slots first (all models), then wall slots.
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
-    using B = PairBucket<D, ContactModelAt<I>>;
-    B old = std::move(std::get<I>(pair_buckets_));
-    B& fresh = std::get<I>(pair_buckets_);
-    fresh = B{};
-    for (auto [a, b] : candidates_) {
-      if (p_.id[a] > p_.id[b]) std::swap(a, b);
-      const PairTable::Entry& e = pairs_.at(p_.material[a], p_.material[b]);
-      if (e.model != I) continue;
-      fresh.i.push_back(a);
-      fresh.j.push_back(b);
-      fresh.slot.push_back(static_cast<std::uint32_t>(e.slot));
-      fresh.id_i.push_back(p_.id[a]);
-      fresh.id_j.push_back(p_.id[b]);
-    }
-    carry_history(
-        old, fresh, max_id, tracking_, [](const B& x) -> const auto& { return x.id_i; },
-        [&](std::uint32_t o) { return old.id_j[o]; }, [&](std::size_t k) { return fresh.id_j[k]; });
-    fresh.offset = slots;
-    slots += fresh.size();
-  });
-  const std::size_t pair_slots = slots;
-  for_each_model([&](auto index) {
-    constexpr int I = decltype(index)::value;
-    using WB = WallBucket<D, ContactModelAt<I>>;
-    WB old = std::move(std::get<I>(wall_buckets_));
-    WB& fresh = std::get<I>(wall_buckets_);
-    fresh = WB{};
-    for (std::size_t w = 0; w < walls_.size(); ++w) {
-      for (std::size_t i = 0; i < n; ++i) {
-        if (p_.fixed[i]) continue;
-        const PairTable::Entry& e = pairs_.at(p_.material[i], walls_[w].material);
-        if (e.model != I) continue;
-        if (walls_[w].clearance(p_.position[i], p_.radius[i]) >= skin_) continue;
-        fresh.particle.push_back(static_cast<std::uint32_t>(i));
-        fresh.wall.push_back(static_cast<std::uint32_t>(w));
-        fresh.slot.push_back(static_cast<std::uint32_t>(e.slot));
-        fresh.id.push_back(p_.id[i]);
-      }
-    }
-    carry_history(
-        old, fresh, max_id, tracking_, [](const WB& x) -> const auto& { return x.id; },
-        [&](std::uint32_t o) { return static_cast<std::int64_t>(old.wall[o]); },
-        [&](std::size_t k) { return static_cast<std::int64_t>(fresh.wall[k]); });
-    fresh.offset = slots;
-    slots += fresh.size();
+    slots = std::max(slots, std::get<I>(pair_buckets_).offset + std::get<I>(pair_buckets_).size());
+    slots = std::max(slots, std::get<I>(wall_buckets_).offset + std::get<I>(wall_buckets_).size());
   });
   slot_count_ = slots;
   if (slots >= (std::size_t{1} << 31))
@@ -545,7 +499,65 @@ void Simulation<D>::rebuild_lists() {
     for (std::size_t k = 0; k < wb.size(); ++k)
       gather_entry_[cursor[wb.particle[k]]++] = static_cast<std::uint32_t>(wb.offset + k) << 1;
   });
-  (void)pair_slots;
+}
+
+template <int D>
+void Simulation<D>::rebuild_lists() {
+  const std::size_t n = p_.size();
+  candidates_.clear();
+  grid_.build(p_, skin_, periodic_, candidates_);
+  const std::int64_t max_id = p_.next_id;
+
+  std::size_t slots = 0;
+  // Pair slots first (all models), then wall slots.
+  for_each_model([&](auto index) {
+    constexpr int I = decltype(index)::value;
+    using B = PairBucket<D, ContactModelAt<I>>;
+    B old = std::move(std::get<I>(pair_buckets_));
+    B& fresh = std::get<I>(pair_buckets_);
+    fresh = B{};
+    for (auto [a, b] : candidates_) {
+      if (p_.id[a] > p_.id[b]) std::swap(a, b);
+      const PairTable::Entry& e = pairs_.at(p_.material[a], p_.material[b]);
+      if (e.model != I) continue;
+      fresh.i.push_back(a);
+      fresh.j.push_back(b);
+      fresh.slot.push_back(static_cast<std::uint32_t>(e.slot));
+      fresh.id_i.push_back(p_.id[a]);
+      fresh.id_j.push_back(p_.id[b]);
+    }
+    carry_history(
+        old, fresh, max_id, tracking_, [](const B& x) -> const auto& { return x.id_i; },
+        [&](std::uint32_t o) { return old.id_j[o]; }, [&](std::size_t k) { return fresh.id_j[k]; });
+    fresh.offset = slots;
+    slots += fresh.size();
+  });
+  for_each_model([&](auto index) {
+    constexpr int I = decltype(index)::value;
+    using WB = WallBucket<D, ContactModelAt<I>>;
+    WB old = std::move(std::get<I>(wall_buckets_));
+    WB& fresh = std::get<I>(wall_buckets_);
+    fresh = WB{};
+    for (std::size_t w = 0; w < walls_.size(); ++w) {
+      for (std::size_t i = 0; i < n; ++i) {
+        if (p_.fixed[i]) continue;
+        const PairTable::Entry& e = pairs_.at(p_.material[i], walls_[w].material);
+        if (e.model != I) continue;
+        if (walls_[w].clearance(p_.position[i], p_.radius[i]) >= skin_) continue;
+        fresh.particle.push_back(static_cast<std::uint32_t>(i));
+        fresh.wall.push_back(static_cast<std::uint32_t>(w));
+        fresh.slot.push_back(static_cast<std::uint32_t>(e.slot));
+        fresh.id.push_back(p_.id[i]);
+      }
+    }
+    carry_history(
+        old, fresh, max_id, tracking_, [](const WB& x) -> const auto& { return x.id; },
+        [&](std::uint32_t o) { return static_cast<std::int64_t>(old.wall[o]); },
+        [&](std::size_t k) { return static_cast<std::int64_t>(fresh.wall[k]); });
+    fresh.offset = slots;
+    slots += fresh.size();
+  });
+  build_slots();
 
   position_at_rebuild_ = p_.position;
   max_displacement_sq_ = 0;

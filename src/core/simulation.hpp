@@ -9,6 +9,7 @@
 #include "contact/models.hpp"
 #include "core/particles.hpp"
 #include "core/simulation_base.hpp"
+#include "core/state.hpp"
 #include "fields/body_forces.hpp"
 #include "geometry/walls.hpp"
 #include "hooks/contact_log.hpp"
@@ -112,6 +113,11 @@ class Simulation final : public SimulationBase {
   void set_output_sink(OutputSink* sink) override;
   void flush_diagnostics() override;
 
+  // The complete state, for checkpoints (simulation_state.cpp). load_state()
+  // needs the scene to have declared the same materials and walls.
+  StateBlob save_state() const override;
+  void load_state(const StateBlob& state) override;
+
   // One step of the pipeline.
   void step();
   // Re-sorts particle storage along cells (locality); histories follow by id.
@@ -136,6 +142,7 @@ class Simulation final : public SimulationBase {
   }
   void check_particle_input(const ParticleSpec& s, const std::string& context) const;
   void rebuild_lists();
+  void build_slots();
   bool lists_stale() const;
   template <typename M, bool Observed>
   void pair_forces(PairBucket<D, M>& bucket, const std::vector<typename M::Params>& params);

@@ -20,6 +20,7 @@
 namespace granule {
 
 class DiagnosticOptions;
+struct StateBlob;
 class OutputSink;
 
 using Triple = std::array<double, 3>;  // a vector in 2D or 3D; z is ignored in 2D
@@ -193,6 +194,10 @@ class SimulationBase {
   virtual std::vector<ContactRecord> contacts() const = 0;
   // Lines describing what this scene simulates (models in use, walls, fields, hooks).
   virtual std::vector<std::string> describe() const = 0;
+
+  // ---- checkpoints ----
+  virtual StateBlob save_state() const = 0;
+  virtual void load_state(const StateBlob& state) = 0;
 
   // ---- diagnostics (src/hooks): C++ observers attached by name ----
   virtual int attach_diagnostic(const std::string& name, DiagnosticOptions& options) = 0;

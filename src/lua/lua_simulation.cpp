@@ -429,6 +429,40 @@ int l_run(lua_State* L) {
     if (t.push_function("stop_when")) stop_ref = luaL_ref(L, LUA_REGISTRYINDEX);
     t.finish();
 
+    // A restarted scene: runs that had ended before the checkpoint return at once
+    // with their recorded results; the run that was going on loads the checkpoint.
+    const std::size_t run_index = s.completed_runs.size();
+    std::int64_t done = 0;
+    bool resuming = false;
+    if (s.restart && !s.restart->applied) {
+      Restart& r = *s.restart;
+      if (run_index < r.completed.size()) {
+        const RunRecord rec = r.completed[run_index];
+        s.completed_runs.push_back(rec);
+        if (stop_ref != LUA_NOREF) luaL_unref(L, LUA_REGISTRYINDEX, stop_ref);
+        lua_newtable(L);
+        lua_pushinteger(L, rec.steps);
+        lua_setfield(L, -2, "steps");
+        lua_pushboolean(L, rec.stopped);
+        lua_setfield(L, -2, "stopped");
+        lua_pushboolean(L, true);
+        lua_setfield(L, -2, "replayed");
+        return 1;
+      }
+      s.sim->load_state(*r.state);
+      r.applied = true;
+      r.state.reset();
+      if (r.in_run) {
+        resuming = true;
+        s.run_start_step = r.run_start_step;
+        s.run_total_steps = r.run_total_steps;
+        done = s.sim->step_count() - r.run_start_step;
+      }
+      if (!(context(L) && context(L)->quiet))
+        std::cerr << fmt::format("granule: continuing from {} at step {} (t = {:.6g} s)\n", r.path,
+                                 s.sim->step_count(), s.sim->time());
+    }
+
     const bool first_run = s.sim->step_count() == 0 && !s.header_printed;
     s.sim->ensure_prepared();
     // The run's header: what this scene simulates (and so what it pays for).
@@ -436,18 +470,30 @@ int l_run(lua_State* L) {
       for (const auto& line : s.sim->describe()) std::cerr << "granule: " << line << "\n";
       s.header_printed = true;
     }
-    if (has_duration)
-      steps = static_cast<std::int64_t>(std::ceil(duration / s.sim->time_step() - 1e-9));
-    std::int64_t done = 0;
+    if (resuming) {
+      steps = s.run_total_steps;
+    } else {
+      if (has_duration)
+        steps = static_cast<std::int64_t>(std::ceil(duration / s.sim->time_step() - 1e-9));
+      s.run_start_step = s.sim->step_count();
+      s.run_total_steps = steps;
+    }
     bool stopped = false;
     s.running = true;
+    CheckpointPlan& plan = s.checkpoint;
     try {
       while (done < steps) {
-        std::int64_t chunk =
-            std::min<std::int64_t>(stop_ref != LUA_NOREF ? check_every : 1000, steps - done);
+        // Chunks end at stop_when checks (every check_every steps from the run's start,
+        // whether or not the run was interrupted), at checkpoint steps, and every 1000
+        // steps so Ctrl-C and wall-clock checkpoints are noticed.
+        std::int64_t chunk = std::min<std::int64_t>(1000 - done % 1000, steps - done);
+        if (stop_ref != LUA_NOREF) chunk = std::min(chunk, check_every - done % check_every);
+        if (plan.every_steps > 0)
+          chunk = std::min(chunk, plan.every_steps - s.sim->step_count() % plan.every_steps);
         s.sim->advance(chunk);
         done += chunk;
-        if (stop_ref != LUA_NOREF) {
+        const bool at_check = done % check_every == 0 || done == steps;
+        if (stop_ref != LUA_NOREF && at_check) {
           call_lua(L, stop_ref, s.self_ref, 1, "stop_when");
           bool stop = lua_toboolean(L, -1);
           lua_pop(L, 1);
@@ -456,6 +502,29 @@ int l_run(lua_State* L) {
             break;
           }
         }
+        if (!plan.path.empty() && done < steps) {
+          const bool by_steps = plan.every_steps > 0 && s.sim->step_count() % plan.every_steps == 0;
+          const bool by_time =
+              plan.every_seconds > 0 &&
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - plan.last_wall)
+                      .count() >= plan.every_seconds;
+          if (by_steps || by_time) write_checkpoint_now(s, plan.path, true);
+        }
+        if (interrupt_requested.load()) {
+          std::string path = plan.path;
+          if (path.empty()) {
+            std::string stem = context(L) && !context(L)->scene_path.empty()
+                                   ? std::filesystem::path(context(L)->scene_path).stem().string()
+                                   : std::string("granule");
+            path = stem + ".checkpoint.h5";
+          }
+          write_checkpoint_now(s, path, true);
+          throw std::runtime_error(fmt::format(
+              "interrupted at step {} (t = {:.6g} s); checkpoint written to {}; continue with: "
+              "granule run {} --restart {}",
+              s.sim->step_count(), s.sim->time(), path,
+              context(L) ? context(L)->scene_path : std::string("SCENE.lua"), path));
+        }
       }
     } catch (...) {
       s.running = false;
@@ -463,6 +532,7 @@ int l_run(lua_State* L) {
       throw;
     }
     s.running = false;
+    s.completed_runs.push_back({done, stopped});
     if (stop_ref != LUA_NOREF) luaL_unref(L, LUA_REGISTRYINDEX, stop_ref);
     lua_newtable(L);
     lua_pushinteger(L, done);
@@ -526,6 +596,12 @@ int l_output(lua_State* L) {
                      : std::filesystem::path(ctx->scene_path).stem().string() + ".h5";
     // -o on the command line wins over the scene's own choice.
     o.path = ctx->output_path.empty() ? t.string("file", fallback) : ctx->output_path;
+    // A restarted run writes beside the original's output, never over it (unless -o says so).
+    if (!ctx->restart_path.empty() && ctx->output_path.empty()) {
+      std::filesystem::path p(o.path);
+      o.path =
+          (p.parent_path() / (p.stem().string() + "_restarted" + p.extension().string())).string();
+    }
     if (!ctx->output_path.empty()) t.mark("file");
     o.snapshot_every = t.number("snapshot_every", 0);
     o.series_every = t.number("series_every", 0);
@@ -549,7 +625,11 @@ io::RunOutput& output_of(LuaSim& s) {
 
 int l_snapshot(lua_State* L) {
   return protect(L, [](lua_State* L) {
-    output_of(self(L)).write_snapshot();
+    LuaSim& s = self(L);
+    // Before a restart has loaded its checkpoint the state is only the script's
+    // fresh set-up, not the run's: nothing worth a snapshot.
+    if (s.restart && !s.restart->applied) return 0;
+    output_of(s).write_snapshot();
     return 0;
   });
 }
@@ -788,9 +868,15 @@ int l_simulation(lua_State* L) {
     sim->set_warning_handler([quiet](const std::string& m) {
       if (!quiet) std::cerr << "warning: " << m << "\n";
     });
+    std::unique_ptr<Restart> restart;
+    if (SceneContext* ctx = context(L); ctx && !ctx->restart_path.empty() && !ctx->restart_taken) {
+      restart = read_restart(ctx->restart_path);  // the scene's first simulation continues it
+      ctx->restart_taken = true;
+    }
     void* mem = lua_newuserdatauv(L, sizeof(LuaSim), 0);
     auto* s = new (mem) LuaSim();
     s->sim = std::move(sim);
+    s->restart = std::move(restart);
     luaL_setmetatable(L, metatable_name);
     lua_pushvalue(L, -1);
     s->self_ref = luaL_ref(L, LUA_REGISTRYINDEX);
@@ -847,6 +933,7 @@ void open_simulation(lua_State* L) {
   lua_newtable(L);
   luaL_setfuncs(L, methods, 0);
   luaL_setfuncs(L, diagnostic_methods, 0);
+  luaL_setfuncs(L, checkpoint_methods, 0);
   // Unknown method names are errors with a suggestion, not silent nils.
   lua_newtable(L);
   lua_pushcfunction(L, [](lua_State* L) -> int {

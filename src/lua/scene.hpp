@@ -23,7 +23,9 @@ struct SceneContext {
   std::vector<std::pair<std::string, std::string>> parameter_values;  // for provenance
   std::map<std::string, double> numeric_parameters;
   bool quiet = false;
-  int threads = 0;  // --threads N: overrides every simulation's own setting when > 0
+  int threads = 0;
+  std::string restart_path;    // --restart FILE: the first simulation continues this checkpoint
+  bool restart_taken = false;  // --threads N: overrides every simulation's own setting when > 0
   std::vector<std::string> outputs_written;
 };
 

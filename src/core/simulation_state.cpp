@@ -1,0 +1,378 @@
+// Simulation<D>::save_state / load_state: the complete state as plain arrays
+// (core/state.hpp), so that a checkpointed run continues bit-identically.
+// Everything the next step reads is saved, including the neighbour lists in
+// their order (the order fixes the force sums) and the contact histories as
+// raw bytes; derived buffers (slots, gather lists) are rebuilt from them.
+#include <fmt/format.h>
+
+#include <cstring>
+#include <sstream>
+#include <type_traits>
+
+#include "core/errors.hpp"
+#include "core/simulation.hpp"
+
+namespace granule {
+
+namespace {
+constexpr std::int64_t state_version = 1;
+
+template <typename T>
+std::vector<std::uint8_t> raw_bytes(const std::vector<T>& v) {
+  // Histories are structs of doubles, ints and fixed-size Eigen vectors: plain
+  // memory, copied exactly. The element size is saved beside them and checked.
+  std::vector<std::uint8_t> out(v.size() * sizeof(T));
+  if (!v.empty()) std::memcpy(out.data(), v.data(), out.size());
+  return out;
+}
+template <typename T>
+void from_raw_bytes(const std::vector<std::uint8_t>& in, std::vector<T>& v,
+                    const std::string& what) {
+  if (in.size() % sizeof(T) != 0)
+    throw InputError(
+        fmt::format("checkpoint: '{}' has {} bytes, not a whole number of {}-byte "
+                    "records (written by another build?)",
+                    what, in.size(), sizeof(T)));
+  v.resize(in.size() / sizeof(T));
+  if (!v.empty()) std::memcpy(static_cast<void*>(v.data()), in.data(), in.size());
+}
+template <typename T>
+std::vector<std::int64_t> to_i64(const std::vector<T>& v) {
+  return std::vector<std::int64_t>(v.begin(), v.end());
+}
+template <typename T>
+std::vector<T> from_i64(const std::vector<std::int64_t>& v) {
+  std::vector<T> out(v.size());
+  for (std::size_t k = 0; k < v.size(); ++k) out[k] = static_cast<T>(v[k]);
+  return out;
+}
+template <typename V>
+std::vector<double> flatten(const std::vector<V>& v) {
+  constexpr int width = sizeof(V) / sizeof(double);
+  std::vector<double> out(v.size() * width);
+  if (!v.empty()) std::memcpy(out.data(), v.data(), out.size() * sizeof(double));
+  return out;
+}
+template <typename V>
+void unflatten(const std::vector<double>& in, std::vector<V>& v, std::size_t count,
+               const std::string& what) {
+  constexpr std::size_t width = sizeof(V) / sizeof(double);
+  if (in.size() != count * width)
+    throw InputError(
+        fmt::format("checkpoint: '{}' has {} values, expected {}", what, in.size(), count * width));
+  v.resize(count);
+  if (count) std::memcpy(static_cast<void*>(v.data()), in.data(), in.size() * sizeof(double));
+}
+std::vector<std::string> split_lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) out.push_back(line);
+  return out;
+}
+}  // namespace
+
+const std::vector<double>& StateBlob::d(const std::string& key) const {
+  auto it = doubles.find(key);
+  if (it == doubles.end()) throw InputError(fmt::format("checkpoint lacks '{}'", key));
+  return it->second;
+}
+const std::vector<std::int64_t>& StateBlob::i(const std::string& key) const {
+  auto it = integers.find(key);
+  if (it == integers.end()) throw InputError(fmt::format("checkpoint lacks '{}'", key));
+  return it->second;
+}
+const std::vector<std::uint8_t>& StateBlob::b(const std::string& key) const {
+  auto it = bytes.find(key);
+  if (it == bytes.end()) throw InputError(fmt::format("checkpoint lacks '{}'", key));
+  return it->second;
+}
+const std::string& StateBlob::t(const std::string& key) const {
+  auto it = texts.find(key);
+  if (it == texts.end()) throw InputError(fmt::format("checkpoint lacks '{}'", key));
+  return it->second;
+}
+
+template <int D>
+StateBlob Simulation<D>::save_state() const {
+  StateBlob s;
+  s.integers["meta"] = {
+      state_version,       D, step_, p_.next_id, static_cast<std::int64_t>(rebuilds_),
+      lists_valid_ ? 1 : 0};
+  s.doubles["meta"] = {time_,
+                       dt_,
+                       dt_fixed_,
+                       steps_per_contact_,
+                       skin_,
+                       skin_set_,
+                       max_displacement_sq_,
+                       static_cast<double>(periodic_.axis),
+                       periodic_.origin,
+                       periodic_.length,
+                       contact_reach_};
+  // Materials and contact laws (their values printed exactly, %.17g).
+  std::string names;
+  std::vector<double> props;
+  for (const auto& m : materials_) {
+    names += m.name + "\n";
+    props.insert(props.end(), {m.density, m.young, m.poisson, m.surface_energy});
+  }
+  s.texts["materials"] = names;
+  s.doubles["materials"] = props;
+  auto catalogue = contact_model_catalogue();
+  std::string laws;
+  for (int a = 0; a < pairs_.material_count(); ++a)
+    for (int b = a; b < pairs_.material_count(); ++b) {
+      const auto& e = pairs_.at(a, b);
+      if (e.model < 0) continue;
+      laws += fmt::format("{}\t{}\t{}", materials_[a].name, materials_[b].name,
+                          catalogue[e.model].name);
+      for (const auto& [k, v] : pairs_.values(a, b)) laws += fmt::format("\t{}={:.17g}", k, v);
+      laws += "\n";
+    }
+  s.texts["contacts"] = laws;
+  // Walls: their moving parts.
+  std::string wall_names;
+  std::vector<double> walls;
+  for (const auto& w : walls_) {
+    wall_names += w.name + "\n";
+    Triple pt = to_triple(w.point), vel = to_triple(w.velocity),
+           moved = to_triple(w.moved_since_rebuild);
+    walls.insert(walls.end(), {pt[0], pt[1], pt[2], vel[0], vel[1], vel[2], w.angular_velocity,
+                               moved[0], moved[1], moved[2]});
+  }
+  s.texts["walls"] = wall_names;
+  s.doubles["walls"] = walls;
+  // Body forces.
+  {
+    Triple g = to_triple(body_.gravity), c = to_triple(body_.central_point);
+    s.doubles["body"] = {body_.gravity_on ? 1.0 : 0.0, g[0], g[1], g[2],
+                         body_.central_on ? 1.0 : 0.0, c[0], c[1], c[2],
+                         body_.central_strength};
+  }
+  // Particles, in storage order.
+  s.doubles["particles.position"] = flatten(p_.position);
+  s.doubles["particles.velocity"] = flatten(p_.velocity);
+  s.doubles["particles.spin"] = flatten(p_.spin);
+  s.doubles["particles.force"] = flatten(p_.force);
+  s.doubles["particles.torque"] = flatten(p_.torque);
+  s.doubles["particles.radius"] = p_.radius;
+  s.doubles["particles.mass"] = p_.mass;
+  s.doubles["particles.inv_mass"] = p_.inv_mass;
+  s.doubles["particles.inv_inertia"] = p_.inv_inertia;
+  s.doubles["particles.position_at_rebuild"] = flatten(position_at_rebuild_);
+  s.integers["particles.id"] = p_.id;
+  s.integers["particles.material"] = to_i64(p_.material);
+  s.integers["particles.fixed"] = to_i64(p_.fixed);
+  s.integers["particles.index_of_id"] = to_i64(p_.index_of_id);
+  // Neighbour lists with their histories, per model.
+  for_each_model([&](auto index) {
+    constexpr int I = decltype(index)::value;
+    using M = ContactModelAt<I>;
+    const std::string pk = fmt::format("pairs.{}.", M::name),
+                      wk = fmt::format("walls.{}.", M::name);
+    const auto& pb = std::get<I>(pair_buckets_);
+    s.integers[pk + "i"] = to_i64(pb.i);
+    s.integers[pk + "j"] = to_i64(pb.j);
+    s.integers[pk + "slot"] = to_i64(pb.slot);
+    s.integers[pk + "id_i"] = pb.id_i;
+    s.integers[pk + "id_j"] = pb.id_j;
+    s.integers[pk + "layout"] = {
+        static_cast<std::int64_t>(pb.offset),
+        static_cast<std::int64_t>(sizeof(typename M::template History<D>))};
+    s.bytes[pk + "history"] = raw_bytes(pb.history);
+    s.bytes[pk + "track"] = raw_bytes(pb.track);
+    const auto& wb = std::get<I>(wall_buckets_);
+    s.integers[wk + "particle"] = to_i64(wb.particle);
+    s.integers[wk + "wall"] = to_i64(wb.wall);
+    s.integers[wk + "slot"] = to_i64(wb.slot);
+    s.integers[wk + "id"] = wb.id;
+    s.integers[wk + "layout"] = {
+        static_cast<std::int64_t>(wb.offset),
+        static_cast<std::int64_t>(sizeof(typename M::template History<D>))};
+    s.bytes[wk + "history"] = raw_bytes(wb.history);
+    s.bytes[wk + "track"] = raw_bytes(wb.track);
+  });
+  // Hooks: when each fires next (matched by name and order on load).
+  std::string hook_names;
+  std::vector<double> next;
+  for (const auto& h : hooks_) {
+    hook_names += h.name + "\n";
+    next.push_back(h.next_time);
+  }
+  s.texts["hooks"] = hook_names;
+  s.doubles["hooks.next_time"] = next;
+  return s;
+}
+
+template <int D>
+void Simulation<D>::load_state(const StateBlob& s) {
+  const auto& meta = s.i("meta");
+  if (meta.size() < 6 || meta[0] != state_version)
+    throw InputError(fmt::format("checkpoint: unsupported state version {} (this build reads {})",
+                                 meta.empty() ? -1 : meta[0], state_version));
+  if (meta[1] != D)
+    throw InputError(
+        fmt::format("checkpoint holds a {}D simulation, this scene is {}D", meta[1], D));
+  // The scene must have declared the same materials and walls, in the same order.
+  const auto names = split_lines(s.t("materials"));
+  if (names.size() != materials_.size())
+    throw InputError(fmt::format("checkpoint has {} materials, the scene declares {}", names.size(),
+                                 materials_.size()));
+  for (std::size_t m = 0; m < names.size(); ++m)
+    if (names[m] != materials_[m].name)
+      throw InputError(fmt::format("checkpoint material {} is '{}', the scene's is '{}'", m,
+                                   names[m], materials_[m].name));
+  const auto wall_names = split_lines(s.t("walls"));
+  if (wall_names.size() != walls_.size())
+    throw InputError(fmt::format("checkpoint has {} walls, the scene declares {}",
+                                 wall_names.size(), walls_.size()));
+  for (std::size_t w = 0; w < wall_names.size(); ++w)
+    if (wall_names[w] != walls_[w].name)
+      throw InputError(fmt::format("checkpoint wall {} is '{}', the scene's is '{}'", w,
+                                   wall_names[w], walls_[w].name));
+
+  const auto& md = s.d("meta");
+  if (md.size() < 11) throw InputError("checkpoint: 'meta' is too short");
+  time_ = md[0], dt_ = md[1], dt_fixed_ = md[2], steps_per_contact_ = md[3];
+  skin_ = md[4], skin_set_ = md[5], max_displacement_sq_ = md[6];
+  periodic_ = {static_cast<int>(md[7]), md[8], md[9]};
+  contact_reach_ = md[10];
+  step_ = meta[2];
+  rebuilds_ = static_cast<std::size_t>(meta[4]);
+
+  const auto& props = s.d("materials");
+  if (props.size() != 4 * materials_.size()) throw InputError("checkpoint: material properties");
+  for (std::size_t m = 0; m < materials_.size(); ++m) {
+    materials_[m].density = props[4 * m];
+    materials_[m].young = props[4 * m + 1];
+    materials_[m].poisson = props[4 * m + 2];
+    materials_[m].surface_energy = props[4 * m + 3];
+  }
+  for (const auto& line : split_lines(s.t("contacts"))) {
+    std::vector<std::string> f;
+    std::istringstream in(line);
+    for (std::string x; std::getline(in, x, '\t');) f.push_back(x);
+    if (f.size() < 3) throw InputError(fmt::format("checkpoint: bad contact line '{}'", line));
+    ParamValues values;
+    for (std::size_t k = 3; k < f.size(); ++k) {
+      auto eq = f[k].find('=');
+      if (eq == std::string::npos)
+        throw InputError(fmt::format("checkpoint: bad value '{}'", f[k]));
+      values[f[k].substr(0, eq)] = std::stod(f[k].substr(eq + 1));
+    }
+    set_contact(f[0], f[1], f[2], values);
+  }
+  const auto& walls = s.d("walls");
+  if (walls.size() != 10 * walls_.size()) throw InputError("checkpoint: wall state");
+  for (std::size_t w = 0; w < walls_.size(); ++w) {
+    const double* x = &walls[10 * w];
+    walls_[w].point = to_vec({x[0], x[1], x[2]});
+    walls_[w].velocity = to_vec({x[3], x[4], x[5]});
+    walls_[w].angular_velocity = x[6];
+    walls_[w].moved_since_rebuild = to_vec({x[7], x[8], x[9]});
+  }
+  const auto& body = s.d("body");
+  if (body.size() != 9) throw InputError("checkpoint: body forces");
+  body_.gravity_on = body[0] != 0;
+  body_.gravity = to_vec({body[1], body[2], body[3]});
+  body_.central_on = body[4] != 0;
+  body_.central_point = to_vec({body[5], body[6], body[7]});
+  body_.central_strength = body[8];
+
+  const std::size_t n = s.i("particles.id").size();
+  p_.id = s.i("particles.id");
+  p_.material = from_i64<std::int32_t>(s.i("particles.material"));
+  p_.fixed = from_i64<std::uint8_t>(s.i("particles.fixed"));
+  p_.index_of_id = from_i64<std::int32_t>(s.i("particles.index_of_id"));
+  p_.next_id = meta[3];
+  unflatten(s.d("particles.position"), p_.position, n, "particles.position");
+  unflatten(s.d("particles.velocity"), p_.velocity, n, "particles.velocity");
+  unflatten(s.d("particles.spin"), p_.spin, n, "particles.spin");
+  unflatten(s.d("particles.force"), p_.force, n, "particles.force");
+  unflatten(s.d("particles.torque"), p_.torque, n, "particles.torque");
+  unflatten(s.d("particles.position_at_rebuild"), position_at_rebuild_, n,
+            "particles.position_at_rebuild");
+  p_.radius = s.d("particles.radius");
+  p_.mass = s.d("particles.mass");
+  p_.inv_mass = s.d("particles.inv_mass");
+  p_.inv_inertia = s.d("particles.inv_inertia");
+  for (const auto* v : {&p_.radius, &p_.mass, &p_.inv_mass, &p_.inv_inertia})
+    if (v->size() != n) throw InputError("checkpoint: particle arrays differ in length");
+  if (p_.material.size() != n || p_.fixed.size() != n ||
+      p_.index_of_id.size() != static_cast<std::size_t>(p_.next_id))
+    throw InputError("checkpoint: particle arrays differ in length");
+  for (auto m : p_.material)
+    if (m < 0 || m >= static_cast<int>(materials_.size()))
+      throw InputError("checkpoint: a particle has an unknown material");
+
+  for_each_model([&](auto index) {
+    constexpr int I = decltype(index)::value;
+    using M = ContactModelAt<I>;
+    using H = typename M::template History<D>;
+    const std::string pk = fmt::format("pairs.{}.", M::name),
+                      wk = fmt::format("walls.{}.", M::name);
+    auto& pb = std::get<I>(pair_buckets_);
+    const auto& pl = s.i(pk + "layout");
+    if (pl.size() != 2 || pl[1] != static_cast<std::int64_t>(sizeof(H)))
+      throw InputError(
+          fmt::format("checkpoint: {} histories have another layout (another build?)", M::name));
+    pb.i = from_i64<std::uint32_t>(s.i(pk + "i"));
+    pb.j = from_i64<std::uint32_t>(s.i(pk + "j"));
+    pb.slot = from_i64<std::uint32_t>(s.i(pk + "slot"));
+    pb.id_i = s.i(pk + "id_i");
+    pb.id_j = s.i(pk + "id_j");
+    pb.offset = static_cast<std::size_t>(pl[0]);
+    from_raw_bytes(s.b(pk + "history"), pb.history, pk + "history");
+    from_raw_bytes(s.b(pk + "track"), pb.track, pk + "track");
+    auto& wb = std::get<I>(wall_buckets_);
+    const auto& wl = s.i(wk + "layout");
+    if (wl.size() != 2 || wl[1] != static_cast<std::int64_t>(sizeof(H)))
+      throw InputError(fmt::format("checkpoint: {} histories have another layout", M::name));
+    wb.particle = from_i64<std::uint32_t>(s.i(wk + "particle"));
+    wb.wall = from_i64<std::uint32_t>(s.i(wk + "wall"));
+    wb.slot = from_i64<std::uint32_t>(s.i(wk + "slot"));
+    wb.id = s.i(wk + "id");
+    wb.offset = static_cast<std::size_t>(wl[0]);
+    from_raw_bytes(s.b(wk + "history"), wb.history, wk + "history");
+    from_raw_bytes(s.b(wk + "track"), wb.track, wk + "track");
+    const std::size_t np = pb.i.size(), nw = wb.particle.size();
+    if (pb.j.size() != np || pb.slot.size() != np || pb.id_i.size() != np || pb.id_j.size() != np ||
+        pb.history.size() != np || wb.wall.size() != nw || wb.slot.size() != nw ||
+        wb.id.size() != nw || wb.history.size() != nw)
+      throw InputError(fmt::format("checkpoint: {} contact lists differ in length", M::name));
+    // Parameter slots come from this scene's pair table (the laws were just restored),
+    // and every listed contact must still be governed by this model.
+    for (std::size_t k = 0; k < np; ++k) {
+      if (pb.i[k] >= n || pb.j[k] >= n)
+        throw InputError("checkpoint: a contact names a particle that does not exist");
+      const auto& e = pairs_.at(p_.material[pb.i[k]], p_.material[pb.j[k]]);
+      if (e.model != I) throw InputError("checkpoint: contact laws differ from the scene's");
+      pb.slot[k] = static_cast<std::uint32_t>(e.slot);
+    }
+    for (std::size_t k = 0; k < nw; ++k) {
+      if (wb.particle[k] >= n || wb.wall[k] >= walls_.size())
+        throw InputError("checkpoint: a wall contact names a particle or wall that does not exist");
+      const auto& e = pairs_.at(p_.material[wb.particle[k]], walls_[wb.wall[k]].material);
+      if (e.model != I) throw InputError("checkpoint: contact laws differ from the scene's");
+      wb.slot[k] = static_cast<std::uint32_t>(e.slot);
+    }
+    // Tracking state only if this scene tracks events now.
+    if (!tracking_) pb.track.clear(), wb.track.clear();
+    if (tracking_ && pb.track.size() != np) pb.track.assign(np, {});
+    if (tracking_ && wb.track.size() != nw) wb.track.assign(nw, {});
+  });
+  build_slots();
+
+  const auto hook_names = split_lines(s.t("hooks"));
+  const auto& next = s.d("hooks.next_time");
+  for (std::size_t h = 0; h < hooks_.size() && h < hook_names.size() && h < next.size(); ++h)
+    if (hooks_[h].name == hook_names[h]) hooks_[h].next_time = next[h];
+
+  lists_valid_ = meta[5] != 0;
+  prepared_ = true;
+}
+
+template class Simulation<2>;
+template class Simulation<3>;
+
+}  // namespace granule

@@ -1,0 +1,218 @@
+#include "io/checkpoint.hpp"
+
+#include <fmt/format.h>
+#include <hdf5.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+namespace granule::io {
+
+namespace {
+
+constexpr const char* format_name = "granule-checkpoint-1";
+
+// One hid_t, closed by its matching H5*close when it goes out of scope.
+struct Id {
+  hid_t id = H5I_INVALID_HID;
+  herr_t (*close)(hid_t) = nullptr;
+  Id(hid_t i, herr_t (*c)(hid_t)) : id(i), close(c) {}
+  Id(const Id&) = delete;
+  Id& operator=(const Id&) = delete;
+  ~Id() {
+    if (id >= 0 && close) close(id);
+  }
+};
+
+[[noreturn]] void fail(const std::string& path, const std::string& what) {
+  throw std::runtime_error(fmt::format("checkpoint {}: {}", path, what));
+}
+
+hid_t check(hid_t id, const std::string& path, const std::string& what) {
+  if (id < 0) fail(path, "cannot " + what);
+  return id;
+}
+
+template <typename T>
+void write_array(hid_t group, const std::string& name, hid_t file_type, hid_t mem_type,
+                 const std::vector<T>& v, const std::string& path) {
+  hsize_t n = v.size();
+  Id space(check(H5Screate_simple(1, &n, nullptr), path, "create a dataspace"), H5Sclose);
+  Id d(check(H5Dcreate2(group, name.c_str(), file_type, space.id, H5P_DEFAULT, H5P_DEFAULT,
+                        H5P_DEFAULT),
+             path, "create " + name),
+       H5Dclose);
+  if (n > 0 && H5Dwrite(d.id, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) < 0)
+    fail(path, "cannot write " + name);
+}
+
+void write_string(hid_t loc, const std::string& name, const std::string& value, bool attribute,
+                  const std::string& path) {
+  Id type(check(H5Tcopy(H5T_C_S1), path, "make a string type"), H5Tclose);
+  H5Tset_size(type.id, H5T_VARIABLE);
+  H5Tset_cset(type.id, H5T_CSET_UTF8);
+  Id space(check(H5Screate(H5S_SCALAR), path, "create a dataspace"), H5Sclose);
+  const char* p = value.c_str();
+  if (attribute) {
+    Id a(check(H5Acreate2(loc, name.c_str(), type.id, space.id, H5P_DEFAULT, H5P_DEFAULT), path,
+               "create attribute " + name),
+         H5Aclose);
+    if (H5Awrite(a.id, type.id, &p) < 0) fail(path, "cannot write attribute " + name);
+  } else {
+    Id d(check(H5Dcreate2(loc, name.c_str(), type.id, space.id, H5P_DEFAULT, H5P_DEFAULT,
+                          H5P_DEFAULT),
+               path, "create " + name),
+         H5Dclose);
+    if (H5Dwrite(d.id, type.id, H5S_ALL, H5S_ALL, H5P_DEFAULT, &p) < 0)
+      fail(path, "cannot write " + name);
+  }
+}
+
+std::string read_string(hid_t loc, const std::string& name, bool attribute,
+                        const std::string& path) {
+  Id type(check(H5Tcopy(H5T_C_S1), path, "make a string type"), H5Tclose);
+  H5Tset_size(type.id, H5T_VARIABLE);
+  H5Tset_cset(type.id, H5T_CSET_UTF8);
+  char* p = nullptr;
+  if (attribute) {
+    Id a(check(H5Aopen(loc, name.c_str(), H5P_DEFAULT), path, "open attribute " + name), H5Aclose);
+    if (H5Aread(a.id, type.id, &p) < 0) fail(path, "cannot read attribute " + name);
+  } else {
+    Id d(check(H5Dopen2(loc, name.c_str(), H5P_DEFAULT), path, "open " + name), H5Dclose);
+    if (H5Dread(d.id, type.id, H5S_ALL, H5S_ALL, H5P_DEFAULT, &p) < 0)
+      fail(path, "cannot read " + name);
+  }
+  std::string out = p ? p : "";
+  H5free_memory(p);
+  return out;
+}
+
+template <typename T>
+std::vector<T> read_array(hid_t group, const std::string& name, hid_t mem_type,
+                          const std::string& path) {
+  Id d(check(H5Dopen2(group, name.c_str(), H5P_DEFAULT), path, "open " + name), H5Dclose);
+  Id space(check(H5Dget_space(d.id), path, "read " + name), H5Sclose);
+  if (H5Sget_simple_extent_ndims(space.id) != 1) fail(path, name + " is not a 1-D array");
+  hsize_t n = 0;
+  H5Sget_simple_extent_dims(space.id, &n, nullptr);
+  std::vector<T> out(n);
+  if (n > 0 && H5Dread(d.id, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
+    fail(path, "cannot read " + name);
+  return out;
+}
+
+std::vector<std::string> member_names(hid_t group, const std::string& path) {
+  H5G_info_t info;
+  if (H5Gget_info(group, &info) < 0) fail(path, "cannot list a group");
+  std::vector<std::string> names;
+  for (hsize_t k = 0; k < info.nlinks; ++k) {
+    ssize_t len =
+        H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, k, nullptr, 0, H5P_DEFAULT);
+    if (len < 0) fail(path, "cannot list a group");
+    std::string name(static_cast<std::size_t>(len), '\0');
+    H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, k, name.data(), name.size() + 1,
+                       H5P_DEFAULT);
+    names.push_back(name);
+  }
+  return names;
+}
+
+}  // namespace
+
+void write_checkpoint(const std::string& path, const StateBlob& s,
+                      const std::map<std::string, std::string>& attributes) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  const std::string tmp = path + ".tmp";
+  {
+    Id file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+    if (file.id < 0) fail(path, fmt::format("cannot create {} (is the folder writable?)", tmp));
+    Id root(check(H5Gcreate2(file.id, "/checkpoint", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), path,
+                  "create /checkpoint"),
+            H5Gclose);
+    write_string(root.id, "format", format_name, true, path);
+    for (const auto& [k, v] : attributes) write_string(root.id, k, v, true, path);
+    auto group = [&](const char* name) {
+      return Id(check(H5Gcreate2(root.id, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), path,
+                      std::string("create ") + name),
+                H5Gclose);
+    };
+    {
+      Id g = group("doubles");
+      for (const auto& [k, v] : s.doubles)
+        write_array(g.id, k, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, v, path);
+    }
+    {
+      Id g = group("integers");
+      for (const auto& [k, v] : s.integers)
+        write_array(g.id, k, H5T_STD_I64LE, H5T_NATIVE_INT64, v, path);
+    }
+    {
+      Id g = group("bytes");
+      for (const auto& [k, v] : s.bytes)
+        write_array(g.id, k, H5T_STD_U8LE, H5T_NATIVE_UINT8, v, path);
+    }
+    {
+      Id g = group("texts");
+      for (const auto& [k, v] : s.texts) write_string(g.id, k, v, false, path);
+    }
+    if (H5Fflush(file.id, H5F_SCOPE_GLOBAL) < 0) fail(path, "cannot flush " + tmp);
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) fail(path, fmt::format("cannot rename {} into place: {}", tmp, ec.message()));
+}
+
+StateBlob read_checkpoint(const std::string& path, std::map<std::string, std::string>* attributes) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) fail(path, "no such file");
+  Id file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  if (file.id < 0) fail(path, "not an HDF5 file");
+  if (H5Lexists(file.id, "/checkpoint", H5P_DEFAULT) <= 0)
+    fail(path, "not a Granule checkpoint (no /checkpoint group)");
+  Id root(check(H5Gopen2(file.id, "/checkpoint", H5P_DEFAULT), path, "open /checkpoint"), H5Gclose);
+  if (H5Aexists(root.id, "format") <= 0 ||
+      read_string(root.id, "format", true, path) != format_name)
+    fail(path, fmt::format("not a {} file", format_name));
+  if (attributes) {
+    H5O_info_t info;
+    if (H5Oget_info2(root.id, &info, H5O_INFO_NUM_ATTRS) < 0) fail(path, "cannot read attributes");
+    for (hsize_t k = 0; k < info.num_attrs; ++k) {
+      char name[256] = {0};
+      if (H5Aget_name_by_idx(root.id, ".", H5_INDEX_NAME, H5_ITER_INC, k, name, sizeof name,
+                             H5P_DEFAULT) < 0)
+        fail(path, "cannot read attributes");
+      (*attributes)[name] = read_string(root.id, name, true, path);
+    }
+  }
+  StateBlob s;
+  auto open = [&](const char* name) {
+    return Id(check(H5Gopen2(root.id, name, H5P_DEFAULT), path, std::string("open ") + name),
+              H5Gclose);
+  };
+  {
+    Id g = open("doubles");
+    for (const auto& k : member_names(g.id, path))
+      s.doubles[k] = read_array<double>(g.id, k, H5T_NATIVE_DOUBLE, path);
+  }
+  {
+    Id g = open("integers");
+    for (const auto& k : member_names(g.id, path))
+      s.integers[k] = read_array<std::int64_t>(g.id, k, H5T_NATIVE_INT64, path);
+  }
+  {
+    Id g = open("bytes");
+    for (const auto& k : member_names(g.id, path))
+      s.bytes[k] = read_array<std::uint8_t>(g.id, k, H5T_NATIVE_UINT8, path);
+  }
+  {
+    Id g = open("texts");
+    for (const auto& k : member_names(g.id, path)) s.texts[k] = read_string(g.id, k, false, path);
+  }
+  return s;
+}
+
+}  // namespace granule::io

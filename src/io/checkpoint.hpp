@@ -1,0 +1,23 @@
+// Checkpoint files: a StateBlob (core/state.hpp) plus text attributes in an
+// HDF5 file of its own. Written to "<path>.tmp" and renamed into place, so a
+// crash while writing never leaves a half-written checkpoint where the last
+// good one was.
+//   /checkpoint                attrs format="granule-checkpoint-1", written, plus the caller's
+//   /checkpoint/doubles/<key>  float64 arrays    /checkpoint/integers/<key> int64 arrays
+//   /checkpoint/bytes/<key>    uint8 arrays      /checkpoint/texts/<key>    strings
+// Keys may contain '.', never '/'.
+#pragma once
+
+#include <map>
+#include <string>
+
+#include "core/state.hpp"
+
+namespace granule::io {
+
+void write_checkpoint(const std::string& path, const StateBlob& state,
+                      const std::map<std::string, std::string>& attributes = {});
+StateBlob read_checkpoint(const std::string& path,
+                          std::map<std::string, std::string>* attributes = nullptr);
+
+}  // namespace granule::io
