@@ -60,13 +60,9 @@ void Simulation<D>::step() {
       if (wb.size()) wall_forces<M, false>(wb, params);
     }
   });
-  // Reactions on the walls (the inner-piece force of 4.4.1), summed in slot order.
-  for (auto& w : walls_) w.force.setZero(), w.axial_torque = 0;
-  for (auto [s, wall] : wall_slots_) {
-    Wall<D>& w = walls_[wall];
-    w.force -= slot_force_[s];
-    w.axial_torque -= slot_axial_torque_[s];
-  }
+  // Forces and torques per particle, and the reactions on the walls (the
+  // inner-piece force of 4.4.1), summed over the contacts in slot order.
+  scatter_forces();
   auto t2 = Clock::now();
   stage_times_.force += std::chrono::duration<double>(t2 - t1).count();
 
@@ -78,8 +74,8 @@ void Simulation<D>::step() {
   auto t3 = Clock::now();
   stage_times_.diagnostics += std::chrono::duration<double>(t3 - t2).count();
 
-  // 4. Forces per particle in a fixed order, body forces, leap-frog (Eqs. 4.8-4.9).
-  gather_and_integrate();
+  // 4. Body forces and leap-frog (Eqs. 4.8-4.9).
+  integrate();
   if (non_finite_index_ != SIZE_MAX) report_non_finite(non_finite_index_);
   time_ += dt_;
   ++step_;
@@ -112,59 +108,85 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
                                 const std::vector<typename M::Params>& params) {
   using History = typename M::template History<D>;
   const std::int64_t count = static_cast<std::int64_t>(b.size());
-  const std::size_t offset = b.offset;
   const double dt = dt_;
+  // Plain pointers: the compiler cannot prove that stores through the outputs
+  // leave the vectors' own pointers alone, and would reload them per contact.
+  const std::uint32_t* const bi = b.i.data();
+  const std::uint32_t* const bj = b.j.data();
+  const std::uint32_t* const bslot = b.slot.data();
+  History* const hist = b.history.data();
+  const typename M::Params* const par_of = params.data();
+  const V* const x = p_.position.data();
+  const V* const v = p_.velocity.data();
+  const S* const w = p_.spin.data();
+  const double* const radius = p_.radius.data();
+  const double* const inv_mass = p_.inv_mass.data();
+  V* const out_force = slot_force_.data() + b.offset;
+  S* const out_torque_a = slot_torque_a_.data() + b.offset;
+  S* const out_torque_b = slot_torque_b_.data() + b.offset;
+  std::uint8_t* const in_contact = slot_in_contact_.data() + b.offset;
+  const Periodicity periodic = periodic_;
+  const std::size_t offset = b.offset;
   std::int64_t touching = 0;
   double max_ratio = 0;
   const int threads = threads_;
+// clang-format off
 #pragma omp parallel for schedule(static) reduction(+ : touching) reduction(max : max_ratio) \
     num_threads(threads > 0 ? threads : omp_get_max_threads()) if (count > 256)
+  // clang-format on
   for (std::int64_t k = 0; k < count; ++k) {
-    const std::size_t s = offset + k;
-    const std::uint32_t i = b.i[k], j = b.j[k];
-    const typename M::Params& par = params[b.slot[k]];
-    History& h = b.history[k];
-    const V d = separation(p_.position[i], p_.position[j]);
+    const std::uint32_t i = bi[k], j = bj[k];
+    V d = x[i] - x[j];
+    if (periodic.on())
+      d[periodic.axis] -= periodic.length * std::nearbyint(d[periodic.axis] / periodic.length);
     const double dist_sq = d.squaredNorm();
-    const double r_sum = p_.radius[i] + p_.radius[j];
-    bool in_contact = M::adhesive || dist_sq < r_sum * r_sum;
+    const double r_sum = radius[i] + radius[j];
+    History& h = hist[k];
+    const typename M::Params& par = par_of[bslot[k]];
+    bool touches = M::adhesive || dist_sq < r_sum * r_sum;
     double dist = 0, overlap = 0;
-    if (in_contact) {
+    if (touches) {
       dist = std::sqrt(dist_sq);
       overlap = r_sum - dist;
-      in_contact = M::touching(par, h, overlap);
+      touches = M::touching(par, h, overlap);
     }
-    if (!in_contact) {
-      h = History{};
-      slot_force_[s] = V::Zero();
-      slot_torque_a_[s] = slot_torque_b_[s] = Dim<D>::zero_spin();
-      if constexpr (Observed) log_.active[s] = 0;
+    if (!touches) {
+      // Most candidates are not touching: they cost one byte read, since their
+      // history and slot were cleared when their last contact ended.
+      if (in_contact[k]) {
+        h = History{};
+        out_force[k] = V::Zero();
+        out_torque_a[k] = out_torque_b[k] = Dim<D>::zero_spin();
+        in_contact[k] = 0;
+      }
       continue;
     }
+    in_contact[k] = 1;
     ContactState<D> c;
     c.dt = dt;
     // Coincident centres: any direction is as good as another, but it must be finite.
     c.normal = dist > 0 ? V(d / dist) : V(V::UnitX());
     c.overlap = overlap;
-    const V v_rel = p_.velocity[j] - p_.velocity[i];
+    const V v_rel = v[j] - v[i];
     c.normal_velocity = v_rel.dot(c.normal);
     // Eq. 3.10: tangential slip of j's surface relative to i's.
     c.tangential_velocity = v_rel - c.normal * c.normal_velocity +
-                            p_.radius[i] * Dim<D>::spin_cross(p_.spin[i], c.normal) +
-                            p_.radius[j] * Dim<D>::spin_cross(p_.spin[j], c.normal);
-    c.effective_mass = 1.0 / (p_.inv_mass[i] + p_.inv_mass[j]);
-    c.effective_radius = p_.radius[i] * p_.radius[j] / r_sum;
+                            radius[i] * Dim<D>::spin_cross(w[i], c.normal) +
+                            radius[j] * Dim<D>::spin_cross(w[j], c.normal);
+    c.effective_mass = 1.0 / (inv_mass[i] + inv_mass[j]);
+    c.effective_radius = radius[i] * radius[j] / r_sum;
     const ContactForce<D> f = M::force(par, h, c);
-    slot_force_[s] = f.normal * c.normal + f.tangential;
+    out_force[k] = f.normal * c.normal + f.tangential;
     // Torques about each centre, applied at the contact point: lever -(r_i - a/2) n
     // on i and +(r_j - a/2) n on j (which feels -T). With these levers the pair
     // exerts no net torque, so angular momentum is conserved to round-off.
-    slot_torque_a_[s] = Dim<D>::torque(-(p_.radius[i] - 0.5 * overlap) * c.normal, f.tangential);
-    slot_torque_b_[s] = Dim<D>::torque(-(p_.radius[j] - 0.5 * overlap) * c.normal, f.tangential);
+    out_torque_a[k] = Dim<D>::torque(-(radius[i] - 0.5 * overlap) * c.normal, f.tangential);
+    out_torque_b[k] = Dim<D>::torque(-(radius[j] - 0.5 * overlap) * c.normal, f.tangential);
     ++touching;
-    const double ratio = overlap / std::min(p_.radius[i], p_.radius[j]);
+    const double ratio = overlap / std::min(radius[i], radius[j]);
     if (ratio > max_ratio) max_ratio = ratio;
     if constexpr (Observed) {
+      const std::size_t s = offset + k;
       log_.active[s] = 1;
       log_.a[s] = static_cast<std::int32_t>(i);
       log_.b[s] = static_cast<std::int32_t>(j);
@@ -173,7 +195,7 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
       log_.overlap_rate[s] = c.normal_velocity;
       log_.normal[s] = c.normal;
       log_.tangential[s] = f.tangential;
-      log_.point[s] = p_.position[i] - (p_.radius[i] - 0.5 * overlap) * c.normal;
+      log_.point[s] = x[i] - (radius[i] - 0.5 * overlap) * c.normal;
     }
   }
   contacts_particle_ += touching;
@@ -190,46 +212,66 @@ void Simulation<D>::wall_forces(WallBucket<D, M>& b,
   const double dt = dt_;
   std::int64_t touching = 0;
   double max_ratio = 0;
+  const std::uint32_t* const bp = b.particle.data();
+  const std::uint32_t* const bw = b.wall.data();
+  const std::uint32_t* const bslot = b.slot.data();
+  History* const hist = b.history.data();
+  const typename M::Params* const par_of = params.data();
+  const Wall<D>* const walls = walls_.data();
+  const V* const x = p_.position.data();
+  const V* const v = p_.velocity.data();
+  const S* const w_spin = p_.spin.data();
+  const double* const radius = p_.radius.data();
+  const double* const mass = p_.mass.data();
+  V* const out_force = slot_force_.data() + offset;
+  S* const out_torque = slot_torque_a_.data() + offset;
+  double* const out_axial = slot_axial_torque_.data() + offset;
+  std::uint8_t* const in_contact = slot_in_contact_.data() + offset;
   const int threads = threads_;
+// clang-format off
 #pragma omp parallel for schedule(static) reduction(+ : touching) reduction(max : max_ratio) \
     num_threads(threads > 0 ? threads : omp_get_max_threads()) if (count > 256)
+  // clang-format on
   for (std::int64_t k = 0; k < count; ++k) {
-    const std::size_t s = offset + k;
-    const std::uint32_t i = b.particle[k];
-    const Wall<D>& w = walls_[b.wall[k]];
-    const typename M::Params& par = params[b.slot[k]];
-    History& h = b.history[k];
+    const std::uint32_t i = bp[k];
+    const Wall<D>& w = walls[bw[k]];
+    const typename M::Params& par = par_of[bslot[k]];
+    History& h = hist[k];
     V n, surface_velocity, lever;
-    const double overlap = w.contact(p_.position[i], p_.radius[i], n, surface_velocity, lever);
+    const double overlap = w.contact(x[i], radius[i], n, surface_velocity, lever);
     if (!M::touching(par, h, overlap)) {
-      h = History{};
-      slot_force_[s] = V::Zero();
-      slot_torque_a_[s] = Dim<D>::zero_spin();
-      slot_axial_torque_[s] = 0;
-      if constexpr (Observed) log_.active[s] = 0;
+      if (in_contact[k]) {
+        h = History{};
+        out_force[k] = V::Zero();
+        out_torque[k] = Dim<D>::zero_spin();
+        out_axial[k] = 0;
+        in_contact[k] = 0;
+      }
       continue;
     }
+    in_contact[k] = 1;
     ContactState<D> c;
     c.dt = dt;
     c.normal = n;
     c.overlap = overlap;
-    const V v_rel = surface_velocity - p_.velocity[i];
+    const V v_rel = surface_velocity - v[i];
     c.normal_velocity = v_rel.dot(n);
     c.tangential_velocity =
-        v_rel - n * c.normal_velocity + p_.radius[i] * Dim<D>::spin_cross(p_.spin[i], n);
-    c.effective_mass = p_.mass[i];
-    const double r = p_.radius[i];
+        v_rel - n * c.normal_velocity + radius[i] * Dim<D>::spin_cross(w_spin[i], n);
+    c.effective_mass = mass[i];
+    const double r = radius[i];
     c.effective_radius = w.type == WallType::plane ? r
                                                    : (w.inside ? r * w.radius / (w.radius - r)
                                                                : r * w.radius / (w.radius + r));
     const ContactForce<D> f = M::force(par, h, c);
     const V total = f.normal * n + f.tangential;
-    slot_force_[s] = total;
-    slot_torque_a_[s] = Dim<D>::torque(-(r - overlap) * n, f.tangential);  // at the wall surface
-    slot_axial_torque_[s] = w.axial_moment(lever, total);
+    out_force[k] = total;
+    out_torque[k] = Dim<D>::torque(-(r - overlap) * n, f.tangential);  // at the wall surface
+    out_axial[k] = w.axial_moment(lever, total);
     ++touching;
     if (overlap / r > max_ratio) max_ratio = overlap / r;
     if constexpr (Observed) {
+      const std::size_t s = offset + k;
       log_.active[s] = 1;
       log_.a[s] = static_cast<std::int32_t>(i);
       log_.b[s] = -1 - static_cast<std::int32_t>(b.wall[k]);
@@ -238,7 +280,7 @@ void Simulation<D>::wall_forces(WallBucket<D, M>& b,
       log_.overlap_rate[s] = c.normal_velocity;
       log_.normal[s] = n;
       log_.tangential[s] = f.tangential;
-      log_.point[s] = p_.position[i] - (r - overlap) * n;
+      log_.point[s] = x[i] - (r - overlap) * n;
     }
   }
   contacts_wall_ += touching;
@@ -325,13 +367,60 @@ void Simulation<D>::observe(bool contacts_logged) {
 }
 
 // ----------------------------------------------------------------------------
-// Forces per particle and integration, in one parallel pass. Each particle
-// sums its contacts' slots in slot order, fixed at the last rebuild, so the
-// sum is the same for any number of threads. Leap-frog: a = F/m and
-// dw/dt = M/I (SPEC 2: Eq. 4.7's minus sign belongs to its force convention).
+// Forces per particle: one serial pass over the slots in order. The kernels
+// ran in parallel, each contact writing its own slot; summing here in slot
+// order makes every particle's total independent of the thread count. The
+// pass reads one byte per candidate and does work only for the contacts
+// (a few hundred in the Mechanofusion base case, against ~3000 candidates).
 // ----------------------------------------------------------------------------
 template <int D>
-void Simulation<D>::gather_and_integrate() {
+void Simulation<D>::scatter_forces() {
+  V* const force = p_.force.data();
+  S* const torque = p_.torque.data();
+  std::fill(p_.force.begin(), p_.force.end(), V::Zero());
+  std::fill(p_.torque.begin(), p_.torque.end(), Dim<D>::zero_spin());
+  for (auto& w : walls_) w.force.setZero(), w.axial_torque = 0;
+  const std::uint8_t* const in_contact = slot_in_contact_.data();
+  const V* const slot_force = slot_force_.data();
+  const S* const torque_a = slot_torque_a_.data();
+  const S* const torque_b = slot_torque_b_.data();
+  for_each_model([&](auto index) {
+    constexpr int I = decltype(index)::value;
+    const auto& b = std::get<I>(pair_buckets_);
+    const std::size_t count = b.size(), offset = b.offset;
+    for (std::size_t k = 0; k < count; ++k) {
+      const std::size_t s = offset + k;
+      if (!in_contact[s]) continue;
+      const std::uint32_t i = b.i[k], j = b.j[k];
+      force[i] += slot_force[s];
+      force[j] -= slot_force[s];
+      torque[i] += torque_a[s];
+      torque[j] += torque_b[s];
+    }
+  });
+  for_each_model([&](auto index) {
+    constexpr int I = decltype(index)::value;
+    const auto& b = std::get<I>(wall_buckets_);
+    const std::size_t count = b.size(), offset = b.offset;
+    for (std::size_t k = 0; k < count; ++k) {
+      const std::size_t s = offset + k;
+      if (!in_contact[s]) continue;
+      const std::uint32_t i = b.particle[k];
+      force[i] += slot_force[s];
+      torque[i] += torque_a[s];
+      Wall<D>& w = walls_[b.wall[k]];
+      w.force -= slot_force[s];
+      w.axial_torque -= slot_axial_torque_[s];
+    }
+  });
+}
+
+// ----------------------------------------------------------------------------
+// Integration, in parallel over particles. Leap-frog: a = F/m and dw/dt = M/I
+// (SPEC 2: Eq. 4.7's minus sign belongs to its force convention).
+// ----------------------------------------------------------------------------
+template <int D>
+void Simulation<D>::integrate() {
   const std::int64_t n = static_cast<std::int64_t>(p_.size());
   const double dt = dt_;
   const bool body = body_.active();
@@ -339,41 +428,36 @@ void Simulation<D>::gather_and_integrate() {
   double max_sq = max_displacement_sq_;
   std::int64_t bad = std::numeric_limits<std::int64_t>::max();
   const int threads = threads_;
-#pragma omp parallel for schedule(static) reduction(max                        \
-                                                    : max_sq) reduction(min    \
-                                                                        : bad) \
-    num_threads(threads > 0 ? threads : omp_get_max_threads()) if (n > 512)
+  V* const x = p_.position.data();
+  V* const v = p_.velocity.data();
+  S* const w = p_.spin.data();
+  V* const force = p_.force.data();
+  const S* const torque = p_.torque.data();
+  const V* const x_rebuild = position_at_rebuild_.data();
+  const double* const mass = p_.mass.data();
+  const double* const inv_mass = p_.inv_mass.data();
+  const double* const inv_inertia = p_.inv_inertia.data();
+  const std::uint8_t* const fixed = p_.fixed.data();
+  const Periodicity pbc = periodic_;
+// clang-format off
+#pragma omp parallel for schedule(static) reduction(max : max_sq) reduction(min : bad) \
+    num_threads(threads > 0 ? threads : omp_get_max_threads()) if (n > 2048)
+  // clang-format on
   for (std::int64_t i = 0; i < n; ++i) {
-    V f = V::Zero();
-    S t = Dim<D>::zero_spin();
-    for (std::uint32_t e = gather_start_[i]; e < gather_start_[i + 1]; ++e) {
-      const std::uint32_t entry = gather_entry_[e], s = entry >> 1;
-      if (entry & 1) {
-        f -= slot_force_[s];
-        t += slot_torque_b_[s];
-      } else {
-        f += slot_force_[s];
-        t += slot_torque_a_[s];
-      }
-    }
-    if (p_.fixed[i]) {  // immobile: keep the contact force for reports, move nothing
-      p_.force[i] = f;
-      p_.torque[i] = t;
-      continue;
-    }
-    if (body) f += body_.force(p_.mass[i], p_.position[i]);
-    p_.force[i] = f;
-    p_.torque[i] = t;
-    p_.velocity[i] += f * (p_.inv_mass[i] * dt);  // Eq. 4.8
-    p_.position[i] += p_.velocity[i] * dt;        // Eq. 4.9
-    p_.spin[i] += t * (p_.inv_inertia[i] * dt);
+    if (fixed[i]) continue;  // immobile: its contact force stays for reports
+    if (body) force[i] += body_.force(mass[i], x[i]);
+    v[i] += force[i] * (inv_mass[i] * dt);  // Eq. 4.8
+    x[i] += v[i] * dt;                      // Eq. 4.9
+    w[i] += torque[i] * (inv_inertia[i] * dt);
+    V moved_by = x[i] - x_rebuild[i];
     if (periodic) {
-      double& x = p_.position[i][periodic_.axis];
-      x -= periodic_.length * std::floor((x - periodic_.origin) / periodic_.length);
+      double& coordinate = x[i][pbc.axis];
+      coordinate -= pbc.length * std::floor((coordinate - pbc.origin) / pbc.length);
+      moved_by[pbc.axis] -= pbc.length * std::nearbyint(moved_by[pbc.axis] / pbc.length);
     }
-    const double moved = separation(p_.position[i], position_at_rebuild_[i]).squaredNorm();
+    const double moved = moved_by.squaredNorm();
     if (!(moved <= max_sq)) {  // also true for NaN
-      if (!std::isfinite(moved) || !std::isfinite(Dim<D>::spin_sq(p_.spin[i]))) {
+      if (!std::isfinite(moved) || !std::isfinite(Dim<D>::spin_sq(w[i]))) {
         if (i < bad) bad = i;
         continue;
       }
@@ -383,10 +467,10 @@ void Simulation<D>::gather_and_integrate() {
   max_displacement_sq_ = max_sq;
   if (bad != std::numeric_limits<std::int64_t>::max() && non_finite_index_ == SIZE_MAX)
     non_finite_index_ = static_cast<std::size_t>(bad);
-  for (auto& w : walls_) {
-    if (w.type == WallType::plane && !w.velocity.isZero()) {
-      w.point += w.velocity * dt;
-      w.moved_since_rebuild += w.velocity * dt;
+  for (auto& wall : walls_) {
+    if (wall.type == WallType::plane && !wall.velocity.isZero()) {
+      wall.point += wall.velocity * dt;
+      wall.moved_since_rebuild += wall.velocity * dt;
     }
   }
 }
@@ -447,11 +531,10 @@ void carry_history(const Bucket& old, Bucket& fresh, std::int64_t max_id, bool t
 }
 }  // namespace
 
-// The step's contact buffers and each particle's gather list, from the
-// buckets' sizes and offsets (after a rebuild, or a checkpoint is loaded).
+// The step's contact buffers, from the buckets' sizes and offsets (after a rebuild, or a checkpoint
+// is loaded).
 template <int D>
 void Simulation<D>::build_slots() {
-  const std::size_t n = p_.size();
   std::size_t slots = 0;
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
@@ -465,40 +548,9 @@ void Simulation<D>::build_slots() {
   slot_torque_a_.assign(slots, Dim<D>::zero_spin());
   slot_torque_b_.assign(slots, Dim<D>::zero_spin());
   slot_axial_torque_.assign(slots, 0.0);
-
-  // Gather lists: each particle's slots in increasing slot order (counting sort).
-  gather_start_.assign(n + 1, 0);
-  wall_slots_.clear();
-  for_each_model([&](auto index) {
-    constexpr int I = decltype(index)::value;
-    const auto& pb = std::get<I>(pair_buckets_);
-    for (std::size_t k = 0; k < pb.size(); ++k)
-      ++gather_start_[pb.i[k] + 1], ++gather_start_[pb.j[k] + 1];
-    const auto& wb = std::get<I>(wall_buckets_);
-    for (std::size_t k = 0; k < wb.size(); ++k) {
-      ++gather_start_[wb.particle[k] + 1];
-      wall_slots_.emplace_back(static_cast<std::uint32_t>(wb.offset + k), wb.wall[k]);
-    }
-  });
-  for (std::size_t i = 0; i < n; ++i) gather_start_[i + 1] += gather_start_[i];
-  gather_entry_.resize(gather_start_[n]);
-  std::vector<std::uint32_t> cursor(gather_start_.begin(), gather_start_.end() - 1);
-  // Buckets are visited in slot order (pairs by model, then walls by model).
-  for_each_model([&](auto index) {
-    constexpr int I = decltype(index)::value;
-    const auto& pb = std::get<I>(pair_buckets_);
-    for (std::size_t k = 0; k < pb.size(); ++k) {
-      const auto s = static_cast<std::uint32_t>(pb.offset + k);
-      gather_entry_[cursor[pb.i[k]]++] = s << 1;
-      gather_entry_[cursor[pb.j[k]]++] = s << 1 | 1u;
-    }
-  });
-  for_each_model([&](auto index) {
-    constexpr int I = decltype(index)::value;
-    const auto& wb = std::get<I>(wall_buckets_);
-    for (std::size_t k = 0; k < wb.size(); ++k)
-      gather_entry_[cursor[wb.particle[k]]++] = static_cast<std::uint32_t>(wb.offset + k) << 1;
-  });
+  // Every slot counts as possibly in contact until its first step: one that is
+  // not touching then clears the history it may have carried over.
+  slot_in_contact_.assign(slots, 1);
 }
 
 template <int D>

@@ -152,7 +152,8 @@ class Simulation final : public SimulationBase {
   void track_bucket(Bucket& bucket);
   void track_contacts();
   void observe(bool contacts_logged);
-  void gather_and_integrate();
+  void scatter_forces();
+  void integrate();
   void report_non_finite(std::size_t index);
   Diagnostic<D>& diagnostic(int id) const;
 
@@ -172,14 +173,13 @@ class Simulation final : public SimulationBase {
   std::vector<std::pair<std::uint32_t, std::uint32_t>> candidates_;
   // The step's contact buffers, one slot per candidate contact (pairs, then walls):
   // the force on the slot's first particle and the torques on both, written by
-  // the kernels in parallel and summed per particle in slot order (gather_*),
+  // the kernels in parallel and summed per particle in slot order (scatter_forces),
   // so the result does not depend on the number of threads.
   std::size_t slot_count_ = 0;
   std::vector<V> slot_force_;
   std::vector<S> slot_torque_a_, slot_torque_b_;
-  std::vector<double> slot_axial_torque_;  // wall slots: torque on the wall about its axis
-  std::vector<std::uint32_t> gather_start_, gather_entry_;  // entry = slot << 1 | is_second
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> wall_slots_;  // (slot, wall), in order
+  std::vector<double> slot_axial_torque_;      // wall slots: torque on the wall about its axis
+  std::vector<std::uint8_t> slot_in_contact_;  // 0: history cleared, slot outputs zero
   ContactLog<D> log_;
   std::vector<AttachedDiagnostic> diagnostics_;
   int next_diagnostic_id_ = 1;

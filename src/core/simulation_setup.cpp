@@ -561,6 +561,8 @@ GlobalStats Simulation<D>::stats() const {
   g.contacts_particle = contacts_particle_;
   g.contacts_wall = contacts_wall_;
   g.max_overlap_ratio = max_overlap_ratio_;
+  g.candidate_pairs = static_cast<std::int64_t>(slot_count_);
+  g.list_rebuilds = static_cast<std::int64_t>(rebuilds_);
   return g;
 }
 

@@ -2,7 +2,7 @@
 // (core/state.hpp), so that a checkpointed run continues bit-identically.
 // Everything the next step reads is saved, including the neighbour lists in
 // their order (the order fixes the force sums) and the contact histories as
-// raw bytes; derived buffers (slots, gather lists) are rebuilt from them.
+// raw bytes; derived buffers (the contact slots) are rebuilt from them.
 #include <fmt/format.h>
 
 #include <cstring>

@@ -720,6 +720,8 @@ int l_stats(lua_State* L) {
     lua_pushinteger(L, g.contacts_wall);
     lua_setfield(L, -2, "contacts_wall");
     set("max_overlap_ratio", g.max_overlap_ratio);
+    set("candidate_pairs", static_cast<double>(g.candidate_pairs));
+    set("list_rebuilds", static_cast<double>(g.list_rebuilds));
     return 1;
   });
 }
@@ -808,6 +810,8 @@ int l_timings(lua_State* L) {
     lua_setfield(L, -2, "neighbor");
     lua_pushnumber(L, t.force);
     lua_setfield(L, -2, "force");
+    lua_pushnumber(L, t.diagnostics);
+    lua_setfield(L, -2, "diagnostics");
     lua_pushnumber(L, t.integrate);
     lua_setfield(L, -2, "integrate");
     lua_pushnumber(L, t.hooks);

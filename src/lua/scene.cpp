@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -167,6 +168,15 @@ lua_State* new_state(SceneContext* ctx) {
   lua_setglobal(L, "GRANULE_VERSION");
   lua_pushstring(L, ctx->scene_path.c_str());
   lua_setglobal(L, "SCENE_PATH");
+  // wall_time(): seconds of wall-clock time from an arbitrary origin, for timing
+  // runs (os.clock counts CPU time of every thread, so it overstates parallel runs).
+  lua_pushcfunction(L, [](lua_State* L) -> int {
+    lua_pushnumber(
+        L,
+        std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count());
+    return 1;
+  });
+  lua_setglobal(L, "wall_time");
   open_simulation(L);
   return L;
 }
