@@ -12,6 +12,7 @@
 #include "io/run_output.hpp"
 #include "lua/lua_util.hpp"
 #include "lua/scene.hpp"
+#include "lua/wrap_agglomerate.hpp"
 
 namespace granule::lua {
 
@@ -36,6 +37,12 @@ LuaSim& self(lua_State* L) {
 
 int dim(lua_State* L) {
   return self(L).sim->dimension();
+}
+
+// A method defined in a wrap_*.cpp file, given the checked simulation.
+template <int (*Method)(lua_State*, SimulationBase&)>
+int bound(lua_State* L) {
+  return protect(L, [](lua_State* L) { return Method(L, *self(L).sim); });
 }
 
 std::int64_t particle_id(lua_State* L, int index, const SimulationBase& sim) {
@@ -842,6 +849,12 @@ const luaL_Reg methods[] = {
     {"describe", l_describe},
     {"dimension", l_dimension},
     {"timings", l_timings},
+    // wrap_agglomerate.cpp (dissertation chapter 7)
+    {"load_particles", bound<load_particles>},
+    {"bonds", bound<bonds>},
+    {"fragments", bound<fragments>},
+    {"breakage", bound<breakage>},
+    {"scale_velocities", bound<scale_velocities>},
     {nullptr, nullptr},
 };
 }  // namespace
