@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <numeric>
 #include <stdexcept>
 #include <unordered_map>
@@ -22,6 +23,13 @@ std::vector<Bond> normalized_bonds(std::vector<Bond> bonds) {
   std::sort(bonds.begin(), bonds.end());
   bonds.erase(std::unique(bonds.begin(), bonds.end()), bonds.end());
   return bonds;
+}
+
+std::vector<Bond> surviving_bonds(const std::vector<Bond>& initial, const std::vector<Bond>& now) {
+  std::vector<Bond> out;
+  std::set_intersection(initial.begin(), initial.end(), now.begin(), now.end(),
+                        std::back_inserter(out));
+  return out;
 }
 
 DisjointSets::DisjointSets(std::size_t n) : parent_(n), size_(n, 1) {

@@ -24,6 +24,11 @@ struct Bond {
 // std::invalid_argument for a particle bonded to itself or a negative id.
 std::vector<Bond> normalized_bonds(std::vector<Bond> bonds);
 
+// The bonds of `initial` that are also in `now` (both normalised): the graph of
+// the original bonds that survive, which ignores contacts made during a test
+// (fragments pressed together between two walls stay apart in it).
+std::vector<Bond> surviving_bonds(const std::vector<Bond>& initial, const std::vector<Bond>& now);
+
 // Union-find over indices 0..n-1 (union by size, path halving): near-constant
 // time per operation, so labelling is linear in the number of bonds.
 class DisjointSets {

@@ -275,13 +275,20 @@ int breakage(lua_State* L, SimulationBase& sim) {
   classes.debris = t.number("debris", classes.debris);
   classes.fines = t.number("fines", classes.fines);
   const bool labels = t.boolean("labels", false);
+  const std::string graph = t.string("graph", "contacts");
   t.finish();
+  if (graph != "contacts" && graph != "surviving_bonds")
+    throw InputError(fmt::format(
+        "breakage: 'graph' must be \"contacts\" (fragments = clusters of the contact graph, 7.4) "
+        "or \"surviving_bonds\" (of the initial bonds still in contact), got \"{}\"",
+        graph));
   if (!(initial_mass > 0))
     throw InputError(
         fmt::format("breakage: 'initial_mass' must be > 0 [kg] (got {}; no particles selected?)",
                     initial_mass));
   const std::vector<Bond> now = current_bonds(sim, ids);
-  const analysis::Fragments f = analysis::find_fragments(ids, masses, now);
+  const analysis::Fragments f = analysis::find_fragments(
+      ids, masses, graph == "contacts" ? now : analysis::surviving_bonds(initial, now));
   analysis::BreakageSummary s;
   try {
     s = analysis::summarize_breakage(initial, now, f, initial_mass, classes);

@@ -24,7 +24,8 @@ int fragments(lua_State* L, SimulationBase& sim);
 
 // sim:breakage { initial_bonds = sim:bonds {...}, particles = | material =,
 //                initial_mass = kg, large = 0.1, debris = 0.025, fines = 0.002,
-//                labels = false } -> damage and debris ratios, fragment counts
+//                labels = false, graph = "contacts" | "surviving_bonds" }
+//   -> damage and debris ratios, fragment counts
 int breakage(lua_State* L, SimulationBase& sim);
 
 // sim:scale_velocities { factor = f, spin_factor = f, particles = | material = }
