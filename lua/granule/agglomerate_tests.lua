@@ -290,6 +290,10 @@ function tests.run(sim, kind, given)
     test_duration = sim:time() - t0, steps = r.steps, ended_by_criterion = r.stopped and 1 or 0,
     cpu_time = os.clock() - clock,
   }
+  -- Where the walls are at the end (the output's /walls header is written before
+  -- the test adds them), for the pictures.
+  if kind ~= "host" then result.wall_bottom_y = sim:wall("bottom").point[2] end
+  if kind == "compression" then result.wall_top_y = sim:wall("top").point[2] end
   local numbers = {}
   for k, v in pairs(result) do if type(v) == "number" then numbers[k] = v end end
   sim:result(numbers)
