@@ -12,10 +12,11 @@ runs the test scene (scenarios/agglomerate_<protocol>.lua) at every velocity
 (-> WORK/<protocol>_<d>d_g<Gamma>_v<v>.h5). Outputs that exist are reused; delete
 them to run again. It then writes
   WORK/<protocol>_<d>d.csv             final ratios, fragment counts, impact duration,
-                                       how each run ended, wall time per run
+                                       how each run ended, CPU seconds per test (from /results)
   FIGURES/<protocol>_<d>d_vs_velocity.png  damage and debris at the end vs velocity
                                        (Figs. 7.23, 7.29-7.30, 7.35-7.36), impact duration
-  FIGURES/<protocol>_<d>d_vs_time.png  damage and debris vs time, first Gamma (Figs. 7.15-7.22)
+  FIGURES/<protocol>_<d>d_vs_time.png  damage and debris vs time, first Gamma (Figs. 7.15-7.21)
+  FIGURES/<protocol>_<d>d_gamma.png    the same at the highest velocity for each Gamma (7.22-7.23)
   FIGURES/<protocol>_<d>d_clusters.png fragments at the end, first Gamma (Figs. 7.14-7.34)
 and prints the table and the commands it ran.
 """
@@ -49,7 +50,7 @@ SCENES = {
 COLUMNS = ["gamma", "velocity", "damage_ratio", "debris_ratio", "debris_ratio_bonds", "largest_fraction",
            "largest_fraction_bonds", "fragments", "large", "medium", "small", "fines", "singles", "initial_bonds",
            "impact_duration", "contact_episodes", "peak_force", "test_duration", "ended_by_criterion",
-           "settled_by_criterion", "wall_time_s"]
+           "settled_by_criterion", "cpu_time"]
 
 
 def number_list(text):
@@ -73,6 +74,20 @@ def run(command, log):
         raise SystemExit(f"error: {' '.join(command)} failed:\n{done.stdout}{done.stderr}")
     sys.stdout.write(done.stdout)
     return seconds
+
+
+def save_small(fig, path, dpi):
+    """Saves a PNG with an adaptive palette where Pillow is available: these
+    figures have few colours, and docs/figures keeps each under ~200 KB."""
+    fig.savefig(path, dpi=dpi)
+    plt.close(fig)
+    try:
+        from PIL import Image
+    except ImportError:
+        return
+    with Image.open(path) as image:
+        small = image.convert("RGB").quantize(colors=64)
+    small.save(path, optimize=True)
 
 
 def results_of(path):
@@ -102,7 +117,6 @@ def main(argv=None):
     os.makedirs(figures, exist_ok=True)
     d = args.dimension
     log = []
-    wall_times = {}
 
     # 7.3: one agglomerate per surface energy, reused by every velocity.
     agglomerates = {}
@@ -127,7 +141,7 @@ def main(argv=None):
                        "-D", f"surface_energy={gamma:g}"]
             for setting in args.test:
                 command += ["-D", setting]
-            wall_times[path] = run(command + ["-o", path, "--quiet"], log)
+            run(command + ["-o", path, "--quiet"], log)
         return path
 
     with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
@@ -136,7 +150,7 @@ def main(argv=None):
     rows = []
     for (gamma, v), path in paths.items():
         r = results_of(path)
-        row = {"gamma": gamma, "velocity": v, "wall_time_s": wall_times.get(path, float("nan"))}
+        row = {"gamma": gamma, "velocity": v}
         for c in COLUMNS:
             if c not in row:
                 row[c] = r.get(c, float("nan"))
@@ -175,8 +189,7 @@ def main(argv=None):
     fig.suptitle(f"{args.protocol} test, {d}D", fontsize=10)
     fig.tight_layout()
     out_velocity = os.path.join(figures, f"{args.protocol}_{d}d_vs_velocity.png")
-    fig.savefig(out_velocity, dpi=100)
-    plt.close(fig)
+    save_small(fig, out_velocity, 100)
 
     # Evolution in time, first Gamma.
     first = [paths[(gammas[0], v)] for v in velocities]
@@ -186,8 +199,19 @@ def main(argv=None):
     axes[1].set_xlim(left=0)
     fig.tight_layout()
     out_time = os.path.join(figures, f"{args.protocol}_{d}d_vs_time.png")
-    fig.savefig(out_time, dpi=100)
-    plt.close(fig)
+    save_small(fig, out_time, 100)
+
+    # Surface energy at the highest velocity (Figs. 7.22-7.23).
+    out_gamma = None
+    if len(gammas) > 1:
+        fig, axes = plt.subplots(2, 1, sharex=True, figsize=(6.5, 5.5))
+        plot_breakage.plot(axes, [paths[(gamma, max(velocities))] for gamma in gammas], "time", "contacts",
+                           shade=False)
+        axes[1].set_xscale("symlog", linthresh=1.0)
+        axes[1].set_xlim(left=0)
+        fig.tight_layout()
+        out_gamma = os.path.join(figures, f"{args.protocol}_{d}d_gamma.png")
+        save_small(fig, out_gamma, 100)
 
     # Fragments at the end, first Gamma.
     columns = min(3, len(first))
@@ -199,20 +223,20 @@ def main(argv=None):
         ax.axis("off")
     fig.tight_layout()
     out_clusters = os.path.join(figures, f"{args.protocol}_{d}d_clusters.png")
-    fig.savefig(out_clusters, dpi=90)
-    plt.close(fig)
+    save_small(fig, out_clusters, 90)
 
     print(f"{'gamma':>6} {'v':>6} {'damage':>7} {'debris':>7} {'deb_bd':>7} {'largest':>7} {'frags':>5} "
-          f"{'contact_us':>10} {'ended':>9} {'wall_s':>7}")
+          f"{'contact_us':>10} {'ended':>9} {'cpu_s':>7}")
     for r in sorted(rows, key=lambda r: (r["gamma"], r["velocity"])):
         print(f"{r['gamma']:6g} {r['velocity']:6g} {r['damage_ratio']:7.3f} {r['debris_ratio']:7.3f} "
               f"{r['debris_ratio_bonds']:7.3f} {r['largest_fraction']:7.3f} {r['fragments']:5.0f} "
               f"{r['impact_duration'] * 1e6:10.3f} {'criterion' if r['ended_by_criterion'] == 1 else 'cap':>9} "
-              f"{r['wall_time_s']:7.1f}")
+              f"{r['cpu_time']:7.1f}")
     for command, seconds in log:
         print(f"ran ({seconds:.1f} s): {command}")
-    for path in (table, out_velocity, out_time, out_clusters):
-        print(path)
+    for path in (table, out_velocity, out_time, out_gamma, out_clusters):
+        if path:
+            print(path)
     return 0
 
 

@@ -305,7 +305,8 @@ end
 function tests.summary_line(result)
   return granule.summary_line(result, { "kind", "dimension", "velocity", "surface_energy", "primaries",
     "initial_bonds", "damage_ratio", "debris_ratio", "largest_fraction", "fragments", "large", "medium", "small",
-    "fines", "debris_ratio_bonds", "largest_fraction_bonds", "impact_duration", "contact_episodes", "peak_force", "test_duration", "ended_by", "cpu_time" })
+    "fines", "debris_ratio_bonds", "largest_fraction_bonds", "impact_duration", "contact_episodes", "peak_force",
+    "test_duration", "ended_by", "cpu_time" })
 end
 
 return tests
