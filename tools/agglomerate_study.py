@@ -18,6 +18,7 @@ them to run again. It then writes
   FIGURES/<protocol>_<d>d_vs_time.png  damage and debris vs time, first Gamma (Figs. 7.15-7.21)
   FIGURES/<protocol>_<d>d_gamma.png    the same at the highest velocity for each Gamma (7.22-7.23)
   FIGURES/<protocol>_<d>d_clusters.png fragments at the end, first Gamma (Figs. 7.14-7.34)
+  FIGURES/<protocol>_<d>d_clusters_bonds.png  the same for the graph of the surviving initial bonds
 and prints the table and the commands it ran.
 """
 
@@ -213,17 +214,20 @@ def main(argv=None):
         out_gamma = os.path.join(figures, f"{args.protocol}_{d}d_gamma.png")
         save_small(fig, out_gamma, 100)
 
-    # Fragments at the end, first Gamma.
-    columns = min(3, len(first))
-    lines = (len(first) + columns - 1) // columns
-    fig, axes = plt.subplots(lines, columns, figsize=(3.3 * columns, 3.1 * lines), squeeze=False)
-    for ax, path in zip(axes.flat, first):
-        plot_agglomerate.draw(ax, path)
-    for ax in list(axes.flat)[len(first):]:
-        ax.axis("off")
-    fig.tight_layout()
-    out_clusters = os.path.join(figures, f"{args.protocol}_{d}d_clusters.png")
-    save_small(fig, out_clusters, 90)
+    # Fragments at the end, first Gamma: of the contact graph (7.4) and of the
+    # surviving initial bonds.
+    out_clusters = []
+    for graph, suffix in (("contacts", ""), ("bonds", "_bonds")):
+        columns = min(3, len(first))
+        lines = (len(first) + columns - 1) // columns
+        fig, axes = plt.subplots(lines, columns, figsize=(3.3 * columns, 3.1 * lines), squeeze=False)
+        for ax, path in zip(axes.flat, first):
+            plot_agglomerate.draw(ax, path, graph=graph)
+        for ax in list(axes.flat)[len(first):]:
+            ax.axis("off")
+        fig.tight_layout()
+        out_clusters.append(os.path.join(figures, f"{args.protocol}_{d}d_clusters{suffix}.png"))
+        save_small(fig, out_clusters[-1], 90)
 
     print(f"{'gamma':>6} {'v':>6} {'damage':>7} {'debris':>7} {'deb_bd':>7} {'largest':>7} {'frags':>5} "
           f"{'contact_us':>10} {'ended':>9} {'cpu_s':>7}")
@@ -234,7 +238,7 @@ def main(argv=None):
               f"{r['cpu_time']:7.1f}")
     for command, seconds in log:
         print(f"ran ({seconds:.1f} s): {command}")
-    for path in (table, out_velocity, out_time, out_gamma, out_clusters):
+    for path in [table, out_velocity, out_time, out_gamma] + out_clusters:
         if path:
             print(path)
     return 0
