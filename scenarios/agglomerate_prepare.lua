@@ -2,8 +2,9 @@
 -- 217 Al2O3 primaries of seven sizes over 5 um +- 5 %, generated at random in
 -- a 100 um circle, pulled together by a centripetal field with zero friction
 -- and zero surface energy, then friction and surface energy switched on, then
--- the field removed gradually. The last snapshot of the output is the
--- agglomerate the test scenes load (agglomerate_*_impact.lua, agglomerate_compression.lua).
+-- the field removed gradually. The first snapshot of the output is the random
+-- start (Fig. 7.10), the last the agglomerate (Fig. 7.12) that the test scenes
+-- load (agglomerate_*_impact.lua, agglomerate_compression.lua).
 --
 --   granule run scenarios/agglomerate_prepare.lua -D surface_energy=1 -o agglomerate_2d_g1.h5
 --   granule run scenarios/agglomerate_prepare.lua -D dimension=3 -o agglomerate_3d_g1.h5
@@ -33,7 +34,7 @@ local report = agglomerate.prepare(sim, {
   count = p.count, surface_energy = p.surface_energy, friction = p.friction, mean_diameter = p.mean_diameter,
   generation_diameter = p.generation_diameter, seed = p.seed, field_strength = p.field_strength,
   damping_rate = p.damping_rate, rest_speed = p.rest_speed, field_decrements = p.field_decrements,
-  quiet_duration = p.quiet_duration,
+  quiet_duration = p.quiet_duration, snapshot_generated = true,
 })
 agglomerate.write_preparation(sim, report)
 sim:snapshot()

@@ -2,7 +2,7 @@
 """Draw the fragments of an agglomerate test as in dissertation Figs. 7.14-7.34.
 
 usage: /usr/bin/python3 tools/plot_agglomerate.py out.h5 [--graph contacts|bonds] [--index -1]
-                                                   [--debris 0.025] [-o clusters.png]
+                                                   [--debris 0.025] [--title TEXT] [-o clusters.png]
 
 Reads a snapshot (default the last) and the per-particle fragment labels that
 the agglomerate tests write to the series /clusters (id, label, mass_fraction,
@@ -130,12 +130,13 @@ def main(argv=None):
                         help="fragments of the contact graph (7.4) or of the surviving initial bonds")
     parser.add_argument("--debris", type=float, default=0.025,
                         help="mass fraction below which a fragment is debris (default 0.025)")
+    parser.add_argument("--title", help="title (default: velocity and Gamma from /results, or the file name)")
     parser.add_argument("-o", "--output", help="PNG to write")
     args = parser.parse_args(argv)
     output = args.output or os.path.splitext(args.file)[0] + "_clusters.png"
     try:
         fig, ax = plt.subplots(figsize=(4.2, 4.4))
-        draw(ax, args.file, args.index, args.graph, args.debris)
+        draw(ax, args.file, args.index, args.graph, args.debris, args.title)
         fig.tight_layout()
         fig.savefig(output, dpi=120)
         plt.close(fig)

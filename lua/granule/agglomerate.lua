@@ -404,6 +404,7 @@ agglomerate.preparation_defaults = {
   stage2_max_duration = 100e-6,    -- s
   decrement_max_duration = 40e-6,  -- s, per decrement of stage 3
   quiet_duration = 20e-6,          -- s: final run with neither field nor damping
+  snapshot_generated = false,      -- write a snapshot of the random start (Fig. 7.10); needs sim:output
   quiet = false,                   -- no progress lines on stderr
   trace = false,                   -- print the criterion's quantities at every check
 }
@@ -433,7 +434,9 @@ function agglomerate.prepare(sim, given)
   local center = o.center or zero_vector(d)
 
   -- Generation (Figs. 7.9-7.10): sizes, then random positions without overlaps.
-  math.randomseed(math.tointeger(o.seed) or 1)
+  local seed = math.tointeger(o.seed)
+  if not seed then error(context .. ": 'seed' must be a whole number, got " .. tostring(o.seed), 2) end
+  math.randomseed(seed)
   local diameters = agglomerate.primary_diameters(o.count,
     agglomerate.size_classes(o.mean_diameter, o.size_spread, o.size_classes))
   local radii, solid = {}, 0
@@ -451,6 +454,7 @@ function agglomerate.prepare(sim, given)
   sim:contact { o.material, o.material, model = "thornton_jkr", friction = 0, surface_energy = 0 }
   local ids = {}
   for k = 1, o.count do ids[k] = sim:add_particle { position = positions[k], radius = radii[k], material = o.material } end
+  if o.snapshot_generated then sim:snapshot() end
   local mass = agglomerate.total_mass(sim, ids)
   local report = { ids = ids, stages = {}, count = o.count, mass = mass, generation_diameter = region_diameter,
                    relaxation_sweeps = sweeps, surface_energy = o.surface_energy, friction = o.friction,
