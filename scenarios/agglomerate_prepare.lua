@@ -38,5 +38,5 @@ local report = agglomerate.prepare(sim, {
 })
 agglomerate.write_preparation(sim, report)
 sim:snapshot()
-print(agglomerate.preparation_line(report) .. string.format(" wall_time_s=%.3g", os.clock() - clock))
+print(agglomerate.preparation_line(report) .. string.format(" cpu_time_s=%.3g", os.clock() - clock))
 io.stderr:write("agglomerate written to " .. out .. " (last snapshot)\n")
