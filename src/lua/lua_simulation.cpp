@@ -14,6 +14,7 @@
 #include "io/run_output.hpp"
 #include "lua/lua_util.hpp"
 #include "lua/scene.hpp"
+#include "lua/wrap_agglomerate.hpp"
 
 namespace granule::lua {
 
@@ -30,6 +31,12 @@ const char* metatable_name = simulation_metatable;
 
 int dim(lua_State* L) {
   return self(L).sim->dimension();
+}
+
+// A method defined in a wrap_*.cpp file, given the checked simulation.
+template <int (*Method)(lua_State*, SimulationBase&)>
+int bound(lua_State* L) {
+  return protect(L, [](lua_State* L) { return Method(L, *self(L).sim); });
 }
 
 std::int64_t particle_id(lua_State* L, int index, const SimulationBase& sim) {
@@ -928,6 +935,12 @@ const luaL_Reg methods[] = {
     {"describe", l_describe},
     {"dimension", l_dimension},
     {"timings", l_timings},
+    // wrap_agglomerate.cpp (dissertation chapter 7)
+    {"load_particles", bound<load_particles>},
+    {"bonds", bound<bonds>},
+    {"fragments", bound<fragments>},
+    {"breakage", bound<breakage>},
+    {"scale_velocities", bound<scale_velocities>},
     {nullptr, nullptr},
 };
 }  // namespace

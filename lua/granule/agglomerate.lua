@@ -1,0 +1,557 @@
+-- granule.agglomerate: the agglomerate protocols of dissertation chapter 7,
+-- written as script logic over the engine's stages and callbacks.
+--
+--   local agglomerate = require "granule.agglomerate"
+--   local report = agglomerate.prepare(sim, { surface_energy = 1.0 })   -- 7.3
+--   local result = agglomerate.wall_impact(sim, { velocity = 0.5 })     -- 7.6
+--
+-- Preparation (7.3): primaries of seven sizes (Fig. 7.9) at random in a circle
+-- (2D) or sphere (3D); a centripetal field pulls them together with zero
+-- friction and zero surface energy (stage 1); friction and surface energy are
+-- switched on as late as possible (stage 2); the field is removed gradually
+-- (stage 3). Every stage ends on a stated criterion, with a time cap as a
+-- safety net, and the report says which ended it.
+--
+-- Tests (7.5-7.7): normal impact with a host particle, normal impact on a
+-- wall, diametrical compression between two walls. Each samples the damage
+-- and debris ratios (7.4) as a time series while it runs, and ends when bond
+-- breakage has stopped and the kinetic energy is steady.
+--
+-- The contact loops and the cluster labelling are C++ (sim:bonds,
+-- sim:breakage, src/analysis/breakage.hpp); this file only decides what to run
+-- and when to stop. Every number is an option with the dissertation's value
+-- as its default; unknown options are errors.
+local granule = require "granule"
+
+local agglomerate = {}
+
+-- ---------------------------------------------------------------------------
+-- Materials of chapter 7 (SI units)
+-- ---------------------------------------------------------------------------
+
+--- Primary particles, 7.3: "may be considered to be composed of Al2O3".
+agglomerate.alumina = { density = 3970, young = 345e9, poisson = 0.26, friction = 0.25 }
+--- Host particle, 7.5: PMMA, d = 400 um.
+agglomerate.pmma = { density = 1190, young = 3.3e9, poisson = 0.5, friction = 0.30, diameter = 400e-6 }
+--- Target wall, 7.6 (density given for completeness: the wall does not move).
+agglomerate.target = { density = 6000, young = 1000e9, poisson = 0.45, friction = 0.5 }
+
+-- ---------------------------------------------------------------------------
+-- Options: defaults, units, checks
+-- ---------------------------------------------------------------------------
+
+-- The nearest of `names` to `word` (edit distance), for "did you mean" hints.
+local function nearest(word, names)
+  local best, best_distance = nil, math.huge
+  for _, name in ipairs(names) do
+    local previous = {}
+    for j = 0, #name do previous[j] = j end
+    for i = 1, #word do
+      local current = { [0] = i }
+      for j = 1, #name do
+        local cost = word:sub(i, i) == name:sub(j, j) and 0 or 1
+        current[j] = math.min(previous[j] + 1, current[j - 1] + 1, previous[j - 1] + cost)
+      end
+      previous = current
+    end
+    if previous[#name] < best_distance then best, best_distance = name, previous[#name] end
+  end
+  if best and best_distance <= math.max(2, #word // 3) then return best end
+  return nil
+end
+
+--- Copies `given` over `defaults`; an unknown key is an error naming it and
+--- the nearest valid name. `context` starts the message.
+function agglomerate.options(given, defaults, context)
+  local out = {}
+  for k, v in pairs(defaults) do out[k] = v end
+  for k, v in pairs(given or {}) do
+    if defaults[k] == nil then
+      local names = {}
+      for name in pairs(defaults) do names[#names + 1] = name end
+      table.sort(names)
+      local hint = type(k) == "string" and nearest(k, names) or nil
+      error(string.format("%s: unknown option '%s'%s", context, tostring(k),
+        hint and string.format(" (did you mean '%s'?)", hint) or ""), 3)
+    end
+    out[k] = v
+  end
+  return out
+end
+
+--- Checks options against rules { name = { "positive" | "non_negative" | "count", unit } };
+--- the error names the option and its unit. Whole-number options become integers.
+function agglomerate.check(o, rules, context)
+  for name, rule in pairs(rules) do
+    local v, kind, unit = o[name], rule[1], rule[2] or "-"
+    local ok
+    if kind == "count" then
+      local n = type(v) == "number" and math.tointeger(v) or nil
+      ok = n ~= nil and n >= 1
+      if ok then o[name] = n end
+    elseif type(v) ~= "number" or v ~= v or v == math.huge then
+      ok = false
+    elseif kind == "positive" then
+      ok = v > 0
+    else
+      ok = v >= 0
+    end
+    if not ok then
+      local wanted = kind == "count" and "a whole number >= 1" or (kind == "positive" and "> 0" or ">= 0")
+      error(string.format("%s: '%s' must be %s [%s], got %s", context, name, wanted, unit, tostring(v)), 3)
+    end
+  end
+end
+
+local function zero_vector(dimension)
+  if dimension == 3 then return { 0, 0, 0 } end
+  return { 0, 0 }
+end
+
+-- e_k: the unit vector along axis k (1 = x, 2 = y, 3 = z) scaled by s.
+local function axis_vector(dimension, k, s)
+  local v = zero_vector(dimension)
+  v[k] = s
+  return v
+end
+agglomerate.axis_vector = axis_vector
+
+-- ---------------------------------------------------------------------------
+-- Size distribution (Fig. 7.9) and random placement (Fig. 7.10)
+-- ---------------------------------------------------------------------------
+
+--- The diameters of `classes` size classes spread evenly over
+--- mean (1 - spread) .. mean (1 + spread): seven classes over 5 um +- 5 % by default.
+function agglomerate.size_classes(mean_diameter, spread, classes)
+  local o = { mean_diameter = mean_diameter, size_spread = spread, size_classes = classes }
+  agglomerate.check(o, { mean_diameter = { "positive", "m" }, size_spread = { "non_negative" },
+                         size_classes = { "count" } }, "size_classes")
+  if spread >= 1 then error("size_classes: 'size_spread' must be < 1 (a fraction of the mean)", 2) end
+  local out = {}
+  for k = 0, o.size_classes - 1 do
+    local fraction = o.size_classes == 1 and 0 or (2 * k / (o.size_classes - 1) - 1)
+    out[#out + 1] = mean_diameter * (1 + spread * fraction)
+  end
+  return out
+end
+
+--- `count` diameters, equal numbers in each class (Fig. 7.9 is lost; 217 =
+--- 7 x 31 suggests equal counts), in an order shuffled by math.random.
+function agglomerate.primary_diameters(count, classes)
+  local out = {}
+  for k = 1, count do out[k] = classes[(k - 1) % #classes + 1] end
+  for k = count, 2, -1 do  -- Fisher-Yates
+    local j = math.random(k)
+    out[k], out[j] = out[j], out[k]
+  end
+  return out
+end
+
+-- A uniform random point in the ball of radius r about the origin.
+local function random_in_ball(dimension, r)
+  while true do
+    local x, s = {}, 0
+    for k = 1, dimension do
+      x[k] = (2 * math.random() - 1) * r
+      s = s + x[k] * x[k]
+    end
+    if s <= r * r then return x end
+  end
+end
+
+-- The neighbour cells of a cell (itself included), as offsets.
+local function cell_offsets(dimension)
+  local out = {}
+  for a = -1, 1 do
+    for b = -1, 1 do
+      if dimension == 2 then
+        out[#out + 1] = { a, b }
+      else
+        for c = -1, 1 do out[#out + 1] = { a, b, c } end
+      end
+    end
+  end
+  return out
+end
+
+--- Random positions for spheres of the given radii inside a circle (2D) or
+--- sphere (3D) of `region_radius` about `center`, without overlaps. Centres are
+--- drawn uniformly; overlaps are then removed by moving each overlapping pair
+--- apart along its line of centres (a geometric relaxation, no dynamics),
+--- because 217 discs covering 54 % of a 100 um circle are beyond what random
+--- sequential addition can place (its jamming limit is 0.547 in an unbounded
+--- plane, lower against a boundary). `clearance` is the gap left between
+--- neighbours, a fraction of the sum of their radii. Returns the positions and
+--- the number of sweeps, or raises an error when the region cannot hold them.
+function agglomerate.random_positions(dimension, center, region_radius, radii, clearance, max_sweeps)
+  local n = #radii
+  local r_max, solid = 0, 0
+  for i = 1, n do
+    r_max = math.max(r_max, radii[i])
+    solid = solid + (dimension == 2 and math.pi * radii[i] ^ 2 or 4 / 3 * math.pi * radii[i] ^ 3)
+  end
+  local region = dimension == 2 and math.pi * region_radius ^ 2 or 4 / 3 * math.pi * region_radius ^ 3
+  local limit = dimension == 2 and 0.75 or 0.55  -- well below random close packing (0.82, 0.64)
+  if solid / region > limit then
+    error(string.format("generation_diameter %.4g m is too small for %d primaries: they would fill %.0f %% of "
+      .. "it (at most %.0f %% can be placed at random)", 2 * region_radius, n, 100 * solid / region, 100 * limit), 3)
+  end
+  local positions = {}
+  for i = 1, n do positions[i] = random_in_ball(dimension, region_radius - radii[i]) end
+  local cell = 2 * r_max * (1 + clearance)
+  local offsets = cell_offsets(dimension)
+  local function cell_name(x, offset)
+    local parts = {}
+    for k = 1, dimension do parts[k] = math.floor(x[k] / cell) + (offset and offset[k] or 0) end
+    return table.concat(parts, ",")
+  end
+  for sweep = 1, max_sweeps do
+    local grid = {}
+    for i = 1, n do
+      local name = cell_name(positions[i])
+      grid[name] = grid[name] or {}
+      table.insert(grid[name], i)
+    end
+    local overlapping = false
+    for i = 1, n do
+      local xi = positions[i]
+      for _, offset in ipairs(offsets) do
+        for _, j in ipairs(grid[cell_name(xi, offset)] or {}) do
+          if j > i then
+            local xj = positions[j]
+            local dx, dist2 = {}, 0
+            for k = 1, dimension do
+              dx[k] = xj[k] - xi[k]
+              dist2 = dist2 + dx[k] * dx[k]
+            end
+            local dist = math.sqrt(dist2)
+            local wanted = (radii[i] + radii[j]) * (1 + clearance)
+            if dist < wanted then
+              if dist < radii[i] + radii[j] then overlapping = true end
+              if dist == 0 then dx, dist = axis_vector(dimension, 1, 1), 1 end
+              local push = 0.5 * (wanted - dist) / dist
+              for k = 1, dimension do
+                xi[k] = xi[k] - push * dx[k]
+                xj[k] = xj[k] + push * dx[k]
+              end
+            end
+          end
+        end
+      end
+    end
+    for i = 1, n do  -- back inside the region
+      local x, r2 = positions[i], 0
+      for k = 1, dimension do r2 = r2 + x[k] * x[k] end
+      local reach = region_radius - radii[i]
+      if r2 > reach * reach then
+        for k = 1, dimension do x[k] = x[k] * reach / math.sqrt(r2) end
+      end
+    end
+    if not overlapping then
+      for i = 1, n do
+        for k = 1, dimension do positions[i][k] = positions[i][k] + center[k] end
+      end
+      return positions, sweep
+    end
+  end
+  error(string.format("random_positions: overlaps remain after %d sweeps; enlarge generation_diameter (%.4g m) "
+    .. "or lower count (%d)", max_sweeps, 2 * region_radius, n), 3)
+end
+
+-- ---------------------------------------------------------------------------
+-- Measures of a set of particles
+-- ---------------------------------------------------------------------------
+
+--- Total mass [kg] of the particles `ids`.
+function agglomerate.total_mass(sim, ids)
+  local m = 0
+  for _, id in ipairs(ids) do m = m + sim:particle(id).mass end
+  return m
+end
+
+--- Centre of mass, mean velocity, mass, outer diameter 2 max(|x - c| + r) and
+--- bounding box (low, high) of the particles `ids`.
+function agglomerate.geometry(sim, ids)
+  local d = sim:dimension()
+  local c, v, m = zero_vector(d), zero_vector(d), 0
+  local low, high = {}, {}
+  for k = 1, d do low[k], high[k] = math.huge, -math.huge end
+  local data = {}
+  for _, id in ipairs(ids) do
+    local p = sim:particle(id)
+    data[#data + 1] = p
+    m = m + p.mass
+    for k = 1, d do
+      c[k] = c[k] + p.mass * p.position[k]
+      v[k] = v[k] + p.mass * p.velocity[k]
+      low[k] = math.min(low[k], p.position[k] - p.radius)
+      high[k] = math.max(high[k], p.position[k] + p.radius)
+    end
+  end
+  for k = 1, d do c[k], v[k] = c[k] / m, v[k] / m end
+  local reach = 0
+  for _, p in ipairs(data) do
+    local s = 0
+    for k = 1, d do s = s + (p.position[k] - c[k]) ^ 2 end
+    reach = math.max(reach, math.sqrt(s) + p.radius)
+  end
+  return { center = c, velocity = v, mass = m, diameter = 2 * reach, low = low, high = high }
+end
+
+--- Contacts among the particles `ids` in the last step: bonds, coordination
+--- number 2 bonds / primaries, and how many carry a compressive (N > 0) or a
+--- tensile (N < 0) normal force. Needs record_contacts = true.
+function agglomerate.contact_census(sim, ids)
+  local member = {}
+  for _, id in ipairs(ids) do member[id] = true end
+  local compressive, tensile, bonds = 0, 0, 0
+  for _, c in ipairs(sim:contacts()) do
+    if c.b and member[c.a] and member[c.b] then
+      bonds = bonds + 1
+      if c.normal_force > 0 then
+        compressive = compressive + 1
+      elseif c.normal_force < 0 then
+        tensile = tensile + 1
+      end
+    end
+  end
+  return { bonds = bonds, coordination = 2 * bonds / #ids, compressive = compressive, tensile = tensile }
+end
+
+--- The rms speed [m/s] of the simulation's particles relative to their centre
+--- of mass, sqrt(2 (KE - |P|^2 / 2M) / M) with M their total mass: a drift of
+--- the whole agglomerate is not unrest. Use it while the simulation holds only
+--- the agglomerate.
+function agglomerate.internal_rms_speed(stats, mass)
+  local p2 = 0
+  for _, pk in ipairs(stats.momentum) do p2 = p2 + pk * pk end
+  return math.sqrt(math.max(0, 2 * (stats.kinetic_energy - p2 / (2 * mass)) / mass))
+end
+
+-- ---------------------------------------------------------------------------
+-- Stages
+-- ---------------------------------------------------------------------------
+
+--- Global damping as a scripted hook: every `every` steps the velocities and
+--- spins of `material` are multiplied by exp(-rate every dt), i.e. dv/dt = -rate v.
+--- Returns the hook id (sim:remove_hook ends it).
+function agglomerate.start_damping(sim, material, rate, every)
+  local factor = math.exp(-rate * every * sim:time_step())
+  return sim:every { steps = every, name = "global damping", function(s)
+    s:scale_velocities { factor = factor, material = material }
+  end }
+end
+
+--- A stage criterion: the internal rms speed is below `rest_speed` [m/s] and
+--- the number of contacts has not changed for `steady_time` [s]. `mass` is the
+--- agglomerate's mass; `trace` prints the quantities at every check.
+function agglomerate.at_rest(mass, rest_speed, steady_time, trace)
+  local last_count, since = -1, 0
+  return function(s)
+    local st = s:stats()
+    if st.contacts_particle ~= last_count then last_count, since = st.contacts_particle, st.time end
+    local speed = agglomerate.internal_rms_speed(st, mass)
+    if trace then
+      io.stderr:write(string.format("  t = %.4e s  internal rms speed %.3e m/s  contacts %d\n", st.time, speed,
+        st.contacts_particle))
+    end
+    return speed < rest_speed and st.time - since >= steady_time
+  end
+end
+
+--- Runs until `criterion(sim)` holds, checked every `check_every` steps, or
+--- until `max_duration` [s] has passed (the safety net). Returns a stage record
+--- { name, start, duration, steps, ended_by = "criterion" | "cap" }.
+function agglomerate.run_stage(sim, name, max_duration, check_every, criterion, quiet)
+  local t0 = sim:time()
+  local r = sim:run { duration = max_duration, check_every = check_every, stop_when = criterion }
+  local record = { name = name, start = t0, duration = sim:time() - t0, steps = r.steps,
+                   ended_by = r.stopped and "criterion" or "cap" }
+  if not quiet then
+    io.stderr:write(string.format("stage %-24s %9.3f us %9d steps, ended by %s\n", name, record.duration * 1e6,
+      record.steps, record.ended_by))
+  end
+  return record
+end
+
+-- ---------------------------------------------------------------------------
+-- Preparation protocol (7.3)
+-- ---------------------------------------------------------------------------
+
+agglomerate.preparation_defaults = {
+  material = "alumina",            -- name of the primaries' material (declared by prepare)
+  density = agglomerate.alumina.density,
+  young = agglomerate.alumina.young,
+  poisson = agglomerate.alumina.poisson,
+  friction = agglomerate.alumina.friction,
+  surface_energy = 1.0,            -- Gamma [J/m^2]; 7.3 uses 1.0 and 2.0
+  count = 217,                     -- primaries (7.3)
+  mean_diameter = 5e-6,            -- m (7.3)
+  size_spread = 0.05,              -- +- 5 % (7.3, Fig. 7.9)
+  size_classes = 7,                -- (7.3)
+  generation_diameter = 0,         -- m; 0: 100 um in 2D (7.3); in 3D the sphere the primaries fill to 25 %
+  center = false,                  -- {x, y[, z]}; false: the origin
+  seed = 1,                        -- math.randomseed for sizes and positions
+  clearance = 0.02,                -- gap between neighbours at generation, fraction of r_i + r_j
+  field_strength = 5e5,            -- m/s^2 toward the centre: the "centripetal gravity field"
+  damping_rate = 1e6,              -- 1/s: global damping dv/dt = -c v, during preparation only
+  damping_every = 10,              -- steps between velocity scalings
+  rest_speed = 1e-4,               -- m/s: at rest when the internal rms speed is below this
+  steady_time = 2e-6,              -- s: ... and the contact count has not changed for this long
+  field_decrements = 10,           -- stage 3 lowers the field in this many equal steps
+  check_every = 200,               -- steps between checks of the stage criteria
+  stage1_max_duration = 400e-6,    -- s: caps, a safety net only
+  stage2_max_duration = 100e-6,    -- s
+  decrement_max_duration = 40e-6,  -- s, per decrement of stage 3
+  quiet_duration = 20e-6,          -- s: final run with neither field nor damping
+  snapshot_generated = false,      -- write a snapshot of the random start (Fig. 7.10); needs sim:output
+  quiet = false,                   -- no progress lines on stderr
+  trace = false,                   -- print the criterion's quantities at every check
+}
+
+local preparation_rules = {
+  density = { "positive", "kg/m^3" }, young = { "positive", "Pa" }, poisson = { "non_negative" },
+  friction = { "non_negative" }, surface_energy = { "non_negative", "J/m^2" }, count = { "count" },
+  mean_diameter = { "positive", "m" }, size_spread = { "non_negative" }, size_classes = { "count" },
+  generation_diameter = { "non_negative", "m" }, seed = { "non_negative" }, clearance = { "non_negative" },
+  field_strength = { "positive", "m/s^2" }, damping_rate = { "positive", "1/s" }, damping_every = { "count" },
+  rest_speed = { "positive", "m/s" }, steady_time = { "non_negative", "s" }, field_decrements = { "count" },
+  check_every = { "count" }, stage1_max_duration = { "positive", "s" }, stage2_max_duration = { "positive", "s" },
+  decrement_max_duration = { "positive", "s" }, quiet_duration = { "non_negative", "s" },
+}
+
+--- Prepares an agglomerate in `sim` (no particles yet, record_contacts = true)
+--- by the protocol of 7.3, declaring the primaries' material and its
+--- thornton_jkr self-contact. Returns a report: the primaries' ids, each
+--- stage with what ended it, and at the end the diameter, bonds, coordination
+--- number and the compressive and tensile contacts (7.3: "about as many").
+function agglomerate.prepare(sim, given)
+  local context = "agglomerate.prepare"
+  local o = agglomerate.options(given, agglomerate.preparation_defaults, context)
+  agglomerate.check(o, preparation_rules, context)
+  local d = sim:dimension()
+  if #sim:particles() > 0 then error(context .. ": the simulation must hold no particles yet", 2) end
+  local center = o.center or zero_vector(d)
+
+  -- Generation (Figs. 7.9-7.10): sizes, then random positions without overlaps.
+  local seed = math.tointeger(o.seed)
+  if not seed then error(context .. ": 'seed' must be a whole number, got " .. tostring(o.seed), 2) end
+  math.randomseed(seed)
+  local diameters = agglomerate.primary_diameters(o.count,
+    agglomerate.size_classes(o.mean_diameter, o.size_spread, o.size_classes))
+  local radii, solid = {}, 0
+  for k, dk in ipairs(diameters) do
+    radii[k] = dk / 2
+    solid = solid + (d == 2 and math.pi * radii[k] ^ 2 or 4 / 3 * math.pi * radii[k] ^ 3)
+  end
+  local region_diameter = o.generation_diameter
+  if region_diameter == 0 then
+    region_diameter = d == 2 and 100e-6 or 2 * (3 * solid / (0.25 * 4 * math.pi)) ^ (1 / 3)
+  end
+  local positions, sweeps = agglomerate.random_positions(d, center, region_diameter / 2, radii, o.clearance, 5000)
+  sim:material { name = o.material, density = o.density, young = o.young, poisson = o.poisson }
+  -- Stage 1's law: Thornton's with mu = 0 and Gamma = 0, i.e. frictionless Hertz.
+  sim:contact { o.material, o.material, model = "thornton_jkr", friction = 0, surface_energy = 0 }
+  local ids = {}
+  for k = 1, o.count do ids[k] = sim:add_particle { position = positions[k], radius = radii[k], material = o.material } end
+  if o.snapshot_generated then sim:snapshot() end
+  local mass = agglomerate.total_mass(sim, ids)
+  local report = { ids = ids, stages = {}, count = o.count, mass = mass, generation_diameter = region_diameter,
+                   relaxation_sweeps = sweeps, surface_energy = o.surface_energy, friction = o.friction,
+                   material = o.material }
+  local rest = function() return agglomerate.at_rest(mass, o.rest_speed, o.steady_time, o.trace) end
+
+  -- Thornton's law with mu = Gamma = 0 dissipates nothing: without damping the
+  -- pulled-in primaries would oscillate for ever. Global damping (as in
+  -- Thornton's preparations) is on for the three stages and off afterwards.
+  local damping = agglomerate.start_damping(sim, o.material, o.damping_rate, o.damping_every)
+
+  -- Stage 1: the centripetal field pulls the primaries together; frictionless and
+  -- without adhesion they slide into a dense packing.
+  sim:central_field { point = center, strength = o.field_strength }
+  report.stages[1] = agglomerate.run_stage(sim, "1 field, mu = Gamma = 0", o.stage1_max_duration, o.check_every,
+    rest(), o.quiet)
+
+  -- Stage 2: friction and surface energy switched on as late as possible: now,
+  -- with the packing at rest under the field.
+  sim:set_contact(o.material, o.material, { friction = o.friction, surface_energy = o.surface_energy })
+  report.stages[2] = agglomerate.run_stage(sim, "2 mu and Gamma on", o.stage2_max_duration, o.check_every, rest(),
+    o.quiet)
+
+  -- Stage 3: the field removed in equal decrements, each followed by a return to
+  -- rest, so the agglomerate stays in equilibrium.
+  local stage3 = { name = "3 field removed", start = sim:time(), steps = 0, ended_by = "criterion", decrements = {} }
+  for k = 1, o.field_decrements do
+    local strength = o.field_strength * (1 - k / o.field_decrements)
+    if k == o.field_decrements then sim:remove_central_field() else sim:set_central_strength(strength) end
+    local r = agglomerate.run_stage(sim, string.format("3.%d field %.3g m/s^2", k, strength),
+      o.decrement_max_duration, o.check_every, rest(), true)
+    stage3.steps = stage3.steps + r.steps
+    stage3.decrements[k] = r
+    if r.ended_by == "cap" then stage3.ended_by = "cap" end
+  end
+  stage3.duration = sim:time() - stage3.start
+  report.stages[3] = stage3
+  if not o.quiet then
+    io.stderr:write(string.format("stage %-24s %9.3f us %9d steps, ended by %s%s\n", stage3.name,
+      stage3.duration * 1e6, stage3.steps, stage3.ended_by,
+      stage3.ended_by == "cap" and " (in at least one decrement)" or ""))
+  end
+  sim:remove_hook(damping)
+
+  -- Quiet run, neither field nor damping: an agglomerate in equilibrium stays at
+  -- rest and keeps its bonds.
+  local bonds_before = #sim:bonds { material = o.material }
+  local peak = 0
+  local probe = sim:every { steps = o.check_every, name = "quiet check", function(s)
+    peak = math.max(peak, agglomerate.internal_rms_speed(s:stats(), mass))
+  end }
+  if o.quiet_duration > 0 then sim:run { duration = o.quiet_duration } end
+  sim:remove_hook(probe)
+
+  local census = agglomerate.contact_census(sim, ids)
+  local shape = agglomerate.geometry(sim, ids)
+  report.quiet = { duration = o.quiet_duration, peak_rms_speed = peak, bonds_before = bonds_before,
+                   bonds_after = census.bonds }
+  report.diameter, report.center = shape.diameter, shape.center
+  report.bonds, report.coordination = census.bonds, census.coordination
+  report.compressive, report.tensile = census.compressive, census.tensile
+  report.rms_speed = agglomerate.internal_rms_speed(sim:stats(), mass)
+  report.time = sim:time()
+  return report
+end
+
+--- One line "key=value ..." summarising a preparation report.
+function agglomerate.preparation_line(report)
+  local ended = {}
+  for k, stage in ipairs(report.stages) do ended[k] = stage.ended_by end
+  return granule.summary_line({
+    primaries = report.count, diameter_m = report.diameter, bonds = report.bonds,
+    coordination = report.coordination, compressive = report.compressive, tensile = report.tensile,
+    rms_speed_m_s = report.rms_speed, quiet_peak_rms_speed_m_s = report.quiet.peak_rms_speed,
+    quiet_bonds_lost = report.quiet.bonds_before - report.quiet.bonds_after,
+    stages_ended_by = table.concat(ended, ","), prepared_in_s = report.time,
+  }, { "primaries", "diameter_m", "bonds", "coordination", "compressive", "tensile", "rms_speed_m_s",
+       "quiet_peak_rms_speed_m_s", "quiet_bonds_lost", "stages_ended_by", "prepared_in_s" })
+end
+
+--- Writes a preparation report into the simulation's output: the series
+--- /preparation (a row per stage: stage, start_time, duration, steps,
+--- criterion_met = 1 if the criterion ended it, 0 if the cap did) and the
+--- /results attributes.
+function agglomerate.write_preparation(sim, report)
+  sim:series("preparation", { "stage", "start_time", "duration", "steps", "criterion_met" })
+  for k, stage in ipairs(report.stages) do
+    sim:append("preparation", { k, stage.start, stage.duration, stage.steps, stage.ended_by == "criterion" and 1 or 0 })
+  end
+  sim:result {
+    primaries = report.count, diameter = report.diameter, bonds = report.bonds, coordination = report.coordination,
+    compressive_contacts = report.compressive, tensile_contacts = report.tensile, rms_speed = report.rms_speed,
+    quiet_peak_rms_speed = report.quiet.peak_rms_speed,
+    quiet_bonds_lost = report.quiet.bonds_before - report.quiet.bonds_after,
+    generation_diameter = report.generation_diameter, mass = report.mass, surface_energy = report.surface_energy,
+    friction = report.friction, prepared_in = report.time,
+  }
+end
+
+return agglomerate

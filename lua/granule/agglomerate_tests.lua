@@ -1,0 +1,312 @@
+-- granule.agglomerate_tests: the three breakage tests of dissertation
+-- chapter 7 on a prepared agglomerate (granule.agglomerate, 7.3):
+--
+--   host        normal impact with a host particle, both moving toward each
+--               other at v (7.5, Figs. 7.11-7.23)
+--   wall        normal impact on a stationary wall at v (7.6, Figs. 7.24-7.30)
+--   compression diametrical compression between a fixed and a moving wall
+--               until 10 % strain (7.7, Figs. 7.31-7.36)
+--
+--   local tests = require "granule.agglomerate_tests"
+--   local sim = simulation { dimension = 2, record_contacts = true }
+--   sim:output {}
+--   local result = tests.run(sim, "wall", { file = "agglomerate_2d_g1.h5", velocity = 0.5 })
+--
+-- A test (1) loads the agglomerate from the last snapshot of a preparation's
+-- output and lets it settle with damping, because a snapshot holds positions
+-- and velocities but not the contacts' tangential histories; (2) places the
+-- target `gap` below it (along -y) and gives the velocities; (3) samples the
+-- breakage (sim:breakage, 7.4) every `sample_every` steps into the series
+-- /breakage and watches the target's contact force every `contact_every`
+-- steps; (4) stops when the impact is over (compression: the strain is
+-- reached), no bond has broken for `steady_time` and the agglomerate's mean
+-- kinetic energy over that time is within `ke_tolerance` of its mean over the
+-- `steady_time` before, or at `max_duration` (the result says which); (5) writes the final fragment labels to the series
+-- /clusters (id, label, fragment mass fraction; label 1 = the largest
+-- fragment) and the numbers to /results.
+local granule = require "granule"
+local agglomerate = require "granule.agglomerate"
+
+local tests = {}
+
+tests.defaults = {
+  file = "",                        -- HDF5 output of scenarios/agglomerate_prepare.lua
+  snapshot = -1,                    -- which snapshot of it (-1: the last)
+  material = "alumina",             -- the primaries' material name in that file
+  density = agglomerate.alumina.density,
+  young = agglomerate.alumina.young,
+  poisson = agglomerate.alumina.poisson,
+  friction = agglomerate.alumina.friction,
+  surface_energy = 1.0,             -- Gamma between primaries [J/m^2] (7.5.2: 1.0 and 2.0)
+  velocity = 0.1,                   -- m/s: impact velocity (host: of each body) or wall speed
+  gap = 20e-9,                      -- m: initial distance to the target ("very small", 7.4)
+  settle_damping_rate = 1e6,        -- 1/s: damping while the loaded agglomerate settles
+  settle_rest_speed = 1e-4,         -- m/s: settled when the internal rms speed is below this
+  settle_steady_time = 1e-6,        -- s: ... with the contact count unchanged this long
+  settle_max_duration = 40e-6,      -- s: cap of the settling stage
+  damping_every = 10,               -- steps between velocity scalings while settling
+  sample_every = 100,               -- steps between breakage samples
+  contact_every = 20,               -- steps between checks of the target's force
+  steady_time = 5e-6,               -- s: window of the end criterion
+  ke_tolerance = 0.02,              -- relative change of the mean kinetic energy between two windows
+  max_duration = 300e-6,            -- s: cap of the test (safety net)
+  host_diameter = agglomerate.pmma.diameter,
+  host_density = agglomerate.pmma.density,
+  host_young = agglomerate.pmma.young,
+  host_poisson = agglomerate.pmma.poisson,
+  host_friction = agglomerate.pmma.friction,
+  host_surface_energy = 0,          -- J/m^2 between host and primaries (not given in 7.5)
+  wall_young = agglomerate.target.young,
+  wall_poisson = agglomerate.target.poisson,
+  wall_friction = agglomerate.target.friction,
+  wall_surface_energy = 0,          -- J/m^2 between wall and primaries (not given in 7.6)
+  strain = 0.10,                    -- compression: wall travel / agglomerate height (7.7)
+  large = 0.10,                     -- fragment classes, fractions of the initial mass (7.4)
+  debris = 0.025,
+  fines = 0.002,
+  quiet = false,
+}
+
+local rules = {
+  density = { "positive", "kg/m^3" }, young = { "positive", "Pa" }, poisson = { "non_negative" },
+  friction = { "non_negative" }, surface_energy = { "non_negative", "J/m^2" }, velocity = { "positive", "m/s" },
+  gap = { "non_negative", "m" }, settle_damping_rate = { "positive", "1/s" },
+  settle_rest_speed = { "positive", "m/s" }, settle_steady_time = { "non_negative", "s" },
+  settle_max_duration = { "positive", "s" }, damping_every = { "count" }, sample_every = { "count" },
+  contact_every = { "count" }, steady_time = { "positive", "s" }, ke_tolerance = { "positive" },
+  max_duration = { "positive", "s" }, host_diameter = { "positive", "m" }, host_density = { "positive", "kg/m^3" },
+  host_young = { "positive", "Pa" }, host_poisson = { "non_negative" }, host_friction = { "non_negative" },
+  host_surface_energy = { "non_negative", "J/m^2" }, wall_young = { "positive", "Pa" },
+  wall_poisson = { "non_negative" }, wall_friction = { "non_negative" },
+  wall_surface_energy = { "non_negative", "J/m^2" }, strain = { "positive" }, large = { "positive" },
+  debris = { "positive" }, fines = { "positive" },
+}
+
+tests.kinds = { host = "normal impact with a host particle (7.5)", wall = "normal impact on a wall (7.6)",
+                compression = "diametrical compression (7.7)" }
+
+-- Columns of /breakage. Fragments are clusters of the contact graph (7.4); the
+-- *_bonds columns use the graph of the initial bonds that survive instead,
+-- which keeps apart pieces that new contacts join (between two walls).
+tests.series_columns = { "time", "damage_ratio", "debris_ratio", "fines_ratio", "largest_fraction", "fragments",
+                         "large", "medium", "small", "broken_bonds", "debris_ratio_bonds",
+                         "largest_fraction_bonds", "fragments_bonds", "kinetic_energy", "target_force",
+                         "in_contact", "wall_travel" }
+
+-- Kinetic energy of one particle (translation + rotation, I = m d^2 / 10, SPEC 2).
+local function particle_kinetic_energy(p)
+  local v2, w2 = 0, 0
+  for _, vk in ipairs(p.velocity) do v2 = v2 + vk * vk end
+  if type(p.spin) == "number" then w2 = p.spin * p.spin else for _, wk in ipairs(p.spin) do w2 = w2 + wk * wk end end
+  return 0.5 * p.mass * v2 + 0.5 * (0.4 * p.mass * p.radius ^ 2) * w2
+end
+
+local function norm(v)
+  local s = 0
+  for _, x in ipairs(v) do s = s + x * x end
+  return math.sqrt(s)
+end
+
+--- Runs test `kind` ("host", "wall" or "compression") in `sim`, an empty
+--- simulation with record_contacts = true and an output. Returns the result
+--- table (also written to /results).
+function tests.run(sim, kind, given)
+  local context = "agglomerate test '" .. tostring(kind) .. "'"
+  if not tests.kinds[kind] then
+    error(string.format("agglomerate test: unknown kind '%s' (host, wall or compression)", tostring(kind)), 2)
+  end
+  local o = agglomerate.options(given, tests.defaults, context)
+  agglomerate.check(o, rules, context)
+  if o.file == "" then
+    error(context .. ": 'file' is required: the output of scenarios/agglomerate_prepare.lua", 2)
+  end
+  if o.strain >= 1 then error(context .. ": 'strain' must be < 1 (a fraction of the height)", 2) end
+  if #sim:particles() > 0 then error(context .. ": the simulation must hold no particles yet", 2) end
+  local d = sim:dimension()
+  local clock = os.clock()
+  local up = function(s) return agglomerate.axis_vector(d, 2, s) end
+
+  -- (1) The agglomerate, and its settling with damping.
+  sim:material { name = o.material, density = o.density, young = o.young, poisson = o.poisson }
+  sim:contact { o.material, o.material, model = "thornton_jkr", friction = o.friction,
+                surface_energy = o.surface_energy }
+  local ids = sim:load_particles { file = o.file, snapshot = o.snapshot }
+  local mass = agglomerate.total_mass(sim, ids)
+  sim:run { steps = 1 }
+  local bonds_loaded = #sim:bonds { material = o.material }
+  local damping = agglomerate.start_damping(sim, o.material, o.settle_damping_rate, o.damping_every)
+  local settle = agglomerate.run_stage(sim, "settle after loading", o.settle_max_duration, o.sample_every,
+    agglomerate.at_rest(mass, o.settle_rest_speed, o.settle_steady_time), o.quiet)
+  sim:remove_hook(damping)
+  local shape = agglomerate.geometry(sim, ids)
+  local height = shape.high[2] - shape.low[2]
+
+  -- (2) The target, below the agglomerate (along -y), and the velocities.
+  local target = {}
+  local below = shape.low[2] - o.gap
+  if kind == "host" then
+    sim:material { name = "host", density = o.host_density, young = o.host_young, poisson = o.host_poisson }
+    sim:contact { o.material, "host", model = "thornton_jkr", friction = o.host_friction,
+                  surface_energy = o.host_surface_energy }
+    -- One host: this law is never used, but every pair of materials in use needs one.
+    sim:contact { "host", "host", model = "thornton_jkr", friction = o.host_friction, surface_energy = 0 }
+    local position = {}
+    for k = 1, d do position[k] = shape.center[k] end
+    position[2] = below - o.host_diameter / 2
+    -- 7.5: "two elements have the same incoming velocity".
+    target.host = sim:add_particle { position = position, velocity = up(o.velocity), radius = o.host_diameter / 2,
+                                     material = "host" }
+    target.force = function(s) return norm(s:particle(target.host).force) end
+  else
+    sim:material { name = "wall", young = o.wall_young, poisson = o.wall_poisson }
+    sim:contact { o.material, "wall", model = "thornton_jkr", friction = o.wall_friction,
+                  surface_energy = o.wall_surface_energy }
+    local point = {}
+    for k = 1, d do point[k] = shape.center[k] end
+    point[2] = below
+    sim:wall_plane { name = "bottom", point = point, normal = up(1), material = "wall" }
+    target.force = function(s) return norm(s:wall("bottom").force) end
+    if kind == "compression" then
+      local top = {}
+      for k = 1, d do top[k] = shape.center[k] end
+      top[2] = shape.high[2] + o.gap
+      sim:wall_plane { name = "top", point = top, normal = up(-1), material = "wall", velocity = up(-o.velocity) }
+      target.force = function(s) return 0.5 * (norm(s:wall("bottom").force) + norm(s:wall("top").force)) end
+    end
+  end
+  if kind ~= "compression" then
+    for _, id in ipairs(ids) do sim:set_velocity(id, up(-o.velocity)) end
+  end
+
+  -- (3) Watching the target and sampling the breakage.
+  local initial_bonds = sim:bonds { material = o.material }
+  local classes = { large = o.large, debris = o.debris, fines = o.fines }
+  local t0 = sim:time()
+  -- The impact is the first contact episode; later touches (a fragment or a
+  -- vibrating face meeting the target again) are counted, not added to it.
+  local contact = { first = nil, ended = nil, last = nil, now = false, episodes = 0, peak_force = 0 }
+  local travel_target = o.strain * height
+  local strained_at = nil
+  local function wall_travel(s)
+    if kind ~= "compression" then return 0 end
+    return math.min(travel_target, o.velocity * (s:time() - t0))
+  end
+  local watch = sim:every { steps = o.contact_every, name = "target contact", function(s)
+    local f = target.force(s)
+    local touching = f > 0
+    if touching and not contact.now then contact.episodes = contact.episodes + 1 end
+    contact.now = touching
+    contact.peak_force = math.max(contact.peak_force, f)
+    if touching then
+      contact.first = contact.first or s:time()
+      contact.last = s:time()
+    elseif contact.first and not contact.ended then
+      contact.ended = s:time()
+    end
+    if kind == "compression" and not strained_at and o.velocity * (s:time() - t0) >= travel_target then
+      -- 7.7: the moving wall stops at the target strain.
+      strained_at = s:time()
+      s:set_wall("top", { velocity = up(0) })
+    end
+  end }
+  local function agglomerate_kinetic_energy(s)
+    local e = s:stats().kinetic_energy
+    if target.host then e = e - particle_kinetic_energy(s:particle(target.host)) end
+    return e
+  end
+  sim:series("breakage", tests.series_columns)
+  local history = {}
+  local function measure(s, graph, labels)
+    return s:breakage { initial_bonds = initial_bonds, material = o.material, initial_mass = mass, graph = graph,
+                        labels = labels, large = classes.large, debris = classes.debris, fines = classes.fines }
+  end
+  local function sample(s)
+    local b, kept = measure(s, "contacts"), measure(s, "surviving_bonds")
+    local row = { time = s:time() - t0, broken = b.broken_bonds, kinetic_energy = agglomerate_kinetic_energy(s) }
+    history[#history + 1] = row
+    s:append("breakage", { row.time, b.damage_ratio, b.debris_ratio, b.fines_ratio, b.largest_fraction, b.fragments,
+                           b.large, b.medium, b.small, b.broken_bonds, kept.debris_ratio, kept.largest_fraction,
+                           kept.fragments, row.kinetic_energy, target.force(s), contact.now and 1 or 0,
+                           wall_travel(s) })
+  end
+  sample(sim)
+  local sampler = sim:every { steps = o.sample_every, name = "breakage sample", sample }
+
+  -- (4) The end: impact over, no bond broken and the kinetic energy steady
+  -- over the last steady_time (7.5: "zero rate of bond breakage and a constant
+  -- kinetic energy").
+  -- Steady: no bond broken in the last steady_time, and the mean kinetic energy
+  -- of that window within ke_tolerance of the mean of the window before. Means,
+  -- not extremes: the undamped elastic ringing of the bonds makes the kinetic
+  -- energy flicker by a few per cent about a constant mean for ever.
+  local function steady()
+    local last = history[#history]
+    if not last or last.time < 2 * o.steady_time then return false end
+    local sums, counts = { 0, 0 }, { 0, 0 }
+    for k = #history, 1, -1 do
+      local h = history[k]
+      local window = h.time >= last.time - o.steady_time and 1 or 2
+      if h.time < last.time - 2 * o.steady_time then break end
+      if window == 1 and h.broken ~= last.broken then return false end
+      sums[window], counts[window] = sums[window] + h.kinetic_energy, counts[window] + 1
+    end
+    if counts[1] < 2 or counts[2] < 2 then return false end
+    local recent, before = sums[1] / counts[1], sums[2] / counts[2]
+    return math.abs(recent - before) <= o.ke_tolerance * recent
+  end
+  local function over()
+    if kind == "compression" then return strained_at ~= nil end
+    return contact.ended ~= nil and not contact.now
+  end
+  local r = sim:run { duration = o.max_duration, check_every = o.sample_every,
+                      stop_when = function() return over() and steady() end }
+  sim:remove_hook(watch)
+  sim:remove_hook(sampler)
+
+  -- (5) The final state: fragments with labels, results.
+  local b, kept = measure(sim, "contacts", true), measure(sim, "surviving_bonds", true)
+  sim:series("clusters", { "id", "label", "mass_fraction", "label_bonds", "mass_fraction_bonds" })
+  local sorted = {}
+  for _, id in ipairs(ids) do sorted[#sorted + 1] = id end
+  table.sort(sorted)
+  for _, id in ipairs(sorted) do
+    local label, label_bonds = b.labels[id], kept.labels[id]
+    sim:append("clusters", { id, label, b.mass_fractions[label], label_bonds, kept.mass_fractions[label_bonds] })
+  end
+  sim:snapshot()
+  local result = {
+    kind = kind, dimension = d, velocity = o.velocity, surface_energy = o.surface_energy, primaries = #ids,
+    diameter = shape.diameter, height = height, initial_bonds = #initial_bonds, bonds_loaded = bonds_loaded,
+    settle_duration = settle.duration, settled_by_criterion = settle.ended_by == "criterion" and 1 or 0,
+    damage_ratio = b.damage_ratio, debris_ratio = b.debris_ratio, fines_ratio = b.fines_ratio,
+    largest_fraction = b.largest_fraction, fragments = b.fragments, large = b.large, medium = b.medium,
+    small = b.small, fines = b.fines, singles = b.singles, broken_bonds = b.broken_bonds,
+    debris_ratio_bonds = kept.debris_ratio, largest_fraction_bonds = kept.largest_fraction,
+    fragments_bonds = kept.fragments,
+    contact_start = contact.first and contact.first - t0 or -1,
+    impact_duration = (contact.first and contact.ended) and contact.ended - contact.first or -1,
+    last_contact = contact.last and contact.last - t0 or -1, contact_episodes = contact.episodes,
+    peak_force = contact.peak_force, strained_at = strained_at and strained_at - t0 or -1,
+    test_duration = sim:time() - t0, steps = r.steps, ended_by_criterion = r.stopped and 1 or 0,
+    cpu_time = os.clock() - clock,
+  }
+  -- Where the walls are at the end (the output's /walls header is written before
+  -- the test adds them), for the pictures.
+  if kind ~= "host" then result.wall_bottom_y = sim:wall("bottom").point[2] end
+  if kind == "compression" then result.wall_top_y = sim:wall("top").point[2] end
+  local numbers = {}
+  for k, v in pairs(result) do if type(v) == "number" then numbers[k] = v end end
+  sim:result(numbers)
+  result.ended_by = r.stopped and "criterion" or "cap"
+  return result
+end
+
+--- One line "key=value ..." of a test result, for logs, tests and studies.
+function tests.summary_line(result)
+  return granule.summary_line(result, { "kind", "dimension", "velocity", "surface_energy", "primaries",
+    "initial_bonds", "damage_ratio", "debris_ratio", "largest_fraction", "fragments", "large", "medium", "small",
+    "fines", "debris_ratio_bonds", "largest_fraction_bonds", "impact_duration", "contact_episodes", "peak_force",
+    "test_duration", "ended_by", "cpu_time" })
+end
+
+return tests

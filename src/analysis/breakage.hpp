@@ -1,0 +1,93 @@
+// Breakage of a bonded agglomerate (dissertation 7.4; SPEC 6): fragments are the
+// connected clusters of the contact graph, the damage ratio counts the initial
+// bonds that have broken, the debris ratio weighs the fragments below 2.5 % of
+// the initial mass. Plain data in, plain data out: no simulation, no Lua. The
+// Lua layer (src/lua/wrap_agglomerate.cpp) gathers the bonds from the engine's
+// contact list only when a scene asks, so a scene that never calls it pays
+// nothing.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace granule::analysis {
+
+// Two particles in contact, named by persistent id. Stored with a < b.
+struct Bond {
+  std::int64_t a = -1;
+  std::int64_t b = -1;
+  bool operator==(const Bond& o) const { return a == o.a && b == o.b; }
+  bool operator<(const Bond& o) const { return a < o.a || (a == o.a && b < o.b); }
+};
+
+// Orders each pair (a < b), sorts the list and drops repeats. Throws
+// std::invalid_argument for a particle bonded to itself or a negative id.
+std::vector<Bond> normalized_bonds(std::vector<Bond> bonds);
+
+// The bonds of `initial` that are also in `now` (both normalised): the graph of
+// the original bonds that survive, which ignores contacts made during a test
+// (fragments pressed together between two walls stay apart in it).
+std::vector<Bond> surviving_bonds(const std::vector<Bond>& initial, const std::vector<Bond>& now);
+
+// Union-find over indices 0..n-1 (union by size, path halving): near-constant
+// time per operation, so labelling is linear in the number of bonds.
+class DisjointSets {
+ public:
+  explicit DisjointSets(std::size_t n);
+  std::size_t find(std::size_t i);
+  void unite(std::size_t i, std::size_t j);
+
+ private:
+  std::vector<std::size_t> parent_, size_;
+};
+
+// The clusters of particles joined by bonds. Fragments are numbered 0, 1, ...
+// from the heaviest (ties: the one holding the lowest id first), so label 0
+// is the largest surviving piece.
+struct Fragments {
+  std::vector<std::int64_t> ids;      // the particles analysed, in the order given
+  std::vector<int> label;             // per particle: its fragment
+  std::vector<double> mass;           // per fragment, kg, non-increasing
+  std::vector<std::int64_t> members;  // per fragment: number of primaries
+  std::size_t count() const { return mass.size(); }
+};
+
+// Connected components of the graph (ids, bonds). Bonds naming a particle not in
+// `ids` are ignored (a contact with a host particle joins nothing). Throws
+// std::invalid_argument if ids repeat, sizes differ or a mass is not > 0.
+Fragments find_fragments(const std::vector<std::int64_t>& ids, const std::vector<double>& masses,
+                         const std::vector<Bond>& bonds);
+
+// Fragment classes as fractions of the initial agglomerate mass (7.4): large
+// above `large`, medium between `debris` and `large`, small fragments (debris)
+// below `debris`, and among those the fines below `fines`.
+struct FragmentClasses {
+  double large = 0.10;
+  double debris = 0.025;
+  double fines = 0.002;
+};
+
+struct BreakageSummary {
+  std::int64_t initial_bonds = 0;  // contacts before the test
+  std::int64_t bonds = 0;          // contacts now (among the agglomerate's particles)
+  std::int64_t broken_bonds = 0;   // initial bonds no longer in contact
+  std::int64_t new_bonds = 0;      // contacts now that were not there initially
+  double damage_ratio = 0;         // broken_bonds / initial_bonds (7.4)
+  double initial_mass = 0;         // kg
+  double debris_mass = 0;          // kg in fragments below classes.debris
+  double debris_ratio = 0;         // debris_mass / initial_mass (7.4)
+  double fines_ratio = 0;          // mass in fragments below classes.fines / initial_mass
+  double largest_fraction = 0;     // heaviest fragment / initial_mass
+  std::int64_t fragments = 0;      // all clusters, single primaries included
+  std::int64_t large = 0, medium = 0, small = 0, fines = 0;  // counts; fines are among small
+  std::int64_t singles = 0;                                  // clusters of one primary
+};
+
+// Damage ratio and fragment statistics. initial_bonds and bonds must be
+// normalised (normalized_bonds). initial_mass > 0 is the agglomerate's mass
+// before the test; `classes` must satisfy 0 < fines <= debris <= large < 1.
+BreakageSummary summarize_breakage(const std::vector<Bond>& initial_bonds,
+                                   const std::vector<Bond>& bonds, const Fragments& fragments,
+                                   double initial_mass, const FragmentClasses& classes = {});
+
+}  // namespace granule::analysis

@@ -1,0 +1,40 @@
+-- The preparation protocol (dissertation 7.3) on a small agglomerate of 60
+-- primaries: every stage must end on its criterion, not its cap; the result
+-- must be at rest, bonded into one piece with about as many tensile as
+-- compressive contacts, and stay so through a long quiet run with neither the
+-- field nor the damping. Writes the agglomerate for the wall-impact checks
+-- (-o agglomerate_test.h5). Every assertion can fail.
+local agglomerate = require "granule.agglomerate"
+
+local count, rest_speed = 60, 1e-4
+local sim = simulation { dimension = 2, record_contacts = true }
+sim:output {}
+local report = agglomerate.prepare(sim, { count = count, generation_diameter = 52e-6, rest_speed = rest_speed,
+                                          quiet_duration = 100e-6, quiet = true })
+agglomerate.write_preparation(sim, report)
+print(agglomerate.preparation_line(report))
+
+for k, stage in ipairs(report.stages) do
+  assert(stage.ended_by == "criterion", string.format("stage %d (%s) ended by its cap", k, stage.name))
+end
+-- At rest: after the quiet run the internal rms speed is still of the order of
+-- the rest criterion (a loaded spring would ring at ~1e-2 m/s).
+assert(report.rms_speed < 3 * rest_speed, "not at rest: rms speed " .. report.rms_speed .. " m/s")
+assert(report.quiet.peak_rms_speed < 3 * rest_speed,
+  "the quiet run moved: peak rms speed " .. report.quiet.peak_rms_speed .. " m/s")
+-- Held together: every bond kept, one fragment, a connected 2D packing.
+assert(report.quiet.bonds_before == report.quiet.bonds_after,
+  string.format("bonds lost in the quiet run: %d -> %d", report.quiet.bonds_before, report.quiet.bonds_after))
+local f = sim:fragments { material = "alumina" }
+assert(f.count == 1, "the agglomerate fell apart into " .. f.count .. " fragments")
+assert(report.coordination > 3 and report.coordination < 4.5, "coordination number " .. report.coordination)
+-- 7.3: "the number of compressive contact forces approximately equal to the
+-- number of tensile contact forces".
+local ratio = report.tensile / report.compressive
+assert(ratio > 0.6 and ratio < 1.7, string.format("tensile / compressive = %d / %d", report.tensile, report.compressive))
+-- Dense: the diameter of 60 discs of 5 um at a packing fraction 0.7-0.85.
+local solid = count * 2.5e-6 ^ 2
+local fraction = solid / (report.diameter / 2) ^ 2
+assert(fraction > 0.6 and fraction < 0.9, "packing fraction " .. fraction)
+sim:snapshot()
+print("agglomerate_prepare_check ok")
