@@ -20,6 +20,11 @@ namespace granule {
 
 namespace {
 using Clock = std::chrono::steady_clock;
+// Below these sizes a loop is cheaper than waking a second thread (a parallel
+// region costs microseconds, more on a shared machine); the results are the
+// same either way.
+constexpr std::int64_t parallel_min_contacts = 1024;
+constexpr std::int64_t parallel_min_particles = 4096;
 inline double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
@@ -132,7 +137,7 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
   const int threads = threads_;
 // clang-format off
 #pragma omp parallel for schedule(static) reduction(+ : touching) reduction(max : max_ratio) \
-    num_threads(threads > 0 ? threads : omp_get_max_threads()) if (count > 256)
+    num_threads(threads > 0 ? threads : omp_get_max_threads()) if (count >= parallel_min_contacts)
   // clang-format on
   for (std::int64_t k = 0; k < count; ++k) {
     const std::uint32_t i = bi[k], j = bj[k];
@@ -230,7 +235,7 @@ void Simulation<D>::wall_forces(WallBucket<D, M>& b,
   const int threads = threads_;
 // clang-format off
 #pragma omp parallel for schedule(static) reduction(+ : touching) reduction(max : max_ratio) \
-    num_threads(threads > 0 ? threads : omp_get_max_threads()) if (count > 256)
+    num_threads(threads > 0 ? threads : omp_get_max_threads()) if (count >= parallel_min_contacts)
   // clang-format on
   for (std::int64_t k = 0; k < count; ++k) {
     const std::uint32_t i = bp[k];
@@ -441,7 +446,7 @@ void Simulation<D>::integrate() {
   const Periodicity pbc = periodic_;
 // clang-format off
 #pragma omp parallel for schedule(static) reduction(max : max_sq) reduction(min : bad) \
-    num_threads(threads > 0 ? threads : omp_get_max_threads()) if (n > 2048)
+    num_threads(threads > 0 ? threads : omp_get_max_threads()) if (n >= parallel_min_particles)
   // clang-format on
   for (std::int64_t i = 0; i < n; ++i) {
     if (fixed[i]) continue;  // immobile: its contact force stays for reports
