@@ -1,16 +1,23 @@
 // simulation { ... } and the methods of a Simulation userdata. Bindings only:
 // each method reads its arguments, calls SimulationBase, pushes results.
+#include "lua/lua_simulation.hpp"
+
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "core/errors.hpp"
 #include "core/simulation_base.hpp"
 #include "io/run_output.hpp"
+#include "lua/api_docs.hpp"
 #include "lua/lua_util.hpp"
+#include "lua/run_progress.hpp"
 #include "lua/scene.hpp"
 
 namespace granule::lua {
@@ -33,6 +40,9 @@ LuaSim& self(lua_State* L) {
   if (!s->sim) throw std::runtime_error("this simulation has been closed");
   return *s;
 }
+
+// The list of simulations made in this state, for simulations() and the REPL.
+const char* simulations_key = "granule.simulations";
 
 int dim(lua_State* L) {
   return self(L).sim->dimension();
@@ -415,6 +425,17 @@ void call_lua(lua_State* L, int function_ref, int self_ref, int results, const c
   (void)what;
 }
 
+// Undoes what a run set up, however it ends (normally, by an error, by Ctrl-C).
+struct RunGuard {
+  lua_State* L;
+  LuaSim& s;
+  int stop_ref;
+  ~RunGuard() {
+    s.running = false;
+    if (stop_ref != LUA_NOREF) luaL_unref(L, LUA_REGISTRYINDEX, stop_ref);
+  }
+};
+
 int l_run(lua_State* L) {
   return protect(L, [](lua_State* L) {
     LuaSim& s = self(L);
@@ -431,45 +452,73 @@ int l_run(lua_State* L) {
     if (has_steps && steps < 0) throw std::runtime_error("run: steps must be >= 0");
     std::int64_t check_every = t.integer("check_every", 100);
     if (check_every < 1) throw std::runtime_error("run: check_every must be >= 1");
-    int stop_ref = LUA_NOREF;
-    if (t.push_function("stop_when")) stop_ref = luaL_ref(L, LUA_REGISTRYINDEX);
+    // stop_when is taken into the registry only after every check has passed.
+    t.mark("stop_when");
     t.finish();
 
     const bool first_run = s.sim->step_count() == 0 && !s.header_printed;
     s.sim->ensure_prepared();
+    SceneContext* ctx = context(L);
     // The run's header: what this scene simulates (and so what it pays for).
-    if (first_run && !(context(L) && context(L)->quiet)) {
+    if (first_run && !(ctx && ctx->quiet)) {
       for (const auto& line : s.sim->describe()) std::cerr << "granule: " << line << "\n";
       s.header_printed = true;
     }
-    if (has_duration)
-      steps = static_cast<std::int64_t>(std::ceil(duration / s.sim->time_step() - 1e-9));
+    const double dt = s.sim->time_step();
+    if (has_duration) {
+      // A step count beyond 2^62 would overflow the counters (and never finish).
+      const double n = std::ceil(duration / dt - 1e-9);
+      if (!(n < 4.6e18))
+        throw std::runtime_error(
+            fmt::format("run: duration = {} s is {:.3g} steps of dt = {} s, too many to count",
+                        duration, n, dt));
+      steps = static_cast<std::int64_t>(std::max(0.0, n));
+    }
+    int stop_ref = LUA_NOREF;
+    if (t.push_function("stop_when")) stop_ref = luaL_ref(L, LUA_REGISTRYINDEX);
+    s.running = true;
+    RunGuard guard{L, s, stop_ref};
+
+    std::optional<RunProgress> progress;
+    if (ctx && ctx->progress)
+      progress.emplace(std::cerr, steps, s.sim->time() + static_cast<double>(steps) * dt,
+                       stop_ref != LUA_NOREF);
+    // Without a criterion the engine advances in chunks of about 0.1 s of wall
+    // time, so that the progress line and Ctrl-C are served promptly while the
+    // per-chunk overhead stays negligible; with one, chunks are check_every steps.
+    std::int64_t chunk = 16;
     std::int64_t done = 0;
     bool stopped = false;
-    s.running = true;
-    try {
-      while (done < steps) {
-        std::int64_t chunk =
-            std::min<std::int64_t>(stop_ref != LUA_NOREF ? check_every : 1000, steps - done);
-        s.sim->advance(chunk);
-        done += chunk;
-        if (stop_ref != LUA_NOREF) {
-          call_lua(L, stop_ref, s.self_ref, 1, "stop_when");
-          bool stop = lua_toboolean(L, -1);
-          lua_pop(L, 1);
-          if (stop) {
-            stopped = true;
-            break;
-          }
+    while (done < steps) {
+      if (interrupt_pending()) {
+        clear_interrupt();
+        throw std::runtime_error(
+            fmt::format("run interrupted (Ctrl-C) after {} of {} steps, at t = {} s (step {})",
+                        done, steps, s.sim->time(), s.sim->step_count()));
+      }
+      const std::int64_t n =
+          std::min<std::int64_t>(stop_ref != LUA_NOREF ? check_every : chunk, steps - done);
+      const auto t0 = std::chrono::steady_clock::now();
+      s.sim->advance(n);
+      done += n;
+      const double wall =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      if (wall < 0.05 && chunk < (std::int64_t{1} << 24))
+        chunk *= 2;
+      else if (wall > 0.2 && chunk > 1)
+        chunk /= 2;
+      if (progress) progress->update(done, s.sim->time());
+      if (stop_ref != LUA_NOREF) {
+        call_lua(L, stop_ref, s.self_ref, 1, "stop_when");
+        bool stop = lua_toboolean(L, -1);
+        lua_pop(L, 1);
+        if (stop) {
+          stopped = true;
+          break;
         }
       }
-    } catch (...) {
-      s.running = false;
-      if (stop_ref != LUA_NOREF) luaL_unref(L, LUA_REGISTRYINDEX, stop_ref);
-      throw;
     }
-    s.running = false;
-    if (stop_ref != LUA_NOREF) luaL_unref(L, LUA_REGISTRYINDEX, stop_ref);
+    if (progress) progress->finish();
     lua_newtable(L);
     lua_pushinteger(L, done);
     lua_setfield(L, -2, "steps");
@@ -490,13 +539,20 @@ int l_every(lua_State* L) {
     h.name = t.string("name", "lua callback");
     h.every_steps = t.integer("steps", 0);
     h.every_time = t.number("time", 0);
+    if (h.every_steps < 0 || h.every_time < 0)
+      throw std::runtime_error("every: steps and time must be > 0");
     if ((h.every_steps > 0) == (h.every_time > 0))
       throw std::runtime_error("every: give exactly one of steps = N (> 0) or time = T [s] (> 0)");
-    lua_geti(L, 2, 1);
-    if (!lua_isfunction(L, -1))
-      throw std::runtime_error("every: the first entry must be a function(sim)");
-    int ref = luaL_ref(L, LUA_REGISTRYINDEX);
     t.finish();
+    if (lua_geti(L, 2, 1) != LUA_TFUNCTION) {
+      lua_pop(L, 1);
+      throw std::runtime_error("every: the first entry must be a function(sim)");
+    }
+    if (lua_rawlen(L, 2) > 1) {
+      lua_pop(L, 1);
+      throw std::runtime_error("every: give one function, as { steps = N, function(sim) ... end }");
+    }
+    int ref = luaL_ref(L, LUA_REGISTRYINDEX);
     int self_ref = s.self_ref;
     h.fire = [L, ref, self_ref] { call_lua(L, ref, self_ref, 0, "every"); };
     lua_pushinteger(L, s.sim->add_hook(h));
@@ -506,7 +562,12 @@ int l_every(lua_State* L) {
 
 int l_remove_hook(lua_State* L) {
   return protect(L, [](lua_State* L) {
-    self(L).sim->remove_hook(static_cast<int>(read_integer(L, 2, "hook id")));
+    LuaSim& s = self(L);
+    std::int64_t id = read_integer(L, 2, "remove_hook: hook id");
+    // Hook ids are small positive ints; a larger number must not wrap onto a real one.
+    if (id < 1 || id > std::numeric_limits<int>::max())
+      throw std::runtime_error(fmt::format("remove_hook: no hook with id {}", id));
+    s.sim->remove_hook(static_cast<int>(id));
     return 0;
   });
 }
@@ -535,6 +596,7 @@ int l_output(lua_State* L) {
     if (!ctx->output_path.empty()) t.mark("file");
     o.snapshot_every = t.number("snapshot_every", 0);
     o.series_every = t.number("series_every", 0);
+    o.xdmf = t.boolean("xdmf", true);
     t.finish();
     o.scene_path = ctx->scene_path;
     o.scene_source = ctx->scene_source;
@@ -748,6 +810,78 @@ int l_dimension(lua_State* L) {
   });
 }
 
+int l_contact_parameters(lua_State* L) {
+  return protect(L, [](lua_State* L) {
+    LuaSim& s = self(L);
+    std::string a = read_string(L, 2, "contact_parameters: first material");
+    std::string b = read_string(L, 3, "contact_parameters: second material");
+    int ia = s.sim->material_id(a), ib = s.sim->material_id(b);
+    const PairTable& table = s.sim->pair_table();
+    const PairTable::Entry& e = table.at(ia, ib);
+    if (e.model < 0)
+      throw std::runtime_error(fmt::format("no contact law between '{}' and '{}'", a, b));
+    lua_newtable(L);
+    lua_pushstring(L, contact_model_catalogue()[e.model].name.c_str());
+    lua_setfield(L, -2, "model");
+    for (const auto& [name, value] : table.values(ia, ib)) {
+      lua_pushnumber(L, value);
+      lua_setfield(L, -2, name.c_str());
+    }
+    return 1;
+  });
+}
+
+int l_materials(lua_State* L) {
+  return protect(L, [](lua_State* L) {
+    const auto& mats = self(L).sim->materials();
+    lua_createtable(L, static_cast<int>(mats.size()), 0);
+    for (std::size_t k = 0; k < mats.size(); ++k) {
+      lua_newtable(L);
+      lua_pushstring(L, mats[k].name.c_str());
+      lua_setfield(L, -2, "name");
+      const std::pair<const char*, double> fields[] = {{"density", mats[k].density},
+                                                       {"young", mats[k].young},
+                                                       {"poisson", mats[k].poisson},
+                                                       {"surface_energy", mats[k].surface_energy}};
+      for (const auto& [key, value] : fields) {
+        lua_pushnumber(L, value);
+        lua_setfield(L, -2, key);
+      }
+      lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
+    }
+    return 1;
+  });
+}
+
+int l_walls(lua_State* L) {
+  return protect(L, [](lua_State* L) {
+    LuaSim& s = self(L);
+    lua_createtable(L, s.sim->wall_count(), 0);
+    for (int w = 0; w < s.sim->wall_count(); ++w) {
+      lua_pushstring(L, s.sim->wall(w).name.c_str());
+      lua_rawseti(L, -2, w + 1);
+    }
+    return 1;
+  });
+}
+
+int l_simulations(lua_State* L) {
+  return protect(L, [](lua_State* L) {
+    if (lua_getfield(L, LUA_REGISTRYINDEX, simulations_key) != LUA_TTABLE) {
+      lua_pop(L, 1);
+      lua_newtable(L);
+    }
+    // A copy, so that the caller cannot edit the session's list.
+    lua_newtable(L);
+    lua_Integer n = static_cast<lua_Integer>(lua_rawlen(L, -2));
+    for (lua_Integer k = 1; k <= n; ++k) {
+      lua_rawgeti(L, -2, k);
+      lua_rawseti(L, -2, k);
+    }
+    return 1;
+  });
+}
+
 int l_gc(lua_State* L) {
   auto* s = static_cast<LuaSim*>(luaL_testudata(L, 1, metatable_name));
   if (s) s->~LuaSim();  // output first (member order reversed), then the simulation
@@ -798,6 +932,15 @@ int l_simulation(lua_State* L) {
     luaL_setmetatable(L, metatable_name);
     lua_pushvalue(L, -1);
     s->self_ref = luaL_ref(L, LUA_REGISTRYINDEX);
+    if (lua_getfield(L, LUA_REGISTRYINDEX, simulations_key) != LUA_TTABLE) {
+      lua_pop(L, 1);
+      lua_newtable(L);
+      lua_pushvalue(L, -1);
+      lua_setfield(L, LUA_REGISTRYINDEX, simulations_key);
+    }
+    lua_pushvalue(L, -2);
+    lua_rawseti(L, -2, static_cast<lua_Integer>(lua_rawlen(L, -2)) + 1);
+    lua_pop(L, 1);
     return 1;
   });
 }
@@ -842,20 +985,51 @@ const luaL_Reg methods[] = {
     {"describe", l_describe},
     {"dimension", l_dimension},
     {"timings", l_timings},
+    {"contact_parameters", l_contact_parameters},
+    {"materials", l_materials},
+    {"walls", l_walls},
+    {"picture", l_picture},
     {nullptr, nullptr},
 };
 }  // namespace
 
+// __index of the method table: a misspelt method is an error that suggests the nearest name.
+int unknown_method(lua_State* L) {
+  {
+    const char* name = lua_tostring(L, 2);
+    std::vector<std::string> known;
+    for (const luaL_Reg* m = methods; m->name; ++m) known.emplace_back(m->name);
+    std::string hint = name ? nearest_name(name, known) : "";
+    std::string message =
+        fmt::format("simulation has no method '{}'{}", name ? name : "?",
+                    hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint));
+    luaL_where(L, 1);
+    lua_pushstring(L, message.c_str());
+    lua_concat(L, 2);
+  }  // the strings are destroyed before lua_error longjmps
+  return lua_error(L);
+}
+
+SimulationBase& simulation_argument(lua_State* L) {
+  return *self(L).sim;
+}
+
 void open_simulation(lua_State* L) {
   luaL_newmetatable(L, metatable_name);
   lua_newtable(L);
-  luaL_setfuncs(L, methods, 0);
+  // Every method goes through the arity check of its documentation entry; a
+  // method without an entry is still callable, and the docs test names it.
+  for (const luaL_Reg* m = methods; m->name; ++m) {
+    const FunctionDoc* doc = find_doc(std::string("sim:") + m->name);
+    if (doc && std::string(doc->name) == std::string("sim:") + m->name)
+      push_checked(L, *doc, m->func);
+    else
+      lua_pushcfunction(L, m->func);
+    lua_setfield(L, -2, m->name);
+  }
   // Unknown method names are errors with a suggestion, not silent nils.
   lua_newtable(L);
-  lua_pushcfunction(L, [](lua_State* L) -> int {
-    const char* name = lua_tostring(L, 2);
-    return luaL_error(L, "simulation has no method '%s'", name ? name : "?");
-  });
+  lua_pushcfunction(L, unknown_method);
   lua_setfield(L, -2, "__index");
   lua_setmetatable(L, -2);
   lua_setfield(L, -2, "__index");
@@ -864,8 +1038,10 @@ void open_simulation(lua_State* L) {
   lua_pushcfunction(L, l_tostring);
   lua_setfield(L, -2, "__tostring");
   lua_pop(L, 1);
-  lua_pushcfunction(L, l_simulation);
+  push_checked(L, *find_doc("simulation"), l_simulation);
   lua_setglobal(L, "simulation");
+  push_checked(L, *find_doc("simulations"), l_simulations);
+  lua_setglobal(L, "simulations");
 }
 
 }  // namespace granule::lua

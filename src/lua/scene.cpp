@@ -3,16 +3,19 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <csignal>
 #include <fstream>
 #include <sstream>
 
 #include "contact/parameters.hpp"
+#include "lua/api_docs.hpp"
 #include "lua/lua_util.hpp"
 
 namespace granule::lua {
 
 namespace {
 const char* context_key = "granule.context";
+volatile std::sig_atomic_t interrupt_flag = 0;
 
 int traceback(lua_State* L) {
   const char* msg = lua_tostring(L, 1);
@@ -42,6 +45,12 @@ int l_parameters(lua_State* L) {
       names.push_back(name);
       int spec = lua_gettop(L);
       if (lua_istable(L, spec)) {
+        // { default =, unit =, doc = }: a misspelt key would silently drop its value.
+        TableReader r(L, spec, fmt::format("parameters: '{}'", name));
+        r.string("unit", "");
+        r.string("doc", "");
+        r.mark("default");
+        r.finish();
         lua_getfield(L, spec, "default");
         lua_replace(L, spec);
       }
@@ -50,6 +59,9 @@ int l_parameters(lua_State* L) {
         throw std::runtime_error(fmt::format(
             "parameters: '{}' needs a default that is a number, string or boolean, got {}", name,
             luaL_typename(L, spec)));
+      if (t == LUA_TNUMBER && !std::isfinite(lua_tonumber(L, spec)))
+        throw std::runtime_error(
+            fmt::format("parameters: '{}' has a default that is not finite", name));
       auto ov = ctx->overrides.find(name);
       if (ov != ctx->overrides.end()) {
         ctx->consumed.insert(name);
@@ -138,6 +150,16 @@ int strict_newindex(lua_State* L) {
 }
 }  // namespace
 
+void request_interrupt() {
+  interrupt_flag = 1;
+}
+bool interrupt_pending() {
+  return interrupt_flag != 0;
+}
+void clear_interrupt() {
+  interrupt_flag = 0;
+}
+
 SceneContext* context(lua_State* L) {
   lua_getfield(L, LUA_REGISTRYINDEX, context_key);
   auto* ctx = static_cast<SceneContext*>(lua_touserdata(L, -1));
@@ -161,13 +183,14 @@ lua_State* new_state(SceneContext* ctx) {
   lua_pushstring(L, path.c_str());
   lua_setfield(L, -2, "path");
   lua_pop(L, 1);
-  lua_pushcfunction(L, l_parameters);
+  push_checked(L, *find_doc("parameters"), l_parameters);
   lua_setglobal(L, "parameters");
   lua_pushstring(L, GRANULE_VERSION);
   lua_setglobal(L, "GRANULE_VERSION");
   lua_pushstring(L, ctx->scene_path.c_str());
   lua_setglobal(L, "SCENE_PATH");
   open_simulation(L);
+  open_help(L);
   return L;
 }
 
