@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <iostream>
@@ -64,8 +65,12 @@ int run_scene(Options& o) {
   lua_close(L);  // closes output files (their final snapshot) even after an error
   if (!err.empty()) {
     std::cerr << "error: " << err << "\n";
+    std::vector<std::string> shown;  // a scene may reopen one file many times
     for (const auto& f : o.ctx.outputs_written)
-      std::cerr << "partial results kept in " << f << "\n";
+      if (std::find(shown.begin(), shown.end(), f) == shown.end()) {
+        std::cerr << "partial results kept in " << f << "\n";
+        shown.push_back(f);
+      }
     return 1;
   }
   return 0;

@@ -228,7 +228,7 @@ const std::vector<FunctionDoc> entries = {
  "Wall-clock seconds spent in each stage of the step so far.", {}, ""},
 
 // ---- the granule library (lua/granule/init.lua) ----
-{"granule.pi", "library", V, "granule.pi", "pi.", {}},
+{"granule.pi", "library", V, "granule.pi", "The number pi, 3.14159...", {}},
 {"granule.rpm", "library", P, "granule.rpm(revolutions_per_minute) -> rad/s",
  "Angular velocity from revolutions per minute.", {{"1", "number", "1/min", true, "speed"}}, "2000"},
 {"granule.stiffness_from_young", "library", P, "granule.stiffness_from_young(young, radius) -> N/m",
@@ -370,7 +370,7 @@ std::string api_markdown() {
       "`vector` is `{x, y}` in 2D and `{x, y, z}` in 3D.\n\n"
       "The examples run in this scene (the fuzz test runs every one of them):\n\n"
       "```lua\n"
-      "local sim = simulation { dimension = 2 }\n"
+      "local sim = simulation { dimension = 2, record_contacts = true }\n"
       "sim:material { name = \"glass\", density = 2500 }\n"
       "sim:material { name = \"steel\", density = 7800 }\n"
       "sim:contact { \"glass\", \"glass\", model = \"walton_braun\", k_load = 1e4, restitution = "

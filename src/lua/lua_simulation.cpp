@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -140,7 +141,12 @@ int l_wall_cylinder(lua_State* L) {
     w.name = t.string("name");
     w.material = s.sim->material_id(t.string("material"));
     w.center = t.vector("center", d);
-    if (d == 3) w.axis = t.vector("axis", 3, {0, 0, 1});
+    if (d == 3) {
+      w.axis = t.vector("axis", 3, {0, 0, 1});
+    } else if (t.has("axis")) {
+      t.mark("axis");
+      throw std::runtime_error("wall_cylinder: in 2D the axis is z; leave 'axis' out");
+    }
     w.radius = t.number("radius");
     w.inside = t.boolean("inside", true);
     w.angular_velocity = t.number("angular_velocity", 0);
@@ -192,6 +198,15 @@ int l_fill(lua_State* L) {
     f.seed = static_cast<std::uint64_t>(t.integer("seed", 1));
     f.max_speed = t.number("max_speed", 0);
     f.max_attempts = t.integer("max_attempts", 0);
+    const int size_rules = int(t.has("radius")) + int(t.has("radii")) +
+                           int(t.has("radius_min") || t.has("radius_max"));
+    if (size_rules > 1)
+      throw std::runtime_error(
+          "fill: give one of radius, radii, or radius_min with radius_max [m]");
+    // A count beyond this is no scene memory can hold, and 2000 * count attempts must not
+    // overflow the engine's counter.
+    if (f.count > 1'000'000'000)
+      throw std::runtime_error(fmt::format("fill: count = {} is more than 1e9 particles", f.count));
     if (t.has("radius")) {
       f.radius_min = f.radius_max = t.number("radius");
     } else if (t.has("radii")) {
@@ -480,9 +495,17 @@ int l_run(lua_State* L) {
     RunGuard guard{L, s, stop_ref};
 
     std::optional<RunProgress> progress;
-    if (ctx && ctx->progress)
+    if (ctx && ctx->progress) {
+      // Runs shorter than this many seconds show no line; tests set it to 0.
+      double delay = 2.0;
+      if (const char* env = std::getenv("GRANULE_PROGRESS_AFTER")) {
+        char* end = nullptr;
+        double v = std::strtod(env, &end);
+        if (end != env && *end == '\0' && v >= 0 && std::isfinite(v)) delay = v;
+      }
       progress.emplace(std::cerr, steps, s.sim->time() + static_cast<double>(steps) * dt,
-                       stop_ref != LUA_NOREF);
+                       stop_ref != LUA_NOREF, RunProgress::Clock{}, delay);
+    }
     // Without a criterion the engine advances in chunks of about 0.1 s of wall
     // time, so that the progress line and Ctrl-C are served promptly while the
     // per-chunk overhead stays negligible; with one, chunks are check_every steps.

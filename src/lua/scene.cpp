@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <csignal>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -206,6 +207,9 @@ void make_globals_strict(lua_State* L) {
 }
 
 std::string run_file(lua_State* L, const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    return fmt::format("'{}' is a directory, not a scene file", path);
   std::ifstream in(path, std::ios::binary);
   if (!in) return fmt::format("cannot open scene file '{}'", path);
   std::stringstream buffer;
