@@ -7,6 +7,7 @@
 #include <cstring>
 #include <iostream>
 #include <lua.hpp>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -72,15 +73,47 @@ std::string error_text(lua_State* L) {
   return msg ? msg : std::string("(error object is a ") + luaL_typename(L, -1) + " value)";
 }
 
-// Prints the values on the stack, tab-separated, as lua.c does. Called through
-// lua_pcall: a __tostring metamethod may raise an error, which must not escape.
+// How the prompt shows a value: plain tables (a particle, stats, a list of ids)
+// one level deep with sorted keys and 6 significant digits, so that results can
+// be read; anything else as tostring() shows it (its __tostring included).
+const char* show_source = R"lua(
+local function show(v, depth)
+  if math.type(v) == "float" then return string.format("%.6g", v) end
+  if type(v) == "string" and depth > 1 then return string.format("%q", v) end
+  if type(v) ~= "table" or getmetatable(v) ~= nil then return tostring(v) end
+  if depth > 2 then return "{...}" end
+  local parts, n = {}, #v
+  for i = 1, math.min(n, 20) do parts[#parts + 1] = show(v[i], depth + 1) end
+  if n > 20 then parts[#parts + 1] = "... (" .. n .. " entries)" end
+  local keys = {}
+  for k in pairs(v) do
+    if not (math.type(k) == "integer" and k >= 1 and k <= n) then keys[#keys + 1] = k end
+  end
+  table.sort(keys, function(a, b) return tostring(a) < tostring(b) end)
+  for i, k in ipairs(keys) do
+    if i > 40 then parts[#parts + 1] = "..." break end
+    local name = type(k) == "string" and k:match("^[%a_][%w_]*$") and k or "[" .. show(k, 3) .. "]"
+    parts[#parts + 1] = name .. " = " .. show(v[k], depth + 1)
+  end
+  return #parts == 0 and "{}" or "{ " .. table.concat(parts, ", ") .. " }"
+end
+return show
+)lua";
+
+// Prints the values on the stack, tab-separated, through `show` (upvalue 1).
+// Called through lua_pcall: a __tostring metamethod may raise an error, which
+// must not escape; no C++ object lives in this frame.
 int print_values(lua_State* L) {
   int n = lua_gettop(L);
   for (int k = 1; k <= n; ++k) {
+    lua_pushvalue(L, lua_upvalueindex(1));
+    lua_pushvalue(L, k);
+    lua_pushinteger(L, 1);
+    lua_call(L, 2, 1);
     std::size_t len = 0;
-    const char* s = luaL_tolstring(L, k, &len);
+    const char* s = lua_tolstring(L, -1, &len);
     if (k > 1) std::fputc('\t', stdout);
-    std::fwrite(s, 1, len, stdout);
+    if (s) std::fwrite(s, 1, len, stdout);
     lua_pop(L, 1);
   }
   if (n > 0) std::fputc('\n', stdout);
@@ -119,6 +152,15 @@ int run_repl(const std::string& scene, lua::SceneContext& ctx) {
   lua_State* L = lua::new_state(&ctx);
   const bool interactive = isatty(0);
   int failures = 0;
+  if (luaL_loadstring(L, show_source) != LUA_OK || lua_pcall(L, 0, 1, 0) != LUA_OK)
+    throw std::runtime_error("REPL: cannot load the value printer");
+  lua_setfield(L, LUA_REGISTRYINDEX, "granule.repl_show");
+  // The library as a global at the prompt (scenes still `require` it themselves).
+  if (luaL_dostring(L, "granule = require 'granule'") != LUA_OK) {
+    std::cerr << "error: " << error_text(L) << "\n";
+    lua_settop(L, 0);
+    ++failures;
+  }
   if (!scene.empty()) {
     std::string err;
     {
@@ -181,7 +223,8 @@ int run_repl(const std::string& scene, lua::SceneContext& ctx) {
       continue;
     }
     if (lua_gettop(L) > 0) {
-      lua_pushcfunction(L, print_values);
+      lua_getfield(L, LUA_REGISTRYINDEX, "granule.repl_show");
+      lua_pushcclosure(L, print_values, 1);
       lua_insert(L, 1);
       if (lua_pcall(L, lua_gettop(L) - 1, 0, 0) != LUA_OK) {
         std::cout << "error: " << error_text(L) << "\n";
