@@ -116,7 +116,7 @@ const std::vector<FunctionDoc> entries = {
  "{ position = { 0, 0.0085 }, radius = 5e-4, material = 'glass', velocity = { 0.1, 0 } }"},
 {"sim:fill", "simulation", T,
  "sim:fill { region = { circle|sphere|box|cylinder = {...} }, count =, radius = | radii = | radius_min =, radius_max =, material =, seed =, max_speed =, max_attempts = } -> { id, ... }",
- "Places `count` particles at random, without overlaps, inside a region and the walls.",
+ "Places `count` particles at random inside a region and the walls; they may overlap each other (not fixed particles).",
  {{"region", "table", "", true, "circle = { center, radius } (2D), sphere = {...} (3D), box = { lo, hi }, cylinder = { center, radius, z_min, z_max } (3D)"},
   {"count", "integer", "", true, "number of particles"},
   {"material", "string", "", true, "material of every particle"},
