@@ -26,6 +26,13 @@ namespace {
 #ifdef GRANULE_HAVE_READLINE
 lua_State* completion_state = nullptr;
 
+// History survives the session in ~/.granule_history (the last 1000 lines),
+// appended line by line so that even a killed session keeps it.
+std::string history_file() {
+  const char* home = std::getenv("HOME");
+  return home && *home ? std::string(home) + "/.granule_history" : "";
+}
+
 char* completion_generator(const char* text, int state) {
   static std::vector<std::string> matches;
   static std::size_t next = 0;
@@ -49,6 +56,13 @@ void setup_readline(lua_State* L) {
   rl_basic_word_break_characters = const_cast<char*>(" \t\n\"\\'`@$><=;|&{}()[],+-*/%^~#");
   rl_completion_append_character = '\0';
   rl_attempted_completion_function = attempted_completion;
+  std::string file = history_file();
+  if (!file.empty()) {
+    // append_history needs the file to exist; a missing or unreadable one is not an error.
+    if (FILE* f = std::fopen(file.c_str(), "a")) std::fclose(f);
+    history_truncate_file(file.c_str(), 1000);
+    read_history(file.c_str());
+  }
 }
 #endif
 
@@ -58,7 +72,11 @@ bool read_line(const char* prompt, std::string& line) {
     char* s = readline(prompt);
     if (!s) return false;
     line = s;
-    if (*s) add_history(s);
+    if (*s) {
+      add_history(s);
+      std::string file = history_file();
+      if (!file.empty()) append_history(1, file.c_str());
+    }
     free(s);
     return true;
   }

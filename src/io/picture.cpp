@@ -661,6 +661,11 @@ PictureInfo write_picture(const SimulationBase& sim, const PictureOptions& o) {
   const double wall_width = std::max(1.5, 1.5 * text);
   auto add = [&](Prim p, bool clipped) {
     p.clipped = clipped;
+    if (p.kind == Prim::text) {  // cut what would run off the right edge
+      const double room = (L.width - p.x0) / (6 * p.size);
+      if (room < 1) return;
+      if (p.label.size() > room) p.label = p.label.substr(0, static_cast<std::size_t>(room));
+    }
     L.prims.push_back(std::move(p));
   };
 
