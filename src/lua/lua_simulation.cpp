@@ -514,6 +514,9 @@ int l_run(lua_State* L) {
     bool stopped = false;
     while (done < steps) {
       if (interrupt_pending()) {
+        // Handled here, with a message that says where the run stopped: the Lua hook
+        // the signal handler also set (to stop script loops) is no longer needed.
+        lua_sethook(L, nullptr, 0, 0);
         clear_interrupt();
         throw std::runtime_error(
             fmt::format("run interrupted (Ctrl-C) after {} of {} steps, at t = {} s (step {})",
