@@ -157,6 +157,89 @@ def walls(f):
     }
 
 
+def series_groups(f):
+    """Names ("/impact", "/series", ...) of the groups that hold time series: groups with a
+    "columns" attribute (granule writes one for every series)."""
+    return sorted("/" + k for k, v in f.items() if isinstance(v, h5py.Group) and "columns" in v.attrs)
+
+
+def parameters(f):
+    """{name: value} of the scene's parameters (after -D overrides), from /scene/parameters."""
+    if "scene/parameters" not in f:
+        return {}
+    return {k: _text(v) for k, v in f["scene/parameters"].attrs.items()}
+
+
+def results(f):
+    """{name: value} of the scalars the scene reported with sim:result, from /results."""
+    if "results" not in f:
+        return {}
+    return {k: _text(v) for k, v in f["results"].attrs.items()}
+
+
+# ---- shared by the figure scripts ----
+
+SNAPSHOT_QUANTITIES = {
+    # name: (unit, function(snapshot) -> 1-D array)
+    "speed": ("m/s", lambda s: np.linalg.norm(s["velocity"], axis=1)),
+    "radius": ("m", lambda s: s["radius"]),
+    "diameter": ("m", lambda s: 2 * s["radius"]),
+    "spin": ("rad/s", lambda s: s["spin"][:, 0] if s["spin"].shape[1] == 1
+             else np.linalg.norm(s["spin"], axis=1)),
+    "x": ("m", lambda s: s["position"][:, 0]),
+    "y": ("m", lambda s: s["position"][:, 1]),
+    "z": ("m", lambda s: s["position"][:, 2] if s["position"].shape[1] > 2 else None),
+    "vx": ("m/s", lambda s: s["velocity"][:, 0]),
+    "vy": ("m/s", lambda s: s["velocity"][:, 1]),
+    "vz": ("m/s", lambda s: s["velocity"][:, 2] if s["velocity"].shape[1] > 2 else None),
+}
+
+
+def snapshot_quantity(snap, name):
+    """One value per particle of a snapshot: speed [m/s], radius [m], diameter [m], spin [rad/s]
+    (2D: about z, signed; 3D: magnitude), x, y, z [m], vx, vy, vz [m/s]. Returns (values, unit)."""
+    if name not in SNAPSHOT_QUANTITIES:
+        raise GranuleH5Error(
+            f"unknown quantity '{name}' (one of: {', '.join(SNAPSHOT_QUANTITIES)})")
+    unit, fn = SNAPSHOT_QUANTITIES[name]
+    values = fn(snap)
+    if values is None:
+        raise GranuleH5Error(f"'{name}' needs a 3D snapshot; this one is {snap['dimension']}D")
+    return np.asarray(values, dtype=float), unit
+
+
+def axis_label(name, unit=""):
+    """"speed [m/s]", or just "step" for a dimensionless or unitless quantity."""
+    name = name.replace("_", " ")
+    return f"{name} [{unit}]" if unit and unit != "-" else name
+
+
+def output_path(input_path, suffix, output=None):
+    """Where a figure goes: the -o given, else <input stem>_<suffix>.png beside the input."""
+    if output:
+        return output
+    return f"{os.path.splitext(input_path)[0]}_{suffix}.png"
+
+
+def column_list(text):
+    """"a, b" -> ["a", "b"]; None -> None."""
+    if text is None:
+        return None
+    return [c.strip() for c in text.split(",") if c.strip()]
+
+
+def run_tool(parser, work):
+    """Runs work(args) with parsed arguments, prints the files it returns, and turns a
+    GranuleH5Error into a one-line message and exit status 1."""
+    args = parser.parse_args()
+    try:
+        written = work(args)
+    except GranuleH5Error as e:
+        sys.exit(f"{parser.prog}: error: {e}")
+    for path in [written] if isinstance(written, str) else written:
+        print(path)
+
+
 def _format_value(v):
     v = _text(v)
     if isinstance(v, np.ndarray):

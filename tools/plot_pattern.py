@@ -1,10 +1,12 @@
 #!/usr/bin/python3
 """Draw the particles of a Granule snapshot in the x-y plane.
 
-usage: /usr/bin/python3 tools/plot_pattern.py out.h5 [--index -1 | --all-every K] [-o pattern.png]
+usage: /usr/bin/python3 tools/plot_pattern.py out.h5 [--index -1 | --all-every K]
+                                              [--color-by speed] [-o pattern.png]
 
-Particles are circles of their true radius, coloured by speed (m/s); fixed
-particles are dark grey. Walls described under /walls are drawn too: a cylinder
+Particles are circles of their true radius, coloured by speed [m/s] (or, with
+--color-by, by radius [m], spin [rad/s], material or fixed, as sim:picture
+does); fixed particles are dark grey in the continuous colourings. Walls described under /walls are drawn too: a cylinder
 (type="cylinder", center, radius, inside; axis taken along z) as a circle -
 an outline if the particles are inside it, filled grey if outside - and a plane
 (type="plane", point, normal) as the line where it cuts the x-y plane through
@@ -116,21 +118,42 @@ def _particle_box(snaps):
     return x0, x1, y0, y1
 
 
-def _draw(snap, walls, view, particle_box, vmax, path, output):
+CATEGORY_COLOURS = plt.get_cmap("tab10").colors  # the same ten as sim:picture
+
+
+def _draw(snap, walls, view, particle_box, scale, path, output, color_by="speed"):
     pos, radius = snap["position"], snap["radius"]
-    speed = np.linalg.norm(snap["velocity"], axis=1)
     order = np.argsort(pos[:, 2]) if pos.shape[1] > 2 else np.arange(len(radius))
     fixed = snap["fixed"][order]
-    xy, r, v = pos[order, :2], radius[order], speed[order]
+    xy, r = pos[order, :2], radius[order]
 
     fig, ax = plt.subplots(figsize=(7, 6.2))
-    moving = _circles(ax, xy[~fixed], r[~fixed], cmap="viridis", edgecolors="none", zorder=2)
-    moving.set_array(v[~fixed])
-    moving.set_clim(0, vmax)
-    if fixed.any():
-        _circles(ax, xy[fixed], r[fixed], facecolors=FIXED_COLOUR, edgecolors="none", zorder=2)
+    if color_by in ("material", "fixed"):
+        if color_by == "material":
+            codes = snap["material"][order]
+            names = snap["material_names"]
+            labels = {m: names[m] if m < len(names) else f"material {m}" for m in np.unique(codes)}
+        else:
+            codes = fixed.astype(int)
+            labels = {0: "free", 1: "fixed"}
+        colours = [FIXED_COLOUR if color_by == "fixed" and c == 1
+                   else CATEGORY_COLOURS[c % len(CATEGORY_COLOURS)] for c in codes]
+        _circles(ax, xy, r, facecolors=colours, edgecolors="none", zorder=2)
+        for c, label in labels.items():  # legend entries without drawing anything
+            ax.scatter([], [], color=FIXED_COLOUR if color_by == "fixed" and c == 1
+                       else CATEGORY_COLOURS[c % len(CATEGORY_COLOURS)], label=label)
+        ax.legend(fontsize=8, loc="upper right")
+    else:
+        values, unit = g.snapshot_quantity(snap, color_by)
+        v = values[order]
+        grey = fixed if color_by != "radius" else np.zeros_like(fixed)
+        moving = _circles(ax, xy[~grey], r[~grey], cmap="viridis", edgecolors="none", zorder=2)
+        moving.set_array(v[~grey])
+        moving.set_clim(*scale)
+        if grey.any():
+            _circles(ax, xy[grey], r[grey], facecolors=FIXED_COLOUR, edgecolors="none", zorder=2)
+        fig.colorbar(moving, ax=ax, label=g.axis_label(color_by, unit))
     _draw_walls(ax, walls, particle_box)
-    fig.colorbar(moving, ax=ax, label="speed [m/s]")
     ax.set_xlim(view[0], view[1])
     ax.set_ylim(view[2], view[3])
     ax.set_aspect("equal")
@@ -148,7 +171,12 @@ def _draw(snap, walls, view, particle_box, vmax, path, output):
     plt.close(fig)
 
 
-def plot_pattern(path, index=-1, every=None, output=None):
+COLOR_BY = ("speed", "radius", "spin", "material", "fixed")
+
+
+def plot_pattern(path, index=-1, every=None, output=None, color_by="speed"):
+    if color_by not in COLOR_BY:
+        raise g.GranuleH5Error(f"--color-by must be one of {', '.join(COLOR_BY)}")
     with g.open_run(path) as f:
         names = g.snapshots(f)
         if not names:
@@ -173,8 +201,19 @@ def plot_pattern(path, index=-1, every=None, output=None):
             min(b[2] for b in boxes), max(b[3] for b in boxes)]
     pad = 0.03 * max(view[1] - view[0], view[3] - view[2], 1e-12)
     view = [view[0] - pad, view[1] + pad, view[2] - pad, view[3] + pad]
-    speeds = [np.linalg.norm(s["velocity"][~s["fixed"]], axis=1) for s in drawable]
-    vmax = max((float(sp.max()) for sp in speeds if sp.size), default=0.0) or 1e-12
+    # One colour scale for every frame, as sim:picture chooses it for one.
+    scale = (0.0, 1e-12)
+    if color_by in ("speed", "radius", "spin"):
+        values = [g.snapshot_quantity(s, color_by)[0][s["fixed"] == 0 if color_by != "radius"
+                                                       else slice(None)] for s in drawable]
+        values = [v for v in values if v.size]
+        lo = min((float(v.min()) for v in values), default=0.0)
+        hi = max((float(v.max()) for v in values), default=0.0)
+        if color_by == "speed":
+            lo = 0.0
+        if color_by == "spin" and drawable[0]["dimension"] == 2:
+            lo, hi = -max(abs(lo), abs(hi)), max(abs(lo), abs(hi))
+        scale = (lo, hi if hi > lo else lo + 1e-12)
 
     base = os.path.splitext(output or os.path.splitext(path)[0] + "_pattern.png")
     written = []
@@ -185,12 +224,12 @@ def plot_pattern(path, index=-1, every=None, output=None):
         out = base[0] + (base[1] or ".png")
         if every is not None:
             out = f"{base[0]}_{s['name'].rsplit('/', 1)[-1]}{base[1] or '.png'}"
-        _draw(s, walls, view, particle_box, vmax, path, out)
+        _draw(s, walls, view, particle_box, scale, path, out, color_by)
         written.append(out)
     return written
 
 
-def main(argv=None):
+def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("file", help="Granule output file (.h5)")
     which = parser.add_mutually_exclusive_group()
@@ -198,13 +237,10 @@ def main(argv=None):
                        help="snapshot to draw; negative counts from the end (default -1)")
     which.add_argument("--all-every", type=int, metavar="K",
                        help="draw every K-th snapshot (and the last), one PNG each")
+    parser.add_argument("--color-by", default="speed", choices=COLOR_BY,
+                        help="what the colour shows (default speed)")
     parser.add_argument("-o", "--output", help="PNG to write (a stem for --all-every)")
-    args = parser.parse_args(argv)
-    try:
-        for out in plot_pattern(args.file, args.index, args.all_every, args.output):
-            print(out)
-    except g.GranuleH5Error as e:
-        sys.exit(f"{parser.prog}: error: {e}")
+    g.run_tool(parser, lambda a: plot_pattern(a.file, a.index, a.all_every, a.output, a.color_by))
 
 
 if __name__ == "__main__":

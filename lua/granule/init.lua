@@ -2,52 +2,117 @@
 -- Small helpers that make scenes read like the experiment; the physics is in C++.
 local granule = {}
 
+-- Every function here is exported through `export`, which checks the number
+-- and the types of its arguments against its entry in the API documentation
+-- table (src/lua/api_docs.cpp, the same one help() prints), so a wrong call
+-- fails at the caller's line with a message instead of deep inside.
+local docs = {}
+for _, d in ipairs(api_reference()) do docs[d.name] = d end
+
+local function finite(v) return type(v) == "number" and v == v and v ~= math.huge and v ~= -math.huge end
+
+local checks = {
+  number = finite,
+  integer = function(v) return finite(v) and v == math.floor(v) end,
+  string = function(v) return type(v) == "string" end,
+  boolean = function(v) return type(v) == "boolean" end,
+  table = function(v) return type(v) == "table" end,
+  list = function(v) return type(v) == "table" end,
+  ["function"] = function(v) return type(v) == "function" end,
+  vector = function(v)
+    if type(v) ~= "table" or #v < 2 or #v > 3 then return false end
+    for i = 1, #v do if not finite(v[i]) then return false end end
+    return true
+  end,
+  any = function() return true end,
+}
+
+local function export(name, fn)
+  local d = assert(docs[name], "granule library: no documentation entry for " .. name)
+  local most, least = #d.args, 0
+  for i, a in ipairs(d.args) do if a.required then least = i end end
+  return function(...)
+    local n = select("#", ...)
+    if n < least or n > most then
+      error(string.format("%s expects %s arguments, got %d (usage: %s)", name,
+        least == most and tostring(least) or (least .. " to " .. most), n, d.signature), 2)
+    end
+    for i, a in ipairs(d.args) do
+      local v = select(i, ...)
+      if v ~= nil or a.required then
+        if not checks[a.type](v) then
+          error(string.format("%s: argument %d (%s) must be a %s%s, got %s", name, i, a.doc, a.type,
+            a.type == "number" and " (finite)" or "", type(v) == "number" and tostring(v) or type(v)), 2)
+        end
+      end
+    end
+    return fn(...)
+  end
+end
+
 granule.pi = math.pi
 
 --- Angular velocity in rad/s from revolutions per minute.
-function granule.rpm(revolutions_per_minute)
+granule.rpm = export("granule.rpm", function(revolutions_per_minute)
   return revolutions_per_minute * 2 * math.pi / 60
-end
+end)
 
 --- Eq. 4.2: normal stiffness K_N = 0.01 pi E r [N/m] that keeps the maximum
 --- deformation below 1 % of the diameter.
-function granule.stiffness_from_young(young, radius)
+granule.stiffness_from_young = export("granule.stiffness_from_young", function(young, radius)
   return 0.01 * math.pi * young * radius
-end
+end)
 
 --- Sphere mass m = (4/3) pi r^3 rho (Eq. 4.7's pi d^3 rho / 6).
-function granule.sphere_mass(radius, density)
+granule.sphere_mass = export("granule.sphere_mass", function(radius, density)
   return 4 / 3 * math.pi * radius ^ 3 * density
-end
+end)
 
 --- Eq. 4.1: dt = pi e sqrt(m / (2 K)) / n for two equal spheres of mass m.
-function granule.walton_braun_time_step(mass, k_load, restitution, steps_per_contact)
+granule.walton_braun_time_step = export("granule.walton_braun_time_step", function(mass, k_load, restitution, steps_per_contact)
   return math.pi * restitution * math.sqrt(mass / (2 * k_load)) / (steps_per_contact or 40)
-end
+end)
 
 -- Small vector helpers (2 or 3 components).
 local vec = {}
 granule.vec = vec
-function vec.add(a, b) local r = {} for i = 1, #a do r[i] = a[i] + b[i] end return r end
-function vec.sub(a, b) local r = {} for i = 1, #a do r[i] = a[i] - b[i] end return r end
-function vec.scale(a, s) local r = {} for i = 1, #a do r[i] = a[i] * s end return r end
-function vec.dot(a, b) local s = 0 for i = 1, #a do s = s + a[i] * b[i] end return s end
-function vec.norm(a) return math.sqrt(vec.dot(a, a)) end
-function vec.unit(a) return vec.scale(a, 1 / vec.norm(a)) end
+local function same_length(name, a, b)
+  if #a ~= #b then error(string.format("%s: the vectors have %d and %d components", name, #a, #b), 3) end
+end
+vec.add = export("granule.vec.add", function(a, b)
+  same_length("granule.vec.add", a, b)
+  local r = {} for i = 1, #a do r[i] = a[i] + b[i] end return r
+end)
+vec.sub = export("granule.vec.sub", function(a, b)
+  same_length("granule.vec.sub", a, b)
+  local r = {} for i = 1, #a do r[i] = a[i] - b[i] end return r
+end)
+vec.scale = export("granule.vec.scale", function(a, s) local r = {} for i = 1, #a do r[i] = a[i] * s end return r end)
+vec.dot = export("granule.vec.dot", function(a, b)
+  same_length("granule.vec.dot", a, b)
+  local s = 0 for i = 1, #a do s = s + a[i] * b[i] end return s
+end)
+vec.norm = export("granule.vec.norm", function(a) return math.sqrt(vec.dot(a, a)) end)
+vec.unit = export("granule.vec.unit", function(a)
+  local n = vec.norm(a)
+  if not (n > 0) or n == math.huge then error("granule.vec.unit: the vector has no direction (length " .. n .. ")", 3) end
+  return vec.scale(a, 1 / n)
+end)
 --- The 2D vector at `angle` radians from +x with length `length` (default 1).
-function vec.polar(angle, length) length = length or 1 return { length * math.cos(angle), length * math.sin(angle) } end
+vec.polar = export("granule.vec.polar", function(angle, length) length = length or 1 return { length * math.cos(angle), length * math.sin(angle) } end)
 
 --- Positions of `count` touching spheres of `radius` in a straight row that
 --- starts (first centre) at `start` and runs along `direction`.
-function granule.particle_row(start, direction, count, radius)
+granule.particle_row = export("granule.particle_row", function(start, direction, count, radius)
+  if count < 0 or count > 1e7 then error("granule.particle_row: count must be 0..1e7, got " .. count, 3) end
   local u = vec.unit(direction)
   local positions = {}
   for k = 0, count - 1 do positions[#positions + 1] = vec.add(start, vec.scale(u, 2 * radius * k)) end
   return positions
-end
+end)
 
 --- One summary line "key=value key=value ..." with keys in the given order.
-function granule.summary_line(values, order)
+granule.summary_line = export("granule.summary_line", function(values, order)
   local parts = {}
   for _, key in ipairs(order) do
     local v = values[key]
@@ -58,13 +123,17 @@ function granule.summary_line(values, order)
     end
   end
   return table.concat(parts, " ")
-end
+end)
 
 --- Runs one stage of a protocol and reports how it ended.
 ---   granule.stage(sim, { name = "settle", duration = 0.1, stop_when = function(sim) ... end,
 ---                        check_every = 100, quiet = false })
 --- Returns the table sim:run returns (steps, time, stopped).
-function granule.stage(sim, spec)
+local stage_keys = { name = true, duration = true, steps = true, stop_when = true, check_every = true, quiet = true }
+granule.stage = export("granule.stage", function(sim, spec)
+  for key in pairs(spec) do
+    if not stage_keys[key] then error("granule.stage: unknown key '" .. tostring(key) .. "'", 3) end
+  end
   local run = { check_every = spec.check_every, stop_when = spec.stop_when }
   if spec.steps then run.steps = spec.steps else run.duration = spec.duration end
   local result = sim:run(run)
@@ -73,6 +142,6 @@ function granule.stage(sim, spec)
       result.time, result.steps, result.stopped and "criterion met" or "time limit"))
   end
   return result
-end
+end)
 
 return granule

@@ -2,8 +2,11 @@
 //   granule run scene.lua [-D name=value ...] [-o out.h5] [--quiet]
 //   granule repl [scene.lua] [-D ...]
 //   granule models          list contact models and their parameters
+//   granule api [NAME | --markdown]   the Lua API reference
 #include <fmt/format.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <iostream>
@@ -11,17 +14,11 @@
 #include <string>
 #include <vector>
 
+#include "app/interrupt.hpp"
+#include "app/repl.hpp"
 #include "contact/models.hpp"
-#include "lua/lua_simulation.hpp"
+#include "lua/api_docs.hpp"
 #include "lua/scene.hpp"
-
-#ifdef GRANULE_HAVE_READLINE
-#include <readline/history.h>
-#include <readline/readline.h>
-#endif
-#include <unistd.h>
-
-#include <csignal>
 
 namespace {
 
@@ -31,7 +28,12 @@ const char* usage =
     "              [--restart CHECKPOINT.h5]\n"
     "  granule repl [SCENE.lua] [-D name=value ...]\n"
     "  granule models\n"
-    "  granule --version\n";
+    "  granule api [NAME | --markdown]\n"
+    "  granule --version\n"
+    "options:\n"
+    "  -D name=value   override a parameter the scene declares (repeatable)\n"
+    "  -o OUT.h5       output file (an OUT.xmf for ParaView is written beside it)\n"
+    "  -q, --quiet     no run header, warnings or progress line\n";
 
 struct Options {
   std::string command, scene;
@@ -43,87 +45,35 @@ int fail_usage(const std::string& message) {
   return 2;
 }
 
-// Ctrl-C during a run: the run loop writes a checkpoint at the next chunk
-// boundary and stops; a second Ctrl-C ends the program at once.
-extern "C" void on_interrupt(int) {
-  if (granule::lua::interrupt_requested.exchange(true)) std::_Exit(130);
+// -D name=value; returns an error message, or "" when it was recorded.
+std::string add_override(Options& o, const std::string& v) {
+  auto eq = v.find('=');
+  if (eq == std::string::npos || eq == 0) return "-D expects name=value, got '" + v + "'";
+  std::string name = v.substr(0, eq);
+  if (o.ctx.overrides.count(name)) return "-D " + name + " given twice";
+  o.ctx.overrides[name] = v.substr(eq + 1);
+  return "";
 }
 
 int run_scene(Options& o) {
-  std::signal(SIGINT, on_interrupt);
   lua_State* L = granule::lua::new_state(&o.ctx);
   granule::lua::make_globals_strict(L);
-  std::string err = granule::lua::run_file(L, o.scene);
+  std::string err;
+  {
+    granule::app::InterruptScope interrupt(L);
+    err = granule::lua::run_file(L, o.scene);
+  }
   lua_close(L);  // closes output files (their final snapshot) even after an error
   if (!err.empty()) {
     std::cerr << "error: " << err << "\n";
+    std::vector<std::string> shown;  // a scene may reopen one file many times
     for (const auto& f : o.ctx.outputs_written)
-      std::cerr << "partial results kept in " << f << "\n";
-    return granule::lua::interrupt_requested.load() ? 130 : 1;
-  }
-  return 0;
-}
-
-bool read_line(const char* prompt, std::string& line) {
-#ifdef GRANULE_HAVE_READLINE
-  if (isatty(0)) {
-    char* s = readline(prompt);
-    if (!s) return false;
-    line = s;
-    if (*s) add_history(s);
-    free(s);
-    return true;
-  }
-#endif
-  if (isatty(0)) std::cout << prompt << std::flush;
-  return static_cast<bool>(std::getline(std::cin, line));
-}
-
-// Follows lua.c: try "return <line>" first so expressions print; keep reading
-// while the chunk is incomplete ("<eof>" errors); errors never end the session.
-int repl(Options& o) {
-  lua_State* L = granule::lua::new_state(&o.ctx);
-  if (!o.scene.empty()) {
-    std::string err = granule::lua::run_file(L, o.scene);
-    if (!err.empty()) std::cerr << "error: " << err << "\n";
-  }
-  if (isatty(0)) std::cout << "granule " << GRANULE_VERSION << " REPL (Lua 5.4); Ctrl-D to quit\n";
-  std::string line;
-  while (read_line("> ", line)) {
-    std::string chunk = line;
-    for (;;) {
-      std::string as_expr = "return " + chunk;
-      if (luaL_loadbuffer(L, as_expr.data(), as_expr.size(), "=stdin") == LUA_OK) break;
-      lua_pop(L, 1);
-      if (luaL_loadbuffer(L, chunk.data(), chunk.size(), "=stdin") == LUA_OK) break;
-      std::string msg = lua_tostring(L, -1);
-      lua_pop(L, 1);
-      if (msg.size() >= 5 && msg.compare(msg.size() - 5, 5, "<eof>") == 0) {
-        std::string more;
-        if (!read_line(">> ", more)) break;
-        chunk += "\n" + more;
-        continue;
+      if (std::find(shown.begin(), shown.end(), f) == shown.end()) {
+        std::cerr << "partial results kept in " << f << "\n";
+        shown.push_back(f);
       }
-      std::cout << "error: " << msg << "\n";
-      chunk.clear();
-      break;
-    }
-    if (chunk.empty() || lua_gettop(L) == 0) continue;
-    int base = lua_gettop(L);
-    if (lua_pcall(L, 0, LUA_MULTRET, 0) != LUA_OK) {
-      std::cout << "error: " << (lua_tostring(L, -1) ? lua_tostring(L, -1) : "?") << "\n";
-      lua_settop(L, 0);
-      continue;
-    }
-    int n = lua_gettop(L) - base + 1;
-    for (int k = 0; k < n; ++k) {
-      std::cout << (k ? "\t" : "") << luaL_tolstring(L, base + k, nullptr);
-      lua_pop(L, 1);
-    }
-    if (n > 0) std::cout << "\n";
-    lua_settop(L, 0);
+    return o.ctx.interrupted ? 130 : 1;  // 128 + SIGINT, as shells report it
   }
-  lua_close(L);
   return 0;
 }
 
@@ -139,13 +89,52 @@ int list_models() {
   return 0;
 }
 
+int api(const std::vector<std::string>& args) {
+  if (args.size() > 2) return fail_usage("api takes at most one name");
+  if (args.size() == 1) {
+    std::cout << granule::lua::format_overview();
+    return 0;
+  }
+  if (args[1] == "--markdown") {
+    std::cout << granule::lua::api_markdown();
+    return 0;
+  }
+  const granule::lua::FunctionDoc* d = granule::lua::find_doc(args[1]);
+  if (!d) {
+    std::string hint = granule::lua::nearest_doc_name(args[1]);
+    std::cerr << "granule: nothing in the API is called '" << args[1] << "'"
+              << (hint.empty() ? "" : " (did you mean '" + hint + "'?)")
+              << "; `granule api` lists every name\n";
+    return 2;
+  }
+  std::cout << granule::lua::format_help(*d);
+  return 0;
+}
+
+int run_command(const std::vector<std::string>& args);
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::vector<std::string> args(argv + 1, argv + argc);
+  // Whatever escapes (out of memory, a Lua state that cannot be made) ends
+  // with a message and status 1, never with an abort.
+  try {
+    return run_command(std::vector<std::string>(argv + 1, argv + argc));
+  } catch (const std::exception& e) {
+    std::cerr << "granule: error: " << e.what() << "\n";
+    return 1;
+  }
+}
+
+namespace {
+
+int run_command(const std::vector<std::string>& args) {
   if (args.empty()) return fail_usage("no command given");
   Options o;
   o.command = args[0];
+  const bool bare =
+      o.command == "--version" || o.command == "--help" || o.command == "-h" || o.command == "help";
+  if (bare && args.size() > 1) return fail_usage(o.command + " takes no arguments");
   if (o.command == "--version") {
     std::cout << "granule " << GRANULE_VERSION << "\n";
     return 0;
@@ -154,7 +143,11 @@ int main(int argc, char** argv) {
     std::cout << usage;
     return 0;
   }
-  if (o.command == "models") return list_models();
+  if (o.command == "models") {
+    if (args.size() > 1) return fail_usage("models takes no arguments");
+    return list_models();
+  }
+  if (o.command == "api") return api(args);
   if (o.command != "run" && o.command != "repl")
     return fail_usage("unknown command '" + o.command + "'");
   for (std::size_t k = 1; k < args.size(); ++k) {
@@ -163,19 +156,14 @@ int main(int argc, char** argv) {
       if (k + 1 >= args.size()) return fail_usage(a + " needs a value");
       const std::string& v = args[++k];
       if (a == "-o") {
+        if (v.empty()) return fail_usage("-o needs a file name");
+        if (!o.ctx.output_path.empty()) return fail_usage("-o given twice");
         o.ctx.output_path = v;
-      } else {
-        auto eq = v.find('=');
-        if (eq == std::string::npos || eq == 0)
-          return fail_usage("-D expects name=value, got '" + v + "'");
-        o.ctx.overrides[v.substr(0, eq)] = v.substr(eq + 1);
+      } else if (std::string err = add_override(o, v); !err.empty()) {
+        return fail_usage(err);
       }
     } else if (a.rfind("-D", 0) == 0 && a.size() > 2) {
-      std::string v = a.substr(2);
-      auto eq = v.find('=');
-      if (eq == std::string::npos || eq == 0)
-        return fail_usage("-D expects name=value, got '" + v + "'");
-      o.ctx.overrides[v.substr(0, eq)] = v.substr(eq + 1);
+      if (std::string err = add_override(o, a.substr(2)); !err.empty()) return fail_usage(err);
     } else if (a == "--quiet" || a == "-q") {
       o.ctx.quiet = true;
     } else if (a == "--restart") {
@@ -198,9 +186,13 @@ int main(int argc, char** argv) {
     }
   }
   o.ctx.scene_path = o.scene;
+  // The progress line rewrites itself with \r: only for a person watching a terminal.
+  o.ctx.progress = !o.ctx.quiet && isatty(2);
   if (o.command == "run") {
     if (o.scene.empty()) return fail_usage("run needs a scene file");
     return run_scene(o);
   }
-  return repl(o);
+  return granule::app::run_repl(o.scene, o.ctx);
 }
+
+}  // namespace

@@ -34,6 +34,7 @@ RunOutput::RunOutput(SimulationBase& sim, RunOutputSettings settings)
     throw InputError(
         fmt::format("output: series_every must be >= 0 [s], got {}", settings_.series_every));
   file_ = std::make_unique<H5Output>(settings_.path);
+  if (settings_.xdmf) xdmf_ = std::make_unique<XdmfIndex>(settings_.path);
   file_->series_declare("/series", series_columns, series_units);
   Hook series;
   series.name = "output.series";
@@ -158,8 +159,52 @@ void RunOutput::write_snapshot() {
   SimulationBase::FlatState s = sim_.flat_state();
   std::vector<std::string> names;
   for (const auto& m : sim_.materials()) names.push_back(m.name);
-  file_->write_snapshot(view(s, names));
+  index_snapshot(file_->write_snapshot(view(s, names)), s);
   last_snapshot_step_ = sim_.step_count();
+}
+
+void RunOutput::index_snapshot(const std::string& group, const SimulationBase::FlatState& s) {
+  if (!xdmf_) return;
+  const int d = sim_.dimension();
+  std::vector<WallSpec> walls;
+  for (int w = 0; w < sim_.wall_count(); ++w) walls.push_back(sim_.wall(w));
+  if (!wall_extent_set_) {
+    // The region walls are drawn over: the particles and the cylinders, with a
+    // margin; fixed once so that walls that do not move keep one shape.
+    bool any = false;
+    auto include = [&](const Triple& c, double r) {
+      for (int k = 0; k < d; ++k) {
+        double lo = c[k] - r, hi = c[k] + r;
+        wall_extent_[2 * k] = any ? std::min(wall_extent_[2 * k], lo) : lo;
+        wall_extent_[2 * k + 1] = any ? std::max(wall_extent_[2 * k + 1], hi) : hi;
+      }
+      any = true;
+    };
+    for (std::size_t i = 0; i < s.id.size(); ++i) {
+      Triple c{0, 0, 0};
+      for (int k = 0; k < d; ++k) c[k] = s.position[i * d + k];
+      include(c, s.radius[i]);
+    }
+    for (const auto& w : walls)
+      if (w.type == WallType::cylinder) include(w.center, w.radius);
+    if (!any) include({0, 0, 0}, 1e-3);
+    double span = 0;
+    for (int k = 0; k < d; ++k)
+      span = std::max(span, wall_extent_[2 * k + 1] - wall_extent_[2 * k]);
+    for (int k = 0; k < d; ++k) {
+      wall_extent_[2 * k] -= 0.1 * span;
+      wall_extent_[2 * k + 1] += 0.1 * span;
+    }
+    wall_extent_set_ = true;
+  }
+  XdmfSnapshot x;
+  x.group = group;
+  x.time = sim_.time();
+  x.step = sim_.step_count();
+  x.count = s.id.size();
+  x.dimension = d;
+  x.walls = wall_shapes(walls, d, wall_extent_);
+  xdmf_->add(std::move(x));
 }
 
 void RunOutput::write_series_row() {
@@ -236,6 +281,7 @@ void RunOutput::write_failure(const std::string& message) {
   for (const auto& m : sim_.materials()) names.push_back(m.name);
   std::string group = file_->write_snapshot(view(kept, names));
   file_->write_attribute(group, "failure", message);
+  index_snapshot(group, kept);
   file_->write_attribute("/", "failure", message);
   last_snapshot_step_ = sim_.step_count();
   finished_ = true;  // do not append a normal final snapshot after a failure

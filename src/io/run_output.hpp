@@ -13,6 +13,7 @@
 #include "core/simulation_base.hpp"
 #include "hooks/diagnostic.hpp"
 #include "io/h5_output.hpp"
+#include "io/xdmf.hpp"
 
 namespace granule::io {
 
@@ -20,6 +21,7 @@ struct RunOutputSettings {
   std::string path;
   double snapshot_every = 0;  // s of simulated time; 0 = first and last only
   double series_every = 0;    // s; 0 = every 100 steps
+  bool xdmf = true;           // keep <file>.xmf beside the HDF5 file for ParaView
   std::string scene_path;
   std::string scene_source;
   std::vector<std::pair<std::string, std::string>> parameters;  // name -> value as text
@@ -48,14 +50,19 @@ class RunOutput final : public OutputSink {
                        const std::string& value) override;
   void write_attribute(const std::string& group, const std::string& name,
                        const std::vector<double>& value) override;
+  std::string xdmf_path() const { return xdmf_ ? xdmf_->path() : ""; }
   H5Output& file() { return *file_; }
 
  private:
   void write_header();
   SnapshotView view(const SimulationBase::FlatState& s, std::vector<std::string> names) const;
+  void index_snapshot(const std::string& group, const SimulationBase::FlatState& s);
   SimulationBase& sim_;
   RunOutputSettings settings_;
   std::unique_ptr<H5Output> file_;
+  std::unique_ptr<XdmfIndex> xdmf_;
+  std::array<double, 6> wall_extent_{};  // where walls are drawn in the XDMF, fixed at the first
+  bool wall_extent_set_ = false;
   std::vector<int> hook_ids_;
   std::int64_t last_snapshot_step_ = -1;
   bool finished_ = false;

@@ -4,15 +4,21 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "core/errors.hpp"
 #include "core/simulation_base.hpp"
 #include "io/run_output.hpp"
+#include "lua/api_docs.hpp"
 #include "lua/lua_util.hpp"
+#include "lua/run_progress.hpp"
 #include "lua/scene.hpp"
 #include "lua/wrap_agglomerate.hpp"
 
@@ -28,6 +34,8 @@ LuaSim& self(lua_State* L) {
 
 namespace {
 const char* metatable_name = simulation_metatable;
+// The list of simulations made in this state, for simulations() and the REPL.
+const char* simulations_key = "granule.simulations";
 
 int dim(lua_State* L) {
   return self(L).sim->dimension();
@@ -131,7 +139,12 @@ int l_wall_cylinder(lua_State* L) {
     w.name = t.string("name");
     w.material = s.sim->material_id(t.string("material"));
     w.center = t.vector("center", d);
-    if (d == 3) w.axis = t.vector("axis", 3, {0, 0, 1});
+    if (d == 3) {
+      w.axis = t.vector("axis", 3, {0, 0, 1});
+    } else if (t.has("axis")) {
+      t.mark("axis");
+      throw std::runtime_error("wall_cylinder: in 2D the axis is z; leave 'axis' out");
+    }
     w.radius = t.number("radius");
     w.inside = t.boolean("inside", true);
     w.angular_velocity = t.number("angular_velocity", 0);
@@ -183,6 +196,15 @@ int l_fill(lua_State* L) {
     f.seed = static_cast<std::uint64_t>(t.integer("seed", 1));
     f.max_speed = t.number("max_speed", 0);
     f.max_attempts = t.integer("max_attempts", 0);
+    const int size_rules = int(t.has("radius")) + int(t.has("radii")) +
+                           int(t.has("radius_min") || t.has("radius_max"));
+    if (size_rules > 1)
+      throw std::runtime_error(
+          "fill: give one of radius, radii, or radius_min with radius_max [m]");
+    // A count beyond this is no scene memory can hold, and 2000 * count attempts must not
+    // overflow the engine's counter.
+    if (f.count > 1'000'000'000)
+      throw std::runtime_error(fmt::format("fill: count = {} is more than 1e9 particles", f.count));
     if (t.has("radius")) {
       f.radius_min = f.radius_max = t.number("radius");
     } else if (t.has("radii")) {
@@ -416,6 +438,17 @@ void call_lua(lua_State* L, int function_ref, int self_ref, int results, const c
   (void)what;
 }
 
+// Undoes what a run set up, however it ends (normally, by an error, by Ctrl-C).
+struct RunGuard {
+  lua_State* L;
+  LuaSim& s;
+  int stop_ref;
+  ~RunGuard() {
+    s.running = false;
+    if (stop_ref != LUA_NOREF) luaL_unref(L, LUA_REGISTRYINDEX, stop_ref);
+  }
+};
+
 int l_run(lua_State* L) {
   return protect(L, [](lua_State* L) {
     LuaSim& s = self(L);
@@ -432,12 +465,13 @@ int l_run(lua_State* L) {
     if (has_steps && steps < 0) throw std::runtime_error("run: steps must be >= 0");
     std::int64_t check_every = t.integer("check_every", 100);
     if (check_every < 1) throw std::runtime_error("run: check_every must be >= 1");
-    int stop_ref = LUA_NOREF;
-    if (t.push_function("stop_when")) stop_ref = luaL_ref(L, LUA_REGISTRYINDEX);
+    // stop_when is taken into the registry only after every check has passed.
+    t.mark("stop_when");
     t.finish();
 
     // A restarted scene: runs that had ended before the checkpoint return at once
     // with their recorded results; the run that was going on loads the checkpoint.
+    SceneContext* ctx = context(L);
     const std::size_t run_index = s.completed_runs.size();
     std::int64_t done = 0;
     bool resuming = false;
@@ -446,7 +480,6 @@ int l_run(lua_State* L) {
       if (run_index < r.completed.size()) {
         const RunRecord rec = r.completed[run_index];
         s.completed_runs.push_back(rec);
-        if (stop_ref != LUA_NOREF) luaL_unref(L, LUA_REGISTRYINDEX, stop_ref);
         lua_newtable(L);
         lua_pushinteger(L, rec.steps);
         lua_setfield(L, -2, "steps");
@@ -465,7 +498,7 @@ int l_run(lua_State* L) {
         s.run_total_steps = r.run_total_steps;
         done = s.sim->step_count() - r.run_start_step;
       }
-      if (!(context(L) && context(L)->quiet))
+      if (!(ctx && ctx->quiet))
         std::cerr << fmt::format("granule: continuing from {} at step {} (t = {:.6g} s)\n", r.path,
                                  s.sim->step_count(), s.sim->time());
     }
@@ -473,74 +506,122 @@ int l_run(lua_State* L) {
     const bool first_run = s.sim->step_count() == 0 && !s.header_printed;
     s.sim->ensure_prepared();
     // The run's header: what this scene simulates (and so what it pays for).
-    if (first_run && !(context(L) && context(L)->quiet)) {
+    if (first_run && !(ctx && ctx->quiet)) {
       for (const auto& line : s.sim->describe()) std::cerr << "granule: " << line << "\n";
       s.header_printed = true;
     }
+    const double dt = s.sim->time_step();
     if (resuming) {
       steps = s.run_total_steps;
     } else {
-      if (has_duration)
-        steps = static_cast<std::int64_t>(std::ceil(duration / s.sim->time_step() - 1e-9));
+      if (has_duration) {
+        // A step count beyond 2^62 would overflow the counters (and never finish).
+        const double n = std::ceil(duration / dt - 1e-9);
+        if (!(n < 4.6e18))
+          throw std::runtime_error(
+              fmt::format("run: duration = {} s is {:.3g} steps of dt = {} s, too many to count",
+                          duration, n, dt));
+        steps = static_cast<std::int64_t>(std::max(0.0, n));
+      }
       s.run_start_step = s.sim->step_count();
       s.run_total_steps = steps;
     }
-    bool stopped = false;
+    int stop_ref = LUA_NOREF;
+    if (t.push_function("stop_when")) stop_ref = luaL_ref(L, LUA_REGISTRYINDEX);
     s.running = true;
+    RunGuard guard{L, s, stop_ref};
+
+    std::optional<RunProgress> progress;
+    if (ctx && ctx->progress) {
+      // Runs shorter than this many seconds show no line; tests set it to 0.
+      double delay = 2.0;
+      if (const char* env = std::getenv("GRANULE_PROGRESS_AFTER")) {
+        char* end = nullptr;
+        double v = std::strtod(env, &end);
+        if (end != env && *end == '\0' && v >= 0 && std::isfinite(v)) delay = v;
+      }
+      progress.emplace(std::cerr, steps - done,
+                       s.sim->time() + static_cast<double>(steps - done) * dt,
+                       stop_ref != LUA_NOREF, RunProgress::Clock{}, delay);
+    }
+    // Chunks: about 0.1 s of wall time each (so the progress line and Ctrl-C are
+    // served promptly at negligible overhead), ending at every stop_when check
+    // (every check_every steps counted from the run's start, also when the run
+    // was continued from a checkpoint) and at every checkpoint step.
+    std::int64_t chunk = 16;
+    bool stopped = false;
     CheckpointPlan& plan = s.checkpoint;
-    try {
-      while (done < steps) {
-        // Chunks end at stop_when checks (every check_every steps from the run's start,
-        // whether or not the run was interrupted), at checkpoint steps, and every 1000
-        // steps so Ctrl-C and wall-clock checkpoints are noticed.
-        std::int64_t chunk = std::min<std::int64_t>(1000 - done % 1000, steps - done);
-        if (stop_ref != LUA_NOREF) chunk = std::min(chunk, check_every - done % check_every);
-        if (plan.every_steps > 0)
-          chunk = std::min(chunk, plan.every_steps - s.sim->step_count() % plan.every_steps);
-        s.sim->advance(chunk);
-        done += chunk;
-        const bool at_check = done % check_every == 0 || done == steps;
-        if (stop_ref != LUA_NOREF && at_check) {
+    const std::int64_t done_at_start = done;
+    // Ctrl-C: a checkpoint of the state between steps, then an error that says
+    // where the run stopped and how to continue it.
+    auto stop_on_interrupt = [&]() {
+      // The Lua hook the signal handler also set (to stop script loops) is no longer needed.
+      lua_sethook(L, nullptr, 0, 0);
+      clear_interrupt();
+      std::string path = plan.path;
+      if (path.empty()) {
+        std::string stem = ctx && !ctx->scene_path.empty()
+                               ? std::filesystem::path(ctx->scene_path).stem().string()
+                               : std::string("granule");
+        path = stem + ".checkpoint.h5";
+      }
+      write_checkpoint_now(s, path, true);
+      if (ctx) ctx->interrupted = true;
+      throw std::runtime_error(fmt::format(
+          "run interrupted (Ctrl-C) after {} of {} steps, at t = {} s (step {}); checkpoint "
+          "written to {}; continue with: granule run {} --restart {}",
+          done, steps, s.sim->time(), s.sim->step_count(), path,
+          ctx ? ctx->scene_path : std::string("SCENE.lua"), path));
+    };
+    while (done < steps) {
+      if (interrupt_pending()) stop_on_interrupt();
+      std::int64_t n = std::min<std::int64_t>(chunk, steps - done);
+      if (stop_ref != LUA_NOREF) n = std::min(n, check_every - done % check_every);
+      if (plan.every_steps > 0)
+        n = std::min(n, plan.every_steps - s.sim->step_count() % plan.every_steps);
+      const auto t0 = std::chrono::steady_clock::now();
+      const std::int64_t before = s.sim->step_count();
+      try {
+        s.sim->advance(n);
+      } catch (const ScriptError&) {
+        // Ctrl-C landed in a sim:every callback, after its step was complete.
+        done += s.sim->step_count() - before;
+        if (interrupt_pending()) stop_on_interrupt();
+        throw;
+      }
+      done += n;
+      const double wall =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      if (wall < 0.05 && chunk < (std::int64_t{1} << 24))
+        chunk *= 2;
+      else if (wall > 0.2 && chunk > 1)
+        chunk /= 2;
+      if (progress) progress->update(done - done_at_start, s.sim->time());
+      if (stop_ref != LUA_NOREF && (done % check_every == 0 || done == steps)) {
+        try {
           call_lua(L, stop_ref, s.self_ref, 1, "stop_when");
-          bool stop = lua_toboolean(L, -1);
-          lua_pop(L, 1);
-          if (stop) {
-            stopped = true;
-            break;
-          }
+        } catch (const ScriptError&) {
+          if (interrupt_pending()) stop_on_interrupt();  // Ctrl-C landed in the callback
+          throw;
         }
-        if (!plan.path.empty() && done < steps) {
-          const bool by_steps = plan.every_steps > 0 && s.sim->step_count() % plan.every_steps == 0;
-          const bool by_time =
-              plan.every_seconds > 0 &&
-              std::chrono::duration<double>(std::chrono::steady_clock::now() - plan.last_wall)
-                      .count() >= plan.every_seconds;
-          if (by_steps || by_time) write_checkpoint_now(s, plan.path, true);
-        }
-        if (interrupt_requested.load()) {
-          std::string path = plan.path;
-          if (path.empty()) {
-            std::string stem = context(L) && !context(L)->scene_path.empty()
-                                   ? std::filesystem::path(context(L)->scene_path).stem().string()
-                                   : std::string("granule");
-            path = stem + ".checkpoint.h5";
-          }
-          write_checkpoint_now(s, path, true);
-          throw std::runtime_error(fmt::format(
-              "interrupted at step {} (t = {:.6g} s); checkpoint written to {}; continue with: "
-              "granule run {} --restart {}",
-              s.sim->step_count(), s.sim->time(), path,
-              context(L) ? context(L)->scene_path : std::string("SCENE.lua"), path));
+        bool stop = lua_toboolean(L, -1);
+        lua_pop(L, 1);
+        if (stop) {
+          stopped = true;
+          break;
         }
       }
-    } catch (...) {
-      s.running = false;
-      if (stop_ref != LUA_NOREF) luaL_unref(L, LUA_REGISTRYINDEX, stop_ref);
-      throw;
+      if (!plan.path.empty() && done < steps) {
+        const bool by_steps = plan.every_steps > 0 && s.sim->step_count() % plan.every_steps == 0;
+        const bool by_time =
+            plan.every_seconds > 0 &&
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - plan.last_wall)
+                    .count() >= plan.every_seconds;
+        if (by_steps || by_time) write_checkpoint_now(s, plan.path, true);
+      }
     }
-    s.running = false;
     s.completed_runs.push_back({done, stopped});
-    if (stop_ref != LUA_NOREF) luaL_unref(L, LUA_REGISTRYINDEX, stop_ref);
+    if (progress) progress->finish();
     lua_newtable(L);
     lua_pushinteger(L, done);
     lua_setfield(L, -2, "steps");
@@ -561,13 +642,20 @@ int l_every(lua_State* L) {
     h.name = t.string("name", "lua callback");
     h.every_steps = t.integer("steps", 0);
     h.every_time = t.number("time", 0);
+    if (h.every_steps < 0 || h.every_time < 0)
+      throw std::runtime_error("every: steps and time must be > 0");
     if ((h.every_steps > 0) == (h.every_time > 0))
       throw std::runtime_error("every: give exactly one of steps = N (> 0) or time = T [s] (> 0)");
-    lua_geti(L, 2, 1);
-    if (!lua_isfunction(L, -1))
-      throw std::runtime_error("every: the first entry must be a function(sim)");
-    int ref = luaL_ref(L, LUA_REGISTRYINDEX);
     t.finish();
+    if (lua_geti(L, 2, 1) != LUA_TFUNCTION) {
+      lua_pop(L, 1);
+      throw std::runtime_error("every: the first entry must be a function(sim)");
+    }
+    if (lua_rawlen(L, 2) > 1) {
+      lua_pop(L, 1);
+      throw std::runtime_error("every: give one function, as { steps = N, function(sim) ... end }");
+    }
+    int ref = luaL_ref(L, LUA_REGISTRYINDEX);
     int self_ref = s.self_ref;
     h.fire = [L, ref, self_ref] { call_lua(L, ref, self_ref, 0, "every"); };
     lua_pushinteger(L, s.sim->add_hook(h));
@@ -577,7 +665,12 @@ int l_every(lua_State* L) {
 
 int l_remove_hook(lua_State* L) {
   return protect(L, [](lua_State* L) {
-    self(L).sim->remove_hook(static_cast<int>(read_integer(L, 2, "hook id")));
+    LuaSim& s = self(L);
+    std::int64_t id = read_integer(L, 2, "remove_hook: hook id");
+    // Hook ids are small positive ints; a larger number must not wrap onto a real one.
+    if (id < 1 || id > std::numeric_limits<int>::max())
+      throw std::runtime_error(fmt::format("remove_hook: no hook with id {}", id));
+    s.sim->remove_hook(static_cast<int>(id));
     return 0;
   });
 }
@@ -612,6 +705,7 @@ int l_output(lua_State* L) {
     if (!ctx->output_path.empty()) t.mark("file");
     o.snapshot_every = t.number("snapshot_every", 0);
     o.series_every = t.number("series_every", 0);
+    o.xdmf = t.boolean("xdmf", true);
     t.finish();
     o.scene_path = ctx->scene_path;
     o.scene_source = ctx->scene_source;
@@ -833,6 +927,78 @@ int l_dimension(lua_State* L) {
   });
 }
 
+int l_contact_parameters(lua_State* L) {
+  return protect(L, [](lua_State* L) {
+    LuaSim& s = self(L);
+    std::string a = read_string(L, 2, "contact_parameters: first material");
+    std::string b = read_string(L, 3, "contact_parameters: second material");
+    int ia = s.sim->material_id(a), ib = s.sim->material_id(b);
+    const PairTable& table = s.sim->pair_table();
+    const PairTable::Entry& e = table.at(ia, ib);
+    if (e.model < 0)
+      throw std::runtime_error(fmt::format("no contact law between '{}' and '{}'", a, b));
+    lua_newtable(L);
+    lua_pushstring(L, contact_model_catalogue()[e.model].name.c_str());
+    lua_setfield(L, -2, "model");
+    for (const auto& [name, value] : table.values(ia, ib)) {
+      lua_pushnumber(L, value);
+      lua_setfield(L, -2, name.c_str());
+    }
+    return 1;
+  });
+}
+
+int l_materials(lua_State* L) {
+  return protect(L, [](lua_State* L) {
+    const auto& mats = self(L).sim->materials();
+    lua_createtable(L, static_cast<int>(mats.size()), 0);
+    for (std::size_t k = 0; k < mats.size(); ++k) {
+      lua_newtable(L);
+      lua_pushstring(L, mats[k].name.c_str());
+      lua_setfield(L, -2, "name");
+      const std::pair<const char*, double> fields[] = {{"density", mats[k].density},
+                                                       {"young", mats[k].young},
+                                                       {"poisson", mats[k].poisson},
+                                                       {"surface_energy", mats[k].surface_energy}};
+      for (const auto& [key, value] : fields) {
+        lua_pushnumber(L, value);
+        lua_setfield(L, -2, key);
+      }
+      lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
+    }
+    return 1;
+  });
+}
+
+int l_walls(lua_State* L) {
+  return protect(L, [](lua_State* L) {
+    LuaSim& s = self(L);
+    lua_createtable(L, s.sim->wall_count(), 0);
+    for (int w = 0; w < s.sim->wall_count(); ++w) {
+      lua_pushstring(L, s.sim->wall(w).name.c_str());
+      lua_rawseti(L, -2, w + 1);
+    }
+    return 1;
+  });
+}
+
+int l_simulations(lua_State* L) {
+  return protect(L, [](lua_State* L) {
+    if (lua_getfield(L, LUA_REGISTRYINDEX, simulations_key) != LUA_TTABLE) {
+      lua_pop(L, 1);
+      lua_newtable(L);
+    }
+    // A copy, so that the caller cannot edit the session's list.
+    lua_newtable(L);
+    lua_Integer n = static_cast<lua_Integer>(lua_rawlen(L, -2));
+    for (lua_Integer k = 1; k <= n; ++k) {
+      lua_rawgeti(L, -2, k);
+      lua_rawseti(L, -2, k);
+    }
+    return 1;
+  });
+}
+
 int l_gc(lua_State* L) {
   auto* s = static_cast<LuaSim*>(luaL_testudata(L, 1, metatable_name));
   if (s) s->~LuaSim();  // output first (member order reversed), then the simulation
@@ -891,6 +1057,15 @@ int l_simulation(lua_State* L) {
     luaL_setmetatable(L, metatable_name);
     lua_pushvalue(L, -1);
     s->self_ref = luaL_ref(L, LUA_REGISTRYINDEX);
+    if (lua_getfield(L, LUA_REGISTRYINDEX, simulations_key) != LUA_TTABLE) {
+      lua_pop(L, 1);
+      lua_newtable(L);
+      lua_pushvalue(L, -1);
+      lua_setfield(L, LUA_REGISTRYINDEX, simulations_key);
+    }
+    lua_pushvalue(L, -2);
+    lua_rawseti(L, -2, static_cast<lua_Integer>(lua_rawlen(L, -2)) + 1);
+    lua_pop(L, 1);
     return 1;
   });
 }
@@ -941,22 +1116,52 @@ const luaL_Reg methods[] = {
     {"fragments", bound<fragments>},
     {"breakage", bound<breakage>},
     {"scale_velocities", bound<scale_velocities>},
+    {"contact_parameters", l_contact_parameters},
+    {"materials", l_materials},
+    {"walls", l_walls},
+    {"picture", l_picture},
     {nullptr, nullptr},
 };
 }  // namespace
 
+// __index of the method table: a misspelt method is an error that suggests the nearest name.
+int unknown_method(lua_State* L) {
+  {
+    const char* name = lua_tostring(L, 2);
+    std::vector<std::string> known;
+    for (const luaL_Reg* m = methods; m->name; ++m) known.emplace_back(m->name);
+    std::string hint = name ? nearest_name(name, known) : "";
+    std::string message =
+        fmt::format("simulation has no method '{}'{}", name ? name : "?",
+                    hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint));
+    luaL_where(L, 1);
+    lua_pushstring(L, message.c_str());
+    lua_concat(L, 2);
+  }  // the strings are destroyed before lua_error longjmps
+  return lua_error(L);
+}
+
+SimulationBase& simulation_argument(lua_State* L) {
+  return *self(L).sim;
+}
+
 void open_simulation(lua_State* L) {
   luaL_newmetatable(L, metatable_name);
   lua_newtable(L);
-  luaL_setfuncs(L, methods, 0);
-  luaL_setfuncs(L, diagnostic_methods, 0);
-  luaL_setfuncs(L, checkpoint_methods, 0);
+  // Every method goes through the arity check of its documentation entry; a
+  // method without an entry is still callable, and the docs test names it.
+  for (const luaL_Reg* table : {methods, diagnostic_methods, checkpoint_methods})
+    for (const luaL_Reg* m = table; m->name; ++m) {
+      const FunctionDoc* doc = find_doc(std::string("sim:") + m->name);
+      if (doc && std::string(doc->name) == std::string("sim:") + m->name)
+        push_checked(L, *doc, m->func);
+      else
+        lua_pushcfunction(L, m->func);
+      lua_setfield(L, -2, m->name);
+    }
   // Unknown method names are errors with a suggestion, not silent nils.
   lua_newtable(L);
-  lua_pushcfunction(L, [](lua_State* L) -> int {
-    const char* name = lua_tostring(L, 2);
-    return luaL_error(L, "simulation has no method '%s'", name ? name : "?");
-  });
+  lua_pushcfunction(L, unknown_method);
   lua_setfield(L, -2, "__index");
   lua_setmetatable(L, -2);
   lua_setfield(L, -2, "__index");
@@ -965,8 +1170,10 @@ void open_simulation(lua_State* L) {
   lua_pushcfunction(L, l_tostring);
   lua_setfield(L, -2, "__tostring");
   lua_pop(L, 1);
-  lua_pushcfunction(L, l_simulation);
+  push_checked(L, *find_doc("simulation"), l_simulation);
   lua_setglobal(L, "simulation");
+  push_checked(L, *find_doc("simulations"), l_simulations);
+  lua_setglobal(L, "simulations");
 }
 
 }  // namespace granule::lua

@@ -57,10 +57,6 @@ struct LuaSim {
   std::unique_ptr<Restart> restart;  // set when this scene continues a checkpoint
 };
 
-// Set by the SIGINT handler (app/main.cpp); a running sim:run writes a
-// checkpoint at the next chunk boundary and stops with an error.
-extern std::atomic<bool> interrupt_requested;
-
 // Writes a checkpoint of `s` now (between steps), with the run bookkeeping.
 void write_checkpoint_now(LuaSim& s, const std::string& path, bool in_run);
 // Reads a checkpoint for --restart (the first simulation of the scene takes it).
@@ -68,6 +64,12 @@ std::unique_ptr<Restart> read_restart(const std::string& path);
 
 // The simulation at stack index 1; throws (use inside protect()) if it is not one.
 LuaSim& self(lua_State* L);
+
+// The simulation a method was called on (argument 1); throws std::runtime_error
+// if it is not a simulation or has been closed.
+SimulationBase& simulation_argument(lua_State* L);
+
+int l_picture(lua_State* L);  // sim:picture { ... }, wrap_picture.cpp
 
 // Methods added by wrap_diagnostics.cpp.
 extern const luaL_Reg diagnostic_methods[];

@@ -149,9 +149,10 @@ std::vector<double> TableReader::numbers(const char* key) {
   lua_Integer n = luaL_len(L_, -1);
   for (lua_Integer k = 1; k <= n; ++k) {
     lua_geti(L_, -1, k);
-    if (!lua_isnumber(L_, -1)) {
+    if (lua_type(L_, -1) != LUA_TNUMBER || !std::isfinite(lua_tonumber(L_, -1))) {
       lua_pop(L_, 2);
-      throw std::runtime_error(fmt::format("{}: '{}'[{}] must be a number", context_, key, k));
+      throw std::runtime_error(
+          fmt::format("{}: '{}'[{}] must be a finite number", context_, key, k));
     }
     out.push_back(lua_tonumber(L_, -1));
     lua_pop(L_, 1);

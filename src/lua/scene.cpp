@@ -4,16 +4,20 @@
 
 #include <chrono>
 #include <cmath>
+#include <csignal>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "contact/parameters.hpp"
+#include "lua/api_docs.hpp"
 #include "lua/lua_util.hpp"
 
 namespace granule::lua {
 
 namespace {
 const char* context_key = "granule.context";
+volatile std::sig_atomic_t interrupt_flag = 0;
 
 int traceback(lua_State* L) {
   const char* msg = lua_tostring(L, 1);
@@ -43,6 +47,12 @@ int l_parameters(lua_State* L) {
       names.push_back(name);
       int spec = lua_gettop(L);
       if (lua_istable(L, spec)) {
+        // { default =, unit =, doc = }: a misspelt key would silently drop its value.
+        TableReader r(L, spec, fmt::format("parameters: '{}'", name));
+        r.string("unit", "");
+        r.string("doc", "");
+        r.mark("default");
+        r.finish();
         lua_getfield(L, spec, "default");
         lua_replace(L, spec);
       }
@@ -51,6 +61,9 @@ int l_parameters(lua_State* L) {
         throw std::runtime_error(fmt::format(
             "parameters: '{}' needs a default that is a number, string or boolean, got {}", name,
             luaL_typename(L, spec)));
+      if (t == LUA_TNUMBER && !std::isfinite(lua_tonumber(L, spec)))
+        throw std::runtime_error(
+            fmt::format("parameters: '{}' has a default that is not finite", name));
       auto ov = ctx->overrides.find(name);
       if (ov != ctx->overrides.end()) {
         ctx->consumed.insert(name);
@@ -139,6 +152,16 @@ int strict_newindex(lua_State* L) {
 }
 }  // namespace
 
+void request_interrupt() {
+  interrupt_flag = 1;
+}
+bool interrupt_pending() {
+  return interrupt_flag != 0;
+}
+void clear_interrupt() {
+  interrupt_flag = 0;
+}
+
 SceneContext* context(lua_State* L) {
   lua_getfield(L, LUA_REGISTRYINDEX, context_key);
   auto* ctx = static_cast<SceneContext*>(lua_touserdata(L, -1));
@@ -162,7 +185,7 @@ lua_State* new_state(SceneContext* ctx) {
   lua_pushstring(L, path.c_str());
   lua_setfield(L, -2, "path");
   lua_pop(L, 1);
-  lua_pushcfunction(L, l_parameters);
+  push_checked(L, *find_doc("parameters"), l_parameters);
   lua_setglobal(L, "parameters");
   lua_pushstring(L, GRANULE_VERSION);
   lua_setglobal(L, "GRANULE_VERSION");
@@ -170,7 +193,7 @@ lua_State* new_state(SceneContext* ctx) {
   lua_setglobal(L, "SCENE_PATH");
   // wall_time(): seconds of wall-clock time from an arbitrary origin, for timing
   // runs (os.clock counts CPU time of every thread, so it overstates parallel runs).
-  lua_pushcfunction(L, [](lua_State* L) -> int {
+  push_checked(L, *find_doc("wall_time"), [](lua_State* L) -> int {
     lua_pushnumber(
         L,
         std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count());
@@ -178,6 +201,7 @@ lua_State* new_state(SceneContext* ctx) {
   });
   lua_setglobal(L, "wall_time");
   open_simulation(L);
+  open_help(L);
   return L;
 }
 
@@ -193,6 +217,9 @@ void make_globals_strict(lua_State* L) {
 }
 
 std::string run_file(lua_State* L, const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    return fmt::format("'{}' is a directory, not a scene file", path);
   std::ifstream in(path, std::ios::binary);
   if (!in) return fmt::format("cannot open scene file '{}'", path);
   std::stringstream buffer;

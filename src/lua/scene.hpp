@@ -23,11 +23,19 @@ struct SceneContext {
   std::vector<std::pair<std::string, std::string>> parameter_values;  // for provenance
   std::map<std::string, double> numeric_parameters;
   bool quiet = false;
-  int threads = 0;
-  std::string restart_path;    // --restart FILE: the first simulation continues this checkpoint
-  bool restart_taken = false;  // --threads N: overrides every simulation's own setting when > 0
+  int threads = 0;           // --threads N: overrides every simulation's own setting when > 0
+  std::string restart_path;  // --restart FILE: the first simulation continues this checkpoint
+  bool restart_taken = false;
+  bool interrupted = false;  // a run stopped on Ctrl-C (the program exits with 130)
+  bool progress = false;  // progress line for long runs (the CLI: stderr is a terminal, no --quiet)
   std::vector<std::string> outputs_written;
 };
+
+// Ctrl-C. The signal handler only sets a flag (async-signal-safe); sim:run
+// checks it between chunks of steps and ends with an error naming the step.
+void request_interrupt();
+bool interrupt_pending();
+void clear_interrupt();
 
 // A fresh state with the standard libraries, the granule API and lua/ on package.path.
 lua_State* new_state(SceneContext* context);
@@ -38,7 +46,7 @@ std::string run_file(lua_State* L, const std::string& path);
 // Runs a string chunk (the REPL); returns "" or the error.
 std::string run_string(lua_State* L, const std::string& chunk, const std::string& chunk_name);
 
-// Registers simulation{...} and its methods (lua_simulation.cpp).
+// Registers simulation{...}, simulations() and the methods (lua_simulation.cpp).
 void open_simulation(lua_State* L);
 SceneContext* context(lua_State* L);
 

@@ -13,8 +13,6 @@
 
 namespace granule::lua {
 
-std::atomic<bool> interrupt_requested{false};
-
 void write_checkpoint_now(LuaSim& s, const std::string& path, bool in_run) {
   StateBlob state = s.sim->save_state();
   std::vector<std::int64_t> steps, stopped;

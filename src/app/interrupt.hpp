@@ -1,0 +1,50 @@
+// Ctrl-C while Lua runs, following lua.c: the first SIGINT asks the running
+// sim:run to stop at the next chunk boundary and sets a Lua hook that raises
+// "interrupted" at the next Lua call, so a script loop stops too; a second
+// SIGINT before the first was handled ends the program the default way.
+#pragma once
+
+#include <csignal>
+#include <lua.hpp>
+
+#include "lua/scene.hpp"
+
+namespace granule::app {
+
+inline lua_State* interrupted_state = nullptr;
+
+inline void stop_hook(lua_State* L, lua_Debug*) {
+  lua_sethook(L, nullptr, 0, 0);
+  luaL_error(L, "interrupted (Ctrl-C)");
+}
+
+inline void on_sigint(int) {
+  if (lua::interrupt_pending()) {  // asked twice: give up waiting
+    std::signal(SIGINT, SIG_DFL);
+    std::raise(SIGINT);
+    return;
+  }
+  lua::request_interrupt();
+  if (interrupted_state)
+    lua_sethook(interrupted_state, stop_hook, LUA_MASKCALL | LUA_MASKRET | LUA_MASKCOUNT, 1);
+}
+
+// Handles SIGINT while it exists (around running a chunk), then restores the default.
+class InterruptScope {
+ public:
+  explicit InterruptScope(lua_State* L) {
+    lua::clear_interrupt();
+    interrupted_state = L;
+    std::signal(SIGINT, on_sigint);
+  }
+  ~InterruptScope() {
+    std::signal(SIGINT, SIG_DFL);
+    lua_sethook(interrupted_state, nullptr, 0, 0);
+    interrupted_state = nullptr;
+    lua::clear_interrupt();
+  }
+  InterruptScope(const InterruptScope&) = delete;
+  InterruptScope& operator=(const InterruptScope&) = delete;
+};
+
+}  // namespace granule::app

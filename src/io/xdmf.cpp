@@ -1,0 +1,272 @@
+#include "io/xdmf.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+namespace granule::io {
+
+namespace {
+
+constexpr double two_pi = 6.28318530717958647692;
+constexpr int circle_segments = 96;  // a circle drawn as a polygon: < 0.06 % radius error
+
+std::string join(const std::vector<double>& v) {
+  std::string out;
+  for (std::size_t k = 0; k < v.size(); ++k) out += fmt::format(k ? " {:.9g}" : "{:.9g}", v[k]);
+  return out;
+}
+std::string join(const std::vector<int>& v) {
+  std::string out;
+  for (std::size_t k = 0; k < v.size(); ++k) out += fmt::format(k ? " {}" : "{}", v[k]);
+  return out;
+}
+
+std::string xml_attr(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    if (c == '&')
+      out += "&amp;";
+    else if (c == '<')
+      out += "&lt;";
+    else if (c == '"')
+      out += "&quot;";
+    else if (static_cast<unsigned char>(c) >= 0x20)
+      out += c;
+  }
+  return out;
+}
+
+using V3 = std::array<double, 3>;
+V3 sub(const V3& a, const V3& b) {
+  return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
+V3 add(const V3& a, const V3& b) {
+  return {a[0] + b[0], a[1] + b[1], a[2] + b[2]};
+}
+V3 scale(const V3& a, double s) {
+  return {a[0] * s, a[1] * s, a[2] * s};
+}
+double dot(const V3& a, const V3& b) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+V3 cross(const V3& a, const V3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+V3 unit(const V3& a) {
+  double n = std::sqrt(dot(a, a));
+  return n > 0 ? scale(a, 1 / n) : V3{1, 0, 0};
+}
+// Two unit vectors perpendicular to n and to each other.
+void basis(const V3& n, V3& t1, V3& t2) {
+  V3 helper = std::abs(n[0]) < 0.9 ? V3{1, 0, 0} : V3{0, 1, 0};
+  t1 = unit(cross(n, helper));
+  t2 = cross(n, t1);
+}
+
+}  // namespace
+
+std::string xdmf_path_for(const std::string& h5_path) {
+  std::filesystem::path p(h5_path);
+  p.replace_extension(".xmf");
+  return p.string();
+}
+
+std::vector<XdmfShape> wall_shapes(const std::vector<WallSpec>& walls, int dimension,
+                                   const std::array<double, 6>& e) {
+  const V3 centre{(e[0] + e[1]) / 2, (e[2] + e[3]) / 2, (e[4] + e[5]) / 2};
+  const double half_diagonal =
+      0.5 * std::sqrt((e[1] - e[0]) * (e[1] - e[0]) + (e[3] - e[2]) * (e[3] - e[2]) +
+                      (e[5] - e[4]) * (e[5] - e[4]));
+  std::vector<XdmfShape> out;
+  for (const auto& w : walls) {
+    XdmfShape s;
+    s.name = w.name;
+    const V3 normal = unit(w.normal);
+    if (dimension == 2) {
+      s.topology = "Polyline";
+      if (w.type == WallType::cylinder) {
+        for (int k = 0; k < circle_segments; ++k) {
+          double a = two_pi * k / circle_segments;
+          s.points.insert(s.points.end(), {w.center[0] + w.radius * std::cos(a),
+                                           w.center[1] + w.radius * std::sin(a), 0.0});
+          s.connectivity.push_back(k);
+        }
+        s.connectivity.push_back(0);  // closed
+      } else {
+        // The segment of the line through the extent's centre's projection.
+        V3 p{w.point[0], w.point[1], 0};
+        V3 n{normal[0], normal[1], 0};
+        V3 foot = sub(centre, scale(n, dot(sub(centre, p), n)));
+        foot[2] = 0;
+        V3 t{-n[1], n[0], 0};
+        for (double sgn : {-1.0, 1.0}) {
+          V3 q = add(foot, scale(t, sgn * half_diagonal));
+          s.points.insert(s.points.end(), q.begin(), q.end());
+        }
+        s.connectivity = {0, 1};
+      }
+      s.nodes_per_element = static_cast<int>(s.connectivity.size());
+    } else if (w.type == WallType::plane) {
+      s.topology = "Quadrilateral";
+      V3 foot = sub(centre, scale(normal, dot(sub(centre, w.point), normal)));
+      V3 t1, t2;
+      basis(normal, t1, t2);
+      const double h = half_diagonal;
+      for (auto [a, b] : {std::pair{-1, -1}, {1, -1}, {1, 1}, {-1, 1}}) {
+        V3 q = add(foot, add(scale(t1, a * h), scale(t2, b * h)));
+        s.points.insert(s.points.end(), q.begin(), q.end());
+      }
+      s.connectivity = {0, 1, 2, 3};
+      s.nodes_per_element = 4;
+    } else {
+      // A tube over the part of the axis the extent box spans.
+      s.topology = "Quadrilateral";
+      const V3 axis = unit(w.axis);
+      double lo = 1e300, hi = -1e300;
+      for (int corner = 0; corner < 8; ++corner) {
+        V3 c{e[corner & 1 ? 1 : 0], e[corner & 2 ? 3 : 2], e[corner & 4 ? 5 : 4]};
+        double t = dot(sub(c, w.center), axis);
+        lo = std::min(lo, t);
+        hi = std::max(hi, t);
+      }
+      V3 t1, t2;
+      basis(axis, t1, t2);
+      const int m = circle_segments / 2;
+      for (double along : {lo, hi})
+        for (int k = 0; k < m; ++k) {
+          double a = two_pi * k / m;
+          V3 q = add(add(w.center, scale(axis, along)),
+                     add(scale(t1, w.radius * std::cos(a)), scale(t2, w.radius * std::sin(a))));
+          s.points.insert(s.points.end(), q.begin(), q.end());
+        }
+      for (int k = 0; k < m; ++k) {
+        int next = (k + 1) % m;
+        s.connectivity.insert(s.connectivity.end(), {k, next, m + next, m + k});
+      }
+      s.nodes_per_element = 4;
+    }
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+XdmfIndex::XdmfIndex(std::string h5_path)
+    : h5_name_(std::filesystem::path(h5_path).filename().string()), path_(xdmf_path_for(h5_path)) {}
+
+void XdmfIndex::add(XdmfSnapshot snapshot) {
+  snapshots_.push_back(std::move(snapshot));
+  // Write beside the target and rename: a reader never sees half a file.
+  const std::string tmp = path_ + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw std::runtime_error(fmt::format("cannot write XDMF file '{}'", tmp));
+    out << text();
+    out.close();
+    if (!out) throw std::runtime_error(fmt::format("writing XDMF file '{}' failed", tmp));
+  }
+  if (std::rename(tmp.c_str(), path_.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    throw std::runtime_error(fmt::format("cannot replace XDMF file '{}'", path_));
+  }
+}
+
+std::string XdmfIndex::text() const {
+  std::string x =
+      "<?xml version=\"1.0\" ?>\n"
+      "<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
+      "<!-- Written by granule beside the HDF5 file it describes; open this file in ParaView\n"
+      "     (Xdmf Reader) and use Glyph (Sphere, Scale Array = radius, scale factor 2) or\n"
+      "     Point Gaussian to see the particles. -->\n"
+      "<Xdmf Version=\"2.0\">\n<Domain>\n"
+      "<Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  const std::string h5 = xml_attr(h5_name_);
+  for (const auto& s : snapshots_) {
+    if (s.count == 0) continue;  // a grid of no points is not valid XDMF
+    const std::size_t n = s.count;
+    const int d = s.dimension;
+    auto item = [&](const char* dataset, const std::string& dims, const char* type, int precision) {
+      return fmt::format(
+          "  <DataItem Dimensions=\"{}\" NumberType=\"{}\" Precision=\"{}\" "
+          "Format=\"HDF\">{}:{}/{}</DataItem>\n",
+          dims, type, precision, h5, s.group, dataset);
+    };
+    auto attribute = [&](const char* name, const char* kind, const std::string& dims,
+                         const char* type, int precision) {
+      return fmt::format("  <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Node\">\n", name,
+                         kind) +
+             item(name, dims, type, precision) + "  </Attribute>\n";
+    };
+    x += fmt::format(" <Grid Name=\"{}\" GridType=\"Uniform\">\n",
+                     s.group.substr(s.group.rfind('/') + 1));
+    x += fmt::format("  <Time Value=\"{:.17g}\"/>\n", s.time);
+    x += fmt::format(
+        "  <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" NodesPerElement=\"1\"/>\n",
+        n);
+    x += fmt::format("  <Geometry GeometryType=\"{}\">\n", d == 2 ? "XY" : "XYZ");
+    x += item("position", fmt::format("{} {}", n, d), "Float", 8);
+    x += "  </Geometry>\n";
+    x += attribute("radius", "Scalar", fmt::format("{}", n), "Float", 8);
+    x += attribute("velocity", "Vector", fmt::format("{} {}", n, d), "Float", 8);
+    x += attribute("spin", d == 2 ? "Scalar" : "Vector", fmt::format("{} {}", n, d == 2 ? 1 : 3),
+                   "Float", 8);
+    x += attribute("material", "Scalar", fmt::format("{}", n), "Int", 4);
+    x += attribute("fixed", "Scalar", fmt::format("{}", n), "UChar", 1);
+    x += attribute("id", "Scalar", fmt::format("{}", n), "Int", 8);
+    x += " </Grid>\n";
+  }
+  x += "</Grid>\n";
+
+  // Walls: one grid each, without a time if it never changed (shown at every
+  // time), else a temporal collection with its shape at each snapshot.
+  auto shape_grid = [](const XdmfShape& w, const std::string& name, const double* time) {
+    const std::size_t nodes = w.points.size() / 3;
+    const std::size_t elements = w.connectivity.size() / w.nodes_per_element;
+    std::string g = fmt::format(" <Grid Name=\"{}\" GridType=\"Uniform\">\n", xml_attr(name));
+    if (time) g += fmt::format("  <Time Value=\"{:.17g}\"/>\n", *time);
+    g += fmt::format(
+        "  <Topology TopologyType=\"{}\" NumberOfElements=\"{}\" NodesPerElement=\"{}\">\n"
+        "   <DataItem Dimensions=\"{} {}\" NumberType=\"Int\" Precision=\"4\" "
+        "Format=\"XML\">{}</DataItem>\n"
+        "  </Topology>\n",
+        w.topology, elements, w.nodes_per_element, elements, w.nodes_per_element,
+        join(w.connectivity));
+    g += fmt::format(
+        "  <Geometry GeometryType=\"XYZ\">\n"
+        "   <DataItem Dimensions=\"{} 3\" NumberType=\"Float\" Precision=\"8\" "
+        "Format=\"XML\">{}</DataItem>\n"
+        "  </Geometry>\n </Grid>\n",
+        nodes, join(w.points));
+    return g;
+  };
+  std::vector<const XdmfSnapshot*> with_walls;
+  for (const auto& s : snapshots_)
+    if (!s.walls.empty()) with_walls.push_back(&s);
+  if (!with_walls.empty()) {
+    const std::size_t wall_count = with_walls.front()->walls.size();
+    for (std::size_t k = 0; k < wall_count; ++k) {
+      const XdmfShape& first = with_walls.front()->walls[k];
+      bool fixed = true;
+      for (const auto* s : with_walls)
+        fixed = fixed && s->walls.size() == wall_count && s->walls[k] == first;
+      const std::string name = "wall_" + first.name;
+      if (fixed) {
+        x += shape_grid(first, name, nullptr);
+        continue;
+      }
+      x += fmt::format("<Grid Name=\"{}\" GridType=\"Collection\" CollectionType=\"Temporal\">\n",
+                       xml_attr(name));
+      for (const auto* s : with_walls)
+        if (s->walls.size() == wall_count) x += shape_grid(s->walls[k], name, &s->time);
+      x += "</Grid>\n";
+    }
+  }
+  x += "</Domain>\n</Xdmf>\n";
+  return x;
+}
+
+}  // namespace granule::io

@@ -1,0 +1,62 @@
+// An XDMF 2 descriptor beside the HDF5 output (out.h5 -> out.xmf), so that
+// ParaView (and VisIt) open the snapshots directly: a temporal collection of
+// Polyvertex grids whose geometry and attributes (radius, velocity, spin,
+// material, fixed, id) point into /snapshots/NNNNNN of the HDF5 file, plus the
+// walls as small inline geometries (2D: polylines in z = 0; 3D: a quadrilateral
+// for a plane, a tube for a cylinder), clipped to the region the particles
+// occupy. The small XML file is rewritten whole after every snapshot (through a
+// temporary file and a rename), so it always matches what the HDF5 holds.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/simulation_base.hpp"
+
+namespace granule::io {
+
+struct XdmfShape {  // one wall's inline geometry
+  std::string name;
+  std::string topology;  // "Polyline" or "Quadrilateral"
+  int nodes_per_element = 0;
+  std::vector<double> points;     // x, y, z per node
+  std::vector<int> connectivity;  // nodes_per_element entries per element
+  bool operator==(const XdmfShape& o) const {
+    return name == o.name && topology == o.topology && points == o.points &&
+           connectivity == o.connectivity;
+  }
+};
+
+struct XdmfSnapshot {
+  std::string group;  // "/snapshots/000003"
+  double time = 0;    // s
+  std::int64_t step = 0;
+  std::size_t count = 0;  // particles
+  int dimension = 3;
+  std::vector<XdmfShape> walls;
+};
+
+// "out.h5" -> "out.xmf"; "out" -> "out.xmf".
+std::string xdmf_path_for(const std::string& h5_path);
+
+// The walls as drawable shapes within `extent` (x0, x1, y0, y1, z0, z1 [m]).
+std::vector<XdmfShape> wall_shapes(const std::vector<WallSpec>& walls, int dimension,
+                                   const std::array<double, 6>& extent);
+
+class XdmfIndex {
+ public:
+  explicit XdmfIndex(std::string h5_path);
+  const std::string& path() const { return path_; }
+  // Records a snapshot and rewrites the file; throws std::runtime_error if it cannot.
+  void add(XdmfSnapshot snapshot);
+  std::string text() const;  // the XML as it would be written now
+
+ private:
+  std::string h5_name_;  // as referenced from the XML: the file name, since both lie together
+  std::string path_;
+  std::vector<XdmfSnapshot> snapshots_;
+};
+
+}  // namespace granule::io

@@ -1,0 +1,92 @@
+// The XDMF descriptor: wall shapes are where the walls are; the XML points at
+// the snapshot datasets. (tests/io/check_xdmf.py checks real files against
+// the HDF5 they describe.)
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "io/xdmf.hpp"
+
+using namespace granule;
+
+TEST_CASE("xdmf: file name beside the HDF5 file", "[xdmf]") {
+  CHECK(io::xdmf_path_for("out.h5") == "out.xmf");
+  CHECK(io::xdmf_path_for("dir/run.1.h5") == "dir/run.1.xmf");
+  CHECK(io::xdmf_path_for("plain") == "plain.xmf");
+}
+
+TEST_CASE("xdmf: a 2D drum is a closed polygon on its circle; a plane a segment on its line",
+          "[xdmf]") {
+  WallSpec drum;
+  drum.name = "drum";
+  drum.type = WallType::cylinder;
+  drum.center = {0.001, 0.002, 0};
+  drum.radius = 0.01;
+  WallSpec floor;
+  floor.name = "floor";
+  floor.type = WallType::plane;
+  floor.point = {0, -0.005, 0};
+  floor.normal = {0, 2, 0};
+  auto shapes = io::wall_shapes({drum, floor}, 2, {-0.01, 0.01, -0.01, 0.01, 0, 0});
+  REQUIRE(shapes.size() == 2);
+  const auto& c = shapes[0];
+  CHECK(c.topology == "Polyline");
+  CHECK(c.connectivity.front() == c.connectivity.back());  // closed
+  for (std::size_t k = 0; k < c.points.size(); k += 3)
+    CHECK(std::hypot(c.points[k] - 0.001, c.points[k + 1] - 0.002) == Approx(0.01));
+  const auto& f = shapes[1];
+  REQUIRE(f.points.size() == 6);
+  CHECK(f.points[1] == Approx(-0.005));
+  CHECK(f.points[4] == Approx(-0.005));
+  CHECK(std::abs(f.points[3] - f.points[0]) > 0.02);  // spans the extent
+}
+
+TEST_CASE("xdmf: a 3D cylinder is a tube spanning the extent along its axis", "[xdmf]") {
+  WallSpec tube;
+  tube.name = "tube";
+  tube.type = WallType::cylinder;
+  tube.axis = {1, 0, 0};
+  tube.radius = 0.002;
+  auto shapes = io::wall_shapes({tube}, 3, {-0.01, 0.02, -0.01, 0.01, -0.01, 0.01});
+  const auto& t = shapes[0];
+  CHECK(t.topology == "Quadrilateral");
+  CHECK(t.connectivity.size() % 4 == 0);
+  double x_min = 1, x_max = -1;
+  for (std::size_t k = 0; k < t.points.size(); k += 3) {
+    CHECK(std::hypot(t.points[k + 1], t.points[k + 2]) == Approx(0.002));
+    x_min = std::min(x_min, t.points[k]);
+    x_max = std::max(x_max, t.points[k]);
+  }
+  CHECK(x_min == Approx(-0.01));
+  CHECK(x_max == Approx(0.02));
+}
+
+TEST_CASE("xdmf: snapshots become a temporal collection of Polyvertex grids", "[xdmf]") {
+  auto dir = std::filesystem::temp_directory_path() / "granule_xdmf_test";
+  std::filesystem::create_directories(dir);
+  io::XdmfIndex index((dir / "run.h5").string());
+  CHECK(index.path() == (dir / "run.xmf").string());
+  io::XdmfSnapshot s;
+  s.group = "/snapshots/000001";
+  s.time = 0.25;
+  s.count = 7;
+  s.dimension = 2;
+  index.add(s);
+  s.group = "/snapshots/000002";
+  s.count = 0;  // an empty snapshot has no grid: XDMF has no empty Polyvertex
+  index.add(s);
+  std::ifstream in(index.path());
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string x = text.str();
+  CHECK(x == index.text());
+  CHECK_THAT(x, Catch::Contains("CollectionType=\"Temporal\""));
+  CHECK_THAT(x, Catch::Contains("<Time Value=\"0.25\"/>"));
+  CHECK_THAT(x, Catch::Contains("TopologyType=\"Polyvertex\" NumberOfElements=\"7\""));
+  CHECK_THAT(x, Catch::Contains("GeometryType=\"XY\""));
+  CHECK_THAT(x, Catch::Contains(">run.h5:/snapshots/000001/position<"));
+  CHECK_THAT(x, !Catch::Contains("000002"));
+  std::filesystem::remove_all(dir);
+}
