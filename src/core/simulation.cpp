@@ -131,76 +131,92 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
   S* const out_torque_b = slot_torque_b_.data() + b.offset;
   std::uint8_t* const in_contact = slot_in_contact_.data() + b.offset;
   const Periodicity periodic = periodic_;
+  const bool periodic_on = periodic.on();
+  const int periodic_axis = periodic_on ? periodic.axis : 0;
   const std::size_t offset = b.offset;
   std::int64_t touching = 0;
   double max_ratio = 0;
-  const int threads = threads_;
+  const int threads = thread_count();
+  // Each thread takes a contiguous range of candidates. Pass 1, a tight loop
+  // over all of them, lists those that touch and those that stopped touching
+  // and must be cleared; most do neither (the Mechanofusion base case has ~10x
+  // more candidates than contacts), and kept apart from the force code this
+  // loop holds its few values in registers. Pass 2 works through the list.
+  // Each contact writes only its own slot, so no order matters here.
+  const int team = count >= parallel_min_contacts ? threads : 1;
+  if (touch_lists_.size() < static_cast<std::size_t>(team)) touch_lists_.resize(team);
 // clang-format off
-#pragma omp parallel for schedule(static) reduction(+ : touching) reduction(max : max_ratio) \
-    num_threads(threads > 0 ? threads : omp_get_max_threads()) if (count >= parallel_min_contacts)
+#pragma omp parallel num_threads(team) reduction(+ : touching) reduction(max : max_ratio) if (team > 1)
   // clang-format on
-  for (std::int64_t k = 0; k < count; ++k) {
-    const std::uint32_t i = bi[k], j = bj[k];
-    V d = x[i] - x[j];
-    if (periodic.on())
-      d[periodic.axis] -= periodic.length * std::nearbyint(d[periodic.axis] / periodic.length);
-    const double dist_sq = d.squaredNorm();
-    const double r_sum = radius[i] + radius[j];
-    History& h = hist[k];
-    const typename M::Params& par = par_of[bslot[k]];
-    bool touches = M::adhesive || dist_sq < r_sum * r_sum;
-    double dist = 0, overlap = 0;
-    if (touches) {
-      dist = std::sqrt(dist_sq);
-      overlap = r_sum - dist;
-      touches = M::touching(par, h, overlap);
+  {
+    const std::int64_t t = omp_get_thread_num(), nt = omp_get_num_threads();
+    const std::int64_t begin = count * t / nt, end = count * (t + 1) / nt;
+    std::vector<std::uint32_t>& list = touch_lists_[t];
+    list.clear();
+    for (std::int64_t k = begin; k < end; ++k) {
+      const std::uint32_t i = bi[k], j = bj[k];
+      V d = x[i] - x[j];
+      if (periodic_on) d[periodic_axis] = periodic.wrap(d[periodic_axis]);
+      const double dist_sq = d.squaredNorm();
+      const double r_sum = radius[i] + radius[j];
+      bool touches = M::adhesive || dist_sq < r_sum * r_sum;
+      if constexpr (M::adhesive)
+        touches = M::touching(par_of[bslot[k]], hist[k], r_sum - std::sqrt(dist_sq));
+      if (touches || in_contact[k]) list.push_back(static_cast<std::uint32_t>(k) << 1 | touches);
     }
-    if (!touches) {
-      // Most candidates are not touching: they cost one byte read, since their
-      // history and slot were cleared when their last contact ended.
-      if (in_contact[k]) {
+    for (const std::uint32_t entry : list) {
+      const std::int64_t k = entry >> 1;
+      History& h = hist[k];
+      if (!(entry & 1)) {  // history and slot were in use: clear them once
         h = History{};
         out_force[k] = V::Zero();
         out_torque_a[k] = out_torque_b[k] = Dim<D>::zero_spin();
         in_contact[k] = 0;
+        continue;
       }
-      continue;
-    }
-    in_contact[k] = 1;
-    ContactState<D> c;
-    c.dt = dt;
-    // Coincident centres: any direction is as good as another, but it must be finite.
-    c.normal = dist > 0 ? V(d / dist) : V(V::UnitX());
-    c.overlap = overlap;
-    const V v_rel = v[j] - v[i];
-    c.normal_velocity = v_rel.dot(c.normal);
-    // Eq. 3.10: tangential slip of j's surface relative to i's.
-    c.tangential_velocity = v_rel - c.normal * c.normal_velocity +
-                            radius[i] * Dim<D>::spin_cross(w[i], c.normal) +
-                            radius[j] * Dim<D>::spin_cross(w[j], c.normal);
-    c.effective_mass = 1.0 / (inv_mass[i] + inv_mass[j]);
-    c.effective_radius = radius[i] * radius[j] / r_sum;
-    const ContactForce<D> f = M::force(par, h, c);
-    out_force[k] = f.normal * c.normal + f.tangential;
-    // Torques about each centre, applied at the contact point: lever -(r_i - a/2) n
-    // on i and +(r_j - a/2) n on j (which feels -T). With these levers the pair
-    // exerts no net torque, so angular momentum is conserved to round-off.
-    out_torque_a[k] = Dim<D>::torque(-(radius[i] - 0.5 * overlap) * c.normal, f.tangential);
-    out_torque_b[k] = Dim<D>::torque(-(radius[j] - 0.5 * overlap) * c.normal, f.tangential);
-    ++touching;
-    const double ratio = overlap / std::min(radius[i], radius[j]);
-    if (ratio > max_ratio) max_ratio = ratio;
-    if constexpr (Observed) {
-      const std::size_t s = offset + k;
-      log_.active[s] = 1;
-      log_.a[s] = static_cast<std::int32_t>(i);
-      log_.b[s] = static_cast<std::int32_t>(j);
-      log_.overlap[s] = overlap;
-      log_.normal_force[s] = f.normal;
-      log_.overlap_rate[s] = c.normal_velocity;
-      log_.normal[s] = c.normal;
-      log_.tangential[s] = f.tangential;
-      log_.point[s] = x[i] - (radius[i] - 0.5 * overlap) * c.normal;
+      const std::uint32_t i = bi[k], j = bj[k];
+      V d = x[i] - x[j];
+      if (periodic_on) d[periodic_axis] = periodic.wrap(d[periodic_axis]);
+      const double r_sum = radius[i] + radius[j];
+      const double dist = d.norm();
+      const double overlap = r_sum - dist;
+      const typename M::Params& par = par_of[bslot[k]];
+      in_contact[k] = 1;
+      ContactState<D> c;
+      c.dt = dt;
+      // Coincident centres: any direction is as good as another, but it must be finite.
+      c.normal = dist > 0 ? V(d / dist) : V(V::UnitX());
+      c.overlap = overlap;
+      const V v_rel = v[j] - v[i];
+      c.normal_velocity = v_rel.dot(c.normal);
+      // Eq. 3.10: tangential slip of j's surface relative to i's.
+      c.tangential_velocity = v_rel - c.normal * c.normal_velocity +
+                              radius[i] * Dim<D>::spin_cross(w[i], c.normal) +
+                              radius[j] * Dim<D>::spin_cross(w[j], c.normal);
+      c.effective_mass = 1.0 / (inv_mass[i] + inv_mass[j]);
+      c.effective_radius = radius[i] * radius[j] / r_sum;
+      const ContactForce<D> f = M::force(par, h, c);
+      out_force[k] = f.normal * c.normal + f.tangential;
+      // Torques about each centre, applied at the contact point: lever -(r_i - a/2) n
+      // on i and +(r_j - a/2) n on j (which feels -T). With these levers the pair
+      // exerts no net torque, so angular momentum is conserved to round-off.
+      out_torque_a[k] = Dim<D>::torque(-(radius[i] - 0.5 * overlap) * c.normal, f.tangential);
+      out_torque_b[k] = Dim<D>::torque(-(radius[j] - 0.5 * overlap) * c.normal, f.tangential);
+      ++touching;
+      const double ratio = overlap / std::min(radius[i], radius[j]);
+      if (ratio > max_ratio) max_ratio = ratio;
+      if constexpr (Observed) {
+        const std::size_t s = offset + k;
+        log_.active[s] = 1;
+        log_.a[s] = static_cast<std::int32_t>(i);
+        log_.b[s] = static_cast<std::int32_t>(j);
+        log_.overlap[s] = overlap;
+        log_.normal_force[s] = f.normal;
+        log_.overlap_rate[s] = c.normal_velocity;
+        log_.normal[s] = c.normal;
+        log_.tangential[s] = f.tangential;
+        log_.point[s] = x[i] - (radius[i] - 0.5 * overlap) * c.normal;
+      }
     }
   }
   contacts_particle_ += touching;
@@ -232,10 +248,10 @@ void Simulation<D>::wall_forces(WallBucket<D, M>& b,
   S* const out_torque = slot_torque_a_.data() + offset;
   double* const out_axial = slot_axial_torque_.data() + offset;
   std::uint8_t* const in_contact = slot_in_contact_.data() + offset;
-  const int threads = threads_;
+  const int threads = thread_count();
 // clang-format off
 #pragma omp parallel for schedule(static) reduction(+ : touching) reduction(max : max_ratio) \
-    num_threads(threads > 0 ? threads : omp_get_max_threads()) if (count >= parallel_min_contacts)
+    num_threads(threads) if (count >= parallel_min_contacts)
   // clang-format on
   for (std::int64_t k = 0; k < count; ++k) {
     const std::uint32_t i = bp[k];
@@ -432,7 +448,7 @@ void Simulation<D>::integrate() {
   const bool periodic = periodic_.on();
   double max_sq = max_displacement_sq_;
   std::int64_t bad = std::numeric_limits<std::int64_t>::max();
-  const int threads = threads_;
+  const int threads = thread_count();
   V* const x = p_.position.data();
   V* const v = p_.velocity.data();
   S* const w = p_.spin.data();
@@ -446,7 +462,7 @@ void Simulation<D>::integrate() {
   const Periodicity pbc = periodic_;
 // clang-format off
 #pragma omp parallel for schedule(static) reduction(max : max_sq) reduction(min : bad) \
-    num_threads(threads > 0 ? threads : omp_get_max_threads()) if (n >= parallel_min_particles)
+    num_threads(threads) if (n >= parallel_min_particles)
   // clang-format on
   for (std::int64_t i = 0; i < n; ++i) {
     if (fixed[i]) continue;  // immobile: its contact force stays for reports
@@ -458,7 +474,7 @@ void Simulation<D>::integrate() {
     if (periodic) {
       double& coordinate = x[i][pbc.axis];
       coordinate -= pbc.length * std::floor((coordinate - pbc.origin) / pbc.length);
-      moved_by[pbc.axis] -= pbc.length * std::nearbyint(moved_by[pbc.axis] / pbc.length);
+      moved_by[pbc.axis] = pbc.wrap(moved_by[pbc.axis]);
     }
     const double moved = moved_by.squaredNorm();
     if (!(moved <= max_sq)) {  // also true for NaN

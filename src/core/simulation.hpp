@@ -136,8 +136,7 @@ class Simulation final : public SimulationBase {
   Triple spin_triple(const S& s) const;
   V separation(const V& a, const V& b) const {
     V d = a - b;
-    if (periodic_.on())
-      d[periodic_.axis] -= periodic_.length * std::nearbyint(d[periodic_.axis] / periodic_.length);
+    if (periodic_.on()) d[periodic_.axis] = periodic_.wrap(d[periodic_.axis]);
     return d;
   }
   void check_particle_input(const ParticleSpec& s, const std::string& context) const;
@@ -180,6 +179,7 @@ class Simulation final : public SimulationBase {
   std::vector<S> slot_torque_a_, slot_torque_b_;
   std::vector<double> slot_axial_torque_;      // wall slots: torque on the wall about its axis
   std::vector<std::uint8_t> slot_in_contact_;  // 0: history cleared, slot outputs zero
+  std::vector<std::vector<std::uint32_t>> touch_lists_;  // per thread: the pair kernel's pass 1
   ContactLog<D> log_;
   std::vector<AttachedDiagnostic> diagnostics_;
   int next_diagnostic_id_ = 1;

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <iostream>
 
 #include "core/errors.hpp"
@@ -101,6 +102,18 @@ void SimulationBase::set_threads(int threads) {
   if (threads < 0 || threads > 4096)
     throw InputError(fmt::format("threads must be >= 0 (0 = all cores), got {}", threads));
   threads_ = threads;
+}
+
+int SimulationBase::thread_count() const {
+  if (threads_ > 0) return threads_;
+  static const int from_environment = [] {
+    const char* env = std::getenv("OMP_NUM_THREADS");
+    if (!env) return 1;
+    char* end = nullptr;
+    long n = std::strtol(env, &end, 10);
+    return end != env && n >= 1 && n <= 4096 ? static_cast<int>(n) : 1;
+  }();
+  return from_environment;
 }
 
 int SimulationBase::add_hook(Hook hook) {

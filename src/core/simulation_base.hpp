@@ -128,11 +128,14 @@ class SimulationBase {
   void set_skin(double skin);  // m; 0 = automatic (half the median radius)
   void set_periodic(int axis, double origin, double length);
   void set_record_contacts(bool on) { record_contacts_ = on; }
-  // Threads for the contact and integration loops (0 = OpenMP's default). The
-  // results do not depend on it: each contact force is computed once and the
-  // forces on a particle are summed in a fixed order.
+  // Threads for the contact and integration loops. The results do not depend
+  // on it: each contact force is computed once and the forces on a particle are
+  // summed in a fixed order. 0 (the default) means OMP_NUM_THREADS if it is set,
+  // else 1: on a shared machine a second thread that is not scheduled stalls
+  // every parallel loop, so using more cores is the user's explicit choice.
   void set_threads(int threads);
   int threads() const { return threads_; }
+  int thread_count() const;  // what the loops use
   bool record_contacts() const { return record_contacts_; }
   void set_warning_handler(std::function<void(const std::string&)> f) { warn_ = std::move(f); }
 

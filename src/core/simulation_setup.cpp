@@ -338,6 +338,13 @@ TimeStepReport Simulation<D>::time_step_rule() {
 
 template <int D>
 void Simulation<D>::prepare() {
+  // Every position inside the periodic box: the force loops take minimum images
+  // of separations between two positions in the box (Periodicity::wrap).
+  if (periodic_.on())
+    for (auto& x : p_.position) {
+      double& c = x[periodic_.axis];
+      c -= periodic_.length * std::floor((c - periodic_.origin) / periodic_.length);
+    }
   // Particles must start inside every wall (their centres on the allowed side).
   for (std::size_t i = 0; i < p_.size(); ++i) {
     for (const auto& w : walls_) {
@@ -721,8 +728,9 @@ std::vector<std::string> Simulation<D>::describe() const {
       lines.push_back(fmt::format("diagnostic {}: {}", d.name, d.diagnostic->describe()));
   }
   lines.push_back(fmt::format("hooks: {}", hooks_.size()));
-  lines.push_back(fmt::format("threads: {}",
-                              threads_ > 0 ? std::to_string(threads_) : std::string("all cores")));
+  lines.push_back(
+      fmt::format("threads: {}{}", thread_count(),
+                  threads_ > 0 ? "" : " (OMP_NUM_THREADS, else 1; set with --threads N)"));
   lines.push_back(fmt::format(
       "time step: {:.6g} s ({}), skin {:.4g} m", dt_,
       dt_fixed_ > 0 ? "set by the scene" : fmt::format("Eq. 4.1, n = {}", steps_per_contact_),

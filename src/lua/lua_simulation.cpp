@@ -675,6 +675,22 @@ int l_remove_hook(lua_State* L) {
   });
 }
 
+// sim:set { skin =, time_step =, steps_per_contact =, threads = }: change numerical
+// settings between runs (the next run re-checks the scene and rebuilds its lists).
+int l_set(lua_State* L) {
+  return protect(L, [](lua_State* L) {
+    LuaSim& s = self(L);
+    if (s.running) throw std::runtime_error("set: not from inside a run's callback");
+    TableReader t(L, 2, "set");
+    if (t.has("skin")) s.sim->set_skin(t.number("skin"));
+    if (t.has("time_step")) s.sim->set_time_step(t.number("time_step"));
+    if (t.has("steps_per_contact")) s.sim->set_steps_per_contact(t.number("steps_per_contact"));
+    if (t.has("threads")) s.sim->set_threads(static_cast<int>(t.integer("threads")));
+    t.finish();
+    return 0;
+  });
+}
+
 int l_prepare(lua_State* L) {
   return protect(L, [](lua_State* L) {
     self(L).sim->prepare();
@@ -1095,6 +1111,7 @@ const luaL_Reg methods[] = {
     {"every", l_every},
     {"remove_hook", l_remove_hook},
     {"prepare", l_prepare},
+    {"set", l_set},
     {"output", l_output},
     {"snapshot", l_snapshot},
     {"series", l_series},

@@ -22,6 +22,16 @@ struct Periodicity {
   double origin = 0;  // lower bound of the periodic box along `axis`, m
   double length = 0;  // m
   bool on() const { return axis >= 0; }
+  // The minimum image of a separation d along the periodic axis, for |d| < 1.5
+  // length (positions are kept inside the box, so any two differ by less than
+  // one length). Branches instead of nearbyint, which is a library call on
+  // baseline x86-64 and would make every hot loop spill its registers.
+  double wrap(double d) const {
+    const double half = 0.5 * length;
+    if (d > half) return d - length;
+    if (d < -half) return d + length;
+    return d;
+  }
 };
 
 template <int D>
