@@ -49,12 +49,22 @@ struct ContactForce {
 // then restore the old magnitude so that a rotating contact does not lose force.
 template <int D>
 inline Vec<D> rotate_onto_plane(const Vec<D>& old, const Vec<D>& normal) {
-  double old_sq = old.squaredNorm();
+  const double old_sq = old.squaredNorm();
   if (old_sq == 0.0) return old;
-  Vec<D> projected = old - normal * normal.dot(old);
-  double projected_sq = projected.squaredNorm();
-  if (projected_sq <= 1e-30 * old_sq) return Vec<D>::Zero();
-  return projected * std::sqrt(old_sq / projected_sq);
+  if constexpr (D == 2) {
+    // The tangent "plane" is the line along t = (-n_y, n_x): the result is |old|
+    // along +t or -t, whichever side old projects to.
+    const Vec<D> t(-normal.y(), normal.x());
+    const double along = old.dot(t);
+    if (along * along <= 1e-30 * old_sq) return Vec<D>::Zero();
+    const double magnitude = std::sqrt(old_sq);
+    return (along > 0 ? magnitude : -magnitude) * t;
+  } else {
+    const Vec<D> projected = old - normal * normal.dot(old);
+    const double projected_sq = projected.squaredNorm();
+    if (projected_sq <= 1e-30 * old_sq) return Vec<D>::Zero();
+    return projected * std::sqrt(old_sq / projected_sq);
+  }
 }
 
 }  // namespace granule

@@ -144,15 +144,15 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
   // loop holds its few values in registers. Pass 2 works through the list.
   // Each contact writes only its own slot, so no order matters here.
   const int team = count >= parallel_min_contacts ? threads : 1;
-  if (touch_lists_.size() < static_cast<std::size_t>(team)) touch_lists_.resize(team);
+  b.touched.resize(team);
 // clang-format off
 #pragma omp parallel num_threads(team) reduction(+ : touching) reduction(max : max_ratio) if (team > 1)
   // clang-format on
   {
     const std::int64_t t = omp_get_thread_num(), nt = omp_get_num_threads();
     const std::int64_t begin = count * t / nt, end = count * (t + 1) / nt;
-    std::vector<std::uint32_t>& list = touch_lists_[t];
-    list.clear();
+    StepList& list = b.touched[t];
+    list.start(static_cast<std::size_t>(end - begin));
     for (std::int64_t k = begin; k < end; ++k) {
       const std::uint32_t i = bi[k], j = bj[k];
       V d = x[i] - x[j];
@@ -162,7 +162,7 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
       bool touches = M::adhesive || dist_sq < r_sum * r_sum;
       if constexpr (M::adhesive)
         touches = M::touching(par_of[bslot[k]], hist[k], r_sum - std::sqrt(dist_sq));
-      if (touches || in_contact[k]) list.push_back(static_cast<std::uint32_t>(k) << 1 | touches);
+      if (touches || in_contact[k]) list.push(static_cast<std::uint32_t>(k) << 1 | touches);
     }
     for (const std::uint32_t entry : list) {
       const std::int64_t k = entry >> 1;
@@ -249,59 +249,67 @@ void Simulation<D>::wall_forces(WallBucket<D, M>& b,
   double* const out_axial = slot_axial_torque_.data() + offset;
   std::uint8_t* const in_contact = slot_in_contact_.data() + offset;
   const int threads = thread_count();
+  const int team = count >= parallel_min_contacts ? threads : 1;
+  b.touched.resize(team);
 // clang-format off
-#pragma omp parallel for schedule(static) reduction(+ : touching) reduction(max : max_ratio) \
-    num_threads(threads) if (count >= parallel_min_contacts)
+#pragma omp parallel num_threads(team) reduction(+ : touching) reduction(max : max_ratio) if (team > 1)
   // clang-format on
-  for (std::int64_t k = 0; k < count; ++k) {
-    const std::uint32_t i = bp[k];
-    const Wall<D>& w = walls[bw[k]];
-    const typename M::Params& par = par_of[bslot[k]];
-    History& h = hist[k];
-    V n, surface_velocity, lever;
-    const double overlap = w.contact(x[i], radius[i], n, surface_velocity, lever);
-    if (!M::touching(par, h, overlap)) {
-      if (in_contact[k]) {
-        h = History{};
-        out_force[k] = V::Zero();
-        out_torque[k] = Dim<D>::zero_spin();
-        out_axial[k] = 0;
-        in_contact[k] = 0;
+  {
+    const std::int64_t t = omp_get_thread_num(), nt = omp_get_num_threads();
+    const std::int64_t begin = count * t / nt, end = count * (t + 1) / nt;
+    StepList& list = b.touched[t];
+    list.start(static_cast<std::size_t>(end - begin));
+    for (std::int64_t k = begin; k < end; ++k) {
+      const std::uint32_t i = bp[k];
+      const Wall<D>& w = walls[bw[k]];
+      const typename M::Params& par = par_of[bslot[k]];
+      History& h = hist[k];
+      V n, surface_velocity, lever;
+      const double overlap = w.contact(x[i], radius[i], n, surface_velocity, lever);
+      if (!M::touching(par, h, overlap)) {
+        if (in_contact[k]) {
+          h = History{};
+          out_force[k] = V::Zero();
+          out_torque[k] = Dim<D>::zero_spin();
+          out_axial[k] = 0;
+          in_contact[k] = 0;
+        }
+        continue;
       }
-      continue;
-    }
-    in_contact[k] = 1;
-    ContactState<D> c;
-    c.dt = dt;
-    c.normal = n;
-    c.overlap = overlap;
-    const V v_rel = surface_velocity - v[i];
-    c.normal_velocity = v_rel.dot(n);
-    c.tangential_velocity =
-        v_rel - n * c.normal_velocity + radius[i] * Dim<D>::spin_cross(w_spin[i], n);
-    c.effective_mass = mass[i];
-    const double r = radius[i];
-    c.effective_radius = w.type == WallType::plane ? r
-                                                   : (w.inside ? r * w.radius / (w.radius - r)
-                                                               : r * w.radius / (w.radius + r));
-    const ContactForce<D> f = M::force(par, h, c);
-    const V total = f.normal * n + f.tangential;
-    out_force[k] = total;
-    out_torque[k] = Dim<D>::torque(-(r - overlap) * n, f.tangential);  // at the wall surface
-    out_axial[k] = w.axial_moment(lever, total);
-    ++touching;
-    if (overlap / r > max_ratio) max_ratio = overlap / r;
-    if constexpr (Observed) {
-      const std::size_t s = offset + k;
-      log_.active[s] = 1;
-      log_.a[s] = static_cast<std::int32_t>(i);
-      log_.b[s] = -1 - static_cast<std::int32_t>(b.wall[k]);
-      log_.overlap[s] = overlap;
-      log_.normal_force[s] = f.normal;
-      log_.overlap_rate[s] = c.normal_velocity;
-      log_.normal[s] = n;
-      log_.tangential[s] = f.tangential;
-      log_.point[s] = x[i] - (r - overlap) * n;
+      in_contact[k] = 1;
+      list.push(static_cast<std::uint32_t>(k) << 1 | 1u);
+      ContactState<D> c;
+      c.dt = dt;
+      c.normal = n;
+      c.overlap = overlap;
+      const V v_rel = surface_velocity - v[i];
+      c.normal_velocity = v_rel.dot(n);
+      c.tangential_velocity =
+          v_rel - n * c.normal_velocity + radius[i] * Dim<D>::spin_cross(w_spin[i], n);
+      c.effective_mass = mass[i];
+      const double r = radius[i];
+      c.effective_radius = w.type == WallType::plane ? r
+                                                     : (w.inside ? r * w.radius / (w.radius - r)
+                                                                 : r * w.radius / (w.radius + r));
+      const ContactForce<D> f = M::force(par, h, c);
+      const V total = f.normal * n + f.tangential;
+      out_force[k] = total;
+      out_torque[k] = Dim<D>::torque(-(r - overlap) * n, f.tangential);  // at the wall surface
+      out_axial[k] = w.axial_moment(lever, total);
+      ++touching;
+      if (overlap / r > max_ratio) max_ratio = overlap / r;
+      if constexpr (Observed) {
+        const std::size_t s = offset + k;
+        log_.active[s] = 1;
+        log_.a[s] = static_cast<std::int32_t>(i);
+        log_.b[s] = -1 - static_cast<std::int32_t>(b.wall[k]);
+        log_.overlap[s] = overlap;
+        log_.normal_force[s] = f.normal;
+        log_.overlap_rate[s] = c.normal_velocity;
+        log_.normal[s] = n;
+        log_.tangential[s] = f.tangential;
+        log_.point[s] = x[i] - (r - overlap) * n;
+      }
     }
   }
   contacts_wall_ += touching;
@@ -391,8 +399,8 @@ void Simulation<D>::observe(bool contacts_logged) {
 // Forces per particle: one serial pass over the slots in order. The kernels
 // ran in parallel, each contact writing its own slot; summing here in slot
 // order makes every particle's total independent of the thread count. The
-// pass reads one byte per candidate and does work only for the contacts
-// (a few hundred in the Mechanofusion base case, against ~3000 candidates).
+// pass visits only the contacts the kernels listed (a few hundred in the
+// Mechanofusion base case, against ~3000 candidates).
 // ----------------------------------------------------------------------------
 template <int D>
 void Simulation<D>::scatter_forces() {
@@ -401,38 +409,38 @@ void Simulation<D>::scatter_forces() {
   std::fill(p_.force.begin(), p_.force.end(), V::Zero());
   std::fill(p_.torque.begin(), p_.torque.end(), Dim<D>::zero_spin());
   for (auto& w : walls_) w.force.setZero(), w.axial_torque = 0;
-  const std::uint8_t* const in_contact = slot_in_contact_.data();
   const V* const slot_force = slot_force_.data();
   const S* const torque_a = slot_torque_a_.data();
   const S* const torque_b = slot_torque_b_.data();
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
     const auto& b = std::get<I>(pair_buckets_);
-    const std::size_t count = b.size(), offset = b.offset;
-    for (std::size_t k = 0; k < count; ++k) {
-      const std::size_t s = offset + k;
-      if (!in_contact[s]) continue;
-      const std::uint32_t i = b.i[k], j = b.j[k];
-      force[i] += slot_force[s];
-      force[j] -= slot_force[s];
-      torque[i] += torque_a[s];
-      torque[j] += torque_b[s];
-    }
+    if (!b.size()) return;
+    for (const auto& list : b.touched)
+      for (const std::uint32_t entry : list) {
+        if (!(entry & 1)) continue;
+        const std::uint32_t k = entry >> 1, i = b.i[k], j = b.j[k];
+        const std::size_t s = b.offset + k;
+        force[i] += slot_force[s];
+        force[j] -= slot_force[s];
+        torque[i] += torque_a[s];
+        torque[j] += torque_b[s];
+      }
   });
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
     const auto& b = std::get<I>(wall_buckets_);
-    const std::size_t count = b.size(), offset = b.offset;
-    for (std::size_t k = 0; k < count; ++k) {
-      const std::size_t s = offset + k;
-      if (!in_contact[s]) continue;
-      const std::uint32_t i = b.particle[k];
-      force[i] += slot_force[s];
-      torque[i] += torque_a[s];
-      Wall<D>& w = walls_[b.wall[k]];
-      w.force -= slot_force[s];
-      w.axial_torque -= slot_axial_torque_[s];
-    }
+    if (!b.size()) return;
+    for (const auto& list : b.touched)
+      for (const std::uint32_t entry : list) {
+        const std::uint32_t k = entry >> 1, i = b.particle[k];
+        const std::size_t s = b.offset + k;
+        force[i] += slot_force[s];
+        torque[i] += torque_a[s];
+        Wall<D>& w = walls_[b.wall[k]];
+        w.force -= slot_force[s];
+        w.axial_torque -= slot_axial_torque_[s];
+      }
   });
 }
 

@@ -18,6 +18,20 @@
 
 namespace granule {
 
+// A list filled anew every step: its storage only grows, so filling it costs a
+// store per entry and no allocation or initialisation.
+struct StepList {
+  std::vector<std::uint32_t> entries;
+  std::size_t count = 0;
+  void start(std::size_t most) {
+    if (entries.size() < most) entries.resize(most);
+    count = 0;
+  }
+  void push(std::uint32_t e) { entries[count++] = e; }
+  const std::uint32_t* begin() const { return entries.data(); }
+  const std::uint32_t* end() const { return entries.data() + count; }
+};
+
 // Contacts between particles handled by model M, as flat arrays. A pair is
 // oriented so that id(i) < id(j): the history (force on i) keeps its meaning
 // when particles are re-sorted or lists rebuilt. Entry k writes its results
@@ -31,6 +45,9 @@ struct PairBucket {
   std::vector<std::int64_t> id_i, id_j;  // cold: for carrying histories across rebuilds
   std::vector<ContactTrack<D>> track;    // only while an observer tracks contact events
   std::size_t offset = 0;
+  // This step's contacts, per thread: entry k << 1 | touching, in increasing k
+  // within a list and from list to list (each thread takes a contiguous range).
+  std::vector<StepList> touched;
   std::size_t size() const { return i.size(); }
 };
 
@@ -43,6 +60,7 @@ struct WallBucket {
   std::vector<std::int64_t> id;  // cold
   std::vector<ContactTrack<D>> track;
   std::size_t offset = 0;
+  std::vector<StepList> touched;  // as in PairBucket
   std::size_t size() const { return particle.size(); }
 };
 
@@ -179,7 +197,6 @@ class Simulation final : public SimulationBase {
   std::vector<S> slot_torque_a_, slot_torque_b_;
   std::vector<double> slot_axial_torque_;      // wall slots: torque on the wall about its axis
   std::vector<std::uint8_t> slot_in_contact_;  // 0: history cleared, slot outputs zero
-  std::vector<std::vector<std::uint32_t>> touch_lists_;  // per thread: the pair kernel's pass 1
   ContactLog<D> log_;
   std::vector<AttachedDiagnostic> diagnostics_;
   int next_diagnostic_id_ = 1;

@@ -59,6 +59,7 @@ struct FillSpec {
   std::uint64_t seed = 1;
   double max_speed = 0;  // m/s, random velocities in [0, max_speed], then zero net momentum
   std::int64_t max_attempts = 0;  // 0: 2000 per particle
+  bool allow_overlap = true;      // false: no new particle overlaps any other particle
 };
 
 struct GlobalStats {

@@ -196,6 +196,7 @@ int l_fill(lua_State* L) {
     f.seed = static_cast<std::uint64_t>(t.integer("seed", 1));
     f.max_speed = t.number("max_speed", 0);
     f.max_attempts = t.integer("max_attempts", 0);
+    f.allow_overlap = t.boolean("overlap", true);
     const int size_rules = int(t.has("radius")) + int(t.has("radii")) +
                            int(t.has("radius_min") || t.has("radius_max"));
     if (size_rules > 1)

@@ -32,7 +32,7 @@ struct EventRecorder final : Diagnostic<D> {
 };
 
 // A settled bed of `count` disks on a floor under gravity (2D), Walton-Braun.
-void bed(Simulation<2>& sim, int count, std::uint64_t seed) {
+void bed(Simulation<2>& sim, int count, std::uint64_t seed, bool overlap = false) {
   sim.set_warning_handler([](const std::string&) {});
   sim.add_material({"p", 2500, 0, 0, 0});
   sim.add_material({"w", 0, 0, 0, 0});
@@ -51,6 +51,7 @@ void bed(Simulation<2>& sim, int count, std::uint64_t seed) {
   f.radius_min = 0.4e-3, f.radius_max = 0.5e-3;
   f.material = 0;
   f.seed = seed;
+  f.allow_overlap = overlap;  // false: a gentle start, no particle shot out of the bed
   sim.fill(f);
   sim.set_gravity({0, -9.81, 0});
 }
@@ -116,15 +117,25 @@ TEST_CASE("diagnostics: the wall_force diagnostic carries the weight of a settle
   const double dt = sim.time_step();
   sim.advance(static_cast<std::int64_t>(0.4 / dt));  // settle 0.4 s
   sim.detach_diagnostic(id);
-  DiagnosticOptions again;
-  again.strings["wall"] = "floor";
-  id = sim.attach_diagnostic("wall_force", again);
+  // The floor carries the weight, less what friction on the side walls holds up
+  // (the bed leans on them, as in a silo): in the mean, the floor's normal force
+  // plus the side walls' tangential forces balance the weight.
+  auto attach = [&](const char* wall) {
+    DiagnosticOptions w;
+    w.strings["wall"] = wall;
+    return sim.attach_diagnostic("wall_force", w);
+  };
+  const int floor_id = attach("floor"), left_id = attach("left"), right_id = attach("right");
   sim.advance(static_cast<std::int64_t>(0.05 / dt));
   double weight = 0;
   for (auto pid : sim.particle_ids()) weight += sim.mass(pid) * 9.81;
-  auto r = sim.diagnostic_results(id);
-  INFO("kinetic energy " << sim.stats().kinetic_translational);
-  CHECK(r.at("mean_normal_force") == Approx(weight).epsilon(0.01));
+  auto r = sim.diagnostic_results(floor_id);
+  const double held_by_sides = sim.diagnostic_results(left_id).at("mean_tangential_force") +
+                               sim.diagnostic_results(right_id).at("mean_tangential_force");
+  INFO("kinetic energy " << sim.stats().kinetic_translational << ", held by the sides "
+                         << held_by_sides);
+  // 0.5%: the bed is not perfectly still.
+  CHECK(r.at("mean_normal_force") + held_by_sides == Approx(weight).epsilon(0.005));
   // Coulomb holds for the sum as for each contact (wall friction 0.3).
   CHECK(std::abs(r.at("mean_tangential_force")) <= 0.3 * r.at("mean_normal_force"));
   CHECK(r.at("samples") > 0);
@@ -146,7 +157,7 @@ TEST_CASE("diagnostics: unknown names and options are refused with a suggestion"
 TEST_CASE("parallel: results are bit-identical for 1 and 2 threads", "[parallel]") {
   auto run = [](int threads) {
     Simulation<2> sim;
-    bed(sim, 1500, 11);
+    bed(sim, 1500, 11, true);  // overlapping start: every loop busy from the first step
     sim.set_threads(threads);
     sim.advance(1500);
     REQUIRE(sim.stats().candidate_pairs >= 1024);  // the parallel contact loop ran

@@ -1,0 +1,156 @@
+#!/usr/bin/python3
+"""Times Granule against LAMMPS (and LIGGGHTS where it can run the scene) on
+the same scene, particle count, time step, contact law and starting state,
+in one go on this machine, and prints particle-steps/s and the ratios.
+
+    /usr/bin/python3 tools/bench/compare.py [--case mechanofusion2d|box3d|all]
+        [--steps N] [--threads 1,2] [--work DIR]
+
+Each program starts from the state Granule settled and saved (converted to a
+LAMMPS data file), so both time the same steady flow; the mean number of
+contacts in the timed window is printed for each so that unlike work shows.
+"""
+import argparse
+import math
+import os
+import platform
+import re
+import shutil
+import subprocess
+import sys
+import time
+
+import h5py
+import numpy as np
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+GRANULE = os.path.join(ROOT, "build", "granule")
+BENCH = os.path.join(ROOT, "tools", "bench")
+
+
+def run(cmd, cwd, env=None):
+    t0 = time.time()
+    p = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True, env=env)
+    if p.returncode != 0:
+        sys.exit(f"failed ({p.returncode}): {' '.join(cmd)}\n{p.stdout[-2000:]}\n{p.stderr[-2000:]}")
+    return p.stdout + p.stderr, time.time() - t0
+
+
+def last_snapshot(path):
+    with h5py.File(path, "r") as f:
+        g = f["snapshots/%06d" % (f["snapshots"].attrs["count"] - 1)]
+        return {k: g[k][:] for k in ("id", "radius", "position", "velocity", "spin", "fixed")}
+
+
+def write_lammps_data(state, path, box, dimension):
+    n = len(state["id"])
+    pos, vel, spin = state["position"], state["velocity"], state["spin"]
+    with open(path, "w") as f:
+        f.write("Granule state converted by tools/bench/compare.py\n\n")
+        f.write(f"{n} atoms\n1 atom types\n\n")
+        for axis, (lo, hi) in zip("xyz", box):
+            f.write(f"{lo:.17g} {hi:.17g} {axis}lo {axis}hi\n")
+        # density is replaced by `set ... mass` in the decks (all spheres alike)
+        f.write("\nAtoms # sphere\n\n")
+        for k in range(n):
+            z = pos[k][2] if dimension == 3 else 0.0
+            f.write(f"{k + 1} 1 {2 * state['radius'][k]:.17g} 1000 {pos[k][0]:.17g} {pos[k][1]:.17g} {z:.17g}\n")
+        f.write("\nVelocities\n\n")
+        for k in range(n):
+            vz = vel[k][2] if dimension == 3 else 0.0
+            w = spin[k] if dimension == 3 else (0.0, 0.0, spin[k][0])
+            f.write(f"{k + 1} {vel[k][0]:.17g} {vel[k][1]:.17g} {vz:.17g} {w[0]:.17g} {w[1]:.17g} {w[2]:.17g}\n")
+
+
+def lammps_loop(out):
+    m = re.search(r"Loop time of ([0-9.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms", out)
+    if not m:
+        sys.exit("could not read the LAMMPS loop time:\n" + out[-3000:])
+    loop, procs, steps, atoms = float(m.group(1)), int(m.group(2)), int(m.group(3)), int(m.group(4))
+    # thermo rows: step atoms pair_contacts
+    rows = re.findall(r"^\s*(\d+)\s+(\d+)\s+([0-9.eE+-]+)\s*$", out, re.M)
+    contacts = np.mean([float(r[2]) for r in rows[1:]]) if len(rows) > 1 else float("nan")
+    return loop, procs, steps, atoms, contacts
+
+
+def granule_line(out):
+    m = re.search(r"particle_steps_per_s=([0-9.eE+-]+) mean_contacts=([0-9.eE+-]+)"
+                  r"(?: mean_pair_contacts=([0-9.eE+-]+))?", out)
+    if not m:
+        sys.exit("could not read Granule's timing line:\n" + out[-3000:])
+    return float(m.group(1)), float(m.group(2)), float(m.group(3) or "nan")
+
+
+def mpi_prefix(procs):
+    if procs == 1:
+        return []
+    return ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np", str(procs)]
+
+
+def mechanofusion2d(args, work):
+    state = os.path.join(work, "mf_state.h5")
+    if not os.path.exists(state):
+        print("settling the 2D base case (0.05 s of simulated time)...", flush=True)
+        run([GRANULE, "run", os.path.join(BENCH, "mechanofusion_compare.lua"), "-D", f"save={state}",
+             "--quiet"], work)
+    s = last_snapshot(state)
+    n = len(s["id"])
+    r, rho, kn, e = 0.2e-3, 1200.0, 2e4, 0.85
+    mass = 4 / 3 * math.pi * r**3 * rho
+    dt = 6.6936e-8
+    zeta = -math.log(e) / math.sqrt(math.pi**2 + math.log(e) ** 2)
+    # Granule's linear law: c_n = 2 zeta sqrt(m* k_n); LAMMPS: c_n = m* gamma_n.
+    gn = 2 * zeta * math.sqrt(kn / (mass / 2))   # particle pairs, m* = m/2
+    gnw = 2 * zeta * math.sqrt(kn / mass)        # particle-wall, m* = m
+    data = os.path.join(work, "mf_state.data")
+    write_lammps_data(s, data, [(-0.0126, 0.0126), (-0.0126, 0.0126), (-0.5, 0.5)], 2)
+    rows = []
+    for model in ("linear", "walton_braun"):
+        for t in args.threads:
+            out, _ = run([GRANULE, "run", os.path.join(BENCH, "mechanofusion_compare.lua"), "-D",
+                          f"state={state}", "-D", f"steps={args.steps}", "-D", f"model={model}",
+                          "--threads", str(t), "--quiet"], work)
+            pss, contacts, pair_contacts = granule_line(out)
+            rows.append(("granule " + model, t, pss, contacts, pair_contacts))
+    variables = dict(data=data, steps=args.steps, dt=dt, kn=kn, kt=kn * 2 / 7, gn=gn, gt=gn / 2, gnw=gnw,
+                     gtw=gnw / 2, mu=0.4, muw=0.5, omega=2000 * 2 * math.pi / 60, mass=mass, skin=1e-4)
+    lmp_vars = sum((["-var", k, str(v)] for k, v in variables.items()), [])
+    for procs in args.threads:
+        out, _ = run(mpi_prefix(procs) + ["lmp", "-in", os.path.join(BENCH, "mechanofusion_2d.lmp"),
+                                          "-log", "none"] + lmp_vars, work)
+        loop, p, steps, atoms, pair_contacts = lammps_loop(out)
+        rows.append(("lammps gran/hooke/history", procs, atoms * steps / loop, float("nan"), pair_contacts))
+    return f"2D Mechanofusion base case, {n} particles, dt = {dt:g} s, {args.steps} steps", rows
+
+
+def report(title, rows):
+    print(f"\n{title}")
+    print(f"{'program':32s} {'cores':>5s} {'particle-steps/s':>17s} {'pair contacts':>13s} {'vs LAMMPS':>10s}")
+    lammps = {c: pss for (name, c, pss, _, _) in rows if name.startswith("lammps")}
+    for name, cores, pss, contacts, pairs in rows:
+        ratio = pss / lammps[cores] if cores in lammps else float("nan")
+        print(f"{name:32s} {cores:5d} {pss:17.3g} {pairs:13.1f} {ratio:10.2f}")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--case", default="mechanofusion2d", choices=["mechanofusion2d", "box3d", "all"])
+    ap.add_argument("--steps", type=int, default=20000)
+    ap.add_argument("--threads", default="1,2", help="core counts to time (threads / MPI ranks)")
+    ap.add_argument("--work", default="bench_work")
+    args = ap.parse_args()
+    args.threads = [int(t) for t in args.threads.split(",")]
+    for tool in ("lmp",):
+        if not shutil.which(tool):
+            sys.exit(f"{tool} not found: apt-get install lammps")
+    os.makedirs(args.work, exist_ok=True)
+    print(f"machine: {platform.node()}, {os.cpu_count()} cores, {platform.processor() or platform.machine()}, "
+          f"load average {os.getloadavg()[0]:.2f}")
+    cases = ["mechanofusion2d", "box3d"] if args.case == "all" else [args.case]
+    for case in cases:
+        title, rows = globals()[case](args, os.path.abspath(args.work))
+        report(title, rows)
+
+
+if __name__ == "__main__":
+    main()

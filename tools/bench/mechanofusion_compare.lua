@@ -1,0 +1,59 @@
+-- The 2D Mechanofusion base case (Table 4.1) for side-by-side timing against
+-- LAMMPS (tools/bench/compare.py). Without `state`, it settles the system for
+-- `settle` seconds and saves the state (the timed runs of both programs start
+-- from it); with `state`, it loads that snapshot and times `steps` steps.
+--   build/granule run tools/bench/mechanofusion_compare.lua -D settle=0.05 -D save=mf_state.h5
+--   build/granule run tools/bench/mechanofusion_compare.lua -D state=mf_state.h5 -D steps=20000 --threads 2
+local granule = require "granule"
+local p = parameters {
+  model = { default = "linear", doc = "linear (the law LAMMPS has too) | walton_braun" },
+  particles = { default = 1500 },
+  settle = { default = 0.05, unit = "s", doc = "settling time when preparing" },
+  save = { default = "", doc = "write the settled state here (HDF5 snapshot) and stop" },
+  state = { default = "", doc = "start from this snapshot and time the run" },
+  steps = { default = 20000 },
+  time_step = { default = 6.6936e-8, unit = "s", doc = "Eq. 4.1 for Table 4.1; the same in both programs" },
+  rpm = { default = 2000 },
+  k_normal = { default = 2e4, unit = "N/m" },
+  restitution = { default = 0.85 },
+}
+local sim = simulation { dimension = 2, time_step = p.time_step }
+sim:material { name = "powder", density = 1200 }
+sim:material { name = "steel", density = 7800 }
+local function law(mu)
+  if p.model == "linear" then
+    return { model = "linear", k_normal = p.k_normal, restitution = p.restitution, friction = mu }
+  end
+  return { model = "walton_braun", k_load = p.k_normal, restitution = p.restitution, friction = mu }
+end
+local pp, pw = law(0.4), law(0.5)
+pp[1], pp[2], pw[1], pw[2] = "powder", "powder", "powder", "steel"
+sim:contact(pp)
+sim:contact(pw)
+sim:wall_cylinder { name = "chamber", center = { 0, 0 }, radius = 12.5e-3, angular_velocity = granule.rpm(p.rpm), material = "steel" }
+sim:wall_cylinder { name = "inner", center = { 5.9e-3, 0 }, radius = 5e-3, inside = false, material = "steel" }
+if p.state == "" then
+  sim:fill { region = { circle = { center = { 0, 0 }, radius = 12.5e-3 } }, count = p.particles, radius = 0.2e-3,
+             material = "powder", seed = 1, max_speed = 0.01 }
+  sim:run { duration = p.settle }
+  assert(p.save ~= "", "give -D save=FILE to keep the settled state")
+  sim:output { file = p.save, xdmf = false }
+  sim:snapshot()
+  sim:close()
+  print("settled state written to " .. p.save)
+  return
+end
+sim:load_particles { file = p.state }
+local contacts, pair_contacts, samples = 0, 0, 0
+sim:every { steps = 100, function(s)
+  local st = s:stats()
+  contacts, pair_contacts = contacts + st.contacts_particle + st.contacts_wall, pair_contacts + st.contacts_particle
+  samples = samples + 1
+end }
+sim:run { steps = 1 }  -- lists built, first contacts formed: not part of the timing
+local t0 = wall_time()
+sim:run { steps = p.steps }
+local wall = wall_time() - t0
+print(string.format("granule model=%s particles=%d steps=%d wall_s=%.4f particle_steps_per_s=%.4g mean_contacts=%.1f mean_pair_contacts=%.1f",
+  p.model, sim:stats().particles, p.steps, wall, sim:stats().particles * p.steps / wall,
+  contacts / math.max(samples, 1), pair_contacts / math.max(samples, 1)))
