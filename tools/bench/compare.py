@@ -42,19 +42,20 @@ def last_snapshot(path):
         return {k: g[k][:] for k in ("id", "radius", "position", "velocity", "spin", "fixed")}
 
 
-def write_lammps_data(state, path, box, dimension):
+def write_lammps_data(state, path, box, dimension, density=1000.0, types=1):
     n = len(state["id"])
     pos, vel, spin = state["position"], state["velocity"], state["spin"]
     with open(path, "w") as f:
         f.write("Granule state converted by tools/bench/compare.py\n\n")
-        f.write(f"{n} atoms\n1 atom types\n\n")
+        f.write(f"{n} atoms\n{types} atom types\n\n")
         for axis, (lo, hi) in zip("xyz", box):
             f.write(f"{lo:.17g} {hi:.17g} {axis}lo {axis}hi\n")
-        # density is replaced by `set ... mass` in the decks (all spheres alike)
+        # The LAMMPS decks also `set` the mass (2D: LAMMPS reads density per area)
         f.write("\nAtoms # sphere\n\n")
         for k in range(n):
             z = pos[k][2] if dimension == 3 else 0.0
-            f.write(f"{k + 1} 1 {2 * state['radius'][k]:.17g} 1000 {pos[k][0]:.17g} {pos[k][1]:.17g} {z:.17g}\n")
+            f.write(f"{k + 1} 1 {2 * state['radius'][k]:.17g} {density:.17g} {pos[k][0]:.17g} {pos[k][1]:.17g} "
+                    f"{z:.17g}\n")
         f.write("\nVelocities\n\n")
         for k in range(n):
             vz = vel[k][2] if dimension == 3 else 0.0
@@ -123,6 +124,69 @@ def mechanofusion2d(args, work):
     return f"2D Mechanofusion base case, {n} particles, dt = {dt:g} s, {args.steps} steps", rows
 
 
+def box3d(args, work):
+    per_side, layers = args.box_side, args.box_layers
+    state = os.path.join(work, f"box_{per_side}x{per_side}x{layers}.h5")
+    scene = os.path.join(BENCH, "box3d_compare.lua")
+    size = ["-D", f"per_side={per_side}", "-D", f"layers={layers}"]
+    if not os.path.exists(state):
+        print(f"settling the 3D box ({per_side * per_side * layers} spheres)...", flush=True)
+        run([GRANULE, "run", scene, "-D", f"save={state}", "--quiet", "--threads", str(max(args.threads))]
+            + size, work)
+    s = last_snapshot(state)
+    n = len(s["id"])
+    r, rho, kn, e, mu = 1e-3, 2500.0, 1e4, 0.5, 0.5
+    mass = 4 / 3 * math.pi * r**3 * rho
+    dt, amplitude, frequency = 1.5e-6, 0.1e-3, 50.0
+    side = per_side * 2 * r
+    zeta = -math.log(e) / math.sqrt(math.pi**2 + math.log(e) ** 2)
+    gn = 2 * zeta * math.sqrt(kn / (mass / 2))
+    gnw = 2 * zeta * math.sqrt(kn / mass)
+    data = os.path.join(work, "box_state.data")
+    top = float(np.max(s["position"][:, 2])) + 10 * r
+    write_lammps_data(s, data, [(-r, side + r), (-r, side + r), (-r, top)], 3)
+    steps = max(args.steps // 20, 200)
+    rows = []
+    for t in args.threads:
+        out, _ = run([GRANULE, "run", scene, "-D", f"state={state}", "-D", f"steps={steps}", "--threads", str(t),
+                      "--quiet"] + size, work)
+        pss, contacts, pair_contacts = granule_line(out)
+        rows.append(("granule linear", t, pss, contacts, pair_contacts))
+    variables = dict(data=data, steps=steps, dt=dt, kn=kn, kt=kn * 2 / 7, gn=gn, gt=gn / 2, gnw=gnw, gtw=gnw / 2,
+                     mu=mu, side=side, amplitude=amplitude, period=1 / frequency, mass=mass, skin=0.5 * r)
+    lmp_vars = sum((["-var", k, str(v)] for k, v in variables.items()), [])
+    for procs in args.threads:
+        out, _ = run(mpi_prefix(procs) + ["lmp", "-in", os.path.join(BENCH, "box_3d.lmp"), "-log", "none"]
+                     + lmp_vars, work)
+        loop, p, steps_done, atoms, pair_contacts = lammps_loop(out)
+        rows.append(("lammps gran/hooke/history", procs, atoms * steps_done / loop, float("nan"), pair_contacts))
+    if shutil.which("liggghts"):
+        ldata = os.path.join(work, "box_state_liggghts.data")
+        write_lammps_data(s, ldata, [(-r, side + r), (-r, side + r), (-r, top)], 3, density=rho, types=2)
+        mesh = os.path.join(work, "floor.stl")
+        with open(mesh, "w") as f:  # the floor, z = 0, a little larger than the box
+            a, b = -r, side + r
+            f.write("solid floor\n")
+            for tri in (((a, a), (b, a), (b, b)), ((a, a), (b, b), (a, b))):
+                f.write(" facet normal 0 0 1\n  outer loop\n")
+                for x, y in tri:
+                    f.write(f"   vertex {x:.17g} {y:.17g} 0\n")
+                f.write("  endloop\n endfacet\n")
+            f.write("endsolid floor\n")
+        gpp, gpw = gn, 2 * zeta * math.sqrt(kn / mass)  # per unit effective mass (m/2, m)
+        lvars = dict(data=ldata, mesh=mesh, steps=steps, dt=dt, kn=kn, kt=kn * 2 / 7, gpp=gpp, gpw=gpw,
+                     gtpp=gpp / 2, gtpw=gpw / 2, mu=mu, side=side, amplitude=amplitude, period=1 / frequency,
+                     skin=0.5 * r)
+        largs = sum((["-var", k, str(v)] for k, v in lvars.items()), [])
+        for procs in args.threads:
+            out, _ = run(mpi_prefix(procs) + ["liggghts", "-in", os.path.join(BENCH, "box_3d.liggghts"),
+                                              "-log", "none"] + largs, work)
+            loop, p, steps_done, atoms, pair_contacts = lammps_loop(out)
+            rows.append(("liggghts hooke/stiffness", procs, atoms * steps_done / loop, float("nan"),
+                         pair_contacts))
+    return f"3D dense shaken box, {n} spheres, dt = {dt:g} s, {steps} steps", rows
+
+
 def report(title, rows):
     print(f"\n{title}")
     print(f"{'program':32s} {'cores':>5s} {'particle-steps/s':>17s} {'pair contacts':>13s} {'vs LAMMPS':>10s}")
@@ -138,6 +202,8 @@ def main():
     ap.add_argument("--steps", type=int, default=20000)
     ap.add_argument("--threads", default="1,2", help="core counts to time (threads / MPI ranks)")
     ap.add_argument("--work", default="bench_work")
+    ap.add_argument("--box-side", type=int, default=50, help="3D box: spheres per side (50 -> 100,000 with 40 layers)")
+    ap.add_argument("--box-layers", type=int, default=40)
     args = ap.parse_args()
     args.threads = [int(t) for t in args.threads.split(",")]
     for tool in ("lmp",):

@@ -1,0 +1,80 @@
+-- A dense shaken box of spheres in 3D for side-by-side timing against LAMMPS
+-- and LIGGGHTS (tools/bench/compare.py): `per_side`^2 x `layers` spheres of
+-- r = 1 mm start on a touching cubic lattice in a box with four side walls, fall
+-- onto a floor that shakes vertically (amplitude `amplitude`, frequency
+-- `frequency`), Hooke contacts with friction. Without `state` the scene
+-- settles for `settle` s and saves the state; with `state` it loads it and
+-- times `steps` steps.
+--   build/granule run tools/bench/box3d_compare.lua -D save=box_state.h5
+--   build/granule run tools/bench/box3d_compare.lua -D state=box_state.h5 -D steps=1000 --threads 2
+local p = parameters {
+  per_side = { default = 50 },
+  layers = { default = 40 },
+  radius = { default = 1e-3, unit = "m" },
+  density = { default = 2500, unit = "kg/m^3" },
+  k_normal = { default = 1e4, unit = "N/m" },
+  restitution = { default = 0.5 },
+  friction = { default = 0.5 },
+  amplitude = { default = 0.1e-3, unit = "m" },
+  frequency = { default = 50, unit = "Hz" },
+  time_step = { default = 1.5e-6, unit = "s" },
+  settle = { default = 0.01, unit = "s" },
+  save = { default = "" },
+  state = { default = "" },
+  steps = { default = 1000 },
+}
+local r = p.radius
+local spacing = 2 * r  -- touching: a dense column from the first step
+local side = p.per_side * spacing
+local sim = simulation { dimension = 3, time_step = p.time_step }
+sim:material { name = "glass", density = p.density }
+sim:material { name = "steel", density = 7800 }
+for _, other in ipairs { "glass", "steel" } do
+  sim:contact { "glass", other, model = "linear", k_normal = p.k_normal, restitution = p.restitution,
+                friction = p.friction }
+end
+sim:wall_plane { name = "floor", point = { 0, 0, 0 }, normal = { 0, 0, 1 }, material = "steel" }
+sim:wall_plane { name = "x_low", point = { 0, 0, 0 }, normal = { 1, 0, 0 }, material = "steel" }
+sim:wall_plane { name = "x_high", point = { side, 0, 0 }, normal = { -1, 0, 0 }, material = "steel" }
+sim:wall_plane { name = "y_low", point = { 0, 0, 0 }, normal = { 0, 1, 0 }, material = "steel" }
+sim:wall_plane { name = "y_high", point = { 0, side, 0 }, normal = { 0, -1, 0 }, material = "steel" }
+sim:gravity { 0, 0, -9.81 }
+-- The floor shakes: z(t) = A sin(2 pi f t), velocity set every step.
+local omega = 2 * math.pi * p.frequency
+sim:every { steps = 1, function(s)
+  s:set_wall("floor", { velocity = { 0, 0, p.amplitude * omega * math.cos(omega * s:time()) } })
+end }
+if p.state == "" then
+  local k = 0
+  for layer = 0, p.layers - 1 do
+    for iy = 0, p.per_side - 1 do
+      for ix = 0, p.per_side - 1 do
+        k = k + 1
+        local jitter = 0.005 * r * math.sin(k * 12.9898)  -- breaks the lattice's symmetry
+        sim:add_particle { position = { (ix + 0.5) * spacing + jitter, (iy + 0.5) * spacing - jitter,
+                                        (layer + 0.5) * spacing }, radius = r, material = "glass" }
+      end
+    end
+  end
+  sim:run { duration = p.settle }
+  assert(p.save ~= "", "give -D save=FILE to keep the settled state")
+  sim:output { file = p.save, xdmf = false }
+  sim:snapshot()
+  sim:close()
+  print("settled state written to " .. p.save)
+  return
+end
+sim:load_particles { file = p.state }
+local contacts, pair_contacts, samples = 0, 0, 0
+sim:every { steps = 100, function(s)
+  local st = s:stats()
+  contacts, pair_contacts = contacts + st.contacts_particle + st.contacts_wall, pair_contacts + st.contacts_particle
+  samples = samples + 1
+end }
+sim:run { steps = 1 }
+local t0 = wall_time()
+sim:run { steps = p.steps }
+local wall = wall_time() - t0
+print(string.format("granule model=linear particles=%d steps=%d wall_s=%.4f particle_steps_per_s=%.4g mean_contacts=%.1f mean_pair_contacts=%.1f",
+  sim:stats().particles, p.steps, wall, sim:stats().particles * p.steps / wall,
+  contacts / math.max(samples, 1), pair_contacts / math.max(samples, 1)))
