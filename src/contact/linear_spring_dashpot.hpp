@@ -42,6 +42,7 @@ struct LinearSpringDashpot {
 
   struct Params {
     double k_normal, damping_ratio, friction, k_tangential, tangential_damping_ratio;
+    double sqrt_k_normal;
     bool allow_tension;
   };
 
@@ -53,6 +54,7 @@ struct LinearSpringDashpot {
   static Params make(const ParamValues& v, const PairMaterials&) {
     Params p;
     p.k_normal = v.at("k_normal");
+    p.sqrt_k_normal = std::sqrt(p.k_normal);
     p.damping_ratio = damping_ratio_for(v.at("restitution"));
     p.friction = v.at("friction");
     p.k_tangential = v.at("tangential_ratio") * p.k_normal;
@@ -64,6 +66,7 @@ struct LinearSpringDashpot {
   template <int D>
   struct History {
     Vec<D> slip = Vec<D>::Zero();  // accumulated tangential spring elongation, m
+    double sqrt_mass = -1;         // sqrt(m*) of this contact, kg^1/2; < 0: not computed yet
   };
 
   template <int D>
@@ -85,7 +88,10 @@ struct LinearSpringDashpot {
   template <int D>
   static ContactForce<D> force(const Params& p, History<D>& h, const ContactState<D>& c) {
     ContactForce<D> out;
-    const double c_n = 2.0 * p.damping_ratio * std::sqrt(c.effective_mass * p.k_normal);
+    // sqrt(m*) depends only on the pair: one square root per contact, not per step
+    // (a change of k_n or e during a run still applies at once).
+    if (h.sqrt_mass < 0) h.sqrt_mass = std::sqrt(c.effective_mass);
+    const double c_n = 2.0 * p.damping_ratio * p.sqrt_k_normal * h.sqrt_mass;
     double normal = p.k_normal * c.overlap + c_n * c.normal_velocity;
     if (!p.allow_tension && normal < 0) normal = 0;
     out.normal = normal;

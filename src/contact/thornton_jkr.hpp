@@ -98,6 +98,13 @@ struct ThorntonJkr {
     return overlap > 0 || (h.contact_radius > 0 && overlap > h.separation_overlap);
   }
 
+  // How far apart (m) the surfaces of a contact of effective radius up to
+  // r_star can be while it lasts: -alpha_f. The neighbour skin must exceed it.
+  static double reach(const Params& p, double r_star) {
+    return p.surface_energy > 0 ? -separation_overlap(p.surface_energy, r_star, p.elastic.e_star)
+                                : 0.0;
+  }
+
   static double rule_time_step(const Params& p, const PairScale& s, double steps_per_contact) {
     return ThorntonElastic::rule_time_step(p.elastic, s, steps_per_contact);
   }

@@ -210,6 +210,7 @@ class Simulation final : public SimulationBase {
   std::int64_t contacts_particle_ = 0, contacts_wall_ = 0;
   double max_overlap_ratio_ = 0;
   std::size_t non_finite_index_ = SIZE_MAX;
+  std::string dt_governing_pair_;  // the pair whose rule sets the automatic time step
   double contact_reach_ = 0;  // m, how far apart adhesive contacts persist (<= skin)
 };
 

@@ -172,7 +172,9 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
     for (long long v : c) k = (k ^ static_cast<std::uint64_t>(v)) * 1099511628211ull;
     return k;
   };
-  auto cell_of = [&](double coordinate) { return static_cast<long long>(std::floor(coordinate / cell)); };
+  auto cell_of = [&](double coordinate) {
+    return static_cast<long long>(std::floor(coordinate / cell));
+  };
   auto occupy = [&](std::size_t q) {
     const V& xq = p_.position[q];
     const double reach = p_.radius[q] + r_new_max;
@@ -394,6 +396,30 @@ void Simulation<D>::prepare() {
     std::nth_element(r.begin(), r.begin() + r.size() / 2, r.end());
     skin_ = 0.5 * r[r.size() / 2];
   }
+  // Adhesive contacts persist past zero overlap, to the JKR separation point
+  // (-alpha_f, Eq. 6.14): a pair stays in the neighbour list only while its gap
+  // is below the skin, so the skin must exceed that reach, taken for the
+  // largest effective radius (alpha_f grows as R*^(1/3)).
+  contact_reach_ = 0;
+  {
+    double r_max = 0;
+    for (double r : p_.radius) r_max = std::max(r_max, r);
+    for_each_model([&](auto index) {
+      constexpr int I = decltype(index)::value;
+      using M = ContactModelAt<I>;
+      if constexpr (M::adhesive)
+        for (const auto& par : pairs_.params<I>())
+          contact_reach_ = std::max(contact_reach_, M::reach(par, r_max));
+    });
+  }
+  if (contact_reach_ > 0 && !(skin_ > 1.5 * contact_reach_)) {
+    if (skin_set_ > 0)
+      throw InputError(fmt::format(
+          "skin {:.4g} m is too small for the adhesive contacts: they last until the surfaces are "
+          "{:.4g} m apart (the JKR separation point); give a skin above {:.4g} m",
+          skin_, contact_reach_, 1.5 * contact_reach_));
+    skin_ = 2 * contact_reach_;
+  }
   if (periodic_.on()) {
     double r_max = 0;
     for (double r : p_.radius) r_max = std::max(r_max, r);
@@ -405,6 +431,7 @@ void Simulation<D>::prepare() {
   }
   if (p_.size()) {
     TimeStepReport rule = time_step_rule();
+    dt_governing_pair_ = rule.governing_pair;
     if (dt_fixed_ > 0) {
       dt_ = dt_fixed_;
       if (dt_ >= rule.stability_limit)
@@ -760,10 +787,12 @@ std::vector<std::string> Simulation<D>::describe() const {
   lines.push_back(
       fmt::format("threads: {}{}", thread_count(),
                   threads_ > 0 ? "" : " (OMP_NUM_THREADS, else 1; set with --threads N)"));
-  lines.push_back(fmt::format(
-      "time step: {:.6g} s ({}), skin {:.4g} m", dt_,
-      dt_fixed_ > 0 ? "set by the scene" : fmt::format("Eq. 4.1, n = {}", steps_per_contact_),
-      skin_));
+  lines.push_back(fmt::format("time step: {:.6g} s ({}), skin {:.4g} m", dt_,
+                              dt_fixed_ > 0
+                                  ? "set by the scene"
+                                  : fmt::format("automatic: n = {} steps per contact of {}",
+                                                steps_per_contact_, dt_governing_pair_),
+                              skin_));
   return lines;
 }
 

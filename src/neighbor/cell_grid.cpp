@@ -1,7 +1,11 @@
 #include "neighbor/cell_grid.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
+
+#include "core/errors.hpp"
 
 namespace granule {
 
@@ -37,16 +41,23 @@ void CellGrid<D>::build(const Particles<D>& p, double skin, const Periodicity& p
     hi = hi.cwiseMax(p.position[i]);
   }
   cell_size_ = 2 * r_small_max + skin;
+  for (int k = 0; k < D; ++k)
+    if (!std::isfinite(hi[k] - lo[k]))
+      throw RunError(fmt::format(
+          "the particles are spread over more than any grid can hold (axis {} from {} to {} m): "
+          "a particle has escaped or was placed absurdly far away",
+          k, lo[k], hi[k]));
   // Keep the grid at most ~2 cells per particle: a run-away particle must not allocate a huge grid.
   const double max_cells = 2.0 * static_cast<double>(n) + 64;
-  for (;;) {
+  for (int attempt = 0; attempt < 64; ++attempt) {
     double cells = 1;
     for (int k = 0; k < D; ++k) {
       double extent = (per.on() && k == per.axis) ? per.length : hi[k] - lo[k];
       cells *= std::floor(extent / cell_size_) + 1;
     }
     if (cells <= max_cells) break;
-    cell_size_ *= 1.5;
+    // Grow the cells by the factor that brings their count to the limit (and a little more).
+    cell_size_ *= std::max(1.5, std::pow(cells / max_cells, 1.0 / D));
   }
   origin_ = lo;
   for (int k = 0; k < D; ++k) {

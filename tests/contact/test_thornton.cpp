@@ -10,6 +10,8 @@
 
 #include "contact/thornton_elastic.hpp"
 #include "contact/thornton_jkr.hpp"
+#include "core/errors.hpp"
+#include "core/simulation.hpp"
 
 using namespace granule;
 
@@ -908,4 +910,29 @@ TEMPLATE_TEST_CASE_SIG(
       CHECK(breaks > 100);
     }
   }
+}
+
+TEST_CASE("thornton: adhesive contacts outlast zero overlap, so the skin must cover the JKR reach",
+          "[thornton][jkr]") {
+  // Soft, sticky, large particles: alpha_f = -(3/4)(pi^2 Gamma^2 R*/E*^2)^(1/3).
+  const double gamma = 5.0, r = 1e-3, young = 1e6, nu = 0.3;
+  auto scene = [&](Simulation<3>& sim) {
+    sim.set_warning_handler([](const std::string&) {});
+    sim.add_material({"gel", 1000, young, nu, gamma});
+    sim.set_contact("gel", "gel", "thornton_jkr", {{"friction", 0.3}});
+    ParticleSpec a, b;
+    a.radius = b.radius = r, a.material = b.material = 0;
+    b.position = {2.5 * r, 0, 0};
+    sim.add_particle(a), sim.add_particle(b);
+  };
+  const double e_star = young / (2 * (1 - nu * nu));
+  const double reach = 0.75 * std::cbrt(pi * pi * gamma * gamma * r / (e_star * e_star));
+  Simulation<3> tiny;
+  scene(tiny);
+  tiny.set_skin(0.5 * reach);
+  CHECK_THROWS_WITH(tiny.prepare(), Catch::Contains("too small for the adhesive contacts"));
+  Simulation<3> automatic;
+  scene(automatic);
+  automatic.prepare();
+  CHECK(automatic.skin() > 1.5 * reach);
 }

@@ -5,6 +5,7 @@
 #include <set>
 
 #include "core/random.hpp"
+#include "core/simulation.hpp"
 #include "neighbor/cell_grid.hpp"
 
 using namespace granule;
@@ -68,4 +69,17 @@ TEST_CASE("neighbors: cell lists find exactly the brute-force pairs", "[neighbor
                  12);  // a giant wider than half the period has no minimum image
     }
   }
+}
+
+TEST_CASE("neighbors: particles spread beyond any grid are refused, not a hang", "[neighbors]") {
+  Simulation<2> sim;
+  sim.set_warning_handler([](const std::string&) {});
+  sim.add_material({"p", 1000, 0, 0, 0});
+  sim.set_contact("p", "p", "linear", {{"k_normal", 1e3}, {"restitution", 0.5}});
+  ParticleSpec a, b;
+  a.radius = b.radius = 1e-3, a.material = b.material = 0;
+  a.position = {-1e308, 0, 0};
+  b.position = {1e308, 0, 0};
+  sim.add_particle(a), sim.add_particle(b);
+  CHECK_THROWS_WITH(sim.prepare(), Catch::Contains("escaped or was placed absurdly far away"));
 }
