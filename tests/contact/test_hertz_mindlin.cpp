@@ -82,3 +82,37 @@ TEST_CASE("hertz_mindlin: a material without a Young's modulus is refused by nam
                          {a, b}),
       Catch::Contains("'sand'") && Catch::Contains("young"));
 }
+
+// The same closed forms through the whole engine for Thornton's models: the
+// frictional elastic law of 6.3.2 and the adhesive law of 6.3.3 with Gamma = 0
+// (which must reduce to it), sphere-sphere and sphere-wall, 2D and 3D.
+TEMPLATE_TEST_CASE_SIG(
+    "thornton: engine impacts match Hertz's duration and maximum overlap within 1% and "
+    "conserve energy to 1e-6",
+    "[thornton]", ((int D), D), 2, 3) {
+  for (const char* model : {"thornton_elastic", "thornton_jkr"}) {
+    for (bool wall : {false, true}) {
+      for (double v : {0.01, 1.0}) {
+        ImpactSetup s = quartz(1.0, v, wall);
+        s.model = model;
+        s.params = {{"friction", 0.0}};
+        if (std::string(model) == "thornton_jkr") s.params["surface_energy"] = 0.0;
+        s.steps_per_contact = 2000;  // dt = 0.4% of Rayleigh's: leap-frog's energy error ~1e-7
+        auto res = run_impact<D>(s);
+        const double m = sphere_mass(s.radius, s.density);
+        const double m_eff = wall ? m : m / 2;
+        const double r_eff = wall ? s.radius : s.radius / 2;
+        const double e_star = 1 / (2 * (1 - 0.09) / 70e9);
+        const double overlap =
+            std::pow(15 * m_eff * v * v / (16 * e_star * std::sqrt(r_eff)), 0.4);  // Eq. 6.3
+        const double duration =
+            2.868 * std::pow(m_eff * m_eff / (r_eff * e_star * e_star * v), 0.2);
+        INFO(model << " D=" << D << " wall=" << wall << " v=" << v);
+        CHECK(res.max_overlap == Approx(overlap).epsilon(0.01));
+        CHECK(res.geometric_duration == Approx(duration).epsilon(0.01));
+        // Frictionless and elastic: the kinetic energy comes back, e^2 = 1 to 1e-6.
+        CHECK(std::abs(res.restitution * res.restitution - 1) < 1e-6);
+      }
+    }
+  }
+}
