@@ -25,6 +25,9 @@ using Clock = std::chrono::steady_clock;
 // same either way.
 constexpr std::int64_t parallel_min_contacts = 1024;
 constexpr std::int64_t parallel_min_particles = 4096;
+// Scenes this large are kept in space-filling-curve order (their data no longer
+// fits in the fast caches, so neighbours in memory matter).
+constexpr std::size_t sort_min_particles = 4096;
 inline double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
@@ -37,7 +40,13 @@ template <int D>
 void Simulation<D>::step() {
   auto t0 = Clock::now();
   // 1. Neighbour lists: rebuilt only when something moved more than half the skin.
-  if (!lists_valid_ || lists_stale()) rebuild_lists();
+  // Large scenes are re-sorted along a space-filling curve every 32nd rebuild.
+  if (!lists_valid_ || lists_stale()) {
+    if (p_.size() >= sort_min_particles && rebuilds_ % 32 == 0)
+      sort_particles();
+    else
+      rebuild_lists();
+  }
   auto t1 = Clock::now();
   stage_times_.neighbor += std::chrono::duration<double>(t1 - t0).count();
 
@@ -185,7 +194,7 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
       ContactState<D> c;
       c.dt = dt;
       // Coincident centres: any direction is as good as another, but it must be finite.
-      c.normal = dist > 0 ? V(d / dist) : V(V::UnitX());
+      c.normal = dist > 0 ? V(d * (1.0 / dist)) : V(V::UnitX());
       c.overlap = overlap;
       const V v_rel = v[j] - v[i];
       c.normal_velocity = v_rel.dot(c.normal);
@@ -203,8 +212,9 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
       out_torque_a[k] = Dim<D>::torque(-(radius[i] - 0.5 * overlap) * c.normal, f.tangential);
       out_torque_b[k] = Dim<D>::torque(-(radius[j] - 0.5 * overlap) * c.normal, f.tangential);
       ++touching;
-      const double ratio = overlap / std::min(radius[i], radius[j]);
-      if (ratio > max_ratio) max_ratio = ratio;
+      // The largest overlap / smaller radius, without a division per contact.
+      const double r_min = std::min(radius[i], radius[j]);
+      if (overlap > max_ratio * r_min) max_ratio = overlap / r_min;
       if constexpr (Observed) {
         const std::size_t s = offset + k;
         log_.active[s] = 1;
@@ -297,7 +307,7 @@ void Simulation<D>::wall_forces(WallBucket<D, M>& b,
       out_torque[k] = Dim<D>::torque(-(r - overlap) * n, f.tangential);  // at the wall surface
       out_axial[k] = w.axial_moment(lever, total);
       ++touching;
-      if (overlap / r > max_ratio) max_ratio = overlap / r;
+      if (overlap > max_ratio * r) max_ratio = overlap / r;
       if constexpr (Observed) {
         const std::size_t s = offset + k;
         log_.active[s] = 1;
@@ -679,17 +689,25 @@ template <int D>
 void Simulation<D>::sort_particles() {
   const std::size_t n = p_.size();
   if (n < 2) return;
-  // Order by a coarse cell key (x-major within rows of cells): enough locality
-  // for the force loop, and it exercises the id-based history transfer.
-  double cell = 0;
-  for (double r : p_.radius) cell = std::max(cell, 2 * r);
+  // Order along a Morton (Z-order) curve of cells one median diameter wide:
+  // particles close in space end up close in memory, so the contact loop reads
+  // neighbours from cache. Contact histories follow by persistent id.
+  std::vector<double> radii = p_.radius;
+  std::nth_element(radii.begin(), radii.begin() + n / 2, radii.end());
+  const double cell = 2 * radii[n / 2];
   V lo = p_.position[0];
   for (const auto& x : p_.position) lo = lo.cwiseMin(x);
+  constexpr int bits = D == 2 ? 31 : 21;
+  const double top = static_cast<double>((std::uint64_t{1} << bits) - 1);
   std::vector<std::uint64_t> key(n);
   for (std::size_t i = 0; i < n; ++i) {
     std::uint64_t k = 0;
-    for (int d = D - 1; d >= 0; --d)
-      k = k * 1000003u + static_cast<std::uint64_t>((p_.position[i][d] - lo[d]) / cell);
+    std::uint64_t c[D];
+    for (int d = 0; d < D; ++d)
+      c[d] = static_cast<std::uint64_t>(
+          std::min(top, std::max(0.0, (p_.position[i][d] - lo[d]) / cell)));
+    for (int b = bits - 1; b >= 0; --b)
+      for (int d = 0; d < D; ++d) k = k << 1 | ((c[d] >> b) & 1u);
     key[i] = k;
   }
   std::vector<std::size_t> perm(n);
@@ -703,11 +721,8 @@ void Simulation<D>::sort_particles() {
   apply(p_.radius), apply(p_.inv_mass), apply(p_.inv_inertia), apply(p_.mass), apply(p_.id);
   apply(p_.material), apply(p_.fixed);
   for (std::size_t k = 0; k < n; ++k) p_.index_of_id[p_.id[k]] = static_cast<std::int32_t>(k);
-  // Histories are keyed by id: rebuild now (positions unchanged, so pairs are the same).
-  if (lists_valid_) {
-    position_at_rebuild_ = p_.position;
-    rebuild_lists();
-  }
+  // Histories are keyed by id: rebuild the lists for the new storage order.
+  rebuild_lists();
 }
 
 template class Simulation<2>;
