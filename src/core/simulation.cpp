@@ -200,8 +200,7 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
       c.normal_velocity = v_rel.dot(c.normal);
       // Eq. 3.10: tangential slip of j's surface relative to i's.
       c.tangential_velocity = v_rel - c.normal * c.normal_velocity +
-                              radius[i] * Dim<D>::spin_cross(w[i], c.normal) +
-                              radius[j] * Dim<D>::spin_cross(w[j], c.normal);
+                              Dim<D>::spin_cross(radius[i] * w[i] + radius[j] * w[j], c.normal);
       c.effective_mass = 1.0 / (inv_mass[i] + inv_mass[j]);
       c.effective_radius = radius[i] * radius[j] / r_sum;
       const ContactForce<D> f = M::force(par, h, c);
@@ -209,8 +208,9 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
       // Torques about each centre, applied at the contact point: lever -(r_i - a/2) n
       // on i and +(r_j - a/2) n on j (which feels -T). With these levers the pair
       // exerts no net torque, so angular momentum is conserved to round-off.
-      out_torque_a[k] = Dim<D>::torque(-(radius[i] - 0.5 * overlap) * c.normal, f.tangential);
-      out_torque_b[k] = Dim<D>::torque(-(radius[j] - 0.5 * overlap) * c.normal, f.tangential);
+      const S n_cross_t = Dim<D>::torque(c.normal, f.tangential);
+      out_torque_a[k] = -(radius[i] - 0.5 * overlap) * n_cross_t;
+      out_torque_b[k] = -(radius[j] - 0.5 * overlap) * n_cross_t;
       ++touching;
       // The largest overlap / smaller radius, without a division per contact.
       const double r_min = std::min(radius[i], radius[j]);
