@@ -60,23 +60,37 @@ void Simulation<D>::step() {
   log_.filled = observed;
   contacts_particle_ = contacts_wall_ = 0;
   max_overlap_ratio_ = 0;
+  // One thread: each contact adds its force to its particles at once ("fused").
+  // More: each writes its slot and scatter_forces() sums them afterwards. Both
+  // add the contacts to each particle in slot order (pairs model by model, then
+  // walls), so the result is bit-identical whatever the number of threads.
+  fused_ = thread_count() == 1;
+  std::fill(p_.force.begin(), p_.force.end(), V::Zero());
+  std::fill(p_.torque.begin(), p_.torque.end(), Dim<D>::zero_spin());
+  for (auto& w : walls_) w.force.setZero(), w.axial_torque = 0;
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
     using M = ContactModelAt<I>;
     auto& pb = std::get<I>(pair_buckets_);
+    if (!pb.size()) return;
+    if (observed)
+      pair_forces<M, true>(pb, pairs_.params<I>());
+    else
+      pair_forces<M, false>(pb, pairs_.params<I>());
+  });
+  for_each_model([&](auto index) {
+    constexpr int I = decltype(index)::value;
+    using M = ContactModelAt<I>;
     auto& wb = std::get<I>(wall_buckets_);
-    const auto& params = pairs_.params<I>();
-    if (observed) {
-      if (pb.size()) pair_forces<M, true>(pb, params);
-      if (wb.size()) wall_forces<M, true>(wb, params);
-    } else {
-      if (pb.size()) pair_forces<M, false>(pb, params);
-      if (wb.size()) wall_forces<M, false>(wb, params);
-    }
+    if (!wb.size()) return;
+    if (observed)
+      wall_forces<M, true>(wb, pairs_.params<I>());
+    else
+      wall_forces<M, false>(wb, pairs_.params<I>());
   });
   // Forces and torques per particle, and the reactions on the walls (the
   // inner-piece force of 4.4.1), summed over the contacts in slot order.
-  scatter_forces();
+  if (!fused_) scatter_forces();
   auto t2 = Clock::now();
   stage_times_.force += std::chrono::duration<double>(t2 - t1).count();
 
@@ -139,6 +153,9 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
   S* const out_torque_a = slot_torque_a_.data() + b.offset;
   S* const out_torque_b = slot_torque_b_.data() + b.offset;
   std::uint8_t* const in_contact = slot_in_contact_.data() + b.offset;
+  const bool fused = fused_;
+  V* const force = p_.force.data();
+  S* const torque = p_.torque.data();
   const Periodicity periodic = periodic_;
   const bool periodic_on = periodic.on();
   const int periodic_axis = periodic_on ? periodic.axis : 0;
@@ -204,13 +221,23 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
       c.effective_mass = 1.0 / (inv_mass[i] + inv_mass[j]);
       c.effective_radius = radius[i] * radius[j] / r_sum;
       const ContactForce<D> f = M::force(par, h, c);
-      out_force[k] = f.normal * c.normal + f.tangential;
+      const V total = f.normal * c.normal + f.tangential;
       // Torques about each centre, applied at the contact point: lever -(r_i - a/2) n
       // on i and +(r_j - a/2) n on j (which feels -T). With these levers the pair
       // exerts no net torque, so angular momentum is conserved to round-off.
       const S n_cross_t = Dim<D>::torque(c.normal, f.tangential);
-      out_torque_a[k] = -(radius[i] - 0.5 * overlap) * n_cross_t;
-      out_torque_b[k] = -(radius[j] - 0.5 * overlap) * n_cross_t;
+      const S torque_i = -(radius[i] - 0.5 * overlap) * n_cross_t;
+      const S torque_j = -(radius[j] - 0.5 * overlap) * n_cross_t;
+      if (fused) {
+        force[i] += total;
+        force[j] -= total;
+        torque[i] += torque_i;
+        torque[j] += torque_j;
+      } else {
+        out_force[k] = total;
+        out_torque_a[k] = torque_i;
+        out_torque_b[k] = torque_j;
+      }
       ++touching;
       // The largest overlap / smaller radius, without a division per contact.
       const double r_min = std::min(radius[i], radius[j]);
@@ -258,6 +285,9 @@ void Simulation<D>::wall_forces(WallBucket<D, M>& b,
   S* const out_torque = slot_torque_a_.data() + offset;
   double* const out_axial = slot_axial_torque_.data() + offset;
   std::uint8_t* const in_contact = slot_in_contact_.data() + offset;
+  const bool fused = fused_;
+  V* const force = p_.force.data();
+  S* const torque = p_.torque.data();
   const int threads = thread_count();
   const int team = count >= parallel_min_contacts ? threads : 1;
   b.touched.resize(team);
@@ -298,14 +328,22 @@ void Simulation<D>::wall_forces(WallBucket<D, M>& b,
           v_rel - n * c.normal_velocity + radius[i] * Dim<D>::spin_cross(w_spin[i], n);
       c.effective_mass = mass[i];
       const double r = radius[i];
-      c.effective_radius = w.type == WallType::plane ? r
-                                                     : (w.inside ? r * w.radius / (w.radius - r)
-                                                                 : r * w.radius / (w.radius + r));
+      c.effective_radius = w.effective_radius(r);
       const ContactForce<D> f = M::force(par, h, c);
       const V total = f.normal * n + f.tangential;
-      out_force[k] = total;
-      out_torque[k] = Dim<D>::torque(-(r - overlap) * n, f.tangential);  // at the wall surface
-      out_axial[k] = w.axial_moment(lever, total);
+      const S torque_i = Dim<D>::torque(-(r - overlap) * n, f.tangential);  // at the wall surface
+      const double axial = w.axial_moment(lever, total);
+      if (fused) {
+        force[i] += total;
+        torque[i] += torque_i;
+        Wall<D>& reacting = walls_[bw[k]];
+        reacting.force -= total;
+        reacting.axial_torque -= axial;
+      } else {
+        out_force[k] = total;
+        out_torque[k] = torque_i;
+        out_axial[k] = axial;
+      }
       ++touching;
       if (overlap > max_ratio * r) max_ratio = overlap / r;
       if constexpr (Observed) {
@@ -416,9 +454,6 @@ template <int D>
 void Simulation<D>::scatter_forces() {
   V* const force = p_.force.data();
   S* const torque = p_.torque.data();
-  std::fill(p_.force.begin(), p_.force.end(), V::Zero());
-  std::fill(p_.torque.begin(), p_.torque.end(), Dim<D>::zero_spin());
-  for (auto& w : walls_) w.force.setZero(), w.axial_torque = 0;
   const V* const slot_force = slot_force_.data();
   const S* const torque_a = slot_torque_a_.data();
   const S* const torque_b = slot_torque_b_.data();

@@ -197,6 +197,7 @@ class Simulation final : public SimulationBase {
   std::vector<S> slot_torque_a_, slot_torque_b_;
   std::vector<double> slot_axial_torque_;      // wall slots: torque on the wall about its axis
   std::vector<std::uint8_t> slot_in_contact_;  // 0: history cleared, slot outputs zero
+  bool fused_ = true;  // this step adds contact forces to particles directly (one thread)
   ContactLog<D> log_;
   std::vector<AttachedDiagnostic> diagnostics_;
   int next_diagnostic_id_ = 1;
@@ -211,7 +212,7 @@ class Simulation final : public SimulationBase {
   double max_overlap_ratio_ = 0;
   std::size_t non_finite_index_ = SIZE_MAX;
   std::string dt_governing_pair_;  // the pair whose rule sets the automatic time step
-  double contact_reach_ = 0;  // m, how far apart adhesive contacts persist (<= skin)
+  double contact_reach_ = 0;       // m, how far apart adhesive contacts persist (<= skin)
 };
 
 }  // namespace granule
