@@ -404,14 +404,22 @@ void Simulation<D>::prepare() {
   {
     double r_max = 0;
     for (double r : p_.radius) r_max = std::max(r_max, r);
-    for_each_model([&](auto index) {
-      constexpr int I = decltype(index)::value;
-      using M = ContactModelAt<I>;
-      if constexpr (M::adhesive)
-        for (const auto& par : pairs_.params<I>())
-          contact_reach_ = std::max(contact_reach_, M::reach(par, r_max));
-    });
+    // Only pairs that can meet: an adhesive law declared for materials no
+    // particle has must not widen the skin of the whole scene.
+    for (auto [a, b] : pairs_in_use()) {
+      const PairTable::Entry& e = pairs_.at(a, b);
+      for_each_model([&](auto index) {
+        constexpr int I = decltype(index)::value;
+        using M = ContactModelAt<I>;
+        if constexpr (M::adhesive)
+          if (e.model == I)
+            contact_reach_ = std::max(contact_reach_, M::reach(pairs_.params<I>()[e.slot], r_max));
+      });
+    }
   }
+  // Spins are integrated only when some pair in use has friction: without it
+  // no contact exerts a torque (simulation_effects.cpp).
+  rotation_ = effects().rotation;
   if (contact_reach_ > 0 && !(skin_ > 1.5 * contact_reach_)) {
     if (skin_set_ > 0)
       throw InputError(fmt::format(
@@ -774,6 +782,15 @@ std::vector<std::string> Simulation<D>::describe() const {
                                   w.radius, w.inside ? "inside" : "outside", w.angular_velocity,
                                   materials_[w.material].name));
   }
+  const ActiveEffects e = effects();
+  lines.push_back(e.adhesion ? fmt::format("adhesion: on ({})", fmt::join(e.adhesive_pairs, ", "))
+                             : std::string("adhesion: off (no adhesive pair in use)"));
+  lines.push_back(e.rotation ? std::string("rotation: spins integrated (friction in use)")
+                             : std::string("rotation: off (no pair in use has friction, so no "
+                                           "torque acts; spins stay as set)"));
+  lines.push_back(e.moving_walls.empty()
+                      ? std::string("moving walls: none")
+                      : fmt::format("moving walls: {}", fmt::join(e.moving_walls, ", ")));
   lines.push_back(fmt::format("gravity: {}", body_.gravity_on ? "on" : "off"));
   lines.push_back(fmt::format("central field: {}", body_.central_on ? "on" : "off"));
   lines.push_back(fmt::format("contact forces recorded: {}", record_contacts_ ? "yes" : "no"));
