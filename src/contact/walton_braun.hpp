@@ -15,6 +15,7 @@
 #pragma once
 
 #include <cmath>
+#include <type_traits>
 #include <vector>
 
 #include "contact/contact_state.hpp"
@@ -60,17 +61,31 @@ struct WaltonBraun {
     return p;
   }
 
-  template <int D>
-  struct History {
-    Vec<D> tangential = Vec<D>::Zero();      // T, force on i
-    Vec<D> reversal = Vec<D>::Zero();        // T*
-    Vec<D> load_direction = Vec<D>::Zero();  // u of the last slip increment
+  // 3D: T, T* and u are vectors in the tangent plane, carried along as the
+  // contact turns (steps 2-3).
+  struct History3 {
+    Vec<3> tangential = Vec<3>::Zero();      // T, force on i
+    Vec<3> reversal = Vec<3>::Zero();        // T*
+    Vec<3> load_direction = Vec<3>::Zero();  // u of the last slip increment
     double previous_normal = 0;              // N(n-1), for step 8
     double max_overlap = 0;                  // a_max
   };
-
+  // 2D: the tangent plane is the line along t = (-n_y, n_x), which turns with
+  // the contact, so T, T* and u are their components along t and steps 2-3
+  // (Eqs. 3.7-3.8) cost nothing. The same physics as the vector form, which
+  // rotates each vector onto the new line keeping its length and side.
+  struct History2 {
+    double tangential = 0;       // T . t
+    double reversal = 0;         // T* . t
+    double load_direction = 0;   // u . t: +1, -1, or 0 before any slip
+    double previous_normal = 0;  // N(n-1), for step 8
+    double max_overlap = 0;      // a_max
+  };
   template <int D>
-  static bool touching(const Params&, const History<D>&, double overlap) {
+  using History = std::conditional_t<D == 2, History2, History3>;
+
+  template <typename H>
+  static bool touching(const Params&, const H&, double overlap) {
     return overlap > 0;
   }
 
@@ -105,65 +120,114 @@ struct WaltonBraun {
     const double k0 = p.tangential_ratio * (loading ? p.k_load : p.k_unload);
     const double limit = p.friction * normal;
     if (limit <= 0) {  // no friction, or N = 0 in the permanent-set gap: |T| <= mu N = 0
-      h.tangential.setZero();
-      h.reversal.setZero();
+      if constexpr (D == 2) {
+        h.tangential = h.reversal = 0;
+      } else {
+        h.tangential.setZero();
+        h.reversal.setZero();
+      }
       h.previous_normal = normal;
       return out;
     }
 
-    // Steps 2-3 (Eqs. 3.7-3.8): carry T, T* and u onto the current tangent plane.
-    Vec<D> t_force = rotate_onto_plane<D>(h.tangential, c.normal);
-    Vec<D> reversal = rotate_onto_plane<D>(h.reversal, c.normal);
-    Vec<D> previous_u = rotate_onto_plane<D>(h.load_direction, c.normal);
-
-    // Step 5 (Eq. 3.10): slip increment of j's surface relative to i's.
-    const Vec<D> slip = c.tangential_velocity * c.dt;
-
-    // Step 4 (Eq. 3.9): unit vector of T; for T = 0 take the slip direction.
-    const double t_mag = t_force.norm();
-    Vec<D> t_hat;
-    if (t_mag > 0) {
-      t_hat = t_force / t_mag;
+    if constexpr (D == 2) {
+      force_2d(p, h, c, normal, k0, limit, out);
+      return out;
     } else {
-      double s = slip.norm();
-      t_hat = s > 0 ? Vec<D>(slip / s) : Vec<D>(Vec<D>::Zero());
+      // Steps 2-3 (Eqs. 3.7-3.8): carry T, T* and u onto the current tangent plane.
+      Vec<D> t_force = rotate_onto_plane<D>(h.tangential, c.normal);
+      Vec<D> reversal = rotate_onto_plane<D>(h.reversal, c.normal);
+      Vec<D> previous_u = rotate_onto_plane<D>(h.load_direction, c.normal);
+
+      // Step 5 (Eq. 3.10): slip increment of j's surface relative to i's.
+      const Vec<D> slip = c.tangential_velocity * c.dt;
+
+      // Step 4 (Eq. 3.9): unit vector of T; for T = 0 take the slip direction.
+      const double t_mag = t_force.norm();
+      Vec<D> t_hat;
+      if (t_mag > 0) {
+        t_hat = t_force / t_mag;
+      } else {
+        double s = slip.norm();
+        t_hat = s > 0 ? Vec<D>(slip / s) : Vec<D>(Vec<D>::Zero());
+      }
+      // Steps 6-7 (Eqs. 3.11-3.12).
+      const double slip_parallel = slip.dot(t_hat);
+      const Vec<D> slip_par = slip_parallel * t_hat;
+      const Vec<D> slip_perp = slip - slip_par;
+
+      // Step 8 (Eq. 3.13): scale T* with the normal force; N(n-1) = 0 means a fresh contact.
+      if (h.previous_normal > 0)
+        reversal *= normal / h.previous_normal;
+      else
+        reversal.setZero();
+
+      double k_t = k0;
+      if (slip_parallel != 0) {
+        const Vec<D> u = slip_parallel > 0 ? t_hat : Vec<D>(-t_hat);
+        // Loading reversal: T* takes the value T had when the direction of change flipped.
+        if (u.dot(previous_u) < 0) reversal = t_force;
+        previous_u = u;
+        // Step 9 (Eq. 3.3) read along u.
+        const double t_u = t_force.dot(u), star_u = reversal.dot(u);
+        const double room = limit - star_u;
+        double fraction = room > 0 ? 1.0 - (t_u - star_u) / room : 0.0;
+        fraction = fraction < 0 ? 0 : (fraction > 1 ? 1 : fraction);
+        k_t = k0 * (p.slip_exponent == 1.0 ? fraction : std::pow(fraction, p.slip_exponent));
+      }
+      // Steps 10-12 (Eqs. 3.14-3.16).
+      Vec<D> t_new = t_force + k_t * slip_par + k0 * slip_perp;
+      // Step 13 (Eq. 3.17): |T| <= mu N.
+      const double new_sq = t_new.squaredNorm();
+      if (new_sq > limit * limit) t_new *= limit / std::sqrt(new_sq);
+
+      h.tangential = t_new;
+      h.reversal = reversal;
+      h.load_direction = previous_u;
+      h.previous_normal = normal;
+      out.tangential = t_new;
+      return out;
     }
-    // Steps 6-7 (Eqs. 3.11-3.12).
-    const double slip_parallel = slip.dot(t_hat);
-    const Vec<D> slip_par = slip_parallel * t_hat;
-    const Vec<D> slip_perp = slip - slip_par;
+  }
 
-    // Step 8 (Eq. 3.13): scale T* with the normal force; N(n-1) = 0 means a fresh contact.
-    if (h.previous_normal > 0)
-      reversal *= normal / h.previous_normal;
-    else
-      reversal.setZero();
-
+  // The tangential steps in 2D, read along t: every vector of the general form
+  // is its component along t times t, and the perpendicular slip (Eq. 3.12) is
+  // zero.
+  static void force_2d(const Params& p, History2& h, const ContactState<2>& c, double normal,
+                       double k0, double limit, ContactForce<2>& out) {
+    const Vec<2> t_axis(-c.normal.y(), c.normal.x());
+    double t_force = h.tangential, reversal = h.reversal, previous_u = h.load_direction;
+    const double slip = c.tangential_velocity.dot(t_axis) * c.dt;  // Eq. 3.10
+    // Step 4 (Eq. 3.9): sign of T, or of the slip for T = 0.
+    const double t_hat = t_force > 0   ? 1.0
+                         : t_force < 0 ? -1.0
+                         : slip > 0    ? 1.0
+                         : slip < 0    ? -1.0
+                                       : 0.0;
+    const double slip_parallel = slip * t_hat;  // Eq. 3.11
+    // Step 8 (Eq. 3.13).
+    reversal = h.previous_normal > 0 ? reversal * (normal / h.previous_normal) : 0.0;
     double k_t = k0;
     if (slip_parallel != 0) {
-      const Vec<D> u = slip_parallel > 0 ? t_hat : Vec<D>(-t_hat);
-      // Loading reversal: T* takes the value T had when the direction of change flipped.
-      if (u.dot(previous_u) < 0) reversal = t_force;
+      const double u = slip > 0 ? 1.0 : -1.0;  // direction of the slip increment
+      if (u * previous_u < 0) reversal = t_force;
       previous_u = u;
       // Step 9 (Eq. 3.3) read along u.
-      const double t_u = t_force.dot(u), star_u = reversal.dot(u);
+      const double t_u = t_force * u, star_u = reversal * u;
       const double room = limit - star_u;
       double fraction = room > 0 ? 1.0 - (t_u - star_u) / room : 0.0;
       fraction = fraction < 0 ? 0 : (fraction > 1 ? 1 : fraction);
       k_t = k0 * (p.slip_exponent == 1.0 ? fraction : std::pow(fraction, p.slip_exponent));
     }
-    // Steps 10-12 (Eqs. 3.14-3.16).
-    Vec<D> t_new = t_force + k_t * slip_par + k0 * slip_perp;
-    // Step 13 (Eq. 3.17): |T| <= mu N.
-    const double new_sq = t_new.squaredNorm();
-    if (new_sq > limit * limit) t_new *= limit / std::sqrt(new_sq);
-
+    // Steps 10-13 (Eqs. 3.14-3.17); slip_parallel t_hat = slip.
+    double t_new = t_force + k_t * slip;
+    if (t_new > limit) t_new = limit;
+    if (t_new < -limit) t_new = -limit;
     h.tangential = t_new;
     h.reversal = reversal;
     h.load_direction = previous_u;
     h.previous_normal = normal;
-    out.tangential = t_new;
-    return out;
+    out.tangential = t_new * t_axis;
   }
 };
 

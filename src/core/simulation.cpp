@@ -24,6 +24,8 @@ using Clock = std::chrono::steady_clock;
 // region costs microseconds, more on a shared machine); the results are the
 // same either way.
 constexpr std::int64_t parallel_min_contacts = 1024;
+// Contacts ahead whose history and velocities the pair loop asks the cache for.
+constexpr std::size_t prefetch_distance = 8;
 constexpr std::int64_t parallel_min_particles = 4096;
 // Scenes this large are kept in space-filling-curve order (their data no longer
 // fits in the fast caches, so neighbours in memory matter).
@@ -188,9 +190,18 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
       bool touches = M::adhesive || dist_sq < r_sum * r_sum;
       if constexpr (M::adhesive)
         touches = M::touching(par_of[bslot[k]], hist[k], r_sum - std::sqrt(dist_sq));
-      if (touches || in_contact[k]) list.push(static_cast<std::uint32_t>(k) << 1 | touches);
+      list.push_if(static_cast<std::uint32_t>(k) << 1 | touches, touches || in_contact[k]);
     }
-    for (const std::uint32_t entry : list) {
+    const std::uint32_t* const entries = list.begin();
+    const std::size_t listed = list.count;
+    for (std::size_t e = 0; e < listed; ++e) {
+      // The contacts are sparse in the candidate arrays: fetch a few ahead.
+      if (e + prefetch_distance < listed) {
+        const std::uint32_t ahead = entries[e + prefetch_distance] >> 1;
+        __builtin_prefetch(&hist[ahead]);
+        __builtin_prefetch(&v[bj[ahead]]);
+      }
+      const std::uint32_t entry = entries[e];
       const std::int64_t k = entry >> 1;
       History& h = hist[k];
       if (!(entry & 1)) {  // history and slot were in use: clear them once
