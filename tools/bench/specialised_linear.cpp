@@ -15,7 +15,7 @@
 //   build/specialised_linear [steps=20000] [rounds=3] [settle_steps=60000]
 //
 // Not a test (timings are noisy on a shared machine): tools/bench/features_cost.sh
-// runs it beside features_cost.lua and docs/performance.md records the ratios.
+// runs it beside features_cost.lua; docs/features_cost.md records the ratios.
 #include <fmt/format.h>
 
 #include <algorithm>
