@@ -158,6 +158,7 @@ cases.mechanofusion = {
     { "inner_normal_force", "force" }, { "inner_tangential_force", "force" },
     { "kinetic_energy", "energy" }, { "max_overlap_ratio", "length" },
     { "normal_force_noise", "absolute" },
+    { "inner_normal_force_unscaled", "none" },  -- the same force compared as it is, without Eq. 5.10
   },
 }
 
@@ -210,7 +211,7 @@ function cases.mechanofusion.run(setting)
   local noise = math.sqrt(var / #block_means) / math.abs(mean)
   return { inner_normal_force = f.mean_normal_force, inner_tangential_force = f.mean_tangential_force,
            kinetic_energy = ke / math.max(samples, 1), max_overlap_ratio = overlap,
-           normal_force_noise = noise }, sim:step_count()
+           normal_force_noise = noise, inner_normal_force_unscaled = f.mean_normal_force }, sim:step_count()
 end
 
 -- A prepared agglomerate on a wall (7.6).
