@@ -510,7 +510,9 @@ void Simulation<D>::integrate() {
   const double dt = dt_;
   const bool body = body_.active();
   const bool periodic = periodic_.on();
-  const bool spins = rotation_;
+  // Spins only when a pair in use has friction; a law changed since prepare()
+  // (a friction ramp in a hook) counts as frictional until the next prepare().
+  const bool spins = rotation_ || !prepared_;
   double max_sq = max_displacement_sq_;
   std::int64_t bad = std::numeric_limits<std::int64_t>::max();
   const int threads = thread_count();

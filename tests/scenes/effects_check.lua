@@ -42,6 +42,22 @@ has(text, "rotation: off", "friction 0")
 local spin = frictionless:particle(0).spin
 assert(spin == 5, "a frictionless particle's spin changed to " .. spin)
 
+-- Friction switched on by a hook in the middle of a run (no prepare() in between):
+-- the spins must follow from that step on, not from the next run.
+do
+  local sim = simulation { dimension = 2 }
+  sim:material { name = "m", density = 1200 }
+  sim:contact { "m", "m", model = "linear", k_normal = 2e4, restitution = 0.9, friction = 0 }
+  local a = sim:add_particle { position = { 0, 0 }, velocity = { 0, 0.5 }, radius = 0.2e-3, material = "m" }
+  sim:add_particle { position = { 0.39e-3, 0 }, velocity = { 0, -0.5 }, radius = 0.2e-3, material = "m" }
+  local switched = false
+  sim:every { steps = 1, function(s)
+    if not switched then s:set_contact("m", "m", { friction = 0.5 }) switched = true end
+  end }
+  sim:run { steps = 10 }  -- one chunk of sim:run: no prepare() before its end
+  assert(sim:particle(a).spin ~= 0, "friction switched on mid-run, but the spins were not integrated")
+end
+
 local _, declared = scene { friction = 0.4, glue_law = true }
 has(declared, "adhesion: off", "JKR declared, no glue particle")
 assert(skin_of(declared) == skin_of(plain),
