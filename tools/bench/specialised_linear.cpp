@@ -282,8 +282,10 @@ int main(int argc, char** argv) {
     contacts = static_cast<std::size_t>(sim.stats().contacts_particle + sim.stats().contacts_wall);
   }
   const double n = static_cast<double>(p.size()) * static_cast<double>(steps);
-  fmt::print("scene: 2D Mechanofusion base case, {} particles, linear contacts, {} contacts, dt {:.4g} s\n",
-             p.size(), contacts, dt);
+  fmt::print(
+      "scene: 2D Mechanofusion base case, {} particles, linear contacts, {} contacts, dt {:.4g} "
+      "s\n",
+      p.size(), contacts, dt);
   fmt::print("engine       {:.4g} particle-steps/s ({:.3f} s for {} steps, best of {})\n",
              n / best_engine, best_engine, steps, rounds);
   fmt::print("specialised  {:.4g} particle-steps/s ({:.3f} s)\n", n / best_special, best_special);
