@@ -93,6 +93,7 @@ void Simulation<D>::step() {
   // Forces and torques per particle, and the reactions on the walls (the
   // inner-piece force of 4.4.1), summed over the contacts in slot order.
   if (!fused_) scatter_forces();
+  if (observed) list_logged_slots();  // simulation_log.cpp
   auto t2 = Clock::now();
   stage_times_.force += std::chrono::duration<double>(t2 - t1).count();
 

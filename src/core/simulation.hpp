@@ -180,6 +180,7 @@ class Simulation final : public SimulationBase {
   void track_contacts();
   void observe(bool contacts_logged);
   void scatter_forces();
+  void list_logged_slots();  // the contact log's active slots, from the kernels' lists
   void integrate();
   void report_non_finite(std::size_t index);
   void check_escapes();  // at each list rebuild: stops the run if a centre passed a wall

@@ -53,6 +53,10 @@ struct ContactLog {
   std::vector<V> tangential;         // N, tangential force on a
   std::vector<V> point;              // contact point, m
   bool filled = false;               // the arrays describe this step
+  // The active slots of this step in increasing order: an observer loops over
+  // these instead of every candidate slot (~10x more in the Mechanofusion base
+  // case), and sums in the same order.
+  std::vector<std::uint32_t> slots;
 
   // Events of this step (only while tracking).
   std::vector<ContactEvent<D>> began, ended;

@@ -55,8 +55,8 @@ class WallForceDiagnostic final : public Diagnostic<D> {
     V tangential = V::Zero(), total = V::Zero();
     double tangential_signed = 0;
     const auto& log = v.contacts;
-    for (std::size_t s = 0; s < log.size(); ++s) {
-      if (!log.active[s] || log.b[s] != -1 - wall_) continue;
+    for (const std::uint32_t s : log.slots) {
+      if (log.b[s] != -1 - wall_) continue;
       normal += log.normal_force[s];
       const V t_on_wall = -log.tangential[s];
       tangential += t_on_wall;
