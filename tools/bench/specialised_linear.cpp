@@ -114,8 +114,14 @@ struct Specialised {
     return t;
   }
 
+  // Stage times as the engine counts them (neighbour lists, forces, integration).
+  double t_neighbor = 0, t_force = 0, t_integrate = 0;
+
   void step() {
+    auto t0 = std::chrono::steady_clock::now();
     if (max_sq > 0.25 * skin * skin) rebuild();
+    auto t1 = std::chrono::steady_clock::now();
+    t_neighbor += std::chrono::duration<double>(t1 - t0).count();
     std::fill(f.begin(), f.end(), V::Zero());
     std::fill(torque.begin(), torque.end(), 0.0);
     // Pass 1, branch-free: list the candidates that touch (most do not; the
@@ -179,6 +185,8 @@ struct Specialised {
       f[i] += normal * n + tf * t;
       torque[i] -= (r[i] - a) * tf;
     }
+    auto t2 = std::chrono::steady_clock::now();
+    t_force += std::chrono::duration<double>(t2 - t1).count();
     // Plain pointers: through the vectors, every store might move their data
     // pointers as far as the compiler knows, and it reloads them per particle.
     const std::size_t n = x.size();
@@ -199,6 +207,7 @@ struct Specialised {
       ms = std::max(ms, (xp[i] - x0[i]).squaredNorm());
     }
     max_sq = ms;
+    t_integrate += seconds_since(t2);
   }
 
   double kinetic() const {
@@ -254,6 +263,7 @@ int main(int argc, char** argv) {
   const double dt = sim.time_step();
 
   double best_engine = 1e300, best_special = 1e300;
+  SimulationBase::StageTimes engine_stages{}, special_stages{};
   double ke_engine = 0, ke_special = 0;
   std::size_t contacts = 0;
   for (int round = 0; round < rounds; ++round) {
@@ -272,12 +282,26 @@ int main(int argc, char** argv) {
     s.rebuild();
     auto t0 = std::chrono::steady_clock::now();
     for (long k = 0; k < steps; ++k) s.step();
-    best_special = std::min(best_special, seconds_since(t0));
+    const double special = seconds_since(t0);
+    if (special < best_special) {
+      best_special = special;
+      special_stages.neighbor = s.t_neighbor;
+      special_stages.force = s.t_force;
+      special_stages.integrate = s.t_integrate;
+    }
     ke_special = s.kinetic();
 
+    const SimulationBase::StageTimes before = sim.stage_times();
     t0 = std::chrono::steady_clock::now();
     sim.advance(steps);
-    best_engine = std::min(best_engine, seconds_since(t0));
+    const double engine = seconds_since(t0);
+    if (engine < best_engine) {
+      best_engine = engine;
+      const SimulationBase::StageTimes& after = sim.stage_times();
+      engine_stages.neighbor = after.neighbor - before.neighbor;
+      engine_stages.force = after.force - before.force;
+      engine_stages.integrate = after.integrate - before.integrate;
+    }
     ke_engine = sim.stats().kinetic_translational + sim.stats().kinetic_rotational;
     contacts = static_cast<std::size_t>(sim.stats().contacts_particle + sim.stats().contacts_wall);
   }
@@ -290,6 +314,12 @@ int main(int argc, char** argv) {
              n / best_engine, best_engine, steps, rounds);
   fmt::print("specialised  {:.4g} particle-steps/s ({:.3f} s)\n", n / best_special, best_special);
   fmt::print("engine / specialised speed: {:.3f}\n", best_special / best_engine);
+  const double us = 1e6 / static_cast<double>(steps);
+  fmt::print("per step [us]   neighbour lists   forces   integration\n");
+  fmt::print("engine          {:15.2f} {:8.2f} {:13.2f}\n", engine_stages.neighbor * us,
+             engine_stages.force * us, engine_stages.integrate * us);
+  fmt::print("specialised     {:15.2f} {:8.2f} {:13.2f}\n", special_stages.neighbor * us,
+             special_stages.force * us, special_stages.integrate * us);
   fmt::print("kinetic energy after the last round: engine {:.4g} J, specialised {:.4g} J\n",
              ke_engine, ke_special);
   return 0;
