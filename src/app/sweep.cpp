@@ -434,6 +434,16 @@ class Ranks {
       MPI_Comm_size(node, &node_size_);
       MPI_Comm_free(&node);
     }
+#else
+    // Started by a launcher but built without MPI: every rank would run every case into the
+    // same files. The first runs them all; the others leave at once.
+    for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"})
+      if (const char* r = std::getenv(name); r && std::atoi(r) > 0) {
+        idle_ = true;
+        return;
+      }
+    if (std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMI_SIZE"))
+      std::cerr << "granule sweep: this granule was built without MPI; rank 0 runs every case\n";
 #endif
   }
   ~Ranks() {
@@ -451,6 +461,9 @@ class Ranks {
   }
   int per_node() const {
     return node_size_;
+  }
+  bool idle() const {  // a rank with nothing to do (a launcher, but built without MPI)
+    return idle_;
   }
   // After an error on one rank: the others may be waiting on it, so end them all.
   void abort() const {
@@ -489,7 +502,7 @@ class Ranks {
 #endif
 
  private:
-  bool active_ = false;
+  bool active_ = false, idle_ = false;
   int rank_ = 0, size_ = 1, node_size_ = 1;
 };
 
@@ -779,6 +792,7 @@ int run_sweep(const std::vector<std::string>& args) {
     return 2;
   }
   Ranks ranks;
+  if (ranks.idle()) return 0;
   try {
     return sweep(settings, ranks);
   } catch (const std::exception& e) {

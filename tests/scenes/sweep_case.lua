@@ -23,8 +23,7 @@ if p.speed == p.crash_speed then
   while true do end
 end
 sim:run { duration = p.duration }
-local until_time = wall_time() + p.hold
-while wall_time() < until_time do end
+if p.hold > 0 then os.execute(string.format("sleep %g", p.hold)) end
 local b = sim:particle(ball)
 -- Free flight: x = v t (the leap-frog is exact without forces); m = pi d^3 rho / 6 (SPEC 2).
 sim:result { distance = b.position[1], mass = b.mass, momentum = b.mass * b.velocity[1],
