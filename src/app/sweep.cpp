@@ -263,13 +263,14 @@ std::string self_executable() {
   return p.string();
 }
 
-// The first line of the error the run printed ("error: ..."), else its last line.
+// The first line of the error the run printed ("error: ..." from the scene, "granule:
+// error: ..." from the program), else its last line.
 std::string error_from_log(const std::string& log) {
   std::ifstream in(log);
   std::string line, last;
   while (std::getline(in, line)) {
-    if (line.rfind("error: ", 0) == 0) return line.substr(7);
-    if (line.rfind("granule: ", 0) == 0) return line.substr(9);
+    for (const char* prefix : {"error: ", "granule: error: "})
+      if (line.rfind(prefix, 0) == 0) return line.substr(std::strlen(prefix));
     if (!line.empty()) last = line;
   }
   return last;
@@ -777,7 +778,7 @@ int sweep(const Settings& s, Ranks& ranks) {
                    count[Status::failed],
                    finished + count[Status::failed] < cases.size() ? ", stopped early" : "", base)
             << std::flush;
-  if (stop_signal) return 130;
+  if (stop_signal) return 128 + stop_signal;  // as a shell reports a run ended by the signal
   return finished == cases.size() ? 0 : 1;
 }
 

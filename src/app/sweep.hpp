@@ -17,7 +17,8 @@
 namespace granule::app {
 
 // args: everything after "sweep". Returns the exit status: 0 when every case
-// finished, 1 when some failed, 2 for a bad command line, 130 after Ctrl-C.
+// finished, 1 when some failed, 2 for a bad command line, 128 + the signal after
+// Ctrl-C (130) or SIGTERM (143).
 int run_sweep(const std::vector<std::string>& args);
 
 }  // namespace granule::app

@@ -8,7 +8,8 @@ flight, whose results are closed-form functions of its parameters).
 serial: the product of the values, the summary against x = v t, m = pi d^3 rho / 6,
 p = m v; a Lua error and a crash (SIGSEGV) each reported while the other cases finish;
 a rerun skips finished cases but reruns one whose mark is missing and one whose file
-was cut short; a changed fixed value reruns everything; bad command lines exit 2.
+was cut short; a changed fixed value reruns everything; Ctrl-C stops the sweep with a
+summary and a rerun finishes it; bad command lines exit 2.
 mpi: `mpirun -np 2` shares the cases between both ranks and the summary is complete.
 Prints "sweep_test <mode> ok" at the end; any failed check raises.
 """
@@ -16,8 +17,10 @@ import csv
 import math
 import os
 import shutil
+import signal
 import subprocess
 import sys
+import time
 
 import h5py
 
@@ -120,6 +123,29 @@ def serial():
     for r in table(out_dir):
         if r["status"] == "ok":
             check_results(r, radius=2e-3)
+
+    # Ctrl-C (SIGINT to the sweep, passed on to its running case) stops the sweep: the summary
+    # is still written, the running case is "interrupted", the rest "not run", the status 130;
+    # running the same command again finishes them all.
+    stop_dir = os.path.join(WORK, "sweep_interrupted")
+    shutil.rmtree(stop_dir, ignore_errors=True)
+    stop_args = [GRANULE, "sweep", SCENE, "-D", "speed=1,2,3", "-D", "busy=0.6", "-o", stop_dir]
+    p = subprocess.Popen(stop_args, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    first_log = os.path.join(stop_dir, "sweep_case_speed=1.log")
+    for _ in range(600):  # until the first case has started (up to 30 s on a loaded machine)
+        if os.path.exists(first_log) and "threads" in open(first_log).read():
+            break
+        time.sleep(0.05)
+    time.sleep(0.1)
+    p.send_signal(signal.SIGINT)
+    out = p.communicate(timeout=60)[0]
+    check(p.returncode == 130, f"an interrupted sweep exits 130, got {p.returncode}", out)
+    status = [r["status"] for r in table(stop_dir)]
+    check(status == ["interrupted", "not run", "not run"], f"statuses after Ctrl-C: {status}", out)
+    p = subprocess.run(stop_args, capture_output=True, text=True, timeout=60)
+    status = [r["status"] for r in table(stop_dir)]
+    check(p.returncode == 0 and status == ["ok"] * 3, f"the rerun finishes them all: {status}",
+          p.stdout + p.stderr)
 
     # A sweep with nothing failing exits 0.
     rc, out = sweep("-D", "speed=5", "-o", os.path.join(WORK, "sweep_single"), "-q")

@@ -9,7 +9,8 @@ local p = parameters {
   density = { default = 2500, unit = "kg/m^3" },
   fail_speed = { default = -1, unit = "m/s", doc = "this speed ends with a Lua error" },
   crash_speed = { default = -1, unit = "m/s", doc = "this speed kills its own process (SIGSEGV)" },
-  hold = { default = 0, unit = "s", doc = "wall time to wait, so that parallel cases overlap" },
+  hold = { default = 0, unit = "s", doc = "wall time to sleep, so that parallel cases overlap" },
+  busy = { default = 0, unit = "s", doc = "wall time to keep Lua busy (Ctrl-C stops it at once)" },
 }
 local sim = simulation { dimension = 2, time_step = 1e-4 }
 sim:material { name = "glass", density = p.density }
@@ -23,7 +24,11 @@ if p.speed == p.crash_speed then
   while true do end
 end
 sim:run { duration = p.duration }
+-- os.execute ignores SIGINT while it waits (system(3)), so `hold` is for the MPI test and
+-- `busy` for the Ctrl-C test.
 if p.hold > 0 then os.execute(string.format("sleep %g", p.hold)) end
+local until_time = wall_time() + p.busy
+while wall_time() < until_time do end
 local b = sim:particle(ball)
 -- Free flight: x = v t (the leap-frog is exact without forces); m = pi d^3 rho / 6 (SPEC 2).
 sim:result { distance = b.position[1], mass = b.mass, momentum = b.mass * b.velocity[1],
