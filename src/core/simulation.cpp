@@ -510,6 +510,7 @@ void Simulation<D>::integrate() {
   const double dt = dt_;
   const bool body = body_.active();
   const bool periodic = periodic_.on();
+  const bool spins = rotation_;
   double max_sq = max_displacement_sq_;
   std::int64_t bad = std::numeric_limits<std::int64_t>::max();
   const int threads = thread_count();
@@ -531,9 +532,10 @@ void Simulation<D>::integrate() {
   for (std::int64_t i = 0; i < n; ++i) {
     if (fixed[i]) continue;  // immobile: its contact force stays for reports
     if (body) force[i] += body_.force(mass[i], x[i]);
-    v[i] += force[i] * (inv_mass[i] * dt);  // Eq. 4.8
-    x[i] += v[i] * dt;                      // Eq. 4.9
-    w[i] += torque[i] * (inv_inertia[i] * dt);
+    const V x_before = x[i], v_before = v[i];  // kept if this step makes them non-finite
+    v[i] += force[i] * (inv_mass[i] * dt);     // Eq. 4.8
+    x[i] += v[i] * dt;                         // Eq. 4.9
+    if (spins) w[i] += torque[i] * (inv_inertia[i] * dt);  // no friction in use: no torque
     V moved_by = x[i] - x_rebuild[i];
     if (periodic) {
       double& coordinate = x[i][pbc.axis];
@@ -544,6 +546,7 @@ void Simulation<D>::integrate() {
     if (!(moved <= max_sq)) {  // also true for NaN
       if (!std::isfinite(moved) || !std::isfinite(Dim<D>::spin_sq(w[i]))) {
         if (i < bad) bad = i;
+        x[i] = x_before, v[i] = v_before;  // the failure report writes the last finite state
         continue;
       }
       max_sq = moved;
@@ -695,6 +698,7 @@ void Simulation<D>::rebuild_lists() {
     slots += fresh.size();
   });
   build_slots();
+  check_escapes();  // a particle whose centre passed a wall (simulation_checks.cpp)
 
   position_at_rebuild_ = p_.position;
   max_displacement_sq_ = 0;
@@ -725,10 +729,10 @@ void Simulation<D>::report_non_finite(std::size_t index) {
                            p_.id[other], M::name, overlap);
     }
   });
-  fail(
-      fmt::format("step {} (t = {:.6g} s): particle {} has a non-finite position, velocity or "
-                  "spin (force {} {}){}; time step {:.4g} s",
-                  step_, time_, pid, p_.force[index][0], p_.force[index][1], detail, dt_));
+  fail(fmt::format(
+      "step {} (t = {:.6g} s): particle {} has a non-finite position, velocity or "
+      "spin (force {} {}){}; time step {:.4g} s; the output keeps its last finite state",
+      step_, time_, pid, p_.force[index][0], p_.force[index][1], detail, dt_));
 }
 
 template <int D>

@@ -127,6 +127,7 @@ class Simulation final : public SimulationBase {
   GlobalStats stats() const override;
   std::vector<ContactRecord> contacts() const override;
   std::vector<std::string> describe() const override;
+  ActiveEffects effects() const override;
 
   int attach_diagnostic(const std::string& name, DiagnosticOptions& options) override;
   // Attaches a diagnostic built in C++ (tests, embedding programs); returns its id.
@@ -163,6 +164,9 @@ class Simulation final : public SimulationBase {
     if (periodic_.on()) d[periodic_.axis] = periodic_.wrap(d[periodic_.axis]);
     return d;
   }
+  // Material pairs (a <= b) that can meet: a particle material against a
+  // particle or wall material (simulation_effects.cpp).
+  std::vector<std::pair<int, int>> pairs_in_use() const;
   void check_particle_input(const ParticleSpec& s, const std::string& context) const;
   void rebuild_lists();
   void build_slots();
@@ -178,6 +182,7 @@ class Simulation final : public SimulationBase {
   void scatter_forces();
   void integrate();
   void report_non_finite(std::size_t index);
+  void check_escapes();  // at each list rebuild: stops the run if a centre passed a wall
   Diagnostic<D>& diagnostic(int id) const;
 
   struct AttachedDiagnostic {
@@ -219,6 +224,7 @@ class Simulation final : public SimulationBase {
   std::size_t non_finite_index_ = SIZE_MAX;
   std::string dt_governing_pair_;  // the pair whose rule sets the automatic time step
   double contact_reach_ = 0;       // m, how far apart adhesive contacts persist (<= skin)
+  bool rotation_ = true;  // integrate spins: false when no pair in use has friction (prepare())
 };
 
 }  // namespace granule

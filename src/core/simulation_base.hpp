@@ -104,6 +104,27 @@ struct TimeStepReport {
   std::string governing_pair;  // "a-b (model)"
 };
 
+// What a prepared scene simulates, and so what its step pays for: the run
+// header prints it and the output writes it as attributes of /scene/effects.
+// "In use" means that the materials can meet: a material some particle has,
+// against a material some particle or wall has.
+struct ActiveEffects {
+  int dimension = 0;
+  bool periodic = false;
+  std::vector<std::string> pairs;           // "a-b model" for every pair in use
+  std::vector<std::string> adhesive_pairs;  // those whose model is adhesive (JKR)
+  bool adhesion = false;                    // an adhesive pair is in use
+  bool friction = false;                    // a pair in use has friction > 0
+  bool rotation = false;  // torques are integrated (= friction: without it no torque acts)
+  bool gravity = false;
+  bool central_field = false;
+  std::vector<std::string> moving_walls;  // planes with a velocity, cylinders that turn
+  std::vector<std::string> diagnostics;
+  bool contacts_recorded = false;
+  int hooks = 0;
+  int threads = 1;
+};
+
 class SimulationBase {
  public:
   virtual ~SimulationBase() = default;
@@ -200,6 +221,8 @@ class SimulationBase {
   virtual std::vector<ContactRecord> contacts() const = 0;
   // Lines describing what this scene simulates (models in use, walls, fields, hooks).
   virtual std::vector<std::string> describe() const = 0;
+  // What the scene simulates (see ActiveEffects); valid before and after prepare().
+  virtual ActiveEffects effects() const = 0;
 
   // ---- checkpoints ----
   virtual StateBlob save_state() const = 0;

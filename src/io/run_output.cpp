@@ -129,6 +129,33 @@ void RunOutput::write_header() {
       f.write_attribute(g, "angular_velocity", s.angular_velocity);
     }
   }
+  // What is simulated, as attributes a script can test (1/0, and lists joined by ", ").
+  {
+    const ActiveEffects e = sim_.effects();
+    const std::string g = "/scene/effects";
+    auto flag = [&](const char* name, bool on) {
+      f.write_attribute(g, name, static_cast<std::int64_t>(on ? 1 : 0));
+    };
+    auto list = [&](const char* name, const std::vector<std::string>& items) {
+      std::string joined;
+      for (const auto& item : items) joined += (joined.empty() ? "" : ", ") + item;
+      f.write_attribute(g, name, joined);
+    };
+    f.write_attribute(g, "dimension", static_cast<std::int64_t>(e.dimension));
+    flag("periodic", e.periodic);
+    list("pairs", e.pairs);
+    flag("adhesion", e.adhesion);
+    list("adhesive_pairs", e.adhesive_pairs);
+    flag("friction", e.friction);
+    flag("rotation", e.rotation);
+    flag("gravity", e.gravity);
+    flag("central_field", e.central_field);
+    flag("moving_walls", !e.moving_walls.empty());
+    list("moving_wall_names", e.moving_walls);
+    list("diagnostics", e.diagnostics);
+    flag("contacts_recorded", e.contacts_recorded);
+    f.write_attribute(g, "threads", static_cast<std::int64_t>(e.threads));
+  }
   std::string lines;
   for (const auto& l : sim_.describe()) lines += l + "\n";
   f.write_text("/scene/description", lines);

@@ -285,7 +285,7 @@ const std::vector<FunctionDoc> entries = {
 {"sim:step_count", "simulation", P, "sim:step_count() -> integer", "Steps taken so far.", {}, ""},
 {"sim:time_step", "simulation", P, "sim:time_step() -> number", "The time step [s] (chosen now if automatic).", {}, ""},
 {"sim:time_step_rule", "simulation", P, "sim:time_step_rule() -> { rule =, stability_limit =, governing_pair = }",
- "What the time step rule gives [s], the leap-frog stability limit [s], and which pair governs.", {}, ""},
+ "What the time step rule gives [s], the largest time step accepted (1/omega, half leap-frog's limit) [s], and which pair governs.", {}, ""},
 {"sim:describe", "simulation", P, "sim:describe() -> string",
  "What this scene simulates: models in use, walls, fields, hooks (the run header).", {}, ""},
 {"sim:dimension", "simulation", P, "sim:dimension() -> 2|3", "The dimension of the simulation.", {}, ""},

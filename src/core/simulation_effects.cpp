@@ -1,0 +1,69 @@
+// What a scene simulates (ActiveEffects): the material pairs that can meet,
+// and from them whether adhesion and rotation are in play; fields, moving
+// walls, diagnostics. The run header and /scene/effects report it, and
+// prepare() takes from it what the step may skip (spins when nothing has
+// friction, the adhesive reach of pairs that never meet).
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "core/simulation.hpp"
+
+namespace granule {
+
+template <int D>
+std::vector<std::pair<int, int>> Simulation<D>::pairs_in_use() const {
+  const int nm = static_cast<int>(materials_.size());
+  std::vector<char> particle(nm, 0), any(nm, 0);
+  for (int m : p_.material) particle[m] = any[m] = 1;
+  for (const auto& w : walls_) any[w.material] = 1;
+  std::vector<std::pair<int, int>> out;
+  for (int a = 0; a < nm; ++a)
+    for (int b = a; b < nm; ++b)
+      if ((particle[a] && any[b]) || (particle[b] && any[a])) out.emplace_back(a, b);
+  return out;
+}
+
+template <int D>
+ActiveEffects Simulation<D>::effects() const {
+  ActiveEffects e;
+  e.dimension = D;
+  e.periodic = periodic_.on();
+  const auto catalogue = contact_model_catalogue();
+  for (auto [a, b] : pairs_in_use()) {
+    const PairTable::Entry& entry = pairs_.at(a, b);
+    if (entry.model < 0) continue;  // prepare() refuses the scene if such a pair can occur
+    const std::string label = fmt::format("{}-{} {}", materials_[a].name, materials_[b].name,
+                                          catalogue[entry.model].name);
+    e.pairs.push_back(label);
+    bool adhesive = false;
+    for_each_model([&](auto index) {
+      constexpr int I = decltype(index)::value;
+      if (entry.model == I) adhesive = ContactModelAt<I>::adhesive;
+    });
+    if (adhesive) e.adhesive_pairs.push_back(label);
+    // Every model caps the tangential force at mu times a normal force
+    // (Eqs. 3.5, 6.8-6.10, 6.23-6.25): with mu = 0 no torque can act.
+    const ParamValues& values = pairs_.values(a, b);
+    auto mu = values.find("friction");
+    if (mu == values.end() || mu->second != 0) e.friction = true;
+  }
+  e.adhesion = !e.adhesive_pairs.empty();
+  e.rotation = e.friction;
+  e.gravity = body_.gravity_on;
+  e.central_field = body_.central_on && body_.central_strength != 0;
+  for (const auto& w : walls_)
+    if ((w.type == WallType::plane && !w.velocity.isZero()) ||
+        (w.type == WallType::cylinder && w.angular_velocity != 0))
+      e.moving_walls.push_back(w.name);
+  for (const auto& d : diagnostics_) e.diagnostics.push_back(d.name);
+  e.contacts_recorded = record_contacts_;
+  e.hooks = static_cast<int>(hooks_.size());
+  e.threads = thread_count();
+  return e;
+}
+
+template class Simulation<2>;
+template class Simulation<3>;
+
+}  // namespace granule
