@@ -14,7 +14,7 @@ local p = parameters {
 }
 local sim = simulation { dimension = 2, time_step = 1e-4 }
 sim:material { name = "glass", density = p.density }
-sim:contact { "glass", "glass", model = "linear", k_normal = 1e3, restitution = 0.9, friction = 0.3 }
+sim:contact { "glass", "glass", model = "linear", k_normal = 1e2, restitution = 0.9, friction = 0.3 }
 local ball = sim:add_particle { position = { 0, 0 }, velocity = { p.speed, 0 }, radius = p.radius,
                                 material = "glass" }
 sim:output {}
