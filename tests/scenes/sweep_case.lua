@@ -12,7 +12,7 @@ local p = parameters {
   hold = { default = 0, unit = "s", doc = "wall time to sleep, so that parallel cases overlap" },
   busy = { default = 0, unit = "s", doc = "wall time to keep Lua busy (Ctrl-C stops it at once)" },
 }
-local sim = simulation { dimension = 2, time_step = 1e-4 }
+local sim = simulation { dimension = 2, time_step = 1e-5 }
 sim:material { name = "glass", density = p.density }
 sim:contact { "glass", "glass", model = "linear", k_normal = 1e3, restitution = 0.9, friction = 0.3 }
 local ball = sim:add_particle { position = { 0, 0 }, velocity = { p.speed, 0 }, radius = p.radius,
