@@ -369,6 +369,8 @@ class RunningCase {
   bool forwarded_ = false;
 };
 
+#ifdef GRANULE_HAVE_MPI
+// A worker rank runs its cases one at a time, waiting on each.
 Outcome run_case(const Settings& s, const Case& c, int threads, int rank) {
   Outcome out;
   out.index = c.index;
@@ -417,6 +419,8 @@ Outcome decode(const std::string& text) {
   }
   return o;
 }
+
+#endif  // GRANULE_HAVE_MPI
 
 // MPI when the program was started by a launcher (mpirun, mpiexec); otherwise none, so
 // that a plain `granule sweep` never waits on an MPI start-up it does not need.
