@@ -793,7 +793,11 @@ int run_sweep(const std::vector<std::string>& args) {
   try {
     settings = parse(args);
   } catch (const UsageError& e) {
-    std::cerr << "granule sweep: " << e.what() << "\n" << sweep_usage;
+    // Under a launcher every rank finds the same mistake: one message is enough.
+    const char* rank = std::getenv("OMPI_COMM_WORLD_RANK");
+    if (!rank) rank = std::getenv("PMI_RANK");
+    if (!rank || std::atoi(rank) == 0)
+      std::cerr << "granule sweep: " << e.what() << "\n" << sweep_usage;
     return 2;
   }
   Ranks ranks;
