@@ -662,9 +662,10 @@ int sweep(const Settings& s, Ranks& ranks) {
       std::cerr << "granule sweep: cannot make the output directory '" << s.directory << "'\n";
     return 2;
   }
-  // Several ranks on one node share its cores unless told otherwise.
+  // Several ranks on one node share its cores unless told otherwise (--threads, or
+  // OMP_NUM_THREADS, which the cases then read themselves).
   int threads = s.threads;
-  if (threads == 0 && ranks.per_node() > 1)
+  if (threads == 0 && ranks.per_node() > 1 && !std::getenv("OMP_NUM_THREADS"))
     threads = std::max(1, int(std::thread::hardware_concurrency()) / ranks.per_node());
 
   std::signal(SIGINT, on_stop_signal);
