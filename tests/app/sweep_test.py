@@ -9,7 +9,7 @@ serial: the product of the values, the summary against x = v t, m = pi d^3 rho /
 p = m v; a Lua error and a crash (SIGSEGV) each reported while the other cases finish;
 a rerun skips finished cases but reruns one whose mark is missing and one whose file
 was cut short; a changed fixed value reruns everything; Ctrl-C stops the sweep with a
-summary and a rerun finishes it; bad command lines exit 2.
+summary and a rerun finishes it; --list and --case-timeout; bad command lines exit 2.
 mpi: `mpirun -np 2` shares the cases between both ranks and the summary is complete.
 Prints "sweep_test <mode> ok" at the end; any failed check raises.
 """
@@ -92,6 +92,11 @@ def serial():
     with open(os.path.join(out_dir, "sweep_case.sweep.md")) as f:
         check(f.read().count("| ok |") == 4, "the markdown summary lists the finished cases")
 
+    # --list names every case and its file, marks the finished ones, runs nothing.
+    rc, out = sweep(*args, "--list")
+    check(rc == 0 and out.count("(finished)") == 4 and len(out.splitlines()) == 8,
+          "--list shows the 8 cases, 4 of them finished", out)
+
     # Rerun: finished cases are skipped, a case whose mark is missing (killed after the run,
     # before the mark) and one whose file is cut short (killed while writing) run again.
     ok = [r for r in rows if r["status"] == "ok"]
@@ -146,6 +151,14 @@ def serial():
     status = [r["status"] for r in table(stop_dir)]
     check(p.returncode == 0 and status == ["ok"] * 3, f"the rerun finishes them all: {status}",
           p.stdout + p.stderr)
+
+    # --case-timeout stops a case that runs too long; the sweep goes on.
+    rc, out = sweep("-D", "speed=1,2", "-D", "busy=20", "-D", "fail_speed=2", "--case-timeout", "0.5",
+                    "-o", os.path.join(WORK, "sweep_timeout"))
+    rows = table(os.path.join(WORK, "sweep_timeout"))
+    check(rc == 1 and "--case-timeout" in rows[0]["error"] and float(rows[0]["wall_s"]) < 15,
+          f"a case over --case-timeout is stopped and reported: {rows[0]}", out)
+    check("told to fail" in rows[1]["error"], "the next case still runs after a timeout", out)
 
     # A sweep with nothing failing exits 0.
     rc, out = sweep("-D", "speed=5", "-o", os.path.join(WORK, "sweep_single"), "-q")
