@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <fmt/format.h>
+#include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -319,6 +320,11 @@ class RunningCase {
         dup2(fd, 2);
         close(fd);
       }
+      // Nothing of the rank's (MPI sockets, shared memory) stays open in the case.
+#ifdef SYS_close_range
+      if (syscall(SYS_close_range, 3U, ~0U, 0U) != 0)
+#endif
+        for (int other = 3; other < 1024; ++other) close(other);
       signal(SIGINT, SIG_DFL);
       signal(SIGTERM, SIG_DFL);
       execve(argv[0], argv.data(), env.data());
