@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -18,6 +19,7 @@
 #include <iostream>
 #include <lua.hpp>
 #include <map>
+#include <memory>
 #include <set>
 #include <sstream>
 #include <string>
