@@ -249,6 +249,9 @@ std::string check_parameters(const Settings& s, const Case& c) {
   ctx.parameters_only = true;
   for (const auto& [name, value] : c.values) ctx.overrides[name] = value;
   lua_State* L = lua::new_state(&ctx);
+  // What a scene prints before its parameters{...} would appear once per case: not here.
+  lua_pushcfunction(L, [](lua_State*) { return 0; });
+  lua_setglobal(L, "print");
   lua::make_globals_strict(L);
   std::string err = lua::run_file(L, s.scene);
   lua_close(L);
