@@ -30,6 +30,7 @@ const char* usage =
     "              [--restart CHECKPOINT.h5]\n"
     "  granule repl [SCENE.lua] [-D name=value ...]\n"
     "  granule sweep SCENE.lua -D name=v1,v2,... [-D ...] [-o DIR] [--threads N] [-q]\n"
+    "              [--case-timeout SECONDS] [--list]\n"
     "  granule models\n"
     "  granule api [NAME | --markdown]\n"
     "  granule --version\n"

@@ -2,10 +2,12 @@
 
 #include <fcntl.h>
 #include <fmt/format.h>
+#include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -17,6 +19,7 @@
 #include <iostream>
 #include <lua.hpp>
 #include <map>
+#include <memory>
 #include <set>
 #include <sstream>
 #include <string>
@@ -42,7 +45,7 @@ namespace fs = std::filesystem;
 
 const char* sweep_usage =
     "usage: granule sweep SCENE.lua -D name=v1,v2,... [-D name=value ...] [-o DIR]\n"
-    "                     [--threads N] [-q]\n"
+    "                     [--threads N] [-q] [--case-timeout SECONDS] [--list]\n"
     "  runs every combination of the listed values, one `granule run` per case;\n"
     "  under mpirun the cases are shared among the ranks (see docs/performance.md)\n";
 
@@ -60,6 +63,8 @@ struct Settings {
   std::vector<Axis> axes;
   int threads = 0;  // 0: the scene's own choice (or, under MPI, the cores shared out)
   bool quiet = false;
+  bool list_only = false;   // --list: print the cases and their files, run nothing
+  double case_timeout = 0;  // s of wall time per case; 0 = none
 };
 
 struct Case {
@@ -157,6 +162,15 @@ Settings parse(const std::vector<std::string>& args) {
       s.threads = static_cast<int>(n);
     } else if (a == "-q" || a == "--quiet") {
       s.quiet = true;
+    } else if (a == "--list") {
+      s.list_only = true;
+    } else if (a == "--case-timeout") {
+      const std::string& v = value();
+      char* end = nullptr;
+      double t = std::strtod(v.c_str(), &end);
+      if (v.empty() || *end != 0 || !(t > 0) || !std::isfinite(t))
+        throw UsageError("--case-timeout expects seconds > 0, got '" + v + "'");
+      s.case_timeout = t;
     } else if (a == "--restart") {
       throw UsageError("--restart is for one run; a sweep reruns what is not finished");
     } else if (!a.empty() && a[0] == '-') {
@@ -235,6 +249,9 @@ std::string check_parameters(const Settings& s, const Case& c) {
   ctx.parameters_only = true;
   for (const auto& [name, value] : c.values) ctx.overrides[name] = value;
   lua_State* L = lua::new_state(&ctx);
+  // What a scene prints before its parameters{...} would appear once per case: not here.
+  lua_pushcfunction(L, [](lua_State*) { return 0; });
+  lua_setglobal(L, "print");
   lua::make_globals_strict(L);
   std::string err = lua::run_file(L, s.scene);
   lua_close(L);
@@ -279,7 +296,7 @@ std::string error_from_log(const std::string& log) {
 class RunningCase {
  public:
   RunningCase(const Settings& s, const Case& c, int threads, int rank)
-      : case_(c), rank_(rank), start_(std::chrono::steady_clock::now()) {
+      : case_(c), rank_(rank), timeout_(s.case_timeout), start_(std::chrono::steady_clock::now()) {
     std::vector<std::string> args{self_executable(), "run", s.scene};
     for (const auto& [name, value] : c.values) args.insert(args.end(), {"-D", name + "=" + value});
     args.insert(args.end(), {"-o", c.file});
@@ -288,27 +305,36 @@ class RunningCase {
     std::vector<char*> argv;
     for (auto& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
+    // The case is a plain `granule run`: it must not take itself for an MPI rank, so the
+    // launcher's variables stay behind. Everything is prepared before fork(): an MPI rank
+    // has threads of its own, and the child may only make async-signal-safe calls.
+    std::vector<char*> env;
+    for (char** e = environ; *e; ++e)
+      if (std::strncmp(*e, "OMPI_", 5) != 0 && std::strncmp(*e, "PMIX_", 5) != 0 &&
+          std::strncmp(*e, "PMI_", 4) != 0)
+        env.push_back(*e);
+    env.push_back(nullptr);
+    const char* log = c.log.c_str();
+    std::string exec_error = std::string("error: cannot run ") + argv[0] + "\n";
     pid_ = fork();
     if (pid_ < 0) throw std::runtime_error(std::string("cannot start a case: ") + strerror(errno));
     if (pid_ == 0) {
-      int fd = open(c.log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      int fd = open(log, O_WRONLY | O_CREAT | O_TRUNC, 0644);
       if (fd >= 0) {
         dup2(fd, 1);
         dup2(fd, 2);
         close(fd);
       }
-      // The case is a plain `granule run`: it must not take itself for an MPI rank.
-      std::vector<std::string> launcher;
-      for (char** e = environ; *e; ++e) {
-        std::string v(*e);
-        if (v.rfind("OMPI_", 0) == 0 || v.rfind("PMIX_", 0) == 0 || v.rfind("PMI_", 0) == 0)
-          launcher.push_back(v.substr(0, v.find('=')));
-      }
-      for (const auto& name : launcher) unsetenv(name.c_str());
-      std::signal(SIGINT, SIG_DFL);
-      std::signal(SIGTERM, SIG_DFL);
-      execv(argv[0], argv.data());
-      std::fprintf(stderr, "error: cannot run %s: %s\n", argv[0], strerror(errno));
+      // Nothing of the rank's (MPI sockets, shared memory) stays open in the case.
+#ifdef SYS_close_range
+      if (syscall(SYS_close_range, 3U, ~0U, 0U) != 0)
+#endif
+        for (int other = 3; other < 1024; ++other) close(other);
+      signal(SIGINT, SIG_DFL);
+      signal(SIGTERM, SIG_DFL);
+      execve(argv[0], argv.data(), env.data());
+      ssize_t ignored = write(2, exec_error.data(), exec_error.size());
+      (void)ignored;
       _exit(127);
     }
   }
@@ -320,16 +346,26 @@ class RunningCase {
       kill(pid_, stop_signal);
       forwarded_ = true;
     }
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    if (timeout_ > 0 && elapsed > timeout_ && !timed_out_) {
+      kill(pid_, SIGTERM);
+      timed_out_ = true;
+    } else if (timed_out_ && elapsed > timeout_ + 10) {
+      kill(pid_, SIGKILL);  // ten seconds after SIGTERM
+    }
     int status = 0;
     pid_t r = waitpid(pid_, &status, WNOHANG);
     if (r == 0 || (r < 0 && errno == EINTR)) return false;
     out.index = case_.index;
     out.rank = rank_;
-    out.wall_seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    out.wall_seconds = elapsed;
     if (r < 0) {
       out.status = Status::failed;
       out.error = std::string("lost the case's process: ") + strerror(errno);
+    } else if (timed_out_ && !(WIFEXITED(status) && WEXITSTATUS(status) == 0)) {
+      out.status = Status::failed;
+      out.error = fmt::format("stopped after {:g} s (--case-timeout)", timeout_);
     } else if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
       finish(out);
     } else if (WIFSIGNALED(status)) {
@@ -364,11 +400,14 @@ class RunningCase {
 
   Case case_;
   int rank_;
+  double timeout_;
   std::chrono::steady_clock::time_point start_;
   pid_t pid_ = -1;
-  bool forwarded_ = false;
+  bool forwarded_ = false, timed_out_ = false;
 };
 
+#ifdef GRANULE_HAVE_MPI
+// A worker rank runs its cases one at a time, waiting on each.
 Outcome run_case(const Settings& s, const Case& c, int threads, int rank) {
   Outcome out;
   out.index = c.index;
@@ -417,6 +456,8 @@ Outcome decode(const std::string& text) {
   }
   return o;
 }
+
+#endif  // GRANULE_HAVE_MPI
 
 // MPI when the program was started by a launcher (mpirun, mpiexec); otherwise none, so
 // that a plain `granule sweep` never waits on an MPI start-up it does not need.
@@ -651,6 +692,16 @@ int sweep(const Settings& s, Ranks& ranks) {
       return 2;
     }
   }
+  if (s.list_only) {
+    if (lead)
+      for (const Case& c : cases) {
+        auto record = io::read_case_record(c.file);
+        bool finished = record && record->key == c.key;
+        std::cout << fmt::format("{} {} -> {}{}\n", c.index, describe(c), c.file,
+                                 finished ? " (finished)" : "");
+      }
+    return 0;
+  }
   std::error_code ec;
   fs::create_directories(s.directory, ec);
   if (!fs::is_directory(s.directory, ec)) {
@@ -658,9 +709,10 @@ int sweep(const Settings& s, Ranks& ranks) {
       std::cerr << "granule sweep: cannot make the output directory '" << s.directory << "'\n";
     return 2;
   }
-  // Several ranks on one node share its cores unless told otherwise.
+  // Several ranks on one node share its cores unless told otherwise (--threads, or
+  // OMP_NUM_THREADS, which the cases then read themselves).
   int threads = s.threads;
-  if (threads == 0 && ranks.per_node() > 1)
+  if (threads == 0 && ranks.per_node() > 1 && !std::getenv("OMP_NUM_THREADS"))
     threads = std::max(1, int(std::thread::hardware_concurrency()) / ranks.per_node());
 
   std::signal(SIGINT, on_stop_signal);
@@ -789,7 +841,11 @@ int run_sweep(const std::vector<std::string>& args) {
   try {
     settings = parse(args);
   } catch (const UsageError& e) {
-    std::cerr << "granule sweep: " << e.what() << "\n" << sweep_usage;
+    // Under a launcher every rank finds the same mistake: one message is enough.
+    const char* rank = std::getenv("OMPI_COMM_WORLD_RANK");
+    if (!rank) rank = std::getenv("PMI_RANK");
+    if (!rank || std::atoi(rank) == 0)
+      std::cerr << "granule sweep: " << e.what() << "\n" << sweep_usage;
     return 2;
   }
   Ranks ranks;

@@ -1,4 +1,5 @@
 // granule sweep SCENE.lua -D rpm=500,1000 -D gap=1.2e-3,1.6e-3 [-o DIR] [--threads N] [-q]
+//               [--case-timeout SECONDS] [--list]
 //
 // Runs the Cartesian product of the listed parameter values, one `granule run`
 // per case in a child process (a case that crashes takes only itself down),

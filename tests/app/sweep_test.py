@@ -6,10 +6,11 @@ flight, whose results are closed-form functions of its parameters).
     sweep_test.py mpi GRANULE SOURCE_DIR WORK_DIR MPIRUN
 
 serial: the product of the values, the summary against x = v t, m = pi d^3 rho / 6,
-p = m v; a Lua error and a crash (SIGSEGV) each reported while the other cases finish;
+p = m v; a Lua error, a crash (SIGSEGV) and a time step the engine refuses, each
+reported while the other cases finish;
 a rerun skips finished cases but reruns one whose mark is missing and one whose file
 was cut short; a changed fixed value reruns everything; Ctrl-C stops the sweep with a
-summary and a rerun finishes it; bad command lines exit 2.
+summary and a rerun finishes it; --list and --case-timeout; bad command lines exit 2.
 mpi: `mpirun -np 2` shares the cases between both ranks and the summary is complete.
 Prints "sweep_test <mode> ok" at the end; any failed check raises.
 """
@@ -62,18 +63,21 @@ def check_results(row, radius=RADIUS):
 def serial():
     out_dir = os.path.join(WORK, "sweep_serial")
     shutil.rmtree(out_dir, ignore_errors=True)
-    args = ["-D", "speed=1,2,3,4", "-D", "duration=0.01,0.02", "-D", "fail_speed=3", "-D", "crash_speed=4",
-            "-o", out_dir]
+    args = ["-D", "speed=1,2,3,4,5", "-D", "duration=0.01,0.02", "-D", "fail_speed=3", "-D", "crash_speed=4",
+            "-D", "unstable_speed=5", "-o", out_dir]
     rc, out = sweep(*args)
     check(rc == 1, f"a sweep with failed cases exits 1, got {rc}", out)
     rows = table(out_dir)
-    check(len(rows) == 8, f"4 speeds x 2 durations = 8 cases, the summary has {len(rows)}", out)
+    check(len(rows) == 10, f"5 speeds x 2 durations = 10 cases, the summary has {len(rows)}", out)
     # The last -D varies fastest: (1, 0.01), (1, 0.02), (2, 0.01), ...
     check([(r["speed"], r["duration"]) for r in rows] ==
-          [(v, t) for v in "1234" for t in ("0.01", "0.02")], "cases in product order", out)
+          [(v, t) for v in "12345" for t in ("0.01", "0.02")], "cases in product order", out)
     for r in rows:
         v = float(r["speed"])
-        if v == 3:
+        if v == 5:
+            check(r["status"] == "failed" and "above the stability limit" in r["error"],
+                  f"case {r['case']}: the engine's refusal is reported, got {r}", out)
+        elif v == 3:
             check(r["status"] == "failed" and "speed 3 is the one told to fail" in r["error"],
                   f"case {r['case']}: the Lua error is reported, got {r}", out)
         elif v == 4:
@@ -91,6 +95,11 @@ def serial():
         check(f["sweep/distance"].shape == (4,), "the HDF5 summary has the results as columns")
     with open(os.path.join(out_dir, "sweep_case.sweep.md")) as f:
         check(f.read().count("| ok |") == 4, "the markdown summary lists the finished cases")
+
+    # --list names every case and its file, marks the finished ones, runs nothing.
+    rc, out = sweep(*args, "--list")
+    check(rc == 0 and out.count("(finished)") == 4 and len(out.splitlines()) == 10,
+          "--list shows the 10 cases, 4 of them finished", out)
 
     # Rerun: finished cases are skipped, a case whose mark is missing (killed after the run,
     # before the mark) and one whose file is cut short (killed while writing) run again.
@@ -146,6 +155,14 @@ def serial():
     status = [r["status"] for r in table(stop_dir)]
     check(p.returncode == 0 and status == ["ok"] * 3, f"the rerun finishes them all: {status}",
           p.stdout + p.stderr)
+
+    # --case-timeout stops a case that runs too long; the sweep goes on.
+    rc, out = sweep("-D", "speed=1,2", "-D", "busy=20", "-D", "fail_speed=2", "--case-timeout", "0.5",
+                    "-o", os.path.join(WORK, "sweep_timeout"))
+    rows = table(os.path.join(WORK, "sweep_timeout"))
+    check(rc == 1 and "--case-timeout" in rows[0]["error"] and float(rows[0]["wall_s"]) < 15,
+          f"a case over --case-timeout is stopped and reported: {rows[0]}", out)
+    check("told to fail" in rows[1]["error"], "the next case still runs after a timeout", out)
 
     # A sweep with nothing failing exits 0.
     rc, out = sweep("-D", "speed=5", "-o", os.path.join(WORK, "sweep_single"), "-q")

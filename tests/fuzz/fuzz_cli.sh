@@ -72,6 +72,9 @@ refused "sweep: not a number" sweep "$scene" -D velocity=1,fast -o sweep_out
 refused "sweep: --restart" sweep "$scene" --restart x.h5
 refused "sweep: -o empty" sweep "$scene" -o ""
 refused "sweep: unknown option" sweep "$scene" --frobnicate
+refused "sweep: --case-timeout 0" sweep "$scene" --case-timeout 0
+refused "sweep: --case-timeout text" sweep "$scene" --case-timeout soon
+refused "sweep: --case-timeout without a value" sweep "$scene" --case-timeout
 
 # ---- malformed scenes ----
 scene_file empty.lua ""

@@ -1,7 +1,8 @@
 -- One case of the `granule sweep` tests (tests/app/sweep_test.py): a sphere in
 -- free flight, so every result is a closed-form function of the parameters
--- the sweep sets, and a case can be told to fail (a Lua error, or the process
--- killed by a signal) so that the tests can check the others carry on.
+-- the sweep sets, and a case can be told to fail (a Lua error, the process
+-- killed by a signal, a time step the engine refuses) so that the tests can
+-- check the others carry on.
 local p = parameters {
   speed = { default = 1.0, unit = "m/s", doc = "velocity of the sphere along x" },
   duration = { default = 0.01, unit = "s", doc = "time of flight" },
@@ -9,10 +10,11 @@ local p = parameters {
   density = { default = 2500, unit = "kg/m^3" },
   fail_speed = { default = -1, unit = "m/s", doc = "this speed ends with a Lua error" },
   crash_speed = { default = -1, unit = "m/s", doc = "this speed kills its own process (SIGSEGV)" },
+  unstable_speed = { default = -1, unit = "m/s", doc = "this speed asks for a time step the engine refuses" },
   hold = { default = 0, unit = "s", doc = "wall time to sleep, so that parallel cases overlap" },
   busy = { default = 0, unit = "s", doc = "wall time to keep Lua busy (Ctrl-C stops it at once)" },
 }
-local sim = simulation { dimension = 2, time_step = 1e-4 }
+local sim = simulation { dimension = 2, time_step = p.speed == p.unstable_speed and 1 or 1e-5 }
 sim:material { name = "glass", density = p.density }
 sim:contact { "glass", "glass", model = "linear", k_normal = 1e2, restitution = 0.9, friction = 0.3 }
 local ball = sim:add_particle { position = { 0, 0 }, velocity = { p.speed, 0 }, radius = p.radius,
