@@ -1,0 +1,61 @@
+-- The run header says what a scene simulates (issue 7): adhesion only for adhesive
+-- pairs that can meet, rotation only with friction, moving walls, fields; an
+-- adhesive law declared for a material no particle has neither runs nor widens
+-- the skin. tests/scenes/effects_check.py then reads /scene/effects.
+local p = parameters { out = { default = "effects_check.h5" } }
+local function scene(opts)
+  local sim = simulation { dimension = 2 }
+  sim:material { name = "powder", density = 1200, young = 1e8, poisson = 0.3 }
+  -- very soft and sticky: its JKR contacts last until the surfaces are ~0.5 mm apart (Eq. 6.14),
+  -- more than the automatic skin of 0.1 mm
+  sim:material { name = "glue", density = 1200, young = 1e4, poisson = 0.3, surface_energy = 2 }
+  sim:material { name = "steel", density = 0, young = 2e11, poisson = 0.3 }
+  sim:contact { "powder", "powder", model = "linear", k_normal = 2e4, restitution = 0.9, friction = opts.friction }
+  sim:contact { "powder", "steel", model = "linear", k_normal = 2e4, restitution = 0.9, friction = opts.friction }
+  if opts.glue_law then
+    sim:contact { "glue", "glue", model = "thornton_jkr", friction = 0.3 }
+    sim:contact { "glue", "powder", model = "thornton_jkr", friction = 0.3 }
+    sim:contact { "glue", "steel", model = "thornton_jkr", friction = 0.3 }
+  end
+  sim:wall_plane { name = "floor", point = { 0, 0 }, normal = { 0, 1 }, material = "steel",
+                   velocity = opts.moving and { 0.01, 0 } or nil }
+  sim:add_particle { position = { 0, 1e-3 }, radius = 0.2e-3, material = "powder", spin = 5 }
+  sim:add_particle { position = { 1e-3, 1e-3 }, radius = 0.2e-3, material = opts.glue_particle and "glue" or "powder" }
+  if opts.gravity then sim:gravity(opts.gravity) end
+  sim:run { steps = 10 }
+  return sim, sim:describe()
+end
+local function has(text, piece, what)
+  assert(text:find(piece, 1, true), string.format("%s: the header lacks '%s':\n%s", what, piece, text))
+end
+local function skin_of(text) return tonumber(text:match("skin ([%d%.e%-]+) m")) end
+
+local _, plain = scene { friction = 0.4 }
+has(plain, "adhesion: off", "plain")
+has(plain, "rotation: spins integrated", "plain")
+has(plain, "moving walls: none", "plain")
+has(plain, "gravity: off", "plain")
+
+local frictionless, text = scene { friction = 0 }
+has(text, "rotation: off", "friction 0")
+-- No torque acts, and the spin the scene gave stays as it was.
+local spin = frictionless:particle(0).spin
+assert(spin == 5, "a frictionless particle's spin changed to " .. spin)
+
+local _, declared = scene { friction = 0.4, glue_law = true }
+has(declared, "adhesion: off", "JKR declared, no glue particle")
+assert(skin_of(declared) == skin_of(plain),
+  string.format("an unused adhesive law changed the skin from %s to %s m", skin_of(plain), skin_of(declared)))
+
+local _, glued = scene { friction = 0.4, glue_law = true, glue_particle = true }
+has(glued, "adhesion: on (", "a glue particle")
+has(glued, "glue-glue thornton_jkr", "a glue particle")
+assert(skin_of(glued) > skin_of(plain), "the JKR reach did not widen the skin")
+
+local sim, moving = scene { friction = 0.4, moving = true, gravity = { 0, 0 } }
+has(moving, "moving walls: floor", "moving floor")
+has(moving, "gravity: off", "gravity declared zero")
+sim:output { file = p.out }
+sim:run { steps = 1 }
+sim:close()
+print("effects_check ok")

@@ -1,0 +1,419 @@
+-- What accuracy costs in time (issue 7). For a chosen case, varies each knob that
+-- trades accuracy for speed, one at a time from the default setting, and reports
+-- per setting the error of the quantities a user cares about against a fine
+-- reference run, and the wall time.
+--
+--   build/granule run tools/accuracy.lua -D case=impact [-D knob=steps_per_contact] [-D values=10,20,40]
+--   build/granule run tools/accuracy.lua -D case=mechanofusion -D knob=stiffness
+--   build/granule run tools/accuracy.lua -D case=agglomerate -D file=agglomerate_test.h5
+--   /usr/bin/python3 tools/plot_accuracy.py accuracy_impact.csv     # error vs wall time, one curve per knob
+--
+-- Cases and what they measure:
+--   impact         binary impacts of dissertation 3.4 (Walton-Braun, 0.4 mm spheres, 1 m/s):
+--                  head-on restitution, contact duration, largest overlap and force;
+--                  oblique (30 deg, mu = 0.4) tangential rebound and spin; elastic
+--                  (linear, e = 1) energy drift |KE_after / KE_before - 1|
+--   mechanofusion  the 2D base case (Table 4.1: 1500 particles, 2000 rpm, scraper):
+--                  mean normal and tangential force on the inner piece (4.4.1, the
+--                  wall_force diagnostic), mean kinetic energy, largest overlap; the
+--                  noise of the mean force (standard error over `blocks` blocks,
+--                  relative): differences below about twice it are not significant
+--   agglomerate    wall impact of a prepared agglomerate (7.6; file from
+--                  scenarios/agglomerate_prepare.lua or the ctest fixture): damage
+--                  and debris ratios (7.4), largest fragment, peak wall force, impact duration
+-- Knobs (each case lists those that apply):
+--   steps_per_contact  n of Eq. 4.1 (dt = t_c / n)
+--   stiffness          K scaled down as section 5.4 allows; forces are compared after
+--                      rescaling by the K^1/2 law of Eq. 5.10 (F ~ (m K)^1/2), times
+--                      and overlaps by K^-1/2; the margins K / bound of Eqs. 5.12 and
+--                      5.15 are reported and a setting below either bound is marked
+--   skin               neighbour-list skin in median radii (exact lists: only the
+--                      cost changes, and round-off order, which a chaotic flow amplifies)
+--   dimension          2D vs 3D (impacts)
+--   perturbation       (agglomerate) not a knob: the impact velocity x 1.001, whose
+--                      row is the noise floor of a chaotic breakage
+-- Not knobs here: threads (results bit-identical for any count) and float vs
+-- double (the engine computes in double only).
+--
+-- Output: <out>_<case>.csv (one row per setting and quantity: value, reference value,
+-- relative error, wall time, steps) and <out>_<case>.md (one row per setting).
+local granule = require "granule"
+local kinetic = require "granule.kinetic"
+
+local p = parameters {
+  case = { default = "impact", doc = "impact | mechanofusion | agglomerate" },
+  knob = { default = "all", doc = "steps_per_contact | stiffness | skin | dimension | all" },
+  values = { default = "", doc = "comma-separated settings of the knob (default: the case's list)" },
+  reference = { default = 0, doc = "the knob's reference setting (0: the case's finest)" },
+  out = { default = "accuracy", doc = "output prefix: <out>_<case>.csv and .md" },
+  -- mechanofusion
+  settle = { default = 0.03, unit = "s", doc = "mechanofusion: time before averaging" },
+  average = { default = 0.06, unit = "s", doc = "mechanofusion: averaging time" },
+  blocks = { default = 20, doc = "mechanofusion: blocks of the averaging time, for the noise estimate" },
+  particles = { default = 1500, doc = "mechanofusion: particle count" },
+  rpm = { default = 2000, unit = "1/min", doc = "mechanofusion: chamber speed" },
+  -- agglomerate
+  file = { default = "agglomerate_test.h5", doc = "agglomerate: output of an agglomerate preparation" },
+  velocity = { default = 1.0, unit = "m/s", doc = "agglomerate: impact velocity" },
+  quiet = { default = false, doc = "print only the tables" },
+  check = { default = false, doc = "impact: fail unless the errors of the largest force and of the "
+    .. "elastic energy fall as steps_per_contact grows (the smoke test)" },
+}
+
+local function list(text)
+  local out = {}
+  for item in tostring(text):gmatch("[^,]+") do out[#out + 1] = tonumber(item) or item end
+  return out
+end
+
+-- ---------------------------------------------------------------------------
+-- Cases. Each: knobs (name -> { values, reference, default }), quantities (in print
+-- order, each with its kind for the stiffness rescaling: force, time, length or
+-- none) and run(setting) -> { quantity = value }, steps.
+
+local cases = {}
+
+-- Binary impacts (dissertation 3.4).
+cases.impact = {
+  doc = "binary impacts, Walton-Braun (3.4)",
+  knobs = {
+    steps_per_contact = { values = { 10, 20, 40, 80, 200 }, reference = 400, default = 40 },
+    stiffness = { values = { 1, 1 / 4, 1 / 16, 1 / 64, 1 / 256 }, reference = 1, default = 1 },
+    skin = { values = { 0.1, 0.25, 1, 2 }, reference = 0.5, default = 0.5 },
+    dimension = { values = { 3 }, reference = 2, default = 2 },
+  },
+  quantities = {
+    { "restitution", "none" }, { "contact_duration", "time" }, { "max_overlap", "length" },
+    { "max_normal_force", "force" }, { "tangential_rebound", "velocity" }, { "spin_after", "spin" },
+    { "energy_drift_elastic", "absolute" },
+  },
+}
+
+local R, RHO, K_REF = 0.2e-3, 1200, 2e4
+
+local function impact(setting, law, angle, spin)
+  local d = setting.dimension
+  local sim = simulation { dimension = d, steps_per_contact = setting.steps_per_contact, record_contacts = true }
+  sim:set { skin = setting.skin * R }
+  sim:material { name = "m", density = RHO }
+  law[1], law[2] = "m", "m"
+  sim:contact(law)
+  local function v(x, y) if d == 3 then return { x, y, 0 } end return { x, y } end
+  local c, s = math.cos(math.rad(angle)), math.sin(math.rad(angle))
+  local gap = 0.01 * R
+  local speed = 1.0
+  local w = d == 3 and { 0, 0, spin } or spin
+  local a = sim:add_particle { position = v(-R - gap / 2, 0), velocity = v(c * speed / 2, s * speed / 2),
+                               spin = w, radius = R, material = "m" }
+  local b = sim:add_particle { position = v(R + gap / 2, 0), velocity = v(-c * speed / 2, -s * speed / 2),
+                               spin = w, radius = R, material = "m" }
+  local seen, ended, touching, max_overlap, max_force = false, false, 0, 0, 0
+  sim:every { steps = 1, function(q)
+    local l = q:contacts()
+    if #l == 0 then
+      if seen then ended = true end
+      return
+    end
+    seen = true
+    if l[1].normal_force > 0 then touching = touching + 1 end
+    max_overlap = math.max(max_overlap, l[1].overlap)
+    max_force = math.max(max_force, l[1].normal_force)
+  end }
+  local ke0 = sim:stats().kinetic_energy
+  local k = law.k_load or law.k_normal
+  local t_c = math.pi * math.sqrt(granule.sphere_mass(R, RHO) / 2 / k)
+  sim:run { duration = 50 * t_c, check_every = 1, stop_when = function() return ended end }
+  assert(ended, "impact: the contact did not end")
+  local pa, pb = sim:particle(a), sim:particle(b)
+  local dvx = pb.velocity[1] - pa.velocity[1]
+  local dvy = pb.velocity[2] - pa.velocity[2]
+  local wa = type(pa.spin) == "table" and pa.spin[3] or pa.spin
+  return { restitution = dvx / (c * speed), tangential_rebound = dvy, spin = wa,
+           duration = touching * sim:time_step(), max_overlap = max_overlap, max_force = max_force,
+           ke_ratio = sim:stats().kinetic_energy / ke0, steps = sim:step_count() }
+end
+
+function cases.impact.run(setting)
+  local k = K_REF * setting.stiffness
+  local wb = { model = "walton_braun", k_load = k, restitution = 0.85, friction = 0.4, tangential_ratio = 0.8 }
+  local head = impact(setting, wb, 0, 0)
+  local oblique = impact(setting, { model = "walton_braun", k_load = k, restitution = 0.85, friction = 0.4,
+                                    tangential_ratio = 0.8 }, 30, 0)
+  local elastic = impact(setting, { model = "linear", k_normal = k, restitution = 1 }, 0, 0)
+  return { restitution = head.restitution, contact_duration = head.duration, max_overlap = head.max_overlap,
+           max_normal_force = head.max_force, tangential_rebound = oblique.tangential_rebound,
+           spin_after = oblique.spin, energy_drift_elastic = math.abs(elastic.ke_ratio - 1) },
+         head.steps + oblique.steps + elastic.steps
+end
+
+-- The Mechanofusion base case (Table 4.1, SPEC 4.1), as scenarios/mechanofusion_demo.lua.
+cases.mechanofusion = {
+  doc = "2D Mechanofusion base case (Table 4.1)",
+  knobs = {
+    steps_per_contact = { values = { 10, 20, 40, 80 }, reference = 160, default = 40 },
+    stiffness = { values = { 1 / 4, 1 / 16, 1 / 64, 1 / 256, 1 / 1024 }, reference = 1, default = 1 },
+    skin = { values = { 0.25, 1, 2 }, reference = 0.5, default = 0.5 },
+  },
+  quantities = {
+    { "inner_normal_force", "force" }, { "inner_tangential_force", "force" },
+    { "kinetic_energy", "energy" }, { "max_overlap_ratio", "length" },
+    { "normal_force_noise", "absolute" },
+  },
+}
+
+function cases.mechanofusion.run(setting)
+  local k = K_REF * setting.stiffness
+  local chamber, inner, gap = 12.5e-3, 5e-3, 1.6e-3
+  local sim = simulation { dimension = 2, steps_per_contact = setting.steps_per_contact }
+  sim:set { skin = setting.skin * R }
+  sim:material { name = "powder", density = RHO }
+  sim:material { name = "steel", density = 7800 }
+  sim:contact { "powder", "powder", model = "walton_braun", k_load = k, restitution = 0.85, friction = 0.4 }
+  sim:contact { "powder", "steel", model = "walton_braun", k_load = k, restitution = 0.85, friction = 0.5 }
+  sim:wall_cylinder { name = "chamber", center = { 0, 0 }, radius = chamber, inside = true,
+                      angular_velocity = granule.rpm(p.rpm), material = "steel" }
+  sim:wall_cylinder { name = "inner_piece", center = { chamber - gap - inner, 0 }, radius = inner, inside = false,
+                      material = "steel" }
+  -- The scraper: a row of fixed particles at 100 deg, tilted 40 deg into the flow, 4.4 mm long.
+  local phi, tilt = math.rad(100), math.rad(40)
+  local outward, tangent = granule.vec.polar(phi), granule.vec.polar(phi + math.pi / 2)
+  local first = granule.vec.scale(outward, chamber - R)
+  local direction = granule.vec.add(granule.vec.scale(outward, -math.sin(tilt)),
+                                    granule.vec.scale(tangent, -math.cos(tilt)))
+  for _, x in ipairs(granule.particle_row(first, direction, math.floor(4.4e-3 / (2 * R) + 0.5), R)) do
+    sim:add_particle { position = x, radius = R, material = "powder", fixed = true }
+  end
+  sim:fill { region = { circle = { center = { 0, 0 }, radius = chamber } }, count = p.particles, radius = R,
+             material = "powder", seed = 1, max_speed = 0.01 }
+  sim:run { duration = p.settle }
+  local id = sim:diagnostic("wall_force", { wall = "inner_piece", window = p.average / p.blocks })
+  local ke, samples, overlap = 0, 0, 0
+  sim:every { steps = 200, function(q)
+    local s = q:stats()
+    ke, samples = ke + s.kinetic_energy, samples + 1
+    overlap = math.max(overlap, s.max_overlap_ratio)
+  end }
+  -- Block means of the normal force (from the diagnostic's running mean), for the
+  -- noise of the mean: its standard error over the blocks, relative to the mean.
+  local block_means, sum_before, n_before = {}, 0, 0
+  for _ = 1, p.blocks do
+    sim:run { duration = p.average / p.blocks }
+    local f = sim:diagnostic_results(id)
+    local sum = f.mean_normal_force * f.samples
+    block_means[#block_means + 1] = (sum - sum_before) / math.max(f.samples - n_before, 1)
+    sum_before, n_before = sum, f.samples
+  end
+  local f = sim:diagnostic_results(id)
+  local mean, var = f.mean_normal_force, 0
+  for _, b in ipairs(block_means) do var = var + (b - mean) ^ 2 end
+  var = var / math.max(#block_means - 1, 1)
+  local noise = math.sqrt(var / #block_means) / math.abs(mean)
+  return { inner_normal_force = f.mean_normal_force, inner_tangential_force = f.mean_tangential_force,
+           kinetic_energy = ke / math.max(samples, 1), max_overlap_ratio = overlap,
+           normal_force_noise = noise }, sim:step_count()
+end
+
+-- A prepared agglomerate on a wall (7.6).
+cases.agglomerate = {
+  doc = "agglomerate wall impact (7.6)",
+  knobs = {
+    steps_per_contact = { values = { 10, 20, 40, 80 }, reference = 160, default = 40 },
+    -- Not a knob: the impact velocity changed by 0.1 %. Breakage is chaotic, so this
+    -- row is the noise floor against which the knobs' errors must be read.
+    perturbation = { values = { 1.001 }, reference = 1, default = 1 },
+  },
+  quantities = {
+    { "damage_ratio", "none" }, { "debris_ratio", "none" }, { "largest_fraction", "none" },
+    { "peak_force", "none" }, { "impact_duration", "none" },
+  },
+}
+
+function cases.agglomerate.run(setting)
+  local tests = require "granule.agglomerate_tests"
+  local sim = simulation { dimension = 2, record_contacts = true, steps_per_contact = setting.steps_per_contact }
+  local tmp = os.tmpname()
+  sim:output { file = tmp }
+  local r = tests.run(sim, "wall", { file = p.file, velocity = p.velocity * setting.perturbation, quiet = true })
+  local steps = sim:step_count()
+  sim:close()
+  os.remove(tmp)
+  os.remove(tmp:gsub("%.h5$", "") .. ".xmf")
+  return { damage_ratio = r.damage_ratio, debris_ratio = r.debris_ratio, largest_fraction = r.largest_fraction,
+           peak_force = r.peak_force, impact_duration = r.impact_duration }, steps
+end
+
+-- ---------------------------------------------------------------------------
+local case = cases[p.case]
+if not case then error("case must be impact, mechanofusion or agglomerate, got '" .. tostring(p.case) .. "'") end
+local knobs = {}
+if p.knob == "all" then
+  for _, name in ipairs { "steps_per_contact", "stiffness", "skin", "dimension", "perturbation" } do
+    if case.knobs[name] then knobs[#knobs + 1] = name end
+  end
+else
+  if not case.knobs[p.knob] then
+    local names = {}
+    for name in pairs(case.knobs) do names[#names + 1] = name end
+    table.sort(names)
+    error(string.format("knob '%s' does not apply to case %s (knobs: %s)", p.knob, p.case, table.concat(names, ", ")))
+  end
+  knobs[1] = p.knob
+end
+
+local function default_setting()
+  local s = {}
+  for name, k in pairs { steps_per_contact = { default = 40 }, stiffness = { default = 1 },
+                         skin = { default = 0.5 }, dimension = { default = 2 }, perturbation = { default = 1 } } do
+    s[name] = case.knobs[name] and case.knobs[name].default or k.default
+  end
+  return s
+end
+
+-- The K^1/2 law (Eq. 5.10): with K scaled by s, forces scale by s^1/2, times and
+-- overlaps by s^-1/2; energies and velocities are unchanged. Brings a run at scale s
+-- back to the reference stiffness.
+local function rescale(value, kind, scale)
+  if kind == "force" then return value / math.sqrt(scale) end
+  if kind == "time" or kind == "length" then return value * math.sqrt(scale) end
+  return value
+end
+
+-- Section 5.4's constraints for the Mechanofusion base case at stiffness K.
+local bounds
+if p.case == "mechanofusion" then
+  local report = kinetic.scaling(kinetic.base_case { rotation_speed_rpm = p.rpm, particle_count = p.particles })
+  bounds = { gap = report.k_bound_gap_transit_n_m, collision = report.k_bound_collision_time_n_m }
+end
+
+local rows, memo = {}, {}
+local function log(...) if not p.quiet then io.stderr:write(string.format(...)) end end
+for _, knob in ipairs(knobs) do
+  local spec = case.knobs[knob]
+  local values = p.values ~= "" and list(p.values) or spec.values
+  local reference = p.reference ~= 0 and p.reference or spec.reference
+  local settings = { reference }
+  for _, v in ipairs(values) do if v ~= reference then settings[#settings + 1] = v end end
+  local ref
+  for index, value in ipairs(settings) do
+    local setting = default_setting()
+    setting[knob] = value
+    log("accuracy: %s %s = %s ...\n", p.case, knob, tostring(value))
+    -- The default setting is every knob's reference but one: run it once.
+    local key = string.format("%s|%s|%s|%s|%s", setting.steps_per_contact, setting.stiffness, setting.skin,
+      setting.dimension, setting.perturbation)
+    local got, steps, seconds
+    if memo[key] then
+      got, steps, seconds = table.unpack(memo[key])
+    else
+      local t0 = wall_time()
+      got, steps = case.run(setting)
+      seconds = wall_time() - t0
+      memo[key] = { got, steps, seconds }
+    end
+    local row = { knob = knob, value = value, reference = index == 1, seconds = seconds, steps = steps,
+                  quantities = {} }
+    local scale = knob == "stiffness" and value or 1
+    for _, q in ipairs(case.quantities) do
+      local name, kind = q[1], q[2]
+      local v = rescale(got[name], kind, scale)
+      row.quantities[name] = v
+    end
+    if bounds and knob == "stiffness" then
+      local k = K_REF * value
+      row.margin_5_12, row.margin_5_15 = k / bounds.gap, k / bounds.collision
+    end
+    if index == 1 then ref = row.quantities end
+    row.errors = {}
+    for _, q in ipairs(case.quantities) do
+      local name, kind = q[1], q[2]
+      if kind == "absolute" then
+        row.errors[name] = row.quantities[name]
+      elseif ref[name] ~= 0 then
+        row.errors[name] = math.abs(row.quantities[name] - ref[name]) / math.abs(ref[name])
+      else
+        row.errors[name] = math.abs(row.quantities[name])
+      end
+    end
+    rows[#rows + 1] = row
+  end
+end
+
+-- The smoke test's check: leap-frog converges, so the errors that depend smoothly on dt
+-- (largest force, elastic energy drift) fall as n grows.
+if p.check and p.case == "impact" then
+  local by_n = {}
+  for _, row in ipairs(rows) do
+    if row.knob == "steps_per_contact" and not row.reference then by_n[#by_n + 1] = row end
+  end
+  table.sort(by_n, function(a, b) return a.value < b.value end)
+  assert(#by_n >= 2, "check: give at least two steps_per_contact settings besides the reference")
+  for k = 2, #by_n do
+    for _, name in ipairs { "max_normal_force", "energy_drift_elastic" } do
+      assert(by_n[k].errors[name] < by_n[k - 1].errors[name], string.format(
+        "check: %s error %.3g at n = %s is not below %.3g at n = %s", name, by_n[k].errors[name], by_n[k].value,
+        by_n[k - 1].errors[name], by_n[k - 1].value))
+    end
+  end
+  print("accuracy: check passed (errors fall as steps_per_contact grows)")
+end
+
+-- Outputs.
+local function fmtv(v) return type(v) == "number" and string.format("%.4g", v) or tostring(v) end
+local csv_path, md_path = p.out .. "_" .. p.case .. ".csv", p.out .. "_" .. p.case .. ".md"
+local csv = assert(io.open(csv_path, "w"))
+csv:write("case,knob,setting,is_reference,quantity,value,reference_value,relative_error,wall_time_s,steps,"
+  .. "margin_5_12,margin_5_15\n")
+local reference_of = {}
+for _, row in ipairs(rows) do if row.reference then reference_of[row.knob] = row end end
+for _, row in ipairs(rows) do
+  for _, q in ipairs(case.quantities) do
+    local name = q[1]
+    csv:write(string.format("%s,%s,%.6g,%d,%s,%.8g,%.8g,%.6g,%.4f,%d,%s,%s\n", p.case, row.knob, row.value,
+      row.reference and 1 or 0, name, row.quantities[name], reference_of[row.knob].quantities[name],
+      row.errors[name], row.seconds, row.steps, row.margin_5_12 and string.format("%.4g", row.margin_5_12) or "",
+      row.margin_5_15 and string.format("%.4g", row.margin_5_15) or ""))
+  end
+end
+csv:close()
+
+local lines = {}
+local function add(s) lines[#lines + 1] = s end
+add(string.format("Accuracy against wall time: %s. Errors are relative to the knob's reference setting "
+  .. "(marked ref)%s.", case.doc, p.case == "impact" and "; energy_drift_elastic is absolute" or ""))
+add("")
+local header = { "knob", "setting", "wall time [s]", "steps" }
+for _, q in ipairs(case.quantities) do header[#header + 1] = q[1] end
+if bounds then header[#header + 1] = "K / bound 5.12, 5.15" end
+add("| " .. table.concat(header, " | ") .. " |")
+add("|" .. string.rep("---|", #header))
+for _, row in ipairs(rows) do
+  local cells = { row.knob, fmtv(row.value) .. (row.reference and " (ref)" or ""), string.format("%.2f", row.seconds),
+                  tostring(row.steps) }
+  for _, q in ipairs(case.quantities) do
+    local name = q[1]
+    if row.reference then
+      cells[#cells + 1] = fmtv(row.quantities[name])
+    else
+      cells[#cells + 1] = string.format("%.2g", row.errors[name])
+    end
+  end
+  if bounds then
+    if row.margin_5_12 then
+      local broken = row.margin_5_12 < 1 or row.margin_5_15 < 1
+      cells[#cells + 1] = string.format("%.3g, %.3g%s", row.margin_5_12, row.margin_5_15,
+        broken and " **broken**" or (row.margin_5_15 < 10 and " (marginal)" or ""))
+    else
+      cells[#cells + 1] = ""
+    end
+  end
+  add("| " .. table.concat(cells, " | ") .. " |")
+end
+add("")
+add("Reference rows give the values; the other rows give |value - reference| / |reference|"
+  .. (p.case == "impact" and " (energy_drift_elastic: |KE_after/KE_before - 1| itself)" or "")
+  .. (bounds and "; stiffness rows are rescaled to K = 20000 N/m by the K^1/2 law (Eq. 5.10)" or "") .. ".")
+local md = assert(io.open(md_path, "w"))
+md:write(table.concat(lines, "\n") .. "\n")
+md:close()
+print(table.concat(lines, "\n"))
+print(string.format("accuracy: wrote %s and %s", csv_path, md_path))
