@@ -33,6 +33,7 @@ import granule_h5 as g  # noqa: E402
 AREAS = ["inner_piece", "scraper", "input", "free_diffusion"]
 AREA_LABEL = {"inner_piece": "1 inner piece", "scraper": "2 scraper", "input": "3 input",
               "free_diffusion": "4 free diffusion"}
+KEY_OF = {v: k for k, v in AREA_LABEL.items()}
 
 
 def power_fit(x, y):
@@ -74,7 +75,8 @@ def loglog_panel(ax, x, ys, labels, study, quantity_prefix, claim, fits, xlabel,
     markers = "osd^v<>"
     for k, (y, label) in enumerate(zip(ys, labels)):
         y = np.abs(np.asarray(y))
-        b, se, a = report_fit(study, f"{quantity_prefix}{label}", x, y, claim, fits)
+        key = KEY_OF.get(label, label)
+        b, se, a = report_fit(study, f"{quantity_prefix}{key}", x, y, claim, fits)
         line, = ax.loglog(x, y, markers[k % len(markers)], label=f"{label}: x^{b:.2f}")
         xs = np.geomspace(min(x), max(x), 50)
         if np.isfinite(b):
@@ -129,7 +131,7 @@ def study_figures(args):
                      "chamber speed [rpm]", "mean normal force per particle [N]", ref=1)
         save(fig, out_path(args, stem, "per_particle"))
         fig, ax = plt.subplots(figsize=(5, 4))
-        loglog_panel(ax, rpm, [cases["coating_time_estimate"]], ["coating time"], study, "", -1,
+        loglog_panel(ax, rpm, [cases["coating_time_estimate"]], ["coating_time"], study, "", -1,
                      fits, "chamber speed [rpm]", "minimum coating time estimate [s]", ref=-1)
         ax.set_title("Fig. 4.33: coating time" + short, fontsize=9)
         save(fig, out_path(args, stem, "coating"))
