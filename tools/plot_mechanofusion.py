@@ -306,7 +306,17 @@ def peaks_figures(args):
         axes[1, k].set_ylabel("fraction of contacts")
         axes[1, k].set_title(f"Fig. 7.{k + 5}: {AREA_LABEL[a]}", fontsize=9)
         axes[1, k].legend(fontsize=7)
+        axes[0, k].set_xlim(0, fe[_upper_bin(h)] * 1e3)
+        axes[1, k].set_xlim(0, ve[max(_upper_bin(hv), _upper_bin(hm))])
     save(fig, out_path(args, stem, "peaks"))
+
+
+def _upper_bin(h, keep=0.999):
+    """Index of the bin edge below which `keep` of the counts lie (for the x range)."""
+    c = np.cumsum(h)
+    if c[-1] <= 0:
+        return len(h)
+    return min(len(h), int(np.searchsorted(c, keep * c[-1])) + 2)
 
 
 def main(argv=None):
