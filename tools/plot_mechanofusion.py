@@ -5,6 +5,7 @@ usage:
   /usr/bin/python3 tools/plot_mechanofusion.py study mechanofusion_rpm.h5 [-o DIR]
   /usr/bin/python3 tools/plot_mechanofusion.py series mechanofusion_rpm_case3.h5 [-o DIR]
   /usr/bin/python3 tools/plot_mechanofusion.py peaks mechanofusion_rpm_case3.h5 [-o DIR]
+  /usr/bin/python3 tools/plot_mechanofusion.py patterns mechanofusion_scraper.h5 [-o DIR]
 
 study: reads /cases and /profiles written by scenarios/mechanofusion_study.lua,
 recognises the study from its name (/scene/parameters study) and draws its
@@ -12,6 +13,8 @@ figures; fits F = a x^b by least squares on the logarithms and prints one
 line per fit:  fit study=rpm quantity=inner_normal_force exponent=1.93 +- 0.1 ...
 series: the areas' forces, collisions and collision ratios against time
 (Figs. 4.20-4.25) and the inner piece's force series, from one case's file.
+patterns: the pictures study=scraper drew (<stem>_with_*.png, <stem>_without_*.png)
+side by side in time order (Figs. 4.6-4.7); give the study's .h5 file.
 peaks: the per-area histograms of the largest contact force and of the
 impact velocity derived from it (Figs. 7.1-7.8), from one case's file.
 Writes PNGs (default: next to the input) and prints their paths.
@@ -319,14 +322,35 @@ def _upper_bin(h, keep=0.999):
     return min(len(h), int(np.searchsorted(c, keep * c[-1])) + 2)
 
 
+def pattern_figure(args):
+    import glob
+    stem = os.path.splitext(args.file)[0]
+    rows = [(kind, sorted(glob.glob(f"{stem}_{kind}_*ms.png"))) for kind in ("with", "without")]
+    rows = [(k, files) for k, files in rows if files]
+    if not rows:
+        raise g.GranuleH5Error(f"no pictures {stem}_with_*ms.png or {stem}_without_*ms.png")
+    cols = max(len(files) for _, files in rows)
+    fig, axes = plt.subplots(len(rows), cols, figsize=(3.2 * cols, 3.4 * len(rows)), squeeze=False)
+    for r, (kind, files) in enumerate(rows):
+        for c in range(cols):
+            ax = axes[r, c]
+            ax.axis("off")
+            if c < len(files):
+                ax.imshow(plt.imread(files[c]))
+                ms = files[c].rsplit("_", 1)[-1].replace("ms.png", "")
+                ax.set_title(f"{kind} scraper, +{int(ms)} ms", fontsize=9)
+    save(fig, out_path(args, os.path.basename(stem), "patterns"))
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("what", choices=["study", "series", "peaks"])
+    parser.add_argument("what", choices=["study", "series", "peaks", "patterns"])
     parser.add_argument("file")
     parser.add_argument("-o", "--output", help="directory for the PNGs (default: beside the input)")
     args = parser.parse_args(argv)
     try:
-        {"study": study_figures, "series": series_figures, "peaks": peaks_figures}[args.what](args)
+        {"study": study_figures, "series": series_figures, "peaks": peaks_figures,
+         "patterns": pattern_figure}[args.what](args)
     except (g.GranuleH5Error, KeyError) as e:
         print(f"plot_mechanofusion: {e}", file=sys.stderr)
         return 1
