@@ -230,7 +230,8 @@ function M.attach_diagnostics(sim, g, opts)
   end
   if wanted("peaks") then
     local o = { window = window, keep_collisions = opts.keep_collisions or 0,
-                force_max = opts.force_max or 0.1, velocity_max = opts.velocity_max or 5 }
+                force_max = opts.force_max or 0.1, velocity_max = opts.velocity_max or 5,
+                bins = opts.bins or 200 }
     for k, b in pairs(areas) do o[k] = b end
     ids.peaks = sim:diagnostic("contact_peaks", o)
   end
