@@ -2,13 +2,16 @@
 """Parameter-sweep curves: one result against one parameter.
 
 usage: /usr/bin/python3 tools/plot_sweep.py out.h5 --group /sweep --x velocity
-                                             [--y restitution,contact_time] [--log-x] [--log-y] [-o fig.png]
+                                             [--y restitution,contact_time] [--by column]
+                                             [--log-x] [--log-y] [-o fig.png]
        /usr/bin/python3 tools/plot_sweep.py run1.h5 run2.h5 ... --parameter velocity --result restitution
 
 One file: a scene that sweeps a parameter itself writes one row per case into a
 series group (e.g. scenarios/adhesive_restitution.lua writes /sweep); the rows
 are sorted by the --x column and each --y column (default: all others) gets a
-panel, points joined by lines. Several files: one run per case (e.g. `granule
+panel, points joined by lines; --by draws one line per value of another column.
+The summary of `granule sweep` (DIR/<scene>.sweep.h5) is such a file: /sweep has
+a row per finished case, its numeric parameters and results as columns. Several files: one run per case (e.g. `granule
 run scene.lua -D velocity=...` repeated); x is a scene parameter (the attributes
 of /scene/parameters, after -D) and y a result the scene reported with
 sim:result (the attributes of /results), one point per file. Writes a PNG
@@ -29,12 +32,18 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import granule_h5 as g  # noqa: E402
 
 
-def _panels(x, x_label, curves, title, log_x, log_y, output):
+def _panels(x, x_label, curves, title, log_x, log_y, output, groups=None, group_label=""):
     fig, axes = plt.subplots(len(curves), 1, sharex=True, squeeze=False,
                              figsize=(7, 1.2 + 2.4 * len(curves)))
-    order = np.argsort(x)
+    # One line per value of the grouping column (a second swept parameter), else one line.
+    lines = [(None, np.ones(len(x), bool))] if groups is None else \
+        [(f"{group_label} = {v:g}", groups == v) for v in np.unique(groups)]
     for ax, (label, y) in zip(axes[:, 0], curves):
-        ax.plot(x[order], y[order], marker="o", ms=4, lw=1)
+        for line_label, mask in lines:
+            order = np.argsort(x[mask])
+            ax.plot(x[mask][order], y[mask][order], marker="o", ms=4, lw=1, label=line_label)
+        if groups is not None:
+            ax.legend(fontsize=8)
         ax.set_ylabel(label, fontsize=9)
         if log_x:
             ax.set_xscale("log")
@@ -49,12 +58,12 @@ def _panels(x, x_label, curves, title, log_x, log_y, output):
     return output
 
 
-def sweep_from_series(path, group, x, y=None, log_x=False, log_y=False, output=None):
+def sweep_from_series(path, group, x, y=None, log_x=False, log_y=False, output=None, by=None):
     with g.open_run(path) as f:
         data = g.series(f, group)
         units = g.series_units(f, group)
-        g.require_columns(f, group, data, [x])
-        y = y or [c for c in data if c != x]
+        g.require_columns(f, group, data, [x] + ([by] if by else []))
+        y = y or [c for c in data if c not in (x, by)]
         g.require_columns(f, group, data, y)
     if not y:
         raise g.GranuleH5Error(f"{path}: series '{group}' has no column besides {x}")
@@ -63,7 +72,7 @@ def sweep_from_series(path, group, x, y=None, log_x=False, log_y=False, output=N
     curves = [(g.axis_label(c, units.get(c, "")), data[c]) for c in y]
     title = f"{os.path.basename(path)}: {group} ({len(data[x])} cases)"
     return _panels(data[x], g.axis_label(x, units.get(x, "")), curves, title, log_x, log_y,
-                   g.output_path(path, "sweep", output))
+                   g.output_path(path, "sweep", output), data[by] if by else None, by)
 
 
 def sweep_from_runs(paths, parameter, result, log_x=False, log_y=False, output=None):
@@ -94,6 +103,8 @@ def main():
     parser.add_argument("--group", help="one file: the series group holding the sweep")
     parser.add_argument("--x", help="one file: the column swept")
     parser.add_argument("--y", help="one file: comma-separated result columns (default: all)")
+    parser.add_argument("--by", help="one file: a column to draw one line per value of "
+                                     "(the second parameter of a `granule sweep`)")
     parser.add_argument("--parameter", help="several files: the scene parameter swept")
     parser.add_argument("--result", help="several files: the result (sim:result) to plot")
     parser.add_argument("--log-x", action="store_true", help="logarithmic horizontal axis")
@@ -102,14 +113,14 @@ def main():
 
     def work(a):
         if a.parameter or a.result:
-            if not (a.parameter and a.result) or a.group or a.x or a.y:
+            if not (a.parameter and a.result) or a.group or a.x or a.y or a.by:
                 raise g.GranuleH5Error("give --parameter and --result (and no --group/--x/--y)")
             return sweep_from_runs(a.files, a.parameter, a.result, a.log_x, a.log_y, a.output)
         if len(a.files) != 1 or not (a.group and a.x):
             raise g.GranuleH5Error("give one file with --group and --x, or several with "
                                    "--parameter and --result")
         return sweep_from_series(a.files[0], a.group, a.x, g.column_list(a.y), a.log_x, a.log_y,
-                                 a.output)
+                                 a.output, a.by)
 
     g.run_tool(parser, work)
 

@@ -1,6 +1,7 @@
 // granule: the command-line front end.
 //   granule run scene.lua [-D name=value ...] [-o out.h5] [--quiet]
 //   granule repl [scene.lua] [-D ...]
+//   granule sweep scene.lua -D name=v1,v2 ... [-o DIR]   (app/sweep.hpp)
 //   granule models          list contact models and their parameters
 //   granule api [NAME | --markdown]   the Lua API reference
 #include <fmt/format.h>
@@ -16,6 +17,7 @@
 
 #include "app/interrupt.hpp"
 #include "app/repl.hpp"
+#include "app/sweep.hpp"
 #include "contact/models.hpp"
 #include "lua/api_docs.hpp"
 #include "lua/scene.hpp"
@@ -27,6 +29,8 @@ const char* usage =
     "  granule run SCENE.lua [-D name=value ...] [-o OUT.h5] [--quiet] [--threads N]\n"
     "              [--restart CHECKPOINT.h5]\n"
     "  granule repl [SCENE.lua] [-D name=value ...]\n"
+    "  granule sweep SCENE.lua -D name=v1,v2,... [-D ...] [-o DIR] [--threads N] [-q]\n"
+    "              [--case-timeout SECONDS] [--list]\n"
     "  granule models\n"
     "  granule api [NAME | --markdown]\n"
     "  granule --version\n"
@@ -148,6 +152,7 @@ int run_command(const std::vector<std::string>& args) {
     return list_models();
   }
   if (o.command == "api") return api(args);
+  if (o.command == "sweep") return granule::app::run_sweep({args.begin() + 1, args.end()});
   if (o.command != "run" && o.command != "repl")
     return fail_usage("unknown command '" + o.command + "'");
   for (std::size_t k = 1; k < args.size(); ++k) {

@@ -68,6 +68,12 @@ struct ThorntonJkr {
   struct Params {
     ThorntonElastic::Params elastic;  // E*, G*, mu
     double surface_energy;            // Gamma, J/m^2
+    // Pair constants of the closed forms below, so that a contact's step needs
+    // only cbrt(R*) (kept in its history) besides the Newton solve:
+    double k;           // sqrt(2 pi Gamma / E*), Eq. 6.14
+    double alpha_coef;  // alpha_f = -alpha_coef cbrt(R*)
+    double s_f_coef;    // s_f = s_f_coef cbrt(R*): the fold of Eq. 6.14 in s = sqrt(a)
+    double s_hi_coef;   // cbrt(2 k): an upper bracket s_hi = s_hi_coef cbrt(R*)
   };
 
   static Params make(const ParamValues& v, const PairMaterials& m) {
@@ -82,6 +88,11 @@ struct ThorntonJkr {
           name, gamma, given == -1.0 ? ", the mean of the materials' values" : "", m.a.name,
           m.b.name));
     p.surface_energy = gamma;
+    const double e_star = p.elastic.e_star;
+    p.k = std::sqrt(2 * pi * gamma / e_star);
+    p.alpha_coef = 0.75 * std::cbrt(pi * pi * gamma * gamma / (e_star * e_star));
+    p.s_f_coef = std::cbrt(0.25 * p.k);
+    p.s_hi_coef = std::cbrt(2 * p.k);
     return p;
   }
 
@@ -91,6 +102,7 @@ struct ThorntonJkr {
     double contact_radius = 0;       // a; 0: no contact yet
     double separation_overlap = 0;   // alpha_f of this contact (<= 0)
     bool peeled = false;             // Eq. 6.21 reached: Mindlin-Deresiewicz from now on
+    double cbrt_radius = 0;          // cbrt(R*), once per contact (R* is the pair's)
   };
 
   template <int D>
@@ -133,23 +145,35 @@ struct ThorntonJkr {
   static double contact_radius_for(double alpha, double gamma, double r_star, double e_star,
                                    double guess) {
     const double k = std::sqrt(2 * pi * gamma / e_star);
-    const double s_f = std::cbrt(0.25 * k * r_star);
+    return solve_contact_radius(alpha, r_star, k, std::cbrt(0.25 * k * r_star),
+                                std::cbrt(2 * k * r_star), guess);
+  }
+  // The same with the fold s_f and the bracket s_hi = cbrt(2 k R*) given.
+  static double solve_contact_radius(double alpha, double r_star, double k, double s_f, double s_hi,
+                                     double guess) {
     // f(s) > 0 beyond s_hi: s^4/(2R*) >= k s and, for alpha > 0, s^4/(2R*) >= alpha.
-    double hi = std::cbrt(2 * k * r_star);
+    double hi = s_hi;
     if (alpha > 0) hi = std::max(hi, std::sqrt(std::sqrt(2 * alpha * r_star)));
     double lo = s_f;
+    const double inv_r = 1.0 / r_star;
     const double g = std::sqrt(guess > 0 ? guess : 0.0);
     double s = (g > lo && g < hi) ? g : hi;
     for (int it = 0; it < 200; ++it) {
       const double s2 = s * s;
-      const double f = s2 * s2 / r_star - k * s - alpha;
+      const double f = s2 * s2 * inv_r - k * s - alpha;
       if (f == 0) break;
       if (f > 0)
         hi = s;
       else
         lo = s;
-      const double slope = 4 * s2 * s / r_star - k;
+      const double slope = 4 * s2 * s * inv_r - k;
       double next = slope > 0 ? s - f / slope : 0.5 * (lo + hi);
+      // A Newton step at round-off size is convergence; it may land on lo or hi
+      // (it is s itself), which must not send it back to bisection.
+      if (slope > 0 && std::abs(next - s) <= 1e-15 * s) {
+        s = next;
+        break;
+      }
       if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
       const bool done = std::abs(next - s) <= 1e-15 * s || hi - lo <= 1e-15 * hi;
       s = next;
@@ -181,14 +205,21 @@ struct ThorntonJkr {
     ContactForce<D> out;
     const double r = c.effective_radius, e = p.elastic.e_star, g = p.elastic.g_star;
     const double mu = p.elastic.friction;
-    const double alpha_f = separation_overlap(gamma, r, e);
     const bool fresh = !(h.contact_radius > 0);
-    if (!(c.overlap > alpha_f) || (fresh && !(c.overlap > 0))) {  // not (or no longer) in contact
+    if (fresh && !(c.overlap > 0)) {  // a contact forms at zero overlap
+      h = History<D>{};
+      return out;
+    }
+    if (fresh || !(h.cbrt_radius > 0)) h.cbrt_radius = std::cbrt(r);
+    const double cbrt_r = h.cbrt_radius;
+    const double alpha_f = -p.alpha_coef * cbrt_r;  // separation_overlap(gamma, r, e)
+    if (!(c.overlap > alpha_f)) {                   // no longer in contact
       h = History<D>{};
       return out;
     }
     // Normal, Eqs. 6.12-6.17.
-    const double a = contact_radius_for(c.overlap, gamma, r, e, h.contact_radius);
+    const double a = solve_contact_radius(c.overlap, r, p.k, p.s_f_coef * cbrt_r,
+                                          p.s_hi_coef * cbrt_r, h.contact_radius);
     const double normal = jkr_force(a, gamma, r, e);
     h.contact_radius = a;
     h.separation_overlap = alpha_f;

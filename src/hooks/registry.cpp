@@ -7,14 +7,18 @@
 
 #include "contact/parameters.hpp"
 #include "core/errors.hpp"
+#include "hooks/areas.hpp"
+#include "hooks/contact_peaks.hpp"
 #include "hooks/diagnostic.hpp"
 #include "hooks/wall_force.hpp"
+#include "hooks/zones.hpp"
 
 namespace granule {
 
 namespace {
 template <int D>
-using Catalogue = std::tuple<WallForceDiagnostic<D>>;
+using Catalogue = std::tuple<WallForceDiagnostic<D>, ZonesDiagnostic<D>, AreasDiagnostic<D>,
+                             ContactPeaksDiagnostic<D>>;
 
 template <int D, std::size_t... I>
 std::unique_ptr<Diagnostic<D>> make_by_name(const std::string& name, DiagnosticOptions& options,

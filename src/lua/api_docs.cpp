@@ -204,7 +204,7 @@ const std::vector<FunctionDoc> entries = {
 {"sim:append", "simulation", P, "sim:append(name, { value, ... })", "Appends one row to a declared series.",
  {{"1", "string", "", true, "series name"}, {"2", "list", "", true, "one finite number per column"}},
  "'probe', { 0, 1 }"},
-{"sim:result", "simulation", T, "sim:result { name = value, ... }", "Records scalar results as attributes of /results.",
+{"sim:result", "simulation", T, "sim:result { name = value, ... }", "Records scalar results as attributes of /results; `granule sweep` gathers them into its summary table.",
  {{"<name>", "number", "", false, "a finite number"}}, "{ restitution = 0.85 }", true},
 {"sim:close", "simulation", P, "sim:close()", "Writes the final snapshot and closes the output file.", {}, ""},
 {"sim:checkpoint", "simulation", T, "sim:checkpoint { file =, every_steps =, every_seconds = }",

@@ -1037,6 +1037,12 @@ int l_tostring(lua_State* L) {
 //              record_contacts = bool, periodic = { axis = "z", origin = m, length = m } }
 int l_simulation(lua_State* L) {
   return protect(L, [](lua_State* L) {
+    // `granule sweep` checking parameters: a scene that reaches its simulation has declared
+    // none, and must not go on to run it (scene.hpp, SceneContext::parameters_only).
+    if (SceneContext* ctx = context(L); ctx && ctx->parameters_only) {
+      ctx->stopped_after_parameters = true;
+      throw std::runtime_error(parameters_checked_stop);
+    }
     if (lua_isnoneornil(L, 1)) lua_newtable(L), lua_replace(L, 1);
     TableReader t(L, 1, "simulation");
     int d = static_cast<int>(t.integer("dimension", 3));

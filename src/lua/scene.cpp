@@ -107,6 +107,11 @@ int l_parameters(lua_State* L) {
           fmt::format("-D {}={}: this scene has no parameter '{}'{}", name, value, name,
                       hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint)));
     }
+    if (ctx->parameters_only) {
+      ctx->declared_parameters = names;
+      ctx->stopped_after_parameters = true;
+      throw std::runtime_error(parameters_checked_stop);
+    }
     // Read-only proxy that refuses unknown names.
     lua_newtable(L);
     lua_newtable(L);

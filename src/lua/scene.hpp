@@ -29,7 +29,17 @@ struct SceneContext {
   bool interrupted = false;  // a run stopped on Ctrl-C (the program exits with 130)
   bool progress = false;  // progress line for long runs (the CLI: stderr is a terminal, no --quiet)
   std::vector<std::string> outputs_written;
+  // `granule sweep` checks each case's -D values against the scene before running any:
+  // parameters{...} validates the overrides, records the declared names and then stops
+  // the scene; so does simulation{...}, should a scene make one before (or without)
+  // declaring its parameters.
+  bool parameters_only = false;
+  std::vector<std::string> declared_parameters;
+  bool stopped_after_parameters = false;
 };
+
+// The message parameters{...} stops a scene with when SceneContext::parameters_only is set.
+inline constexpr const char* parameters_checked_stop = "parameters checked (granule sweep)";
 
 // Ctrl-C. The signal handler only sets a flag (async-signal-safe); sim:run
 // checks it between chunks of steps and ends with an error naming the step.

@@ -60,6 +60,22 @@ refused "api with an unknown name" api no_such_function
 refused "api with two names" api fill run
 refused "--version with an argument" --version extra
 
+# ---- granule sweep: refused before any case runs ----
+refused "sweep without a scene" sweep
+refused "sweep of a missing scene" sweep no_such_scene.lua -D velocity=1,2
+refused "sweep: empty list value" sweep "$scene" -D velocity=1,,2 -o sweep_out
+refused "sweep: trailing comma" sweep "$scene" -D velocity=1, -o sweep_out
+refused "sweep: a name twice" sweep "$scene" -D velocity=1 -D velocity=2 -o sweep_out
+refused "sweep: a value twice" sweep "$scene" -D velocity=1,1 -o sweep_out
+refused "sweep: unknown parameter" sweep "$scene" -D velocty=1,2 -o sweep_out
+refused "sweep: not a number" sweep "$scene" -D velocity=1,fast -o sweep_out
+refused "sweep: --restart" sweep "$scene" --restart x.h5
+refused "sweep: -o empty" sweep "$scene" -o ""
+refused "sweep: unknown option" sweep "$scene" --frobnicate
+refused "sweep: --case-timeout 0" sweep "$scene" --case-timeout 0
+refused "sweep: --case-timeout text" sweep "$scene" --case-timeout soon
+refused "sweep: --case-timeout without a value" sweep "$scene" --case-timeout
+
 # ---- malformed scenes ----
 scene_file empty.lua ""
 printf '\000\001\002garbage\377' >binary.lua

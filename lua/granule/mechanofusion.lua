@@ -1,0 +1,339 @@
+-- granule.mechanofusion: the Mechanofusion system of dissertation chapters
+-- 4-5 and appendix A as a reusable builder. Table 4.1 defaults, the geometry
+-- choices of SPEC 4.1, and every number a parameter.
+--
+--   local mf = require "granule.mechanofusion"
+--   local p = parameters(mf.parameter_spec { duration = { default = 0.05, unit = "s" } })
+--   local sim, geo = mf.build(p)
+--   local ids = mf.attach_diagnostics(sim, geo, p)
+--   sim:run { duration = p.duration }
+--   local summary = mf.summary(sim, geo, ids)
+--
+-- Geometry (SPEC 4.1): the chamber is a circle of radius R about the origin
+-- turning counter-clockwise at omega; the stationary inner piece of radius
+-- r_i sits at angle `inner_angle` with its centre at R - gap - r_i from the
+-- origin, so the narrowest gap is `gap`; the scraper is a straight row of
+-- fixed particles of the powder's size touching the chamber wall at
+-- `scraper_angle` degrees downstream of the inner piece, leaning into the flow
+-- at `scraper_tilt` to the wall's tangent, `scraper_length` long.
+-- size_scale = s multiplies every length of the machine (not the particles)
+-- and the loading by s^2 (the double-sized system of 5.3.2: s = 2).
+-- dimension = 3 extrudes the section `slab_layers` diameters along z with a
+-- periodic axis and slab_layers times the particles (appendix A).
+local granule = require "granule"
+local checks = require "granule.checks"
+
+local M = {}
+
+--- The parameters of the base case (Table 4.1, SPEC 4.1), in the form
+--- `parameters {}` takes: name = { default =, unit =, doc = }.
+M.defaults = {
+  dimension = { default = 2, unit = "-", doc = "2 (the dissertation's runs) or 3 (periodic slab, app. A)" },
+  particles = { default = 1500, unit = "-", doc = "loading of the 2D section at size_scale 1 (Table 4.1)" },
+  radius = { default = 0.2e-3, unit = "m", doc = "particle radius (Table 4.1)" },
+  density = { default = 1200, unit = "kg/m^3", doc = "particle density (Table 4.1)" },
+  chamber_radius = { default = 12.5e-3, unit = "m", doc = "chamber radius R (25 mm diameter)" },
+  inner_radius = { default = 5e-3, unit = "m", doc = "inner piece radius (10 mm diameter)" },
+  gap = { default = 1.6e-3, unit = "m", doc = "narrowest gap H between inner piece and chamber" },
+  inner_angle = { default = 0, unit = "deg", doc = "direction of the inner piece's centre" },
+  rpm = { default = 2000, unit = "1/min", doc = "chamber speed (counter-clockwise)" },
+  k_load = { default = 20000, unit = "N/m", doc = "Walton-Braun loading stiffness K1" },
+  restitution = { default = 0.85, unit = "-", doc = "coefficient of restitution e" },
+  friction_particle = { default = 0.4, unit = "-", doc = "particle-particle friction" },
+  friction_wall = { default = 0.5, unit = "-", doc = "particle-wall (and scraper) friction" },
+  steps_per_contact = { default = 40, unit = "-", doc = "n of Eq. 4.1" },
+  scraper = { default = true, doc = "add the scraper (a row of fixed particles)" },
+  scraper_angle = { default = 100, unit = "deg", doc = "scraper position downstream of the inner piece" },
+  scraper_tilt = { default = 40, unit = "deg", doc = "scraper angle to the wall's tangent" },
+  scraper_length = { default = 4.4e-3, unit = "m", doc = "scraper length (at size_scale 1)" },
+  size_scale = { default = 1, unit = "-", doc = "machine lengths x s, loading x s^2 (5.3.2: 2)" },
+  slab_layers = { default = 4, unit = "-", doc = "3D slab depth in particle diameters (app. A: 4)" },
+  seed = { default = 1, unit = "-", doc = "random seed of the fill" },
+  max_speed = { default = 0.01, unit = "m/s", doc = "largest random initial speed (zero net momentum)" },
+  area_inner_from = { default = -45, unit = "deg", doc = "inner-piece area starts (from the inner piece)" },
+  area_scraper_from = { default = 45, unit = "deg", doc = "scraper area starts, inner-piece area ends" },
+  area_free_from = { default = 150, unit = "deg", doc = "free-diffusion area starts, scraper area ends" },
+  area_input_from = { default = 250, unit = "deg", doc = "input area starts, free diffusion ends" },
+  zones = { default = 7, unit = "-", doc = "radial zones of equal volume (4.2.3)" },
+  window = { default = 0.01, unit = "s", doc = "averaging window of the diagnostics' series" },
+  every = { default = 10, unit = "-", doc = "steps between diagnostic samples" },
+}
+
+--- mf.parameter_spec(extra) -> the defaults plus a scene's own parameters
+--- (an extra entry with the same name replaces the default's).
+function M.parameter_spec(extra)
+  local spec = {}
+  for k, v in pairs(M.defaults) do spec[k] = v end
+  for k, v in pairs(extra or {}) do spec[k] = v end
+  return spec
+end
+
+-- Values with the defaults filled in and checked, so build() also works from
+-- a plain table (tests, other scenes).
+local function complete(p)
+  local where = "mechanofusion.build"
+  local v = {}
+  for k, d in pairs(M.defaults) do
+    if p[k] == nil then v[k] = d.default else v[k] = p[k] end
+  end
+  if v.dimension ~= 2 and v.dimension ~= 3 then checks.fail(where, "dimension", "2 or 3", v.dimension) end
+  for _, k in ipairs { "radius", "density", "chamber_radius", "inner_radius", "gap", "k_load",
+                       "restitution", "size_scale", "steps_per_contact", "slab_layers", "zones",
+                       "window", "every" } do
+    checks.positive(where, k, v[k], M.defaults[k].unit)
+  end
+  for _, k in ipairs { "particles", "rpm", "friction_particle", "friction_wall", "scraper_length",
+                       "max_speed" } do
+    checks.non_negative(where, k, v[k], M.defaults[k].unit)
+  end
+  if v.restitution > 1 then checks.fail(where, "restitution", "in (0, 1]", v.restitution) end
+  if v.particles ~= math.floor(v.particles) then checks.fail(where, "particles", "a whole number", v.particles) end
+  if v.slab_layers ~= math.floor(v.slab_layers) then checks.fail(where, "slab_layers", "a whole number", v.slab_layers) end
+  if type(v.scraper) ~= "boolean" then checks.fail(where, "scraper", "true or false", v.scraper) end
+  local s = v.size_scale
+  if v.inner_radius * s + v.gap * s >= v.chamber_radius * s then
+    checks.raise(string.format("%s: inner_radius + gap (%g m) must be below chamber_radius (%g m)",
+      where, (v.inner_radius + v.gap) * s, v.chamber_radius * s))
+  end
+  if v.gap * s < 2 * v.radius then
+    checks.raise(string.format("%s: gap %g m is narrower than one particle (%g m)", where, v.gap * s, 2 * v.radius))
+  end
+  if not (v.scraper_tilt > 0 and v.scraper_tilt < 90) then
+    checks.fail(where, "scraper_tilt", "in (0, 90) degrees", v.scraper_tilt)
+  end
+  local a = { v.area_inner_from, v.area_scraper_from, v.area_free_from, v.area_input_from, v.area_inner_from + 360 }
+  for k = 1, 4 do
+    if not (a[k + 1] > a[k]) then
+      checks.raise(string.format("%s: the area bounds must increase: area_inner_from < area_scraper_from "
+        .. "< area_free_from < area_input_from < area_inner_from + 360 (got %g, %g, %g, %g)", where,
+        a[1], a[2], a[3], a[4]))
+    end
+  end
+  return v
+end
+
+--- mf.geometry(p) -> the derived geometry (no simulation): scaled lengths,
+--- the particle count, the inner piece's centre, the scraper's particle
+--- positions, the slab depth, the area sectors.
+function M.geometry(p)
+  local v = complete(p)
+  local s = v.size_scale
+  local g = { dimension = v.dimension, radius = v.radius, omega = granule.rpm(v.rpm), rpm = v.rpm,
+              chamber_radius = v.chamber_radius * s, inner_radius = v.inner_radius * s, gap = v.gap * s,
+              scraper = v.scraper, values = v }
+  g.inner_offset = g.chamber_radius - g.gap - g.inner_radius           -- SPEC 4.1: 5.9 mm
+  local phi0 = math.rad(v.inner_angle)
+  g.inner_center = granule.vec.polar(phi0, g.inner_offset)
+  g.layers = v.dimension == 3 and v.slab_layers or 1
+  g.depth = 2 * v.radius * g.layers                                    -- 3D: slab; 2D: one diameter
+  g.particles = math.floor(v.particles * s * s * g.layers + 0.5)
+  -- The scraper: a row touching the wall (zero clearance) at scraper_angle
+  -- downstream, leaning inward and upstream so the flow meets its face.
+  g.scraper_positions = {}
+  if v.scraper then
+    local phi = phi0 + math.rad(v.scraper_angle)
+    local outward = granule.vec.polar(phi)
+    local tangent = granule.vec.polar(phi + math.pi / 2)   -- the wall's motion there
+    local first = granule.vec.scale(outward, g.chamber_radius - v.radius)
+    local tilt = math.rad(v.scraper_tilt)
+    local direction = granule.vec.add(granule.vec.scale(outward, -math.sin(tilt)),
+                                      granule.vec.scale(tangent, -math.cos(tilt)))
+    local count = math.max(1, math.floor(v.scraper_length * s / (2 * v.radius) + 0.5))
+    g.scraper_positions = granule.particle_row(first, direction, count, v.radius)
+  end
+  g.areas = {
+    area_inner_piece = { v.area_inner_from, v.area_scraper_from },
+    area_scraper = { v.area_scraper_from, v.area_free_from },
+    area_free_diffusion = { v.area_free_from, v.area_input_from },
+    area_input = { v.area_input_from, v.area_inner_from + 360 },
+  }
+  return g
+end
+
+--- mf.build(p) -> sim, geo: the simulation with materials, Walton-Braun
+--- contacts, chamber, inner piece, scraper and the random fill (SPEC 2: may
+--- overlap each other, never walls or the scraper; small random velocities
+--- with zero net momentum). Nothing is run.
+function M.build(p)
+  local g = M.geometry(p)
+  local v = g.values
+  local sim
+  if g.dimension == 3 then
+    sim = simulation { dimension = 3, steps_per_contact = v.steps_per_contact,
+                       periodic = { axis = "z", origin = 0, length = g.depth } }
+  else
+    sim = simulation { dimension = 2, steps_per_contact = v.steps_per_contact }
+  end
+  sim:material { name = "powder", density = v.density }
+  sim:material { name = "steel", density = 7800 }
+  sim:contact { "powder", "powder", model = "walton_braun", k_load = v.k_load,
+                restitution = v.restitution, friction = v.friction_particle }
+  sim:contact { "powder", "steel", model = "walton_braun", k_load = v.k_load,
+                restitution = v.restitution, friction = v.friction_wall }
+  -- The scraper is powder-sized fixed particles (4.2.1), with the wall's friction.
+  sim:material { name = "scraper", density = v.density }
+  sim:contact { "powder", "scraper", model = "walton_braun", k_load = v.k_load,
+                restitution = v.restitution, friction = v.friction_wall }
+  local function at(xy, z) if g.dimension == 3 then return { xy[1], xy[2], z } end return xy end
+  sim:wall_cylinder { name = "chamber", center = at({ 0, 0 }, 0), radius = g.chamber_radius, inside = true,
+                      angular_velocity = g.omega, material = "steel" }
+  sim:wall_cylinder { name = "inner_piece", center = at(g.inner_center, 0), radius = g.inner_radius,
+                      inside = false, material = "steel" }
+  g.scraper_ids = {}
+  for layer = 1, g.layers do
+    local z = (2 * layer - 1) * v.radius
+    for _, x in ipairs(g.scraper_positions) do
+      g.scraper_ids[#g.scraper_ids + 1] =
+        sim:add_particle { position = at(x, z), radius = v.radius, material = "scraper", fixed = true }
+    end
+  end
+  if g.particles > 0 then
+    local region
+    if g.dimension == 3 then
+      region = { cylinder = { center = { 0, 0, 0 }, radius = g.chamber_radius, z_min = 0, z_max = g.depth } }
+    else
+      region = { circle = { center = { 0, 0 }, radius = g.chamber_radius } }
+    end
+    g.particle_ids = sim:fill { region = region, count = g.particles, radius = v.radius, material = "powder",
+                                seed = v.seed, max_speed = v.max_speed }
+  else
+    g.particle_ids = {}
+  end
+  return sim, g
+end
+
+--- mf.attach_diagnostics(sim, geo, { inner_force =, zones =, areas =, peaks =, window =, every =,
+---                                   zones_mean =, keep_collisions = }) -> ids
+--- Attaches the diagnostics of 4.3-4.5 and 7.2 (each true by default; false
+--- leaves it out and the run pays nothing for it).
+function M.attach_diagnostics(sim, g, opts)
+  opts = opts or {}
+  local v = g.values
+  local window, every = opts.window or v.window, opts.every or v.every
+  local ids = {}
+  local function wanted(name) return opts[name] ~= false end
+  if wanted("inner_force") then
+    ids.inner_force = sim:diagnostic("wall_force", { wall = "inner_piece", window = window, every = every,
+                                                     label = "inner_piece_force" })
+  end
+  if wanted("zones") then
+    ids.zones = sim:diagnostic("zones", { zones = v.zones, window = window, every = every,
+                                          depth = g.dimension == 3 and g.depth or nil,
+                                          mean = opts.zones_mean or "polar" })
+  end
+  local areas = {}
+  for k, b in pairs(g.areas) do areas[k] = b end
+  if wanted("areas") then
+    local o = { window = window, every = every }
+    for k, b in pairs(areas) do o[k] = b end
+    ids.areas = sim:diagnostic("areas", o)
+  end
+  if wanted("peaks") then
+    local o = { window = window, keep_collisions = opts.keep_collisions or 0,
+                force_max = opts.force_max or 0.1, velocity_max = opts.velocity_max or 5,
+                bins = opts.bins or 200 }
+    for k, b in pairs(areas) do o[k] = b end
+    ids.peaks = sim:diagnostic("contact_peaks", o)
+  end
+  return ids
+end
+
+--- mf.escaped(sim, geo, tolerance) -> the number of moving particles whose
+--- centre lies farther from the axis than R - r + tolerance (default 0.1 r)
+--- or inside the inner piece's radius + r - tolerance: particles that left the
+--- powder's space.
+function M.escaped(sim, g, tolerance)
+  tolerance = tolerance or 0.1 * g.radius
+  local count = 0
+  for _, id in ipairs(g.particle_ids) do
+    local q = sim:particle(id)
+    local x, y = q.position[1], q.position[2]
+    local from_axis = math.sqrt(x * x + y * y)
+    local dx, dy = x - g.inner_center[1], y - g.inner_center[2]
+    local from_inner = math.sqrt(dx * dx + dy * dy)
+    if from_axis > g.chamber_radius - g.radius + tolerance or from_inner < g.inner_radius + g.radius - tolerance then
+      count = count + 1
+    end
+  end
+  return count
+end
+
+local area_names = { "inner_piece", "scraper", "input", "free_diffusion" }
+M.area_names = area_names
+
+--- mf.summary(sim, geo, ids) -> a flat table of the long-time means: the
+--- inner piece's normal and tangential force, per area the mean force per
+--- particle and per particle-particle contact, collisions and ratios, the
+--- coating time, the zones' profiles (lists, innermost first).
+function M.summary(sim, g, ids)
+  local out = { rpm = g.rpm, gap = g.gap, particles = g.particles, k_load = g.values.k_load,
+                size_scale = g.values.size_scale, dimension = g.dimension, time = sim:time() }
+  if ids.inner_force then
+    local r = sim:diagnostic_results(ids.inner_force)
+    out.inner_normal_force = r.mean_normal_force
+    out.inner_tangential_force = r.mean_tangential_force
+  end
+  if ids.areas then
+    local r = sim:diagnostic_results(ids.areas)
+    for _, a in ipairs(area_names) do
+      for _, q in ipairs { "normal_force_per_particle", "tangential_force_per_particle",
+                           "normal_force_per_contact", "tangential_force_per_contact", "particles",
+                           "collisions_particle", "collisions_boundary", "collision_ratio_particle",
+                           "collision_ratio_boundary" } do
+        out[q .. "_" .. a] = r[q .. "_" .. a]
+      end
+    end
+  end
+  if ids.peaks then
+    local r = sim:diagnostic_results(ids.peaks)
+    out.coating_time_estimate = r.coating_time_estimate
+    out.coating_reached = r.coating_reached
+    out.covered_fraction = r.covered_fraction
+    for _, a in ipairs(area_names) do
+      out["mean_peak_force_" .. a] = r["mean_peak_force_" .. a]
+      out["fraction_over_200_mm_s_" .. a] = r["fraction_over_200_mm_s_" .. a]
+    end
+  end
+  if ids.zones then
+    local r = sim:diagnostic_results(ids.zones)
+    out.zone_volume_sum, out.chamber_volume = r.zone_volume_sum, r.chamber_volume
+    out.profiles = {}
+    for _, q in ipairs { "rotational_ke", "deviatoric_ke", "deviatoric_ke_cartesian", "pressure",
+                         "pressure_kinetic", "pressure_virial", "collision_work_rate", "solid_fraction", "count" } do
+      out.profiles[q] = r[q]
+    end
+  end
+  return out
+end
+
+--- mf.record(sim, summary): the scalar entries of a summary into /results.
+function M.record(sim, summary)
+  local scalars = {}
+  for k, value in pairs(summary) do
+    if type(value) == "number" and value == value and math.abs(value) ~= math.huge then scalars[k] = value end
+  end
+  sim:result(scalars)
+end
+
+--- mf.run_with_pictures(sim, duration, { times }, prefix): runs `duration`
+--- seconds, drawing the particle pattern (Figs. 4.6-4.7) at each of `times`
+--- (seconds from now) into <prefix>_<ms>ms.png.
+function M.run_with_pictures(sim, duration, times, prefix)
+  local start = sim:time()
+  local files = {}
+  table.sort(times)
+  for _, t in ipairs(times) do
+    if t <= duration then
+      local now = sim:time() - start
+      if t > now then sim:run { duration = t - now } end
+      local file = string.format("%s_%04dms.png", prefix, math.floor(t * 1000 + 0.5))
+      sim:picture { file = file, width = 480, color_by = "speed" }
+      files[#files + 1] = file
+    end
+  end
+  local left = duration - (sim:time() - start)
+  if left > 1e-12 then sim:run { duration = left } end
+  return files
+end
+
+return M

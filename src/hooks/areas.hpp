@@ -1,0 +1,242 @@
+// The four areas of dissertation 4.4.2 (inner piece, scraper, input, free
+// diffusion), angular sectors about the chamber axis counted from the inner
+// piece (chamber_frame.hpp). Per area and time window:
+//   mean normal and tangential contact force per particle (Figs. 4.20-4.21):
+//     the sum of |N| (|T|) over a particle's contacts, averaged over the
+//     particles whose centres are in the area;
+//   mean normal and tangential force per particle-particle contact (the
+//     "average inter-particle force" of Figs. 4.32, 4.34, 5.9-5.13);
+//   mean number of particles;
+//   cumulative collisions particle-particle and particle-boundary (walls and
+//     fixed particles), counted when a contact begins, in the area of its
+//     first contact point (Figs. 4.22-4.23);
+//   collision ratio = cumulative collisions / mean number of particles in the
+//     area (Eq. 4.14; Figs. 4.24-4.25).
+#pragma once
+
+#include <fmt/format.h>
+
+#include <array>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "core/errors.hpp"
+#include "hooks/chamber_frame.hpp"
+#include "hooks/diagnostic.hpp"
+
+namespace granule {
+
+template <int D>
+class AreasDiagnostic final : public Diagnostic<D> {
+ public:
+  using V = Vec<D>;
+  static constexpr int A = AreaSectors::count;
+  static constexpr const char* name = "areas";
+  static constexpr const char* doc =
+      "the four areas of 4.4.2 as sectors (deg from the inner piece): mean normal/tangential "
+      "force per particle and per particle-particle contact, cumulative collisions and "
+      "collision ratio (4.14); options chamber, inner_piece, area_inner_piece/scraper/input/"
+      "free_diffusion = {from, to}, every (steps), window (s), label";
+
+  enum Series {
+    normal_per_particle,
+    tangential_per_particle,
+    normal_per_contact,
+    tangential_per_contact,
+    particles,
+    collisions_particle,
+    collisions_boundary,
+    collision_ratio_particle,
+    collision_ratio_boundary,
+    series_count
+  };
+  static constexpr const char* series_names[series_count] = {"normal_force_per_particle",
+                                                             "tangential_force_per_particle",
+                                                             "normal_force_per_contact",
+                                                             "tangential_force_per_contact",
+                                                             "particles",
+                                                             "collisions_particle",
+                                                             "collisions_boundary",
+                                                             "collision_ratio_particle",
+                                                             "collision_ratio_boundary"};
+  static constexpr const char* series_units[series_count] = {"N", "N", "N", "N", "-",
+                                                             "-", "-", "-", "-"};
+
+  explicit AreasDiagnostic(DiagnosticOptions& o) {
+    frame_.read(o, true);
+    sectors_.read(o);
+    every_ = o.integer("every", 10, 1);
+    window_seconds_ = o.number_in("window", 0.01, 0, 1e9, "s");
+    if (!(window_seconds_ > 0))
+      throw InputError(fmt::format("{}: window must be > 0 [s]", o.context()));
+    label_ = o.string("label", "areas");
+  }
+
+  typename Diagnostic<D>::Needs needs() const override { return {true, true}; }
+  std::int64_t every() const override { return every_; }
+
+  void attach_output(OutputSink* sink) override {
+    sink_ = sink;
+    declared_ = false;
+  }
+
+  // Collisions: every step, from the contacts that began.
+  void on_events(const StepView<D>& v) override {
+    frame_.resolve(v.walls, name);
+    const auto& p = v.particles;
+    for (const auto& e : v.contacts.began) {
+      const int area = sectors_.area_of(frame_.angle_deg(e.position));
+      if (area < 0) continue;
+      bool boundary = e.id_b < 0;
+      if (!boundary) {
+        const int ia = p.index(e.id_a), ib = p.index(e.id_b);
+        boundary = (ia >= 0 && p.fixed[ia]) || (ib >= 0 && p.fixed[ib]);
+      }
+      ++(boundary ? boundary_collisions_ : particle_collisions_)[area];
+    }
+  }
+
+  void observe(const StepView<D>& v) override {
+    frame_.resolve(v.walls, name);
+    declare();
+    const auto& p = v.particles;
+    const auto& log = v.contacts;
+    normal_.assign(p.size(), 0.0);
+    tangential_.assign(p.size(), 0.0);
+    std::array<double, A> contact_normal{}, contact_tangential{}, contacts{};
+    for (std::size_t s = 0; s < log.size(); ++s) {
+      if (!log.active[s]) continue;
+      const double n = std::abs(log.normal_force[s]), t = log.tangential[s].norm();
+      const int a = log.a[s];
+      normal_[a] += n, tangential_[a] += t;
+      if (ContactLog<D>::is_wall(log.b[s])) continue;
+      const int b = log.b[s];
+      normal_[b] += n, tangential_[b] += t;
+      if (p.fixed[a] || p.fixed[b]) continue;
+      const int area = sectors_.area_of(frame_.angle_deg(log.point[s]));
+      if (area < 0) continue;
+      contact_normal[area] += n, contact_tangential[area] += t, contacts[area] += 1;
+    }
+    std::array<double, A> count{}, particle_normal{}, particle_tangential{};
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      if (p.fixed[i]) continue;
+      const int area = sectors_.area_of(frame_.angle_deg(p.position[i]));
+      if (area < 0) continue;
+      count[area] += 1;
+      particle_normal[area] += normal_[i];
+      particle_tangential[area] += tangential_[i];
+    }
+    if (window_start_ < 0) window_start_ = v.time;
+    last_time_ = v.time;
+    for (int k = 0; k < A; ++k) {
+      window_.sums[k].add(count[k], particle_normal[k], particle_tangential[k], contacts[k],
+                          contact_normal[k], contact_tangential[k]);
+      total_.sums[k].add(count[k], particle_normal[k], particle_tangential[k], contacts[k],
+                         contact_normal[k], contact_tangential[k]);
+    }
+    ++window_.samples;
+    ++total_.samples;
+    if (v.time + 0.5 * v.dt >= window_start_ + window_length()) emit(v.time);
+  }
+
+  void flush() override {
+    if (window_.samples > 0) emit(last_time_);
+  }
+
+  std::map<std::string, double> results() const override {
+    std::map<std::string, double> r;
+    const auto values = row_values(total_);
+    for (int q = 0; q < series_count; ++q)
+      for (int k = 0; k < A; ++k)
+        r[std::string(series_names[q]) + "_" + AreaSectors::names[k]] = values[q][k];
+    r["samples"] = static_cast<double>(total_.samples);
+    return r;
+  }
+
+  std::string describe() const override {
+    return fmt::format("4 areas about '{}' from '{}' every {} steps, {} s windows",
+                       frame_.chamber_name, frame_.inner_name, every_, window_length());
+  }
+
+ private:
+  struct Sums {
+    double particles = 0, particle_normal = 0, particle_tangential = 0;
+    double contacts = 0, contact_normal = 0, contact_tangential = 0;
+    void add(double c, double pn, double pt, double nc, double cn, double ct) {
+      particles += c, particle_normal += pn, particle_tangential += pt;
+      contacts += nc, contact_normal += cn, contact_tangential += ct;
+    }
+  };
+  struct Accumulator {
+    std::array<Sums, A> sums{};
+    std::int64_t samples = 0;
+  };
+  double window_length() const { return window_seconds_; }
+
+  // One value per series and area from an accumulator (collisions are cumulative).
+  std::array<std::array<double, A>, series_count> row_values(const Accumulator& acc) const {
+    std::array<std::array<double, A>, series_count> out{};
+    for (int k = 0; k < A; ++k) {
+      const Sums& s = acc.sums[k];
+      auto ratio = [](double a, double b) { return b > 0 ? a / b : 0.0; };
+      out[normal_per_particle][k] = ratio(s.particle_normal, s.particles);
+      out[tangential_per_particle][k] = ratio(s.particle_tangential, s.particles);
+      out[normal_per_contact][k] = ratio(s.contact_normal, s.contacts);
+      out[tangential_per_contact][k] = ratio(s.contact_tangential, s.contacts);
+      out[particles][k] = ratio(s.particles, static_cast<double>(acc.samples));
+      out[collisions_particle][k] = static_cast<double>(particle_collisions_[k]);
+      out[collisions_boundary][k] = static_cast<double>(boundary_collisions_[k]);
+      // Eq. 4.14 over the whole time since attaching: the mean count is the long-time one.
+      const double mean_count =
+          ratio(total_.sums[k].particles, static_cast<double>(total_.samples));
+      out[collision_ratio_particle][k] = ratio(particle_collisions_[k], mean_count);
+      out[collision_ratio_boundary][k] = ratio(boundary_collisions_[k], mean_count);
+    }
+    return out;
+  }
+
+  void declare() {
+    if (declared_ || !sink_) return;
+    declared_ = true;
+    for (int q = 0; q < series_count; ++q) {
+      sink_->declare_series(group(q), area_columns());
+      sink_->write_attribute(group(q), "units", std::string(series_units[q]));
+    }
+    const std::string g = "diagnostics/" + label_;
+    sink_->write_attribute(g, "window", window_length());
+    sink_->write_attribute(g, "every_steps", static_cast<double>(every_));
+    sink_->write_attribute(g, "area_bounds_deg", sectors_.bounds());
+    sink_->write_attribute(g, "chamber", frame_.chamber_name);
+    sink_->write_attribute(g, "inner_piece", frame_.inner_name);
+  }
+  std::string group(int q) const { return "diagnostics/" + label_ + "/" + series_names[q]; }
+
+  void emit(double time) {
+    if (sink_ && window_.samples > 0) {
+      declare();
+      const auto values = row_values(window_);
+      for (int q = 0; q < series_count; ++q) {
+        std::vector<double> row{time};
+        row.insert(row.end(), values[q].begin(), values[q].end());
+        sink_->append_series(group(q), row);
+      }
+    }
+    window_start_ = time;
+    window_ = Accumulator{};
+  }
+
+  ChamberFrame<D> frame_;
+  AreaSectors sectors_;
+  std::int64_t every_ = 10;
+  double window_seconds_ = 0.01;
+  std::string label_;
+  OutputSink* sink_ = nullptr;
+  bool declared_ = false;
+  std::vector<double> normal_, tangential_;  // per particle, this sample
+  Accumulator window_, total_;
+  std::array<std::int64_t, A> particle_collisions_{}, boundary_collisions_{};
+  double window_start_ = -1, last_time_ = 0;
+};
+
+}  // namespace granule

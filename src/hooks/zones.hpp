@@ -1,0 +1,324 @@
+// Radial zones of equal volume over the chamber (dissertation 4.2.3, 4.3.2):
+// N zones with boundaries r_k = R sqrt(k/N); a particle cut by a boundary is
+// shared between the two zones by the spherical-cap volume fractions of
+// Eqs. 4.3-4.6. Per zone, averaged over time windows:
+//   rotational kinetic energy with the chamber spin removed (4.10),
+//   deviatoric kinetic energy (4.11): fluctuations about the zone's mean
+//     velocity taken in polar components (SPEC 4.2: the Cartesian mean of a
+//     whole annulus is ~0 by symmetry) and, as printed, in Cartesian ones,
+//   pressure (4.12): kinetic part plus the virial of the contact forces,
+//   collision work (4.13) as a rate: sum of N d(alpha)/dt per unit volume,
+//   solid fraction and particle count.
+// Zone volume = zone area x depth; in 2D the depth is one particle diameter
+// (4.3.2), in 3D the slab's length along the axis. Fixed particles (the
+// scraper) are boundary, not powder: their contacts count, they do not.
+#pragma once
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "core/errors.hpp"
+#include "hooks/chamber_frame.hpp"
+#include "hooks/diagnostic.hpp"
+
+namespace granule {
+
+// Fraction of a sphere of radius r, centre at distance l from the axis, that
+// lies inside radius b (planar cut, Eqs. 4.3-4.5): a = l - b (4.3); the part
+// beyond the plane at distance a from the centre has the cap volume
+// (2/3) pi r^3 - pi a (r^2 - a^2/3) (4.4), divided by V_t (4.5).
+inline double zone_inner_fraction(double l, double b, double r) {
+  const double a = l - b;  // Eq. 4.3
+  if (a >= r) return 0;
+  if (a <= -r) return 1;
+  const double cap = 2.0 / 3.0 * r * r * r - a * (r * r - a * a / 3);  // Eq. 4.4 / pi
+  return cap / (4.0 / 3.0 * r * r * r);                                // Eq. 4.5
+}
+
+template <int D>
+class ZonesDiagnostic final : public Diagnostic<D> {
+ public:
+  using V = Vec<D>;
+  static constexpr const char* name = "zones";
+  static constexpr const char* doc =
+      "radial zones of equal volume (4.3-4.6): rotational KE less chamber spin (4.10), "
+      "deviatoric KE (4.11, polar and Cartesian mean), pressure kinetic + virial (4.12), "
+      "collision work rate (4.13), solid fraction; options zones, chamber, depth (m), mean "
+      "(polar|cartesian, for the pressure), every (steps), window (s), label";
+
+  enum Quantity {
+    rotational_ke,
+    deviatoric_ke,
+    deviatoric_ke_cartesian,
+    pressure,
+    pressure_kinetic,
+    pressure_virial,
+    collision_work_rate,
+    solid_fraction,
+    count,
+    quantity_count
+  };
+  static constexpr const char* quantity_names[quantity_count] = {"rotational_ke",
+                                                                 "deviatoric_ke",
+                                                                 "deviatoric_ke_cartesian",
+                                                                 "pressure",
+                                                                 "pressure_kinetic",
+                                                                 "pressure_virial",
+                                                                 "collision_work_rate",
+                                                                 "solid_fraction",
+                                                                 "count"};
+  static constexpr const char* quantity_units[quantity_count] = {
+      "J/m^3", "J/m^3", "J/m^3", "Pa", "Pa", "Pa", "W/m^3", "-", "-"};
+
+  explicit ZonesDiagnostic(DiagnosticOptions& o) {
+    frame_.read(o, false);
+    zones_ = static_cast<int>(o.integer("zones", 7, 1));
+    if (zones_ > 1000) throw InputError(fmt::format("{}: 'zones' must be <= 1000", o.context()));
+    depth_ = o.number_in("depth", 0, 0, 1e3, "m");
+    if (D == 3 && !(depth_ > 0))
+      throw InputError(fmt::format(
+          "{}: give depth = the slab's length along the axis [m] (3D zone volumes)", o.context()));
+    const std::string mean = o.string("mean", "polar");
+    if (mean != "polar" && mean != "cartesian")
+      throw InputError(
+          fmt::format("{}: 'mean' must be 'polar' or 'cartesian', got '{}'", o.context(), mean));
+    polar_ = mean == "polar";
+    every_ = o.integer("every", 10, 1);
+    window_ = o.number_in("window", 0.01, 0, 1e9, "s");
+    if (!(window_ > 0)) throw InputError(fmt::format("{}: window must be > 0 [s]", o.context()));
+    label_ = o.string("label", "zones");
+  }
+
+  typename Diagnostic<D>::Needs needs() const override { return {true, false}; }
+  std::int64_t every() const override { return every_; }
+
+  void attach_output(OutputSink* sink) override {
+    sink_ = sink;
+    declared_ = false;
+  }
+
+  void observe(const StepView<D>& v) override {
+    frame_.resolve(v.walls, name);
+    const auto& p = v.particles;
+    if (volume_.empty()) setup(p);
+    declare();
+    std::vector<double> sample(quantity_count * zones_, 0.0);
+    auto at = [&](Quantity q, int z) -> double& { return sample[q * zones_ + z]; };
+    // Per zone sums for the mean velocity: mass, sum m u (polar and Cartesian), sum m u^2.
+    std::vector<double> mass(zones_, 0.0), muu(zones_, 0.0);
+    std::vector<V> mu_polar(zones_, V::Zero()), mu_cart(zones_, V::Zero());
+    std::vector<double> fraction(zones_);
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      if (p.fixed[i]) continue;
+      const double r = p.radius[i], m = p.mass[i];
+      const double inertia = sphere_inertia(m, r);
+      const double l = frame_.radial_distance(p.position[i]);
+      split(l, r, fraction);
+      // Eq. 4.10: spin relative to the chamber's; 2D spin is about z only.
+      double spin_sq;
+      if constexpr (D == 2) {
+        spin_sq = (p.spin[i] - frame_.omega) * (p.spin[i] - frame_.omega);
+      } else {
+        const auto& w = p.spin[i];
+        spin_sq = w.x() * w.x() + w.y() * w.y() + (w.z() - frame_.omega) * (w.z() - frame_.omega);
+      }
+      const V& vel = p.velocity[i];
+      const V local = polar_components(p.position[i], vel);
+      const double particle_volume = 4.0 / 3.0 * pi * r * r * r;
+      for (int z = 0; z < zones_; ++z) {
+        const double f = fraction[z];
+        if (f == 0) continue;
+        at(rotational_ke, z) += f * inertia * spin_sq;
+        at(solid_fraction, z) += f * particle_volume;
+        at(count, z) += f;
+        mass[z] += f * m;
+        mu_polar[z] += f * m * local;
+        mu_cart[z] += f * m * vel;
+        muu[z] += f * m * vel.squaredNorm();  // |v|^2 is the same in both components
+      }
+    }
+    // Contacts: the virial F_ij R_ij of 4.12 and N d(alpha)/dt of 4.13, each
+    // contact in the zone of its contact point. R_ij = r_a + r_b - overlap for
+    // a pair (periodic images need no care), r_a - overlap (the particle's
+    // side of the contact) for a wall.
+    const auto& log = v.contacts;
+    for (std::size_t s = 0; s < log.size(); ++s) {
+      if (!log.active[s]) continue;
+      const int a = log.a[s];
+      const int z = zone_of(frame_.radial_distance(log.point[s]));
+      double branch = p.radius[a] - log.overlap[s];
+      if (!ContactLog<D>::is_wall(log.b[s])) branch += p.radius[log.b[s]];
+      at(pressure_virial, z) += log.normal_force[s] * branch;
+      at(collision_work_rate, z) += log.normal_force[s] * log.overlap_rate[s];
+    }
+    for (int z = 0; z < zones_; ++z) {
+      const double vk = volume_[z];
+      double dev_polar = 0, dev_cart = 0;
+      if (mass[z] > 0) {
+        dev_polar = std::max(0.0, muu[z] - mu_polar[z].squaredNorm() / mass[z]);
+        dev_cart = std::max(0.0, muu[z] - mu_cart[z].squaredNorm() / mass[z]);
+      }
+      at(rotational_ke, z) /= 2 * vk;                                        // Eq. 4.10
+      at(deviatoric_ke, z) = dev_polar / (2 * vk);                           // Eq. 4.11, polar mean
+      at(deviatoric_ke_cartesian, z) = dev_cart / (2 * vk);                  // Eq. 4.11 as printed
+      at(pressure_kinetic, z) = (polar_ ? dev_polar : dev_cart) / (3 * vk);  // Eq. 4.12
+      at(pressure_virial, z) /= 3 * vk;
+      at(pressure, z) = at(pressure_kinetic, z) + at(pressure_virial, z);
+      at(collision_work_rate, z) /= vk;  // Eq. 4.13 divided by the step
+      at(solid_fraction, z) /= vk;
+    }
+    if (window_start_ < 0) window_start_ = v.time;
+    last_time_ = v.time;
+    for (std::size_t k = 0; k < sample.size(); ++k) {
+      window_sum_[k] += sample[k];
+      total_sum_[k] += sample[k];
+    }
+    ++window_samples_;
+    ++total_samples_;
+    if (v.time + 0.5 * v.dt >= window_start_ + window_) emit(v.time);
+  }
+
+  void flush() override {
+    if (window_samples_ > 0) emit(last_time_);
+  }
+
+  std::map<std::string, double> results() const override {
+    std::map<std::string, double> r;
+    double sum = 0;
+    for (double vk : volume_) sum += vk;
+    r["zone_volume_sum"] = sum;
+    r["chamber_volume"] = pi * frame_.radius * frame_.radius * depth_;
+    r["depth"] = depth_;
+    r["samples"] = static_cast<double>(total_samples_);
+    double particles = 0;
+    for (int z = 0; z < zones_ && total_samples_ > 0; ++z)
+      particles += total_sum_[count * zones_ + z] / total_samples_;
+    r["mean_particle_count"] = particles;
+    return r;
+  }
+
+  // Long-time means per zone (innermost first), zone radii and volumes.
+  std::map<std::string, std::vector<double>> arrays() const override {
+    std::map<std::string, std::vector<double>> a;
+    for (int q = 0; q < quantity_count; ++q) {
+      std::vector<double> m(zones_, 0.0);
+      for (int z = 0; z < zones_ && total_samples_ > 0; ++z)
+        m[z] = total_sum_[q * zones_ + z] / total_samples_;
+      a[quantity_names[q]] = m;
+    }
+    a["zone_radii"] = radii_;
+    a["zone_volume"] = volume_;
+    return a;
+  }
+
+  std::string describe() const override {
+    return fmt::format("{} radial zones of '{}' every {} steps, {} s windows, {} mean", zones_,
+                       frame_.chamber_name, every_, window_, polar_ ? "polar" : "cartesian");
+  }
+
+ private:
+  void setup(const Particles<D>& p) {
+    if constexpr (D == 2) {
+      if (!(depth_ > 0)) {  // one particle diameter (4.3.2): the mean over the powder
+        double sum = 0;
+        int n = 0;
+        for (std::size_t i = 0; i < p.size(); ++i)
+          if (!p.fixed[i]) sum += 2 * p.radius[i], ++n;
+        if (n == 0) throw InputError("diagnostic 'zones': no moving particles to set the depth");
+        depth_ = sum / n;
+      }
+    }
+    const double R = frame_.radius;
+    radii_.resize(zones_ + 1);
+    for (int k = 0; k <= zones_; ++k) radii_[k] = R * std::sqrt(static_cast<double>(k) / zones_);
+    volume_.resize(zones_);
+    for (int z = 0; z < zones_; ++z)
+      volume_[z] = pi * (radii_[z + 1] * radii_[z + 1] - radii_[z] * radii_[z]) * depth_;
+    window_sum_.assign(quantity_count * zones_, 0.0);
+    total_sum_.assign(quantity_count * zones_, 0.0);
+  }
+
+  void declare() {
+    if (declared_ || !sink_) return;
+    declared_ = true;
+    std::vector<std::string> columns{"time"};
+    for (int z = 1; z <= zones_; ++z) columns.push_back(fmt::format("zone_{}", z));
+    for (int q = 0; q < quantity_count; ++q) {
+      const std::string g = group(q);
+      sink_->declare_series(g, columns);
+      sink_->write_attribute(g, "units", std::string(quantity_units[q]));
+    }
+    const std::string g = "diagnostics/" + label_;
+    sink_->write_attribute(g, "window", window_);
+    sink_->write_attribute(g, "every_steps", static_cast<double>(every_));
+    sink_->write_attribute(g, "zone_radii", radii_);
+    sink_->write_attribute(g, "zone_volume", volume_);
+    sink_->write_attribute(g, "depth", depth_);
+    sink_->write_attribute(g, "mean", std::string(polar_ ? "polar" : "cartesian"));
+    sink_->write_attribute(g, "chamber", frame_.chamber_name);
+  }
+  std::string group(int q) const { return "diagnostics/" + label_ + "/" + quantity_names[q]; }
+
+  // Zone of a radial distance (beyond the chamber: the outermost zone).
+  int zone_of(double l) const {
+    const double R = frame_.radius;
+    int z = static_cast<int>(zones_ * (l * l) / (R * R));
+    return std::clamp(z, 0, zones_ - 1);
+  }
+  // Volume fractions of a particle in each zone: F(r_{k+1}) - F(r_k), with
+  // F(r_0) = 0 and F(r_N) = 1 so nothing is lost at the axis or the wall.
+  void split(double l, double r, std::vector<double>& fraction) const {
+    double below = 0;
+    for (int z = 0; z < zones_; ++z) {
+      const double inside = z + 1 == zones_ ? 1.0 : zone_inner_fraction(l, radii_[z + 1], r);
+      fraction[z] = inside - below;
+      below = inside;
+    }
+  }
+  // Velocity in polar components (radial, azimuthal[, axial]) at x.
+  V polar_components(const V& x, const V& vel) const {
+    const double dx = x.x() - frame_.center.x(), dy = x.y() - frame_.center.y();
+    const double l = std::sqrt(dx * dx + dy * dy);
+    V u = vel;
+    if (l > 0) {
+      const double c = dx / l, s = dy / l;
+      u.x() = c * vel.x() + s * vel.y();
+      u.y() = -s * vel.x() + c * vel.y();
+    }
+    return u;
+  }
+
+  void emit(double time) {
+    if (sink_ && window_samples_ > 0) {
+      declare();
+      for (int q = 0; q < quantity_count; ++q) {
+        std::vector<double> row{time};
+        for (int z = 0; z < zones_; ++z)
+          row.push_back(window_sum_[q * zones_ + z] / window_samples_);
+        sink_->append_series(group(q), row);
+      }
+    }
+    window_start_ = time;
+    std::fill(window_sum_.begin(), window_sum_.end(), 0.0);
+    window_samples_ = 0;
+  }
+
+  ChamberFrame<D> frame_;
+  int zones_ = 7;
+  double depth_ = 0;
+  bool polar_ = true;
+  std::int64_t every_ = 10;
+  double window_ = 0.01;
+  std::string label_;
+  OutputSink* sink_ = nullptr;
+  bool declared_ = false;
+  std::vector<double> radii_, volume_, window_sum_, total_sum_;
+  double window_start_ = -1, last_time_ = 0;
+  std::int64_t window_samples_ = 0, total_samples_ = 0;
+};
+
+}  // namespace granule
