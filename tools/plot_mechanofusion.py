@@ -103,9 +103,9 @@ def out_path(args, stem, suffix):
     return os.path.join(d, f"{stem}_{suffix}.png")
 
 
-def save(fig, path):
+def save(fig, path, dpi=110):
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=dpi)
     plt.close(fig)
     print(path)
 
@@ -339,7 +339,13 @@ def pattern_figure(args):
                 ax.imshow(plt.imread(files[c]))
                 ms = files[c].rsplit("_", 1)[-1].replace("ms.png", "")
                 ax.set_title(f"{kind} scraper, +{int(ms)} ms", fontsize=9)
-    save(fig, out_path(args, os.path.basename(stem), "patterns"))
+    path = out_path(args, os.path.basename(stem), "patterns")
+    save(fig, path, dpi=70)
+    try:  # a palette image: the pictures have few colours, and the docs keep the file
+        from PIL import Image
+        Image.open(path).convert("RGB").quantize(colors=96).save(path, optimize=True)
+    except ImportError:
+        pass
 
 
 def main(argv=None):
