@@ -139,30 +139,6 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
                                 const std::vector<typename M::Params>& params) {
   using History = typename M::template History<D>;
   const std::int64_t count = static_cast<std::int64_t>(b.size());
-  const double dt = dt_;
-  // Plain pointers: the compiler cannot prove that stores through the outputs
-  // leave the vectors' own pointers alone, and would reload them per contact.
-  const std::uint32_t* const bi = b.i.data();
-  const std::uint32_t* const bj = b.j.data();
-  const std::uint32_t* const bslot = b.slot.data();
-  History* const hist = b.history.data();
-  const typename M::Params* const par_of = params.data();
-  const V* const x = p_.position.data();
-  const V* const v = p_.velocity.data();
-  const S* const w = p_.spin.data();
-  const double* const radius = p_.radius.data();
-  const double* const inv_mass = p_.inv_mass.data();
-  V* const out_force = slot_force_.data() + b.offset;
-  S* const out_torque_a = slot_torque_a_.data() + b.offset;
-  S* const out_torque_b = slot_torque_b_.data() + b.offset;
-  std::uint8_t* const in_contact = slot_in_contact_.data() + b.offset;
-  const bool fused = fused_;
-  V* const force = p_.force.data();
-  S* const torque = p_.torque.data();
-  const Periodicity periodic = periodic_;
-  const bool periodic_on = periodic.on();
-  const int periodic_axis = periodic_on ? periodic.axis : 0;
-  const std::size_t offset = b.offset;
   std::int64_t touching = 0;
   double max_ratio = 0;
   const int threads = thread_count();
@@ -174,11 +150,38 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
   // Each contact writes only its own slot, so no order matters here.
   const int team = count >= parallel_min_contacts ? threads : 1;
   b.touched.resize(team);
-// clang-format off
-#pragma omp parallel num_threads(team) reduction(+ : touching) reduction(max : max_ratio) if (team > 1)
-  // clang-format on
-  {
-    const std::int64_t t = omp_get_thread_num(), nt = omp_get_num_threads();
+  // The work of thread t of nt, called directly on one thread and from an
+  // OpenMP region on more. Its arrays are local pointers declared inside:
+  // captured by reference, or shared with an OpenMP region, they would be
+  // reloaded after every store (Eigen's packet stores may alias anything).
+  auto work = [&](std::int64_t t, std::int64_t nt, std::int64_t& touching_out,
+                  double& max_ratio_out) {
+    const double dt = dt_;
+    // Plain pointers: the compiler cannot prove that stores through the outputs
+    // leave the vectors' own pointers alone, and would reload them per contact.
+    const std::uint32_t* const bi = b.i.data();
+    const std::uint32_t* const bj = b.j.data();
+    const std::uint32_t* const bslot = b.slot.data();
+    History* const hist = b.history.data();
+    const typename M::Params* const par_of = params.data();
+    const V* const x = p_.position.data();
+    const V* const v = p_.velocity.data();
+    const S* const w = p_.spin.data();
+    const double* const radius = p_.radius.data();
+    const double* const inv_mass = p_.inv_mass.data();
+    V* const out_force = slot_force_.data() + b.offset;
+    S* const out_torque_a = slot_torque_a_.data() + b.offset;
+    S* const out_torque_b = slot_torque_b_.data() + b.offset;
+    std::uint8_t* const in_contact = slot_in_contact_.data() + b.offset;
+    const bool fused = fused_;
+    V* const force = p_.force.data();
+    S* const torque = p_.torque.data();
+    const Periodicity periodic = periodic_;
+    const bool periodic_on = periodic.on();
+    const int periodic_axis = periodic_on ? periodic.axis : 0;
+    const std::size_t offset = b.offset;
+    std::int64_t touching = 0;
+    double max_ratio = 0;
     const std::int64_t begin = count * t / nt, end = count * (t + 1) / nt;
     StepList& list = b.touched[t];
     list.start(static_cast<std::size_t>(end - begin));
@@ -267,6 +270,14 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
         log_.point[s] = x[i] - (radius[i] - 0.5 * overlap) * c.normal;
       }
     }
+    touching_out += touching;
+    if (max_ratio > max_ratio_out) max_ratio_out = max_ratio;
+  };
+  if (team > 1) {
+#pragma omp parallel num_threads(team) reduction(+ : touching) reduction(max : max_ratio)
+    work(omp_get_thread_num(), omp_get_num_threads(), touching, max_ratio);
+  } else {
+    work(0, 1, touching, max_ratio);
   }
   contacts_particle_ += touching;
   if (max_ratio > max_overlap_ratio_) max_overlap_ratio_ = max_ratio;
@@ -279,35 +290,39 @@ void Simulation<D>::wall_forces(WallBucket<D, M>& b,
   using History = typename M::template History<D>;
   const std::int64_t count = static_cast<std::int64_t>(b.size());
   const std::size_t offset = b.offset;
-  const double dt = dt_;
   std::int64_t touching = 0;
   double max_ratio = 0;
-  const std::uint32_t* const bp = b.particle.data();
-  const std::uint32_t* const bw = b.wall.data();
-  const std::uint32_t* const bslot = b.slot.data();
-  History* const hist = b.history.data();
-  const typename M::Params* const par_of = params.data();
-  const Wall<D>* const walls = walls_.data();
-  const V* const x = p_.position.data();
-  const V* const v = p_.velocity.data();
-  const S* const w_spin = p_.spin.data();
-  const double* const radius = p_.radius.data();
-  const double* const mass = p_.mass.data();
-  V* const out_force = slot_force_.data() + offset;
-  S* const out_torque = slot_torque_a_.data() + offset;
-  double* const out_axial = slot_axial_torque_.data() + offset;
-  std::uint8_t* const in_contact = slot_in_contact_.data() + offset;
-  const bool fused = fused_;
-  V* const force = p_.force.data();
-  S* const torque = p_.torque.data();
   const int threads = thread_count();
   const int team = count >= parallel_min_contacts ? threads : 1;
   b.touched.resize(team);
-// clang-format off
-#pragma omp parallel num_threads(team) reduction(+ : touching) reduction(max : max_ratio) if (team > 1)
-  // clang-format on
-  {
-    const std::int64_t t = omp_get_thread_num(), nt = omp_get_num_threads();
+  // The work of thread t of nt, called directly on one thread and from an
+  // OpenMP region on more. Its arrays are local pointers declared inside:
+  // captured by reference, or shared with an OpenMP region, they would be
+  // reloaded after every store (Eigen's packet stores may alias anything).
+  auto work = [&](std::int64_t t, std::int64_t nt, std::int64_t& touching_out,
+                  double& max_ratio_out) {
+    // Local pointers: captured by reference they would be reloaded per contact.
+    const std::uint32_t* const bp = b.particle.data();
+    const std::uint32_t* const bw = b.wall.data();
+    const std::uint32_t* const bslot = b.slot.data();
+    History* const hist = b.history.data();
+    const typename M::Params* const par_of = params.data();
+    const Wall<D>* const walls = walls_.data();
+    const V* const x = p_.position.data();
+    const V* const v = p_.velocity.data();
+    const S* const w_spin = p_.spin.data();
+    const double* const radius = p_.radius.data();
+    const double* const mass = p_.mass.data();
+    V* const out_force = slot_force_.data() + offset;
+    S* const out_torque = slot_torque_a_.data() + offset;
+    double* const out_axial = slot_axial_torque_.data() + offset;
+    std::uint8_t* const in_contact = slot_in_contact_.data() + offset;
+    const bool fused = fused_;
+    V* const force = p_.force.data();
+    S* const torque = p_.torque.data();
+    const double dt = dt_;
+    std::int64_t touching = 0;
+    double max_ratio = 0;
     const std::int64_t begin = count * t / nt, end = count * (t + 1) / nt;
     StepList& list = b.touched[t];
     list.start(static_cast<std::size_t>(end - begin));
@@ -371,6 +386,14 @@ void Simulation<D>::wall_forces(WallBucket<D, M>& b,
         log_.point[s] = x[i] - (r - overlap) * n;
       }
     }
+    touching_out += touching;
+    if (max_ratio > max_ratio_out) max_ratio_out = max_ratio;
+  };
+  if (team > 1) {
+#pragma omp parallel num_threads(team) reduction(+ : touching) reduction(max : max_ratio)
+    work(omp_get_thread_num(), omp_get_num_threads(), touching, max_ratio);
+  } else {
+    work(0, 1, touching, max_ratio);
   }
   contacts_wall_ += touching;
   if (max_ratio > max_overlap_ratio_) max_overlap_ratio_ = max_ratio;
@@ -517,44 +540,83 @@ void Simulation<D>::integrate() {
   double max_sq = max_displacement_sq_;
   std::int64_t bad = std::numeric_limits<std::int64_t>::max();
   const int threads = thread_count();
-  V* const x = p_.position.data();
-  V* const v = p_.velocity.data();
-  S* const w = p_.spin.data();
-  V* const force = p_.force.data();
-  const S* const torque = p_.torque.data();
-  const V* const x_rebuild = position_at_rebuild_.data();
-  const double* const mass = p_.mass.data();
-  const double* const inv_mass = p_.inv_mass.data();
-  const double* const inv_inertia = p_.inv_inertia.data();
-  const std::uint8_t* const fixed = p_.fixed.data();
   const Periodicity pbc = periodic_;
-// clang-format off
-#pragma omp parallel for schedule(static) reduction(max : max_sq) reduction(min : bad) \
-    num_threads(threads) if (n >= parallel_min_particles)
-  // clang-format on
-  for (std::int64_t i = 0; i < n; ++i) {
-    if (fixed[i]) continue;  // immobile: its contact force stays for reports
-    if (body) force[i] += body_.force(mass[i], x[i]);
-    const V x_before = x[i], v_before = v[i];  // kept if this step makes them non-finite
-    v[i] += force[i] * (inv_mass[i] * dt);     // Eq. 4.8
-    x[i] += v[i] * dt;                         // Eq. 4.9
-    if (spins) w[i] += torque[i] * (inv_inertia[i] * dt);  // no friction in use: no torque
-    V moved_by = x[i] - x_rebuild[i];
-    if (periodic) {
-      double& coordinate = x[i][pbc.axis];
-      coordinate -= pbc.length * std::floor((coordinate - pbc.origin) / pbc.length);
-      moved_by[pbc.axis] = pbc.wrap(moved_by[pbc.axis]);
-    }
-    const double moved = moved_by.squaredNorm();
-    if (!(moved <= max_sq)) {  // also true for NaN
-      if (!std::isfinite(moved) || !std::isfinite(Dim<D>::spin_sq(w[i]))) {
-        if (i < bad) bad = i;
-        x[i] = x_before, v[i] = v_before;  // the failure report writes the last finite state
-        continue;
+  // One loop per combination of the effects in use (body force, periodic axis,
+  // spins, fixed particles), so a scene pays in the particle loop only for
+  // what it has: the branches are resolved when the loop is compiled.
+  const bool any_fixed = any_fixed_;
+  auto range = [&](auto body_c, auto periodic_c, auto spins_c, auto fixed_c, std::int64_t begin,
+                   std::int64_t end, double& max_sq_out, std::int64_t& bad_out) {
+    constexpr bool Body = decltype(body_c)::value, Periodic = decltype(periodic_c)::value;
+    constexpr bool Spins = decltype(spins_c)::value, Fixed = decltype(fixed_c)::value;
+    // The arrays as local pointers: captured by reference they would be
+    // reloaded after every store (Eigen's packet stores may alias anything).
+    V* const x = p_.position.data();
+    V* const v = p_.velocity.data();
+    S* const w = p_.spin.data();
+    V* const force = p_.force.data();
+    const S* const torque = p_.torque.data();
+    const V* const x_rebuild = position_at_rebuild_.data();
+    const double* const mass = p_.mass.data();
+    const double* const inv_mass = p_.inv_mass.data();
+    const double* const inv_inertia = p_.inv_inertia.data();
+    const std::uint8_t* const fixed = p_.fixed.data();
+    const double h = dt;
+    const Periodicity periodicity = pbc;
+    double max_moved = max_sq_out;
+    std::int64_t first_bad = bad_out;
+    for (std::int64_t i = begin; i < end; ++i) {
+      if constexpr (Fixed)
+        if (fixed[i]) continue;  // immobile: its contact force stays for reports
+      if constexpr (Body) force[i] += body_.force(mass[i], x[i]);
+      // The new state in registers first: a step that makes it non-finite is
+      // not stored, so the failure report writes the last finite state.
+      const V v_new = v[i] + force[i] * (inv_mass[i] * h);  // Eq. 4.8
+      V x_new = v_new * h + x[i];                           // Eq. 4.9
+      V moved_by = x_new - x_rebuild[i];
+      if constexpr (Periodic) {
+        double& coordinate = x_new[periodicity.axis];
+        coordinate -=
+            periodicity.length * std::floor((coordinate - periodicity.origin) / periodicity.length);
+        moved_by[periodicity.axis] = periodicity.wrap(moved_by[periodicity.axis]);
       }
-      max_sq = moved;
+      const double moved = moved_by.squaredNorm();
+      if (!(moved <= max_moved)) {  // also true for NaN
+        if (!std::isfinite(moved) ||
+            (Spins && !std::isfinite(Dim<D>::spin_sq(w[i] + torque[i] * (inv_inertia[i] * h))))) {
+          if (i < first_bad) first_bad = i;
+          continue;
+        }
+        max_moved = moved;
+      }
+      v[i] = v_new;
+      x[i] = x_new;
+      if constexpr (Spins) w[i] += torque[i] * (inv_inertia[i] * h);  // no friction: no torque
     }
-  }
+    max_sq_out = max_moved;
+    bad_out = first_bad;
+  };
+  auto run = [&](auto body_c, auto periodic_c, auto spins_c, auto fixed_c) {
+    if (threads > 1 && n >= parallel_min_particles) {
+#pragma omp parallel num_threads(threads) reduction(max : max_sq) reduction(min : bad)
+      {
+        const std::int64_t t = omp_get_thread_num(), nt = omp_get_num_threads();
+        range(body_c, periodic_c, spins_c, fixed_c, n * t / nt, n * (t + 1) / nt, max_sq, bad);
+      }
+    } else {
+      range(body_c, periodic_c, spins_c, fixed_c, 0, n, max_sq, bad);
+    }
+  };
+  using yes = std::true_type;
+  using no = std::false_type;
+  auto with_fixed = [&](auto b, auto p, auto s) {
+    any_fixed ? run(b, p, s, yes{}) : run(b, p, s, no{});
+  };
+  auto with_spins = [&](auto b, auto p) {
+    spins ? with_fixed(b, p, yes{}) : with_fixed(b, p, no{});
+  };
+  auto with_periodic = [&](auto b) { periodic ? with_spins(b, yes{}) : with_spins(b, no{}); };
+  body ? with_periodic(yes{}) : with_periodic(no{});
   max_displacement_sq_ = max_sq;
   if (bad != std::numeric_limits<std::int64_t>::max() && non_finite_index_ == SIZE_MAX)
     non_finite_index_ = static_cast<std::size_t>(bad);
@@ -647,6 +709,7 @@ void Simulation<D>::build_slots() {
 template <int D>
 void Simulation<D>::rebuild_lists() {
   const std::size_t n = p_.size();
+  any_fixed_ = std::any_of(p_.fixed.begin(), p_.fixed.end(), [](std::uint8_t f) { return f != 0; });
   candidates_.clear();
   grid_.build(p_, skin_, periodic_, candidates_);
   const std::int64_t max_id = p_.next_id;

@@ -217,6 +217,7 @@ class Simulation final : public SimulationBase {
   OutputSink* sink_ = nullptr;
   std::vector<V> position_at_rebuild_;
   double max_displacement_sq_ = 0;
+  bool any_fixed_ = true;  // a fixed particle exists (refreshed at every list rebuild)
   bool lists_valid_ = false;
   std::size_t rebuilds_ = 0;
   // per-step counters
