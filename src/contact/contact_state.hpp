@@ -8,10 +8,27 @@
 //    on i points along it.
 #pragma once
 
+#include <type_traits>
+
 #include "core/material.hpp"
 #include "core/types.hpp"
 
 namespace granule {
+
+// Whether a model reads ContactState::effective_mass / effective_radius
+// (each a division per contact and step): a model says so with
+// `static constexpr bool uses_effective_mass = false;` (or radius); by
+// default it does. Unread fields are left NaN.
+template <typename M, typename = void>
+struct uses_effective_mass : std::true_type {};
+template <typename M>
+struct uses_effective_mass<M, std::void_t<decltype(M::uses_effective_mass)>>
+    : std::bool_constant<M::uses_effective_mass> {};
+template <typename M, typename = void>
+struct uses_effective_radius : std::true_type {};
+template <typename M>
+struct uses_effective_radius<M, std::void_t<decltype(M::uses_effective_radius)>>
+    : std::bool_constant<M::uses_effective_radius> {};
 
 template <int D>
 struct ContactState {

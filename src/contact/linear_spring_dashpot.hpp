@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cmath>
+#include <type_traits>
 #include <vector>
 
 #include "contact/contact_state.hpp"
@@ -26,6 +27,7 @@ struct LinearSpringDashpot {
       "linear spring-dashpot normal force with a Coulomb-capped tangential spring "
       "(Cundall-Strack; LAMMPS gran/hooke/history)";
   static constexpr bool adhesive = false;
+  static constexpr bool uses_effective_radius = false;  // (m* is read once per contact)
 
   static std::vector<ParamSpec> parameters() {
     return {
@@ -63,14 +65,22 @@ struct LinearSpringDashpot {
     return p;
   }
 
-  template <int D>
-  struct History {
-    Vec<D> slip = Vec<D>::Zero();  // accumulated tangential spring elongation, m
+  struct History3 {
+    Vec<3> slip = Vec<3>::Zero();  // accumulated tangential spring elongation, m
     double sqrt_mass = -1;         // sqrt(m*) of this contact, kg^1/2; < 0: not computed yet
   };
-
+  // 2D: the spring's elongation along t = (-n_y, n_x), which turns with the
+  // contact, so carrying it onto the new tangent line costs nothing (the
+  // vector form rotates it there keeping its length and side: the same).
+  struct History2 {
+    double slip = 0;  // m, along t
+    double sqrt_mass = -1;
+  };
   template <int D>
-  static bool touching(const Params&, const History<D>&, double overlap) {
+  using History = std::conditional_t<D == 2, History2, History3>;
+
+  template <typename H>
+  static bool touching(const Params&, const H&, double overlap) {
     return overlap > 0;
   }
 
@@ -97,20 +107,35 @@ struct LinearSpringDashpot {
     out.normal = normal;
     if (p.friction == 0 && p.k_tangential == 0) return out;
 
-    Vec<D> slip = rotate_onto_plane<D>(h.slip, c.normal) + c.tangential_velocity * c.dt;
     const double c_t = p.tangential_damping_ratio * c_n;
-    Vec<D> t = p.k_tangential * slip + c_t * c.tangential_velocity;
-    const double limit = p.friction * std::abs(normal);
-    const double t_sq = t.squaredNorm();
-    if (t_sq > limit * limit) {
-      t *= limit / std::sqrt(t_sq);
-      // Keep the spring consistent with the capped force (LAMMPS does the same).
-      slip = p.k_tangential > 0 ? Vec<D>((t - c_t * c.tangential_velocity) / p.k_tangential)
-                                : Vec<D>(Vec<D>::Zero());
+    if constexpr (D == 2) {
+      const Vec<2> t_axis(-c.normal.y(), c.normal.x());
+      const double v_t = c.tangential_velocity.dot(t_axis);
+      double slip = h.slip + v_t * c.dt;
+      double t = p.k_tangential * slip + c_t * v_t;
+      const double limit = p.friction * std::abs(normal);
+      if (std::abs(t) > limit) {
+        t = t > 0 ? limit : -limit;
+        slip = p.k_tangential > 0 ? (t - c_t * v_t) / p.k_tangential : 0.0;
+      }
+      h.slip = slip;
+      out.tangential = t * t_axis;
+      return out;
+    } else {
+      Vec<D> slip = rotate_onto_plane<D>(h.slip, c.normal) + c.tangential_velocity * c.dt;
+      Vec<D> t = p.k_tangential * slip + c_t * c.tangential_velocity;
+      const double limit = p.friction * std::abs(normal);
+      const double t_sq = t.squaredNorm();
+      if (t_sq > limit * limit) {
+        t *= limit / std::sqrt(t_sq);
+        // Keep the spring consistent with the capped force (LAMMPS does the same).
+        slip = p.k_tangential > 0 ? Vec<D>((t - c_t * c.tangential_velocity) / p.k_tangential)
+                                  : Vec<D>(Vec<D>::Zero());
+      }
+      h.slip = slip;
+      out.tangential = t;
+      return out;
     }
-    h.slip = slip;
-    out.tangential = t;
-    return out;
   }
 };
 

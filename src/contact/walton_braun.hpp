@@ -29,6 +29,9 @@ struct WaltonBraun {
       "Walton-Braun partially latching spring (K1 loading, K2 = K1/e^2 unloading) with "
       "incrementally slipping friction; dissertation section 3.3, Eqs. 3.1-3.17";
   static constexpr bool adhesive = false;
+  // Stiffnesses are given, not derived from the pair's size or mass.
+  static constexpr bool uses_effective_mass = false;
+  static constexpr bool uses_effective_radius = false;
 
   static std::vector<ParamSpec> parameters() {
     return {

@@ -233,8 +233,15 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
       // Eq. 3.10: tangential slip of j's surface relative to i's.
       c.tangential_velocity = v_rel - c.normal * c.normal_velocity +
                               Dim<D>::spin_cross(radius[i] * w[i] + radius[j] * w[j], c.normal);
-      c.effective_mass = 1.0 / (inv_mass[i] + inv_mass[j]);
-      c.effective_radius = radius[i] * radius[j] / r_sum;
+      // Divisions only for the models that read them (see contact_state.hpp).
+      if constexpr (uses_effective_mass<M>::value)
+        c.effective_mass = 1.0 / (inv_mass[i] + inv_mass[j]);
+      else
+        c.effective_mass = std::numeric_limits<double>::quiet_NaN();
+      if constexpr (uses_effective_radius<M>::value)
+        c.effective_radius = radius[i] * radius[j] / r_sum;
+      else
+        c.effective_radius = std::numeric_limits<double>::quiet_NaN();
       const ContactForce<D> f = M::force(par, h, c);
       const V total = f.normal * c.normal + f.tangential;
       // Torques about each centre, applied at the contact point: lever -(r_i - a/2) n
