@@ -37,6 +37,7 @@ struct ContactState {
   double normal_velocity;      // m/s, rate of change of the overlap (positive: approaching)
   Vec<D> tangential_velocity;  // m/s
   double effective_mass;       // kg, m_i m_j / (m_i + m_j); m_i against a wall or fixed particle
+  double inv_mass_sum;         // 1/kg, 1/m_i + 1/m_j (always set: no division)
   double effective_radius;     // m, r_i r_j / (r_i + r_j); r_i against a flat wall
   double dt;                   // s
 };

@@ -27,7 +27,8 @@ struct LinearSpringDashpot {
       "linear spring-dashpot normal force with a Coulomb-capped tangential spring "
       "(Cundall-Strack; LAMMPS gran/hooke/history)";
   static constexpr bool adhesive = false;
-  static constexpr bool uses_effective_radius = false;  // (m* is read once per contact)
+  static constexpr bool uses_effective_radius = false;
+  static constexpr bool uses_effective_mass = false;  // sqrt(m*) from inv_mass_sum, once a contact
 
   static std::vector<ParamSpec> parameters() {
     return {
@@ -100,7 +101,7 @@ struct LinearSpringDashpot {
     ContactForce<D> out;
     // sqrt(m*) depends only on the pair: one square root per contact, not per step
     // (a change of k_n or e during a run still applies at once).
-    if (h.sqrt_mass < 0) h.sqrt_mass = std::sqrt(c.effective_mass);
+    if (h.sqrt_mass < 0) h.sqrt_mass = 1.0 / std::sqrt(c.inv_mass_sum);
     const double c_n = 2.0 * p.damping_ratio * p.sqrt_k_normal * h.sqrt_mass;
     double normal = p.k_normal * c.overlap + c_n * c.normal_velocity;
     if (!p.allow_tension && normal < 0) normal = 0;

@@ -234,6 +234,7 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
       c.tangential_velocity = v_rel - c.normal * c.normal_velocity +
                               Dim<D>::spin_cross(radius[i] * w[i] + radius[j] * w[j], c.normal);
       // Divisions only for the models that read them (see contact_state.hpp).
+      c.inv_mass_sum = inv_mass[i] + inv_mass[j];
       if constexpr (uses_effective_mass<M>::value)
         c.effective_mass = 1.0 / (inv_mass[i] + inv_mass[j]);
       else
@@ -361,6 +362,7 @@ void Simulation<D>::wall_forces(WallBucket<D, M>& b,
       c.tangential_velocity =
           v_rel - n * c.normal_velocity + radius[i] * Dim<D>::spin_cross(w_spin[i], n);
       c.effective_mass = mass[i];
+      c.inv_mass_sum = 1.0 / mass[i];
       const double r = radius[i];
       c.effective_radius = w.effective_radius(r);
       const ContactForce<D> f = M::force(par, h, c);

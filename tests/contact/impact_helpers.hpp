@@ -48,6 +48,7 @@ ContactState<D> state(const Vec<D>& normal, double overlap, const Vec<D>& tangen
   c.normal_velocity = 0;
   c.tangential_velocity = tangential_velocity;
   c.effective_mass = effective_mass;
+  c.inv_mass_sum = 1.0 / effective_mass;
   c.effective_radius = effective_radius;
   c.dt = dt;
   return c;

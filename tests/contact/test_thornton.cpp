@@ -39,6 +39,7 @@ ContactState<D> state(const Vec<D>& normal, double overlap, const Vec<D>& tangen
   c.normal_velocity = 0;
   c.tangential_velocity = tangential_velocity;
   c.effective_mass = effective_mass;
+  c.inv_mass_sum = 1.0 / effective_mass;
   c.effective_radius = effective_radius;
   c.dt = dt;
   return c;
@@ -165,6 +166,7 @@ struct TwoSpheres {
       c.tangential_velocity = v_rel - c.normal * c.normal_velocity +
                               r * spin_cross<D>(w[0], c.normal) + r * spin_cross<D>(w[1], c.normal);
       c.effective_mass = m / 2;
+      c.inv_mass_sum = 2 / m;
       c.effective_radius = r / 2;
       c.dt = dt;
       f = M::template force<D>(p, h, c);
