@@ -185,19 +185,32 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
     const std::int64_t begin = count * t / nt, end = count * (t + 1) / nt;
     StepList& list = b.touched[t];
     list.start(static_cast<std::size_t>(end - begin));
-    for (std::int64_t k = begin; k < end; ++k) {
-      const std::uint32_t i = bi[k], j = bj[k];
-      V d = x[i] - x[j];
-      if (periodic_on) d[periodic_axis] = periodic.wrap(d[periodic_axis]);
-      const double dist_sq = d.squaredNorm();
-      const double r_sum = radius[i] + radius[j];
-      bool touches = M::adhesive || dist_sq < r_sum * r_sum;
-      if constexpr (M::adhesive)
-        touches = M::touching(par_of[bslot[k]], hist[k], r_sum - std::sqrt(dist_sq));
-      list.push_if(static_cast<std::uint32_t>(k) << 1 | touches, touches || in_contact[k]);
-    }
-    const std::uint32_t* const entries = list.begin();
-    const std::size_t listed = list.count;
+    // The list's array and count in registers, and no branch: "touches or was
+    // in contact" as a bitwise or (a || would branch, and mispredict).
+    std::uint32_t* const listing = list.entries.data();
+    std::size_t listed = 0;
+    auto pass1 = [&](auto periodic_c) {
+      for (std::int64_t k = begin; k < end; ++k) {
+        const std::uint32_t i = bi[k], j = bj[k];
+        V d = x[i] - x[j];
+        if constexpr (decltype(periodic_c)::value)
+          d[periodic_axis] = periodic.wrap(d[periodic_axis]);
+        const double dist_sq = d.squaredNorm();
+        const double r_sum = radius[i] + radius[j];
+        bool touches = M::adhesive || dist_sq < r_sum * r_sum;
+        if constexpr (M::adhesive)
+          touches = M::touching(par_of[bslot[k]], hist[k], r_sum - std::sqrt(dist_sq));
+        const std::uint32_t touch_bit = touches ? 1u : 0u;
+        listing[listed] = static_cast<std::uint32_t>(k) << 1 | touch_bit;
+        listed += touch_bit | in_contact[k];
+      }
+    };
+    if (periodic_on)
+      pass1(std::true_type{});
+    else
+      pass1(std::false_type{});
+    list.count = listed;
+    const std::uint32_t* const entries = listing;
     for (std::size_t e = 0; e < listed; ++e) {
       // The contacts are sparse in the candidate arrays: fetch a few ahead.
       if (e + prefetch_distance < listed) {
