@@ -17,7 +17,8 @@
 --                  mean normal and tangential force on the inner piece (4.4.1, the
 --                  wall_force diagnostic), mean kinetic energy, largest overlap; the
 --                  noise of the mean force (standard error over `blocks` blocks,
---                  relative): differences below about twice it are not significant
+--                  relative): differences below about twice it are not significant;
+--                  the mean normal force per particle in each area of 4.4.2 (areas)
 --   agglomerate    wall impact of a prepared agglomerate (7.6; file from
 --                  scenarios/agglomerate_prepare.lua or the ctest fixture): damage
 --                  and debris ratios (7.4), largest fragment, peak wall force, impact duration
@@ -159,6 +160,9 @@ cases.mechanofusion = {
     { "kinetic_energy", "energy" }, { "max_overlap_ratio", "length" },
     { "normal_force_noise", "absolute" },
     { "inner_normal_force_unscaled", "none" },  -- the same force compared as it is, without Eq. 5.10
+    -- Mean normal contact force per particle in each area of 4.4.2 (the areas diagnostic).
+    { "area_inner_piece", "force" }, { "area_scraper", "force" }, { "area_input", "force" },
+    { "area_free_diffusion", "force" },
   },
 }
 
@@ -188,6 +192,7 @@ function cases.mechanofusion.run(setting)
              material = "powder", seed = 1, max_speed = 0.01 }
   sim:run { duration = p.settle }
   local id = sim:diagnostic("wall_force", { wall = "inner_piece", window = p.average / p.blocks })
+  local areas = sim:diagnostic("areas", { window = p.average / p.blocks })
   local ke, samples, overlap = 0, 0, 0
   sim:every { steps = 200, function(q)
     local s = q:stats()
@@ -209,9 +214,13 @@ function cases.mechanofusion.run(setting)
   for _, b in ipairs(block_means) do var = var + (b - mean) ^ 2 end
   var = var / math.max(#block_means - 1, 1)
   local noise = math.sqrt(var / #block_means) / math.abs(mean)
+  local a = sim:diagnostic_results(areas)
   return { inner_normal_force = f.mean_normal_force, inner_tangential_force = f.mean_tangential_force,
            kinetic_energy = ke / math.max(samples, 1), max_overlap_ratio = overlap,
-           normal_force_noise = noise, inner_normal_force_unscaled = f.mean_normal_force }, sim:step_count()
+           normal_force_noise = noise, inner_normal_force_unscaled = f.mean_normal_force,
+           area_inner_piece = a.normal_force_per_particle_inner_piece,
+           area_scraper = a.normal_force_per_particle_scraper, area_input = a.normal_force_per_particle_input,
+           area_free_diffusion = a.normal_force_per_particle_free_diffusion }, sim:step_count()
 end
 
 -- A prepared agglomerate on a wall (7.6).

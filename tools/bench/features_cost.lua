@@ -48,10 +48,24 @@ local variants = {
     end },
   { name = "empty_hook", doc = "a Lua hook every 1000 steps that does nothing",
     setup = function(sim) sim:every { steps = 1000, function() end } end },
-  { name = "diagnostics_all", doc = "every registered diagnostic attached (the inner-piece force)",
+  { name = "wall_force_both", doc = "wall_force on the inner piece and on the chamber",
     setup = function(sim)
       sim:diagnostic("wall_force", { wall = "inner_piece", window = 1e-3 })
       sim:diagnostic("wall_force", { wall = "chamber", window = 1e-3 })
+    end },
+  { name = "zones", doc = "the zones diagnostic (4.3-4.6), defaults",
+    setup = function(sim) sim:diagnostic("zones", {}) end },
+  { name = "areas", doc = "the areas diagnostic (4.4.2), defaults",
+    setup = function(sim) sim:diagnostic("areas", {}) end },
+  { name = "contact_peaks", doc = "the contact_peaks diagnostic (contact events every step)",
+    setup = function(sim) sim:diagnostic("contact_peaks", {}) end },
+  { name = "diagnostics_all", doc = "every registered diagnostic: wall_force x2, zones, areas, contact_peaks",
+    setup = function(sim)
+      sim:diagnostic("wall_force", { wall = "inner_piece", window = 1e-3 })
+      sim:diagnostic("wall_force", { wall = "chamber", window = 1e-3 })
+      sim:diagnostic("zones", {})
+      sim:diagnostic("areas", {})
+      sim:diagnostic("contact_peaks", {})
     end },
   { name = "record_contacts", doc = "record_contacts = true (the contact log every step)",
     options = { record_contacts = true } },
