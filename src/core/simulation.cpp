@@ -26,6 +26,7 @@ using Clock = std::chrono::steady_clock;
 constexpr std::int64_t parallel_min_contacts = 1024;
 // Contacts ahead whose history and velocities the pair loop asks the cache for.
 constexpr std::size_t prefetch_distance = 8;
+constexpr std::int64_t prefetch_min_candidates = 1 << 16;
 constexpr std::int64_t parallel_min_particles = 4096;
 // Scenes this large are kept in space-filling-curve order (their data no longer
 // fits in the fast caches, so neighbours in memory matter).
@@ -211,9 +212,11 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
       pass1(std::false_type{});
     list.count = listed;
     const std::uint32_t* const entries = listing;
+    // Small scenes live in the caches, where prefetching only costs.
+    const bool prefetch = count >= prefetch_min_candidates;
     for (std::size_t e = 0; e < listed; ++e) {
       // The contacts are sparse in the candidate arrays: fetch a few ahead.
-      if (e + prefetch_distance < listed) {
+      if (prefetch && e + prefetch_distance < listed) {
         const std::uint32_t ahead = entries[e + prefetch_distance] >> 1;
         __builtin_prefetch(&hist[ahead]);
         __builtin_prefetch(&v[bj[ahead]]);
