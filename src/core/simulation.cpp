@@ -93,7 +93,11 @@ void Simulation<D>::step() {
   });
   // Forces and torques per particle, and the reactions on the walls (the
   // inner-piece force of 4.4.1), summed over the contacts in slot order.
-  if (!fused_) scatter_forces();
+  if (!fused_) {
+    const auto scatter_start = Clock::now();
+    scatter_forces();
+    stage_times_.scatter += std::chrono::duration<double>(Clock::now() - scatter_start).count();
+  }
   if (observed) list_logged_slots();  // simulation_log.cpp
   auto t2 = Clock::now();
   stage_times_.force += std::chrono::duration<double>(t2 - t1).count();
@@ -523,41 +527,94 @@ void Simulation<D>::observe(bool contacts_logged) {
 // ----------------------------------------------------------------------------
 template <int D>
 void Simulation<D>::scatter_forces() {
-  V* const force = p_.force.data();
-  S* const torque = p_.torque.data();
-  const V* const slot_force = slot_force_.data();
-  const S* const torque_a = slot_torque_a_.data();
-  const S* const torque_b = slot_torque_b_.data();
-  for_each_model([&](auto index) {
-    constexpr int I = decltype(index)::value;
-    const auto& b = std::get<I>(pair_buckets_);
-    if (!b.size()) return;
-    for (const auto& list : b.touched)
-      for (const std::uint32_t entry : list) {
-        if (!(entry & 1)) continue;
-        const std::uint32_t k = entry >> 1, i = b.i[k], j = b.j[k];
-        const std::size_t s = b.offset + k;
-        force[i] += slot_force[s];
-        force[j] -= slot_force[s];
-        torque[i] += torque_a[s];
-        torque[j] += torque_b[s];
+  // Forces and torques per particle: each particle sums its own slots in slot
+  // order (a slot whose contact is not touching holds zero, and x + 0 = x), so
+  // the sum is the one the single-thread path makes, whatever the threads,
+  // and the particles can be shared among them.
+  if (!gather_valid_) build_gather();
+  const std::int64_t n = static_cast<std::int64_t>(p_.size());
+  const int threads = thread_count();
+  auto range = [&](std::int64_t begin, std::int64_t end) {
+    V* const force = p_.force.data();
+    S* const torque = p_.torque.data();
+    const V* const slot_force = slot_force_.data();
+    const S* const torque_a = slot_torque_a_.data();
+    const S* const torque_b = slot_torque_b_.data();
+    const std::uint32_t* const start = gather_start_.data();
+    const std::uint32_t* const entry = gather_entry_.data();
+    for (std::int64_t i = begin; i < end; ++i) {
+      V f = force[i];
+      S t = torque[i];
+      for (std::uint32_t e = start[i]; e < start[i + 1]; ++e) {
+        const std::uint32_t s = entry[e] >> 2, role = entry[e] & 3u;
+        if (role == 1) {
+          f -= slot_force[s];
+          t += torque_b[s];
+        } else {
+          f += slot_force[s];
+          t += torque_a[s];
+        }
       }
-  });
+      force[i] = f;
+      torque[i] = t;
+    }
+  };
+  if (threads > 1 && n >= parallel_min_particles) {
+#pragma omp parallel num_threads(threads)
+    {
+      const std::int64_t t = omp_get_thread_num(), nt = omp_get_num_threads();
+      range(n * t / nt, n * (t + 1) / nt);
+    }
+  } else {
+    range(0, n);
+  }
+  // The reactions on the walls (the inner-piece force of 4.4.1), in slot order.
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
     const auto& b = std::get<I>(wall_buckets_);
     if (!b.size()) return;
     for (const auto& list : b.touched)
       for (const std::uint32_t entry : list) {
-        const std::uint32_t k = entry >> 1, i = b.particle[k];
+        const std::uint32_t k = entry >> 1;
         const std::size_t s = b.offset + k;
-        force[i] += slot_force[s];
-        torque[i] += torque_a[s];
         Wall<D>& w = walls_[b.wall[k]];
-        w.force -= slot_force[s];
+        w.force -= slot_force_[s];
         w.axial_torque -= slot_axial_torque_[s];
       }
   });
+}
+
+template <int D>
+void Simulation<D>::build_gather() {
+  const std::size_t n = p_.size();
+  gather_start_.assign(n + 1, 0);
+  auto each_slot = [&](auto&& visit) {  // (particle, slot, role) in slot order
+    for_each_model([&](auto index) {
+      constexpr int I = decltype(index)::value;
+      const auto& pb = std::get<I>(pair_buckets_);
+      for (std::size_t k = 0; k < pb.size(); ++k) {
+        const auto s = static_cast<std::uint32_t>(pb.offset + k);
+        visit(pb.i[k], s, 0u);
+        visit(pb.j[k], s, 1u);
+      }
+    });
+    for_each_model([&](auto index) {
+      constexpr int I = decltype(index)::value;
+      const auto& wb = std::get<I>(wall_buckets_);
+      for (std::size_t k = 0; k < wb.size(); ++k)
+        visit(wb.particle[k], static_cast<std::uint32_t>(wb.offset + k), 2u);
+    });
+  };
+  // Buckets are laid out in slot order (pairs model by model, then walls), so
+  // visiting them in turn visits the slots in increasing order.
+  each_slot([&](std::uint32_t i, std::uint32_t, std::uint32_t) { ++gather_start_[i + 1]; });
+  for (std::size_t i = 0; i < n; ++i) gather_start_[i + 1] += gather_start_[i];
+  gather_entry_.resize(gather_start_[n]);
+  std::vector<std::uint32_t> fill(gather_start_.begin(), gather_start_.end() - 1);
+  each_slot([&](std::uint32_t i, std::uint32_t s, std::uint32_t role) {
+    gather_entry_[fill[i]++] = s << 2 | role;
+  });
+  gather_valid_ = true;
 }
 
 // ----------------------------------------------------------------------------
@@ -731,7 +788,7 @@ void Simulation<D>::build_slots() {
     slots = std::max(slots, std::get<I>(wall_buckets_).offset + std::get<I>(wall_buckets_).size());
   });
   slot_count_ = slots;
-  if (slots >= (std::size_t{1} << 31))
+  if (slots >= (std::size_t{1} << 30))
     throw RunError(fmt::format("{} candidate contacts: more than this build supports", slots));
   slot_force_.assign(slots, V::Zero());
   slot_torque_a_.assign(slots, Dim<D>::zero_spin());
@@ -740,6 +797,7 @@ void Simulation<D>::build_slots() {
   // Every slot counts as possibly in contact until its first step: one that is
   // not touching then clears the history it may have carried over.
   slot_in_contact_.assign(slots, 1);
+  gather_valid_ = false;  // built by the first multi-thread scatter
 }
 
 template <int D>

@@ -180,6 +180,7 @@ class Simulation final : public SimulationBase {
   void track_contacts();
   void observe(bool contacts_logged);
   void scatter_forces();
+  void build_gather();
   void list_logged_slots();  // the contact log's active slots, from the kernels' lists
   void integrate();
   void report_non_finite(std::size_t index);
@@ -209,6 +210,11 @@ class Simulation final : public SimulationBase {
   std::vector<S> slot_torque_a_, slot_torque_b_;
   std::vector<double> slot_axial_torque_;      // wall slots: torque on the wall about its axis
   std::vector<std::uint8_t> slot_in_contact_;  // 0: history cleared, slot outputs zero
+  // Per particle, its slots in slot order (slot << 2 | role: 0 first of a
+  // pair, 1 second, 2 wall contact): the multi-thread scatter sums each
+  // particle's slots in parallel over particles, in the fixed slot order.
+  std::vector<std::uint32_t> gather_start_, gather_entry_;
+  bool gather_valid_ = false;
   bool fused_ = true;  // this step adds contact forces to particles directly (one thread)
   ContactLog<D> log_;
   std::vector<AttachedDiagnostic> diagnostics_;

@@ -250,6 +250,7 @@ class SimulationBase {
   // Wall-clock seconds spent per stage of step() since construction.
   struct StageTimes {
     double neighbor = 0, force = 0, diagnostics = 0, integrate = 0, hooks = 0;
+    double scatter = 0;  // part of `force`: summing the slots per particle (threads > 1)
   };
   const StageTimes& stage_times() const { return stage_times_; }
 

@@ -289,8 +289,8 @@ const std::vector<FunctionDoc> entries = {
 {"sim:describe", "simulation", P, "sim:describe() -> string",
  "What this scene simulates: models in use, walls, fields, hooks (the run header).", {}, ""},
 {"sim:dimension", "simulation", P, "sim:dimension() -> 2|3", "The dimension of the simulation.", {}, ""},
-{"sim:timings", "simulation", P, "sim:timings() -> { neighbor =, force =, diagnostics =, integrate =, hooks = }",
- "Wall-clock seconds spent in each stage of the step so far.", {}, ""},
+{"sim:timings", "simulation", P, "sim:timings() -> { neighbor =, force =, diagnostics =, integrate =, hooks =, scatter = }",
+ "Wall-clock seconds spent in each stage of the step so far (scatter: the part of force that sums the contacts per particle in a fixed order, with more than one thread).", {}, ""},
 
 // ---- the granule library (lua/granule/init.lua) ----
 {"granule.pi", "library", V, "granule.pi", "The number pi, 3.14159...", {}},

@@ -934,6 +934,8 @@ int l_timings(lua_State* L) {
     lua_setfield(L, -2, "integrate");
     lua_pushnumber(L, t.hooks);
     lua_setfield(L, -2, "hooks");
+    lua_pushnumber(L, t.scatter);
+    lua_setfield(L, -2, "scatter");
     return 1;
   });
 }
