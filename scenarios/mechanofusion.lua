@@ -15,7 +15,7 @@ local mf = require "granule.mechanofusion"
 
 local p = parameters(mf.parameter_spec {
   duration = { default = 0.02, unit = "s", doc = "simulated time" },
-  settle = { default = 0, unit = "s", doc = "run this long before attaching the diagnostics" },
+  settle = { default = 0, unit = "s", doc = "run this long before attaching the diagnostics (the start's overlapping fill inflates the coating sum)" },
   pictures = { default = "", unit = "s", doc = "pattern pictures at these times, comma-separated (Figs. 4.6-4.7)" },
   picture_prefix = { default = "mechanofusion", doc = "picture files: <prefix>_<ms>ms.png" },
   snapshot_every = { default = 0, unit = "s", doc = "particle snapshots this often (0: first and last)" },
@@ -68,9 +68,16 @@ if p.keep_collisions > 0 then
   end
   local t, message, details = coating.minimum_time { collisions = collisions, host_count = geo.particles,
                                                      host_radius_m = geo.radius }
-  print(string.format("coating.minimum_time=%s covered=%.4g of %.4g m^2 (%s)", tostring(t),
-    (details or message or {}).covered_area_m2 or 0, (details or message or {}).target_area_m2 or 0,
-    t and "reached" or "not reached in this run"))
+  details = t and message or details
+  -- The C++ sum and the Lua one over the same collisions (all of them kept, or
+  -- up to the coverage) must agree: relative difference of the covered areas.
+  local complete = #collisions < p.keep_collisions
+  local own = r.covered_fraction * details.target_area_m2
+  print(string.format("coating.minimum_time=%s covered=%.6g of %.6g m^2 (%s)%s", tostring(t),
+    details.covered_area_m2, details.target_area_m2, t and "reached" or "not reached in this run",
+    (complete and not t) and string.format(" coating_sums_agree=%s",
+      math.abs(details.covered_area_m2 - own) <= 1e-9 * own and "yes" or
+      string.format("no (relative difference %.3g)", math.abs(details.covered_area_m2 - own) / own)) or ""))
 end
 print(string.format("coating_time_estimate=%.4g s covered_fraction=%.4g escaped=%d particles_now=%d zone_volume_sum=%.6g chamber_volume=%.6g",
   s.coating_time_estimate, s.covered_fraction, escaped, s.particles_now, s.zone_volume_sum, s.chamber_volume))

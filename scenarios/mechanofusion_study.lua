@@ -80,7 +80,11 @@ end
 local out = p.out ~= "" and p.out or ("mechanofusion_" .. p.study .. ".h5")
 local stem = out:gsub("%.h5$", "")
 local record = simulation { dimension = 2 }
-record:output { file = out, xdmf = false }
+local written = record:output { file = out, xdmf = false }
+if written ~= out then
+  error(string.format("the study writes one file per case, named after -D out=; -o %s would make "
+    .. "them all the same file: use -D out=%s instead", written, written))
+end
 local case_columns = { "case", "rpm", "gap", "k_load", "particles", "size_scale", "dimension", "scraper",
                        "settle", "measure", "inner_normal_force", "inner_tangential_force" }
 local per_area = { "normal_force_per_particle", "tangential_force_per_particle", "normal_force_per_contact",

@@ -46,6 +46,7 @@ M.defaults = {
   scraper_angle = { default = 100, unit = "deg", doc = "scraper position downstream of the inner piece" },
   scraper_tilt = { default = 40, unit = "deg", doc = "scraper angle to the wall's tangent" },
   scraper_length = { default = 4.4e-3, unit = "m", doc = "scraper length (at size_scale 1)" },
+  scraper_wall_overlap = { default = 0, unit = "m", doc = "sink the scraper row into the wall this far (0: touching, SPEC 4.1)" },
   size_scale = { default = 1, unit = "-", doc = "machine lengths x s, loading x s^2 (5.3.2: 2)" },
   slab_layers = { default = 4, unit = "-", doc = "3D slab depth in particle diameters (app. A: 4)" },
   seed = { default = 1, unit = "-", doc = "random seed of the fill" },
@@ -83,7 +84,7 @@ local function complete(p)
     checks.positive(where, k, v[k], M.defaults[k].unit)
   end
   for _, k in ipairs { "particles", "rpm", "friction_particle", "friction_wall", "scraper_length",
-                       "max_speed" } do
+                       "max_speed", "scraper_wall_overlap" } do
     checks.non_negative(where, k, v[k], M.defaults[k].unit)
   end
   if v.restitution > 1 then checks.fail(where, "restitution", "in (0, 1]", v.restitution) end
@@ -97,6 +98,9 @@ local function complete(p)
   end
   if v.gap * s < 2 * v.radius then
     checks.raise(string.format("%s: gap %g m is narrower than one particle (%g m)", where, v.gap * s, 2 * v.radius))
+  end
+  if v.scraper_wall_overlap > 2 * v.radius then
+    checks.fail(where, "scraper_wall_overlap", "at most one particle diameter", v.scraper_wall_overlap)
   end
   if not (v.scraper_tilt > 0 and v.scraper_tilt < 90) then
     checks.fail(where, "scraper_tilt", "in (0, 90) degrees", v.scraper_tilt)
@@ -134,7 +138,9 @@ function M.geometry(p)
     local phi = phi0 + math.rad(v.scraper_angle)
     local outward = granule.vec.polar(phi)
     local tangent = granule.vec.polar(phi + math.pi / 2)   -- the wall's motion there
-    local first = granule.vec.scale(outward, g.chamber_radius - v.radius)
+    -- Touching the wall; sunk into it by scraper_wall_overlap, which opens the
+    -- acute cusp between wall and first particle (a radius makes it square).
+    local first = granule.vec.scale(outward, g.chamber_radius - v.radius + v.scraper_wall_overlap)
     local tilt = math.rad(v.scraper_tilt)
     local direction = granule.vec.add(granule.vec.scale(outward, -math.sin(tilt)),
                                       granule.vec.scale(tangent, -math.cos(tilt)))

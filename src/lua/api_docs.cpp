@@ -218,7 +218,7 @@ const std::vector<FunctionDoc> entries = {
  "'example.chk.h5'"},
 {"sim:diagnostic", "simulation", P, "sim:diagnostic(name, { option = value, ... }) -> id",
  "Attaches a C++ diagnostic by name (see docs/diagnostics.md); a scene pays nothing for diagnostics it does not attach.",
- {{"1", "string", "", true, "diagnostic name, e.g. 'wall_force'"},
+ {{"1", "string", "", true, "diagnostic name: 'wall_force', 'zones', 'areas', 'contact_peaks' (docs/mechanofusion.md)"},
   {"2", "table", "", false, "its options; nested tables become dotted names"}},
  "'wall_force', { wall = 'drum' }"},
 {"sim:diagnostic_results", "simulation", P, "sim:diagnostic_results(id) -> { name = value, array = { ... }, ... }",

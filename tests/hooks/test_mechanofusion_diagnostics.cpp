@@ -272,3 +272,35 @@ TEST_CASE("contact_peaks: a binary impact's peak force, derived velocity and coa
   CHECK(arr.at("collision_radius")[0] == Approx(r / 2));
   CHECK(res.at("coating_reached") == 0);
 }
+
+TEST_CASE("zones: in 3D the depth is the slab's and spin about x and y counts in full (4.10)",
+          "[diagnostics][mechanofusion]") {
+  const double omega = 100;
+  Simulation<3> sim;
+  sim.set_warning_handler([](const std::string&) {});
+  sim.add_material({"powder", rho, 0, 0, 0});
+  sim.add_material({"steel", 7800, 0, 0, 0});
+  sim.set_contact("powder", "steel", "walton_braun", {{"k_load", k1}, {"restitution", e_r}});
+  sim.set_contact("powder", "powder", "walton_braun", {{"k_load", k1}, {"restitution", e_r}});
+  WallSpec c;
+  c.name = "chamber", c.type = WallType::cylinder, c.material = 1, c.radius = R;
+  c.angular_velocity = omega;
+  sim.add_wall(c);
+  ParticleSpec s;
+  s.position = {5.5e-3, 0, 0.8e-3}, s.spin = {3, 4, omega}, s.radius = r, s.material = 0;
+  sim.add_particle(s);
+  DiagnosticOptions missing;
+  CHECK_THROWS_WITH(sim.attach_diagnostic("zones", missing), Catch::Contains("depth"));
+  DiagnosticOptions o;
+  o.numbers["depth"] = 1.6e-3;
+  o.numbers["every"] = 1;
+  const int id = sim.attach_diagnostic("zones", o);
+  sim.advance(1);
+  const auto arr = sim.diagnostic_arrays(id);
+  CHECK(sim.diagnostic_results(id).at("chamber_volume") == Approx(pi * R * R * 1.6e-3));
+  const int zone = static_cast<int>(7 * 5.5e-3 * 5.5e-3 / (R * R));
+  const double inertia = sphere_inertia(sphere_mass(r, rho), r);
+  // (w_x^2 + w_y^2 + (w_z - omega)^2) = 9 + 16 + 0
+  CHECK(arr.at("rotational_ke")[zone] ==
+        Approx(inertia * 25 / (2 * arr.at("zone_volume")[zone])).epsilon(1e-12));
+}
