@@ -174,9 +174,6 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
     const S* const w = p_.spin.data();
     const double* const radius = p_.radius.data();
     const double* const inv_mass = p_.inv_mass.data();
-    V* const out_force = slot_force_.data() + b.offset;
-    S* const out_torque_a = slot_torque_a_.data() + b.offset;
-    S* const out_torque_b = slot_torque_b_.data() + b.offset;
     std::uint8_t* const in_contact = slot_in_contact_.data() + b.offset;
     const bool fused = fused_;
     V* const force = p_.force.data();
@@ -188,7 +185,7 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
     std::int64_t touching = 0;
     double max_ratio = 0;
     const std::int64_t begin = count * t / nt, end = count * (t + 1) / nt;
-    StepList& list = b.touched[t];
+    StepList<D>& list = b.touched[t];
     list.start(static_cast<std::size_t>(end - begin));
     // The list's array and count in registers, and no branch: "touches or was
     // in contact" as a bitwise or (a || would branch, and mispredict).
@@ -216,6 +213,12 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
       pass1(std::false_type{});
     list.count = listed;
     const std::uint32_t* const entries = listing;
+    if (!fused) list.reserve_outputs(listed);
+    std::uint32_t* const out_a = list.a.data();
+    std::uint32_t* const out_b = list.b.data();
+    V* const out_force = list.force.data();
+    S* const out_torque_a = list.torque_a.data();
+    S* const out_torque_b = list.torque_b.data();
     // Small scenes live in the caches, where prefetching only costs.
     const bool prefetch = count >= prefetch_min_candidates;
     for (std::size_t e = 0; e < listed; ++e) {
@@ -228,10 +231,8 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
       const std::uint32_t entry = entries[e];
       const std::int64_t k = entry >> 1;
       History& h = hist[k];
-      if (!(entry & 1)) {  // history and slot were in use: clear them once
+      if (!(entry & 1)) {  // the history was in use: clear it once
         h = History{};
-        out_force[k] = V::Zero();
-        out_torque_a[k] = out_torque_b[k] = Dim<D>::zero_spin();
         in_contact[k] = 0;
         continue;
       }
@@ -277,9 +278,10 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
         torque[i] += torque_i;
         torque[j] += torque_j;
       } else {
-        out_force[k] = total;
-        out_torque_a[k] = torque_i;
-        out_torque_b[k] = torque_j;
+        out_a[e] = i, out_b[e] = j;
+        out_force[e] = total;
+        out_torque_a[e] = torque_i;
+        out_torque_b[e] = torque_j;
       }
       ++touching;
       // The largest overlap / smaller radius, without a division per contact.
@@ -341,9 +343,7 @@ void Simulation<D>::wall_forces(WallBucket<D, M>& b,
     const S* const w_spin = p_.spin.data();
     const double* const radius = p_.radius.data();
     const double* const mass = p_.mass.data();
-    V* const out_force = slot_force_.data() + offset;
-    S* const out_torque = slot_torque_a_.data() + offset;
-    double* const out_axial = slot_axial_torque_.data() + offset;
+    const double* const inv_mass = p_.inv_mass.data();
     std::uint8_t* const in_contact = slot_in_contact_.data() + offset;
     const bool fused = fused_;
     V* const force = p_.force.data();
@@ -352,8 +352,14 @@ void Simulation<D>::wall_forces(WallBucket<D, M>& b,
     std::int64_t touching = 0;
     double max_ratio = 0;
     const std::int64_t begin = count * t / nt, end = count * (t + 1) / nt;
-    StepList& list = b.touched[t];
+    StepList<D>& list = b.touched[t];
     list.start(static_cast<std::size_t>(end - begin));
+    if (!fused) list.reserve_outputs(static_cast<std::size_t>(end - begin));
+    std::uint32_t* const out_a = list.a.data();
+    std::uint32_t* const out_b = list.b.data();
+    V* const out_force = list.force.data();
+    S* const out_torque = list.torque_a.data();
+    double* const out_axial = list.axial.data();
     for (std::int64_t k = begin; k < end; ++k) {
       const std::uint32_t i = bp[k];
       const Wall<D>& w = walls[bw[k]];
@@ -364,14 +370,12 @@ void Simulation<D>::wall_forces(WallBucket<D, M>& b,
       if (!M::touching(par, h, overlap)) {
         if (in_contact[k]) {
           h = History{};
-          out_force[k] = V::Zero();
-          out_torque[k] = Dim<D>::zero_spin();
-          out_axial[k] = 0;
           in_contact[k] = 0;
         }
         continue;
       }
       in_contact[k] = 1;
+      const std::size_t e = list.count;  // this contact's place in the list
       list.push(static_cast<std::uint32_t>(k) << 1 | 1u);
       ContactState<D> c;
       c.dt = dt;
@@ -382,7 +386,7 @@ void Simulation<D>::wall_forces(WallBucket<D, M>& b,
       c.tangential_velocity =
           v_rel - n * c.normal_velocity + radius[i] * Dim<D>::spin_cross(w_spin[i], n);
       c.effective_mass = mass[i];
-      c.inv_mass_sum = 1.0 / mass[i];
+      c.inv_mass_sum = inv_mass[i];
       const double r = radius[i];
       c.effective_radius = w.effective_radius(r);
       const ContactForce<D> f = M::force(par, h, c);
@@ -396,9 +400,10 @@ void Simulation<D>::wall_forces(WallBucket<D, M>& b,
         reacting.force -= total;
         reacting.axial_torque -= axial;
       } else {
-        out_force[k] = total;
-        out_torque[k] = torque_i;
-        out_axial[k] = axial;
+        out_a[e] = i, out_b[e] = bw[k];
+        out_force[e] = total;
+        out_torque[e] = torque_i;
+        out_axial[e] = axial;
       }
       ++touching;
       if (overlap > max_ratio * r) max_ratio = overlap / r;
@@ -527,46 +532,65 @@ void Simulation<D>::observe(bool contacts_logged) {
 // ----------------------------------------------------------------------------
 template <int D>
 void Simulation<D>::scatter_forces() {
-  // Forces and torques per particle: each particle sums its own slots in slot
-  // order (a slot whose contact is not touching holds zero, and x + 0 = x), so
-  // the sum is the one the single-thread path makes, whatever the threads,
-  // and the particles can be shared among them.
-  if (!gather_valid_) build_gather();
+  // Forces and torques per particle, summed over the touching contacts in slot
+  // order (pairs model by model, then walls; within a bucket the lists follow
+  // one another in increasing k): the order the single-thread path adds them
+  // in, so the sums are bit-identical whatever the threads. With more threads
+  // each owns a range of particles and walks all the contacts' results (stored
+  // contiguously by the kernels), adding only to its own particles: the order
+  // per particle stays the same, and the scattered read-modify-writes are shared.
   const std::int64_t n = static_cast<std::int64_t>(p_.size());
   const int threads = thread_count();
-  auto range = [&](std::int64_t begin, std::int64_t end) {
+  auto range = [&](std::uint32_t lo, std::uint32_t hi) {
     V* const force = p_.force.data();
     S* const torque = p_.torque.data();
-    const V* const slot_force = slot_force_.data();
-    const S* const torque_a = slot_torque_a_.data();
-    const S* const torque_b = slot_torque_b_.data();
-    const std::uint32_t* const start = gather_start_.data();
-    const std::uint32_t* const entry = gather_entry_.data();
-    for (std::int64_t i = begin; i < end; ++i) {
-      V f = force[i];
-      S t = torque[i];
-      for (std::uint32_t e = start[i]; e < start[i + 1]; ++e) {
-        const std::uint32_t s = entry[e] >> 2, role = entry[e] & 3u;
-        if (role == 1) {
-          f -= slot_force[s];
-          t += torque_b[s];
-        } else {
-          f += slot_force[s];
-          t += torque_a[s];
+    const std::uint32_t width = hi - lo;
+    for_each_model([&](auto index) {
+      constexpr int I = decltype(index)::value;
+      const auto& b = std::get<I>(pair_buckets_);
+      if (!b.size()) return;
+      for (const auto& list : b.touched) {
+        const std::uint32_t* const entries = list.entries.data();
+        const std::uint32_t* const la = list.a.data();
+        const std::uint32_t* const lb = list.b.data();
+        const V* const lf = list.force.data();
+        const S* const lta = list.torque_a.data();
+        const S* const ltb = list.torque_b.data();
+        for (std::size_t e = 0; e < list.count; ++e) {
+          if (!(entries[e] & 1)) continue;
+          const std::uint32_t i = la[e], j = lb[e];
+          if (i - lo < width) {
+            force[i] += lf[e];
+            torque[i] += lta[e];
+          }
+          if (j - lo < width) {
+            force[j] -= lf[e];
+            torque[j] += ltb[e];
+          }
         }
       }
-      force[i] = f;
-      torque[i] = t;
-    }
+    });
+    for_each_model([&](auto index) {
+      constexpr int I = decltype(index)::value;
+      const auto& b = std::get<I>(wall_buckets_);
+      if (!b.size()) return;
+      for (const auto& list : b.touched)
+        for (std::size_t e = 0; e < list.count; ++e) {
+          const std::uint32_t i = list.a[e];
+          if (i - lo >= width) continue;
+          force[i] += list.force[e];
+          torque[i] += list.torque_a[e];
+        }
+    });
   };
   if (threads > 1 && n >= parallel_min_particles) {
 #pragma omp parallel num_threads(threads)
     {
       const std::int64_t t = omp_get_thread_num(), nt = omp_get_num_threads();
-      range(n * t / nt, n * (t + 1) / nt);
+      range(static_cast<std::uint32_t>(n * t / nt), static_cast<std::uint32_t>(n * (t + 1) / nt));
     }
   } else {
-    range(0, n);
+    range(0, static_cast<std::uint32_t>(n));
   }
   // The reactions on the walls (the inner-piece force of 4.4.1), in slot order.
   for_each_model([&](auto index) {
@@ -574,47 +598,12 @@ void Simulation<D>::scatter_forces() {
     const auto& b = std::get<I>(wall_buckets_);
     if (!b.size()) return;
     for (const auto& list : b.touched)
-      for (const std::uint32_t entry : list) {
-        const std::uint32_t k = entry >> 1;
-        const std::size_t s = b.offset + k;
-        Wall<D>& w = walls_[b.wall[k]];
-        w.force -= slot_force_[s];
-        w.axial_torque -= slot_axial_torque_[s];
+      for (std::size_t e = 0; e < list.count; ++e) {
+        Wall<D>& w = walls_[list.b[e]];
+        w.force -= list.force[e];
+        w.axial_torque -= list.axial[e];
       }
   });
-}
-
-template <int D>
-void Simulation<D>::build_gather() {
-  const std::size_t n = p_.size();
-  gather_start_.assign(n + 1, 0);
-  auto each_slot = [&](auto&& visit) {  // (particle, slot, role) in slot order
-    for_each_model([&](auto index) {
-      constexpr int I = decltype(index)::value;
-      const auto& pb = std::get<I>(pair_buckets_);
-      for (std::size_t k = 0; k < pb.size(); ++k) {
-        const auto s = static_cast<std::uint32_t>(pb.offset + k);
-        visit(pb.i[k], s, 0u);
-        visit(pb.j[k], s, 1u);
-      }
-    });
-    for_each_model([&](auto index) {
-      constexpr int I = decltype(index)::value;
-      const auto& wb = std::get<I>(wall_buckets_);
-      for (std::size_t k = 0; k < wb.size(); ++k)
-        visit(wb.particle[k], static_cast<std::uint32_t>(wb.offset + k), 2u);
-    });
-  };
-  // Buckets are laid out in slot order (pairs model by model, then walls), so
-  // visiting them in turn visits the slots in increasing order.
-  each_slot([&](std::uint32_t i, std::uint32_t, std::uint32_t) { ++gather_start_[i + 1]; });
-  for (std::size_t i = 0; i < n; ++i) gather_start_[i + 1] += gather_start_[i];
-  gather_entry_.resize(gather_start_[n]);
-  std::vector<std::uint32_t> fill(gather_start_.begin(), gather_start_.end() - 1);
-  each_slot([&](std::uint32_t i, std::uint32_t s, std::uint32_t role) {
-    gather_entry_[fill[i]++] = s << 2 | role;
-  });
-  gather_valid_ = true;
 }
 
 // ----------------------------------------------------------------------------
@@ -790,14 +779,9 @@ void Simulation<D>::build_slots() {
   slot_count_ = slots;
   if (slots >= (std::size_t{1} << 30))
     throw RunError(fmt::format("{} candidate contacts: more than this build supports", slots));
-  slot_force_.assign(slots, V::Zero());
-  slot_torque_a_.assign(slots, Dim<D>::zero_spin());
-  slot_torque_b_.assign(slots, Dim<D>::zero_spin());
-  slot_axial_torque_.assign(slots, 0.0);
   // Every slot counts as possibly in contact until its first step: one that is
   // not touching then clears the history it may have carried over.
   slot_in_contact_.assign(slots, 1);
-  gather_valid_ = false;  // built by the first multi-thread scatter
 }
 
 template <int D>

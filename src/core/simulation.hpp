@@ -19,10 +19,24 @@
 namespace granule {
 
 // A list filled anew every step: its storage only grows, so filling it costs a
-// store per entry and no allocation or initialisation.
+// store per entry and no allocation or initialisation. With more than one
+// thread each listed contact also leaves its results at its position in the
+// list, for scatter_forces() to sum per particle afterwards: contiguous, so
+// that pass reads them in order.
+template <int D>
 struct StepList {
   std::vector<std::uint32_t> entries;
   std::size_t count = 0;
+  std::vector<std::uint32_t> a, b;  // the particles (a pair), or particle and wall
+  std::vector<Vec<D>> force;        // on a (on b: minus it)
+  std::vector<Spin<D>> torque_a, torque_b;
+  std::vector<double> axial;  // wall contacts: torque on the wall about its axis
+  void reserve_outputs(std::size_t most) {
+    if (force.size() < most) {
+      a.resize(most), b.resize(most), force.resize(most);
+      torque_a.resize(most), torque_b.resize(most), axial.resize(most);
+    }
+  }
   void start(std::size_t most) {
     if (entries.size() < most) entries.resize(most);
     count = 0;
@@ -40,8 +54,8 @@ struct StepList {
 
 // Contacts between particles handled by model M, as flat arrays. A pair is
 // oriented so that id(i) < id(j): the history (force on i) keeps its meaning
-// when particles are re-sorted or lists rebuilt. Entry k writes its results
-// to slot `offset + k` of the step's contact buffers.
+// when particles are re-sorted or lists rebuilt. Entry k is slot `offset + k`
+// of the step's per-slot flags and of the contact log.
 template <int D, typename M>
 struct PairBucket {
   static constexpr bool is_pair = true;
@@ -53,7 +67,7 @@ struct PairBucket {
   std::size_t offset = 0;
   // This step's contacts, per thread: entry k << 1 | touching, in increasing k
   // within a list and from list to list (each thread takes a contiguous range).
-  std::vector<StepList> touched;
+  std::vector<StepList<D>> touched;
   std::size_t size() const { return i.size(); }
 };
 
@@ -66,7 +80,7 @@ struct WallBucket {
   std::vector<std::int64_t> id;  // cold
   std::vector<ContactTrack<D>> track;
   std::size_t offset = 0;
-  std::vector<StepList> touched;  // as in PairBucket
+  std::vector<StepList<D>> touched;  // as in PairBucket
   std::size_t size() const { return particle.size(); }
 };
 
@@ -180,7 +194,6 @@ class Simulation final : public SimulationBase {
   void track_contacts();
   void observe(bool contacts_logged);
   void scatter_forces();
-  void build_gather();
   void list_logged_slots();  // the contact log's active slots, from the kernels' lists
   void integrate();
   void report_non_finite(std::size_t index);
@@ -206,15 +219,7 @@ class Simulation final : public SimulationBase {
   // the kernels in parallel and summed per particle in slot order (scatter_forces),
   // so the result does not depend on the number of threads.
   std::size_t slot_count_ = 0;
-  std::vector<V> slot_force_;
-  std::vector<S> slot_torque_a_, slot_torque_b_;
-  std::vector<double> slot_axial_torque_;      // wall slots: torque on the wall about its axis
   std::vector<std::uint8_t> slot_in_contact_;  // 0: history cleared, slot outputs zero
-  // Per particle, its slots in slot order (slot << 2 | role: 0 first of a
-  // pair, 1 second, 2 wall contact): the multi-thread scatter sums each
-  // particle's slots in parallel over particles, in the fixed slot order.
-  std::vector<std::uint32_t> gather_start_, gather_entry_;
-  bool gather_valid_ = false;
   bool fused_ = true;  // this step adds contact forces to particles directly (one thread)
   ContactLog<D> log_;
   std::vector<AttachedDiagnostic> diagnostics_;
