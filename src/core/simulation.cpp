@@ -20,14 +20,9 @@ namespace granule {
 
 namespace {
 using Clock = std::chrono::steady_clock;
-// Below these sizes a loop is cheaper than waking a second thread (a parallel
-// region costs microseconds, more on a shared machine); the results are the
-// same either way.
-constexpr std::int64_t parallel_min_contacts = 1024;
 // Contacts ahead whose history and velocities the pair loop asks the cache for.
 constexpr std::size_t prefetch_distance = 8;
 constexpr std::int64_t prefetch_min_candidates = 1 << 16;
-constexpr std::int64_t parallel_min_particles = 4096;
 // Scenes this large are kept in space-filling-curve order (their data no longer
 // fits in the fast caches, so neighbours in memory matter).
 constexpr std::size_t sort_min_particles = 4096;
@@ -67,9 +62,13 @@ void Simulation<D>::step() {
   // More: each writes its slot and scatter_forces() sums them afterwards. Both
   // add the contacts to each particle in slot order (pairs model by model, then
   // walls), so the result is bit-identical whatever the number of threads.
-  fused_ = thread_count() == 1;
-  std::fill(p_.force.begin(), p_.force.end(), V::Zero());
-  std::fill(p_.torque.begin(), p_.torque.end(), Dim<D>::zero_spin());
+  // A scene whose candidates are all below the parallel threshold runs every
+  // contact loop on one thread: fused too.
+  fused_ = thread_count() == 1 || static_cast<std::int64_t>(slot_count_) < parallel_min_candidates_;
+  if (fused_) {  // else scatter_forces() starts each particle's sums, in parallel
+    std::fill(p_.force.begin(), p_.force.end(), V::Zero());
+    std::fill(p_.torque.begin(), p_.torque.end(), Dim<D>::zero_spin());
+  }
   for (auto& w : walls_) w.force.setZero(), w.axial_torque = 0;
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
@@ -153,7 +152,7 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
   // more candidates than contacts), and kept apart from the force code this
   // loop holds its few values in registers. Pass 2 works through the list.
   // Each contact writes only its own slot, so no order matters here.
-  const int team = count >= parallel_min_contacts ? threads : 1;
+  const int team = count >= parallel_min_candidates_ ? threads : 1;
   b.touched.resize(team);
   // The work of thread t of nt, called directly on one thread and from an
   // OpenMP region on more. Its arrays are local pointers declared inside:
@@ -323,7 +322,7 @@ void Simulation<D>::wall_forces(WallBucket<D, M>& b,
   std::int64_t touching = 0;
   double max_ratio = 0;
   const int threads = thread_count();
-  const int team = count >= parallel_min_contacts ? threads : 1;
+  const int team = count >= parallel_min_candidates_ ? threads : 1;
   b.touched.resize(team);
   // The work of thread t of nt, called directly on one thread and from an
   // OpenMP region on more. Its arrays are local pointers declared inside:
@@ -545,6 +544,8 @@ void Simulation<D>::scatter_forces() {
     V* const force = p_.force.data();
     S* const torque = p_.torque.data();
     const std::uint32_t width = hi - lo;
+    std::fill(force + lo, force + hi, V::Zero());
+    std::fill(torque + lo, torque + hi, Dim<D>::zero_spin());
     for_each_model([&](auto index) {
       constexpr int I = decltype(index)::value;
       const auto& b = std::get<I>(pair_buckets_);
@@ -583,7 +584,7 @@ void Simulation<D>::scatter_forces() {
         }
     });
   };
-  if (threads > 1 && n >= parallel_min_particles) {
+  if (threads > 1 && n >= parallel_min_particles_) {
 #pragma omp parallel num_threads(threads)
     {
       const std::int64_t t = omp_get_thread_num(), nt = omp_get_num_threads();
@@ -679,7 +680,7 @@ void Simulation<D>::integrate() {
     bad_out = first_bad;
   };
   auto run = [&](auto body_c, auto periodic_c, auto spins_c, auto fixed_c) {
-    if (threads > 1 && n >= parallel_min_particles) {
+    if (threads > 1 && n >= parallel_min_particles_) {
 #pragma omp parallel num_threads(threads) reduction(max : max_sq) reduction(min : bad)
       {
         const std::int64_t t = omp_get_thread_num(), nt = omp_get_num_threads();

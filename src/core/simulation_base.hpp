@@ -158,6 +158,15 @@ class SimulationBase {
   void set_threads(int threads);
   int threads() const { return threads_; }
   int thread_count() const;  // what the loops use
+  // Below these sizes a loop runs on one thread whatever set_threads() says: a
+  // parallel region costs microseconds (more on a shared machine), more than a
+  // small scene's whole step (the 2D base case's contact loop takes ~10 us).
+  // The results are the same either way; tests lower them to exercise the
+  // parallel paths on small scenes.
+  void set_parallel_thresholds(std::int64_t min_candidates, std::int64_t min_particles) {
+    parallel_min_candidates_ = min_candidates;
+    parallel_min_particles_ = min_particles;
+  }
   bool record_contacts() const { return record_contacts_; }
   void set_warning_handler(std::function<void(const std::string&)> f) { warn_ = std::move(f); }
 
@@ -269,6 +278,7 @@ class SimulationBase {
   Periodicity periodic_;
   bool record_contacts_ = false;
   int threads_ = 0;
+  std::int64_t parallel_min_candidates_ = 32768, parallel_min_particles_ = 16384;
   bool prepared_ = false;
   double time_ = 0;
   std::int64_t step_ = 0;

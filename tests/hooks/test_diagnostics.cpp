@@ -159,6 +159,7 @@ TEST_CASE("parallel: results are bit-identical for 1 and 2 threads", "[parallel]
     Simulation<2> sim;
     bed(sim, 1500, 11, true);  // overlapping start: every loop busy from the first step
     sim.set_threads(threads);
+    sim.set_parallel_thresholds(1024, 512);  // the parallel paths, on a small scene
     sim.advance(1500);
     REQUIRE(sim.stats().candidate_pairs >= 1024);  // the parallel contact loop ran
     return sim.flat_state();
