@@ -4,7 +4,7 @@ the same scene, particle count, time step, contact law and starting state,
 in one go on this machine, and prints particle-steps/s and the ratios.
 
     /usr/bin/python3 tools/bench/compare.py [--case mechanofusion2d|box3d|all]
-        [--steps N] [--threads 1,2] [--work DIR]
+        [--steps N] [--threads 1,2] [--work DIR] [--repeat N]
 
 Each program starts from the state Granule settled and saved (converted to a
 LAMMPS data file), so both time the same steady flow; the mean number of
@@ -204,6 +204,9 @@ def main():
     ap.add_argument("--work", default="bench_work")
     ap.add_argument("--box-side", type=int, default=50, help="3D box: spheres per side (50 -> 100,000 with 40 layers)")
     ap.add_argument("--box-layers", type=int, default=40)
+    ap.add_argument("--repeat", type=int, default=1,
+                    help="run every program this many times, alternating, and keep each one's best "
+                         "(the machine is shared: the best run is the least disturbed)")
     args = ap.parse_args()
     args.threads = [int(t) for t in args.threads.split(",")]
     for tool in ("lmp",):
@@ -214,8 +217,16 @@ def main():
           f"load average {os.getloadavg()[0]:.2f}")
     cases = ["mechanofusion2d", "box3d"] if args.case == "all" else [args.case]
     for case in cases:
-        title, rows = globals()[case](args, os.path.abspath(args.work))
-        report(title, rows)
+        best = {}
+        for _ in range(max(1, args.repeat)):
+            title, rows = globals()[case](args, os.path.abspath(args.work))
+            for row in rows:
+                key = (row[0], row[1])
+                if key not in best or row[2] > best[key][2]:
+                    best[key] = row
+        if args.repeat > 1:
+            title += f", best of {args.repeat} alternating runs"
+        report(title, list(best.values()))
 
 
 if __name__ == "__main__":
