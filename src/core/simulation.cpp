@@ -211,92 +211,111 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
     else
       pass1(std::false_type{});
     list.count = listed;
-    const std::uint32_t* const entries = listing;
     if (!fused) list.reserve_outputs(listed);
-    std::uint32_t* const out_a = list.a.data();
-    std::uint32_t* const out_b = list.b.data();
-    V* const out_force = list.force.data();
-    S* const out_torque_a = list.torque_a.data();
-    S* const out_torque_b = list.torque_b.data();
+    // Pass 2, balanced: the threads share the listed contacts, not the
+    // candidates (in space-filling-curve order one half of the candidates can
+    // be the denser half of a pile). Each contact still writes only its own
+    // history, flag and place in its list, so the results do not change.
+    if (nt > 1) {
+#pragma omp barrier
+    }
+    std::size_t total = 0;
+    for (std::int64_t u = 0; u < nt; ++u) total += b.touched[u].count;
+    const std::size_t g_begin = total * t / nt, g_end = total * (t + 1) / nt;
     // Small scenes live in the caches, where prefetching only costs.
     const bool prefetch = count >= prefetch_min_candidates;
-    for (std::size_t e = 0; e < listed; ++e) {
-      // The contacts are sparse in the candidate arrays: fetch a few ahead.
-      if (prefetch && e + prefetch_distance < listed) {
-        const std::uint32_t ahead = entries[e + prefetch_distance] >> 1;
-        __builtin_prefetch(&hist[ahead]);
-        __builtin_prefetch(&v[bj[ahead]]);
-      }
-      const std::uint32_t entry = entries[e];
-      const std::int64_t k = entry >> 1;
-      History& h = hist[k];
-      if (!(entry & 1)) {  // the history was in use: clear it once
-        h = History{};
-        in_contact[k] = 0;
-        continue;
-      }
-      const std::uint32_t i = bi[k], j = bj[k];
-      V d = x[i] - x[j];
-      if (periodic_on) d[periodic_axis] = periodic.wrap(d[periodic_axis]);
-      const double r_sum = radius[i] + radius[j];
-      const double dist = d.norm();
-      const double overlap = r_sum - dist;
-      const typename M::Params& par = par_of[bslot[k]];
-      in_contact[k] = 1;
-      ContactState<D> c;
-      c.dt = dt;
-      // Coincident centres: any direction is as good as another, but it must be finite.
-      c.normal = dist > 0 ? V(d * (1.0 / dist)) : V(V::UnitX());
-      c.overlap = overlap;
-      const V v_rel = v[j] - v[i];
-      c.normal_velocity = v_rel.dot(c.normal);
-      // Eq. 3.10: tangential slip of j's surface relative to i's.
-      c.tangential_velocity = v_rel - c.normal * c.normal_velocity +
-                              Dim<D>::spin_cross(radius[i] * w[i] + radius[j] * w[j], c.normal);
-      // Divisions only for the models that read them (see contact_state.hpp).
-      c.inv_mass_sum = inv_mass[i] + inv_mass[j];
-      if constexpr (uses_effective_mass<M>::value)
-        c.effective_mass = 1.0 / (inv_mass[i] + inv_mass[j]);
-      else
-        c.effective_mass = std::numeric_limits<double>::quiet_NaN();
-      if constexpr (uses_effective_radius<M>::value)
-        c.effective_radius = radius[i] * radius[j] / r_sum;
-      else
-        c.effective_radius = std::numeric_limits<double>::quiet_NaN();
-      const ContactForce<D> f = M::force(par, h, c);
-      const V total = f.normal * c.normal + f.tangential;
-      // Torques about each centre, applied at the contact point: lever -(r_i - a/2) n
-      // on i and +(r_j - a/2) n on j (which feels -T). With these levers the pair
-      // exerts no net torque, so angular momentum is conserved to round-off.
-      const S n_cross_t = Dim<D>::torque(c.normal, f.tangential);
-      const S torque_i = -(radius[i] - 0.5 * overlap) * n_cross_t;
-      const S torque_j = -(radius[j] - 0.5 * overlap) * n_cross_t;
-      if (fused) {
-        force[i] += total;
-        force[j] -= total;
-        torque[i] += torque_i;
-        torque[j] += torque_j;
-      } else {
-        out_a[e] = i, out_b[e] = j;
-        out_force[e] = total;
-        out_torque_a[e] = torque_i;
-        out_torque_b[e] = torque_j;
-      }
-      ++touching;
-      // The largest overlap / smaller radius, without a division per contact.
-      const double r_min = std::min(radius[i], radius[j]);
-      if (overlap > max_ratio * r_min) max_ratio = overlap / r_min;
-      if constexpr (Observed) {
-        const std::size_t s = offset + k;
-        log_.active[s] = 1;
-        log_.a[s] = static_cast<std::int32_t>(i);
-        log_.b[s] = static_cast<std::int32_t>(j);
-        log_.overlap[s] = overlap;
-        log_.normal_force[s] = f.normal;
-        log_.overlap_rate[s] = c.normal_velocity;
-        log_.normal[s] = c.normal;
-        log_.tangential[s] = f.tangential;
-        log_.point[s] = x[i] - (radius[i] - 0.5 * overlap) * c.normal;
+    std::size_t list_start = 0;
+    for (std::int64_t u = 0; u < nt; ++u) {
+      StepList<D>& lu = b.touched[u];
+      const std::size_t start_u = list_start;
+      list_start += lu.count;
+      if (g_end <= start_u || g_begin >= start_u + lu.count) continue;
+      const std::size_t e_begin = g_begin > start_u ? g_begin - start_u : 0;
+      const std::size_t e_end = std::min(g_end - start_u, lu.count);
+      const std::uint32_t* const entries = lu.entries.data();
+      std::uint32_t* const out_a = lu.a.data();
+      std::uint32_t* const out_b = lu.b.data();
+      V* const out_force = lu.force.data();
+      S* const out_torque_a = lu.torque_a.data();
+      S* const out_torque_b = lu.torque_b.data();
+      for (std::size_t e = e_begin; e < e_end; ++e) {
+        // The contacts are sparse in the candidate arrays: fetch a few ahead.
+        if (prefetch && e + prefetch_distance < e_end) {
+          const std::uint32_t ahead = entries[e + prefetch_distance] >> 1;
+          __builtin_prefetch(&hist[ahead]);
+          __builtin_prefetch(&v[bj[ahead]]);
+        }
+        const std::uint32_t entry = entries[e];
+        const std::int64_t k = entry >> 1;
+        History& h = hist[k];
+        if (!(entry & 1)) {  // the history was in use: clear it once
+          h = History{};
+          in_contact[k] = 0;
+          continue;
+        }
+        const std::uint32_t i = bi[k], j = bj[k];
+        V d = x[i] - x[j];
+        if (periodic_on) d[periodic_axis] = periodic.wrap(d[periodic_axis]);
+        const double r_sum = radius[i] + radius[j];
+        const double dist = d.norm();
+        const double overlap = r_sum - dist;
+        const typename M::Params& par = par_of[bslot[k]];
+        in_contact[k] = 1;
+        ContactState<D> c;
+        c.dt = dt;
+        // Coincident centres: any direction is as good as another, but it must be finite.
+        c.normal = dist > 0 ? V(d * (1.0 / dist)) : V(V::UnitX());
+        c.overlap = overlap;
+        const V v_rel = v[j] - v[i];
+        c.normal_velocity = v_rel.dot(c.normal);
+        // Eq. 3.10: tangential slip of j's surface relative to i's.
+        c.tangential_velocity = v_rel - c.normal * c.normal_velocity +
+                                Dim<D>::spin_cross(radius[i] * w[i] + radius[j] * w[j], c.normal);
+        // Divisions only for the models that read them (see contact_state.hpp).
+        c.inv_mass_sum = inv_mass[i] + inv_mass[j];
+        if constexpr (uses_effective_mass<M>::value)
+          c.effective_mass = 1.0 / (inv_mass[i] + inv_mass[j]);
+        else
+          c.effective_mass = std::numeric_limits<double>::quiet_NaN();
+        if constexpr (uses_effective_radius<M>::value)
+          c.effective_radius = radius[i] * radius[j] / r_sum;
+        else
+          c.effective_radius = std::numeric_limits<double>::quiet_NaN();
+        const ContactForce<D> f = M::force(par, h, c);
+        const V total = f.normal * c.normal + f.tangential;
+        // Torques about each centre, applied at the contact point: lever -(r_i - a/2) n
+        // on i and +(r_j - a/2) n on j (which feels -T). With these levers the pair
+        // exerts no net torque, so angular momentum is conserved to round-off.
+        const S n_cross_t = Dim<D>::torque(c.normal, f.tangential);
+        const S torque_i = -(radius[i] - 0.5 * overlap) * n_cross_t;
+        const S torque_j = -(radius[j] - 0.5 * overlap) * n_cross_t;
+        if (fused) {
+          force[i] += total;
+          force[j] -= total;
+          torque[i] += torque_i;
+          torque[j] += torque_j;
+        } else {
+          out_a[e] = i, out_b[e] = j;
+          out_force[e] = total;
+          out_torque_a[e] = torque_i;
+          out_torque_b[e] = torque_j;
+        }
+        ++touching;
+        // The largest overlap / smaller radius, without a division per contact.
+        const double r_min = std::min(radius[i], radius[j]);
+        if (overlap > max_ratio * r_min) max_ratio = overlap / r_min;
+        if constexpr (Observed) {
+          const std::size_t s = offset + k;
+          log_.active[s] = 1;
+          log_.a[s] = static_cast<std::int32_t>(i);
+          log_.b[s] = static_cast<std::int32_t>(j);
+          log_.overlap[s] = overlap;
+          log_.normal_force[s] = f.normal;
+          log_.overlap_rate[s] = c.normal_velocity;
+          log_.normal[s] = c.normal;
+          log_.tangential[s] = f.tangential;
+          log_.point[s] = x[i] - (radius[i] - 0.5 * overlap) * c.normal;
+        }
       }
     }
     touching_out += touching;
