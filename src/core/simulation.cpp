@@ -820,6 +820,12 @@ void Simulation<D>::rebuild_lists() {
     B old = std::move(std::get<I>(pair_buckets_));
     B& fresh = std::get<I>(pair_buckets_);
     fresh = B{};
+    // The step lists' storage only grows; the arrays start at about the old size.
+    fresh.touched = std::move(old.touched);
+    for (auto& list : fresh.touched) list.count = 0;  // they named the old candidates
+    const std::size_t expect = old.size() + old.size() / 8;
+    fresh.i.reserve(expect), fresh.j.reserve(expect), fresh.slot.reserve(expect);
+    fresh.id_i.reserve(expect), fresh.id_j.reserve(expect);
     for (auto [a, b] : candidates_) {
       if (p_.id[a] > p_.id[b]) std::swap(a, b);
       const PairTable::Entry& e = pairs_.at(p_.material[a], p_.material[b]);
@@ -842,6 +848,11 @@ void Simulation<D>::rebuild_lists() {
     WB old = std::move(std::get<I>(wall_buckets_));
     WB& fresh = std::get<I>(wall_buckets_);
     fresh = WB{};
+    fresh.touched = std::move(old.touched);
+    for (auto& list : fresh.touched) list.count = 0;
+    const std::size_t expect = old.size() + old.size() / 8;
+    fresh.particle.reserve(expect), fresh.wall.reserve(expect), fresh.slot.reserve(expect);
+    fresh.id.reserve(expect);
     for (std::size_t w = 0; w < walls_.size(); ++w) {
       for (std::size_t i = 0; i < n; ++i) {
         if (p_.fixed[i]) continue;
