@@ -217,7 +217,7 @@ const std::vector<FunctionDoc> entries = {
  "Writes a checkpoint now, between runs.", {{"1", "string", "", true, "checkpoint file (HDF5)"}},
  "'example.chk.h5'"},
 {"sim:diagnostic", "simulation", P, "sim:diagnostic(name, { option = value, ... }) -> id",
- "Attaches a C++ diagnostic by name (see docs/diagnostics.md); a scene pays nothing for diagnostics it does not attach.",
+ "Attaches a C++ diagnostic by name (`wall_force`, `zones`, `areas`, `contact_peaks`: docs/mechanofusion.md; how to add one: docs/architecture.md); a scene pays nothing for diagnostics it does not attach.",
  {{"1", "string", "", true, "diagnostic name: 'wall_force', 'zones', 'areas', 'contact_peaks' (docs/mechanofusion.md)"},
   {"2", "table", "", false, "its options; nested tables become dotted names"}},
  "'wall_force', { wall = 'drum' }"},
