@@ -23,6 +23,23 @@ using Clock = std::chrono::steady_clock;
 // Contacts ahead whose history and velocities the pair loop asks the cache for.
 constexpr std::size_t prefetch_distance = 8;
 constexpr std::int64_t prefetch_min_candidates = 1 << 16;
+
+// Runs a contact kernel's work(t, nt, touching, max_ratio) on a team of
+// threads (an OpenMP region) or, for a team of one, directly: summing the
+// contact counts and taking the largest overlap ratio.
+template <typename Work>
+void run_on_team(int team, Work& work, std::int64_t& touching_out, double& max_ratio_out) {
+  std::int64_t touching = 0;
+  double max_ratio = 0;
+  if (team > 1) {
+#pragma omp parallel num_threads(team) reduction(+ : touching) reduction(max : max_ratio)
+    work(omp_get_thread_num(), omp_get_num_threads(), touching, max_ratio);
+  } else {
+    work(0, 1, touching, max_ratio);
+  }
+  touching_out += touching;
+  if (max_ratio > max_ratio_out) max_ratio_out = max_ratio;
+}
 // Scenes this large are kept in space-filling-curve order (their data no longer
 // fits in the fast caches, so neighbours in memory matter).
 constexpr std::size_t sort_min_particles = 4096;
@@ -306,27 +323,16 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
         if (overlap > max_ratio * r_min) max_ratio = overlap / r_min;
         if constexpr (Observed) {
           const std::size_t s = offset + k;
-          log_.active[s] = 1;
-          log_.a[s] = static_cast<std::int32_t>(i);
-          log_.b[s] = static_cast<std::int32_t>(j);
-          log_.overlap[s] = overlap;
-          log_.normal_force[s] = f.normal;
-          log_.overlap_rate[s] = c.normal_velocity;
-          log_.normal[s] = c.normal;
-          log_.tangential[s] = f.tangential;
-          log_.point[s] = x[i] - (radius[i] - 0.5 * overlap) * c.normal;
+          log_.record(s, static_cast<std::int32_t>(i), static_cast<std::int32_t>(j), overlap,
+                      f.normal, c.normal_velocity, c.normal, f.tangential,
+                      x[i] - (radius[i] - 0.5 * overlap) * c.normal);
         }
       }
     }
     touching_out += touching;
     if (max_ratio > max_ratio_out) max_ratio_out = max_ratio;
   };
-  if (team > 1) {
-#pragma omp parallel num_threads(team) reduction(+ : touching) reduction(max : max_ratio)
-    work(omp_get_thread_num(), omp_get_num_threads(), touching, max_ratio);
-  } else {
-    work(0, 1, touching, max_ratio);
-  }
+  run_on_team(team, work, touching, max_ratio);
   contacts_particle_ += touching;
   if (max_ratio > max_overlap_ratio_) max_overlap_ratio_ = max_ratio;
 }
@@ -427,26 +433,15 @@ void Simulation<D>::wall_forces(WallBucket<D, M>& b,
       if (overlap > max_ratio * r) max_ratio = overlap / r;
       if constexpr (Observed) {
         const std::size_t s = offset + k;
-        log_.active[s] = 1;
-        log_.a[s] = static_cast<std::int32_t>(i);
-        log_.b[s] = -1 - static_cast<std::int32_t>(b.wall[k]);
-        log_.overlap[s] = overlap;
-        log_.normal_force[s] = f.normal;
-        log_.overlap_rate[s] = c.normal_velocity;
-        log_.normal[s] = n;
-        log_.tangential[s] = f.tangential;
-        log_.point[s] = x[i] - (r - overlap) * n;
+        log_.record(s, static_cast<std::int32_t>(i), -1 - static_cast<std::int32_t>(b.wall[k]),
+                    overlap, f.normal, c.normal_velocity, n, f.tangential,
+                    x[i] - (r - overlap) * n);
       }
     }
     touching_out += touching;
     if (max_ratio > max_ratio_out) max_ratio_out = max_ratio;
   };
-  if (team > 1) {
-#pragma omp parallel num_threads(team) reduction(+ : touching) reduction(max : max_ratio)
-    work(omp_get_thread_num(), omp_get_num_threads(), touching, max_ratio);
-  } else {
-    work(0, 1, touching, max_ratio);
-  }
+  run_on_team(team, work, touching, max_ratio);
   contacts_wall_ += touching;
   if (max_ratio > max_overlap_ratio_) max_overlap_ratio_ = max_ratio;
 }

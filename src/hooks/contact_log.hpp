@@ -62,6 +62,20 @@ struct ContactLog {
   std::vector<ContactEvent<D>> began, ended;
 
   std::size_t size() const { return active.size(); }
+  // Slot s touches this step (a kernel on a logged step).
+  void record(std::size_t s, std::int32_t a_index, std::int32_t b_index, double overlap_m,
+              double normal_n, double rate, const V& unit_normal, const V& tangential_n,
+              const V& contact_point) {
+    active[s] = 1;
+    a[s] = a_index;
+    b[s] = b_index;
+    overlap[s] = overlap_m;
+    normal_force[s] = normal_n;
+    overlap_rate[s] = rate;
+    normal[s] = unit_normal;
+    tangential[s] = tangential_n;
+    point[s] = contact_point;
+  }
   static bool is_wall(std::int32_t b) { return b < 0; }
   static int wall_of(std::int32_t b) { return -1 - b; }
 

@@ -2,9 +2,11 @@
 // that compare with closed forms.
 #pragma once
 
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <functional>
 #include <string>
+#include <utility>
 
 #include "contact/parameters.hpp"
 #include "core/simulation.hpp"
@@ -52,6 +54,38 @@ ContactState<D> state(const Vec<D>& normal, double overlap, const Vec<D>& tangen
   c.effective_radius = effective_radius;
   c.dt = dt;
   return c;
+}
+
+// Drives model M's 2D form and its 3D vector form through the same in-plane
+// contact (z = 0) that turns back and forth, loads and unloads, and slides
+// with reversals (slip speed amplitude `slip`, m/s; the normal velocity that
+// goes with the overlap when `with_normal_rate`); the 2D form keeps its
+// tangential state along t = (-n_y, n_x), so both must agree to round-off.
+// Returns {largest difference of the tangential forces, largest force}, N.
+template <typename M>
+std::pair<double, double> in_plane_2d_3d_difference(const typename M::Params& p, double slip,
+                                                    double dt, bool with_normal_rate) {
+  typename M::template History<2> h2;
+  typename M::template History<3> h3;
+  double worst = 0, largest = 0;
+  for (int k = 0; k < 6000; ++k) {
+    const double angle = 0.4 * std::sin(1e-3 * k);               // the contact turns
+    const double overlap = 1e-6 * (1.2 + std::sin(2.3e-3 * k));  // loads and unloads
+    const double slip_speed = slip * std::cos(3.1e-3 * k);       // reverses often
+    const Eigen::Vector2d n2(std::cos(angle), std::sin(angle)), t2(-n2.y(), n2.x());
+    const Eigen::Vector3d n3(n2.x(), n2.y(), 0), t3(t2.x(), t2.y(), 0);
+    auto c2 = state<2>(n2, overlap, Eigen::Vector2d(slip_speed * t2), dt);
+    auto c3 = state<3>(n3, overlap, Eigen::Vector3d(slip_speed * t3), dt);
+    if (with_normal_rate)
+      c2.normal_velocity = c3.normal_velocity = 2.3e-3 * 1e-6 * std::cos(2.3e-3 * k) / dt;
+    const auto f2 = M::template force<2>(p, h2, c2);
+    const auto f3 = M::template force<3>(p, h3, c3);
+    REQUIRE(f2.normal == f3.normal);
+    worst = std::max(
+        worst, (Eigen::Vector3d(f2.tangential.x(), f2.tangential.y(), 0) - f3.tangential).norm());
+    largest = std::max(largest, f3.tangential.norm());
+  }
+  return {worst, largest};
 }
 
 template <int D>

@@ -68,25 +68,8 @@ TEST_CASE(
                                       {"tangential_damping_ratio", 0.5},
                                       {"allow_tension", 0}},
                                      {material, material});
-  LinearSpringDashpot::History<2> h2;
-  LinearSpringDashpot::History<3> h3;
-  double worst = 0, largest = 0;
-  for (int k = 0; k < 6000; ++k) {
-    const double angle = 0.4 * std::sin(1e-3 * k);
-    const double overlap = 1e-6 * (1.2 + std::sin(2.3e-3 * k));
-    const double slip_speed = 0.05 * std::cos(3.1e-3 * k);
-    const Eigen::Vector2d n2(std::cos(angle), std::sin(angle)), t2(-n2.y(), n2.x());
-    const Eigen::Vector3d n3(n2.x(), n2.y(), 0), t3(t2.x(), t2.y(), 0);
-    auto c2 = test::state<2>(n2, overlap, Eigen::Vector2d(slip_speed * t2), 1e-7);
-    auto c3 = test::state<3>(n3, overlap, Eigen::Vector3d(slip_speed * t3), 1e-7);
-    c2.normal_velocity = c3.normal_velocity = 2.3e-3 * 1e-6 * std::cos(2.3e-3 * k) / 1e-7;
-    const auto f2 = LinearSpringDashpot::force<2>(p, h2, c2);
-    const auto f3 = LinearSpringDashpot::force<3>(p, h3, c3);
-    REQUIRE(f2.normal == f3.normal);
-    worst = std::max(
-        worst, (Eigen::Vector3d(f2.tangential.x(), f2.tangential.y(), 0) - f3.tangential).norm());
-    largest = std::max(largest, f3.tangential.norm());
-  }
+  const auto [worst, largest] =
+      test::in_plane_2d_3d_difference<LinearSpringDashpot>(p, 0.05, 1e-7, true);
   REQUIRE(largest > 0);
   CHECK(worst <= 1e-9 * largest);
 }

@@ -229,25 +229,7 @@ TEST_CASE(
   // vectors rotated onto the tangent plane (Eqs. 3.7-3.8). For a contact in the
   // z = 0 plane both must give the same tangential force to round-off.
   auto p = params(table_3_1(0.3));
-  WaltonBraun::History<2> h2;
-  WaltonBraun::History<3> h3;
-  const double dt = 2e-9;
-  double worst = 0, largest = 0;
-  for (int k = 0; k < 6000; ++k) {
-    const double angle = 0.4 * std::sin(1e-3 * k);               // the contact turns back and forth
-    const double overlap = 1e-6 * (1.2 + std::sin(2.3e-3 * k));  // loads and unloads
-    const double slip_speed = 0.5 * std::cos(3.1e-3 * k);        // reverses often
-    const Eigen::Vector2d n2(std::cos(angle), std::sin(angle)), t2(-n2.y(), n2.x());
-    const Eigen::Vector3d n3(n2.x(), n2.y(), 0), t3(t2.x(), t2.y(), 0);
-    auto c2 = test::state<2>(n2, overlap, Eigen::Vector2d(slip_speed * t2), dt);
-    auto c3 = test::state<3>(n3, overlap, Eigen::Vector3d(slip_speed * t3), dt);
-    const auto f2 = WaltonBraun::force<2>(p, h2, c2);
-    const auto f3 = WaltonBraun::force<3>(p, h3, c3);
-    REQUIRE(f2.normal == f3.normal);
-    worst = std::max(
-        worst, (Eigen::Vector3d(f2.tangential.x(), f2.tangential.y(), 0) - f3.tangential).norm());
-    largest = std::max(largest, f3.tangential.norm());
-  }
+  const auto [worst, largest] = test::in_plane_2d_3d_difference<WaltonBraun>(p, 0.5, 2e-9, false);
   REQUIRE(largest > 0);
   CHECK(worst <= 1e-9 * largest);
 }
