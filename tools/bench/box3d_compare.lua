@@ -23,39 +23,14 @@ local p = parameters {
   state = { default = "" },
   steps = { default = 1000 },
 }
-local r = p.radius
-local spacing = 2 * r  -- touching: a dense column from the first step
-local side = p.per_side * spacing
-local sim = simulation { dimension = 3, time_step = p.time_step }
-sim:material { name = "glass", density = p.density }
-sim:material { name = "steel", density = 7800 }
-for _, other in ipairs { "glass", "steel" } do
-  sim:contact { "glass", other, model = "linear", k_normal = p.k_normal, restitution = p.restitution,
-                friction = p.friction }
-end
-sim:wall_plane { name = "floor", point = { 0, 0, 0 }, normal = { 0, 0, 1 }, material = "steel" }
-sim:wall_plane { name = "x_low", point = { 0, 0, 0 }, normal = { 1, 0, 0 }, material = "steel" }
-sim:wall_plane { name = "x_high", point = { side, 0, 0 }, normal = { -1, 0, 0 }, material = "steel" }
-sim:wall_plane { name = "y_low", point = { 0, 0, 0 }, normal = { 0, 1, 0 }, material = "steel" }
-sim:wall_plane { name = "y_high", point = { 0, side, 0 }, normal = { 0, -1, 0 }, material = "steel" }
-sim:gravity { 0, 0, -9.81 }
--- The floor shakes: z(t) = A sin(2 pi f t), velocity set every step.
-local omega = 2 * math.pi * p.frequency
-sim:every { steps = 1, function(s)
-  s:set_wall("floor", { velocity = { 0, 0, p.amplitude * omega * math.cos(omega * s:time()) } })
-end }
+local bench = require "granule.bench"
+local box = { per_side = p.per_side, radius = p.radius, density = p.density, k_normal = p.k_normal,
+  restitution = p.restitution, friction = p.friction, amplitude = p.amplitude, frequency = p.frequency,
+  time_step = p.time_step }
+local sim = bench.shaken_box(box)
 if p.state == "" then
-  local k = 0
-  for layer = 0, p.layers - 1 do
-    for iy = 0, p.per_side - 1 do
-      for ix = 0, p.per_side - 1 do
-        k = k + 1
-        local jitter = 0.005 * r * math.sin(k * 12.9898)  -- breaks the lattice's symmetry
-        sim:add_particle { position = { (ix + 0.5) * spacing + jitter, (iy + 0.5) * spacing - jitter,
-                                        (layer + 0.5) * spacing }, radius = r, material = "glass" }
-      end
-    end
-  end
+  box.layers = p.layers
+  bench.fill_lattice(sim, box)
   sim:run { duration = p.settle }
   assert(p.save ~= "", "give -D save=FILE to keep the settled state")
   sim:output { file = p.save, xdmf = false }

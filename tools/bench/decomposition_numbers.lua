@@ -30,25 +30,10 @@ local function rss_kb()
 end
 
 local rss_before = rss_kb()
-local r = p.radius
-local side = p.per_side * 2 * r
-local sim = simulation { dimension = 3, time_step = p.time_step }
-sim:material { name = "glass", density = p.density }
-sim:material { name = "steel", density = 7800 }
-for _, other in ipairs { "glass", "steel" } do
-  sim:contact { "glass", other, model = "linear", k_normal = p.k_normal, restitution = p.restitution,
-                friction = p.friction }
-end
-sim:wall_plane { name = "floor", point = { 0, 0, 0 }, normal = { 0, 0, 1 }, material = "steel" }
-sim:wall_plane { name = "x_low", point = { 0, 0, 0 }, normal = { 1, 0, 0 }, material = "steel" }
-sim:wall_plane { name = "x_high", point = { side, 0, 0 }, normal = { -1, 0, 0 }, material = "steel" }
-sim:wall_plane { name = "y_low", point = { 0, 0, 0 }, normal = { 0, 1, 0 }, material = "steel" }
-sim:wall_plane { name = "y_high", point = { 0, side, 0 }, normal = { 0, -1, 0 }, material = "steel" }
-sim:gravity { 0, 0, -9.81 }
-local omega = 2 * math.pi * p.frequency
-sim:every { steps = 1, function(s)
-  s:set_wall("floor", { velocity = { 0, 0, p.amplitude * omega * math.cos(omega * s:time()) } })
-end }
+local sim = require("granule.bench").shaken_box {
+  per_side = p.per_side, radius = p.radius, density = p.density, k_normal = p.k_normal,
+  restitution = p.restitution, friction = p.friction, amplitude = p.amplitude, frequency = p.frequency,
+  time_step = p.time_step }
 sim:load_particles { file = p.state }
 local n = #sim:particles()
 local contacts, samples = 0, 0

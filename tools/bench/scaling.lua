@@ -15,39 +15,15 @@ local p = parameters {
   warmup = { default = 300 },
 }
 local r = p.radius
+local bench = require "granule.bench"
 print("| spheres | pair contacts / sphere | list rebuilds / 100 steps | particle-steps/s | ns per step per sphere | ns per step per contact |")
 print("|---|---|---|---|---|---|")
 for side_text in string.gmatch(p.sides, "[^,]+") do
   local per_side = math.tointeger(tonumber(side_text))
   assert(per_side and per_side > 0, "sides: positive integers, got '" .. side_text .. "'")
-  local spacing, side = 2 * r, per_side * 2 * r
-  local sim = simulation { dimension = 3, time_step = 1.5e-6 }
-  sim:material { name = "glass", density = 2500 }
-  sim:material { name = "steel", density = 7800 }
-  for _, other in ipairs { "glass", "steel" } do
-    sim:contact { "glass", other, model = "linear", k_normal = 1e4, restitution = 0.5, friction = 0.5 }
-  end
-  sim:wall_plane { name = "floor", point = { 0, 0, 0 }, normal = { 0, 0, 1 }, material = "steel" }
-  sim:wall_plane { name = "x_low", point = { 0, 0, 0 }, normal = { 1, 0, 0 }, material = "steel" }
-  sim:wall_plane { name = "x_high", point = { side, 0, 0 }, normal = { -1, 0, 0 }, material = "steel" }
-  sim:wall_plane { name = "y_low", point = { 0, 0, 0 }, normal = { 0, 1, 0 }, material = "steel" }
-  sim:wall_plane { name = "y_high", point = { 0, side, 0 }, normal = { 0, -1, 0 }, material = "steel" }
-  sim:gravity { 0, 0, -9.81 }
-  local omega = 2 * math.pi * 50
-  sim:every { steps = 1, function(s)
-    s:set_wall("floor", { velocity = { 0, 0, 0.1e-3 * omega * math.cos(omega * s:time()) } })
-  end }
-  local k = 0
-  for layer = 0, p.layers - 1 do
-    for iy = 0, per_side - 1 do
-      for ix = 0, per_side - 1 do
-        k = k + 1
-        local jitter = 0.005 * r * math.sin(k * 12.9898)
-        sim:add_particle { position = { (ix + 0.5) * spacing + jitter, (iy + 0.5) * spacing - jitter,
-                                        (layer + 0.5) * spacing }, radius = r, material = "glass" }
-      end
-    end
-  end
+  local box = { per_side = per_side, layers = p.layers, radius = r }
+  local sim = bench.shaken_box(box)
+  bench.fill_lattice(sim, box)
   sim:run { steps = p.warmup }
   local contacts, samples = 0, 0
   sim:every { steps = 50, function(s)

@@ -1,0 +1,76 @@
+-- granule.bench: the dense shaken 3D box the benchmarks share
+-- (tools/bench/box3d_compare.lua, decomposition_numbers.lua, scaling.lua):
+-- spheres in a square box with four side walls on a floor that shakes
+-- vertically, z(t) = A sin(2 pi f t), linear contacts with friction, gravity.
+--
+--   local bench = require "granule.bench"
+--   local sim = bench.shaken_box { per_side = 50, time_step = 1.5e-6 }
+--   bench.fill_lattice(sim, { per_side = 50, layers = 40 })
+local bench = {}
+
+local defaults = {
+  per_side = 50,          -- spheres per side of the box
+  radius = 1e-3,          -- m
+  density = 2500,         -- kg/m^3
+  k_normal = 1e4,         -- N/m
+  restitution = 0.5,
+  friction = 0.5,
+  amplitude = 0.1e-3,     -- m, of the floor
+  frequency = 50,         -- Hz, of the floor
+  time_step = 1.5e-6,     -- s
+}
+
+local function with_defaults(o)
+  local p = {}
+  for k, v in pairs(defaults) do p[k] = v end
+  for k, v in pairs(o or {}) do
+    if defaults[k] == nil and k ~= "layers" then error("granule.bench: unknown option '" .. k .. "'", 3) end
+    p[k] = v
+  end
+  return p
+end
+
+-- A simulation with the box's materials, contacts, walls, gravity and the
+-- shaking floor (its velocity set every step); no particles yet.
+function bench.shaken_box(options)
+  local p = with_defaults(options)
+  local side = p.per_side * 2 * p.radius
+  local sim = simulation { dimension = 3, time_step = p.time_step }
+  sim:material { name = "glass", density = p.density }
+  sim:material { name = "steel", density = 7800 }
+  for _, other in ipairs { "glass", "steel" } do
+    sim:contact { "glass", other, model = "linear", k_normal = p.k_normal, restitution = p.restitution,
+                  friction = p.friction }
+  end
+  sim:wall_plane { name = "floor", point = { 0, 0, 0 }, normal = { 0, 0, 1 }, material = "steel" }
+  sim:wall_plane { name = "x_low", point = { 0, 0, 0 }, normal = { 1, 0, 0 }, material = "steel" }
+  sim:wall_plane { name = "x_high", point = { side, 0, 0 }, normal = { -1, 0, 0 }, material = "steel" }
+  sim:wall_plane { name = "y_low", point = { 0, 0, 0 }, normal = { 0, 1, 0 }, material = "steel" }
+  sim:wall_plane { name = "y_high", point = { 0, side, 0 }, normal = { 0, -1, 0 }, material = "steel" }
+  sim:gravity { 0, 0, -9.81 }
+  local omega = 2 * math.pi * p.frequency
+  sim:every { steps = 1, function(s)
+    s:set_wall("floor", { velocity = { 0, 0, p.amplitude * omega * math.cos(omega * s:time()) } })
+  end }
+  return sim
+end
+
+-- per_side^2 x layers spheres on a touching cubic lattice (a dense column from
+-- the first step), jittered a little to break the lattice's symmetry.
+function bench.fill_lattice(sim, options)
+  local p = with_defaults(options)
+  assert(p.layers, "granule.bench.fill_lattice: give layers")
+  local r, spacing, k = p.radius, 2 * p.radius, 0
+  for layer = 0, p.layers - 1 do
+    for iy = 0, p.per_side - 1 do
+      for ix = 0, p.per_side - 1 do
+        k = k + 1
+        local jitter = 0.005 * r * math.sin(k * 12.9898)
+        sim:add_particle { position = { (ix + 0.5) * spacing + jitter, (iy + 0.5) * spacing - jitter,
+                                        (layer + 0.5) * spacing }, radius = r, material = "glass" }
+      end
+    end
+  end
+end
+
+return bench
