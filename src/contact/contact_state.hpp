@@ -78,7 +78,15 @@ inline Vec<D> rotate_onto_plane(const Vec<D>& old, const Vec<D>& normal) {
     const double magnitude = std::sqrt(old_sq);
     return (along > 0 ? magnitude : -magnitude) * t;
   } else {
-    const Vec<D> projected = old - normal * normal.dot(old);
+    const double along = normal.dot(old);
+    const Vec<D> projected = old - normal * along;
+    // The rescale factor is (1 - x)^-1/2 with x = along^2 / |old|^2, the
+    // squared sine of the angle the normal turned through since the last step:
+    // ~1e-10 in a steady contact. There the series to x^3 is exact to round-off
+    // (its first omitted term, 35/128 x^4, is below 3e-17 for x < 1e-4) and
+    // spares the contact a square root and a division on its critical path.
+    const double x = along * along / old_sq;
+    if (x < 1e-4) return projected * (1.0 + x * (0.5 + x * (0.375 + x * 0.3125)));
     const double projected_sq = projected.squaredNorm();
     if (projected_sq <= 1e-30 * old_sq) return Vec<D>::Zero();
     return projected * std::sqrt(old_sq / projected_sq);

@@ -46,6 +46,7 @@ struct LinearSpringDashpot {
   struct Params {
     double k_normal, damping_ratio, friction, k_tangential, tangential_damping_ratio;
     double sqrt_k_normal;
+    double inv_k_tangential;  // 1/k_t, 0 when k_t = 0 (the spring then stores nothing)
     bool allow_tension;
   };
 
@@ -61,6 +62,7 @@ struct LinearSpringDashpot {
     p.damping_ratio = damping_ratio_for(v.at("restitution"));
     p.friction = v.at("friction");
     p.k_tangential = v.at("tangential_ratio") * p.k_normal;
+    p.inv_k_tangential = p.k_tangential > 0 ? 1.0 / p.k_tangential : 0.0;
     p.tangential_damping_ratio = v.at("tangential_damping_ratio");
     p.allow_tension = v.at("allow_tension") != 0;
     return p;
@@ -129,9 +131,9 @@ struct LinearSpringDashpot {
       const double t_sq = t.squaredNorm();
       if (t_sq > limit * limit) {
         t *= limit / std::sqrt(t_sq);
-        // Keep the spring consistent with the capped force (LAMMPS does the same).
-        slip = p.k_tangential > 0 ? Vec<D>((t - c_t * c.tangential_velocity) / p.k_tangential)
-                                  : Vec<D>(Vec<D>::Zero());
+        // Keep the spring consistent with the capped force (LAMMPS does the same);
+        // 1/k_t is 0 when k_t is: the spring then stores nothing.
+        slip = (t - c_t * c.tangential_velocity) * p.inv_k_tangential;
       }
       h.slip = slip;
       out.tangential = t;

@@ -23,6 +23,9 @@ using Clock = std::chrono::steady_clock;
 // Contacts ahead whose history and velocities the pair loop asks the cache for.
 constexpr std::size_t prefetch_distance = 8;
 constexpr std::int64_t prefetch_min_candidates = 1 << 16;
+// Candidates per block of the pair loop: its listing pass, then its force pass
+// while the block's data are in the caches (~300 contacts in the dense box).
+constexpr std::int64_t pair_block = 2048;
 
 // Runs a contact kernel's work(t, nt, touching, max_ratio) on a team of
 // threads (an OpenMP region) or, for a team of one, directly: summing the
@@ -82,10 +85,7 @@ void Simulation<D>::step() {
   // A scene whose candidates are all below the parallel threshold runs every
   // contact loop on one thread: fused too.
   fused_ = thread_count() == 1 || static_cast<std::int64_t>(slot_count_) < parallel_min_candidates_;
-  if (fused_) {  // else scatter_forces() starts each particle's sums, in parallel
-    std::fill(p_.force.begin(), p_.force.end(), V::Zero());
-    std::fill(p_.torque.begin(), p_.torque.end(), Dim<D>::zero_spin());
-  }
+  zero_forces();
   for (auto& w : walls_) w.force.setZero(), w.axial_torque = 0;
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
@@ -107,8 +107,8 @@ void Simulation<D>::step() {
     else
       wall_forces<M, false>(wb, pairs_.params<I>());
   });
-  // Forces and torques per particle, and the reactions on the walls (the
-  // inner-piece force of 4.4.1), summed over the contacts in slot order.
+  // The wall contacts' forces and torques per particle, and the reactions on
+  // the walls (the inner-piece force of 4.4.1), summed in slot order.
   if (!fused_) {
     const auto scatter_start = Clock::now();
     scatter_forces();
@@ -151,8 +151,9 @@ void Simulation<D>::advance(std::int64_t steps) {
 
 // ----------------------------------------------------------------------------
 // Contact kernels. Observed = false is the plain loop; Observed = true also
-// writes the contact log. Each contact k writes only slot offset + k, so the
-// loop runs in parallel and the result does not depend on the thread count.
+// writes the contact log. Each contact k writes only its own history, flag and
+// log slot (offset + k), so the loop runs in parallel; the sums per particle
+// are made in slot order whatever the thread count (see below).
 // ----------------------------------------------------------------------------
 template <int D>
 template <typename M, bool Observed>
@@ -162,15 +163,24 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
   const std::int64_t count = static_cast<std::int64_t>(b.size());
   std::int64_t touching = 0;
   double max_ratio = 0;
-  const int threads = thread_count();
-  // Each thread takes a contiguous range of candidates. Pass 1, a tight loop
-  // over all of them, lists those that touch and those that stopped touching
-  // and must be cleared; most do neither (the Mechanofusion base case has ~10x
-  // more candidates than contacts), and kept apart from the force code this
-  // loop holds its few values in registers. Pass 2 works through the list.
-  // Each contact writes only its own slot, so no order matters here.
-  const int team = count >= parallel_min_candidates_ ? threads : 1;
+  const int team = count >= parallel_min_candidates_ ? thread_count() : 1;
   b.touched.resize(team);
+  // Threads take contiguous ranges of candidates (b.split). A particle that
+  // only one range reaches gets its forces added by that thread as they come,
+  // in slot order; one that several ranges reach (a thin layer where the
+  // ranges meet, in space-filling-curve order) gets all of them deferred and
+  // added after the others, still in slot order. Either way the sum is the
+  // single thread's, bit for bit, wherever the ranges meet: they are moved
+  // (rebalance) when the contacts gather in one of them.
+  const std::size_t n = p_.size();
+  if (team > 1) {
+    if (b.split.size() != static_cast<std::size_t>(team) + 1 || b.shared.size() != n) {
+      b.split.resize(team + 1);
+      for (int t = 0; t <= team; ++t) b.split[t] = count * t / team;
+      mark_shared(b);
+    }
+    if (deferred_.size() < static_cast<std::size_t>(team)) deferred_.resize(team);
+  }
   // The work of thread t of nt, called directly on one thread and from an
   // OpenMP region on more. Its arrays are local pointers declared inside:
   // captured by reference, or shared with an OpenMP region, they would be
@@ -178,8 +188,6 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
   auto work = [&](std::int64_t t, std::int64_t nt, std::int64_t& touching_out,
                   double& max_ratio_out) {
     const double dt = dt_;
-    // Plain pointers: the compiler cannot prove that stores through the outputs
-    // leave the vectors' own pointers alone, and would reload them per contact.
     const std::uint32_t* const bi = b.i.data();
     const std::uint32_t* const bj = b.j.data();
     const std::uint32_t* const bslot = b.slot.data();
@@ -191,24 +199,31 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
     const double* const radius = p_.radius.data();
     const double* const inv_mass = p_.inv_mass.data();
     std::uint8_t* const in_contact = slot_in_contact_.data() + b.offset;
-    const bool fused = fused_;
     V* const force = p_.force.data();
     S* const torque = p_.torque.data();
+    const std::uint8_t* const shared = nt > 1 ? b.shared.data() : nullptr;
+    std::vector<Deferred>* const deferred = nt > 1 ? &deferred_[t] : nullptr;
+    if (deferred) deferred->clear();
     const Periodicity periodic = periodic_;
     const bool periodic_on = periodic.on();
     const int periodic_axis = periodic_on ? periodic.axis : 0;
     const std::size_t offset = b.offset;
     std::int64_t touching = 0;
     double max_ratio = 0;
-    const std::int64_t begin = count * t / nt, end = count * (t + 1) / nt;
+    const std::int64_t begin = nt > 1 ? b.split[t] : 0, end = nt > 1 ? b.split[t + 1] : count;
     StepList<D>& list = b.touched[t];
     list.start(static_cast<std::size_t>(end - begin));
-    // The list's array and count in registers, and no branch: "touches or was
-    // in contact" as a bitwise or (a || would branch, and mispredict).
+    // The list's array and count in registers.
     std::uint32_t* const listing = list.entries.data();
     std::size_t listed = 0;
-    auto pass1 = [&](auto periodic_c) {
-      for (std::int64_t k = begin; k < end; ++k) {
+    // Pass 1, a tight loop over a block of candidates, lists those that touch
+    // and those that stopped touching and must be cleared; most do neither
+    // (the Mechanofusion base case has ~10x more candidates than contacts), and
+    // kept apart from the force code this loop holds its few values in
+    // registers. No branch: "touches or was in contact" is a bitwise or (a ||
+    // would branch, and mispredict).
+    auto pass1 = [&](auto periodic_c, std::int64_t from, std::int64_t to) {
+      for (std::int64_t k = from; k < to; ++k) {
         const std::uint32_t i = bi[k], j = bj[k];
         V d = x[i] - x[j];
         if constexpr (decltype(periodic_c)::value)
@@ -223,46 +238,20 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
         listed += touch_bit | in_contact[k];
       }
     };
-    if (periodic_on)
-      pass1(std::true_type{});
-    else
-      pass1(std::false_type{});
-    list.count = listed;
-    if (!fused) list.reserve_outputs(listed);
-    // Pass 2, balanced: the threads share the listed contacts, not the
-    // candidates (in space-filling-curve order one half of the candidates can
-    // be the denser half of a pile). Each contact still writes only its own
-    // history, flag and place in its list, so the results do not change.
-    if (nt > 1) {
-#pragma omp barrier
-    }
-    std::size_t total = 0;
-    for (std::int64_t u = 0; u < nt; ++u) total += b.touched[u].count;
-    const std::size_t g_begin = total * t / nt, g_end = total * (t + 1) / nt;
     // Small scenes live in the caches, where prefetching only costs.
     const bool prefetch = count >= prefetch_min_candidates;
-    std::size_t list_start = 0;
-    for (std::int64_t u = 0; u < nt; ++u) {
-      StepList<D>& lu = b.touched[u];
-      const std::size_t start_u = list_start;
-      list_start += lu.count;
-      if (g_end <= start_u || g_begin >= start_u + lu.count) continue;
-      const std::size_t e_begin = g_begin > start_u ? g_begin - start_u : 0;
-      const std::size_t e_end = std::min(g_end - start_u, lu.count);
-      const std::uint32_t* const entries = lu.entries.data();
-      std::uint32_t* const out_a = lu.a.data();
-      std::uint32_t* const out_b = lu.b.data();
-      V* const out_force = lu.force.data();
-      S* const out_torque_a = lu.torque_a.data();
-      S* const out_torque_b = lu.torque_b.data();
+    // Pass 2 works through the block's list while its candidates' and
+    // particles' data are still in the caches.
+    auto pass2 = [&](std::size_t e_begin, std::size_t e_end) {
       for (std::size_t e = e_begin; e < e_end; ++e) {
         // The contacts are sparse in the candidate arrays: fetch a few ahead.
         if (prefetch && e + prefetch_distance < e_end) {
-          const std::uint32_t ahead = entries[e + prefetch_distance] >> 1;
+          const std::uint32_t ahead = listing[e + prefetch_distance] >> 1;
           __builtin_prefetch(&hist[ahead]);
           __builtin_prefetch(&v[bj[ahead]]);
+          __builtin_prefetch(&w[bj[ahead]]);
         }
-        const std::uint32_t entry = entries[e];
+        const std::uint32_t entry = listing[e];
         const std::int64_t k = entry >> 1;
         History& h = hist[k];
         if (!(entry & 1)) {  // the history was in use: clear it once
@@ -274,14 +263,18 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
         V d = x[i] - x[j];
         if (periodic_on) d[periodic_axis] = periodic.wrap(d[periodic_axis]);
         const double r_sum = radius[i] + radius[j];
-        const double dist = d.norm();
+        // |d| and 1/|d| from a square root and a division that run side by
+        // side, rather than one after the other on the contact's critical path.
+        const double dist_sq = d.squaredNorm();
+        const double dist = std::sqrt(dist_sq);
+        const double inv_dist = dist * (1.0 / dist_sq);
         const double overlap = r_sum - dist;
         const typename M::Params& par = par_of[bslot[k]];
         in_contact[k] = 1;
         ContactState<D> c;
         c.dt = dt;
         // Coincident centres: any direction is as good as another, but it must be finite.
-        c.normal = dist > 0 ? V(d * (1.0 / dist)) : V(V::UnitX());
+        c.normal = dist > 0 ? V(d * inv_dist) : V(V::UnitX());
         c.overlap = overlap;
         const V v_rel = v[j] - v[i];
         c.normal_velocity = v_rel.dot(c.normal);
@@ -306,16 +299,17 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
         const S n_cross_t = Dim<D>::torque(c.normal, f.tangential);
         const S torque_i = -(radius[i] - 0.5 * overlap) * n_cross_t;
         const S torque_j = -(radius[j] - 0.5 * overlap) * n_cross_t;
-        if (fused) {
+        if (!shared || !shared[i]) {
           force[i] += total;
-          force[j] -= total;
           torque[i] += torque_i;
+        } else {
+          deferred->push_back({i, total, torque_i});
+        }
+        if (!shared || !shared[j]) {
+          force[j] -= total;  // a - b is a + (-b): the deferred sum below is the same
           torque[j] += torque_j;
         } else {
-          out_a[e] = i, out_b[e] = j;
-          out_force[e] = total;
-          out_torque_a[e] = torque_i;
-          out_torque_b[e] = torque_j;
+          deferred->push_back({j, V(-total), torque_j});
         }
         ++touching;
         // The largest overlap / smaller radius, without a division per contact.
@@ -328,13 +322,99 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
                       x[i] - (radius[i] - 0.5 * overlap) * c.normal);
         }
       }
+    };
+    for (std::int64_t from = begin; from < end; from += pair_block) {
+      const std::int64_t to = std::min(end, from + pair_block);
+      const std::size_t first = listed;
+      if (periodic_on)
+        pass1(std::true_type{}, from, to);
+      else
+        pass1(std::false_type{}, from, to);
+      pass2(first, listed);
+    }
+    list.count = listed;
+    // The deferred contributions, thread by thread (each in its range's order):
+    // slot order. Each thread adds those to its own range of particles.
+    if (nt > 1) {
+#pragma omp barrier
+      const std::uint32_t lo = static_cast<std::uint32_t>(n * t / nt);
+      const std::uint32_t width = static_cast<std::uint32_t>(n * (t + 1) / nt) - lo;
+      for (std::int64_t u = 0; u < nt; ++u)
+        for (const Deferred& d : deferred_[u])
+          if (d.particle - lo < width) {
+            force[d.particle] += d.force;
+            torque[d.particle] += d.torque;
+          }
     }
     touching_out += touching;
     if (max_ratio > max_ratio_out) max_ratio_out = max_ratio;
   };
   run_on_team(team, work, touching, max_ratio);
+  if (team > 1) rebalance(b, team);
   contacts_particle_ += touching;
   if (max_ratio > max_overlap_ratio_) max_overlap_ratio_ = max_ratio;
+}
+
+// Which particles the threads' candidate ranges (b.split) share
+// (pair_forces): those some candidate of two ranges names.
+template <int D>
+template <typename M>
+void Simulation<D>::mark_shared(PairBucket<D, M>& b) {
+  const std::size_t n = p_.size();
+  const int team = static_cast<int>(b.split.size()) - 1;
+  constexpr std::uint8_t none = 255;
+  std::vector<std::uint8_t> owner(n, none);
+  b.shared.assign(n, 0);
+  for (int t = 0; t < team; ++t) {
+    const auto range = static_cast<std::uint8_t>(std::min(t, 254));
+    for (std::int64_t k = b.split[t]; k < b.split[t + 1]; ++k)
+      for (const std::uint32_t p : {b.i[k], b.j[k]}) {
+        if (owner[p] == none)
+          owner[p] = range;
+        else if (owner[p] != range)
+          b.shared[p] = 1;
+      }
+  }
+}
+
+// Moves the threads' candidate ranges when one has much more work than the
+// others (a pile in one half of the candidates), from this step's lists:
+// a candidate costs one unit (the listing pass), a listed contact
+// `contact_weight` more. At most every 16 steps: moving them costs a pass over
+// the candidates (mark_shared). The forces do not depend on where they meet.
+template <int D>
+template <typename M>
+void Simulation<D>::rebalance(PairBucket<D, M>& b, int team) {
+  constexpr std::int64_t contact_weight = 24, min_interval = 16;
+  std::int64_t most = 0, sum = 0;
+  for (int t = 0; t < team; ++t) {
+    const std::int64_t work = b.split[t + 1] - b.split[t] +
+                              contact_weight * static_cast<std::int64_t>(b.touched[t].count);
+    most = std::max(most, work);
+    sum += work;
+  }
+  if (most * team <= sum + sum / 8 || step_ - b.balanced_step < min_interval) return;
+  b.balanced_step = step_;
+  ++rebalances_;
+  // Walk the candidates with the listed ones (in increasing k across the
+  // lists) and cut where the cumulative work reaches each thread's share.
+  const std::int64_t count = static_cast<std::int64_t>(b.size());
+  std::vector<std::int64_t> split(team + 1, count);
+  split[0] = 0;
+  int next = 1;
+  std::int64_t listed_before = 0;
+  auto cut_until = [&](std::int64_t k) {  // cuts that fall at or before candidate k
+    while (next < team && k + contact_weight * listed_before >= sum * next / team)
+      split[next++] = k;
+  };
+  for (const auto& list : b.touched)
+    for (const std::uint32_t entry : list) {
+      cut_until(entry >> 1);
+      ++listed_before;
+    }
+  cut_until(count);
+  b.split = split;
+  mark_shared(b);
 }
 
 template <int D>
@@ -544,47 +624,38 @@ void Simulation<D>::observe(bool contacts_logged) {
 // Mechanofusion base case, against ~3000 candidates).
 // ----------------------------------------------------------------------------
 template <int D>
+void Simulation<D>::zero_forces() {
+  V* const force = p_.force.data();
+  S* const torque = p_.torque.data();
+  const std::int64_t n = static_cast<std::int64_t>(p_.size());
+  const int threads = thread_count();
+  if (!fused_ && threads > 1 && n >= parallel_min_particles_) {
+#pragma omp parallel num_threads(threads)
+    {
+      const std::int64_t t = omp_get_thread_num(), nt = omp_get_num_threads();
+      std::fill(force + n * t / nt, force + n * (t + 1) / nt, V::Zero());
+      std::fill(torque + n * t / nt, torque + n * (t + 1) / nt, Dim<D>::zero_spin());
+    }
+  } else {
+    std::fill(force, force + n, V::Zero());
+    std::fill(torque, torque + n, Dim<D>::zero_spin());
+  }
+}
+
+template <int D>
 void Simulation<D>::scatter_forces() {
-  // Forces and torques per particle, summed over the touching contacts in slot
-  // order (pairs model by model, then walls; within a bucket the lists follow
-  // one another in increasing k): the order the single-thread path adds them
-  // in, so the sums are bit-identical whatever the threads. With more threads
-  // each owns a range of particles and walks all the contacts' results (stored
-  // contiguously by the kernels), adding only to its own particles: the order
-  // per particle stays the same, and the scattered read-modify-writes are shared.
+  // The wall contacts' forces and torques per particle, added after the pair
+  // contacts' (pair_forces adds those), in slot order (model by model, within
+  // a bucket the lists follow one another in increasing k): the order the
+  // single-thread path adds them in, so the sums are bit-identical whatever
+  // the threads. Each thread owns a range of particles and walks all the wall
+  // contacts' results (stored contiguously by the kernel), adding only to its own.
   const std::int64_t n = static_cast<std::int64_t>(p_.size());
   const int threads = thread_count();
   auto range = [&](std::uint32_t lo, std::uint32_t hi) {
     V* const force = p_.force.data();
     S* const torque = p_.torque.data();
     const std::uint32_t width = hi - lo;
-    std::fill(force + lo, force + hi, V::Zero());
-    std::fill(torque + lo, torque + hi, Dim<D>::zero_spin());
-    for_each_model([&](auto index) {
-      constexpr int I = decltype(index)::value;
-      const auto& b = std::get<I>(pair_buckets_);
-      if (!b.size()) return;
-      for (const auto& list : b.touched) {
-        const std::uint32_t* const entries = list.entries.data();
-        const std::uint32_t* const la = list.a.data();
-        const std::uint32_t* const lb = list.b.data();
-        const V* const lf = list.force.data();
-        const S* const lta = list.torque_a.data();
-        const S* const ltb = list.torque_b.data();
-        for (std::size_t e = 0; e < list.count; ++e) {
-          if (!(entries[e] & 1)) continue;
-          const std::uint32_t i = la[e], j = lb[e];
-          if (i - lo < width) {
-            force[i] += lf[e];
-            torque[i] += lta[e];
-          }
-          if (j - lo < width) {
-            force[j] -= lf[e];
-            torque[j] += ltb[e];
-          }
-        }
-      }
-    });
     for_each_model([&](auto index) {
       constexpr int I = decltype(index)::value;
       const auto& b = std::get<I>(wall_buckets_);

@@ -20,8 +20,8 @@ namespace granule {
 
 // A list filled anew every step: its storage only grows, so filling it costs a
 // store per entry and no allocation or initialisation. With more than one
-// thread each listed contact also leaves its results at its position in the
-// list, for scatter_forces() to sum per particle afterwards: contiguous, so
+// thread each listed wall contact also leaves its results at its position in
+// the list, for scatter_forces() to sum per particle afterwards: contiguous, so
 // that pass reads them in order.
 template <int D>
 struct StepList {
@@ -68,6 +68,13 @@ struct PairBucket {
   // This step's contacts, per thread: entry k << 1 | touching, in increasing k
   // within a list and from list to list (each thread takes a contiguous range).
   std::vector<StepList<D>> touched;
+  // With a team of threads: where their candidate ranges start (and the last
+  // ends), and 1 for each particle that two ranges name (its forces are summed
+  // after the others'); set afresh when the lists are rebuilt or the team
+  // changes, moved when the work gathers in one range (pair_forces).
+  std::vector<std::int64_t> split;
+  std::vector<std::uint8_t> shared;
+  std::int64_t balanced_step = -1000;
   std::size_t size() const { return i.size(); }
 };
 
@@ -187,6 +194,10 @@ class Simulation final : public SimulationBase {
   bool lists_stale() const;
   template <typename M, bool Observed>
   void pair_forces(PairBucket<D, M>& bucket, const std::vector<typename M::Params>& params);
+  template <typename M>
+  void mark_shared(PairBucket<D, M>& bucket);
+  template <typename M>
+  void rebalance(PairBucket<D, M>& bucket, int team);
   template <typename M, bool Observed>
   void wall_forces(WallBucket<D, M>& bucket, const std::vector<typename M::Params>& params);
   template <typename Bucket>
@@ -214,13 +225,22 @@ class Simulation final : public SimulationBase {
   typename BucketsOf<D, ContactModels>::pairs pair_buckets_;
   typename BucketsOf<D, ContactModels>::walls wall_buckets_;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> candidates_;
-  // The step's contact buffers, one slot per candidate contact (pairs, then walls):
-  // the force on the slot's first particle and the torques on both, written by
-  // the kernels in parallel and summed per particle in slot order (scatter_forces),
-  // so the result does not depend on the number of threads.
+  // One slot per candidate contact (pairs, then walls): whether it touched at
+  // the last step, and its place in the contact log. Each particle's force is
+  // the sum of its contacts' in slot order whatever the number of threads.
   std::size_t slot_count_ = 0;
-  std::vector<std::uint8_t> slot_in_contact_;  // 0: history cleared, slot outputs zero
+  std::vector<std::uint8_t> slot_in_contact_;  // 0: history cleared
   bool fused_ = true;  // this step adds contact forces to particles directly (one thread)
+  // More threads (pair_forces): the contributions to particles that two
+  // threads' candidate ranges share (PairBucket::shared), per thread in its
+  // order, added after the others in slot order: bit-identical sums.
+  struct Deferred {
+    std::uint32_t particle;
+    V force;
+    S torque;
+  };
+  std::vector<std::vector<Deferred>> deferred_;
+  void zero_forces();
   ContactLog<D> log_;
   std::vector<AttachedDiagnostic> diagnostics_;
   int next_diagnostic_id_ = 1;
@@ -231,6 +251,7 @@ class Simulation final : public SimulationBase {
   bool any_fixed_ = true;  // a fixed particle exists (refreshed at every list rebuild)
   bool lists_valid_ = false;
   std::size_t rebuilds_ = 0;
+  std::int64_t rebalances_ = 0;  // moves of the threads' shares of pair contacts (rebalance)
   // per-step counters
   std::int64_t contacts_particle_ = 0, contacts_wall_ = 0;
   double max_overlap_ratio_ = 0;

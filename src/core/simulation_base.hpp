@@ -75,6 +75,9 @@ struct GlobalStats {
   double max_overlap_ratio = 0;      // largest overlap / smaller radius in the last step
   std::int64_t candidate_pairs = 0;  // neighbour-list entries (pairs and walls) within the skin
   std::int64_t list_rebuilds = 0;    // neighbour-list rebuilds since the start
+  // times the threads' shares of the pair contacts were moved to even out their
+  // work (more than one thread; see Simulation::rebalance)
+  std::int64_t thread_rebalances = 0;
 };
 
 // One contact as the last step saw it (recorded only when asked for).

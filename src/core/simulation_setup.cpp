@@ -643,6 +643,7 @@ GlobalStats Simulation<D>::stats() const {
   g.max_overlap_ratio = max_overlap_ratio_;
   g.candidate_pairs = static_cast<std::int64_t>(slot_count_);
   g.list_rebuilds = static_cast<std::int64_t>(rebuilds_);
+  g.thread_rebalances = rebalances_;
   return g;
 }
 

@@ -276,8 +276,8 @@ const std::vector<FunctionDoc> entries = {
 
 // ---- queries ----
 {"sim:stats", "simulation", P,
- "sim:stats() -> { time =, step =, particles =, kinetic_energy =, kinetic_energy_translational =, kinetic_energy_rotational =, momentum =, angular_momentum_z =, contacts_particle =, contacts_wall =, max_overlap_ratio = }",
- "Global quantities now (J, kg m/s, kg m^2/s).", {}, ""},
+ "sim:stats() -> { time =, step =, particles =, kinetic_energy =, kinetic_energy_translational =, kinetic_energy_rotational =, momentum =, angular_momentum_z =, contacts_particle =, contacts_wall =, max_overlap_ratio =, candidate_pairs =, list_rebuilds =, thread_rebalances = }",
+ "Global quantities now (J, kg m/s, kg m^2/s); candidate_pairs: neighbour-list entries within the skin, list_rebuilds: rebuilds so far, thread_rebalances: times the threads' shares of the pair contacts were moved to even out their work.", {}, ""},
 {"sim:contacts", "simulation", P,
  "sim:contacts() -> { { a =, b = | wall =, model =, overlap =, normal_force =, tangential_force =, normal = }, ... }",
  "The contacts of the last step (needs record_contacts = true).", {}, ""},

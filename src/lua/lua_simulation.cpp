@@ -840,6 +840,7 @@ int l_stats(lua_State* L) {
     set("max_overlap_ratio", g.max_overlap_ratio);
     set("candidate_pairs", static_cast<double>(g.candidate_pairs));
     set("list_rebuilds", static_cast<double>(g.list_rebuilds));
+    set("thread_rebalances", static_cast<double>(g.thread_rebalances));
     return 1;
   });
 }
