@@ -178,6 +178,8 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
       b.split.resize(team + 1);
       for (int t = 0; t <= team; ++t) b.split[t] = count * t / team;
       mark_shared(b);
+      b.reset_busy(team);
+      b.balanced_step = -1;
     }
     if (deferred_.size() < static_cast<std::size_t>(team)) deferred_.resize(team);
   }
@@ -210,6 +212,7 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
     const std::size_t offset = b.offset;
     std::int64_t touching = 0;
     double max_ratio = 0;
+    const auto started = Clock::now();
     const std::int64_t begin = nt > 1 ? b.split[t] : 0, end = nt > 1 ? b.split[t + 1] : count;
     StepList<D>& list = b.touched[t];
     list.start(static_cast<std::size_t>(end - begin));
@@ -333,6 +336,11 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
       pass2(first, listed);
     }
     list.count = listed;
+    if (nt > 1) {  // for rebalance(): each thread writes only its own entries
+      b.busy_seconds[t] += seconds_since(started);
+      b.busy_candidates[t] += static_cast<double>(end - begin);
+      b.busy_listed[t] += static_cast<double>(listed);
+    }
     // The deferred contributions, thread by thread (each in its range's order):
     // slot order. Each thread adds those to its own range of particles.
     if (nt > 1) {
@@ -377,34 +385,60 @@ void Simulation<D>::mark_shared(PairBucket<D, M>& b) {
   }
 }
 
-// Moves the threads' candidate ranges when one has much more work than the
-// others (a pile in one half of the candidates), from this step's lists:
-// a candidate costs one unit (the listing pass), a listed contact
-// `contact_weight` more. At most every 16 steps: moving them costs a pass over
-// the candidates (mark_shared). The forces do not depend on where they meet.
+// Moves the threads' candidate ranges when one thread is busier than the
+// others (a pile in one part of the candidates). Their cost is modelled as one
+// unit per candidate (the listing pass) and `contact_weight` units per listed
+// contact, the weight fitted to the threads' measured times (it depends on the
+// model and the machine: ~11 for the linear law on this project's machine);
+// the new cut points share this step's candidates and listed contacts out by
+// that cost. At most every 16 steps once the ranges have been set: moving them
+// costs a pass over the candidates (mark_shared). The forces do not depend on
+// where the ranges meet, so neither do the results.
 template <int D>
 template <typename M>
 void Simulation<D>::rebalance(PairBucket<D, M>& b, int team) {
-  constexpr std::int64_t contact_weight = 24, min_interval = 16;
-  std::int64_t most = 0, sum = 0;
+  constexpr std::int64_t min_interval = 16;
+  ++b.busy_steps;
+  const bool first = b.balanced_step < 0;  // since the lists were built
+  if (!first && b.busy_steps < min_interval) return;
+  double most = 0, sum = 0;
   for (int t = 0; t < team; ++t) {
-    const std::int64_t work = b.split[t + 1] - b.split[t] +
-                              contact_weight * static_cast<std::int64_t>(b.touched[t].count);
-    most = std::max(most, work);
-    sum += work;
+    most = std::max(most, b.busy_seconds[t]);
+    sum += b.busy_seconds[t];
   }
-  if (most * team <= sum + sum / 8 || step_ - b.balanced_step < min_interval) return;
+  if (!(most * team > 1.08 * sum)) {
+    if (b.busy_steps >= 4 * min_interval) b.reset_busy(team);  // judge recent steps
+    return;
+  }
+  // Least squares for time = a candidates + c listed over the threads; the
+  // weight c / a, blended with the last one, when the threads' mixes differ.
+  double cc = 0, cl = 0, ll = 0, ct = 0, lt = 0;
+  for (int t = 0; t < team; ++t) {
+    const double c = b.busy_candidates[t], l = b.busy_listed[t], time = b.busy_seconds[t];
+    cc += c * c, cl += c * l, ll += l * l, ct += c * time, lt += l * time;
+  }
+  const double det = cc * ll - cl * cl;
+  if (det > 1e-3 * cc * ll) {
+    const double a = (ct * ll - lt * cl) / det, c = (lt * cc - ct * cl) / det;
+    if (a > 0 && c > 0) b.contact_weight = std::clamp(0.5 * (b.contact_weight + c / a), 1.0, 200.0);
+  }
   b.balanced_step = step_;
+  b.reset_busy(team);
   ++rebalances_;
   // Walk the candidates with the listed ones (in increasing k across the
-  // lists) and cut where the cumulative work reaches each thread's share.
+  // lists) and cut where the cumulative cost reaches each thread's share.
   const std::int64_t count = static_cast<std::int64_t>(b.size());
+  std::int64_t listed = 0;
+  for (const auto& list : b.touched) listed += static_cast<std::int64_t>(list.count);
+  const double weight = b.contact_weight;
+  const double total = static_cast<double>(count) + weight * static_cast<double>(listed);
   std::vector<std::int64_t> split(team + 1, count);
   split[0] = 0;
   int next = 1;
   std::int64_t listed_before = 0;
   auto cut_until = [&](std::int64_t k) {  // cuts that fall at or before candidate k
-    while (next < team && k + contact_weight * listed_before >= sum * next / team)
+    while (next < team && static_cast<double>(k) + weight * static_cast<double>(listed_before) >=
+                              total * next / team)
       split[next++] = k;
   };
   for (const auto& list : b.touched)
@@ -888,6 +922,7 @@ void Simulation<D>::rebuild_lists() {
     fresh = B{};
     // The step lists' storage only grows; the arrays start at about the old size.
     fresh.touched = std::move(old.touched);
+    fresh.contact_weight = old.contact_weight;        // the machine and model stay
     for (auto& list : fresh.touched) list.count = 0;  // they named the old candidates
     const std::size_t expect = old.size() + old.size() / 8;
     fresh.i.reserve(expect), fresh.j.reserve(expect), fresh.slot.reserve(expect);

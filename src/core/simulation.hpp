@@ -74,7 +74,17 @@ struct PairBucket {
   // changes, moved when the work gathers in one range (pair_forces).
   std::vector<std::int64_t> split;
   std::vector<std::uint8_t> shared;
-  std::int64_t balanced_step = -1000;
+  // What each thread did since the ranges were last judged (rebalance()), and
+  // the cost of a listed contact in candidates, fitted to those times.
+  std::vector<double> busy_seconds, busy_candidates, busy_listed;
+  std::int64_t busy_steps = 0;
+  std::int64_t balanced_step = -1;  // < 0: the ranges were not moved since the lists were built
+  double contact_weight = 12;
+  void reset_busy(int team) {
+    busy_seconds.assign(team, 0.0), busy_candidates.assign(team, 0.0);
+    busy_listed.assign(team, 0.0);
+    busy_steps = 0;
+  }
   std::size_t size() const { return i.size(); }
 };
 
