@@ -245,14 +245,22 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
     const bool prefetch = count >= prefetch_min_candidates;
     // Pass 2 works through the block's list while its candidates' and
     // particles' data are still in the caches.
-    auto pass2 = [&](std::size_t e_begin, std::size_t e_end) {
+    // Inlined: called through its closure it would reach every array through
+    // a pointer and reload them after each store (as captured ones, above).
+    auto pass2 = [&](std::size_t e_begin, std::size_t e_end) __attribute__((always_inline)) {
       for (std::size_t e = e_begin; e < e_end; ++e) {
         // The contacts are sparse in the candidate arrays: fetch a few ahead.
         if (prefetch && e + prefetch_distance < e_end) {
           const std::uint32_t ahead = listing[e + prefetch_distance] >> 1;
+          const std::uint32_t i_ahead = bi[ahead], j_ahead = bj[ahead];
           __builtin_prefetch(&hist[ahead]);
-          __builtin_prefetch(&v[bj[ahead]]);
-          __builtin_prefetch(&w[bj[ahead]]);
+          __builtin_prefetch(&v[j_ahead]);
+          __builtin_prefetch(&w[j_ahead]);
+          __builtin_prefetch(&v[i_ahead]);
+          __builtin_prefetch(&w[i_ahead]);
+          __builtin_prefetch(&inv_mass[j_ahead]);
+          __builtin_prefetch(&force[j_ahead], 1);
+          __builtin_prefetch(&torque[j_ahead], 1);
         }
         const std::uint32_t entry = listing[e];
         const std::int64_t k = entry >> 1;
