@@ -78,12 +78,13 @@ void Simulation<D>::step() {
   log_.filled = observed;
   contacts_particle_ = contacts_wall_ = 0;
   max_overlap_ratio_ = 0;
-  // One thread: each contact adds its force to its particles at once ("fused").
-  // More: each writes its slot and scatter_forces() sums them afterwards. Both
-  // add the contacts to each particle in slot order (pairs model by model, then
-  // walls), so the result is bit-identical whatever the number of threads.
-  // A scene whose candidates are all below the parallel threshold runs every
-  // contact loop on one thread: fused too.
+  // Every thread count adds the contacts to each particle in slot order (pairs
+  // model by model, then walls), so the result is bit-identical whatever the
+  // number of threads. Pair contacts add their forces at once (pair_forces
+  // defers those of the particles two threads share); wall contacts too on
+  // one thread ("fused"), on more they leave their results in their lists and
+  // scatter_forces() sums them after the pairs. A scene whose candidates are
+  // all below the parallel threshold runs every contact loop on one thread.
   fused_ = thread_count() == 1 || static_cast<std::int64_t>(slot_count_) < parallel_min_candidates_;
   zero_forces();
   for (auto& w : walls_) w.force.setZero(), w.axial_torque = 0;
@@ -177,7 +178,9 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
     if (b.split.size() != static_cast<std::size_t>(team) + 1 || b.shared.size() != n) {
       b.split.resize(team + 1);
       for (int t = 0; t <= team; ++t) b.split[t] = count * t / team;
+      const auto mark_start = Clock::now();
       mark_shared(b);
+      stage_times_.scatter += seconds_since(mark_start);
       b.reset_busy(team);
       b.balanced_step = -1;
     }
@@ -353,6 +356,7 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
     // slot order. Each thread adds those to its own range of particles.
     if (nt > 1) {
 #pragma omp barrier
+      const auto deferred_start = Clock::now();
       const std::uint32_t lo = static_cast<std::uint32_t>(n * t / nt);
       const std::uint32_t width = static_cast<std::uint32_t>(n * (t + 1) / nt) - lo;
       for (std::int64_t u = 0; u < nt; ++u)
@@ -361,6 +365,7 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
             force[d.particle] += d.force;
             torque[d.particle] += d.torque;
           }
+      if (t == 0) stage_times_.scatter += seconds_since(deferred_start);  // only thread 0 writes
     }
     touching_out += touching;
     if (max_ratio > max_ratio_out) max_ratio_out = max_ratio;
@@ -456,7 +461,9 @@ void Simulation<D>::rebalance(PairBucket<D, M>& b, int team) {
     }
   cut_until(count);
   b.split = split;
+  const auto mark_start = Clock::now();
   mark_shared(b);
+  stage_times_.scatter += seconds_since(mark_start);
 }
 
 template <int D>

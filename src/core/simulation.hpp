@@ -27,14 +27,14 @@ template <int D>
 struct StepList {
   std::vector<std::uint32_t> entries;
   std::size_t count = 0;
-  std::vector<std::uint32_t> a, b;  // the particles (a pair), or particle and wall
-  std::vector<Vec<D>> force;        // on a (on b: minus it)
-  std::vector<Spin<D>> torque_a, torque_b;
-  std::vector<double> axial;  // wall contacts: torque on the wall about its axis
+  std::vector<std::uint32_t> a, b;  // wall contacts: the particle and the wall
+  std::vector<Vec<D>> force;        // on the particle (on the wall: minus it)
+  std::vector<Spin<D>> torque_a;    // on the particle
+  std::vector<double> axial;        // torque on the wall about its axis
   void reserve_outputs(std::size_t most) {
     if (force.size() < most) {
       a.resize(most), b.resize(most), force.resize(most);
-      torque_a.resize(most), torque_b.resize(most), axial.resize(most);
+      torque_a.resize(most), axial.resize(most);
     }
   }
   void start(std::size_t most) {

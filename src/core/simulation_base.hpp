@@ -262,7 +262,10 @@ class SimulationBase {
   // Wall-clock seconds spent per stage of step() since construction.
   struct StageTimes {
     double neighbor = 0, force = 0, diagnostics = 0, integrate = 0, hooks = 0;
-    double scatter = 0;  // part of `force`: summing the slots per particle (threads > 1)
+    // part of `force`, threads > 1: what keeps the sums per particle in slot
+    // order (marking the particles two threads share, adding their deferred
+    // forces, summing the wall contacts' results)
+    double scatter = 0;
   };
   const StageTimes& stage_times() const { return stage_times_; }
 
