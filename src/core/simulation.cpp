@@ -186,8 +186,6 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
     }
     if (deferred_.size() < static_cast<std::size_t>(team)) deferred_.resize(team);
   }
-  if (pair_scratch_.size() < static_cast<std::size_t>(team)) pair_scratch_.resize(team);
-  for (int t = 0; t < team; ++t) pair_scratch_[t].reserve(pair_block);
   // The work of thread t of nt, called directly on one thread and from an
   // OpenMP region on more. Its arrays are local pointers declared inside:
   // captured by reference, or shared with an OpenMP region, they would be
@@ -211,7 +209,6 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
     const std::uint8_t* const shared = nt > 1 ? b.shared.data() : nullptr;
     std::vector<Deferred>* const deferred = nt > 1 ? &deferred_[t] : nullptr;
     if (deferred) deferred->clear();
-    PairScratch& scratch = pair_scratch_[t];
     const Periodicity periodic = periodic_;
     const bool periodic_on = periodic.on();
     const int periodic_axis = periodic_on ? periodic.axis : 0;
@@ -250,18 +247,10 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
     // Small scenes live in the caches, where prefetching only costs.
     const bool prefetch = count >= prefetch_min_candidates;
     // Pass 2 works through the block's list while its candidates' and
-    // particles' data are still in the caches, in three short loops rather
-    // than one long one: a contact is a long chain of dependent steps (a
-    // square root, divisions, the model's law), and in a loop this short the
-    // processor overlaps several contacts' chains instead of waiting on one.
+    // particles' data are still in the caches.
     // Inlined: called through its closure it would reach every array through
     // a pointer and reload them after each store (as captured ones, above).
-    ContactState<D>* const states = scratch.state.data();
-    ContactForce<D>* const laws = scratch.force.data();
-    std::uint32_t* const staged = scratch.k.data();
     auto pass2 = [&](std::size_t e_begin, std::size_t e_end) __attribute__((always_inline)) {
-      // A: geometry and relative velocities; the histories of contacts that ended are cleared.
-      std::size_t m = 0;
       for (std::size_t e = e_begin; e < e_end; ++e) {
         // The contacts are sparse in the candidate arrays: fetch a few ahead.
         if (prefetch && e + prefetch_distance < e_end) {
@@ -277,13 +266,13 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
           __builtin_prefetch(&torque[j_ahead], 1);
         }
         const std::uint32_t entry = listing[e];
-        const std::uint32_t k = entry >> 1;
+        const std::int64_t k = entry >> 1;
+        History& h = hist[k];
         if (!(entry & 1)) {  // the history was in use: clear it once
-          hist[k] = History{};
+          h = History{};
           in_contact[k] = 0;
           continue;
         }
-        in_contact[k] = 1;
         const std::uint32_t i = bi[k], j = bj[k];
         V d = x[i] - x[j];
         if (periodic_on) d[periodic_axis] = periodic.wrap(d[periodic_axis]);
@@ -293,12 +282,14 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
         const double dist_sq = d.squaredNorm();
         const double dist = std::sqrt(dist_sq);
         const double inv_dist = dist * (1.0 / dist_sq);
-        ContactState<D>& c = states[m];
-        staged[m++] = k;
+        const double overlap = r_sum - dist;
+        const typename M::Params& par = par_of[bslot[k]];
+        in_contact[k] = 1;
+        ContactState<D> c;
         c.dt = dt;
         // Coincident centres: any direction is as good as another, but it must be finite.
         c.normal = dist > 0 ? V(d * inv_dist) : V(V::UnitX());
-        c.overlap = r_sum - dist;
+        c.overlap = overlap;
         const V v_rel = v[j] - v[i];
         c.normal_velocity = v_rel.dot(c.normal);
         // Eq. 3.10: tangential slip of j's surface relative to i's.
@@ -314,19 +305,7 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
           c.effective_radius = radius[i] * radius[j] / r_sum;
         else
           c.effective_radius = std::numeric_limits<double>::quiet_NaN();
-      }
-      // B: the model's law, contact after contact (each reads and writes only its own history).
-      for (std::size_t q = 0; q < m; ++q) {
-        const std::uint32_t k = staged[q];
-        laws[q] = M::force(par_of[bslot[k]], hist[k], states[q]);
-      }
-      // C: onto the particles, in list order (slot order).
-      for (std::size_t q = 0; q < m; ++q) {
-        const std::uint32_t k = staged[q];
-        const std::uint32_t i = bi[k], j = bj[k];
-        const ContactState<D>& c = states[q];
-        const ContactForce<D>& f = laws[q];
-        const double overlap = c.overlap;
+        const ContactForce<D> f = M::force(par, h, c);
         const V total = f.normal * c.normal + f.tangential;
         // Torques about each centre, applied at the contact point: lever -(r_i - a/2) n
         // on i and +(r_j - a/2) n on j (which feels -T). With these levers the pair
@@ -346,6 +325,7 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
         } else {
           deferred->push_back({j, V(-total), torque_j});
         }
+        ++touching;
         // The largest overlap / smaller radius, without a division per contact.
         const double r_min = std::min(radius[i], radius[j]);
         if (overlap > max_ratio * r_min) max_ratio = overlap / r_min;
@@ -356,7 +336,6 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
                       x[i] - (radius[i] - 0.5 * overlap) * c.normal);
         }
       }
-      touching += static_cast<std::int64_t>(m);
     };
     for (std::int64_t from = begin; from < end; from += pair_block) {
       const std::int64_t to = std::min(end, from + pair_block);

@@ -250,16 +250,6 @@ class Simulation final : public SimulationBase {
     S torque;
   };
   std::vector<std::vector<Deferred>> deferred_;
-  // Per thread: one block's contacts between the stages of the pair loop.
-  struct PairScratch {
-    std::vector<ContactState<D>> state;
-    std::vector<ContactForce<D>> force;
-    std::vector<std::uint32_t> k;
-    void reserve(std::size_t most) {
-      if (k.size() < most) state.resize(most), force.resize(most), k.resize(most);
-    }
-  };
-  std::vector<PairScratch> pair_scratch_;
   void zero_forces();
   ContactLog<D> log_;
   std::vector<AttachedDiagnostic> diagnostics_;
