@@ -383,12 +383,11 @@ template <typename M>
 void Simulation<D>::mark_shared(PairBucket<D, M>& b) {
   const std::size_t n = p_.size();
   const int team = static_cast<int>(b.split.size()) - 1;
-  constexpr std::uint8_t none = 255;
-  std::vector<std::uint8_t> owner(n, none);
+  constexpr std::int32_t none = -1;
+  std::vector<std::int32_t> owner(n, none);  // the range that names it first
   b.shared.assign(n, 0);
-  for (int t = 0; t < team; ++t) {
-    const auto range = static_cast<std::uint8_t>(std::min(t, 254));
-    for (std::int64_t k = b.split[t]; k < b.split[t + 1]; ++k)
+  for (std::int32_t range = 0; range < team; ++range) {
+    for (std::int64_t k = b.split[range]; k < b.split[range + 1]; ++k)
       for (const std::uint32_t p : {b.i[k], b.j[k]}) {
         if (owner[p] == none)
           owner[p] = range;
