@@ -70,6 +70,7 @@ void RunOutput::finish() {
   if (finished_) return;
   finished_ = true;
   write_header();
+  write_new_walls();
   sim_.flush_diagnostics();  // partly filled windows, while the file is open
   if (sim_.step_count() != last_snapshot_step_ && sim_.particle_count() > 0) write_snapshot();
   file_->flush();
@@ -111,24 +112,7 @@ void RunOutput::write_header() {
       f.write_attribute(g, "model", catalogue[e.model].name);
       for (const auto& [k, v] : table.values(a, b)) f.write_attribute(g, k, v);
     }
-  for (int w = 0; w < sim_.wall_count(); ++w) {
-    WallSpec s = sim_.wall(w);
-    std::string g = "/walls/" + s.name;
-    std::vector<double> centre(s.center.begin(), s.center.begin() + sim_.dimension());
-    std::vector<double> point(s.point.begin(), s.point.begin() + sim_.dimension());
-    std::vector<double> normal(s.normal.begin(), s.normal.begin() + sim_.dimension());
-    f.write_attribute(g, "type", std::string(s.type == WallType::plane ? "plane" : "cylinder"));
-    f.write_attribute(g, "material", mats[s.material].name);
-    if (s.type == WallType::plane) {
-      f.write_attribute(g, "point", point);
-      f.write_attribute(g, "normal", normal);
-    } else {
-      f.write_attribute(g, "center", centre);
-      f.write_attribute(g, "radius", s.radius);
-      f.write_attribute(g, "inside", static_cast<std::int64_t>(s.inside ? 1 : 0));
-      f.write_attribute(g, "angular_velocity", s.angular_velocity);
-    }
-  }
+  write_new_walls();
   // What is simulated, as attributes a script can test (1/0, and lists joined by ", ").
   {
     const ActiveEffects e = sim_.effects();
@@ -181,8 +165,37 @@ SnapshotView RunOutput::view(const SimulationBase::FlatState& s,
   return v;
 }
 
+// The walls not yet in the file, each as /walls/<name> with its geometry when
+// first written: at the header, and at every snapshot and the end for walls a
+// script adds later (walls are never removed, so a count is enough).
+void RunOutput::write_new_walls() {
+  if (sim_.wall_count() <= walls_written_) return;
+  H5Output& f = *file_;
+  const auto& mats = sim_.materials();
+  for (int w = walls_written_; w < sim_.wall_count(); ++w) {
+    WallSpec s = sim_.wall(w);
+    std::string g = "/walls/" + s.name;
+    std::vector<double> centre(s.center.begin(), s.center.begin() + sim_.dimension());
+    std::vector<double> point(s.point.begin(), s.point.begin() + sim_.dimension());
+    std::vector<double> normal(s.normal.begin(), s.normal.begin() + sim_.dimension());
+    f.write_attribute(g, "type", std::string(s.type == WallType::plane ? "plane" : "cylinder"));
+    f.write_attribute(g, "material", mats[s.material].name);
+    if (s.type == WallType::plane) {
+      f.write_attribute(g, "point", point);
+      f.write_attribute(g, "normal", normal);
+    } else {
+      f.write_attribute(g, "center", centre);
+      f.write_attribute(g, "radius", s.radius);
+      f.write_attribute(g, "inside", static_cast<std::int64_t>(s.inside ? 1 : 0));
+      f.write_attribute(g, "angular_velocity", s.angular_velocity);
+    }
+  }
+  walls_written_ = sim_.wall_count();
+}
+
 void RunOutput::write_snapshot() {
   write_header();
+  write_new_walls();
   SimulationBase::FlatState s = sim_.flat_state();
   std::vector<std::string> names;
   for (const auto& m : sim_.materials()) names.push_back(m.name);

@@ -55,6 +55,7 @@ class RunOutput final : public OutputSink {
 
  private:
   void write_header();
+  void write_new_walls();
   SnapshotView view(const SimulationBase::FlatState& s, std::vector<std::string> names) const;
   void index_snapshot(const std::string& group, const SimulationBase::FlatState& s);
   SimulationBase& sim_;
@@ -67,6 +68,7 @@ class RunOutput final : public OutputSink {
   std::int64_t last_snapshot_step_ = -1;
   bool finished_ = false;
   bool header_written_ = false;
+  int walls_written_ = 0;  // walls 0 .. walls_written_ - 1 are in /walls
 };
 
 }  // namespace granule::io

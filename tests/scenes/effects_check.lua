@@ -73,5 +73,9 @@ has(moving, "moving walls: floor", "moving floor")
 has(moving, "gravity: off", "gravity declared zero")
 sim:output { file = p.out }
 sim:run { steps = 1 }
+sim:snapshot()  -- the header (and /walls) is in the file now
+-- a wall added after the header must still reach /walls (effects_check.py checks)
+sim:wall_plane { name = "lid", point = { 0, 5e-3 }, normal = { 0, -1 }, material = "steel" }
+sim:run { steps = 1 }
 sim:close()
 print("effects_check ok")

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Reads /scene/effects written by tests/scenes/effects_check.lua: a 2D scene
 with linear pairs (friction 0.4), an adhesive law declared for a material no
-particle has, a moving floor, gravity declared zero, no diagnostics."""
+particle has, a moving floor, gravity declared zero, no diagnostics; and
+/walls, which must also hold the lid the scene adds after the header."""
 import sys
 
 import h5py
@@ -17,4 +18,11 @@ if wrong:
 pairs = text["pairs"].split(", ")
 if sorted(pairs) != ["powder-powder linear", "powder-steel linear"]:
     sys.exit(f"/scene/effects pairs: {pairs}")
+with h5py.File(sys.argv[1], "r") as f:
+    walls = sorted(f["/walls"].keys())
+    if walls != ["floor", "lid"]:
+        sys.exit(f"/walls: {walls}, expected floor and lid (lid added after the header)")
+    lid = f["/walls/lid"].attrs
+    if list(lid["point"]) != [0.0, 5e-3] or list(lid["normal"]) != [0.0, -1.0]:
+        sys.exit(f"/walls/lid: point {list(lid['point'])}, normal {list(lid['normal'])}")
 print("effects attributes ok")
