@@ -190,8 +190,18 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
   // OpenMP region on more. Its arrays are local pointers declared inside:
   // captured by reference, or shared with an OpenMP region, they would be
   // reloaded after every store (Eigen's packet stores may alias anything).
+  // Lists of threads that do not run this step (below) must not name old contacts.
+  for (auto& list : b.touched) list.count = 0;
   auto work = [&](std::int64_t t, std::int64_t nt, std::int64_t& touching_out,
                   double& max_ratio_out) {
+    // OpenMP may give a region fewer threads than asked for (OMP_DYNAMIC, a
+    // thread limit, a region nested in another): the ranges and the shared
+    // marks are for `team`, so a smaller team runs the whole bucket on its
+    // first thread, as one thread would. The same for every thread of the
+    // team, so they all meet the same barriers.
+    if (nt != team && t != 0) return;
+    const bool sharing = nt == team && nt > 1;
+    if (t == 0) b.ran_team = static_cast<int>(nt);
     const double dt = dt_;
     const std::uint32_t* const bi = b.i.data();
     const std::uint32_t* const bj = b.j.data();
@@ -206,8 +216,8 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
     std::uint8_t* const in_contact = slot_in_contact_.data() + b.offset;
     V* const force = p_.force.data();
     S* const torque = p_.torque.data();
-    const std::uint8_t* const shared = nt > 1 ? b.shared.data() : nullptr;
-    std::vector<Deferred>* const deferred = nt > 1 ? &deferred_[t] : nullptr;
+    const std::uint8_t* const shared = sharing ? b.shared.data() : nullptr;
+    std::vector<Deferred>* const deferred = sharing ? &deferred_[t] : nullptr;
     if (deferred) deferred->clear();
     const Periodicity periodic = periodic_;
     const bool periodic_on = periodic.on();
@@ -216,7 +226,7 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
     std::int64_t touching = 0;
     double max_ratio = 0;
     const auto started = Clock::now();
-    const std::int64_t begin = nt > 1 ? b.split[t] : 0, end = nt > 1 ? b.split[t + 1] : count;
+    const std::int64_t begin = sharing ? b.split[t] : 0, end = sharing ? b.split[t + 1] : count;
     StepList<D>& list = b.touched[t];
     list.start(static_cast<std::size_t>(end - begin));
     // The list's array and count in registers.
@@ -347,14 +357,14 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
       pass2(first, listed);
     }
     list.count = listed;
-    if (nt > 1) {  // for rebalance(): each thread writes only its own entries
+    if (sharing) {  // for rebalance(): each thread writes only its own entries
       b.busy_seconds[t] += seconds_since(started);
       b.busy_candidates[t] += static_cast<double>(end - begin);
       b.busy_listed[t] += static_cast<double>(listed);
     }
     // The deferred contributions, thread by thread (each in its range's order):
     // slot order. Each thread adds those to its own range of particles.
-    if (nt > 1) {
+    if (sharing) {
 #pragma omp barrier
       const auto deferred_start = Clock::now();
       const std::uint32_t lo = static_cast<std::uint32_t>(n * t / nt);
@@ -371,7 +381,7 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
     if (max_ratio > max_ratio_out) max_ratio_out = max_ratio;
   };
   run_on_team(team, work, touching, max_ratio);
-  if (team > 1) rebalance(b, team);
+  if (team > 1 && b.ran_team == team) rebalance(b, team);
   contacts_particle_ += touching;
   if (max_ratio > max_overlap_ratio_) max_overlap_ratio_ = max_ratio;
 }
@@ -477,6 +487,9 @@ void Simulation<D>::wall_forces(WallBucket<D, M>& b,
   const int threads = thread_count();
   const int team = count >= parallel_min_candidates_ ? threads : 1;
   b.touched.resize(team);
+  // OpenMP may run fewer threads than asked for (see pair_forces): the ranges
+  // are taken from the team it gives, and the lists of the others stay empty.
+  for (auto& list : b.touched) list.count = 0;
   // The work of thread t of nt, called directly on one thread and from an
   // OpenMP region on more. Its arrays are local pointers declared inside:
   // captured by reference, or shared with an OpenMP region, they would be

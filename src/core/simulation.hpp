@@ -79,6 +79,7 @@ struct PairBucket {
   std::vector<double> busy_seconds, busy_candidates, busy_listed;
   std::int64_t busy_steps = 0;
   std::int64_t balanced_step = -1;  // < 0: the ranges were not moved since the lists were built
+  int ran_team = 0;                 // the threads OpenMP gave the last step's loop
   double contact_weight = 12;
   void reset_busy(int team) {
     busy_seconds.assign(team, 0.0), busy_candidates.assign(team, 0.0);

@@ -1,6 +1,8 @@
 // The multi-thread step gives the single thread's result bit for bit, also when
 // the contacts gather in one part of the scene and the threads' shares of the
 // pair contacts are moved to even out their work (Simulation::rebalance).
+#include <omp.h>
+
 #include <catch2/catch.hpp>
 #include <cstring>
 
@@ -85,5 +87,38 @@ TEST_CASE("parallel: 3D, contacts gathered in one part: 1, 2 and 3 threads agree
     CHECK(std::memcmp(one.velocity.data(), other->velocity.data(),
                       one.velocity.size() * sizeof(double)) == 0);
     CHECK(std::memcmp(one.spin.data(), other->spin.data(), one.spin.size() * sizeof(double)) == 0);
+  }
+}
+
+TEST_CASE("parallel: a team smaller than asked for still gives the one-thread result",
+          "[parallel]") {
+  // OpenMP may give a region fewer threads than asked for. Here: a simulation
+  // stepped inside another parallel region (nested regions get one thread),
+  // and a 3-thread run, which the ctest entry parallel.thread_limit repeats
+  // under OMP_THREAD_LIMIT=2 so that its regions get 2 of the 3 threads.
+  auto run = [](int threads, bool nested) {
+    Simulation<3> sim;
+    uneven_box(sim);
+    sim.set_threads(threads);
+    sim.set_parallel_thresholds(1024, 512);
+    if (nested) {
+#pragma omp parallel num_threads(2)
+      {
+        if (omp_get_thread_num() == 0) sim.advance(200);
+      }
+    } else {
+      sim.advance(200);
+    }
+    return sim.flat_state();
+  };
+  auto one = run(1, false);
+  for (const bool nested : {true, false}) {
+    INFO("nested " << nested << ", OMP_THREAD_LIMIT " << omp_get_thread_limit());
+    auto squeezed = run(3, nested);
+    REQUIRE(one.id == squeezed.id);
+    CHECK(std::memcmp(one.position.data(), squeezed.position.data(),
+                      one.position.size() * sizeof(double)) == 0);
+    CHECK(std::memcmp(one.velocity.data(), squeezed.velocity.data(),
+                      one.velocity.size() * sizeof(double)) == 0);
   }
 }
