@@ -43,6 +43,17 @@ void run_on_team(int team, Work& work, std::int64_t& touching_out, double& max_r
   touching_out += touching;
   if (max_ratio > max_ratio_out) max_ratio_out = max_ratio;
 }
+// Runs range(lo, hi) over the particles [0, n): split among a team of threads
+// (an OpenMP region, each thread a contiguous part) when `parallel`, else once.
+template <typename Range>
+void over_particles(bool parallel, int threads, std::int64_t n, Range&& range) {
+  if (!parallel) return range(std::int64_t{0}, n);
+#pragma omp parallel num_threads(threads)
+  {
+    const std::int64_t t = omp_get_thread_num(), nt = omp_get_num_threads();
+    range(n * t / nt, n * (t + 1) / nt);
+  }
+}
 // Scenes this large are kept in space-filling-curve order (their data no longer
 // fits in the fast caches, so neighbours in memory matter).
 constexpr std::size_t sort_min_particles = 4096;
@@ -176,22 +187,19 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
   const std::size_t n = p_.size();
   if (team > 1) {
     if (b.split.size() != static_cast<std::size_t>(team) + 1 || b.shared.size() != n) {
-      b.split.resize(team + 1);
-      for (int t = 0; t <= team; ++t) b.split[t] = count * t / team;
-      const auto mark_start = Clock::now();
-      mark_shared(b);
-      stage_times_.scatter += seconds_since(mark_start);
-      b.reset_busy(team);
-      b.balanced_step = -1;
+      std::vector<std::int64_t> equal(team + 1);
+      for (int t = 0; t <= team; ++t) equal[t] = count * t / team;
+      set_split(b, std::move(equal));
+      b.ranges_moved = false;
     }
     if (deferred_.size() < static_cast<std::size_t>(team)) deferred_.resize(team);
   }
+  // Lists of threads that do not run this step (below) must not name old contacts.
+  for (auto& list : b.touched) list.count = 0;
   // The work of thread t of nt, called directly on one thread and from an
   // OpenMP region on more. Its arrays are local pointers declared inside:
   // captured by reference, or shared with an OpenMP region, they would be
   // reloaded after every store (Eigen's packet stores may alias anything).
-  // Lists of threads that do not run this step (below) must not name old contacts.
-  for (auto& list : b.touched) list.count = 0;
   auto work = [&](std::int64_t t, std::int64_t nt, std::int64_t& touching_out,
                   double& max_ratio_out) {
     // OpenMP may give a region fewer threads than asked for (OMP_DYNAMIC, a
@@ -225,7 +233,7 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
     const std::size_t offset = b.offset;
     std::int64_t touching = 0;
     double max_ratio = 0;
-    const auto started = Clock::now();
+    const auto started = sharing ? Clock::now() : Clock::time_point{};  // for rebalance()
     const std::int64_t begin = sharing ? b.split[t] : 0, end = sharing ? b.split[t + 1] : count;
     StepList<D>& list = b.touched[t];
     list.start(static_cast<std::size_t>(end - begin));
@@ -357,14 +365,13 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
       pass2(first, listed);
     }
     list.count = listed;
-    if (sharing) {  // for rebalance(): each thread writes only its own entries
+    if (sharing) {
+      // What this thread did, for rebalance(): each thread writes only its own entries.
       b.busy_seconds[t] += seconds_since(started);
       b.busy_candidates[t] += static_cast<double>(end - begin);
       b.busy_listed[t] += static_cast<double>(listed);
-    }
-    // The deferred contributions, thread by thread (each in its range's order):
-    // slot order. Each thread adds those to its own range of particles.
-    if (sharing) {
+      // The deferred contributions, thread by thread (each in its range's
+      // order): slot order. Each thread adds those to its own range of particles.
 #pragma omp barrier
       const auto deferred_start = Clock::now();
       const std::uint32_t lo = static_cast<std::uint32_t>(n * t / nt);
@@ -421,8 +428,7 @@ template <typename M>
 void Simulation<D>::rebalance(PairBucket<D, M>& b, int team) {
   constexpr std::int64_t min_interval = 16;
   ++b.busy_steps;
-  const bool first = b.balanced_step < 0;  // since the lists were built
-  if (!first && b.busy_steps < min_interval) return;
+  if (b.ranges_moved && b.busy_steps < min_interval) return;
   double most = 0, sum = 0;
   for (int t = 0; t < team; ++t) {
     most = std::max(most, b.busy_seconds[t]);
@@ -444,8 +450,6 @@ void Simulation<D>::rebalance(PairBucket<D, M>& b, int team) {
     const double a = (ct * ll - lt * cl) / det, c = (lt * cc - ct * cl) / det;
     if (a > 0 && c > 0) b.contact_weight = std::clamp(0.5 * (b.contact_weight + c / a), 1.0, 200.0);
   }
-  b.balanced_step = step_;
-  b.reset_busy(team);
   ++rebalances_;
   // Walk the candidates with the listed ones (in increasing k across the
   // lists) and cut where the cumulative cost reaches each thread's share.
@@ -469,10 +473,19 @@ void Simulation<D>::rebalance(PairBucket<D, M>& b, int team) {
       ++listed_before;
     }
   cut_until(count);
-  b.split = split;
-  const auto mark_start = Clock::now();
+  set_split(b, std::move(split));
+  b.ranges_moved = true;
+}
+
+// New ranges for the threads: which particles they share, and fresh timings.
+template <int D>
+template <typename M>
+void Simulation<D>::set_split(PairBucket<D, M>& b, std::vector<std::int64_t> split) {
+  const auto start = Clock::now();
+  b.split = std::move(split);
   mark_shared(b);
-  stage_times_.scatter += seconds_since(mark_start);
+  b.reset_busy(static_cast<int>(b.split.size()) - 1);
+  stage_times_.scatter += seconds_since(start);
 }
 
 template <int D>
@@ -690,17 +703,11 @@ void Simulation<D>::zero_forces() {
   S* const torque = p_.torque.data();
   const std::int64_t n = static_cast<std::int64_t>(p_.size());
   const int threads = thread_count();
-  if (!fused_ && threads > 1 && n >= parallel_min_particles_) {
-#pragma omp parallel num_threads(threads)
-    {
-      const std::int64_t t = omp_get_thread_num(), nt = omp_get_num_threads();
-      std::fill(force + n * t / nt, force + n * (t + 1) / nt, V::Zero());
-      std::fill(torque + n * t / nt, torque + n * (t + 1) / nt, Dim<D>::zero_spin());
-    }
-  } else {
-    std::fill(force, force + n, V::Zero());
-    std::fill(torque, torque + n, Dim<D>::zero_spin());
-  }
+  over_particles(!fused_ && threads > 1 && n >= parallel_min_particles_, threads, n,
+                 [&](std::int64_t lo, std::int64_t hi) {
+                   std::fill(force + lo, force + hi, V::Zero());
+                   std::fill(torque + lo, torque + hi, Dim<D>::zero_spin());
+                 });
 }
 
 template <int D>
@@ -711,45 +718,34 @@ void Simulation<D>::scatter_forces() {
   // single-thread path adds them in, so the sums are bit-identical whatever
   // the threads. Each thread owns a range of particles and walks all the wall
   // contacts' results (stored contiguously by the kernel), adding only to its own.
-  const std::int64_t n = static_cast<std::int64_t>(p_.size());
-  const int threads = thread_count();
-  auto range = [&](std::uint32_t lo, std::uint32_t hi) {
-    V* const force = p_.force.data();
-    S* const torque = p_.torque.data();
-    const std::uint32_t width = hi - lo;
+  auto each_result = [&](auto&& visit) {  // visit(list, e) in slot order
     for_each_model([&](auto index) {
-      constexpr int I = decltype(index)::value;
-      const auto& b = std::get<I>(wall_buckets_);
+      const auto& b = std::get<decltype(index)::value>(wall_buckets_);
       if (!b.size()) return;
       for (const auto& list : b.touched)
-        for (std::size_t e = 0; e < list.count; ++e) {
-          const std::uint32_t i = list.a[e];
-          if (i - lo >= width) continue;
-          force[i] += list.force[e];
-          torque[i] += list.torque_a[e];
-        }
+        for (std::size_t e = 0; e < list.count; ++e) visit(list, e);
     });
   };
-  if (threads > 1 && n >= parallel_min_particles_) {
-#pragma omp parallel num_threads(threads)
-    {
-      const std::int64_t t = omp_get_thread_num(), nt = omp_get_num_threads();
-      range(static_cast<std::uint32_t>(n * t / nt), static_cast<std::uint32_t>(n * (t + 1) / nt));
-    }
-  } else {
-    range(0, static_cast<std::uint32_t>(n));
-  }
+  const std::int64_t n = static_cast<std::int64_t>(p_.size());
+  const int threads = thread_count();
+  over_particles(threads > 1 && n >= parallel_min_particles_, threads, n,
+                 [&](std::int64_t lo, std::int64_t hi) {
+                   V* const force = p_.force.data();
+                   S* const torque = p_.torque.data();
+                   const auto low = static_cast<std::uint32_t>(lo);
+                   const auto width = static_cast<std::uint32_t>(hi - lo);
+                   each_result([&](const StepList<D>& list, std::size_t e) {
+                     const std::uint32_t i = list.a[e];
+                     if (i - low >= width) return;
+                     force[i] += list.force[e];
+                     torque[i] += list.torque_a[e];
+                   });
+                 });
   // The reactions on the walls (the inner-piece force of 4.4.1), in slot order.
-  for_each_model([&](auto index) {
-    constexpr int I = decltype(index)::value;
-    const auto& b = std::get<I>(wall_buckets_);
-    if (!b.size()) return;
-    for (const auto& list : b.touched)
-      for (std::size_t e = 0; e < list.count; ++e) {
-        Wall<D>& w = walls_[list.b[e]];
-        w.force -= list.force[e];
-        w.axial_torque -= list.axial[e];
-      }
+  each_result([&](const StepList<D>& list, std::size_t e) {
+    Wall<D>& w = walls_[list.b[e]];
+    w.force -= list.force[e];
+    w.axial_torque -= list.axial[e];
   });
 }
 

@@ -78,8 +78,8 @@ struct PairBucket {
   // the cost of a listed contact in candidates, fitted to those times.
   std::vector<double> busy_seconds, busy_candidates, busy_listed;
   std::int64_t busy_steps = 0;
-  std::int64_t balanced_step = -1;  // < 0: the ranges were not moved since the lists were built
-  int ran_team = 0;                 // the threads OpenMP gave the last step's loop
+  bool ranges_moved = false;  // since the lists were built (then rebalance() may act at once)
+  int ran_team = 0;           // the threads OpenMP gave the last step's loop
   double contact_weight = 12;
   void reset_busy(int team) {
     busy_seconds.assign(team, 0.0), busy_candidates.assign(team, 0.0);
@@ -209,6 +209,8 @@ class Simulation final : public SimulationBase {
   void mark_shared(PairBucket<D, M>& bucket);
   template <typename M>
   void rebalance(PairBucket<D, M>& bucket, int team);
+  template <typename M>
+  void set_split(PairBucket<D, M>& bucket, std::vector<std::int64_t> split);
   template <typename M, bool Observed>
   void wall_forces(WallBucket<D, M>& bucket, const std::vector<typename M::Params>& params);
   template <typename Bucket>
