@@ -5,6 +5,8 @@
 --
 --   local bench = require "granule.bench"
 --   local sim = bench.shaken_box { per_side = 50, time_step = 1.5e-6 }
+-- Scenes that let -D change the box declare its options with bench.parameters
+-- and pass them on with bench.options (tools/bench/box3d_compare.lua).
 --   bench.fill_lattice(sim, { per_side = 50, layers = 40 })
 local bench = {}
 
@@ -19,6 +21,27 @@ local defaults = {
   frequency = 50,         -- Hz, of the floor
   time_step = 1.5e-6,     -- s
 }
+
+local units = { radius = "m", density = "kg/m^3", k_normal = "N/m", amplitude = "m",
+                frequency = "Hz", time_step = "s" }
+
+-- The box's options as declarations for a scene's parameters{...} (the
+-- defaults and units above), with the scene's own `extra` ones added:
+--   local p = parameters(bench.parameters { steps = { default = 1000 } })
+function bench.parameters(extra)
+  local specs = {}
+  for k, v in pairs(defaults) do specs[k] = { default = v, unit = units[k] } end
+  for k, v in pairs(extra or {}) do specs[k] = v end
+  return specs
+end
+
+-- The box's options out of a scene's parameters: the keys shaken_box knows.
+--   local sim = bench.shaken_box(bench.options(p))
+function bench.options(p)
+  local o = {}
+  for k in pairs(defaults) do o[k] = p[k] end
+  return o
+end
 
 local function with_defaults(o)
   local p = {}

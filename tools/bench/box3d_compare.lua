@@ -7,26 +7,15 @@
 -- times `steps` steps.
 --   build/granule run tools/bench/box3d_compare.lua -D save=box_state.h5
 --   build/granule run tools/bench/box3d_compare.lua -D state=box_state.h5 -D steps=1000 --threads 2
-local p = parameters {
-  per_side = { default = 50 },
+local bench = require "granule.bench"
+local p = parameters(bench.parameters {
   layers = { default = 40 },
-  radius = { default = 1e-3, unit = "m" },
-  density = { default = 2500, unit = "kg/m^3" },
-  k_normal = { default = 1e4, unit = "N/m" },
-  restitution = { default = 0.5 },
-  friction = { default = 0.5 },
-  amplitude = { default = 0.1e-3, unit = "m" },
-  frequency = { default = 50, unit = "Hz" },
-  time_step = { default = 1.5e-6, unit = "s" },
   settle = { default = 0.01, unit = "s" },
   save = { default = "" },
   state = { default = "" },
   steps = { default = 1000 },
-}
-local bench = require "granule.bench"
-local box = { per_side = p.per_side, radius = p.radius, density = p.density, k_normal = p.k_normal,
-  restitution = p.restitution, friction = p.friction, amplitude = p.amplitude, frequency = p.frequency,
-  time_step = p.time_step }
+})
+local box = bench.options(p)
 local sim = bench.shaken_box(box)
 if p.state == "" then
   box.layers = p.layers

@@ -5,19 +5,12 @@
 -- pairs and contacts per particle, and resident memory per particle.
 --   /usr/bin/python3 tools/bench/compare.py --case box3d --threads 1   # writes bench_work/box_50x50x40.h5
 --   build/granule run tools/bench/decomposition_numbers.lua -D state=bench_work/box_50x50x40.h5 --threads 1 -q
-local p = parameters {
+local bench = require "granule.bench"
+local p = parameters(bench.parameters {
   state = { default = "", doc = "settled box from tools/bench/compare.py (box_<side>x<side>x<layers>.h5)" },
   per_side = { default = 50, doc = "spheres per side of the box the state holds" },
-  radius = { default = 1e-3, unit = "m" },
-  density = { default = 2500, unit = "kg/m^3" },
-  k_normal = { default = 1e4, unit = "N/m" },
-  restitution = { default = 0.5 },
-  friction = { default = 0.5 },
-  amplitude = { default = 0.1e-3, unit = "m" },
-  frequency = { default = 50, unit = "Hz" },
-  time_step = { default = 1.5e-6, unit = "s" },
   steps = { default = 2000 },
-}
+})
 assert(p.state ~= "", "give -D state=FILE (a settled box written by tools/bench/compare.py)")
 
 -- Resident memory of this process (Linux), kB.
@@ -30,10 +23,7 @@ local function rss_kb()
 end
 
 local rss_before = rss_kb()
-local sim = require("granule.bench").shaken_box {
-  per_side = p.per_side, radius = p.radius, density = p.density, k_normal = p.k_normal,
-  restitution = p.restitution, friction = p.friction, amplitude = p.amplitude, frequency = p.frequency,
-  time_step = p.time_step }
+local sim = bench.shaken_box(bench.options(p))
 sim:load_particles { file = p.state }
 local n = #sim:particles()
 local contacts, samples = 0, 0
