@@ -42,12 +42,6 @@ struct StepList {
     count = 0;
   }
   void push(std::uint32_t e) { entries[count++] = e; }
-  // Without a branch: about one candidate in ten touches, at random, which a
-  // branch would mispredict.
-  void push_if(std::uint32_t e, bool keep) {
-    entries[count] = e;
-    count += keep;
-  }
   const std::uint32_t* begin() const { return entries.data(); }
   const std::uint32_t* end() const { return entries.data() + count; }
 };
