@@ -32,7 +32,9 @@
 // N replaced by N + 2Nc, capped by the sliding force: Eq. 6.23 (with N' of 6.24)
 // for N < -0.3 Nc, else Eq. 6.25, mu (N + 2Nc).
 //
-// Gamma = 0 hands the step to thornton_elastic, so the two models agree exactly.
+// Gamma = 0 hands the step to thornton_elastic, so the two models agree (to
+// round-off: a build that fuses multiply-adds may fuse them differently where
+// the shared code is inlined).
 #pragma once
 
 #include <fmt/format.h>

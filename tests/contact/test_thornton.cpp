@@ -705,23 +705,37 @@ TEST_CASE(
   CHECK(res.finite);
 }
 
-TEST_CASE("thornton: JKR with Gamma = 0 is exactly thornton_elastic", "[thornton][jkr]") {
+// Gamma = 0 hands the step to thornton_elastic, so the two agree to round-off:
+// bit for bit when the compiler rounds each operation on its own, within a few
+// units of the last place when it fuses multiply-adds (the default -march=native
+// build may fuse them differently where the shared code is inlined). The
+// bound, 1e-12 of the largest force over the whole impact, is far below any
+// model difference (a Gamma of 1e-10 J/m^2 already moves N by ~1e-6 of it).
+TEST_CASE("thornton: JKR with Gamma = 0 is thornton_elastic to round-off", "[thornton][jkr]") {
   const auto pe = elastic_params(mu);
   const auto pj = jkr_params(mu, 0.0);
   for (double angle : {10.0, 40.0, 80.0}) {
     TwoSpheres<ThorntonElastic, 3> a(pe, 0.5, angle, 2e-10);
     TwoSpheres<ThorntonJkr, 3> b(pj, 0.5, angle, 2e-10);
     long steps = 0;
+    double force_scale = 0, normal_gap = 0, tangential_gap = 0, position_gap = 0;
     for (long k = 0; k < 100000; ++k) {
       a.step();
       b.step();
       REQUIRE(a.in_contact == b.in_contact);
-      REQUIRE(a.f.normal == b.f.normal);
-      REQUIRE(a.f.tangential == b.f.tangential);
-      REQUIRE(a.x[0] == b.x[0]);
+      force_scale = std::max(force_scale, std::abs(a.f.normal));
+      normal_gap = std::max(normal_gap, std::abs(a.f.normal - b.f.normal));
+      tangential_gap = std::max(tangential_gap, (a.f.tangential - b.f.tangential).norm());
+      position_gap = std::max(position_gap, (a.x[0] - b.x[0]).norm());
       steps += a.in_contact;
       if (steps > 0 && !a.in_contact) break;
     }
+    INFO("angle " << angle << ": largest N " << force_scale << " N, gaps N " << normal_gap
+                  << " T " << tangential_gap << " N, x " << position_gap << " m");
+    CHECK(force_scale > 0);
+    CHECK(normal_gap <= 1e-12 * force_scale);
+    CHECK(tangential_gap <= 1e-12 * force_scale);
+    CHECK(position_gap <= 1e-12 * radius);
     CHECK(steps > 1000);
   }
   // And a small Gamma tends to Hertz continuously (the JKR path, not the shortcut).
