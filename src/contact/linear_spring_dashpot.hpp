@@ -16,6 +16,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "contact/contact_batch.hpp"
 #include "contact/contact_state.hpp"
 #include "contact/parameters.hpp"
 
@@ -138,6 +139,89 @@ struct LinearSpringDashpot {
       h.slip = slip;
       out.tangential = t;
       return out;
+    }
+  }
+
+  // force() for a batch of 3D contacts (contact_batch.hpp), the same formulas
+  // lane by lane, written without branches: the sliding cap and the tension
+  // clamp as selects. Turning the spring onto the new tangent plane takes the
+  // series of rotate_onto_plane() in every lane; a lane that turned further
+  // (x >= 1e-4, rare) is redone with the exact rescale afterwards.
+  struct BatchHistory {
+    static constexpr int lanes = batch_lanes;
+    alignas(64) double sx[lanes], sy[lanes], sz[lanes];  // slip, m
+    alignas(64) double sqrt_mass[lanes];
+    void load(int l, const History3& h) {
+      sx[l] = h.slip.x(), sy[l] = h.slip.y(), sz[l] = h.slip.z();
+      sqrt_mass[l] = h.sqrt_mass;
+    }
+    void store(int l, History3& h) const {
+      h.slip = Vec<3>(sx[l], sy[l], sz[l]);
+      h.sqrt_mass = sqrt_mass[l];
+    }
+    void pad(int l) { sx[l] = sy[l] = sz[l] = 0, sqrt_mass[l] = 1; }
+  };
+
+  static void force_batch(const Params& p, BatchHistory& h, ContactBatch<3>& c) {
+    constexpr int L = batch_lanes;
+    const double kn = p.k_normal, kt = p.k_tangential, inv_kt = p.inv_k_tangential;
+    const double damping = 2.0 * p.damping_ratio * p.sqrt_k_normal;
+    const double ratio_t = p.tangential_damping_ratio, mu = p.friction, dt = c.dt;
+    const bool clamp = !p.allow_tension;
+    alignas(64) double c_n[L], rx[L], ry[L], rz[L];  // rz...: the spring on the new plane
+    alignas(64) double turn[L];  // x of rotate_onto_plane: the series holds below 1e-4
+    // Every value computed in every lane and then chosen: a division or root
+    // under a condition would keep the loop from vectorising.
+    for (int l = 0; l < L; ++l) {
+      const double first_sm = 1.0 / std::sqrt(c.inv_mass_sum[l]);  // a new contact's sqrt(m*)
+      const double sm = h.sqrt_mass[l] < 0 ? first_sm : h.sqrt_mass[l];
+      h.sqrt_mass[l] = sm;
+      c_n[l] = damping * sm;
+      const double normal = kn * c.overlap[l] + c_n[l] * c.normal_velocity[l];
+      const double clamped = normal < 0 ? 0.0 : normal;
+      c.normal_force[l] = clamp ? clamped : normal;
+    }
+    // Two loops: in one, GCC 12 does not vectorise them.
+    for (int l = 0; l < L; ++l) {
+      // rotate_onto_plane's series (contact_state.hpp), Eqs. 3.7-3.8.
+      const double ox = h.sx[l], oy = h.sy[l], oz = h.sz[l];
+      const double old_sq = ox * ox + oy * oy + oz * oz;
+      const double along = c.nx[l] * ox + c.ny[l] * oy + c.nz[l] * oz;
+      const double turned_sq = along * along / old_sq;
+      const double x = old_sq > 0 ? turned_sq : 0.0;
+      turn[l] = x;
+      const double grow = 1.0 + x * (0.5 + x * (0.375 + x * 0.3125));
+      rx[l] = (ox - c.nx[l] * along) * grow;
+      ry[l] = (oy - c.ny[l] * along) * grow;
+      rz[l] = (oz - c.nz[l] * along) * grow;
+    }
+    if (p.friction == 0 && p.k_tangential == 0) {
+      for (int l = 0; l < L; ++l) c.ftx[l] = c.fty[l] = c.ftz[l] = 0;
+      return;  // the spring keeps its old elongation, as in force()
+    }
+    for (int l = 0; l < L; ++l)
+      if (!(turn[l] < 1e-4)) {  // turned further (or not finite): the exact rescale
+        const Vec<3> turned = rotate_onto_plane<3>(Vec<3>(h.sx[l], h.sy[l], h.sz[l]),
+                                                   Vec<3>(c.nx[l], c.ny[l], c.nz[l]));
+        rx[l] = turned.x(), ry[l] = turned.y(), rz[l] = turned.z();
+      }
+    for (int l = 0; l < L; ++l) {
+      const double c_t = ratio_t * c_n[l];
+      const double vx = c.vtx[l], vy = c.vty[l], vz = c.vtz[l];
+      const double sx = rx[l] + vx * dt, sy = ry[l] + vy * dt, sz = rz[l] + vz * dt;
+      double tx = kt * sx + c_t * vx, ty = kt * sy + c_t * vy, tz = kt * sz + c_t * vz;
+      const double limit = mu * std::abs(c.normal_force[l]);
+      const double t_sq = tx * tx + ty * ty + tz * tz;
+      const bool sliding = t_sq > limit * limit;
+      const double scale = limit / std::sqrt(t_sq);  // used only when sliding (then t_sq > 0)
+      tx = sliding ? tx * scale : tx;
+      ty = sliding ? ty * scale : ty;
+      tz = sliding ? tz * scale : tz;
+      // Keep the spring consistent with the capped force, as force() does.
+      h.sx[l] = sliding ? (tx - c_t * vx) * inv_kt : sx;
+      h.sy[l] = sliding ? (ty - c_t * vy) * inv_kt : sy;
+      h.sz[l] = sliding ? (tz - c_t * vz) * inv_kt : sz;
+      c.ftx[l] = tx, c.fty[l] = ty, c.ftz[l] = tz;
     }
   }
 };

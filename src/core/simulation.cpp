@@ -14,6 +14,7 @@
 #endif
 
 #include "core/errors.hpp"
+#include "core/pair_batch.hpp"
 #include "core/random.hpp"
 
 namespace granule {
@@ -87,7 +88,7 @@ void Simulation<D>::step() {
     if (d.needs.contacts && step_ % d.every == 0) observed = true;
   if (observed) log_.resize(slot_count_);
   log_.filled = observed;
-  contacts_particle_ = contacts_wall_ = 0;
+  contacts_particle_ = contacts_wall_ = contacts_batched_ = 0;
   max_overlap_ratio_ = 0;
   // Every thread count adds the contacts to each particle in slot order (pairs
   // model by model, then walls), so the result is bit-identical whatever the
@@ -177,6 +178,14 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
   double max_ratio = 0;
   const int team = count >= parallel_min_candidates_ ? thread_count() : 1;
   b.touched.resize(team);
+  // 3D pairs of a model with a batched kernel (contact_batch.hpp) take it when
+  // the whole bucket has one law.
+  constexpr bool batchable = D == 3 && has_force_batch<M>::value;
+  if (b.law == -2) {  // once per list: do all candidates share one law?
+    b.law = count ? static_cast<std::int64_t>(b.slot[0]) : -1;
+    for (const std::uint32_t s : b.slot)
+      if (s != b.slot[0]) b.law = -1;
+  }
   // Threads take contiguous ranges of candidates (b.split). A particle that
   // only one range reaches gets its forces added by that thread as they come,
   // in slot order; one that several ranges reach (a thin layer where the
@@ -216,6 +225,7 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
     const std::uint32_t* const bslot = b.slot.data();
     History* const hist = b.history.data();
     const typename M::Params* const par_of = params.data();
+    const bool one_law = b.law >= 0;
     const V* const x = p_.position.data();
     const V* const v = p_.velocity.data();
     const S* const w = p_.spin.data();
@@ -264,6 +274,36 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
     };
     // Small scenes live in the caches, where prefetching only costs.
     const bool prefetch = count >= prefetch_min_candidates;
+    // A contact's force and torques onto i and j: at once, or deferred for a
+    // particle two threads' ranges share (added after the barrier below).
+    auto add = [&](std::uint32_t i, std::uint32_t j, const V& total, const S& torque_i,
+                   const S& torque_j) __attribute__((always_inline)) {
+      if (!shared || !shared[i]) {
+        force[i] += total;
+        torque[i] += torque_i;
+      } else {
+        deferred->push_back({i, total, torque_i});
+      }
+      if (!shared || !shared[j]) {
+        force[j] -= total;  // a - b is a + (-b): the deferred sum below is the same
+        torque[j] += torque_j;
+      } else {
+        deferred->push_back({j, V(-total), torque_j});
+      }
+      ++touching;
+    };
+    // Fetches ahead the data of the contact `distance` entries on in the list.
+    auto prefetch_contact = [&](std::uint32_t ahead) __attribute__((always_inline)) {
+      const std::uint32_t i_ahead = bi[ahead], j_ahead = bj[ahead];
+      __builtin_prefetch(&hist[ahead]);
+      __builtin_prefetch(&v[j_ahead]);
+      __builtin_prefetch(&w[j_ahead]);
+      __builtin_prefetch(&v[i_ahead]);
+      __builtin_prefetch(&w[i_ahead]);
+      __builtin_prefetch(&inv_mass[j_ahead]);
+      __builtin_prefetch(&force[j_ahead], 1);
+      __builtin_prefetch(&torque[j_ahead], 1);
+    };
     // Pass 2 works through the block's list while its candidates' and
     // particles' data are still in the caches.
     // Inlined: called through its closure it would reach every array through
@@ -271,18 +311,8 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
     auto pass2 = [&](std::size_t e_begin, std::size_t e_end) __attribute__((always_inline)) {
       for (std::size_t e = e_begin; e < e_end; ++e) {
         // The contacts are sparse in the candidate arrays: fetch a few ahead.
-        if (prefetch && e + prefetch_distance < e_end) {
-          const std::uint32_t ahead = listing[e + prefetch_distance] >> 1;
-          const std::uint32_t i_ahead = bi[ahead], j_ahead = bj[ahead];
-          __builtin_prefetch(&hist[ahead]);
-          __builtin_prefetch(&v[j_ahead]);
-          __builtin_prefetch(&w[j_ahead]);
-          __builtin_prefetch(&v[i_ahead]);
-          __builtin_prefetch(&w[i_ahead]);
-          __builtin_prefetch(&inv_mass[j_ahead]);
-          __builtin_prefetch(&force[j_ahead], 1);
-          __builtin_prefetch(&torque[j_ahead], 1);
-        }
+        if (prefetch && e + prefetch_distance < e_end)
+          prefetch_contact(listing[e + prefetch_distance] >> 1);
         const std::uint32_t entry = listing[e];
         const std::int64_t k = entry >> 1;
         History& h = hist[k];
@@ -331,19 +361,7 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
         const S n_cross_t = Dim<D>::torque(c.normal, f.tangential);
         const S torque_i = -(radius[i] - 0.5 * overlap) * n_cross_t;
         const S torque_j = -(radius[j] - 0.5 * overlap) * n_cross_t;
-        if (!shared || !shared[i]) {
-          force[i] += total;
-          torque[i] += torque_i;
-        } else {
-          deferred->push_back({i, total, torque_i});
-        }
-        if (!shared || !shared[j]) {
-          force[j] -= total;  // a - b is a + (-b): the deferred sum below is the same
-          torque[j] += torque_j;
-        } else {
-          deferred->push_back({j, V(-total), torque_j});
-        }
-        ++touching;
+        add(i, j, total, torque_i, torque_j);
         // The largest overlap / smaller radius, without a division per contact.
         const double r_min = std::min(radius[i], radius[j]);
         if (overlap > max_ratio * r_min) max_ratio = overlap / r_min;
@@ -355,15 +373,83 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
         }
       }
     };
-    for (std::int64_t from = begin; from < end; from += pair_block) {
-      const std::int64_t to = std::min(end, from + pair_block);
-      const std::size_t first = listed;
-      if (periodic_on)
-        pass1(std::true_type{}, from, to);
-      else
-        pass1(std::false_type{}, from, to);
-      pass2(first, listed);
+    auto blocks = [&](auto&& second_pass) __attribute__((always_inline)) {
+      for (std::int64_t from = begin; from < end; from += pair_block) {
+        const std::int64_t to = std::min(end, from + pair_block);
+        const std::size_t first = listed;
+        if (periodic_on)
+          pass1(std::true_type{}, from, to);
+        else
+          pass1(std::false_type{}, from, to);
+        second_pass(first, listed);
+      }
+    };
+    bool by_batch = false;
+    if constexpr (batchable) {
+      // Pass 2 by batches (pair_batch.hpp) when the model offers force_batch
+      // and the bucket has one law: the contacts' data gathered in slot order,
+      // geometry and law computed lane by lane, the results added in slot order.
+      if (one_law) {
+        by_batch = true;
+        PairBatch<M> batch;
+        batch.c.dt = dt;
+        auto flush = [&]() {
+          batch.pad();
+          batch.geometry();
+          M::force_batch(par_of[b.law], batch.history, batch.c);
+          batch.totals();
+          for (int l = 0; l < batch.count; ++l) {
+            const std::uint32_t k = batch.k[l], i = batch.i[l], j = batch.j[l];
+            in_contact[k] = 1;
+            batch.history.store(l, hist[k]);
+            add(i, j, V(batch.fx[l], batch.fy[l], batch.fz[l]),
+                S(batch.tix[l], batch.tiy[l], batch.tiz[l]),
+                S(batch.tjx[l], batch.tjy[l], batch.tjz[l]));
+            const double overlap = batch.c.overlap[l];
+            const double r_min = std::min(batch.r_i[l], batch.r_j[l]);
+            if (overlap > max_ratio * r_min) max_ratio = overlap / r_min;
+            if constexpr (Observed) {
+              const V normal(batch.c.nx[l], batch.c.ny[l], batch.c.nz[l]);
+              log_.record(offset + k, static_cast<std::int32_t>(i), static_cast<std::int32_t>(j),
+                          overlap, batch.c.normal_force[l], batch.c.normal_velocity[l], normal,
+                          V(batch.c.ftx[l], batch.c.fty[l], batch.c.ftz[l]),
+                          x[i] - (batch.r_i[l] - 0.5 * overlap) * normal);
+            }
+          }
+          batch.count = 0;
+        };
+        auto gather = [&](std::size_t e_begin, std::size_t e_end) __attribute__((always_inline)) {
+          for (std::size_t e = e_begin; e < e_end; ++e) {
+            if (prefetch && e + prefetch_distance < e_end)
+              prefetch_contact(listing[e + prefetch_distance] >> 1);
+            const std::uint32_t entry = listing[e];
+            const std::int64_t k = entry >> 1;
+            if (!(entry & 1)) {  // the history was in use: clear it once
+              hist[k] = History{};
+              in_contact[k] = 0;
+              continue;
+            }
+            const std::uint32_t i = bi[k], j = bj[k];
+            V d = x[i] - x[j];
+            if (periodic_on) d[periodic_axis] = periodic.wrap(d[periodic_axis]);
+            const V v_rel = v[j] - v[i];
+            const S spin_sum = radius[i] * w[i] + radius[j] * w[j];
+            const int l = batch.count++;
+            batch.k[l] = static_cast<std::uint32_t>(k), batch.i[l] = i, batch.j[l] = j;
+            batch.dx[l] = d[0], batch.dy[l] = d[1], batch.dz[l] = d[2];
+            batch.vx[l] = v_rel[0], batch.vy[l] = v_rel[1], batch.vz[l] = v_rel[2];
+            batch.wx[l] = spin_sum[0], batch.wy[l] = spin_sum[1], batch.wz[l] = spin_sum[2];
+            batch.r_i[l] = radius[i], batch.r_j[l] = radius[j];
+            batch.c.inv_mass_sum[l] = inv_mass[i] + inv_mass[j];
+            batch.history.load(l, hist[k]);
+            if (batch.count == batch.lanes) flush();
+          }
+        };
+        blocks(gather);
+        if (batch.count) flush();
+      }
     }
+    if (!by_batch) blocks(pass2);
     list.count = listed;
     if (sharing) {
       // What this thread did, for rebalance(): each thread writes only its own entries.
@@ -390,6 +476,7 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
   run_on_team(team, work, touching, max_ratio);
   if (team > 1 && b.ran_team == team) rebalance(b, team);
   contacts_particle_ += touching;
+  if (batchable && b.law >= 0) contacts_batched_ += touching;
   if (max_ratio > max_overlap_ratio_) max_overlap_ratio_ = max_ratio;
 }
 

@@ -57,7 +57,10 @@ struct PairBucket {
   std::vector<std::uint32_t> i, j, slot;
   std::vector<History> history;
   std::vector<std::int64_t> id_i, id_j;  // cold: for carrying histories across rebuilds
-  std::vector<ContactTrack<D>> track;    // only while an observer tracks contact events
+  // The parameter slot every candidate shares (one law for the whole bucket),
+  // -1 when they differ, -2 until pair_forces looks (set again when the slots change).
+  std::int64_t law = -2;
+  std::vector<ContactTrack<D>> track;  // only while an observer tracks contact events
   std::size_t offset = 0;
   // This step's contacts, per thread: entry k << 1 | touching, in increasing k
   // within a list and from list to list (each thread takes a contiguous range).
@@ -260,7 +263,7 @@ class Simulation final : public SimulationBase {
   std::size_t rebuilds_ = 0;
   std::int64_t rebalances_ = 0;  // moves of the threads' shares of pair contacts (rebalance)
   // per-step counters
-  std::int64_t contacts_particle_ = 0, contacts_wall_ = 0;
+  std::int64_t contacts_particle_ = 0, contacts_wall_ = 0, contacts_batched_ = 0;
   double max_overlap_ratio_ = 0;
   std::size_t non_finite_index_ = SIZE_MAX;
   std::string dt_governing_pair_;  // the pair whose rule sets the automatic time step

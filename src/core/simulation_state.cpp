@@ -349,6 +349,7 @@ void Simulation<D>::load_state(const StateBlob& s) {
       if (e.model != I) throw InputError("checkpoint: contact laws differ from the scene's");
       pb.slot[k] = static_cast<std::uint32_t>(e.slot);
     }
+    pb.law = -2;  // the slots are new
     for (std::size_t k = 0; k < nw; ++k) {
       if (wb.particle[k] >= n || wb.wall[k] >= walls_.size())
         throw InputError("checkpoint: a wall contact names a particle or wall that does not exist");

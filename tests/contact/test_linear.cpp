@@ -1,7 +1,9 @@
 // Linear spring-dashpot: closed-form restitution e = exp(-pi zeta / sqrt(1 - zeta^2))
 // and contact duration pi / (omega0 sqrt(1 - zeta^2)).
 #include <catch2/catch.hpp>
+#include <random>
 
+#include "contact/contact_batch.hpp"
 #include "contact/linear_spring_dashpot.hpp"
 #include "impact_helpers.hpp"
 
@@ -72,4 +74,102 @@ TEST_CASE(
       test::in_plane_2d_3d_difference<LinearSpringDashpot>(p, 0.05, 1e-7, true);
   REQUIRE(largest > 0);
   CHECK(worst <= 1e-9 * largest);
+}
+
+// The batched 3D kernel (force_batch, contact/contact_batch.hpp) against the
+// per-contact force(), lane by lane, over random contacts that cover its
+// paths: new contacts (sqrt(m*) not yet computed), springs at rest, sticking
+// and sliding contacts, springs that turned far (the exact rescale instead of
+// the series), tension clamped or not, and no tangential law at all. The two
+// agree to round-off (the compiler may fuse multiply-adds differently in the
+// two): 1e-12 of the lane's force or spring scale.
+TEST_CASE("linear: the batched 3D kernel gives force()'s forces and springs, lane by lane",
+          "[linear][batch]") {
+  const Material material{"m", 1000, 0, 0, 0};
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  auto random_unit = [&] {
+    Eigen::Vector3d n(unit(rng), unit(rng), unit(rng));
+    while (n.norm() < 0.1) n = Eigen::Vector3d(unit(rng), unit(rng), unit(rng));
+    return Eigen::Vector3d(n.normalized());
+  };
+  constexpr int L = batch_lanes;
+  int sliding = 0, sticking = 0, turned_far = 0, fresh = 0, checked = 0;
+  for (int round = 0; round < 200; ++round) {
+    const double friction = round % 10 == 9 ? 0.0 : 0.1 + 0.5 * (unit(rng) + 1);
+    const double ratio = round % 10 == 9 ? 0.0 : 2.0 / 7;
+    const bool tension = round % 3 != 0;
+    auto p = LinearSpringDashpot::make({{"k_normal", 1e4},
+                                        {"restitution", 0.3 + 0.3 * (unit(rng) + 1)},
+                                        {"friction", friction},
+                                        {"tangential_ratio", ratio},
+                                        {"tangential_damping_ratio", 0.5},
+                                        {"allow_tension", tension ? 1.0 : 0.0}},
+                                       {material, material});
+    LinearSpringDashpot::BatchHistory hb;
+    ContactBatch<3> cb;
+    cb.dt = 1e-6;
+    ContactState<3> states[L];
+    LinearSpringDashpot::History<3> histories[L];
+    for (int l = 0; l < L; ++l) {
+      ContactState<3>& c = states[l];
+      c.dt = cb.dt;
+      c.normal = random_unit();
+      c.overlap = 1e-6 * (unit(rng) + 1.01);
+      c.normal_velocity = 0.05 * unit(rng);
+      const double speed = l % 2 ? 0.1 : 1e-4;  // slow lanes mostly stick
+      Eigen::Vector3d v(speed * unit(rng), speed * unit(rng), speed * unit(rng));
+      c.tangential_velocity = v - c.normal * c.normal.dot(v);
+      c.inv_mass_sum = 1e5 * (unit(rng) + 1.5);
+      LinearSpringDashpot::History<3>& h = histories[l];
+      const int kind = l % 4;
+      if (kind == 0) {  // new contact: no spring, sqrt(m*) to compute
+        h = {};
+      } else {
+        Eigen::Vector3d spring(unit(rng), unit(rng), unit(rng));
+        spring *= 1e-7 * (unit(rng) + 1.1);
+        // Mostly in the tangent plane (the series), one lane in four turned far.
+        if (kind != 3) spring -= c.normal * c.normal.dot(spring) * (1 - 1e-4 * unit(rng));
+        h.slip = spring;
+        h.sqrt_mass = 1.0 / std::sqrt(c.inv_mass_sum);
+      }
+      cb.nx[l] = c.normal.x(), cb.ny[l] = c.normal.y(), cb.nz[l] = c.normal.z();
+      cb.overlap[l] = c.overlap, cb.normal_velocity[l] = c.normal_velocity;
+      cb.vtx[l] = c.tangential_velocity.x(), cb.vty[l] = c.tangential_velocity.y();
+      cb.vtz[l] = c.tangential_velocity.z();
+      cb.inv_mass_sum[l] = c.inv_mass_sum;
+      hb.load(l, h);
+      fresh += h.sqrt_mass < 0;
+      const double old_sq = h.slip.squaredNorm();
+      turned_far += old_sq > 0 && std::pow(c.normal.dot(h.slip), 2) / old_sq >= 1e-4;
+    }
+    LinearSpringDashpot::force_batch(p, hb, cb);
+    for (int l = 0; l < L; ++l) {
+      LinearSpringDashpot::History<3> h = histories[l];
+      const ContactForce<3> f = LinearSpringDashpot::force<3>(p, h, states[l]);
+      LinearSpringDashpot::History<3> hb_l;
+      hb.store(l, hb_l);
+      const Eigen::Vector3d t_batch(cb.ftx[l], cb.fty[l], cb.ftz[l]);
+      const double force_scale = std::abs(f.normal) + f.tangential.norm() + 1e-12;
+      const double spring_scale = h.slip.norm() + histories[l].slip.norm() + 1e-20;
+      INFO("round " << round << " lane " << l << ": N " << f.normal << " vs " << cb.normal_force[l]
+                    << ", T " << f.tangential.transpose() << " vs " << t_batch.transpose());
+      REQUIRE(std::abs(cb.normal_force[l] - f.normal) <= 1e-12 * force_scale);
+      REQUIRE((t_batch - f.tangential).norm() <= 1e-12 * force_scale);
+      REQUIRE((hb_l.slip - h.slip).norm() <= 1e-12 * spring_scale);
+      REQUIRE(hb_l.sqrt_mass == Approx(h.sqrt_mass).epsilon(1e-14));
+      if (friction > 0) {
+        const bool slides = f.tangential.norm() >= friction * std::abs(f.normal) * (1 - 1e-9);
+        sliding += slides, sticking += !slides;
+      }
+      ++checked;
+    }
+  }
+  INFO("sliding " << sliding << ", sticking " << sticking << ", turned far " << turned_far
+                  << ", new " << fresh);
+  CHECK(checked == 200 * L);
+  CHECK(sliding > 100);
+  CHECK(sticking > 100);
+  CHECK(turned_far > 100);
+  CHECK(fresh > 100);
 }

@@ -730,8 +730,8 @@ TEST_CASE("thornton: JKR with Gamma = 0 is thornton_elastic to round-off", "[tho
       steps += a.in_contact;
       if (steps > 0 && !a.in_contact) break;
     }
-    INFO("angle " << angle << ": largest N " << force_scale << " N, gaps N " << normal_gap
-                  << " T " << tangential_gap << " N, x " << position_gap << " m");
+    INFO("angle " << angle << ": largest N " << force_scale << " N, gaps N " << normal_gap << " T "
+                  << tangential_gap << " N, x " << position_gap << " m");
     CHECK(force_scale > 0);
     CHECK(normal_gap <= 1e-12 * force_scale);
     CHECK(tangential_gap <= 1e-12 * force_scale);
