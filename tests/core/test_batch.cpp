@@ -14,6 +14,7 @@ namespace {
 struct PileRun {
   SimulationBase::FlatState state;
   GlobalStats stats;
+  std::vector<ContactRecord> contacts;  // the last step's, from the contact log
 };
 
 // The largest difference between two arrays, relative to the largest value.
@@ -28,7 +29,7 @@ double relative_gap(const std::vector<double>& a, const std::vector<double>& b) 
   return gap / largest;
 }
 
-PileRun run_pile(bool odd_one_out, std::int64_t steps) {
+PileRun run_pile(bool odd_one_out, std::int64_t steps, bool record = false) {
   Simulation<3> sim;
   sim.set_warning_handler([](const std::string&) {});
   sim.add_material({"p", 2500, 0, 0, 0});
@@ -69,8 +70,9 @@ PileRun run_pile(bool odd_one_out, std::int64_t steps) {
   pile.allow_overlap = true;  // contacts from the first step, some far from rest
   sim.fill(pile);
   sim.set_gravity({0, 0, -9.81});
+  sim.set_record_contacts(record);  // the kernels' logging instantiation
   sim.advance(steps);
-  return {sim.flat_state(), sim.stats()};
+  return {sim.flat_state(), sim.stats(), record ? sim.contacts() : std::vector<ContactRecord>{}};
 }
 }  // namespace
 
@@ -97,4 +99,43 @@ TEST_CASE("pair loop: the batched 3D kernel gives the per-contact path's traject
   CHECK(position <= 1e-12);
   CHECK(velocity <= 1e-10);
   CHECK(spin <= 1e-10);
+}
+
+TEST_CASE("pair loop: the batched 3D kernel logs the contacts the per-contact path logs",
+          "[batch]") {
+  const std::int64_t steps = 200;
+  const PileRun batched = run_pile(false, steps, true), one_by_one = run_pile(true, steps, true);
+  REQUIRE(batched.stats.contacts_batched == batched.stats.contacts_particle);
+  REQUIRE(one_by_one.stats.contacts_batched == 0);
+  // Pair contacts only (walls take the per-contact path in both), in log order.
+  std::vector<const ContactRecord*> a, b;
+  for (const auto& c : batched.contacts)
+    if (c.id_b >= 0) a.push_back(&c);
+  for (const auto& c : one_by_one.contacts)
+    if (c.id_b >= 0) b.push_back(&c);
+  REQUIRE(a.size() == static_cast<std::size_t>(batched.stats.contacts_particle));
+  REQUIRE(a.size() == b.size());
+  double largest_force = 0, largest_overlap = 0;
+  for (const auto* c : a) {
+    largest_force = std::max(largest_force, std::abs(c->normal_force));
+    largest_overlap = std::max(largest_overlap, c->overlap);
+  }
+  REQUIRE(largest_force > 0);
+  int sliding_or_turning = 0;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    INFO("contact " << k << " between " << a[k]->id_a << " and " << a[k]->id_b);
+    REQUIRE(a[k]->id_a == b[k]->id_a);
+    REQUIRE(a[k]->id_b == b[k]->id_b);
+    CHECK(std::abs(a[k]->overlap - b[k]->overlap) <= 1e-9 * largest_overlap);
+    CHECK(std::abs(a[k]->normal_force - b[k]->normal_force) <= 1e-9 * largest_force);
+    for (int axis = 0; axis < 3; ++axis) {
+      CHECK(std::abs(a[k]->tangential_force[axis] - b[k]->tangential_force[axis]) <=
+            1e-9 * largest_force);
+      CHECK(std::abs(a[k]->normal[axis] - b[k]->normal[axis]) <= 1e-9);
+    }
+    const double t =
+        std::hypot(a[k]->tangential_force[0], a[k]->tangential_force[1], a[k]->tangential_force[2]);
+    sliding_or_turning += t > 0;
+  }
+  CHECK(sliding_or_turning > 10);  // friction is at work, not only normal springs
 }
