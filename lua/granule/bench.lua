@@ -20,10 +20,11 @@ local defaults = {
   amplitude = 0.1e-3,     -- m, of the floor
   frequency = 50,         -- Hz, of the floor
   time_step = 1.5e-6,     -- s
+  gap = 0,                -- m, between neighbours on the starting lattice (0: touching)
 }
 
 local units = { radius = "m", density = "kg/m^3", k_normal = "N/m", amplitude = "m",
-                frequency = "Hz", time_step = "s" }
+                frequency = "Hz", time_step = "s", gap = "m" }
 
 -- The box's options as declarations for a scene's parameters{...} (the
 -- defaults and units above), with the scene's own `extra` ones added:
@@ -57,7 +58,7 @@ end
 -- shaking floor (its velocity set every step); no particles yet.
 function bench.shaken_box(options)
   local p = with_defaults(options)
-  local side = p.per_side * 2 * p.radius
+  local side = p.per_side * (2 * p.radius + p.gap)
   local sim = simulation { dimension = 3, time_step = p.time_step }
   sim:material { name = "glass", density = p.density }
   sim:material { name = "steel", density = 7800 }
@@ -78,19 +79,33 @@ function bench.shaken_box(options)
   return sim
 end
 
--- per_side^2 x layers spheres on a touching cubic lattice (a dense column from
--- the first step), jittered a little to break the lattice's symmetry.
+-- per_side^2 x layers spheres on a cubic lattice. With gap = 0 the lattice
+-- touches (a dense column from the first step), jittered a little to break its
+-- symmetry. With a gap each sphere is moved off its site by up to 0.45 gap
+-- along each axis (pseudo-random, the same on every run; no two overlap), so
+-- the loose lattice collapses under gravity into a disordered packing whose
+-- contacts carry the weight.
 function bench.fill_lattice(sim, options)
   local p = with_defaults(options)
   assert(p.layers, "granule.bench.fill_lattice: give layers")
-  local r, spacing, k = p.radius, 2 * p.radius, 0
+  local r, spacing, k = p.radius, 2 * p.radius + p.gap, 0
+  local function hash(x) -- in [-1, 1)
+    local f = math.sin(x) * 43758.5453
+    return 2 * (f - math.floor(f)) - 1
+  end
   for layer = 0, p.layers - 1 do
     for iy = 0, p.per_side - 1 do
       for ix = 0, p.per_side - 1 do
         k = k + 1
-        local jitter = 0.005 * r * math.sin(k * 12.9898)
-        sim:add_particle { position = { (ix + 0.5) * spacing + jitter, (iy + 0.5) * spacing - jitter,
-                                        (layer + 0.5) * spacing }, radius = r, material = "glass" }
+        local x, y, z = (ix + 0.5) * spacing, (iy + 0.5) * spacing, (layer + 0.5) * spacing
+        if p.gap > 0 then
+          local a = 0.45 * p.gap
+          x, y, z = x + a * hash(k * 12.9898), y + a * hash(k * 78.233), z + a * hash(k * 37.719)
+        else
+          local jitter = 0.005 * r * math.sin(k * 12.9898)
+          x, y = x + jitter, y - jitter
+        end
+        sim:add_particle { position = { x, y, z }, radius = r, material = "glass" }
       end
     end
   end
