@@ -6,6 +6,7 @@
 // properties and laws: the same physics through the other code.
 #include <catch2/catch.hpp>
 
+#include "box_walls.hpp"
 #include "core/simulation.hpp"
 
 using namespace granule;
@@ -42,19 +43,7 @@ PileRun run_pile(bool odd_one_out, std::int64_t steps, bool record = false) {
     sim.set_contact(a, "w", "linear", law);
   }
   const double side = 0.008, r = 0.4e-3;
-  for (int axis = 0; axis < 3; ++axis) {
-    WallSpec lo, hi;
-    lo.name = "lo" + std::to_string(axis), hi.name = "hi" + std::to_string(axis);
-    lo.material = hi.material = 2;
-    Triple n{0, 0, 0};
-    n[axis] = 1;
-    lo.normal = n;
-    n[axis] = -1;
-    hi.normal = n;
-    hi.point = {0, 0, 0};
-    hi.point[axis] = axis == 2 ? 0.05 : side;
-    sim.add_wall(lo), sim.add_wall(hi);
-  }
+  test::add_box_walls(sim, side, 0.05, 2);
   ParticleSpec odd;
   odd.position = {0.5 * side, 0.5 * side, 0.002};
   odd.radius = r;

@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 #include <cstring>
 
+#include "box_walls.hpp"
 #include "core/simulation.hpp"
 
 using namespace granule;
@@ -23,19 +24,7 @@ void uneven_box(Simulation<3>& sim) {
   sim.set_contact("p", "p", "linear", law);
   sim.set_contact("p", "w", "linear", law);
   const double side = 0.012, r = 0.4e-3;
-  for (int axis = 0; axis < 3; ++axis) {
-    WallSpec lo, hi;
-    lo.name = "lo" + std::to_string(axis), hi.name = "hi" + std::to_string(axis);
-    lo.material = hi.material = 1;
-    Triple n{0, 0, 0};
-    n[axis] = 1;
-    lo.normal = n;
-    n[axis] = -1;
-    hi.normal = n;
-    hi.point = {0, 0, 0};
-    hi.point[axis] = axis == 2 ? 0.05 : side;
-    sim.add_wall(lo), sim.add_wall(hi);
-  }
+  test::add_box_walls(sim, side, 0.05, 1);
   const double spacing = 2.1 * r;
   for (int a = 0; a < 12; ++a)
     for (int b = 0; b < 12; ++b)

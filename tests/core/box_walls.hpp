@@ -1,0 +1,27 @@
+// Six plane walls around [0, side] x [0, side] x [0, height], facing in, of
+// one material: the closed box the 3D engine tests fill.
+#pragma once
+
+#include <string>
+
+#include "core/simulation.hpp"
+
+namespace granule::test {
+
+inline void add_box_walls(Simulation<3>& sim, double side, double height, int material) {
+  for (int axis = 0; axis < 3; ++axis) {
+    WallSpec lo, hi;
+    lo.name = "lo" + std::to_string(axis), hi.name = "hi" + std::to_string(axis);
+    lo.material = hi.material = material;
+    Triple n{0, 0, 0};
+    n[axis] = 1;
+    lo.normal = n;
+    n[axis] = -1;
+    hi.normal = n;
+    hi.point = {0, 0, 0};
+    hi.point[axis] = axis == 2 ? height : side;
+    sim.add_wall(lo), sim.add_wall(hi);
+  }
+}
+
+}  // namespace granule::test
