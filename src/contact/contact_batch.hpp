@@ -9,10 +9,11 @@
 //
 // A model offers the batch by declaring, beside History, a `BatchHistory`
 // (its history as arrays: load(lane, h), store(lane, h), pad(lane)) and
-//   static void force_batch(const Params&, BatchHistory&, ContactBatch<3>&);
-// The engine then uses it for particle pairs in 3D when all pairs of a model
-// share one parameter set (pair_forces); everything else, and a model
-// without it, takes the per-contact force().
+//   static void force_batch(const Params* const lanes[], BatchHistory&, ContactBatch<3>&);
+// (each lane's parameters: the contacts of a batch may belong to different
+// material pairs). The engine then uses it for particle pairs in 3D
+// (pair_forces); 2D scenes, wall contacts and models without it take the
+// per-contact force().
 #pragma once
 
 #include <type_traits>

@@ -162,12 +162,17 @@ struct LinearSpringDashpot {
     void pad(int l) { sx[l] = sy[l] = sz[l] = 0, sqrt_mass[l] = 1; }
   };
 
-  static void force_batch(const Params& p, BatchHistory& h, ContactBatch<3>& c) {
+  // Each lane's parameters: one law's values for every lane (Uniform), or
+  // arrays with a value per lane (a batch that mixes material pairs).
+  template <bool Uniform>
+  struct LaneParams;
+
+  static void force_batch(const Params* const lane[], BatchHistory& h, ContactBatch<3>& c);
+
+  template <typename P>
+  static void force_lanes(P q, BatchHistory& h, ContactBatch<3>& c) {  // q by value: no alias
     constexpr int L = batch_lanes;
-    const double kn = p.k_normal, kt = p.k_tangential, inv_kt = p.inv_k_tangential;
-    const double damping = 2.0 * p.damping_ratio * p.sqrt_k_normal;
-    const double ratio_t = p.tangential_damping_ratio, mu = p.friction, dt = c.dt;
-    const bool clamp = !p.allow_tension;
+    const double dt = c.dt;
     alignas(64) double c_n[L], rx[L], ry[L], rz[L];  // rz...: the spring on the new plane
     alignas(64) double turn[L];  // x of rotate_onto_plane: the series holds below 1e-4
     // Every value computed in every lane and then chosen: a division or root
@@ -176,10 +181,10 @@ struct LinearSpringDashpot {
       const double first_sm = 1.0 / std::sqrt(c.inv_mass_sum[l]);  // a new contact's sqrt(m*)
       const double sm = h.sqrt_mass[l] < 0 ? first_sm : h.sqrt_mass[l];
       h.sqrt_mass[l] = sm;
-      c_n[l] = damping * sm;
-      const double normal = kn * c.overlap[l] + c_n[l] * c.normal_velocity[l];
+      c_n[l] = q.damping(l) * sm;
+      const double normal = q.kn(l) * c.overlap[l] + c_n[l] * c.normal_velocity[l];
       const double clamped = normal < 0 ? 0.0 : normal;
-      c.normal_force[l] = clamp ? clamped : normal;
+      c.normal_force[l] = q.clamp(l) != 0 ? clamped : normal;
     }
     // Two loops: in one, GCC 12 does not vectorise them.
     for (int l = 0; l < L; ++l) {
@@ -195,10 +200,6 @@ struct LinearSpringDashpot {
       ry[l] = (oy - c.ny[l] * along) * grow;
       rz[l] = (oz - c.nz[l] * along) * grow;
     }
-    if (p.friction == 0 && p.k_tangential == 0) {
-      for (int l = 0; l < L; ++l) c.ftx[l] = c.fty[l] = c.ftz[l] = 0;
-      return;  // the spring keeps its old elongation, as in force()
-    }
     for (int l = 0; l < L; ++l)
       if (!(turn[l] < 1e-4)) {  // turned further (or not finite): the exact rescale
         const Vec<3> turned = rotate_onto_plane<3>(Vec<3>(h.sx[l], h.sy[l], h.sz[l]),
@@ -206,24 +207,90 @@ struct LinearSpringDashpot {
         rx[l] = turned.x(), ry[l] = turned.y(), rz[l] = turned.z();
       }
     for (int l = 0; l < L; ++l) {
-      const double c_t = ratio_t * c_n[l];
+      const double c_t = q.ratio_t(l) * c_n[l];
       const double vx = c.vtx[l], vy = c.vty[l], vz = c.vtz[l];
       const double sx = rx[l] + vx * dt, sy = ry[l] + vy * dt, sz = rz[l] + vz * dt;
+      const double kt = q.kt(l);
       double tx = kt * sx + c_t * vx, ty = kt * sy + c_t * vy, tz = kt * sz + c_t * vz;
-      const double limit = mu * std::abs(c.normal_force[l]);
+      const double limit = q.mu(l) * std::abs(c.normal_force[l]);
       const double t_sq = tx * tx + ty * ty + tz * tz;
       const bool sliding = t_sq > limit * limit;
       const double scale = limit / std::sqrt(t_sq);  // used only when sliding (then t_sq > 0)
       tx = sliding ? tx * scale : tx;
       ty = sliding ? ty * scale : ty;
       tz = sliding ? tz * scale : tz;
-      // Keep the spring consistent with the capped force, as force() does.
-      h.sx[l] = sliding ? (tx - c_t * vx) * inv_kt : sx;
-      h.sy[l] = sliding ? (ty - c_t * vy) * inv_kt : sy;
-      h.sz[l] = sliding ? (tz - c_t * vz) * inv_kt : sz;
-      c.ftx[l] = tx, c.fty[l] = ty, c.ftz[l] = tz;
+      // Keep the spring consistent with the capped force, as force() does;
+      // with no tangential law it keeps its old elongation and gives no force.
+      const double inv_kt = q.inv_kt(l);
+      const double new_sx = sliding ? (tx - c_t * vx) * inv_kt : sx;
+      const double new_sy = sliding ? (ty - c_t * vy) * inv_kt : sy;
+      const double new_sz = sliding ? (tz - c_t * vz) * inv_kt : sz;
+      const bool on = q.tangential(l) != 0;
+      h.sx[l] = on ? new_sx : h.sx[l];
+      h.sy[l] = on ? new_sy : h.sy[l];
+      h.sz[l] = on ? new_sz : h.sz[l];
+      c.ftx[l] = on ? tx : 0.0, c.fty[l] = on ? ty : 0.0, c.ftz[l] = on ? tz : 0.0;
     }
   }
 };
+
+// One law for all lanes: its values, which the lane loops keep in registers.
+template <>
+struct LinearSpringDashpot::LaneParams<true> {
+  double kn_, damping_, ratio_t_, mu_, kt_, inv_kt_;
+  double clamp_, tangential_;  // 1 or 0, as in the arrays below
+  explicit LaneParams(const Params* const lane[]) {
+    const Params& p = *lane[0];
+    kn_ = p.k_normal, damping_ = 2.0 * p.damping_ratio * p.sqrt_k_normal;
+    ratio_t_ = p.tangential_damping_ratio, mu_ = p.friction;
+    kt_ = p.k_tangential, inv_kt_ = p.inv_k_tangential;
+    clamp_ = p.allow_tension ? 0.0 : 1.0;
+    tangential_ = p.friction == 0 && p.k_tangential == 0 ? 0.0 : 1.0;
+  }
+  double kn(int) const { return kn_; }
+  double damping(int) const { return damping_; }
+  double ratio_t(int) const { return ratio_t_; }
+  double mu(int) const { return mu_; }
+  double kt(int) const { return kt_; }
+  double inv_kt(int) const { return inv_kt_; }
+  double clamp(int) const { return clamp_; }
+  double tangential(int) const { return tangential_; }
+};
+
+// Lanes under different laws: each value as an array over the lanes.
+template <>
+struct LinearSpringDashpot::LaneParams<false> {
+  static constexpr int L = batch_lanes;
+  alignas(64) double kn_[L], damping_[L], ratio_t_[L], mu_[L], kt_[L], inv_kt_[L];
+  alignas(64) double clamp_[L], tangential_[L];  // 1 or 0 (double: the loops vectorise)
+  explicit LaneParams(const Params* const lane[]) {
+    for (int l = 0; l < L; ++l) {
+      const Params& p = *lane[l];
+      kn_[l] = p.k_normal, damping_[l] = 2.0 * p.damping_ratio * p.sqrt_k_normal;
+      ratio_t_[l] = p.tangential_damping_ratio, mu_[l] = p.friction;
+      kt_[l] = p.k_tangential, inv_kt_[l] = p.inv_k_tangential;
+      clamp_[l] = p.allow_tension ? 0.0 : 1.0;
+      tangential_[l] = p.friction == 0 && p.k_tangential == 0 ? 0.0 : 1.0;
+    }
+  }
+  double kn(int l) const { return kn_[l]; }
+  double damping(int l) const { return damping_[l]; }
+  double ratio_t(int l) const { return ratio_t_[l]; }
+  double mu(int l) const { return mu_[l]; }
+  double kt(int l) const { return kt_[l]; }
+  double inv_kt(int l) const { return inv_kt_[l]; }
+  double clamp(int l) const { return clamp_[l]; }
+  double tangential(int l) const { return tangential_[l]; }
+};
+
+inline void LinearSpringDashpot::force_batch(const Params* const lane[], BatchHistory& h,
+                                             ContactBatch<3>& c) {
+  bool one_law = true;
+  for (int l = 1; l < batch_lanes; ++l) one_law &= lane[l] == lane[0];
+  if (one_law)
+    force_lanes(LaneParams<true>(lane), h, c);
+  else
+    force_lanes(LaneParams<false>(lane), h, c);
+}
 
 }  // namespace granule

@@ -19,6 +19,7 @@ struct PairBatch {
   typename M::BatchHistory history;
   int count = 0;  // lanes holding a contact; the rest are padding
   std::uint32_t k[lanes], i[lanes], j[lanes];
+  const typename M::Params* params[lanes];  // each lane's law
   // Gathered: x_i - x_j, v_j - v_i, r_i w_i + r_j w_j, the radii.
   alignas(64) double dx[lanes], dy[lanes], dz[lanes];
   alignas(64) double vx[lanes], vy[lanes], vz[lanes];
@@ -38,6 +39,7 @@ struct PairBatch {
       wx[l] = wy[l] = wz[l] = 0;
       r_i[l] = r_j[l] = 0.25;
       c.inv_mass_sum[l] = 1;
+      params[l] = params[0];  // count > 0 when a batch is computed
       history.pad(l);
     }
   }

@@ -178,10 +178,9 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
   double max_ratio = 0;
   const int team = count >= parallel_min_candidates_ ? thread_count() : 1;
   b.touched.resize(team);
-  // 3D pairs of a model with a batched kernel (contact_batch.hpp) take it when
-  // the whole bucket has one law.
+  // 3D pairs of a model with a batched kernel (contact_batch.hpp) take it.
   constexpr bool batchable = D == 3 && has_force_batch<M>::value;
-  if (b.law == -2) {  // once per list: do all candidates share one law?
+  if (b.law == -2) {  // once per list: do all candidates share one law (no index to load)?
     b.law = count ? static_cast<std::int64_t>(b.slot[0]) : -1;
     for (const std::uint32_t s : b.slot)
       if (s != b.slot[0]) b.law = -1;
@@ -296,6 +295,7 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
     auto prefetch_contact = [&](std::uint32_t ahead) __attribute__((always_inline)) {
       const std::uint32_t i_ahead = bi[ahead], j_ahead = bj[ahead];
       __builtin_prefetch(&hist[ahead]);
+      if (!one_law) __builtin_prefetch(&bslot[ahead]);
       __builtin_prefetch(&v[j_ahead]);
       __builtin_prefetch(&w[j_ahead]);
       __builtin_prefetch(&v[i_ahead]);
@@ -331,7 +331,7 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
         const double dist = std::sqrt(dist_sq);
         const double inv_dist = dist * (1.0 / dist_sq);
         const double overlap = r_sum - dist;
-        const typename M::Params& par = par_of[bslot[k]];
+        const typename M::Params& par = par_of[one_law ? b.law : bslot[k]];
         in_contact[k] = 1;
         ContactState<D> c;
         c.dt = dt;
@@ -386,17 +386,17 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
     };
     bool by_batch = false;
     if constexpr (batchable) {
-      // Pass 2 by batches (pair_batch.hpp) when the model offers force_batch
-      // and the bucket has one law: the contacts' data gathered in slot order,
-      // geometry and law computed lane by lane, the results added in slot order.
-      if (one_law) {
+      // Pass 2 by batches (pair_batch.hpp) when the model offers force_batch:
+      // the contacts' data gathered in slot order, geometry and law computed
+      // lane by lane, the results added in slot order.
+      if (batched_contacts_) {
         by_batch = true;
         PairBatch<M> batch;
         batch.c.dt = dt;
         auto flush = [&]() {
           batch.pad();
           batch.geometry();
-          M::force_batch(par_of[b.law], batch.history, batch.c);
+          M::force_batch(batch.params, batch.history, batch.c);
           batch.totals();
           for (int l = 0; l < batch.count; ++l) {
             const std::uint32_t k = batch.k[l], i = batch.i[l], j = batch.j[l];
@@ -436,6 +436,7 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
             const S spin_sum = radius[i] * w[i] + radius[j] * w[j];
             const int l = batch.count++;
             batch.k[l] = static_cast<std::uint32_t>(k), batch.i[l] = i, batch.j[l] = j;
+            batch.params[l] = &par_of[one_law ? b.law : bslot[k]];
             batch.dx[l] = d[0], batch.dy[l] = d[1], batch.dz[l] = d[2];
             batch.vx[l] = v_rel[0], batch.vy[l] = v_rel[1], batch.vz[l] = v_rel[2];
             batch.wx[l] = spin_sum[0], batch.wy[l] = spin_sum[1], batch.wz[l] = spin_sum[2];
@@ -476,7 +477,7 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
   run_on_team(team, work, touching, max_ratio);
   if (team > 1 && b.ran_team == team) rebalance(b, team);
   contacts_particle_ += touching;
-  if (batchable && b.law >= 0) contacts_batched_ += touching;
+  if (batchable && batched_contacts_) contacts_batched_ += touching;
   if (max_ratio > max_overlap_ratio_) max_overlap_ratio_ = max_ratio;
 }
 

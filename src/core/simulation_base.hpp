@@ -72,8 +72,8 @@ struct GlobalStats {
   double angular_momentum_z = 0;     // kg m^2/s about the origin (z component)
   std::int64_t contacts_particle = 0;
   std::int64_t contacts_wall = 0;
-  // of contacts_particle, those a model's batched kernel computed (3D pairs
-  // of one law: contact/contact_batch.hpp); the rest went one at a time
+  // of contacts_particle, those a model's batched kernel computed (3D pairs:
+  // contact/contact_batch.hpp); the rest went one at a time
   std::int64_t contacts_batched = 0;
   double max_overlap_ratio = 0;      // largest overlap / smaller radius in the last step
   std::int64_t candidate_pairs = 0;  // neighbour-list entries (pairs and walls) within the skin
@@ -173,6 +173,9 @@ class SimulationBase {
     parallel_min_candidates_ = min_candidates;
     parallel_min_particles_ = min_particles;
   }
+  // 3D pair contacts of a model with a batched kernel take it (default), or
+  // one contact at a time: the same results to round-off (tests compare the two).
+  void set_batched_contacts(bool on) { batched_contacts_ = on; }
   bool record_contacts() const { return record_contacts_; }
   void set_warning_handler(std::function<void(const std::string&)> f) { warn_ = std::move(f); }
 
@@ -288,6 +291,7 @@ class SimulationBase {
   bool record_contacts_ = false;
   int threads_ = 0;
   std::int64_t parallel_min_candidates_ = 32768, parallel_min_particles_ = 16384;
+  bool batched_contacts_ = true;
   bool prepared_ = false;
   double time_ = 0;
   std::int64_t step_ = 0;

@@ -277,7 +277,7 @@ const std::vector<FunctionDoc> entries = {
 // ---- queries ----
 {"sim:stats", "simulation", P,
  "sim:stats() -> { time =, step =, particles =, kinetic_energy =, kinetic_energy_translational =, kinetic_energy_rotational =, momentum =, angular_momentum_z =, contacts_particle =, contacts_batched =, contacts_wall =, max_overlap_ratio =, candidate_pairs =, list_rebuilds =, thread_rebalances = }",
- "Global quantities now (J, kg m/s, kg m^2/s); contacts_batched: of contacts_particle, those a batched (vectorised) contact kernel computed (3D pairs sharing one law), candidate_pairs: neighbour-list entries within the skin, list_rebuilds: rebuilds so far, thread_rebalances: times the threads' shares of the pair contacts were moved to even out their work.", {}, ""},
+ "Global quantities now (J, kg m/s, kg m^2/s); contacts_batched: of contacts_particle, those a batched (vectorised) contact kernel computed (3D pairs of a law that has one: linear), candidate_pairs: neighbour-list entries within the skin, list_rebuilds: rebuilds so far, thread_rebalances: times the threads' shares of the pair contacts were moved to even out their work.", {}, ""},
 {"sim:contacts", "simulation", P,
  "sim:contacts() -> { { a =, b = | wall =, model =, overlap =, normal_force =, tangential_force =, normal = }, ... }",
  "The contacts of the last step (needs record_contacts = true).", {}, ""},

@@ -80,7 +80,8 @@ TEST_CASE(
 // per-contact force(), lane by lane, over random contacts that cover its
 // paths: new contacts (sqrt(m*) not yet computed), springs at rest, sticking
 // and sliding contacts, springs that turned far (the exact rescale instead of
-// the series), tension clamped or not, and no tangential law at all. The two
+// the series), tension clamped or not, no tangential law at all, and lanes of
+// one batch under different laws. The two
 // agree to round-off (the compiler may fuse multiply-adds differently in the
 // two): 1e-12 of the lane's force or spring scale.
 TEST_CASE("linear: the batched 3D kernel gives force()'s forces and springs, lane by lane",
@@ -94,18 +95,24 @@ TEST_CASE("linear: the batched 3D kernel gives force()'s forces and springs, lan
     return Eigen::Vector3d(n.normalized());
   };
   constexpr int L = batch_lanes;
-  int sliding = 0, sticking = 0, turned_far = 0, fresh = 0, checked = 0;
+  int sliding = 0, sticking = 0, turned_far = 0, fresh = 0, checked = 0, no_tangential = 0;
   for (int round = 0; round < 200; ++round) {
-    const double friction = round % 10 == 9 ? 0.0 : 0.1 + 0.5 * (unit(rng) + 1);
-    const double ratio = round % 10 == 9 ? 0.0 : 2.0 / 7;
-    const bool tension = round % 3 != 0;
-    auto p = LinearSpringDashpot::make({{"k_normal", 1e4},
-                                        {"restitution", 0.3 + 0.3 * (unit(rng) + 1)},
-                                        {"friction", friction},
-                                        {"tangential_ratio", ratio},
-                                        {"tangential_damping_ratio", 0.5},
-                                        {"allow_tension", tension ? 1.0 : 0.0}},
-                                       {material, material});
+    // Three laws per round, the lanes taking them in turn (a batch mixes
+    // material pairs); every tenth round's third law has no tangential part.
+    std::vector<LinearSpringDashpot::Params> laws;
+    for (int law = 0; law < 3; ++law) {
+      const bool none = round % 10 == 9 && law == 2;
+      laws.push_back(
+          LinearSpringDashpot::make({{"k_normal", 1e4 * (1 + law)},
+                                     {"restitution", 0.3 + 0.3 * (unit(rng) + 1)},
+                                     {"friction", none ? 0.0 : 0.1 + 0.5 * (unit(rng) + 1)},
+                                     {"tangential_ratio", none ? 0.0 : 2.0 / 7},
+                                     {"tangential_damping_ratio", 0.5},
+                                     {"allow_tension", (round + law) % 3 != 0 ? 1.0 : 0.0}},
+                                    {material, material}));
+    }
+    const LinearSpringDashpot::Params* lane_law[L];
+    for (int l = 0; l < L; ++l) lane_law[l] = &laws[(l + round) % 3];
     LinearSpringDashpot::BatchHistory hb;
     ContactBatch<3> cb;
     cb.dt = 1e-6;
@@ -143,9 +150,10 @@ TEST_CASE("linear: the batched 3D kernel gives force()'s forces and springs, lan
       const double old_sq = h.slip.squaredNorm();
       turned_far += old_sq > 0 && std::pow(c.normal.dot(h.slip), 2) / old_sq >= 1e-4;
     }
-    LinearSpringDashpot::force_batch(p, hb, cb);
+    LinearSpringDashpot::force_batch(lane_law, hb, cb);
     for (int l = 0; l < L; ++l) {
       LinearSpringDashpot::History<3> h = histories[l];
+      const LinearSpringDashpot::Params& p = *lane_law[l];
       const ContactForce<3> f = LinearSpringDashpot::force<3>(p, h, states[l]);
       LinearSpringDashpot::History<3> hb_l;
       hb.store(l, hb_l);
@@ -158,18 +166,21 @@ TEST_CASE("linear: the batched 3D kernel gives force()'s forces and springs, lan
       REQUIRE((t_batch - f.tangential).norm() <= 1e-12 * force_scale);
       REQUIRE((hb_l.slip - h.slip).norm() <= 1e-12 * spring_scale);
       REQUIRE(hb_l.sqrt_mass == Approx(h.sqrt_mass).epsilon(1e-14));
-      if (friction > 0) {
-        const bool slides = f.tangential.norm() >= friction * std::abs(f.normal) * (1 - 1e-9);
+      if (p.friction > 0) {
+        const bool slides = f.tangential.norm() >= p.friction * std::abs(f.normal) * (1 - 1e-9);
         sliding += slides, sticking += !slides;
+      } else {
+        no_tangential += p.k_tangential == 0;
       }
       ++checked;
     }
   }
   INFO("sliding " << sliding << ", sticking " << sticking << ", turned far " << turned_far
-                  << ", new " << fresh);
+                  << ", new " << fresh << ", without tangential law " << no_tangential);
   CHECK(checked == 200 * L);
   CHECK(sliding > 100);
   CHECK(sticking > 100);
   CHECK(turned_far > 100);
   CHECK(fresh > 100);
+  CHECK(no_tangential > 50);
 }

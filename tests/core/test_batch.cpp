@@ -1,9 +1,9 @@
 // The pair loop's batched path (core/pair_batch.hpp with a model's
-// force_batch) against its per-contact path on the same 3D scene: a pile of
-// overlapping spheres with friction in a box, settling under gravity. The
-// per-contact path is taken when a bucket's candidates have more than one law,
-// so the second run only makes one sphere of another material with the same
-// properties and laws: the same physics through the other code.
+// force_batch) against its per-contact path (set_batched_contacts(false)) on
+// the same 3D scene: a pile of overlapping spheres with friction in a box,
+// settling under gravity; all of one material (one law for the whole
+// bucket), or with a third of another material under other laws (a batch
+// then mixes laws lane by lane).
 #include <catch2/catch.hpp>
 
 #include "box_walls.hpp"
@@ -30,25 +30,24 @@ double relative_gap(const std::vector<double>& a, const std::vector<double>& b) 
   return gap / largest;
 }
 
-PileRun run_pile(bool odd_one_out, std::int64_t steps, bool record = false) {
+PileRun run_pile(bool batched, bool mixed, std::int64_t steps, bool record = false) {
   Simulation<3> sim;
   sim.set_warning_handler([](const std::string&) {});
+  sim.set_batched_contacts(batched);
   sim.add_material({"p", 2500, 0, 0, 0});
-  sim.add_material({"q", 2500, 0, 0, 0});
+  sim.add_material({"q", 2000, 0, 0, 0});
   sim.add_material({"w", 0, 0, 0, 0});
   ParamValues law{{"k_normal", 1e3}, {"restitution", 0.5}, {"friction", 0.4}};
-  for (const char* a : {"p", "q"}) {
-    sim.set_contact(a, "p", "linear", law);
-    sim.set_contact(a, "q", "linear", law);
-    sim.set_contact(a, "w", "linear", law);
-  }
+  ParamValues other{{"k_normal", 2e3}, {"restitution", 0.8}, {"friction", 0.2}};
+  ParamValues stiff{
+      {"k_normal", 3e3}, {"restitution", 0.3}, {"friction", 0.6}, {"allow_tension", 0}};
+  sim.set_contact("p", "p", "linear", law);
+  sim.set_contact("p", "q", "linear", other);
+  sim.set_contact("q", "q", "linear", stiff);
+  sim.set_contact("p", "w", "linear", law);
+  sim.set_contact("q", "w", "linear", other);
   const double side = 0.008, r = 0.4e-3;
   test::add_box_walls(sim, side, 0.05, 2);
-  ParticleSpec odd;
-  odd.position = {0.5 * side, 0.5 * side, 0.002};
-  odd.radius = r;
-  odd.material = odd_one_out ? 1 : 0;
-  sim.add_particle(odd);
   FillSpec pile;
   pile.shape = RegionShape::box;
   pile.lo = {0, 0, 0}, pile.hi = {side, side, 0.005};
@@ -58,6 +57,10 @@ PileRun run_pile(bool odd_one_out, std::int64_t steps, bool record = false) {
   pile.seed = 11;
   pile.allow_overlap = true;  // contacts from the first step, some far from rest
   sim.fill(pile);
+  if (mixed) {
+    pile.count = 250, pile.material = 1, pile.seed = 12;
+    sim.fill(pile);
+  }
   sim.set_gravity({0, 0, -9.81});
   sim.set_record_contacts(record);  // the kernels' logging instantiation
   sim.advance(steps);
@@ -67,33 +70,38 @@ PileRun run_pile(bool odd_one_out, std::int64_t steps, bool record = false) {
 
 TEST_CASE("pair loop: the batched 3D kernel gives the per-contact path's trajectory", "[batch]") {
   const std::int64_t steps = 300;
-  const PileRun batched = run_pile(false, steps), one_by_one = run_pile(true, steps);
-  INFO("contacts " << batched.stats.contacts_particle << " (batched "
-                   << batched.stats.contacts_batched << "), per contact "
-                   << one_by_one.stats.contacts_particle << " (batched "
-                   << one_by_one.stats.contacts_batched << ")");
-  // Each run took the path it was meant to.
-  REQUIRE(batched.stats.contacts_particle > 100);
-  REQUIRE(batched.stats.contacts_batched == batched.stats.contacts_particle);
-  REQUIRE(one_by_one.stats.contacts_batched == 0);
-  REQUIRE(batched.stats.contacts_particle == one_by_one.stats.contacts_particle);
-  // Positions, velocities and spins agree to round-off, grown over 300 steps
-  // of a pile pushing itself apart: relative to each quantity's largest value.
-  REQUIRE(batched.state.id == one_by_one.state.id);
-  const double position = relative_gap(batched.state.position, one_by_one.state.position);
-  const double velocity = relative_gap(batched.state.velocity, one_by_one.state.velocity);
-  const double spin = relative_gap(batched.state.spin, one_by_one.state.spin);
-  INFO("relative differences: position " << position << ", velocity " << velocity << ", spin "
-                                         << spin);
-  CHECK(position <= 1e-12);
-  CHECK(velocity <= 1e-10);
-  CHECK(spin <= 1e-10);
+  for (const bool mixed : {false, true}) {
+    const PileRun batched = run_pile(true, mixed, steps),
+                  one_by_one = run_pile(false, mixed, steps);
+    INFO((mixed ? "two materials, three laws" : "one law")
+         << ": contacts " << batched.stats.contacts_particle << " (batched "
+         << batched.stats.contacts_batched << "), per contact "
+         << one_by_one.stats.contacts_particle << " (batched " << one_by_one.stats.contacts_batched
+         << ")");
+    // Each run took the path it was meant to.
+    REQUIRE(batched.stats.contacts_particle > 100);
+    REQUIRE(batched.stats.contacts_batched == batched.stats.contacts_particle);
+    REQUIRE(one_by_one.stats.contacts_batched == 0);
+    REQUIRE(batched.stats.contacts_particle == one_by_one.stats.contacts_particle);
+    // Positions, velocities and spins agree to round-off, grown over 300
+    // steps of a pile pushing itself apart: relative to each one's largest value.
+    REQUIRE(batched.state.id == one_by_one.state.id);
+    const double position = relative_gap(batched.state.position, one_by_one.state.position);
+    const double velocity = relative_gap(batched.state.velocity, one_by_one.state.velocity);
+    const double spin = relative_gap(batched.state.spin, one_by_one.state.spin);
+    INFO("relative differences: position " << position << ", velocity " << velocity << ", spin "
+                                           << spin);
+    CHECK(position <= 1e-12);
+    CHECK(velocity <= 1e-10);
+    CHECK(spin <= 1e-10);
+  }
 }
 
 TEST_CASE("pair loop: the batched 3D kernel logs the contacts the per-contact path logs",
           "[batch]") {
   const std::int64_t steps = 200;
-  const PileRun batched = run_pile(false, steps, true), one_by_one = run_pile(true, steps, true);
+  const PileRun batched = run_pile(true, true, steps, true),
+                one_by_one = run_pile(false, true, steps, true);
   REQUIRE(batched.stats.contacts_batched == batched.stats.contacts_particle);
   REQUIRE(one_by_one.stats.contacts_batched == 0);
   // Pair contacts only (walls take the per-contact path in both), in log order.
