@@ -16,6 +16,7 @@ import os
 import platform
 import re
 import shutil
+import statistics
 import subprocess
 import sys
 import time
@@ -197,13 +198,25 @@ def box3d(args, work):
             f"dt = {dt:g} s, {steps} steps"), rows
 
 
-def report(title, rows):
-    print(f"\n{title}")
-    print(f"{'program':32s} {'cores':>5s} {'particle-steps/s':>17s} {'pair contacts':>13s} {'vs LAMMPS':>10s}")
+def ratios_to_lammps(rows):
+    """Each row's particle-steps/s over LAMMPS's on the same cores, in one round."""
     lammps = {c: pss for (name, c, pss, _, _) in rows if name.startswith("lammps")}
+    return {(name, c): pss / lammps[c] for (name, c, pss, _, _) in rows if c in lammps}
+
+
+def report(title, rows, round_ratios=()):
+    print(f"\n{title}")
+    paired = len(round_ratios) > 1
+    print(f"{'program':32s} {'cores':>5s} {'particle-steps/s':>17s} {'pair contacts':>13s} {'vs LAMMPS':>10s}"
+          + (f" {'per round: median (min-max)':>28s}" if paired else ""))
+    best = ratios_to_lammps(rows)
     for name, cores, pss, contacts, pairs in rows:
-        ratio = pss / lammps[cores] if cores in lammps else float("nan")
-        print(f"{name:32s} {cores:5d} {pss:17.3g} {pairs:13.1f} {ratio:10.2f}")
+        line = f"{name:32s} {cores:5d} {pss:17.3g} {pairs:13.1f} {best.get((name, cores), float('nan')):10.2f}"
+        if paired:
+            r = sorted(rr[(name, cores)] for rr in round_ratios if (name, cores) in rr)
+            if r:
+                line += f" {statistics.median(r):11.2f} ({r[0]:.2f}-{r[-1]:.2f})"
+        print(line)
 
 
 def main():
@@ -231,16 +244,18 @@ def main():
           f"load average {os.getloadavg()[0]:.2f}")
     cases = ["mechanofusion2d", "box3d"] if args.case == "all" else [args.case]
     for case in cases:
-        best = {}
+        best, round_ratios = {}, []
         for _ in range(max(1, args.repeat)):
             title, rows = globals()[case](args, os.path.abspath(args.work))
+            round_ratios.append(ratios_to_lammps(rows))  # the programs ran back to back
             for row in rows:
                 key = (row[0], row[1])
                 if key not in best or row[2] > best[key][2]:
                     best[key] = row
         if args.repeat > 1:
-            title += f", best of {args.repeat} alternating runs"
-        report(title, list(best.values()))
+            title += (f", best of {args.repeat} alternating runs; vs LAMMPS: best against best, and "
+                      f"the ratio within each round")
+        report(title, list(best.values()), round_ratios)
 
 
 if __name__ == "__main__":
