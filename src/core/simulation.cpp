@@ -304,26 +304,37 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
       __builtin_prefetch(&force[j_ahead], 1);
       __builtin_prefetch(&torque[j_ahead], 1);
     };
+    // Entry e of a block's list, for both second passes: fetches a few entries
+    // ahead (the contacts are sparse in the candidate arrays), clears a
+    // history whose contact ended (false), else gives the candidate k, its
+    // particles and their separation x_i - x_j.
+    auto open_entry = [&](std::size_t e, std::size_t e_end, std::int64_t & k, std::uint32_t & i,
+                          std::uint32_t & j, V & d) __attribute__((always_inline)) {
+      if (prefetch && e + prefetch_distance < e_end)
+        prefetch_contact(listing[e + prefetch_distance] >> 1);
+      const std::uint32_t entry = listing[e];
+      k = entry >> 1;
+      if (!(entry & 1)) {  // the history was in use: clear it once
+        hist[k] = History{};
+        in_contact[k] = 0;
+        return false;
+      }
+      i = bi[k], j = bj[k];
+      d = x[i] - x[j];
+      if (periodic_on) d[periodic_axis] = periodic.wrap(d[periodic_axis]);
+      return true;
+    };
     // Pass 2 works through the block's list while its candidates' and
     // particles' data are still in the caches.
     // Inlined: called through its closure it would reach every array through
     // a pointer and reload them after each store (as captured ones, above).
     auto pass2 = [&](std::size_t e_begin, std::size_t e_end) __attribute__((always_inline)) {
       for (std::size_t e = e_begin; e < e_end; ++e) {
-        // The contacts are sparse in the candidate arrays: fetch a few ahead.
-        if (prefetch && e + prefetch_distance < e_end)
-          prefetch_contact(listing[e + prefetch_distance] >> 1);
-        const std::uint32_t entry = listing[e];
-        const std::int64_t k = entry >> 1;
+        std::int64_t k;
+        std::uint32_t i, j;
+        V d;
+        if (!open_entry(e, e_end, k, i, j, d)) continue;
         History& h = hist[k];
-        if (!(entry & 1)) {  // the history was in use: clear it once
-          h = History{};
-          in_contact[k] = 0;
-          continue;
-        }
-        const std::uint32_t i = bi[k], j = bj[k];
-        V d = x[i] - x[j];
-        if (periodic_on) d[periodic_axis] = periodic.wrap(d[periodic_axis]);
         const double r_sum = radius[i] + radius[j];
         // |d| and 1/|d| from a square root and a division that run side by
         // side, rather than one after the other on the contact's critical path.
@@ -420,18 +431,10 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
         };
         auto gather = [&](std::size_t e_begin, std::size_t e_end) __attribute__((always_inline)) {
           for (std::size_t e = e_begin; e < e_end; ++e) {
-            if (prefetch && e + prefetch_distance < e_end)
-              prefetch_contact(listing[e + prefetch_distance] >> 1);
-            const std::uint32_t entry = listing[e];
-            const std::int64_t k = entry >> 1;
-            if (!(entry & 1)) {  // the history was in use: clear it once
-              hist[k] = History{};
-              in_contact[k] = 0;
-              continue;
-            }
-            const std::uint32_t i = bi[k], j = bj[k];
-            V d = x[i] - x[j];
-            if (periodic_on) d[periodic_axis] = periodic.wrap(d[periodic_axis]);
+            std::int64_t k;
+            std::uint32_t i, j;
+            V d;
+            if (!open_entry(e, e_end, k, i, j, d)) continue;
             const V v_rel = v[j] - v[i];
             const S spin_sum = radius[i] * w[i] + radius[j] * w[j];
             const int l = batch.count++;
