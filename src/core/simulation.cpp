@@ -24,6 +24,10 @@ using Clock = std::chrono::steady_clock;
 // Contacts ahead whose history and velocities the pair loop asks the cache for.
 constexpr std::size_t prefetch_distance = 8;
 constexpr std::int64_t prefetch_min_candidates = 1 << 16;
+// The wall loop's particles ahead (the candidates name particles in memory
+// order, but sparsely: those near a wall).
+constexpr std::int64_t wall_prefetch_distance = 8;
+constexpr std::int64_t wall_prefetch_min_candidates = 1 << 13;
 // Candidates per block of the pair loop: its listing pass, then its force pass
 // while the block's data are in the caches (~300 contacts in the dense box).
 constexpr std::int64_t pair_block = 2048;
@@ -93,10 +97,12 @@ void Simulation<D>::step() {
   // Every thread count adds the contacts to each particle in slot order (pairs
   // model by model, then walls), so the result is bit-identical whatever the
   // number of threads. Pair contacts add their forces at once (pair_forces
-  // defers those of the particles two threads share); wall contacts too on
-  // one thread ("fused"), on more they leave their results in their lists and
-  // scatter_forces() sums them after the pairs. A scene whose candidates are
-  // all below the parallel threshold runs every contact loop on one thread.
+  // defers those of the particles two threads share); so do wall contacts, each
+  // thread owning whole particles (wall_forces). The reactions on the walls
+  // are summed at once on one thread ("fused"); on more each contact leaves
+  // its part in its list and scatter_forces() sums them in slot order. A scene
+  // whose candidates are all below the parallel threshold runs every contact
+  // loop on one thread.
   fused_ = thread_count() == 1 || static_cast<std::int64_t>(slot_count_) < parallel_min_candidates_;
   zero_forces();
   for (auto& w : walls_) w.force.setZero(), w.axial_torque = 0;
@@ -589,7 +595,9 @@ void Simulation<D>::wall_forces(WallBucket<D, M>& b,
   std::int64_t touching = 0;
   double max_ratio = 0;
   const int threads = thread_count();
-  const int team = count >= parallel_min_candidates_ ? threads : 1;
+  // Wall contacts cost more per candidate than pairs (each one reaches a
+  // particle's data on its own), so they go parallel from a smaller list.
+  const int team = !fused_ && count >= parallel_min_candidates_ / 8 ? threads : 1;
   b.touched.resize(team);
   // OpenMP may run fewer threads than asked for (see pair_forces): the ranges
   // are taken from the team it gives, and the lists of the others stay empty.
@@ -620,16 +628,33 @@ void Simulation<D>::wall_forces(WallBucket<D, M>& b,
     const double dt = dt_;
     std::int64_t touching = 0;
     double max_ratio = 0;
-    const std::int64_t begin = count * t / nt, end = count * (t + 1) / nt;
+    // Threads own whole particles (the candidates are particle-major): a range
+    // ends where a particle's run of candidates does. Each particle's wall
+    // contacts are added to it in slot order, after all pair contacts, as on
+    // one thread; the reactions on the walls are summed afterwards in slot
+    // order (scatter_forces) from what each contact leaves in the list.
+    auto cut = [&](std::int64_t at) {
+      while (at > 0 && at < count && bp[at] == bp[at - 1]) ++at;
+      return at;
+    };
+    const std::int64_t begin = cut(count * t / nt), end = cut(count * (t + 1) / nt);
     StepList<D>& list = b.touched[t];
-    list.start(static_cast<std::size_t>(end - begin));
-    if (!fused) list.reserve_outputs(static_cast<std::size_t>(end - begin));
-    std::uint32_t* const out_a = list.a.data();
+    list.start(static_cast<std::size_t>(std::max<std::int64_t>(end - begin, 0)));
+    if (!fused) list.reserve_outputs(static_cast<std::size_t>(std::max<std::int64_t>(end - begin, 0)));
     std::uint32_t* const out_b = list.b.data();
     V* const out_force = list.force.data();
-    S* const out_torque = list.torque_a.data();
     double* const out_axial = list.axial.data();
+    const bool prefetch = count >= wall_prefetch_min_candidates;
     for (std::int64_t k = begin; k < end; ++k) {
+      if (prefetch && k + wall_prefetch_distance < end) {
+        const std::uint32_t ahead = bp[k + wall_prefetch_distance];
+        __builtin_prefetch(&x[ahead]);
+        __builtin_prefetch(&radius[ahead]);
+        __builtin_prefetch(&v[ahead]);
+        __builtin_prefetch(&w_spin[ahead]);
+        __builtin_prefetch(&force[ahead], 1);
+        __builtin_prefetch(&torque[ahead], 1);
+      }
       const std::uint32_t i = bp[k];
       const Wall<D>& w = walls[bw[k]];
       const typename M::Params& par = par_of[bslot[k]];
@@ -662,16 +687,15 @@ void Simulation<D>::wall_forces(WallBucket<D, M>& b,
       const V total = f.normal * n + f.tangential;
       const S torque_i = Dim<D>::torque(-(r - overlap) * n, f.tangential);  // at the wall surface
       const double axial = w.axial_moment(lever, total);
+      force[i] += total;
+      torque[i] += torque_i;
       if (fused) {
-        force[i] += total;
-        torque[i] += torque_i;
         Wall<D>& reacting = walls_[bw[k]];
         reacting.force -= total;
         reacting.axial_torque -= axial;
       } else {
-        out_a[e] = i, out_b[e] = bw[k];
+        out_b[e] = bw[k];
         out_force[e] = total;
-        out_torque[e] = torque_i;
         out_axial[e] = axial;
       }
       ++touching;
@@ -803,40 +827,20 @@ void Simulation<D>::zero_forces() {
 
 template <int D>
 void Simulation<D>::scatter_forces() {
-  // The wall contacts' forces and torques per particle, added after the pair
-  // contacts' (pair_forces adds those), in slot order (model by model, within
-  // a bucket the lists follow one another in increasing k): the order the
-  // single-thread path adds them in, so the sums are bit-identical whatever
-  // the threads. Each thread owns a range of particles and walks all the wall
-  // contacts' results (stored contiguously by the kernel), adding only to its own.
-  auto each_result = [&](auto&& visit) {  // visit(list, e) in slot order
-    for_each_model([&](auto index) {
-      const auto& b = std::get<decltype(index)::value>(wall_buckets_);
-      if (!b.size()) return;
-      for (const auto& list : b.touched)
-        for (std::size_t e = 0; e < list.count; ++e) visit(list, e);
-    });
-  };
-  const std::int64_t n = static_cast<std::int64_t>(p_.size());
-  const int threads = thread_count();
-  over_particles(threads > 1 && n >= parallel_min_particles_, threads, n,
-                 [&](std::int64_t lo, std::int64_t hi) {
-                   V* const force = p_.force.data();
-                   S* const torque = p_.torque.data();
-                   const auto low = static_cast<std::uint32_t>(lo);
-                   const auto width = static_cast<std::uint32_t>(hi - lo);
-                   each_result([&](const StepList<D>& list, std::size_t e) {
-                     const std::uint32_t i = list.a[e];
-                     if (i - low >= width) return;
-                     force[i] += list.force[e];
-                     torque[i] += list.torque_a[e];
-                   });
-                 });
-  // The reactions on the walls (the inner-piece force of 4.4.1), in slot order.
-  each_result([&](const StepList<D>& list, std::size_t e) {
-    Wall<D>& w = walls_[list.b[e]];
-    w.force -= list.force[e];
-    w.axial_torque -= list.axial[e];
+  // The reactions on the walls (the inner-piece force of 4.4.1), in slot
+  // order (model by model; within a bucket the threads' lists follow one
+  // another in increasing k): the order one thread adds them in, so the sums
+  // are bit-identical whatever the threads. The particles' sides were added
+  // by wall_forces.
+  for_each_model([&](auto index) {
+    const auto& b = std::get<decltype(index)::value>(wall_buckets_);
+    if (!b.size()) return;
+    for (const auto& list : b.touched)
+      for (std::size_t e = 0; e < list.count; ++e) {
+        Wall<D>& w = walls_[list.b[e]];
+        w.force -= list.force[e];
+        w.axial_torque -= list.axial[e];
+      }
   });
 }
 
@@ -1068,9 +1072,12 @@ void Simulation<D>::rebuild_lists() {
     const std::size_t expect = old.size() + old.size() / 8;
     fresh.particle.reserve(expect), fresh.wall.reserve(expect), fresh.slot.reserve(expect);
     fresh.id.reserve(expect);
-    for (std::size_t w = 0; w < walls_.size(); ++w) {
-      for (std::size_t i = 0; i < n; ++i) {
-        if (p_.fixed[i]) continue;
+    // Particle by particle (then wall by wall): the wall loop then walks the
+    // particles' data in memory order, and a particle's wall contacts lie
+    // together, so threads can own whole particles (wall_forces).
+    for (std::size_t i = 0; i < n; ++i) {
+      if (p_.fixed[i]) continue;
+      for (std::size_t w = 0; w < walls_.size(); ++w) {
         const PairTable::Entry& e = pairs_.at(p_.material[i], walls_[w].material);
         if (e.model != I) continue;
         if (walls_[w].clearance(p_.position[i], p_.radius[i]) >= skin_) continue;

@@ -21,21 +21,17 @@ namespace granule {
 // A list filled anew every step: its storage only grows, so filling it costs a
 // store per entry and no allocation or initialisation. With more than one
 // thread each listed wall contact also leaves its results at its position in
-// the list, for scatter_forces() to sum per particle afterwards: contiguous, so
-// that pass reads them in order.
+// the list, for scatter_forces() to sum the reactions on the walls afterwards
+// in slot order.
 template <int D>
 struct StepList {
   std::vector<std::uint32_t> entries;
   std::size_t count = 0;
-  std::vector<std::uint32_t> a, b;  // wall contacts: the particle and the wall
-  std::vector<Vec<D>> force;        // on the particle (on the wall: minus it)
-  std::vector<Spin<D>> torque_a;    // on the particle
-  std::vector<double> axial;        // torque on the wall about its axis
+  std::vector<std::uint32_t> b;  // wall contacts: the wall
+  std::vector<Vec<D>> force;     // on the particle (on the wall: minus it)
+  std::vector<double> axial;     // torque on the wall about its axis
   void reserve_outputs(std::size_t most) {
-    if (force.size() < most) {
-      a.resize(most), b.resize(most), force.resize(most);
-      torque_a.resize(most), axial.resize(most);
-    }
+    if (force.size() < most) b.resize(most), force.resize(most), axial.resize(most);
   }
   void start(std::size_t most) {
     if (entries.size() < most) entries.resize(most);

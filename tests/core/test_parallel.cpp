@@ -50,18 +50,44 @@ void uneven_box(Simulation<3>& sim) {
 
 TEST_CASE("parallel: 3D, contacts gathered in one part: 1, 2 and 3 threads agree bit for bit",
           "[parallel]") {
-  auto run = [](int threads, GlobalStats* stats) {
+  // The reactions on the walls too: summed over contacts that threads computed.
+  std::vector<std::vector<double>> reactions(4);
+  int corner_particles = 0;  // within the skin of two walls: wall contacts to split between threads
+  int wall_candidates = 0;
+  auto run = [&](int threads, GlobalStats* stats) {
     Simulation<3> sim;
     uneven_box(sim);
     sim.set_threads(threads);
     sim.set_parallel_thresholds(1024, 512);  // the parallel paths, on a small scene
     sim.advance(600);
     if (stats) *stats = sim.stats();
+    for (const auto& w : sim.walls())
+      reactions[threads].insert(reactions[threads].end(),
+                                {w.force.x(), w.force.y(), w.force.z(), w.axial_torque});
+    const auto& x = sim.particles().position;
+    const auto& r = sim.particles().radius;
+    corner_particles = wall_candidates = 0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      int near = 0;
+      for (int axis = 0; axis < 2; ++axis)
+        near += x[i][axis] - r[i] < sim.skin() || 0.012 - x[i][axis] - r[i] < sim.skin();
+      near += x[i][2] - r[i] < sim.skin();
+      corner_particles += near >= 2;
+      wall_candidates += near;
+    }
     return sim.flat_state();
   };
   GlobalStats two_stats, three_stats;
   auto one = run(1, nullptr), two = run(2, &two_stats), three = run(3, &three_stats);
   REQUIRE(two_stats.candidate_pairs >= 1024);  // the parallel contact loop ran
+  // The wall loop ran on the threads (its threshold is an eighth of the
+  // pairs'), and some particles had candidates with two walls.
+  REQUIRE(wall_candidates > 128);
+  REQUIRE(two_stats.contacts_wall > 10);
+  REQUIRE(corner_particles > 10);
+  CHECK(std::memcmp(reactions[1].data(), reactions[2].data(), reactions[1].size() * sizeof(double)) == 0);
+  CHECK(std::memcmp(reactions[1].data(), reactions[3].data(), reactions[1].size() * sizeof(double)) == 0);
+  CHECK(std::abs(reactions[1][2 * 4 + 2]) > 0);  // the floor (lo2) carries the pile
   INFO("contacts " << two_stats.contacts_particle << ", rebalances " << two_stats.thread_rebalances
                    << " and " << three_stats.thread_rebalances);
   REQUIRE(two_stats.contacts_particle > 50);
