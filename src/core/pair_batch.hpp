@@ -5,10 +5,8 @@
 // the model's force_batch() runs between geometry() and totals().
 #pragma once
 
-#include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <vector>
 
 #include "contact/contact_batch.hpp"
 
@@ -86,61 +84,6 @@ struct PairBatch {
       tix[l] = lever_i * cx, tiy[l] = lever_i * cy, tiz[l] = lever_i * cz;
       tjx[l] = lever_j * cx, tjy[l] = lever_j * cy, tjz[l] = lever_j * cz;
     }
-  }
-
-  // Adds the lanes' results to the particles in lane (slot) order and stores
-  // the histories. force and torque are the particles' 3-vectors as plain
-  // doubles (x, y, z of particle p at 3p). A particle that `shared` marks gets
-  // its contributions appended to `deferred` instead (the caller adds them
-  // later, in order). The lanes of one particle i come in runs (the list is
-  // i-major); a run's sums to i are made in registers, starting from i's
-  // value in memory and adding lane by lane: the same operations in the same
-  // order as adding to memory lane by lane (no lane of the run names i as j),
-  // so the result is bit-identical, without a store-to-load wait per lane.
-  // Returns the largest overlap / smaller radius seen, at least max_ratio.
-  template <typename History, typename Deferred>
-  double scatter(double* __restrict force, double* __restrict torque,
-                 History* __restrict hist, std::uint8_t* __restrict in_contact,
-                 const std::uint8_t* shared, std::vector<Deferred>* deferred,
-                 double max_ratio) const {
-    using V = decltype(Deferred::force);
-    using S = decltype(Deferred::torque);
-    auto add_to_j = [&](int l) __attribute__((always_inline)) {
-      const std::uint32_t p = j[l];
-      if (!shared || !shared[p]) {
-        force[3 * p] -= fx[l], force[3 * p + 1] -= fy[l], force[3 * p + 2] -= fz[l];
-        torque[3 * p] += tjx[l], torque[3 * p + 1] += tjy[l], torque[3 * p + 2] += tjz[l];
-      } else {
-        deferred->push_back({p, V(-fx[l], -fy[l], -fz[l]), S(tjx[l], tjy[l], tjz[l])});
-      }
-    };
-    int l = 0;
-    while (l < count) {
-      const std::uint32_t p = i[l];
-      if (shared && shared[p]) {
-        deferred->push_back({p, V(fx[l], fy[l], fz[l]), S(tix[l], tiy[l], tiz[l])});
-        add_to_j(l);
-        ++l;
-        continue;
-      }
-      double f0 = force[3 * p], f1 = force[3 * p + 1], f2 = force[3 * p + 2];
-      double t0 = torque[3 * p], t1 = torque[3 * p + 1], t2 = torque[3 * p + 2];
-      do {
-        f0 += fx[l], f1 += fy[l], f2 += fz[l];
-        t0 += tix[l], t1 += tiy[l], t2 += tiz[l];
-        add_to_j(l);
-        ++l;
-      } while (l < count && i[l] == p);
-      force[3 * p] = f0, force[3 * p + 1] = f1, force[3 * p + 2] = f2;
-      torque[3 * p] = t0, torque[3 * p + 1] = t1, torque[3 * p + 2] = t2;
-    }
-    for (int m = 0; m < count; ++m) {
-      in_contact[k[m]] = 1;
-      history.store(m, hist[k[m]]);
-      const double r_min = std::min(r_i[m], r_j[m]);
-      if (c.overlap[m] > max_ratio * r_min) max_ratio = c.overlap[m] / r_min;
-    }
-    return max_ratio;
   }
 };
 

@@ -23,6 +23,8 @@ namespace {
 using Clock = std::chrono::steady_clock;
 // Contacts ahead whose history and velocities the pair loop asks the cache for.
 constexpr std::size_t prefetch_distance = 8;
+// Pass 1 runs ~3x faster per entry than the force pass: it fetches further ahead.
+constexpr std::int64_t pass1_prefetch_distance = 32;
 constexpr std::int64_t prefetch_min_candidates = 1 << 16;
 // The wall loop's particles ahead (the candidates name particles in memory
 // order, but sparsely: those near a wall).
@@ -255,6 +257,8 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
     // The list's array and count in registers.
     std::uint32_t* const listing = list.entries.data();
     std::size_t listed = 0;
+    // Small scenes live in the caches, where prefetching only costs.
+    const bool prefetch = count >= prefetch_min_candidates;
     // Pass 1, a tight loop over a block of candidates, lists those that touch
     // and those that stopped touching and must be cleared; most do neither
     // (the Mechanofusion base case has ~10x more candidates than contacts), and
@@ -264,6 +268,13 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
     auto pass1 = [&](auto periodic_c, std::int64_t from, std::int64_t to) {
       for (std::int64_t k = from; k < to; ++k) {
         const std::uint32_t i = bi[k], j = bj[k];
+        // The partner's position and radius fetched ahead: neighbours along
+        // the space-filling curve can lie far apart in memory.
+        if (prefetch && k + pass1_prefetch_distance < to) {
+          const std::uint32_t j_ahead = bj[k + pass1_prefetch_distance];
+          __builtin_prefetch(&x[j_ahead]);
+          __builtin_prefetch(&radius[j_ahead]);
+        }
         V d = x[i] - x[j];
         if constexpr (decltype(periodic_c)::value)
           d[periodic_axis] = periodic.wrap(d[periodic_axis]);
@@ -277,8 +288,6 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
         listed += touch_bit | in_contact[k];
       }
     };
-    // Small scenes live in the caches, where prefetching only costs.
-    const bool prefetch = count >= prefetch_min_candidates;
     // A contact's force and torques onto i and j: at once, or deferred for a
     // particle two threads' ranges share (added after the barrier below).
     auto add = [&](std::uint32_t i, std::uint32_t j, const V& total, const S& torque_i,
