@@ -13,7 +13,11 @@
 // (each lane's parameters: the contacts of a batch may belong to different
 // material pairs). The engine then uses it for particle pairs in 3D
 // (pair_forces); 2D scenes, wall contacts and models without it take the
-// per-contact force().
+// per-contact force(). A model whose law reads inv_mass_sum only on some
+// steps of a contact (the linear law: once, when it first touches) may say so
+// with `static bool batch_needs_mass(const History3&)`: on the other steps the
+// engine leaves the lane's inv_mass_sum at 1 and does not fetch the particles'
+// masses (a cache line per particle the batch would not use).
 #pragma once
 
 #include <type_traits>
@@ -39,6 +43,20 @@ struct ContactBatch<3> {
   alignas(64) double normal_force[lanes];                 // N, positive repulsive
   alignas(64) double ftx[lanes], fty[lanes], ftz[lanes];  // tangential force on i, N
 };
+
+template <typename M, typename = void>
+struct has_batch_needs_mass : std::false_type {};
+template <typename M>
+struct has_batch_needs_mass<M, std::void_t<decltype(&M::batch_needs_mass)>> : std::true_type {};
+
+// Does this contact's lane need inv_mass_sum this step?
+template <typename M, typename H>
+inline bool batch_needs_mass(const H& h) {
+  if constexpr (has_batch_needs_mass<M>::value)
+    return M::batch_needs_mass(h);
+  else
+    return true;
+}
 
 template <typename M, typename = void>
 struct has_force_batch : std::false_type {};

@@ -168,6 +168,8 @@ struct LinearSpringDashpot {
   struct LaneParams;
 
   static void force_batch(const Params* const lane[], BatchHistory& h, ContactBatch<3>& c);
+  // sqrt(m*) is taken once per contact, on its first step (contact_batch.hpp).
+  static bool batch_needs_mass(const History3& h) { return h.sqrt_mass < 0; }
 
   template <typename P>
   static void force_lanes(P q, BatchHistory& h, ContactBatch<3>& c) {  // q by value: no alias

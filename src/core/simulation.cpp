@@ -315,7 +315,8 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
       __builtin_prefetch(&w[j_ahead]);
       __builtin_prefetch(&v[i_ahead]);
       __builtin_prefetch(&w[i_ahead]);
-      __builtin_prefetch(&inv_mass[j_ahead]);
+      if (!(batchable && batched_contacts_))
+        __builtin_prefetch(&inv_mass[j_ahead]);  // the batch reads it rarely
       __builtin_prefetch(&force[j_ahead], 1);
       __builtin_prefetch(&torque[j_ahead], 1);
     };
@@ -459,8 +460,9 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
             batch.vx[l] = v_rel[0], batch.vy[l] = v_rel[1], batch.vz[l] = v_rel[2];
             batch.wx[l] = spin_sum[0], batch.wy[l] = spin_sum[1], batch.wz[l] = spin_sum[2];
             batch.r_i[l] = radius[i], batch.r_j[l] = radius[j];
-            batch.c.inv_mass_sum[l] = inv_mass[i] + inv_mass[j];
-            batch.history.load(l, hist[k]);
+            const History& h = hist[k];
+            batch.c.inv_mass_sum[l] = batch_needs_mass<M>(h) ? inv_mass[i] + inv_mass[j] : 1.0;
+            batch.history.load(l, h);
             if (batch.count == batch.lanes) flush();
           }
         };
@@ -649,7 +651,8 @@ void Simulation<D>::wall_forces(WallBucket<D, M>& b,
     const std::int64_t begin = cut(count * t / nt), end = cut(count * (t + 1) / nt);
     StepList<D>& list = b.touched[t];
     list.start(static_cast<std::size_t>(std::max<std::int64_t>(end - begin, 0)));
-    if (!fused) list.reserve_outputs(static_cast<std::size_t>(std::max<std::int64_t>(end - begin, 0)));
+    if (!fused)
+      list.reserve_outputs(static_cast<std::size_t>(std::max<std::int64_t>(end - begin, 0)));
     std::uint32_t* const out_b = list.b.data();
     V* const out_force = list.force.data();
     double* const out_axial = list.axial.data();

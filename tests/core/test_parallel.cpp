@@ -85,8 +85,10 @@ TEST_CASE("parallel: 3D, contacts gathered in one part: 1, 2 and 3 threads agree
   REQUIRE(wall_candidates > 128);
   REQUIRE(two_stats.contacts_wall > 10);
   REQUIRE(corner_particles > 10);
-  CHECK(std::memcmp(reactions[1].data(), reactions[2].data(), reactions[1].size() * sizeof(double)) == 0);
-  CHECK(std::memcmp(reactions[1].data(), reactions[3].data(), reactions[1].size() * sizeof(double)) == 0);
+  CHECK(std::memcmp(reactions[1].data(), reactions[2].data(),
+                    reactions[1].size() * sizeof(double)) == 0);
+  CHECK(std::memcmp(reactions[1].data(), reactions[3].data(),
+                    reactions[1].size() * sizeof(double)) == 0);
   CHECK(std::abs(reactions[1][2 * 4 + 2]) > 0);  // the floor (lo2) carries the pile
   INFO("contacts " << two_stats.contacts_particle << ", rebalances " << two_stats.thread_rebalances
                    << " and " << three_stats.thread_rebalances);
