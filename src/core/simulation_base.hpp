@@ -270,7 +270,7 @@ class SimulationBase {
     double neighbor = 0, force = 0, diagnostics = 0, integrate = 0, hooks = 0;
     // part of `force`, threads > 1: what keeps the sums per particle in slot
     // order (marking the particles two threads share, adding their deferred
-    // forces, summing the wall contacts' results)
+    // forces, summing the reactions on the walls)
     double scatter = 0;
   };
   const StageTimes& stage_times() const { return stage_times_; }
