@@ -118,6 +118,7 @@ void Simulation<D>::step() {
     else
       pair_forces<M, false>(pb, pairs_.params<I>());
   });
+  const auto walls_start = Clock::now();
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
     using M = ContactModelAt<I>;
@@ -128,8 +129,9 @@ void Simulation<D>::step() {
     else
       wall_forces<M, false>(wb, pairs_.params<I>());
   });
-  // The wall contacts' forces and torques per particle, and the reactions on
-  // the walls (the inner-piece force of 4.4.1), summed in slot order.
+  stage_times_.walls += seconds_since(walls_start);
+  // The reactions on the walls (the inner-piece force of 4.4.1), summed in
+  // slot order.
   if (!fused_) {
     const auto scatter_start = Clock::now();
     scatter_forces();
@@ -644,15 +646,15 @@ void Simulation<D>::wall_forces(WallBucket<D, M>& b,
     // contacts are added to it in slot order, after all pair contacts, as on
     // one thread; the reactions on the walls are summed afterwards in slot
     // order (scatter_forces) from what each contact leaves in the list.
+    // cut() never moves a point backwards, so the ranges never overlap.
     auto cut = [&](std::int64_t at) {
       while (at > 0 && at < count && bp[at] == bp[at - 1]) ++at;
       return at;
     };
     const std::int64_t begin = cut(count * t / nt), end = cut(count * (t + 1) / nt);
     StepList<D>& list = b.touched[t];
-    list.start(static_cast<std::size_t>(std::max<std::int64_t>(end - begin, 0)));
-    if (!fused)
-      list.reserve_outputs(static_cast<std::size_t>(std::max<std::int64_t>(end - begin, 0)));
+    list.start(static_cast<std::size_t>(end - begin));
+    if (!fused) list.reserve_outputs(static_cast<std::size_t>(end - begin));
     std::uint32_t* const out_b = list.b.data();
     V* const out_force = list.force.data();
     double* const out_axial = list.axial.data();

@@ -272,6 +272,7 @@ class SimulationBase {
     // order (marking the particles two threads share, adding their deferred
     // forces, summing the reactions on the walls)
     double scatter = 0;
+    double walls = 0;  // part of `force`: the particle-wall contacts
   };
   const StageTimes& stage_times() const { return stage_times_; }
 

@@ -939,6 +939,8 @@ int l_timings(lua_State* L) {
     lua_setfield(L, -2, "hooks");
     lua_pushnumber(L, t.scatter);
     lua_setfield(L, -2, "scatter");
+    lua_pushnumber(L, t.walls);
+    lua_setfield(L, -2, "walls");
     return 1;
   });
 }

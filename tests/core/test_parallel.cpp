@@ -139,3 +139,20 @@ TEST_CASE("parallel: a team smaller than asked for still gives the one-thread re
                       one.velocity.size() * sizeof(double)) == 0);
   }
 }
+
+TEST_CASE("stage times: the wall contacts and the fixed-order sums are parts of the contact stage",
+          "[parallel]") {
+  for (const int threads : {1, 2}) {
+    Simulation<3> sim;
+    uneven_box(sim);
+    sim.set_threads(threads);
+    sim.set_parallel_thresholds(1024, 512);
+    sim.advance(100);
+    const auto& t = sim.stage_times();
+    INFO("threads " << threads << ": force " << t.force << " s, walls " << t.walls << " s, scatter "
+                    << t.scatter << " s");
+    CHECK(t.walls > 0);
+    CHECK(t.walls + t.scatter < t.force);
+    if (threads == 1) CHECK(t.scatter == 0);  // one thread sums in slot order as it goes
+  }
+}
