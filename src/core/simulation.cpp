@@ -261,6 +261,8 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
     std::size_t listed = 0;
     // Small scenes live in the caches, where prefetching only costs.
     const bool prefetch = count >= prefetch_min_candidates;
+    // The batch reads the masses only on a contact's first step (batch_needs_mass).
+    const bool fetch_masses = !(batchable && batched_contacts_);
     // Pass 1, a tight loop over a block of candidates, lists those that touch
     // and those that stopped touching and must be cleared; most do neither
     // (the Mechanofusion base case has ~10x more candidates than contacts), and
@@ -317,8 +319,7 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
       __builtin_prefetch(&w[j_ahead]);
       __builtin_prefetch(&v[i_ahead]);
       __builtin_prefetch(&w[i_ahead]);
-      if (!(batchable && batched_contacts_))
-        __builtin_prefetch(&inv_mass[j_ahead]);  // the batch reads it rarely
+      if (fetch_masses) __builtin_prefetch(&inv_mass[j_ahead]);
       __builtin_prefetch(&force[j_ahead], 1);
       __builtin_prefetch(&torque[j_ahead], 1);
     };
