@@ -11,13 +11,24 @@
 
 namespace granule {
 
+// The force and torque on a particle, side by side in one cache line: the
+// contact loop adds to both for every contact, and in large scenes the
+// partner's force and torque, in two arrays, were two misses per contact
+// (docs/performance.md, "What made stop 16 faster").
+template <int D>
+struct alignas(D == 3 ? 64 : 32) ForceTorque {
+  Vec<D> force = Vec<D>::Zero();         // N
+  Spin<D> torque = Dim<D>::zero_spin();  // N m
+};
+
 template <int D>
 struct Particles {
   using V = Vec<D>;
   using S = Spin<D>;
   // hot
-  std::vector<V> position, velocity, force;
-  std::vector<S> spin, torque;
+  std::vector<V> position, velocity;
+  std::vector<S> spin;
+  std::vector<ForceTorque<D>> force_torque;  // summed anew every step
   std::vector<double> radius, inv_mass, inv_inertia;
   // cold
   std::vector<double> mass;  // kg, also for fixed particles (reported, not integrated)
@@ -34,9 +45,8 @@ struct Particles {
     const double inertia = sphere_inertia(m, r);
     position.push_back(x);
     velocity.push_back(is_fixed ? V(V::Zero()) : v);
-    force.push_back(V::Zero());
+    force_torque.push_back({});
     spin.push_back(is_fixed ? Dim<D>::zero_spin() : w);
-    torque.push_back(Dim<D>::zero_spin());
     radius.push_back(r);
     mass.push_back(m);
     inv_mass.push_back(is_fixed ? 0.0 : 1.0 / m);

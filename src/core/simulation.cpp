@@ -241,8 +241,7 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
     const double* const radius = p_.radius.data();
     const double* const inv_mass = p_.inv_mass.data();
     std::uint8_t* const in_contact = slot_in_contact_.data() + b.offset;
-    V* const force = p_.force.data();
-    S* const torque = p_.torque.data();
+    ForceTorque<D>* const load = p_.force_torque.data();
     const std::uint8_t* const shared = sharing ? b.shared.data() : nullptr;
     std::vector<Deferred>* const deferred = sharing ? &deferred_[t] : nullptr;
     if (deferred) deferred->clear();
@@ -297,14 +296,14 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
     auto add = [&](std::uint32_t i, std::uint32_t j, const V& total, const S& torque_i,
                    const S& torque_j) __attribute__((always_inline)) {
       if (!shared || !shared[i]) {
-        force[i] += total;
-        torque[i] += torque_i;
+        load[i].force += total;
+        load[i].torque += torque_i;
       } else {
         deferred->push_back({i, total, torque_i});
       }
       if (!shared || !shared[j]) {
-        force[j] -= total;  // a - b is a + (-b): the deferred sum below is the same
-        torque[j] += torque_j;
+        load[j].force -= total;  // a - b is a + (-b): the deferred sum below is the same
+        load[j].torque += torque_j;
       } else {
         deferred->push_back({j, V(-total), torque_j});
       }
@@ -320,8 +319,7 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
       __builtin_prefetch(&v[i_ahead]);
       __builtin_prefetch(&w[i_ahead]);
       if (fetch_masses) __builtin_prefetch(&inv_mass[j_ahead]);
-      __builtin_prefetch(&force[j_ahead], 1);
-      __builtin_prefetch(&torque[j_ahead], 1);
+      __builtin_prefetch(&load[j_ahead], 1);  // force and torque: one line
     };
     // Entry e of a block's list, for both second passes: fetches a few entries
     // ahead (the contacts are sparse in the candidate arrays), clears a
@@ -489,8 +487,8 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
       for (std::int64_t u = 0; u < nt; ++u)
         for (const Deferred& d : deferred_[u])
           if (d.particle - lo < width) {
-            force[d.particle] += d.force;
-            torque[d.particle] += d.torque;
+            load[d.particle].force += d.force;
+            load[d.particle].torque += d.torque;
           }
       if (t == 0) stage_times_.scatter += seconds_since(deferred_start);  // only thread 0 writes
     }
@@ -637,8 +635,7 @@ void Simulation<D>::wall_forces(WallBucket<D, M>& b,
     const double* const inv_mass = p_.inv_mass.data();
     std::uint8_t* const in_contact = slot_in_contact_.data() + offset;
     const bool fused = fused_;
-    V* const force = p_.force.data();
-    S* const torque = p_.torque.data();
+    ForceTorque<D>* const load = p_.force_torque.data();
     const double dt = dt_;
     std::int64_t touching = 0;
     double max_ratio = 0;
@@ -667,8 +664,7 @@ void Simulation<D>::wall_forces(WallBucket<D, M>& b,
         __builtin_prefetch(&radius[ahead]);
         __builtin_prefetch(&v[ahead]);
         __builtin_prefetch(&w_spin[ahead]);
-        __builtin_prefetch(&force[ahead], 1);
-        __builtin_prefetch(&torque[ahead], 1);
+        __builtin_prefetch(&load[ahead], 1);
       }
       const std::uint32_t i = bp[k];
       const Wall<D>& w = walls[bw[k]];
@@ -702,8 +698,8 @@ void Simulation<D>::wall_forces(WallBucket<D, M>& b,
       const V total = f.normal * n + f.tangential;
       const S torque_i = Dim<D>::torque(-(r - overlap) * n, f.tangential);  // at the wall surface
       const double axial = w.axial_moment(lever, total);
-      force[i] += total;
-      torque[i] += torque_i;
+      load[i].force += total;
+      load[i].torque += torque_i;
       if (fused) {
         Wall<D>& reacting = walls_[bw[k]];
         reacting.force -= total;
@@ -829,15 +825,12 @@ void Simulation<D>::observe(bool contacts_logged) {
 // ----------------------------------------------------------------------------
 template <int D>
 void Simulation<D>::zero_forces() {
-  V* const force = p_.force.data();
-  S* const torque = p_.torque.data();
+  ForceTorque<D>* const load = p_.force_torque.data();
   const std::int64_t n = static_cast<std::int64_t>(p_.size());
   const int threads = thread_count();
-  over_particles(!fused_ && threads > 1 && n >= parallel_min_particles_, threads, n,
-                 [&](std::int64_t lo, std::int64_t hi) {
-                   std::fill(force + lo, force + hi, V::Zero());
-                   std::fill(torque + lo, torque + hi, Dim<D>::zero_spin());
-                 });
+  over_particles(
+      !fused_ && threads > 1 && n >= parallel_min_particles_, threads, n,
+      [&](std::int64_t lo, std::int64_t hi) { std::fill(load + lo, load + hi, ForceTorque<D>{}); });
 }
 
 template <int D>
@@ -889,8 +882,7 @@ void Simulation<D>::integrate() {
     V* const x = p_.position.data();
     V* const v = p_.velocity.data();
     S* const w = p_.spin.data();
-    V* const force = p_.force.data();
-    const S* const torque = p_.torque.data();
+    ForceTorque<D>* const load = p_.force_torque.data();
     const V* const x_rebuild = position_at_rebuild_.data();
     const double* const mass = p_.mass.data();
     const double* const inv_mass = p_.inv_mass.data();
@@ -903,11 +895,11 @@ void Simulation<D>::integrate() {
     for (std::int64_t i = begin; i < end; ++i) {
       if constexpr (Fixed)
         if (fixed[i]) continue;  // immobile: its contact force stays for reports
-      if constexpr (Body) force[i] += body_.force(mass[i], x[i]);
+      if constexpr (Body) load[i].force += body_.force(mass[i], x[i]);
       // The new state in registers first: a step that makes it non-finite is
       // not stored, so the failure report writes the last finite state.
-      const V v_new = v[i] + force[i] * (inv_mass[i] * h);  // Eq. 4.8
-      V x_new = v_new * h + x[i];                           // Eq. 4.9
+      const V v_new = v[i] + load[i].force * (inv_mass[i] * h);  // Eq. 4.8
+      V x_new = v_new * h + x[i];                                // Eq. 4.9
       V moved_by = x_new - x_rebuild[i];
       if constexpr (Periodic) {
         double& coordinate = x_new[periodicity.axis];
@@ -918,7 +910,8 @@ void Simulation<D>::integrate() {
       const double moved = moved_by.squaredNorm();
       if (!(moved <= max_moved)) {  // also true for NaN
         if (!std::isfinite(moved) ||
-            (Spins && !std::isfinite(Dim<D>::spin_sq(w[i] + torque[i] * (inv_inertia[i] * h))))) {
+            (Spins &&
+             !std::isfinite(Dim<D>::spin_sq(w[i] + load[i].torque * (inv_inertia[i] * h))))) {
           if (i < first_bad) first_bad = i;
           continue;
         }
@@ -926,7 +919,7 @@ void Simulation<D>::integrate() {
       }
       v[i] = v_new;
       x[i] = x_new;
-      if constexpr (Spins) w[i] += torque[i] * (inv_inertia[i] * h);  // no friction: no torque
+      if constexpr (Spins) w[i] += load[i].torque * (inv_inertia[i] * h);  // no friction: no torque
     }
     max_sq_out = max_moved;
     bad_out = first_bad;
@@ -1144,7 +1137,8 @@ void Simulation<D>::report_non_finite(std::size_t index) {
   fail(fmt::format(
       "step {} (t = {:.6g} s): particle {} has a non-finite position, velocity or "
       "spin (force {} {}){}; time step {:.4g} s; the output keeps its last finite state",
-      step_, time_, pid, p_.force[index][0], p_.force[index][1], detail, dt_));
+      step_, time_, pid, p_.force_torque[index].force[0], p_.force_torque[index].force[1], detail,
+      dt_));
 }
 
 template <int D>
@@ -1179,7 +1173,7 @@ void Simulation<D>::sort_particles() {
     auto copy = v;
     for (std::size_t k = 0; k < n; ++k) v[k] = copy[perm[k]];
   };
-  apply(p_.position), apply(p_.velocity), apply(p_.force), apply(p_.spin), apply(p_.torque);
+  apply(p_.position), apply(p_.velocity), apply(p_.force_torque), apply(p_.spin);
   apply(p_.radius), apply(p_.inv_mass), apply(p_.inv_inertia), apply(p_.mass), apply(p_.id);
   apply(p_.material), apply(p_.fixed);
   for (std::size_t k = 0; k < n; ++k) p_.index_of_id[p_.id[k]] = static_cast<std::int32_t>(k);

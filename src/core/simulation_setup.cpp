@@ -89,7 +89,7 @@ void Simulation<D>::remove_particle(std::int64_t id) {
     v[i] = v[last];
     v.pop_back();
   };
-  erase(p_.position), erase(p_.velocity), erase(p_.force), erase(p_.spin), erase(p_.torque);
+  erase(p_.position), erase(p_.velocity), erase(p_.force_torque), erase(p_.spin);
   erase(p_.radius), erase(p_.inv_mass), erase(p_.inv_inertia), erase(p_.mass), erase(p_.id);
   erase(p_.material), erase(p_.fixed), erase(position_at_rebuild_);
   p_.index_of_id[id] = -1;
@@ -565,7 +565,7 @@ Triple Simulation<D>::spin(std::int64_t id) const {
 }
 template <int D>
 Triple Simulation<D>::force(std::int64_t id) const {
-  return to_triple(p_.force[checked(id)]);
+  return to_triple(p_.force_torque[checked(id)].force);
 }
 template <int D>
 void Simulation<D>::set_position(std::int64_t id, const Triple& x) {

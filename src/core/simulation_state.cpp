@@ -153,8 +153,14 @@ StateBlob Simulation<D>::save_state() const {
   s.doubles["particles.position"] = flatten(p_.position);
   s.doubles["particles.velocity"] = flatten(p_.velocity);
   s.doubles["particles.spin"] = flatten(p_.spin);
-  s.doubles["particles.force"] = flatten(p_.force);
-  s.doubles["particles.torque"] = flatten(p_.torque);
+  {
+    std::vector<V> force(p_.size());
+    std::vector<S> torque(p_.size());
+    for (std::size_t i = 0; i < p_.size(); ++i)
+      force[i] = p_.force_torque[i].force, torque[i] = p_.force_torque[i].torque;
+    s.doubles["particles.force"] = flatten(force);
+    s.doubles["particles.torque"] = flatten(torque);
+  }
   s.doubles["particles.radius"] = p_.radius;
   s.doubles["particles.mass"] = p_.mass;
   s.doubles["particles.inv_mass"] = p_.inv_mass;
@@ -288,8 +294,15 @@ void Simulation<D>::load_state(const StateBlob& s) {
   unflatten(s.d("particles.position"), p_.position, n, "particles.position");
   unflatten(s.d("particles.velocity"), p_.velocity, n, "particles.velocity");
   unflatten(s.d("particles.spin"), p_.spin, n, "particles.spin");
-  unflatten(s.d("particles.force"), p_.force, n, "particles.force");
-  unflatten(s.d("particles.torque"), p_.torque, n, "particles.torque");
+  {
+    std::vector<V> force;
+    std::vector<S> torque;
+    unflatten(s.d("particles.force"), force, n, "particles.force");
+    unflatten(s.d("particles.torque"), torque, n, "particles.torque");
+    p_.force_torque.resize(n);
+    for (std::size_t i = 0; i < n; ++i)
+      p_.force_torque[i].force = force[i], p_.force_torque[i].torque = torque[i];
+  }
   unflatten(s.d("particles.position_at_rebuild"), position_at_rebuild_, n,
             "particles.position_at_rebuild");
   p_.radius = s.d("particles.radius");
