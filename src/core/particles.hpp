@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/hot_array.hpp"
 #include "core/types.hpp"
 
 namespace granule {
@@ -26,12 +27,12 @@ struct Particles {
   using V = Vec<D>;
   using S = Spin<D>;
   // hot
-  std::vector<V> position, velocity;
-  std::vector<S> spin;
-  std::vector<ForceTorque<D>> force_torque;  // summed anew every step
-  std::vector<double> radius, inv_mass, inv_inertia;
+  HotArray<V> position, velocity;
+  HotArray<S> spin;
+  HotArray<ForceTorque<D>> force_torque;  // summed anew every step
+  HotArray<double> radius, inv_mass, inv_inertia;
   // cold
-  std::vector<double> mass;  // kg, also for fixed particles (reported, not integrated)
+  HotArray<double> mass;  // kg, also for fixed particles (read by the integration for gravity)
   std::vector<std::int64_t> id;
   std::vector<std::int32_t> material;
   std::vector<std::uint8_t> fixed;        // immobile, infinite mass

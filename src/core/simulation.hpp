@@ -25,7 +25,7 @@ namespace granule {
 // in slot order.
 template <int D>
 struct StepList {
-  std::vector<std::uint32_t> entries;
+  HotArray<std::uint32_t> entries;
   std::size_t count = 0;
   std::vector<std::uint32_t> b;  // wall contacts: the wall
   std::vector<Vec<D>> force;     // on the particle (on the wall: minus it)
@@ -50,8 +50,9 @@ template <int D, typename M>
 struct PairBucket {
   static constexpr bool is_pair = true;
   using History = typename M::template History<D>;
-  std::vector<std::uint32_t> i, j, slot;
-  std::vector<History> history;
+  // Streamed by the contact loop every step: in huge pages (hot_array.hpp).
+  HotArray<std::uint32_t> i, j, slot;
+  HotArray<History> history;
   std::vector<std::int64_t> id_i, id_j;  // cold: for carrying histories across rebuilds
   // The parameter slot every candidate shares (one law for the whole bucket),
   // -1 when they differ, -2 until pair_forces looks (set again when the slots change).
@@ -74,6 +75,14 @@ struct PairBucket {
   bool ranges_moved = false;  // since the lists were built (then rebalance() may act at once)
   int ran_team = 0;           // the threads OpenMP gave the last step's loop
   double contact_weight = 12;
+  // Pruned lists (pair_forces): per thread, the candidates of its range that
+  // were in contact or within the prune distance of touching when noted, in
+  // increasing k; valid while no two particles can have closed that distance.
+  std::vector<HotArray<std::uint32_t>> near;
+  std::vector<std::int64_t> near_split;  // the ranges they were noted for
+  int near_team = 0;
+  bool near_valid = false;  // cleared by a rebuild and by every global prune
+  bool near_pays = false;   // short enough to repay the extra index per candidate
   void reset_busy(int team) {
     busy_seconds.assign(team, 0.0), busy_candidates.assign(team, 0.0);
     busy_listed.assign(team, 0.0);
@@ -235,7 +244,7 @@ class Simulation final : public SimulationBase {
   // the last step, and its place in the contact log. Each particle's force is
   // the sum of its contacts' in slot order whatever the number of threads.
   std::size_t slot_count_ = 0;
-  std::vector<std::uint8_t> slot_in_contact_;  // 0: history cleared
+  HotArray<std::uint8_t> slot_in_contact_;  // 0: history cleared
   bool fused_ = true;  // this step adds contact forces to particles directly (one thread)
   // More threads (pair_forces): the contributions to particles that two
   // threads' candidate ranges share (PairBucket::shared), per thread in its
@@ -252,14 +261,22 @@ class Simulation final : public SimulationBase {
   int next_diagnostic_id_ = 1;
   bool tracking_ = false;  // an attached diagnostic needs contact events
   OutputSink* sink_ = nullptr;
-  std::vector<V> position_at_rebuild_;
+  HotArray<V> position_at_rebuild_;
   double max_displacement_sq_ = 0;
   bool any_fixed_ = true;  // a fixed particle exists (refreshed at every list rebuild)
   bool lists_valid_ = false;
   std::size_t rebuilds_ = 0;
   std::int64_t rebalances_ = 0;  // moves of the threads' shares of pair contacts (rebalance)
+  // Pruning (pair_forces): how far any particle can have moved since the pair
+  // lists were last pruned all at once (the fastest speed of each step times
+  // dt, summed), whether this step prunes them all, and how many prunes so far.
+  double prune_travel_ = 0;
+  bool prune_due_ = true;
+  std::int64_t prunes_ = 0;
+  double prune_distance() const { return 0.25 * skin_; }
   // per-step counters
   std::int64_t contacts_particle_ = 0, contacts_wall_ = 0, contacts_batched_ = 0;
+  std::int64_t candidates_visited_ = 0;  // by the pair loops' listing passes
   double max_overlap_ratio_ = 0;
   std::size_t non_finite_index_ = SIZE_MAX;
   std::string dt_governing_pair_;  // the pair whose rule sets the automatic time step

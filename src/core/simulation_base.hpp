@@ -81,6 +81,13 @@ struct GlobalStats {
   // times the threads' shares of the pair contacts were moved to even out their
   // work (more than one thread; see Simulation::rebalance)
   std::int64_t thread_rebalances = 0;
+  // times the pair lists were pruned (set_pruning): all of them at once when
+  // the particles may have closed the prune distance, one bucket at a time
+  // after a rebuild or a rebalance
+  std::int64_t pair_list_prunes = 0;
+  // pair candidates the last step's listing pass visited: all of them, or
+  // those the pruned lists kept
+  std::int64_t pair_candidates_visited = 0;
 };
 
 // One contact as the last step saw it (recorded only when asked for).
@@ -176,6 +183,12 @@ class SimulationBase {
   // 3D pair contacts of a model with a batched kernel take it (default), or
   // one contact at a time: the same results to round-off (tests compare the two).
   void set_batched_contacts(bool on) { batched_contacts_ = on; }
+  // Pruned pair lists (default on): between prunes the contact loop's listing
+  // pass visits only the candidates that were within a quarter of the skin of
+  // touching (or in contact) when last pruned, and no particle can have closed
+  // that gap since. The results are the same bit for bit either way.
+  void set_pruning(bool on) { pruning_ = on; }
+  bool pruning() const { return pruning_; }
   bool record_contacts() const { return record_contacts_; }
   void set_warning_handler(std::function<void(const std::string&)> f) { warn_ = std::move(f); }
 
@@ -293,6 +306,7 @@ class SimulationBase {
   int threads_ = 0;
   std::int64_t parallel_min_candidates_ = 32768, parallel_min_particles_ = 16384;
   bool batched_contacts_ = true;
+  bool pruning_ = true;
   bool prepared_ = false;
   double time_ = 0;
   std::int64_t step_ = 0;

@@ -397,7 +397,7 @@ void Simulation<D>::prepare() {
   if (skin_set_ > 0) {
     skin_ = skin_set_;
   } else if (p_.size()) {
-    std::vector<double> r = p_.radius;
+    std::vector<double> r(p_.radius.begin(), p_.radius.end());
     std::nth_element(r.begin(), r.begin() + r.size() / 2, r.end());
     skin_ = 0.5 * r[r.size() / 2];
   }
@@ -593,7 +593,7 @@ typename SimulationBase::FlatState Simulation<D>::flat_state() const {
   FlatState s;
   const std::size_t n = p_.size();
   s.id = p_.id;
-  s.radius = p_.radius;
+  s.radius.assign(p_.radius.begin(), p_.radius.end());
   s.material = p_.material;
   s.fixed = p_.fixed;
   s.position.resize(n * D);
@@ -645,6 +645,8 @@ GlobalStats Simulation<D>::stats() const {
   g.candidate_pairs = static_cast<std::int64_t>(slot_count_);
   g.list_rebuilds = static_cast<std::int64_t>(rebuilds_);
   g.thread_rebalances = rebalances_;
+  g.pair_list_prunes = prunes_;
+  g.pair_candidates_visited = candidates_visited_;
   return g;
 }
 

@@ -17,16 +17,16 @@ namespace granule {
 namespace {
 constexpr std::int64_t state_version = 1;
 
-template <typename T>
-std::vector<std::uint8_t> raw_bytes(const std::vector<T>& v) {
+template <typename T, typename A>
+std::vector<std::uint8_t> raw_bytes(const std::vector<T, A>& v) {
   // Histories are structs of doubles, ints and fixed-size Eigen vectors: plain
   // memory, copied exactly. The element size is saved beside them and checked.
   std::vector<std::uint8_t> out(v.size() * sizeof(T));
   if (!v.empty()) std::memcpy(out.data(), v.data(), out.size());
   return out;
 }
-template <typename T>
-void from_raw_bytes(const std::vector<std::uint8_t>& in, std::vector<T>& v,
+template <typename T, typename A>
+void from_raw_bytes(const std::vector<std::uint8_t>& in, std::vector<T, A>& v,
                     const std::string& what) {
   if (in.size() % sizeof(T) != 0)
     throw InputError(
@@ -36,8 +36,8 @@ void from_raw_bytes(const std::vector<std::uint8_t>& in, std::vector<T>& v,
   v.resize(in.size() / sizeof(T));
   if (!v.empty()) std::memcpy(static_cast<void*>(v.data()), in.data(), in.size());
 }
-template <typename T>
-std::vector<std::int64_t> to_i64(const std::vector<T>& v) {
+template <typename T, typename A>
+std::vector<std::int64_t> to_i64(const std::vector<T, A>& v) {
   return std::vector<std::int64_t>(v.begin(), v.end());
 }
 template <typename T>
@@ -46,15 +46,15 @@ std::vector<T> from_i64(const std::vector<std::int64_t>& v) {
   for (std::size_t k = 0; k < v.size(); ++k) out[k] = static_cast<T>(v[k]);
   return out;
 }
-template <typename V>
-std::vector<double> flatten(const std::vector<V>& v) {
+template <typename V, typename A>
+std::vector<double> flatten(const std::vector<V, A>& v) {
   constexpr int width = sizeof(V) / sizeof(double);
   std::vector<double> out(v.size() * width);
   if (!v.empty()) std::memcpy(out.data(), v.data(), out.size() * sizeof(double));
   return out;
 }
-template <typename V>
-void unflatten(const std::vector<double>& in, std::vector<V>& v, std::size_t count,
+template <typename V, typename A>
+void unflatten(const std::vector<double>& in, std::vector<V, A>& v, std::size_t count,
                const std::string& what) {
   constexpr std::size_t width = sizeof(V) / sizeof(double);
   if (in.size() != count * width)
@@ -161,10 +161,10 @@ StateBlob Simulation<D>::save_state() const {
     s.doubles["particles.force"] = flatten(force);
     s.doubles["particles.torque"] = flatten(torque);
   }
-  s.doubles["particles.radius"] = p_.radius;
-  s.doubles["particles.mass"] = p_.mass;
-  s.doubles["particles.inv_mass"] = p_.inv_mass;
-  s.doubles["particles.inv_inertia"] = p_.inv_inertia;
+  s.doubles["particles.radius"] = flatten(p_.radius);
+  s.doubles["particles.mass"] = flatten(p_.mass);
+  s.doubles["particles.inv_mass"] = flatten(p_.inv_mass);
+  s.doubles["particles.inv_inertia"] = flatten(p_.inv_inertia);
   s.doubles["particles.position_at_rebuild"] = flatten(position_at_rebuild_);
   s.integers["particles.id"] = p_.id;
   s.integers["particles.material"] = to_i64(p_.material);
@@ -305,12 +305,10 @@ void Simulation<D>::load_state(const StateBlob& s) {
   }
   unflatten(s.d("particles.position_at_rebuild"), position_at_rebuild_, n,
             "particles.position_at_rebuild");
-  p_.radius = s.d("particles.radius");
-  p_.mass = s.d("particles.mass");
-  p_.inv_mass = s.d("particles.inv_mass");
-  p_.inv_inertia = s.d("particles.inv_inertia");
-  for (const auto* v : {&p_.radius, &p_.mass, &p_.inv_mass, &p_.inv_inertia})
-    if (v->size() != n) throw InputError("checkpoint: particle arrays differ in length");
+  unflatten(s.d("particles.radius"), p_.radius, n, "particles.radius");
+  unflatten(s.d("particles.mass"), p_.mass, n, "particles.mass");
+  unflatten(s.d("particles.inv_mass"), p_.inv_mass, n, "particles.inv_mass");
+  unflatten(s.d("particles.inv_inertia"), p_.inv_inertia, n, "particles.inv_inertia");
   if (p_.material.size() != n || p_.fixed.size() != n ||
       p_.index_of_id.size() != static_cast<std::size_t>(p_.next_id))
     throw InputError("checkpoint: particle arrays differ in length");
@@ -329,9 +327,12 @@ void Simulation<D>::load_state(const StateBlob& s) {
     if (pl.size() != 2 || pl[1] != static_cast<std::int64_t>(sizeof(H)))
       throw InputError(
           fmt::format("checkpoint: {} histories have another layout (another build?)", M::name));
-    pb.i = from_i64<std::uint32_t>(s.i(pk + "i"));
-    pb.j = from_i64<std::uint32_t>(s.i(pk + "j"));
-    pb.slot = from_i64<std::uint32_t>(s.i(pk + "slot"));
+    const auto assign = [](auto& to, const std::vector<std::uint32_t>& from) {
+      to.assign(from.begin(), from.end());
+    };
+    assign(pb.i, from_i64<std::uint32_t>(s.i(pk + "i")));
+    assign(pb.j, from_i64<std::uint32_t>(s.i(pk + "j")));
+    assign(pb.slot, from_i64<std::uint32_t>(s.i(pk + "slot")));
     pb.id_i = s.i(pk + "id_i");
     pb.id_j = s.i(pk + "id_j");
     pb.offset = static_cast<std::size_t>(pl[0]);

@@ -676,7 +676,7 @@ int l_remove_hook(lua_State* L) {
   });
 }
 
-// sim:set { skin =, time_step =, steps_per_contact =, threads = }: change numerical
+// sim:set { skin =, time_step =, steps_per_contact =, threads =, pruning = }: change numerical
 // settings between runs (the next run re-checks the scene and rebuilds its lists).
 int l_set(lua_State* L) {
   return protect(L, [](lua_State* L) {
@@ -687,6 +687,7 @@ int l_set(lua_State* L) {
     if (t.has("time_step")) s.sim->set_time_step(t.number("time_step"));
     if (t.has("steps_per_contact")) s.sim->set_steps_per_contact(t.number("steps_per_contact"));
     if (t.has("threads")) s.sim->set_threads(static_cast<int>(t.integer("threads")));
+    if (t.has("pruning")) s.sim->set_pruning(t.boolean("pruning", true));
     t.finish();
     return 0;
   });
@@ -843,6 +844,8 @@ int l_stats(lua_State* L) {
     set("candidate_pairs", static_cast<double>(g.candidate_pairs));
     set("list_rebuilds", static_cast<double>(g.list_rebuilds));
     set("thread_rebalances", static_cast<double>(g.thread_rebalances));
+    set("pair_list_prunes", static_cast<double>(g.pair_list_prunes));
+    set("pair_candidates_visited", static_cast<double>(g.pair_candidates_visited));
     return 1;
   });
 }

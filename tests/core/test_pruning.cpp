@@ -1,0 +1,204 @@
+// Pruned pair lists (Simulation::set_pruning) change which candidates the
+// contact loop's listing pass looks at, never what it finds: runs with and
+// without them agree bit for bit. The scenes are granular gases in closed
+// boxes, under gravity, so contacts keep forming between particles that were
+// far apart (beyond the prune distance) when the lists were last pruned, and
+// the lists are pruned again and again between rebuilds.
+#include <catch2/catch.hpp>
+#include <cstring>
+#include <string>
+
+#include "core/simulation.hpp"
+
+using namespace granule;
+
+namespace {
+// Walls on both sides of each axis, facing in: [0, side]^D.
+template <int D>
+void add_walls(Simulation<D>& sim, double side) {
+  for (int axis = 0; axis < D; ++axis) {
+    WallSpec lo, hi;
+    lo.name = "lo" + std::to_string(axis), hi.name = "hi" + std::to_string(axis);
+    lo.material = hi.material = 1;
+    Triple n{0, 0, 0};
+    n[axis] = 1;
+    lo.normal = n;
+    n[axis] = -1;
+    hi.normal = n;
+    hi.point[axis] = side;
+    sim.add_wall(lo), sim.add_wall(hi);
+  }
+}
+
+// A gas of `count` spheres (discs in 2D) with random velocities up to 1 m/s.
+template <int D>
+void gas(Simulation<D>& sim, const std::string& model, int count) {
+  sim.set_warning_handler([](const std::string&) {});
+  const bool adhesive = model == "thornton_jkr";
+  sim.add_material({"p", 2500, 1e7, 0.3, adhesive ? 0.5 : 0.0});
+  sim.add_material({"w", 0, 1e7, 0.3, 0});
+  ParamValues law{{"friction", 0.3}};  // Thornton's laws: the materials' elasticity
+  if (model == "linear") law = {{"k_normal", 1e3}, {"restitution", 0.5}, {"friction", 0.4}};
+  if (model == "walton_braun") law = {{"k_load", 1e3}, {"restitution", 0.5}, {"friction", 0.4}};
+  sim.set_contact("p", "p", model, law);
+  sim.set_contact("p", "w", model, law);
+  const double side = D == 3 ? 0.008 : 0.02;
+  add_walls(sim, side);
+  FillSpec fill;
+  fill.shape = RegionShape::box;
+  fill.lo = {0, 0, 0};
+  fill.hi = {side, side, D == 3 ? side : 0.0};
+  fill.count = count;
+  fill.radius_min = 0.2e-3, fill.radius_max = 0.3e-3;
+  fill.material = 0;
+  fill.seed = 11;
+  fill.max_speed = adhesive ? 0.05 : 1.0;  // slow enough for sticking
+  fill.allow_overlap = false;
+  sim.fill(fill);
+  sim.set_gravity({0, D == 3 ? 0.0 : -9.81, D == 3 ? -9.81 : 0.0});
+  // Adhesive: the smallest skin the engine allows (twice the distance a JKR
+  // contact holds on to), so contacts stretch past the prune distance (a
+  // quarter of the skin) and the pruned lists keep them because they are in
+  // contact, not because they are near.
+  if (adhesive) sim.set_skin(5e-6);  // above 1.5 x 2.18e-6 m, that distance here
+}
+
+struct Outcome {
+  SimulationBase::FlatState state;
+  GlobalStats stats;
+  std::int64_t fewest_visited = -1;  // the fewest pair candidates a step looked at
+};
+
+template <int D>
+Outcome run(const std::string& model, int count, int threads, bool pruning, int steps) {
+  Simulation<D> sim;
+  gas(sim, model, count);
+  sim.set_threads(threads);
+  sim.set_parallel_thresholds(256, 256);  // the parallel paths, on a small scene
+  sim.set_pruning(pruning);
+  Outcome out;
+  for (int s = 0; s < steps; s += 10) {
+    sim.advance(10);
+    const GlobalStats g = sim.stats();
+    if (out.fewest_visited < 0 || g.pair_candidates_visited < out.fewest_visited)
+      out.fewest_visited = g.pair_candidates_visited;
+  }
+  out.state = sim.flat_state();
+  out.stats = sim.stats();
+  return out;
+}
+
+void check_same(const Outcome& a, const Outcome& b) {
+  REQUIRE(a.state.id == b.state.id);
+  CHECK(std::memcmp(a.state.position.data(), b.state.position.data(),
+                    a.state.position.size() * sizeof(double)) == 0);
+  CHECK(std::memcmp(a.state.velocity.data(), b.state.velocity.data(),
+                    a.state.velocity.size() * sizeof(double)) == 0);
+  CHECK(std::memcmp(a.state.spin.data(), b.state.spin.data(),
+                    a.state.spin.size() * sizeof(double)) == 0);
+  CHECK(a.stats.contacts_particle == b.stats.contacts_particle);
+}
+
+template <int D>
+void compare(const std::string& model, int count, int steps) {
+  for (const int threads : {1, 2}) {
+    INFO(D << "D, " << model << ", " << threads << " thread(s)");
+    const Outcome full = run<D>(model, count, threads, false, steps);
+    const Outcome pruned = run<D>(model, count, threads, true, steps);
+    INFO("rebuilds " << pruned.stats.list_rebuilds << ", prunes " << pruned.stats.pair_list_prunes
+                     << ", candidates " << pruned.stats.candidate_pairs << ", fewest visited "
+                     << pruned.fewest_visited);
+    // The scene does what the test needs: contacts, lists rebuilt, and more
+    // prunes than rebuilds (pruned again between rebuilds, as particles moved).
+    REQUIRE(full.stats.contacts_particle > 20);
+    REQUIRE(pruned.stats.list_rebuilds >= 2);
+    REQUIRE(pruned.stats.pair_list_prunes > pruned.stats.list_rebuilds);
+    // Without pruning every step looks at every pair candidate; with it, some
+    // steps look at fewer (the pruned lists were in use).
+    CHECK(full.stats.pair_list_prunes == 0);
+    CHECK(full.fewest_visited > 0);
+    CHECK(pruned.fewest_visited < full.fewest_visited);
+    check_same(full, pruned);
+  }
+}
+}  // namespace
+
+TEST_CASE("pruning: 3D linear gas, the same bit for bit with and without pruned lists",
+          "[pruning]") {
+  compare<3>("linear", 2000, 3000);
+}
+
+TEST_CASE("pruning: 3D adhesive (JKR) gas, the same bit for bit with and without pruned lists",
+          "[pruning]") {
+  compare<3>("thornton_jkr", 2000, 3000);
+}
+
+TEST_CASE("pruning: 2D Walton-Braun gas, the same bit for bit with and without pruned lists",
+          "[pruning]") {
+  compare<2>("walton_braun", 900, 3000);
+}
+
+TEST_CASE("pruning: an adhesive contact stretched past the prune distance stays in the lists",
+          "[pruning]") {
+  // Pairs of JKR spheres pulled apart at different speeds: each contact holds
+  // on until the surfaces are ~2.2 um apart, past the prune distance (a
+  // quarter of the 5 um skin). The pruned lists keep such a contact because it
+  // is in contact, not because it is near; were it dropped at a prune, its
+  // force would vanish and its spheres would part sooner.
+  const double r = 0.25e-3, skin = 5e-6;
+  bool visited_fewer = false;
+  auto run = [&](bool pruning, int* stretched_prunes) {
+    Simulation<3> sim;
+    sim.set_warning_handler([](const std::string&) {});
+    sim.add_material({"p", 2500, 1e7, 0.3, 0.5});
+    sim.set_contact("p", "p", "thornton_jkr", {{"friction", 0.3}});
+    sim.set_skin(skin);
+    // A step well below the rule's (4.3e-6 s here), so that the spheres move
+    // little per step and the lists live several steps between prunes.
+    sim.set_time_step(2e-7);
+    constexpr int pairs = 8;
+    for (int k = 0; k < pairs; ++k)
+      for (const double side : {-1.0, 1.0}) {
+        ParticleSpec s;
+        s.position = {side * (r - 0.2e-6), k * 4 * r, 0};  // overlapping by 0.4 um
+        s.velocity = {side * (0.05 + 0.02 * k), 0, 0};
+        s.radius = r;
+        s.material = 0;
+        sim.add_particle(s);
+      }
+    // Resting spheres 3 um apart: candidates (within the skin) that the
+    // pruned lists leave out, so that the lists are short enough to be used.
+    for (int k = 0; k < 40; ++k) {
+      ParticleSpec s;
+      s.position = {0, -4 * r, k * (2 * r + 3e-6)};
+      s.radius = r;
+      s.material = 0;
+      sim.add_particle(s);
+    }
+    sim.set_pruning(pruning);
+    for (int s = 0; s < 3000; ++s) {
+      // A contact stretched past the prune distance now, and the lists pruned this step?
+      bool stretched = false;
+      const auto& x = sim.particles().position;
+      for (int k = 0; k < pairs; ++k)
+        stretched |= (x[2 * k + 1] - x[2 * k]).norm() - 2 * r > 0.25 * skin;
+      const auto prunes = sim.stats().pair_list_prunes;
+      sim.advance(1);
+      if (stretched && sim.stats().contacts_particle > 0 && sim.stats().pair_list_prunes > prunes)
+        ++*stretched_prunes;
+      // The pruned lists were in use (fewer candidates looked at than there are).
+      if (sim.stats().pair_candidates_visited < sim.stats().candidate_pairs) visited_fewer = true;
+    }
+    return sim.flat_state();
+  };
+  int unused = 0, stretched_prunes = 0;
+  const auto full = run(false, &unused);
+  const auto pruned = run(true, &stretched_prunes);
+  // The lists were pruned while some contact was stretched past the distance.
+  REQUIRE(stretched_prunes > 0);
+  REQUIRE(visited_fewer);
+  CHECK(std::memcmp(full.position.data(), pruned.position.data(),
+                    full.position.size() * sizeof(double)) == 0);
+  CHECK(std::memcmp(full.velocity.data(), pruned.velocity.data(),
+                    full.velocity.size() * sizeof(double)) == 0);
+}
