@@ -24,6 +24,14 @@
 
 namespace granule {
 
+// AddressSanitizer checks only what operator new hands out: under it, every
+// array takes the ordinary path so that its bounds stay checked.
+#if defined(__linux__) && defined(MADV_HUGEPAGE) && !defined(__SANITIZE_ADDRESS__)
+#define GRANULE_HUGE_PAGES 1
+#else
+#define GRANULE_HUGE_PAGES 0
+#endif
+
 template <typename T>
 struct HugePageAllocator {
   using value_type = T;
@@ -39,7 +47,7 @@ struct HugePageAllocator {
   T* allocate(std::size_t n) {
     if (n > static_cast<std::size_t>(-1) / sizeof(T)) throw std::bad_array_new_length();
     const std::size_t bytes = n * sizeof(T);
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
+#if GRANULE_HUGE_PAGES
     if (bytes >= huge_min_bytes) {
       // A fresh mapping of whole huge pages on a huge-page boundary (the
       // slack around it given back): its first touch faults huge pages in.
@@ -63,7 +71,7 @@ struct HugePageAllocator {
 
   void deallocate(T* p, std::size_t n) noexcept {
     const std::size_t bytes = n * sizeof(T);
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
+#if GRANULE_HUGE_PAGES
     if (bytes >= huge_min_bytes) {
       munmap(p, round_up(bytes));
       return;
