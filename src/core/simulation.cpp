@@ -232,6 +232,8 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
   // on at a gap was in contact when noted). The listing, hence every result,
   // is the same as without pruning. The notes are for this team's ranges.
   const bool pruning = pruning_ && count > 0;
+  // Notes not renewed at a global prune (pruning off meanwhile) are stale.
+  if (!pruning) b.near_valid = false;
   const bool note_near = pruning && (prune_due_ || !b.near_valid || b.near_team != team ||
                                      (team > 1 && b.near_split != b.split));
   const bool use_near = pruning && !note_near && b.near_pays;

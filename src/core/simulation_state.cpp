@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <cstring>
+#include <limits>
 #include <sstream>
 #include <type_traits>
 
@@ -245,6 +246,8 @@ void Simulation<D>::load_state(const StateBlob& s) {
   contact_reach_ = md[10];
   step_ = meta[2];
   rebuilds_ = static_cast<std::size_t>(meta[4]);
+  // Pruned pair lists are not saved (they change no result): note them all afresh.
+  prune_travel_ = std::numeric_limits<double>::infinity();
 
   const auto& props = s.d("materials");
   if (props.size() != 4 * materials_.size()) throw InputError("checkpoint: material properties");
