@@ -1,12 +1,15 @@
-// Storage for the particle arrays that the contact loop reads at random
-// (a contact's partner): std::vector with an allocator that asks Linux for
-// transparent huge pages (2 MiB) on large arrays.
+// Storage for the arrays the contact loop touches every step, the particle
+// arrays it reads at random (a contact's partner) and the candidate arrays it
+// streams: std::vector with an allocator that asks Linux for transparent huge
+// pages (2 MiB) on large arrays.
 //
 // Why: a contact's partner can lie anywhere in memory, and with 4 KiB pages a
-// 100,000-sphere scene's hot arrays span ~3,500 pages, more than the CPU's
-// second-level TLB holds, so many partners cost a page walk besides the cache
-// miss. With 2 MiB pages the same arrays fit in a handful of entries
-// (docs/performance.md, "What made stop 16 faster"). Most distributions set
+// 100,000-sphere scene's particle arrays alone span ~4,000 pages (8 arrays of
+// 0.8-6.4 MB), more than the CPU's second-level TLB holds, so many partners
+// cost a page walk besides the cache miss; and the hardware prefetchers stop
+// at 4 KiB page boundaries in the streamed arrays. With 2 MiB pages the same
+// arrays fit in about a dozen entries (docs/performance.md, "What made stop 16
+// faster"). Most distributions set
 // transparent huge pages to "madvise": a program gets them only where it asks,
 // which is what this allocator does (madvise(MADV_HUGEPAGE) on fresh memory,
 // before the vector first writes it). Elsewhere (THP off, another OS) it is an
@@ -95,7 +98,7 @@ bool operator!=(const HugePageAllocator<T>&, const HugePageAllocator<U>&) {
   return false;
 }
 
-// A particle array the contact loop reads at random.
+// An array the contact loop touches every step (see the top of this file).
 template <typename T>
 using HotArray = std::vector<T, HugePageAllocator<T>>;
 

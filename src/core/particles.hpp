@@ -31,8 +31,8 @@ struct Particles {
   HotArray<S> spin;
   HotArray<ForceTorque<D>> force_torque;  // summed anew every step
   HotArray<double> radius, inv_mass, inv_inertia;
-  // cold
   HotArray<double> mass;  // kg, also for fixed particles (read by the integration for gravity)
+  // cold
   std::vector<std::int64_t> id;
   std::vector<std::int32_t> material;
   std::vector<std::uint8_t> fixed;        // immobile, infinite mass

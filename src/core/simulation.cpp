@@ -234,8 +234,9 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
   const bool pruning = pruning_ && count > 0;
   // Notes not renewed at a global prune (pruning off meanwhile) are stale.
   if (!pruning) b.near_valid = false;
-  const bool note_near = pruning && (prune_due_ || !b.near_valid || b.near_team != team ||
-                                     (team > 1 && b.near_split != b.split));
+  const bool note_near =
+      pruning && (prune_due_ || !b.near_valid || b.near.size() != static_cast<std::size_t>(team) ||
+                  b.near_split != b.split);
   const bool use_near = pruning && !note_near && b.near_pays;
   if (note_near) b.near.resize(team);
   const double prune_distance_m = prune_distance();
@@ -559,7 +560,6 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
   if (note_near) {
     // Notes taken by a smaller team than asked for are not per range: unused.
     b.near_valid = b.ran_team == team;
-    b.near_team = team;
     b.near_split = b.split;
     std::size_t noted = 0;
     for (const auto& near : b.near) noted += near.size();

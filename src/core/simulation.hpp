@@ -75,14 +75,15 @@ struct PairBucket {
   bool ranges_moved = false;  // since the lists were built (then rebalance() may act at once)
   int ran_team = 0;           // the threads OpenMP gave the last step's loop
   double contact_weight = 12;
-  // Pruned lists (pair_forces): per thread, the candidates of its range that
-  // were in contact or within the prune distance of touching when noted, in
-  // increasing k; valid while no two particles can have closed that distance.
+  // Pruned lists (pair_forces): one per thread of the team that noted them,
+  // the candidates of its range that were in contact or within the prune
+  // distance of touching when noted, in increasing k; valid while no two
+  // particles can have closed that distance.
   std::vector<HotArray<std::uint32_t>> near;
   std::vector<std::int64_t> near_split;  // the ranges they were noted for
-  int near_team = 0;
-  bool near_valid = false;  // cleared by a rebuild and by every global prune
-  bool near_pays = false;   // short enough to repay the extra index per candidate
+  // false: note afresh (a new bucket, a step without pruning, a smaller team than asked for)
+  bool near_valid = false;
+  bool near_pays = false;  // short enough to repay the extra index per candidate
   void reset_busy(int team) {
     busy_seconds.assign(team, 0.0), busy_candidates.assign(team, 0.0);
     busy_listed.assign(team, 0.0);

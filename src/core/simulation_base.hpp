@@ -188,7 +188,6 @@ class SimulationBase {
   // touching (or in contact) when last pruned, and no particle can have closed
   // that gap since. The results are the same bit for bit either way.
   void set_pruning(bool on) { pruning_ = on; }
-  bool pruning() const { return pruning_; }
   bool record_contacts() const { return record_contacts_; }
   void set_warning_handler(std::function<void(const std::string&)> f) { warn_ = std::move(f); }
 

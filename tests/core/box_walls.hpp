@@ -1,5 +1,5 @@
-// Six plane walls around [0, side] x [0, side] x [0, height], facing in, of
-// one material: the closed box the 3D engine tests fill.
+// Plane walls around [0, side] x ... x [0, height] (the last axis: z in 3D,
+// y in 2D), facing in, of one material: the closed box the engine tests fill.
 #pragma once
 
 #include <string>
@@ -8,8 +8,9 @@
 
 namespace granule::test {
 
-inline void add_box_walls(Simulation<3>& sim, double side, double height, int material) {
-  for (int axis = 0; axis < 3; ++axis) {
+template <int D>
+void add_box_walls(Simulation<D>& sim, double side, double height, int material) {
+  for (int axis = 0; axis < D; ++axis) {
     WallSpec lo, hi;
     lo.name = "lo" + std::to_string(axis), hi.name = "hi" + std::to_string(axis);
     lo.material = hi.material = material;
@@ -19,7 +20,7 @@ inline void add_box_walls(Simulation<3>& sim, double side, double height, int ma
     n[axis] = -1;
     hi.normal = n;
     hi.point = {0, 0, 0};
-    hi.point[axis] = axis == 2 ? height : side;
+    hi.point[axis] = axis == D - 1 ? height : side;
     sim.add_wall(lo), sim.add_wall(hi);
   }
 }

@@ -8,28 +8,12 @@
 #include <cstring>
 #include <string>
 
+#include "box_walls.hpp"
 #include "core/simulation.hpp"
 
 using namespace granule;
 
 namespace {
-// Walls on both sides of each axis, facing in: [0, side]^D.
-template <int D>
-void add_walls(Simulation<D>& sim, double side) {
-  for (int axis = 0; axis < D; ++axis) {
-    WallSpec lo, hi;
-    lo.name = "lo" + std::to_string(axis), hi.name = "hi" + std::to_string(axis);
-    lo.material = hi.material = 1;
-    Triple n{0, 0, 0};
-    n[axis] = 1;
-    lo.normal = n;
-    n[axis] = -1;
-    hi.normal = n;
-    hi.point[axis] = side;
-    sim.add_wall(lo), sim.add_wall(hi);
-  }
-}
-
 // A gas of `count` spheres (discs in 2D) with random velocities up to 1 m/s.
 template <int D>
 void gas(Simulation<D>& sim, const std::string& model, int count) {
@@ -43,7 +27,7 @@ void gas(Simulation<D>& sim, const std::string& model, int count) {
   sim.set_contact("p", "p", model, law);
   sim.set_contact("p", "w", model, law);
   const double side = D == 3 ? 0.008 : 0.02;
-  add_walls(sim, side);
+  test::add_box_walls(sim, side, side, 1);
   FillSpec fill;
   fill.shape = RegionShape::box;
   fill.lo = {0, 0, 0};

@@ -43,6 +43,9 @@ local tm = sim:timings()
 io.stderr:write(string.format("stages [s]: neighbour %.3f contacts %.3f (of which walls %.3f, fixed-order sums %.3f) diagnostics %.3f integrate %.3f hooks %.3f; thread rebalances %d\n",
   tm.neighbor - tm0.neighbor, tm.force - tm0.force, tm.walls - tm0.walls, tm.scatter - tm0.scatter, tm.diagnostics - tm0.diagnostics,
   tm.integrate - tm0.integrate, tm.hooks - tm0.hooks, sim:stats().thread_rebalances))
+local st = sim:stats()
+io.stderr:write(string.format("pruned pair lists: the last step looked at %d pair candidates (all candidates, walls too: %d); %d prunes, %d list rebuilds so far\n",
+  st.pair_candidates_visited, st.candidate_pairs, st.pair_list_prunes, st.list_rebuilds))
 print(string.format("granule model=linear particles=%d steps=%d wall_s=%.4f particle_steps_per_s=%.4g mean_contacts=%.1f mean_pair_contacts=%.1f",
   sim:stats().particles, p.steps, wall, sim:stats().particles * p.steps / wall,
   contacts / math.max(samples, 1), pair_contacts / math.max(samples, 1)))
