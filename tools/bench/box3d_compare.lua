@@ -3,14 +3,14 @@
 -- r = 1 mm start on a touching cubic lattice in a box with four side walls, fall
 -- onto a floor that shakes vertically (amplitude `amplitude`, frequency
 -- `frequency`), Hooke contacts with friction. Without `state` the scene
--- settles for `settle` s and saves the state; with `state` it loads it and
--- times `steps` steps.
+-- settles for `settle` s (rounded up to whole periods of the floor) and saves
+-- the state; with `state` it loads it and times `steps` steps.
 --   build/granule run tools/bench/box3d_compare.lua -D save=box_state.h5
 --   build/granule run tools/bench/box3d_compare.lua -D state=box_state.h5 -D steps=1000 --threads 2
 local bench = require "granule.bench"
 local p = parameters(bench.parameters {
   layers = { default = 40 },
-  settle = { default = 0.01, unit = "s" },
+  settle = { default = 0.02, unit = "s" },
   save = { default = "" },
   state = { default = "" },
   steps = { default = 1000 },
@@ -20,7 +20,11 @@ local sim = bench.shaken_box(box)
 if p.state == "" then
   box.layers = p.layers
   bench.fill_lattice(sim, box)
-  sim:run { duration = p.settle }
+  -- Whole periods of the floor, so the state is saved with the floor at rest at
+  -- the bottom of its stroke, where every program's floor starts (granule.bench).
+  local settle = p.settle
+  if p.frequency > 0 then settle = math.max(1, math.ceil(p.settle * p.frequency - 1e-9)) / p.frequency end
+  sim:run { duration = settle }
   assert(p.save ~= "", "give -D save=FILE to keep the settled state")
   sim:output { file = p.save, xdmf = false }
   sim:snapshot()
