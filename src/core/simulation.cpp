@@ -486,24 +486,63 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
           batch.geometry();
           M::force_batch(batch.params, batch.history, batch.c);
           batch.totals();
-          for (int l = 0; l < batch.count; ++l) {
-            const std::uint32_t k = batch.k[l], i = batch.i[l], j = batch.j[l];
-            in_contact[k] = 1;
-            batch.history.store(l, hist[k]);
-            add(i, j, V(batch.fx[l], batch.fy[l], batch.fz[l]),
-                S(batch.tix[l], batch.tiy[l], batch.tiz[l]),
-                S(batch.tjx[l], batch.tjy[l], batch.tjz[l]));
-            const double overlap = batch.c.overlap[l];
-            const double r_min = std::min(batch.r_i[l], batch.r_j[l]);
-            if (overlap > max_ratio * r_min) max_ratio = overlap / r_min;
-            if constexpr (Observed) {
-              const V normal(batch.c.nx[l], batch.c.ny[l], batch.c.nz[l]);
-              log_.record(offset + k, static_cast<std::int32_t>(i), static_cast<std::int32_t>(j),
-                          overlap, batch.c.normal_force[l], batch.c.normal_velocity[l], normal,
-                          V(batch.c.ftx[l], batch.c.fty[l], batch.c.ftz[l]),
-                          x[i] - (batch.r_i[l] - 0.5 * overlap) * normal);
+          // The arrays as locals (this closure is not inlined: reached through
+          // it they would be reloaded after every store).
+          ForceTorque<D>* const ft = load;
+          const std::uint8_t* const shared_mark = shared;
+          std::uint8_t* const flags = in_contact;
+          History* const histories = hist;
+          std::vector<Deferred>* const later = deferred;
+          const int lanes_used = batch.count;
+          double worst = max_ratio;
+          // Candidates are listed by i (j > i), so consecutive lanes mostly
+          // share i: its force and torque are summed in registers over the run
+          // and stored once. Bit for bit the same sums: they start from i's
+          // stored values and add the lanes in slot order, and no lane of the
+          // run writes i as its j (j > i).
+          for (int l = 0; l < lanes_used;) {
+            const std::uint32_t i = batch.i[l];
+            const bool i_deferred = shared_mark && shared_mark[i];
+            V force_i = ft[i].force;
+            S torque_i = ft[i].torque;
+            do {
+              const std::uint32_t k = batch.k[l], j = batch.j[l];
+              flags[k] = 1;
+              batch.history.store(l, histories[k]);
+              const V total(batch.fx[l], batch.fy[l], batch.fz[l]);
+              const S t_i(batch.tix[l], batch.tiy[l], batch.tiz[l]);
+              const S t_j(batch.tjx[l], batch.tjy[l], batch.tjz[l]);
+              if (!i_deferred) {
+                force_i += total;
+                torque_i += t_i;
+              } else {
+                later->push_back({i, total, t_i});
+              }
+              if (!shared_mark || !shared_mark[j]) {
+                ft[j].force -= total;  // a - b is a + (-b): the deferred sum below is the same
+                ft[j].torque += t_j;
+              } else {
+                later->push_back({j, V(-total), t_j});
+              }
+              const double overlap = batch.c.overlap[l];
+              const double r_min = std::min(batch.r_i[l], batch.r_j[l]);
+              if (overlap > worst * r_min) worst = overlap / r_min;
+              if constexpr (Observed) {
+                const V normal(batch.c.nx[l], batch.c.ny[l], batch.c.nz[l]);
+                log_.record(offset + k, static_cast<std::int32_t>(i), static_cast<std::int32_t>(j),
+                            overlap, batch.c.normal_force[l], batch.c.normal_velocity[l], normal,
+                            V(batch.c.ftx[l], batch.c.fty[l], batch.c.ftz[l]),
+                            x[i] - (batch.r_i[l] - 0.5 * overlap) * normal);
+              }
+              ++l;
+            } while (l < lanes_used && batch.i[l] == i);
+            if (!i_deferred) {
+              ft[i].force = force_i;
+              ft[i].torque = torque_i;
             }
           }
+          touching += lanes_used;
+          max_ratio = worst;
           batch.count = 0;
         };
         auto gather = [&](std::size_t e_begin, std::size_t e_end) __attribute__((always_inline)) {

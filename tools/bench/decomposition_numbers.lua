@@ -3,11 +3,11 @@
 -- tools/bench/box3d_compare.lua (the same walls, contacts and shaking floor),
 -- particle-steps per second, neighbour-list rebuilds and their cost, candidate
 -- pairs and contacts per particle, and resident memory per particle.
---   /usr/bin/python3 tools/bench/compare.py --case box3d --threads 1   # writes bench_work/box_50x50x40.h5
---   build/granule run tools/bench/decomposition_numbers.lua -D state=bench_work/box_50x50x40.h5 --threads 1 -q
+--   /usr/bin/python3 tools/bench/compare.py --case box3d --threads 1   # writes bench_work/box_50x50x40_settled0.02s.h5
+--   build/granule run tools/bench/decomposition_numbers.lua -D state=bench_work/box_50x50x40_settled0.02s.h5 --threads 1 -q
 local bench = require "granule.bench"
 local p = parameters(bench.parameters {
-  state = { default = "", doc = "settled box from tools/bench/compare.py (box_<side>x<side>x<layers>.h5)" },
+  state = { default = "", doc = "settled box from tools/bench/compare.py (box_<side>x<side>x<layers>_settled<time>s.h5)" },
   per_side = { default = 50, doc = "spheres per side of the box the state holds" },
   steps = { default = 2000 },
 })
