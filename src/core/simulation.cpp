@@ -495,11 +495,12 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
           std::vector<Deferred>* const later = deferred;
           const int lanes_used = batch.count;
           double worst = max_ratio;
-          // Candidates are listed by i (j > i), so consecutive lanes mostly
-          // share i: its force and torque are summed in registers over the run
+          // The cell grid lists candidates particle by particle, so consecutive
+          // lanes often share i (unless the pair's orientation by id swapped
+          // it): its force and torque are summed in registers over such a run
           // and stored once. Bit for bit the same sums: they start from i's
           // stored values and add the lanes in slot order, and no lane of the
-          // run writes i as its j (j > i).
+          // run writes i as its j (a pair's particles differ).
           for (int l = 0; l < lanes_used;) {
             const std::uint32_t i = batch.i[l];
             const bool i_deferred = shared_mark && shared_mark[i];
