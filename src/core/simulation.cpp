@@ -342,22 +342,25 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
         }
       }
     };
-    // A contact's force and torques onto i and j: at once, or deferred for a
-    // particle two threads' ranges share (added after the barrier below).
+    // A force and torque onto particle p: at once, or deferred when two
+    // threads' ranges share p (added after the barrier below). The arrays come
+    // as arguments: reached through a closure (the batch's flush is not
+    // inlined) they would be reloaded after every store.
+    auto add_to = [](ForceTorque<D>* const ft, const std::uint8_t* const shared_mark,
+                     std::vector<Deferred>* const later, std::uint32_t p, const V& force,
+                     const S& torque) __attribute__((always_inline)) {
+      if (!shared_mark || !shared_mark[p]) {
+        ft[p].force += force;
+        ft[p].torque += torque;
+      } else {
+        later->push_back({p, force, torque});
+      }
+    };
+    // A contact's force and torques onto i and j (j feels -total; a + (-b) is a - b).
     auto add = [&](std::uint32_t i, std::uint32_t j, const V& total, const S& torque_i,
                    const S& torque_j) __attribute__((always_inline)) {
-      if (!shared || !shared[i]) {
-        load[i].force += total;
-        load[i].torque += torque_i;
-      } else {
-        deferred->push_back({i, total, torque_i});
-      }
-      if (!shared || !shared[j]) {
-        load[j].force -= total;  // a - b is a + (-b): the deferred sum below is the same
-        load[j].torque += torque_j;
-      } else {
-        deferred->push_back({j, V(-total), torque_j});
-      }
+      add_to(load, shared, deferred, i, total, torque_i);
+      add_to(load, shared, deferred, j, V(-total), torque_j);
       ++touching;
     };
     // Fetches ahead the data of the contact `distance` entries on in the list.
@@ -486,8 +489,7 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
           batch.geometry();
           M::force_batch(batch.params, batch.history, batch.c);
           batch.totals();
-          // The arrays as locals (this closure is not inlined: reached through
-          // it they would be reloaded after every store).
+          // The arrays as locals (this closure is not inlined: see add_to).
           ForceTorque<D>* const ft = load;
           const std::uint8_t* const shared_mark = shared;
           std::uint8_t* const flags = in_contact;
@@ -519,12 +521,7 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
               } else {
                 later->push_back({i, total, t_i});
               }
-              if (!shared_mark || !shared_mark[j]) {
-                ft[j].force -= total;  // a - b is a + (-b): the deferred sum below is the same
-                ft[j].torque += t_j;
-              } else {
-                later->push_back({j, V(-total), t_j});
-              }
+              add_to(ft, shared_mark, later, j, V(-total), t_j);
               const double overlap = batch.c.overlap[l];
               const double r_min = std::min(batch.r_i[l], batch.r_j[l]);
               if (overlap > worst * r_min) worst = overlap / r_min;
