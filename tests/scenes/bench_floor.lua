@@ -7,11 +7,12 @@
 -- drop (docs/performance.md). A sphere resting on the floor rides with it
 -- (peak acceleration A w^2 = 0.5 g < g, so it never leaves).
 local bench = require "granule.bench"
-local amplitude, frequency, radius = 5e-5, 50, 1e-3
-local sim = bench.shaken_box { per_side = 5, amplitude = amplitude, frequency = frequency, radius = radius }
+local amplitude, frequency, radius, density, k_normal = 5e-5, 50, 1e-3, 2500, 1e4
+local sim = bench.shaken_box { per_side = 5, amplitude = amplitude, frequency = frequency, radius = radius,
+                               density = density, k_normal = k_normal }
 local omega = 2 * math.pi * frequency
-local mass = 4 / 3 * math.pi * radius ^ 3 * 2500
-local sag = mass * 9.81 / 1e4 -- the resting overlap, m g / k_normal
+local mass = 4 / 3 * math.pi * radius ^ 3 * density
+local sag = mass * 9.81 / k_normal -- the resting overlap, m g / k_normal
 local id = sim:add_particle { position = { 0.005, 0.005, radius - sag }, radius = radius, material = "glass" }
 
 -- Floor: its integrated position may lag the closed form by O(A w dt) per

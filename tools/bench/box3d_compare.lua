@@ -48,6 +48,12 @@ io.stderr:write(string.format("stages [s]: neighbour %.3f contacts %.3f (of whic
   tm.neighbor - tm0.neighbor, tm.force - tm0.force, tm.walls - tm0.walls, tm.scatter - tm0.scatter, tm.diagnostics - tm0.diagnostics,
   tm.integrate - tm0.integrate, tm.hooks - tm0.hooks, sim:stats().thread_rebalances))
 local st = sim:stats()
+-- The pair loop's cost per pair contact (contact stage less walls and the
+-- fixed-order sums, per contact and step): docs/performance.md compares boxes
+-- of several sizes by it.
+local pair_seconds = (tm.force - tm0.force) - (tm.walls - tm0.walls) - (tm.scatter - tm0.scatter)
+io.stderr:write(string.format("pair loop: %.1f ns per pair contact and step\n",
+  1e9 * pair_seconds / math.max(1, p.steps * pair_contacts / math.max(samples, 1))))
 io.stderr:write(string.format("pruned pair lists: the last step looked at %d pair candidates (all candidates, walls too: %d); %d prunes, %d list rebuilds so far\n",
   st.pair_candidates_visited, st.candidate_pairs, st.pair_list_prunes, st.list_rebuilds))
 print(string.format("granule model=linear particles=%d steps=%d wall_s=%.4f particle_steps_per_s=%.4g mean_contacts=%.1f mean_pair_contacts=%.1f",
