@@ -160,7 +160,12 @@ struct LinearSpringDashpot {
       h.sqrt_mass = sqrt_mass[l];
     }
     void pad(int l) { sx[l] = sy[l] = sz[l] = 0, sqrt_mass[l] = 1; }
+    // History3 is these four doubles in this order: the engine may move a
+    // contact's history to and from its lane as one row (pair_batch.hpp).
+    static constexpr bool four_doubles = true;
+    double* column(int q) { return q == 0 ? sx : q == 1 ? sy : q == 2 ? sz : sqrt_mass; }
   };
+  static_assert(sizeof(History3) == 4 * sizeof(double), "History3 as one row of four doubles");
 
   // Each lane's parameters: one law's values for every lane (Uniform), or
   // arrays with a value per lane (a batch that mixes material pairs).

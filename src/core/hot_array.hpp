@@ -42,14 +42,19 @@ struct HugePageAllocator {
   static constexpr std::size_t huge_min_bytes = std::size_t{1} << 20;
   static constexpr std::size_t huge_page = std::size_t{2} << 20;
   static constexpr std::size_t small_alignment = alignof(T) > 64 ? alignof(T) : 64;
+  // Readable bytes past the last element: the batched pair loop loads a 3D
+  // vector (24 bytes) as four doubles (32 bytes, one instruction) and drops
+  // the fourth, so the last particle's vector must be followed by 8 more bytes.
+  static constexpr std::size_t tail_bytes = 32;
 
   HugePageAllocator() = default;
   template <typename U>
   HugePageAllocator(const HugePageAllocator<U>&) noexcept {}
 
   T* allocate(std::size_t n) {
-    if (n > static_cast<std::size_t>(-1) / sizeof(T)) throw std::bad_array_new_length();
-    const std::size_t bytes = n * sizeof(T);
+    if (n > (static_cast<std::size_t>(-1) - tail_bytes) / sizeof(T))
+      throw std::bad_array_new_length();
+    const std::size_t bytes = n * sizeof(T) + tail_bytes;
 #if GRANULE_HUGE_PAGES
     if (bytes >= huge_min_bytes) {
       // A fresh mapping of whole huge pages on a huge-page boundary (the
@@ -73,7 +78,7 @@ struct HugePageAllocator {
   }
 
   void deallocate(T* p, std::size_t n) noexcept {
-    const std::size_t bytes = n * sizeof(T);
+    const std::size_t bytes = n * sizeof(T) + tail_bytes;
 #if GRANULE_HUGE_PAGES
     if (bytes >= huge_min_bytes) {
       munmap(p, round_up(bytes));

@@ -7,10 +7,29 @@
 
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 
 #include "contact/contact_batch.hpp"
+#include "core/particles.hpp"
+
+#if defined(__AVX2__) && defined(__FMA__)
+#include <immintrin.h>
+// Lanes gathered as whole vectors and turned into the lane arrays in
+// registers (gather_lane, transpose_in); without AVX2 and FMA the pair loop
+// stores each value into its lane array (the portable build).
+#define GRANULE_BATCH_RECORDS 1
+#else
+#define GRANULE_BATCH_RECORDS 0
+#endif
 
 namespace granule {
+
+// Does a model's batch history say its History is one row of four doubles
+// (BatchHistory::four_doubles, with column(q) its lane arrays)?
+template <typename H, typename = void>
+struct history_is_row : std::false_type {};
+template <typename H>
+struct history_is_row<H, std::enable_if_t<H::four_doubles>> : std::true_type {};
 
 template <typename M>
 struct PairBatch {
@@ -29,6 +48,156 @@ struct PairBatch {
   alignas(64) double fx[lanes], fy[lanes], fz[lanes];
   alignas(64) double tix[lanes], tiy[lanes], tiz[lanes];
   alignas(64) double tjx[lanes], tjy[lanes], tjz[lanes];
+
+  // The history: as one row of four doubles where the model's is
+  // (history_is_row and this build's rows), else through the model's load/store.
+#if GRANULE_BATCH_RECORDS
+  static constexpr bool history_row = history_is_row<typename M::BatchHistory>::value;
+#else
+  static constexpr bool history_row = false;
+#endif
+  using History3 = typename M::template History<3>;
+
+  // Lane l from its contact: the two particles' position, velocity and spin
+  // vectors, radii, 1/m_i + 1/m_j (or 1 when the law does not need it this
+  // step: batch_needs_mass) and the contact's history.
+  void gather_lane(int l, const Vec<3>& x_i, const Vec<3>& x_j, const Vec<3>& v_i,
+                   const Vec<3>& v_j, const Vec<3>& w_i, const Vec<3>& w_j, double radius_i,
+                   double radius_j, double inv_mass_sum, const History3& h) {
+#if GRANULE_BATCH_RECORDS
+    // Each vector read as four doubles (the arrays are readable 8 bytes past
+    // their last element, hot_array.hpp) and each row stored whole.
+    const __m256d ri = _mm256_set1_pd(radius_i), rj = _mm256_set1_pd(radius_j);
+    const __m256d d = _mm256_sub_pd(_mm256_loadu_pd(x_i.data()), _mm256_loadu_pd(x_j.data()));
+    const __m256d v = _mm256_sub_pd(_mm256_loadu_pd(v_j.data()), _mm256_loadu_pd(v_i.data()));
+    const __m256d s = _mm256_fmadd_pd(rj, _mm256_loadu_pd(w_j.data()),
+                                      _mm256_mul_pd(ri, _mm256_loadu_pd(w_i.data())));
+    _mm256_store_pd(row[l], _mm256_blend_pd(d, ri, 8));
+    _mm256_store_pd(row[l] + 4, _mm256_blend_pd(v, rj, 8));
+    _mm256_store_pd(row[l] + 8, _mm256_blend_pd(s, _mm256_set1_pd(inv_mass_sum), 8));
+    if constexpr (history_row)
+      _mm256_store_pd(row[l] + 12, _mm256_loadu_pd(reinterpret_cast<const double*>(&h)));
+    else
+      history.load(l, h);
+#else
+    const Vec<3> d = x_i - x_j, v = v_j - v_i, s = radius_i * w_i + radius_j * w_j;
+    dx[l] = d[0], dy[l] = d[1], dz[l] = d[2];
+    vx[l] = v[0], vy[l] = v[1], vz[l] = v[2];
+    wx[l] = s[0], wy[l] = s[1], wz[l] = s[2];
+    r_i[l] = radius_i, r_j[l] = radius_j;
+    c.inv_mass_sum[l] = inv_mass_sum;
+    history.load(l, h);
+#endif
+  }
+  // Component `axis` of lane l's x_i - x_j, for the periodic wrap.
+  double& separation(int l, int axis) {
+#if GRANULE_BATCH_RECORDS
+    return row[l][axis];
+#else
+    return axis == 0 ? dx[l] : axis == 1 ? dy[l] : dz[l];
+#endif
+  }
+
+  // Before geometry(): the gathered rows into the lane arrays.
+  void lanes_in() {
+#if GRANULE_BATCH_RECORDS
+    for (int l = 0; l < count; l += 4) {
+      rows_to_lanes(l, 0, dx, dy, dz, r_i);
+      rows_to_lanes(l, 1, vx, vy, vz, r_j);
+      rows_to_lanes(l, 2, wx, wy, wz, c.inv_mass_sum);
+      if constexpr (history_row)
+        rows_to_lanes(l, 3, history.column(0), history.column(1), history.column(2),
+                      history.column(3));
+    }
+#endif
+  }
+  // After totals(): the results into rows, (force on i, 0), (torque on i, 0),
+  // (torque on j, 0) and the history, so that each is added or stored whole.
+  void lanes_out() {
+#if GRANULE_BATCH_RECORDS
+    alignas(32) static constexpr double zero[4] = {0, 0, 0, 0};
+    for (int l = 0; l < count; l += 4) {
+      lanes_to_rows(l, 0, fx, fy, fz, zero, 0);
+      lanes_to_rows(l, 1, tix, tiy, tiz, zero, 0);
+      lanes_to_rows(l, 2, tjx, tjy, tjz, zero, 0);
+      if constexpr (history_row)
+        lanes_to_rows(l, 3, history.column(0), history.column(1), history.column(2),
+                      history.column(3), 1);
+    }
+#endif
+  }
+  // Lane l's updated history into its contact's.
+  void store_history(int l, History3& h) const {
+#if GRANULE_BATCH_RECORDS
+    if constexpr (history_row) {
+      _mm256_storeu_pd(reinterpret_cast<double*>(&h), _mm256_load_pd(row[l] + 12));
+      return;
+    }
+#endif
+    history.store(l, h);
+  }
+
+  // A particle's force and torque being summed over a run of lanes (held in
+  // registers), and the lanes' results added to it or to a partner.
+#if GRANULE_BATCH_RECORDS
+  struct Sum {
+    __m256d force, torque;  // the fourth double of each stays 0
+  };
+  static Sum load_sum(const ForceTorque<3>& p) {
+    return {_mm256_load_pd(p.force.data()), _mm256_load_pd(p.torque.data())};
+  }
+  static void store_sum(ForceTorque<3>& p, const Sum& sum) {
+    _mm256_store_pd(p.force.data(), sum.force);
+    _mm256_store_pd(p.torque.data(), sum.torque);
+  }
+  void add_i(Sum& sum, int l) const {  // i feels the force
+    sum.force = _mm256_add_pd(sum.force, _mm256_load_pd(row[l]));
+    sum.torque = _mm256_add_pd(sum.torque, _mm256_load_pd(row[l] + 4));
+  }
+  void add_j(ForceTorque<3>& p, int l) const {  // j feels minus it (a + (-b) is a - b)
+    _mm256_store_pd(p.force.data(),
+                    _mm256_sub_pd(_mm256_load_pd(p.force.data()), _mm256_load_pd(row[l])));
+    _mm256_store_pd(p.torque.data(),
+                    _mm256_add_pd(_mm256_load_pd(p.torque.data()), _mm256_load_pd(row[l] + 8)));
+  }
+  Vec<3> force_on_i(int l) const {
+    return Vec<3>(row[l][0], row[l][1], row[l][2]);
+  }
+  Vec<3> torque_on_i(int l) const {
+    return Vec<3>(row[l][4], row[l][5], row[l][6]);
+  }
+  Vec<3> torque_on_j(int l) const {
+    return Vec<3>(row[l][8], row[l][9], row[l][10]);
+  }
+#else
+  struct Sum {
+    Vec<3> force, torque;
+  };
+  static Sum load_sum(const ForceTorque<3>& p) {
+    return {p.force, p.torque};
+  }
+  static void store_sum(ForceTorque<3>& p, const Sum& sum) {
+    p.force = sum.force;
+    p.torque = sum.torque;
+  }
+  void add_i(Sum& sum, int l) const {
+    sum.force += force_on_i(l);
+    sum.torque += torque_on_i(l);
+  }
+  void add_j(ForceTorque<3>& p, int l) const {
+    p.force += Vec<3>(-force_on_i(l));
+    p.torque += torque_on_j(l);
+  }
+  Vec<3> force_on_i(int l) const {
+    return Vec<3>(fx[l], fy[l], fz[l]);
+  }
+  Vec<3> torque_on_i(int l) const {
+    return Vec<3>(tix[l], tiy[l], tiz[l]);
+  }
+  Vec<3> torque_on_j(int l) const {
+    return Vec<3>(tjx[l], tjy[l], tjz[l]);
+  }
+#endif
 
   // A harmless contact in the unused lanes (separated by half a metre, at
   // rest), so that every batch runs the same full-width loops.
@@ -85,6 +254,40 @@ struct PairBatch {
       tjx[l] = lever_j * cx, tjy[l] = lever_j * cy, tjz[l] = lever_j * cz;
     }
   }
+
+ private:
+#if GRANULE_BATCH_RECORDS
+  // Per lane as gathered: rows of four doubles, (x_i - x_j, r_i),
+  // (v_j - v_i, r_j), (r_i w_i + r_j w_j, 1/m_i + 1/m_j) and the history;
+  // after totals() the results in the same place (lanes_out).
+  alignas(64) double row[lanes][16];
+
+  // Row r of lanes l..l+3 into out_q[l..l+3], q = 0..3: a 4x4 transpose in
+  // registers (lanes past count get what pad() then overwrites).
+  void rows_to_lanes(int l, int r, double* out0, double* out1, double* out2, double* out3) {
+    const __m256d q0 = _mm256_load_pd(row[l] + 4 * r), q1 = _mm256_load_pd(row[l + 1] + 4 * r);
+    const __m256d q2 = _mm256_load_pd(row[l + 2] + 4 * r), q3 = _mm256_load_pd(row[l + 3] + 4 * r);
+    const __m256d lo01 = _mm256_unpacklo_pd(q0, q1), hi01 = _mm256_unpackhi_pd(q0, q1);
+    const __m256d lo23 = _mm256_unpacklo_pd(q2, q3), hi23 = _mm256_unpackhi_pd(q2, q3);
+    _mm256_store_pd(out0 + l, _mm256_permute2f128_pd(lo01, lo23, 0x20));
+    _mm256_store_pd(out1 + l, _mm256_permute2f128_pd(hi01, hi23, 0x20));
+    _mm256_store_pd(out2 + l, _mm256_permute2f128_pd(lo01, lo23, 0x31));
+    _mm256_store_pd(out3 + l, _mm256_permute2f128_pd(hi01, hi23, 0x31));
+  }
+  // The inverse: in_q[l..l+3] into row r of lanes l..l+3 (in3 advanced by
+  // l only when `step3`, so a constant zero column can stand in for it).
+  void lanes_to_rows(int l, int r, const double* in0, const double* in1, const double* in2,
+                     const double* in3, int step3) {
+    const __m256d q0 = _mm256_load_pd(in0 + l), q1 = _mm256_load_pd(in1 + l);
+    const __m256d q2 = _mm256_load_pd(in2 + l), q3 = _mm256_load_pd(in3 + step3 * l);
+    const __m256d lo01 = _mm256_unpacklo_pd(q0, q1), hi01 = _mm256_unpackhi_pd(q0, q1);
+    const __m256d lo23 = _mm256_unpacklo_pd(q2, q3), hi23 = _mm256_unpackhi_pd(q2, q3);
+    _mm256_store_pd(row[l] + 4 * r, _mm256_permute2f128_pd(lo01, lo23, 0x20));
+    _mm256_store_pd(row[l + 1] + 4 * r, _mm256_permute2f128_pd(hi01, hi23, 0x20));
+    _mm256_store_pd(row[l + 2] + 4 * r, _mm256_permute2f128_pd(lo01, lo23, 0x31));
+    _mm256_store_pd(row[l + 3] + 4 * r, _mm256_permute2f128_pd(hi01, hi23, 0x31));
+  }
+#endif
 };
 
 }  // namespace granule

@@ -22,6 +22,17 @@ struct alignas(D == 3 ? 64 : 32) ForceTorque {
   Spin<D> torque = Dim<D>::zero_spin();  // N m
 };
 
+// In 3D force and torque each fill half of the line, the fourth double of
+// each left at zero, so that the batched pair loop adds either as one vector
+// of four doubles (pair_batch.hpp).
+template <>
+struct alignas(64) ForceTorque<3> {
+  Vec<3> force = Vec<3>::Zero();  // N
+  double force_pad = 0;
+  Spin<3> torque = Dim<3>::zero_spin();  // N m
+  double torque_pad = 0;
+};
+
 template <int D>
 struct Particles {
   using V = Vec<D>;

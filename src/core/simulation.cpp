@@ -485,10 +485,12 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
         PairBatch<M> batch;
         batch.c.dt = dt;
         auto flush = [&]() {
+          batch.lanes_in();
           batch.pad();
           batch.geometry();
           M::force_batch(batch.params, batch.history, batch.c);
           batch.totals();
+          batch.lanes_out();
           // The arrays as locals (this closure is not inlined: see add_to).
           ForceTorque<D>* const ft = load;
           const std::uint8_t* const shared_mark = shared;
@@ -506,22 +508,19 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
           for (int l = 0; l < lanes_used;) {
             const std::uint32_t i = batch.i[l];
             const bool i_deferred = shared_mark && shared_mark[i];
-            V force_i = ft[i].force;
-            S torque_i = ft[i].torque;
+            auto sum_i = PairBatch<M>::load_sum(ft[i]);
             do {
               const std::uint32_t k = batch.k[l], j = batch.j[l];
               flags[k] = 1;
-              batch.history.store(l, histories[k]);
-              const V total(batch.fx[l], batch.fy[l], batch.fz[l]);
-              const S t_i(batch.tix[l], batch.tiy[l], batch.tiz[l]);
-              const S t_j(batch.tjx[l], batch.tjy[l], batch.tjz[l]);
-              if (!i_deferred) {
-                force_i += total;
-                torque_i += t_i;
-              } else {
-                later->push_back({i, total, t_i});
-              }
-              add_to(ft, shared_mark, later, j, V(-total), t_j);
+              batch.store_history(l, histories[k]);
+              if (!i_deferred)
+                batch.add_i(sum_i, l);
+              else
+                later->push_back({i, batch.force_on_i(l), batch.torque_on_i(l)});
+              if (!shared_mark || !shared_mark[j])
+                batch.add_j(ft[j], l);
+              else
+                later->push_back({j, V(-batch.force_on_i(l)), batch.torque_on_j(l)});
               const double overlap = batch.c.overlap[l];
               const double r_min = std::min(batch.r_i[l], batch.r_j[l]);
               if (overlap > worst * r_min) worst = overlap / r_min;
@@ -534,33 +533,37 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
               }
               ++l;
             } while (l < lanes_used && batch.i[l] == i);
-            if (!i_deferred) {
-              ft[i].force = force_i;
-              ft[i].torque = torque_i;
-            }
+            if (!i_deferred) PairBatch<M>::store_sum(ft[i], sum_i);
           }
           touching += lanes_used;
           max_ratio = worst;
           batch.count = 0;
         };
+        // Each lane read from its contact's particles (gather_lane); only
+        // the listing's entry is decoded here (open_entry's d would be
+        // computed again in the lane).
         auto gather = [&](std::size_t e_begin, std::size_t e_end) __attribute__((always_inline)) {
           for (std::size_t e = e_begin; e < e_end; ++e) {
-            std::int64_t k;
-            std::uint32_t i, j;
-            V d;
-            if (!open_entry(e, e_end, k, i, j, d)) continue;
-            const V v_rel = v[j] - v[i];
-            const S spin_sum = radius[i] * w[i] + radius[j] * w[j];
+            if (prefetch && e + prefetch_distance < e_end)
+              prefetch_contact(listing[e + prefetch_distance] >> 1);
+            const std::uint32_t entry = listing[e];
+            const std::uint32_t k = entry >> 1;
+            if (!(entry & 1)) {  // the history was in use: clear it once
+              hist[k] = History{};
+              in_contact[k] = 0;
+              continue;
+            }
+            const std::uint32_t i = bi[k], j = bj[k];
             const int l = batch.count++;
-            batch.k[l] = static_cast<std::uint32_t>(k), batch.i[l] = i, batch.j[l] = j;
+            batch.k[l] = k, batch.i[l] = i, batch.j[l] = j;
             batch.params[l] = &par_of[one_law ? b.law : bslot[k]];
-            batch.dx[l] = d[0], batch.dy[l] = d[1], batch.dz[l] = d[2];
-            batch.vx[l] = v_rel[0], batch.vy[l] = v_rel[1], batch.vz[l] = v_rel[2];
-            batch.wx[l] = spin_sum[0], batch.wy[l] = spin_sum[1], batch.wz[l] = spin_sum[2];
-            batch.r_i[l] = radius[i], batch.r_j[l] = radius[j];
             const History& h = hist[k];
-            batch.c.inv_mass_sum[l] = batch_needs_mass<M>(h) ? inv_mass[i] + inv_mass[j] : 1.0;
-            batch.history.load(l, h);
+            batch.gather_lane(l, x[i], x[j], v[i], v[j], w[i], w[j], radius[i], radius[j],
+                              batch_needs_mass<M>(h) ? inv_mass[i] + inv_mass[j] : 1.0, h);
+            if (periodic_on) {
+              double& along = batch.separation(l, periodic_axis);
+              along = periodic.wrap(along);
+            }
             if (batch.count == batch.lanes) flush();
           }
         };
