@@ -137,29 +137,33 @@ struct PairBatch {
     history.store(l, h);
   }
 
-  // A particle's force and torque being summed over a run of lanes (held in
-  // registers), and the lanes' results added to it or to a partner.
+  // Lane l's results onto its particles: i feels the force, j minus it
+  // (a + (-b) is a - b), each its own torque.
+  void add_i(ForceTorque<3>& p, int l) const {
 #if GRANULE_BATCH_RECORDS
-  struct Sum {
-    __m256d force, torque;  // the fourth double of each stays 0
-  };
-  static Sum load_sum(const ForceTorque<3>& p) {
-    return {_mm256_load_pd(p.force.data()), _mm256_load_pd(p.torque.data())};
+    // Force and torque each as one vector (ForceTorque<3>: four doubles each,
+    // the fourth staying 0 as the rows' fourth is 0).
+    _mm256_store_pd(p.force.data(),
+                    _mm256_add_pd(_mm256_load_pd(p.force.data()), _mm256_load_pd(row[l])));
+    _mm256_store_pd(p.torque.data(),
+                    _mm256_add_pd(_mm256_load_pd(p.torque.data()), _mm256_load_pd(row[l] + 4)));
+#else
+    p.force += force_on_i(l);
+    p.torque += torque_on_i(l);
+#endif
   }
-  static void store_sum(ForceTorque<3>& p, const Sum& sum) {
-    _mm256_store_pd(p.force.data(), sum.force);
-    _mm256_store_pd(p.torque.data(), sum.torque);
-  }
-  void add_i(Sum& sum, int l) const {  // i feels the force
-    sum.force = _mm256_add_pd(sum.force, _mm256_load_pd(row[l]));
-    sum.torque = _mm256_add_pd(sum.torque, _mm256_load_pd(row[l] + 4));
-  }
-  void add_j(ForceTorque<3>& p, int l) const {  // j feels minus it (a + (-b) is a - b)
+  void add_j(ForceTorque<3>& p, int l) const {
+#if GRANULE_BATCH_RECORDS
     _mm256_store_pd(p.force.data(),
                     _mm256_sub_pd(_mm256_load_pd(p.force.data()), _mm256_load_pd(row[l])));
     _mm256_store_pd(p.torque.data(),
                     _mm256_add_pd(_mm256_load_pd(p.torque.data()), _mm256_load_pd(row[l] + 8)));
+#else
+    p.force += Vec<3>(-force_on_i(l));
+    p.torque += torque_on_j(l);
+#endif
   }
+#if GRANULE_BATCH_RECORDS
   Vec<3> force_on_i(int l) const {
     return Vec<3>(row[l][0], row[l][1], row[l][2]);
   }
@@ -170,24 +174,6 @@ struct PairBatch {
     return Vec<3>(row[l][8], row[l][9], row[l][10]);
   }
 #else
-  struct Sum {
-    Vec<3> force, torque;
-  };
-  static Sum load_sum(const ForceTorque<3>& p) {
-    return {p.force, p.torque};
-  }
-  static void store_sum(ForceTorque<3>& p, const Sum& sum) {
-    p.force = sum.force;
-    p.torque = sum.torque;
-  }
-  void add_i(Sum& sum, int l) const {
-    sum.force += force_on_i(l);
-    sum.torque += torque_on_i(l);
-  }
-  void add_j(ForceTorque<3>& p, int l) const {
-    p.force += Vec<3>(-force_on_i(l));
-    p.torque += torque_on_j(l);
-  }
   Vec<3> force_on_i(int l) const {
     return Vec<3>(fx[l], fy[l], fz[l]);
   }

@@ -499,41 +499,29 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
           std::vector<Deferred>* const later = deferred;
           const int lanes_used = batch.count;
           double worst = max_ratio;
-          // The cell grid lists candidates particle by particle, so consecutive
-          // lanes often share i (unless the pair's orientation by id swapped
-          // it): its force and torque are summed in registers over such a run
-          // and stored once. Bit for bit the same sums: they start from i's
-          // stored values and add the lanes in slot order, and no lane of the
-          // run writes i as its j (a pair's particles differ).
-          for (int l = 0; l < lanes_used;) {
-            const std::uint32_t i = batch.i[l];
-            const bool i_deferred = shared_mark && shared_mark[i];
-            auto sum_i = PairBatch<M>::load_sum(ft[i]);
-            do {
-              const std::uint32_t k = batch.k[l], j = batch.j[l];
-              flags[k] = 1;
-              batch.store_history(l, histories[k]);
-              if (!i_deferred)
-                batch.add_i(sum_i, l);
-              else
-                later->push_back({i, batch.force_on_i(l), batch.torque_on_i(l)});
-              if (!shared_mark || !shared_mark[j])
-                batch.add_j(ft[j], l);
-              else
-                later->push_back({j, V(-batch.force_on_i(l)), batch.torque_on_j(l)});
-              const double overlap = batch.c.overlap[l];
-              const double r_min = std::min(batch.r_i[l], batch.r_j[l]);
-              if (overlap > worst * r_min) worst = overlap / r_min;
-              if constexpr (Observed) {
-                const V normal(batch.c.nx[l], batch.c.ny[l], batch.c.nz[l]);
-                log_.record(offset + k, static_cast<std::int32_t>(i), static_cast<std::int32_t>(j),
-                            overlap, batch.c.normal_force[l], batch.c.normal_velocity[l], normal,
-                            V(batch.c.ftx[l], batch.c.fty[l], batch.c.ftz[l]),
-                            x[i] - (batch.r_i[l] - 0.5 * overlap) * normal);
-              }
-              ++l;
-            } while (l < lanes_used && batch.i[l] == i);
-            if (!i_deferred) PairBatch<M>::store_sum(ft[i], sum_i);
+          // Each lane's results onto its particles at once, in slot order.
+          for (int l = 0; l < lanes_used; ++l) {
+            const std::uint32_t k = batch.k[l], i = batch.i[l], j = batch.j[l];
+            flags[k] = 1;
+            batch.store_history(l, histories[k]);
+            if (!shared_mark || !shared_mark[i])
+              batch.add_i(ft[i], l);
+            else
+              later->push_back({i, batch.force_on_i(l), batch.torque_on_i(l)});
+            if (!shared_mark || !shared_mark[j])
+              batch.add_j(ft[j], l);
+            else
+              later->push_back({j, V(-batch.force_on_i(l)), batch.torque_on_j(l)});
+            const double overlap = batch.c.overlap[l];
+            const double r_min = std::min(batch.r_i[l], batch.r_j[l]);
+            if (overlap > worst * r_min) worst = overlap / r_min;
+            if constexpr (Observed) {
+              const V normal(batch.c.nx[l], batch.c.ny[l], batch.c.nz[l]);
+              log_.record(offset + k, static_cast<std::int32_t>(i), static_cast<std::int32_t>(j),
+                          overlap, batch.c.normal_force[l], batch.c.normal_velocity[l], normal,
+                          V(batch.c.ftx[l], batch.c.fty[l], batch.c.ftz[l]),
+                          x[i] - (batch.r_i[l] - 0.5 * overlap) * normal);
+            }
           }
           touching += lanes_used;
           max_ratio = worst;
