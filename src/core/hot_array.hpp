@@ -78,7 +78,7 @@ struct HugePageAllocator {
   }
 
   void deallocate(T* p, std::size_t n) noexcept {
-    const std::size_t bytes = n * sizeof(T) + tail_bytes;
+    [[maybe_unused]] const std::size_t bytes = n * sizeof(T) + tail_bytes;
 #if GRANULE_HUGE_PAGES
     if (bytes >= huge_min_bytes) {
       munmap(p, round_up(bytes));
