@@ -5,6 +5,7 @@
 // bucket), or with a third of another material under other laws (a batch
 // then mixes laws lane by lane).
 #include <catch2/catch.hpp>
+#include <cstring>
 
 #include "box_walls.hpp"
 #include "core/simulation.hpp"
@@ -30,8 +31,7 @@ double relative_gap(const std::vector<double>& a, const std::vector<double>& b) 
   return gap / largest;
 }
 
-PileRun run_pile(bool batched, bool mixed, std::int64_t steps, bool record = false) {
-  Simulation<3> sim;
+void build_pile(Simulation<3>& sim, bool batched, bool mixed) {
   sim.set_warning_handler([](const std::string&) {});
   sim.set_batched_contacts(batched);
   sim.add_material({"p", 2500, 0, 0, 0});
@@ -62,6 +62,11 @@ PileRun run_pile(bool batched, bool mixed, std::int64_t steps, bool record = fal
     sim.fill(pile);
   }
   sim.set_gravity({0, 0, -9.81});
+}
+
+PileRun run_pile(bool batched, bool mixed, std::int64_t steps, bool record = false) {
+  Simulation<3> sim;
+  build_pile(sim, batched, mixed);
   sim.set_record_contacts(record);  // the kernels' logging instantiation
   sim.advance(steps);
   return {sim.flat_state(), sim.stats(), record ? sim.contacts() : std::vector<ContactRecord>{}};
@@ -135,4 +140,38 @@ TEST_CASE("pair loop: the batched 3D kernel logs the contacts the per-contact pa
     sliding_or_turning += t > 0;
   }
   CHECK(sliding_or_turning > 10);  // friction is at work, not only normal springs
+}
+
+// The batch adds a force and a torque to a particle as four doubles each
+// (pair_batch.hpp): the fourth of each must stay 0, or the record would carry
+// garbage into whatever reads it whole.
+TEST_CASE("pair loop: the batch leaves the zeros after a particle's force and torque", "[batch]") {
+  static_assert(sizeof(ForceTorque<3>) == 64);
+  ForceTorque<3> record;
+  REQUIRE(reinterpret_cast<char*>(record.torque.data()) - reinterpret_cast<char*>(&record) == 32);
+  Simulation<3> sim;
+  build_pile(sim, true, true);
+  sim.advance(50);
+  REQUIRE(sim.stats().contacts_batched > 100);
+  const auto& ft = sim.particles().force_torque;
+  double largest = 0;
+  for (const auto& p : ft) {
+    REQUIRE(p.force_pad == 0.0);
+    REQUIRE(p.torque_pad == 0.0);
+    largest = std::max(largest, p.force.norm());
+  }
+  CHECK(largest > 0);  // the records were written
+}
+
+// The batch reads a particle's 3-vector as four doubles, so the hot arrays
+// must be readable past their last element (hot_array.hpp). Under
+// AddressSanitizer (GRANULE_SANITIZE) this read fails without that margin.
+TEST_CASE("hot arrays: readable four doubles from the last 3-vector", "[batch]") {
+  for (std::size_t n : {1, 7, 1000, 50000}) {  // ordinary and huge-page allocations
+    HotArray<Vec<3>> v(n, Vec<3>(1, 2, 3));
+    double four[4];
+    std::memcpy(four, v.back().data(), sizeof four);
+    CHECK(four[0] == 1);
+    CHECK(four[2] == 3);
+  }
 }
