@@ -15,7 +15,7 @@
 #if defined(__AVX2__) && defined(__FMA__)
 #include <immintrin.h>
 // Lanes gathered as whole vectors and turned into the lane arrays in
-// registers (gather_lane, transpose_in); without AVX2 and FMA the pair loop
+// registers (gather_lane, lanes_in, lanes_out); without AVX2 and FMA the pair loop
 // stores each value into its lane array (the portable build).
 #define GRANULE_BATCH_RECORDS 1
 #else
