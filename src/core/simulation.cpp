@@ -377,10 +377,10 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
     };
     // Entry e of a block's list, for both second passes: fetches a few entries
     // ahead (the contacts are sparse in the candidate arrays), clears a
-    // history whose contact ended (false), else gives the candidate k, its
-    // particles and their separation x_i - x_j.
-    auto open_entry = [&](std::size_t e, std::size_t e_end, std::int64_t & k, std::uint32_t & i,
-                          std::uint32_t & j, V & d) __attribute__((always_inline)) {
+    // history whose contact ended (false), else gives the candidate k and its
+    // particles.
+    auto open_entry = [&](std::size_t e, std::size_t e_end, std::uint32_t & k, std::uint32_t & i,
+                          std::uint32_t & j) __attribute__((always_inline)) {
       if (prefetch && e + prefetch_distance < e_end)
         prefetch_contact(listing[e + prefetch_distance] >> 1);
       const std::uint32_t entry = listing[e];
@@ -391,8 +391,6 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
         return false;
       }
       i = bi[k], j = bj[k];
-      d = x[i] - x[j];
-      if (periodic_on) d[periodic_axis] = periodic.wrap(d[periodic_axis]);
       return true;
     };
     // Pass 2 works through the block's list while its candidates' and
@@ -401,10 +399,10 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
     // a pointer and reload them after each store (as captured ones, above).
     auto pass2 = [&](std::size_t e_begin, std::size_t e_end) __attribute__((always_inline)) {
       for (std::size_t e = e_begin; e < e_end; ++e) {
-        std::int64_t k;
-        std::uint32_t i, j;
-        V d;
-        if (!open_entry(e, e_end, k, i, j, d)) continue;
+        std::uint32_t k, i, j;
+        if (!open_entry(e, e_end, k, i, j)) continue;
+        V d = x[i] - x[j];
+        if (periodic_on) d[periodic_axis] = periodic.wrap(d[periodic_axis]);
         History& h = hist[k];
         const double r_sum = radius[i] + radius[j];
         // |d| and 1/|d| from a square root and a division that run side by
@@ -527,21 +525,11 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
           max_ratio = worst;
           batch.count = 0;
         };
-        // Each lane read from its contact's particles (gather_lane); only
-        // the listing's entry is decoded here (open_entry's d would be
-        // computed again in the lane).
+        // Each lane read from its contact's particles (gather_lane).
         auto gather = [&](std::size_t e_begin, std::size_t e_end) __attribute__((always_inline)) {
           for (std::size_t e = e_begin; e < e_end; ++e) {
-            if (prefetch && e + prefetch_distance < e_end)
-              prefetch_contact(listing[e + prefetch_distance] >> 1);
-            const std::uint32_t entry = listing[e];
-            const std::uint32_t k = entry >> 1;
-            if (!(entry & 1)) {  // the history was in use: clear it once
-              hist[k] = History{};
-              in_contact[k] = 0;
-              continue;
-            }
-            const std::uint32_t i = bi[k], j = bj[k];
+            std::uint32_t k, i, j;
+            if (!open_entry(e, e_end, k, i, j)) continue;
             const int l = batch.count++;
             batch.k[l] = k, batch.i[l] = i, batch.j[l] = j;
             batch.params[l] = &par_of[one_law ? b.law : bslot[k]];
