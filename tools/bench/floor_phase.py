@@ -37,6 +37,14 @@ Atoms
 
 1 1 0.002 2500 0 0 {z0!r}
 """
+# Both decks end alike: integrate, print the sphere's height every T/8.
+DECK_END = """fix integrate all nve/sphere
+variable zp equal z[1]
+thermo_style custom step v_zp
+thermo_modify format float %.10g
+thermo {eighth}
+run {steps}
+"""
 LAMMPS = """units si
 atom_style sphere
 atom_modify map array
@@ -49,12 +57,6 @@ neighbor 0.0005 bin
 timestep {dt}
 fix gravity all gravity 9.81 vector 0 0 -1
 fix floor all wall/gran hooke/history 1e4 3e3 100 50 0.5 1 zplane 0 NULL wiggle z {a} {period}
-fix integrate all nve/sphere
-variable zp equal z[1]
-thermo_style custom step v_zp
-thermo_modify format float %.10g
-thermo {eighth}
-run {steps}
 """
 LIGGGHTS = """atom_style granular
 atom_modify map array
@@ -76,12 +78,6 @@ fix gravity all gravity 9.81 vector 0.0 0.0 -1.0
 fix floor all mesh/surface file floor.stl type 2
 fix floor_contact all wall/gran model hooke/stiffness tangential history mesh n_meshes 1 meshes floor
 fix shake all move/mesh mesh floor viblin axis 0 0 1 order 1 amplitude {a} phase {phase!r} period {period}
-fix integrate all nve/sphere
-variable zp equal z[1]
-thermo_style custom step v_zp
-thermo_modify format float %.10g
-thermo {eighth}
-run {steps}
 """
 SCENE = """local bench = require "granule.bench"
 local sim = bench.shaken_box {{ per_side = 10, amplitude = {a!r}, frequency = {f!r}, time_step = {dt!r} }}
@@ -136,7 +132,7 @@ def main():
             with open(os.path.join(work, "one.data"), "w") as f:
                 f.write(DATA.format(types=1, z0=Z0))
             with open(os.path.join(work, "in.lmp"), "w") as f:
-                f.write(LAMMPS.format(**common))
+                f.write((LAMMPS + DECK_END).format(**common))
             rows["lammps"] = heights(run(["lmp", "-in", "in.lmp", "-log", "none"], work))
         if shutil.which("liggghts"):
             with open(os.path.join(work, "one.data"), "w") as f:
@@ -144,7 +140,7 @@ def main():
             with open(os.path.join(work, "floor.stl"), "w") as f:
                 f.write(FLOOR)
             with open(os.path.join(work, "in.liggghts"), "w") as f:
-                f.write(LIGGGHTS.format(phase=math.pi, **common))
+                f.write((LIGGGHTS + DECK_END).format(phase=math.pi, **common))
             rows["liggghts"] = heights(run(["liggghts", "-in", "in.liggghts", "-log", "none"], work))
     omega = 2 * math.pi / PERIOD
     print(f"one sphere on the shaking floor (A = {A:g} m, T = {PERIOD:g} s): z - z0 [m]")
