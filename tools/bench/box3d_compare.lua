@@ -7,6 +7,7 @@
 -- the state; with `state` it loads it and times `steps` steps.
 --   build/granule run tools/bench/box3d_compare.lua -D save=box_state.h5
 --   build/granule run tools/bench/box3d_compare.lua -D state=box_state.h5 -D steps=1000 --threads 2
+-- `-D out=FILE` then also writes the final state (to compare two builds' results).
 local bench = require "granule.bench"
 local p = parameters(bench.parameters {
   layers = { default = 40 },
@@ -14,6 +15,7 @@ local p = parameters(bench.parameters {
   save = { default = "" },
   state = { default = "" },
   steps = { default = 1000 },
+  out = { default = "" },  -- with state: write the state after the timed steps here
 })
 local box = bench.options(p)
 local sim = bench.shaken_box(box)
@@ -59,3 +61,8 @@ io.stderr:write(string.format("pruned pair lists: the last step looked at %d pai
 print(string.format("granule model=linear particles=%d steps=%d wall_s=%.4f particle_steps_per_s=%.4g mean_contacts=%.1f mean_pair_contacts=%.1f",
   sim:stats().particles, p.steps, wall, sim:stats().particles * p.steps / wall,
   contacts / math.max(samples, 1), pair_contacts / math.max(samples, 1)))
+if p.out ~= "" then
+  sim:output { file = p.out, xdmf = false }
+  sim:snapshot()
+  sim:close()
+end
