@@ -214,10 +214,21 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
   const std::size_t n = p_.size();
   if (team > 1) {
     if (b.split.size() != static_cast<std::size_t>(team) + 1 || b.shared.size() != n) {
-      std::vector<std::int64_t> equal(team + 1);
-      for (int t = 0; t <= team; ++t) equal[t] = count * t / team;
-      set_split(b, std::move(equal));
-      b.ranges_moved = false;
+      // The ranges carried over from the last lists with their timings
+      // (rebuild_lists), else equal ones.
+      const bool carried = b.split.size() == static_cast<std::size_t>(team) + 1 &&
+                           b.split.front() == 0 && b.split.back() == count &&
+                           b.busy_seconds.size() == static_cast<std::size_t>(team);
+      if (carried) {
+        const auto start = Clock::now();
+        mark_shared(b);
+        stage_times_.scatter += seconds_since(start);
+      } else {
+        std::vector<std::int64_t> equal(team + 1);
+        for (int t = 0; t <= team; ++t) equal[t] = count * t / team;
+        set_split(b, std::move(equal));
+        b.ranges_moved = false;
+      }
     }
     if (deferred_.size() < static_cast<std::size_t>(team)) deferred_.resize(team);
   }
@@ -556,11 +567,10 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
       b.busy_candidates[t] += static_cast<double>(end - begin);
       b.busy_listed[t] += static_cast<double>(listed);
       // The deferred contributions, thread by thread (each in its range's
-      // order): slot order. Each thread adds those to its own range of particles.
+      // order): slot order. Each thread adds those to its own particles (shared_split).
 #pragma omp barrier
       const auto deferred_start = Clock::now();
-      const std::uint32_t lo = static_cast<std::uint32_t>(n * t / nt);
-      const std::uint32_t width = static_cast<std::uint32_t>(n * (t + 1) / nt) - lo;
+      const std::uint32_t lo = b.shared_split[t], width = b.shared_split[t + 1] - lo;
       for (std::int64_t u = 0; u < nt; ++u)
         for (const Deferred& d : deferred_[u])
           if (d.particle - lo < width) {
@@ -590,35 +600,66 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
 }
 
 // Which particles the threads' candidate ranges (b.split) share
-// (pair_forces): those some candidate of two ranges names.
+// (pair_forces): those some candidate of two ranges names, that is, whose
+// first and last naming candidates lie in two ranges (they are contiguous).
 template <int D>
 template <typename M>
 void Simulation<D>::mark_shared(PairBucket<D, M>& b) {
   const std::size_t n = p_.size();
-  const int team = static_cast<int>(b.split.size()) - 1;
-  constexpr std::int32_t none = -1;
-  std::vector<std::int32_t> owner(n, none);  // the range that names it first
-  b.shared.assign(n, 0);
-  for (std::int32_t range = 0; range < team; ++range) {
-    for (std::int64_t k = b.split[range]; k < b.split[range + 1]; ++k)
+  constexpr std::uint32_t none = ~0u;
+  if (b.first_named.size() != n) {  // once per list
+    b.first_named.assign(n, none);
+    b.last_named.assign(n, 0);
+    const std::size_t count = b.size();
+    for (std::size_t k = 0; k < count; ++k)
       for (const std::uint32_t p : {b.i[k], b.j[k]}) {
-        if (owner[p] == none)
-          owner[p] = range;
-        else if (owner[p] != range)
-          b.shared[p] = 1;
+        if (b.first_named[p] == none) b.first_named[p] = static_cast<std::uint32_t>(k);
+        b.last_named[p] = static_cast<std::uint32_t>(k);
       }
+  }
+  const int team = static_cast<int>(b.split.size()) - 1;
+  b.shared.assign(n, 0);
+  std::size_t shared = 0;
+  for (std::size_t p = 0; p < n; ++p) {
+    const std::uint32_t first = b.first_named[p], last = b.last_named[p];
+    if (first == none) continue;
+    // A cut between them (split[r] is where range r starts).
+    for (int r = 1; r < team; ++r)
+      if (static_cast<std::int64_t>(first) < b.split[r] &&
+          b.split[r] <= static_cast<std::int64_t>(last)) {
+        b.shared[p] = 1;
+        ++shared;
+        break;
+      }
+  }
+  // The deferred forces are added thread by thread, each to its own
+  // particles: cut those so that each thread gets its share of the shared
+  // ones (they lie around where the ranges meet, not where the particles'
+  // halves do).
+  b.shared_split.assign(team + 1, static_cast<std::uint32_t>(n));
+  b.shared_split[0] = 0;
+  std::size_t seen = 0;
+  int next = 1;
+  for (std::size_t p = 0; p < n && next < team; ++p) {
+    while (next < team && seen >= shared * next / team)
+      b.shared_split[next++] = static_cast<std::uint32_t>(p);
+    seen += b.shared[p];
   }
 }
 
 // Moves the threads' candidate ranges when one thread is busier than the
-// others (a pile in one part of the candidates). Their cost is modelled as one
-// unit per candidate (the listing pass) and `contact_weight` units per listed
-// contact, the weight fitted to the threads' measured times (it depends on the
-// model and the machine: ~11 for the linear law on this project's machine);
-// the new cut points share this step's candidates and listed contacts out by
-// that cost. At most every 16 steps once the ranges have been set: moving them
-// costs a pass over the candidates (mark_shared). The forces do not depend on
-// where the ranges meet, so neither do the results.
+// others: a pile in one part of the candidates, or a thread the host slows
+// down (the cores are shared). The work is modelled as one unit per candidate
+// (the listing pass) and `contact_weight` units per listed contact, the weight
+// fitted to the threads' measured times (it depends on the model and the
+// machine: ~11 for the linear law on this project's machine). Each thread's
+// pace, units per second over the steps judged, sets its share: the new cut
+// points share this step's candidates and listed contacts out in proportion
+// (so a range whose units cost more, or a slower thread, gets fewer). Judged
+// every 16 steps, acting on a spread of more than 3 % between the busiest
+// thread and the mean: moving the ranges costs a pass over the particles
+// (mark_shared). The forces do not depend on where the ranges meet, so
+// neither do the results.
 template <int D>
 template <typename M>
 void Simulation<D>::rebalance(PairBucket<D, M>& b, int team) {
@@ -630,7 +671,7 @@ void Simulation<D>::rebalance(PairBucket<D, M>& b, int team) {
     most = std::max(most, b.busy_seconds[t]);
     sum += b.busy_seconds[t];
   }
-  if (!(most * team > 1.08 * sum)) {
+  if (!(most * team > 1.03 * sum)) {
     if (b.busy_steps >= 4 * min_interval) b.reset_busy(team);  // judge recent steps
     return;
   }
@@ -654,13 +695,22 @@ void Simulation<D>::rebalance(PairBucket<D, M>& b, int team) {
   for (const auto& list : b.touched) listed += static_cast<std::int64_t>(list.count);
   const double weight = b.contact_weight;
   const double total = static_cast<double>(count) + weight * static_cast<double>(listed);
+  // The threads' paces, and where each cut falls as a fraction of the total.
+  std::vector<double> share(team + 1, 0.0);
+  bool paced = true;
+  for (int t = 0; t < team; ++t) {
+    const double units = b.busy_candidates[t] + weight * b.busy_listed[t];
+    share[t + 1] = b.busy_seconds[t] > 0 ? units / b.busy_seconds[t] : 0;
+    paced = paced && share[t + 1] > 0 && std::isfinite(share[t + 1]);
+  }
+  for (int t = 1; t <= team; ++t) share[t] = paced ? share[t - 1] + share[t] : t;
   std::vector<std::int64_t> split(team + 1, count);
   split[0] = 0;
   int next = 1;
   std::int64_t listed_before = 0;
   auto cut_until = [&](std::int64_t k) {  // cuts that fall at or before candidate k
     while (next < team && static_cast<double>(k) + weight * static_cast<double>(listed_before) >=
-                              total * next / team)
+                              total * share[next] / share[team])
       split[next++] = k;
   };
   for (const auto& list : b.touched)
@@ -1160,6 +1210,19 @@ void Simulation<D>::rebuild_lists() {
     carry_history(
         old, fresh, max_id, tracking_, [](const B& x) -> const auto& { return x.id_i; },
         [&](std::uint32_t o) { return old.id_j[o]; }, [&](std::size_t k) { return fresh.id_j[k]; });
+    // The threads' ranges keep their shares of the candidates, and what
+    // rebalance() has measured of them so far (in a flow the lists are
+    // rebuilt every few steps); pair_forces marks the shared particles afresh.
+    if (old.split.size() > 1 && old.size() > 0) {
+      fresh.split = old.split;
+      for (auto& cut : fresh.split)
+        cut = static_cast<std::int64_t>(static_cast<double>(cut) / static_cast<double>(old.size()) *
+                                        static_cast<double>(fresh.size()));
+      fresh.split.front() = 0, fresh.split.back() = static_cast<std::int64_t>(fresh.size());
+      fresh.busy_seconds = old.busy_seconds, fresh.busy_candidates = old.busy_candidates;
+      fresh.busy_listed = old.busy_listed, fresh.busy_steps = old.busy_steps;
+      fresh.ranges_moved = old.ranges_moved;
+    }
     fresh.offset = slots;
     slots += fresh.size();
   });

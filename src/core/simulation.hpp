@@ -68,6 +68,13 @@ struct PairBucket {
   // changes, moved when the work gathers in one range (pair_forces).
   std::vector<std::int64_t> split;
   std::vector<std::uint8_t> shared;
+  // The first and the last candidate that names each particle (none: ~0u
+  // and 0), found once per list: a particle is shared when they fall in two
+  // ranges, so moving the ranges costs a pass over the particles.
+  std::vector<std::uint32_t> first_named, last_named;
+  // Where each thread's particles start for adding the deferred forces (and
+  // the last end): cut so that each gets as many shared particles.
+  std::vector<std::uint32_t> shared_split;
   // What each thread did since the ranges were last judged (rebalance()), and
   // the cost of a listed contact in candidates, fitted to those times.
   std::vector<double> busy_seconds, busy_candidates, busy_listed;

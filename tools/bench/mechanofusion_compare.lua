@@ -55,9 +55,9 @@ local t0, tm0 = wall_time(), sim:timings()
 sim:run { steps = p.steps }
 local wall = wall_time() - t0
 local tm = sim:timings()
-io.stderr:write(string.format("stages [s]: neighbour %.3f contacts %.3f (of which fixed-order sums %.3f) diagnostics %.3f integrate %.3f hooks %.3f\n",
+io.stderr:write(string.format("stages [s]: neighbour %.3f contacts %.3f (of which fixed-order sums %.3f) diagnostics %.3f integrate %.3f hooks %.3f; thread rebalances %d, list rebuilds %d\n",
   tm.neighbor - tm0.neighbor, tm.force - tm0.force, tm.scatter - tm0.scatter, tm.diagnostics - tm0.diagnostics,
-  tm.integrate - tm0.integrate, tm.hooks - tm0.hooks))
+  tm.integrate - tm0.integrate, tm.hooks - tm0.hooks, sim:stats().thread_rebalances, sim:stats().list_rebuilds))
 print(string.format("granule model=%s particles=%d steps=%d wall_s=%.4f particle_steps_per_s=%.4g mean_contacts=%.1f mean_pair_contacts=%.1f",
   p.model, sim:stats().particles, p.steps, wall, sim:stats().particles * p.steps / wall,
   contacts / math.max(samples, 1), pair_contacts / math.max(samples, 1)))
