@@ -115,14 +115,13 @@ struct PairBatch {
   // (torque on j, 0) and the history, so that each is added or stored whole.
   void lanes_out() {
 #if GRANULE_BATCH_RECORDS
-    alignas(32) static constexpr double zero[4] = {0, 0, 0, 0};
     for (int l = 0; l < count; l += 4) {
-      lanes_to_rows(l, 0, fx, fy, fz, zero, 0);
-      lanes_to_rows(l, 1, tix, tiy, tiz, zero, 0);
-      lanes_to_rows(l, 2, tjx, tjy, tjz, zero, 0);
+      lanes_to_rows(l, 0, fx, fy, fz, nullptr);
+      lanes_to_rows(l, 1, tix, tiy, tiz, nullptr);
+      lanes_to_rows(l, 2, tjx, tjy, tjz, nullptr);
       if constexpr (history_row)
         lanes_to_rows(l, 3, history.column(0), history.column(1), history.column(2),
-                      history.column(3), 1);
+                      history.column(3));
     }
 #endif
   }
@@ -248,30 +247,32 @@ struct PairBatch {
   // after totals() the results in the same place (lanes_out).
   alignas(64) double row[lanes][16];
 
-  // Row r of lanes l..l+3 into out_q[l..l+3], q = 0..3: a 4x4 transpose in
-  // registers (lanes past count get what pad() then overwrites).
-  void rows_to_lanes(int l, int r, double* out0, double* out1, double* out2, double* out3) {
-    const __m256d q0 = _mm256_load_pd(row[l] + 4 * r), q1 = _mm256_load_pd(row[l + 1] + 4 * r);
-    const __m256d q2 = _mm256_load_pd(row[l + 2] + 4 * r), q3 = _mm256_load_pd(row[l + 3] + 4 * r);
+  // A 4x4 transpose in registers: q_k's element m becomes q_m's element k.
+  static void transpose(__m256d& q0, __m256d& q1, __m256d& q2, __m256d& q3) {
     const __m256d lo01 = _mm256_unpacklo_pd(q0, q1), hi01 = _mm256_unpackhi_pd(q0, q1);
     const __m256d lo23 = _mm256_unpacklo_pd(q2, q3), hi23 = _mm256_unpackhi_pd(q2, q3);
-    _mm256_store_pd(out0 + l, _mm256_permute2f128_pd(lo01, lo23, 0x20));
-    _mm256_store_pd(out1 + l, _mm256_permute2f128_pd(hi01, hi23, 0x20));
-    _mm256_store_pd(out2 + l, _mm256_permute2f128_pd(lo01, lo23, 0x31));
-    _mm256_store_pd(out3 + l, _mm256_permute2f128_pd(hi01, hi23, 0x31));
+    q0 = _mm256_permute2f128_pd(lo01, lo23, 0x20);
+    q1 = _mm256_permute2f128_pd(hi01, hi23, 0x20);
+    q2 = _mm256_permute2f128_pd(lo01, lo23, 0x31);
+    q3 = _mm256_permute2f128_pd(hi01, hi23, 0x31);
   }
-  // The inverse: in_q[l..l+3] into row r of lanes l..l+3 (in3 advanced by
-  // l only when `step3`, so a constant zero column can stand in for it).
+  // Row r of lanes l..l+3 into out_q[l..l+3], q = 0..3 (lanes past count get
+  // what pad() then overwrites).
+  void rows_to_lanes(int l, int r, double* out0, double* out1, double* out2, double* out3) {
+    __m256d q0 = _mm256_load_pd(row[l] + 4 * r), q1 = _mm256_load_pd(row[l + 1] + 4 * r);
+    __m256d q2 = _mm256_load_pd(row[l + 2] + 4 * r), q3 = _mm256_load_pd(row[l + 3] + 4 * r);
+    transpose(q0, q1, q2, q3);
+    _mm256_store_pd(out0 + l, q0), _mm256_store_pd(out1 + l, q1);
+    _mm256_store_pd(out2 + l, q2), _mm256_store_pd(out3 + l, q3);
+  }
+  // The inverse: in_q[l..l+3] into row r of lanes l..l+3 (no in3: zeros).
   void lanes_to_rows(int l, int r, const double* in0, const double* in1, const double* in2,
-                     const double* in3, int step3) {
-    const __m256d q0 = _mm256_load_pd(in0 + l), q1 = _mm256_load_pd(in1 + l);
-    const __m256d q2 = _mm256_load_pd(in2 + l), q3 = _mm256_load_pd(in3 + step3 * l);
-    const __m256d lo01 = _mm256_unpacklo_pd(q0, q1), hi01 = _mm256_unpackhi_pd(q0, q1);
-    const __m256d lo23 = _mm256_unpacklo_pd(q2, q3), hi23 = _mm256_unpackhi_pd(q2, q3);
-    _mm256_store_pd(row[l] + 4 * r, _mm256_permute2f128_pd(lo01, lo23, 0x20));
-    _mm256_store_pd(row[l + 1] + 4 * r, _mm256_permute2f128_pd(hi01, hi23, 0x20));
-    _mm256_store_pd(row[l + 2] + 4 * r, _mm256_permute2f128_pd(lo01, lo23, 0x31));
-    _mm256_store_pd(row[l + 3] + 4 * r, _mm256_permute2f128_pd(hi01, hi23, 0x31));
+                     const double* in3) {
+    __m256d q0 = _mm256_load_pd(in0 + l), q1 = _mm256_load_pd(in1 + l);
+    __m256d q2 = _mm256_load_pd(in2 + l), q3 = in3 ? _mm256_load_pd(in3 + l) : _mm256_setzero_pd();
+    transpose(q0, q1, q2, q3);
+    _mm256_store_pd(row[l] + 4 * r, q0), _mm256_store_pd(row[l + 1] + 4 * r, q1);
+    _mm256_store_pd(row[l + 2] + 4 * r, q2), _mm256_store_pd(row[l + 3] + 4 * r, q3);
   }
 #endif
 };
