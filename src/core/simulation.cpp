@@ -218,16 +218,14 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
       // (rebuild_lists), else equal ones.
       const bool carried = b.split.size() == static_cast<std::size_t>(team) + 1 &&
                            b.split.front() == 0 && b.split.back() == count &&
-                           b.busy_seconds.size() == static_cast<std::size_t>(team);
+                           b.pace.seconds.size() == static_cast<std::size_t>(team);
       if (carried) {
-        const auto start = Clock::now();
         mark_shared(b);
-        stage_times_.scatter += seconds_since(start);
       } else {
         std::vector<std::int64_t> equal(team + 1);
         for (int t = 0; t <= team; ++t) equal[t] = count * t / team;
         set_split(b, std::move(equal));
-        b.ranges_moved = false;
+        b.pace.moved = false;
       }
     }
     if (deferred_.size() < static_cast<std::size_t>(team)) deferred_.resize(team);
@@ -563,9 +561,9 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
     if (noting) near->resize(noted);
     if (sharing) {
       // What this thread did, for rebalance(): each thread writes only its own entries.
-      b.busy_seconds[t] += seconds_since(started);
-      b.busy_candidates[t] += static_cast<double>(end - begin);
-      b.busy_listed[t] += static_cast<double>(listed);
+      b.pace.seconds[t] += seconds_since(started);
+      b.pace.candidates[t] += static_cast<double>(end - begin);
+      b.pace.listed[t] += static_cast<double>(listed);
       // The deferred contributions, thread by thread (each in its range's
       // order): slot order. Each thread adds those to its own particles (shared_split).
 #pragma omp barrier
@@ -602,9 +600,11 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
 // Which particles the threads' candidate ranges (b.split) share
 // (pair_forces): those some candidate of two ranges names, that is, whose
 // first and last naming candidates lie in two ranges (they are contiguous).
+// Timed as part of the fixed-order sums (sim:timings().scatter).
 template <int D>
 template <typename M>
 void Simulation<D>::mark_shared(PairBucket<D, M>& b) {
+  const auto start = Clock::now();
   const std::size_t n = p_.size();
   constexpr std::uint32_t none = ~0u;
   if (b.first_named.size() != n) {  // once per list
@@ -645,6 +645,7 @@ void Simulation<D>::mark_shared(PairBucket<D, M>& b) {
       b.shared_split[next++] = static_cast<std::uint32_t>(p);
     seen += b.shared[p];
   }
+  stage_times_.scatter += seconds_since(start);
 }
 
 // Moves the threads' candidate ranges when one thread is busier than the
@@ -664,28 +665,29 @@ template <int D>
 template <typename M>
 void Simulation<D>::rebalance(PairBucket<D, M>& b, int team) {
   constexpr std::int64_t min_interval = 16;
-  ++b.busy_steps;
-  if (b.ranges_moved && b.busy_steps < min_interval) return;
+  ++b.pace.steps;
+  if (b.pace.moved && b.pace.steps < min_interval) return;
   double most = 0, sum = 0;
   for (int t = 0; t < team; ++t) {
-    most = std::max(most, b.busy_seconds[t]);
-    sum += b.busy_seconds[t];
+    most = std::max(most, b.pace.seconds[t]);
+    sum += b.pace.seconds[t];
   }
   if (!(most * team > 1.03 * sum)) {
-    if (b.busy_steps >= 4 * min_interval) b.reset_busy(team);  // judge recent steps
+    if (b.pace.steps >= 4 * min_interval) b.pace.reset(team);  // judge recent steps
     return;
   }
   // Least squares for time = a candidates + c listed over the threads; the
   // weight c / a, blended with the last one, when the threads' mixes differ.
   double cc = 0, cl = 0, ll = 0, ct = 0, lt = 0;
   for (int t = 0; t < team; ++t) {
-    const double c = b.busy_candidates[t], l = b.busy_listed[t], time = b.busy_seconds[t];
+    const double c = b.pace.candidates[t], l = b.pace.listed[t], time = b.pace.seconds[t];
     cc += c * c, cl += c * l, ll += l * l, ct += c * time, lt += l * time;
   }
   const double det = cc * ll - cl * cl;
   if (det > 1e-3 * cc * ll) {
     const double a = (ct * ll - lt * cl) / det, c = (lt * cc - ct * cl) / det;
-    if (a > 0 && c > 0) b.contact_weight = std::clamp(0.5 * (b.contact_weight + c / a), 1.0, 200.0);
+    if (a > 0 && c > 0)
+      b.pace.contact_weight = std::clamp(0.5 * (b.pace.contact_weight + c / a), 1.0, 200.0);
   }
   ++rebalances_;
   // Walk the candidates with the listed ones (in increasing k across the
@@ -693,14 +695,14 @@ void Simulation<D>::rebalance(PairBucket<D, M>& b, int team) {
   const std::int64_t count = static_cast<std::int64_t>(b.size());
   std::int64_t listed = 0;
   for (const auto& list : b.touched) listed += static_cast<std::int64_t>(list.count);
-  const double weight = b.contact_weight;
+  const double weight = b.pace.contact_weight;
   const double total = static_cast<double>(count) + weight * static_cast<double>(listed);
   // The threads' paces, and where each cut falls as a fraction of the total.
   std::vector<double> share(team + 1, 0.0);
   bool paced = true;
   for (int t = 0; t < team; ++t) {
-    const double units = b.busy_candidates[t] + weight * b.busy_listed[t];
-    share[t + 1] = b.busy_seconds[t] > 0 ? units / b.busy_seconds[t] : 0;
+    const double units = b.pace.candidates[t] + weight * b.pace.listed[t];
+    share[t + 1] = b.pace.seconds[t] > 0 ? units / b.pace.seconds[t] : 0;
     paced = paced && share[t + 1] > 0 && std::isfinite(share[t + 1]);
   }
   for (int t = 1; t <= team; ++t) share[t] = paced ? share[t - 1] + share[t] : t;
@@ -720,18 +722,16 @@ void Simulation<D>::rebalance(PairBucket<D, M>& b, int team) {
     }
   cut_until(count);
   set_split(b, std::move(split));
-  b.ranges_moved = true;
+  b.pace.moved = true;
 }
 
 // New ranges for the threads: which particles they share, and fresh timings.
 template <int D>
 template <typename M>
 void Simulation<D>::set_split(PairBucket<D, M>& b, std::vector<std::int64_t> split) {
-  const auto start = Clock::now();
   b.split = std::move(split);
   mark_shared(b);
-  b.reset_busy(static_cast<int>(b.split.size()) - 1);
-  stage_times_.scatter += seconds_since(start);
+  b.pace.reset(static_cast<int>(b.split.size()) - 1);
 }
 
 template <int D>
@@ -1192,7 +1192,7 @@ void Simulation<D>::rebuild_lists() {
     fresh = B{};
     // The step lists' storage only grows; the arrays start at about the old size.
     fresh.touched = std::move(old.touched);
-    fresh.contact_weight = old.contact_weight;        // the machine and model stay
+    fresh.pace = old.pace;  // the machine and model stay (used with a carried split, below)
     for (auto& list : fresh.touched) list.count = 0;  // they named the old candidates
     const std::size_t expect = old.size() + old.size() / 8;
     fresh.i.reserve(expect), fresh.j.reserve(expect), fresh.slot.reserve(expect);
@@ -1219,9 +1219,6 @@ void Simulation<D>::rebuild_lists() {
         cut = static_cast<std::int64_t>(static_cast<double>(cut) / static_cast<double>(old.size()) *
                                         static_cast<double>(fresh.size()));
       fresh.split.front() = 0, fresh.split.back() = static_cast<std::int64_t>(fresh.size());
-      fresh.busy_seconds = old.busy_seconds, fresh.busy_candidates = old.busy_candidates;
-      fresh.busy_listed = old.busy_listed, fresh.busy_steps = old.busy_steps;
-      fresh.ranges_moved = old.ranges_moved;
     }
     fresh.offset = slots;
     slots += fresh.size();

@@ -42,6 +42,20 @@ struct StepList {
   const std::uint32_t* end() const { return entries.data() + count; }
 };
 
+// What each thread of a pair loop did since its range was last judged
+// (Simulation::rebalance), and the cost of a listed contact in candidates,
+// fitted to those times.
+struct ThreadPace {
+  std::vector<double> seconds, candidates, listed;  // per thread
+  std::int64_t steps = 0;
+  bool moved = false;  // the ranges moved since the lists were first built (else judged at once)
+  double contact_weight = 12;
+  void reset(int team) {
+    seconds.assign(team, 0.0), candidates.assign(team, 0.0), listed.assign(team, 0.0);
+    steps = 0;
+  }
+};
+
 // Contacts between particles handled by model M, as flat arrays. A pair is
 // oriented so that id(i) < id(j): the history (force on i) keeps its meaning
 // when particles are re-sorted or lists rebuilt. Entry k is slot `offset + k`
@@ -75,13 +89,9 @@ struct PairBucket {
   // Where each thread's particles start for adding the deferred forces (and
   // the last end): cut so that each gets as many shared particles.
   std::vector<std::uint32_t> shared_split;
-  // What each thread did since the ranges were last judged (rebalance()), and
-  // the cost of a listed contact in candidates, fitted to those times.
-  std::vector<double> busy_seconds, busy_candidates, busy_listed;
-  std::int64_t busy_steps = 0;
-  bool ranges_moved = false;  // since the lists were built (then rebalance() may act at once)
-  int ran_team = 0;           // the threads OpenMP gave the last step's loop
-  double contact_weight = 12;
+  // What rebalance() judges the ranges by; kept over list rebuilds with them.
+  ThreadPace pace;
+  int ran_team = 0;  // the threads OpenMP gave the last step's loop
   // Pruned lists (pair_forces): one per thread of the team that noted them,
   // the candidates of its range that were in contact or within the prune
   // distance of touching when noted, in increasing k; valid while no two
@@ -91,11 +101,6 @@ struct PairBucket {
   // false: note afresh (a new bucket, a step without pruning, a smaller team than asked for)
   bool near_valid = false;
   bool near_pays = false;  // short enough to repay the extra index per candidate
-  void reset_busy(int team) {
-    busy_seconds.assign(team, 0.0), busy_candidates.assign(team, 0.0);
-    busy_listed.assign(team, 0.0);
-    busy_steps = 0;
-  }
   std::size_t size() const { return i.size(); }
 };
 
