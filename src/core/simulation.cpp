@@ -561,13 +561,17 @@ void Simulation<D>::pair_forces(PairBucket<D, M>& b,
     if (noting) near->resize(noted);
     if (sharing) {
       // What this thread did, for rebalance(): each thread writes only its own entries.
-      b.pace.seconds[t] += seconds_since(started);
+      const auto arrived = Clock::now();
+      b.pace.seconds[t] += std::chrono::duration<double>(arrived - started).count();
       b.pace.candidates[t] += static_cast<double>(end - begin);
       b.pace.listed[t] += static_cast<double>(listed);
       // The deferred contributions, thread by thread (each in its range's
       // order): slot order. Each thread adds those to its own particles (shared_split).
 #pragma omp barrier
       const auto deferred_start = Clock::now();
+      const double waited = std::chrono::duration<double>(deferred_start - arrived).count();
+#pragma omp atomic
+      stage_times_.pair_wait += waited;
       const std::uint32_t lo = b.shared_split[t], width = b.shared_split[t + 1] - lo;
       for (std::int64_t u = 0; u < nt; ++u)
         for (const Deferred& d : deferred_[u])

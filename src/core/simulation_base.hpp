@@ -285,6 +285,9 @@ class SimulationBase {
     // forces, summing the reactions on the walls)
     double scatter = 0;
     double walls = 0;  // part of `force`: the particle-wall contacts
+    // threads > 1: thread-seconds the pair loop's threads waited for one
+    // another at its barrier, summed over the threads (how unevenly they finished)
+    double pair_wait = 0;
   };
   const StageTimes& stage_times() const { return stage_times_; }
 

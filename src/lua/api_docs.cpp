@@ -290,8 +290,8 @@ const std::vector<FunctionDoc> entries = {
 {"sim:describe", "simulation", P, "sim:describe() -> string",
  "What this scene simulates: models in use, walls, fields, hooks (the run header).", {}, ""},
 {"sim:dimension", "simulation", P, "sim:dimension() -> 2|3", "The dimension of the simulation.", {}, ""},
-{"sim:timings", "simulation", P, "sim:timings() -> { neighbor =, force =, diagnostics =, integrate =, hooks =, scatter =, walls = }",
- "Wall-clock seconds spent in each stage of the step so far (scatter: the part of force, with more than one thread, that keeps each particle's sum in slot order: marking the particles two threads share, adding their deferred forces, summing the reactions on the walls; walls: the part of force spent on particle-wall contacts).", {}, ""},
+{"sim:timings", "simulation", P, "sim:timings() -> { neighbor =, force =, diagnostics =, integrate =, hooks =, scatter =, walls =, pair_wait = }",
+ "Wall-clock seconds spent in each stage of the step so far (scatter: the part of force, with more than one thread, that keeps each particle's sum in slot order: marking the particles two threads share, adding their deferred forces, summing the reactions on the walls; walls: the part of force spent on particle-wall contacts; pair_wait: with more than one thread, the seconds the threads of the particle-pair loop waited for one another at its barrier, summed over the threads: how unevenly they finished).", {}, ""},
 
 // ---- the granule library (lua/granule/init.lua) ----
 {"granule.pi", "library", V, "granule.pi", "The number pi, 3.14159...", {}},

@@ -944,6 +944,8 @@ int l_timings(lua_State* L) {
     lua_setfield(L, -2, "scatter");
     lua_pushnumber(L, t.walls);
     lua_setfield(L, -2, "walls");
+    lua_pushnumber(L, t.pair_wait);
+    lua_setfield(L, -2, "pair_wait");
     return 1;
   });
 }

@@ -54,6 +54,7 @@ local st = sim:stats()
 -- fixed-order sums, per contact and step): docs/performance.md compares boxes
 -- of several sizes by it.
 local pair_seconds = (tm.force - tm0.force) - (tm.walls - tm0.walls) - (tm.scatter - tm0.scatter)
+io.stderr:write(string.format("threads' waits at the pair loop's barrier: %.3f thread-seconds\n", tm.pair_wait - tm0.pair_wait))
 io.stderr:write(string.format("pair loop: %.1f ns per pair contact and step\n",
   1e9 * pair_seconds / math.max(1, p.steps * pair_contacts / math.max(samples, 1))))
 io.stderr:write(string.format("pruned pair lists: the last step looked at %d pair candidates (all candidates, walls too: %d); %d prunes, %d list rebuilds so far\n",
