@@ -12,6 +12,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -84,7 +85,21 @@ class H5Output {
 
   std::size_t snapshot_count() const;
 
+  // ---- continuing a file (a restarted run) ----
+  // Rows in each series (after flush()): group path -> rows.
+  std::map<std::string, std::int64_t> series_rows() const;
+  // Names of the attributes on an existing group ("/results"); empty if it is absent.
+  std::vector<std::string> attribute_names(const std::string& group_path) const;
+  // Opens an existing file written by H5Output and cuts it back to a mark: the first
+  // `snapshots` snapshots, each listed series at its row count (series not listed are
+  // removed), and on `attribute_group` only the attributes `attributes` (others removed).
+  static std::unique_ptr<H5Output> reopen(const std::string& path, std::size_t snapshots,
+                                          const std::map<std::string, std::int64_t>& series_rows,
+                                          const std::string& attribute_group,
+                                          const std::vector<std::string>& attributes);
+
  private:
+  H5Output();
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

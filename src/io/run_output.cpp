@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <filesystem>
 
 #include "core/errors.hpp"
 
@@ -33,9 +34,11 @@ RunOutput::RunOutput(SimulationBase& sim, RunOutputSettings settings)
   if (settings_.series_every < 0 || !std::isfinite(settings_.series_every))
     throw InputError(
         fmt::format("output: series_every must be >= 0 [s], got {}", settings_.series_every));
-  file_ = std::make_unique<H5Output>(settings_.path);
-  if (settings_.xdmf) xdmf_ = std::make_unique<XdmfIndex>(settings_.path);
-  file_->series_declare("/series", series_columns, series_units);
+  if (!settings_.muted) {
+    file_ = std::make_unique<H5Output>(settings_.path);
+    if (settings_.xdmf) xdmf_ = std::make_unique<XdmfIndex>(settings_.path);
+    file_->series_declare("/series", series_columns, series_units);
+  }
   Hook series;
   series.name = "output.series";
   if (settings_.series_every > 0)
@@ -67,7 +70,7 @@ RunOutput::~RunOutput() {
 }
 
 void RunOutput::finish() {
-  if (finished_) return;
+  if (finished_ || !file_) return;
   finished_ = true;
   write_header();
   write_new_walls();
@@ -194,6 +197,7 @@ void RunOutput::write_new_walls() {
 }
 
 void RunOutput::write_snapshot() {
+  if (!file_) return;
   write_header();
   write_new_walls();
   SimulationBase::FlatState s = sim_.flat_state();
@@ -248,6 +252,7 @@ void RunOutput::index_snapshot(const std::string& group, const SimulationBase::F
 }
 
 void RunOutput::write_series_row() {
+  if (!file_) return;
   write_header();
   GlobalStats g = sim_.stats();
   file_->series_append(
@@ -270,31 +275,33 @@ void RunOutput::declare_series(const std::string& name, const std::vector<std::s
         "series name '{}' must be a plain word (or 'diagnostics/<label>') other than series, "
         "snapshots, scene, materials, contacts, walls and results",
         name));
-  file_->series_declare("/" + name, columns);
+  if (file_) file_->series_declare("/" + name, columns);
 }
 
 void RunOutput::write_attribute(const std::string& group, const std::string& name, double value) {
-  file_->write_attribute("/" + group, name, value);
+  if (file_) file_->write_attribute("/" + group, name, value);
 }
 void RunOutput::write_attribute(const std::string& group, const std::string& name,
                                 const std::string& value) {
-  file_->write_attribute("/" + group, name, value);
+  if (file_) file_->write_attribute("/" + group, name, value);
 }
 void RunOutput::write_attribute(const std::string& group, const std::string& name,
                                 const std::vector<double>& value) {
-  file_->write_attribute("/" + group, name, value);
+  if (file_) file_->write_attribute("/" + group, name, value);
 }
 
 void RunOutput::append_series(const std::string& name, const std::vector<double>& row) {
-  file_->series_append("/" + name, row);
+  if (file_) file_->series_append("/" + name, row);
 }
 
 void RunOutput::write_result(const std::string& name, double value) {
+  if (!file_) return;
   file_->write_attribute("/results", name, value);
   file_->flush();
 }
 
 void RunOutput::write_failure(const std::string& message) {
+  if (!file_) return;
   write_header();
   // Keep what can be kept: the particles whose state is still finite, and the reason.
   SimulationBase::FlatState s = sim_.flat_state();
@@ -326,6 +333,169 @@ void RunOutput::write_failure(const std::string& message) {
   last_snapshot_step_ = sim_.step_count();
   finished_ = true;  // do not append a normal final snapshot after a failure
   file_->flush();
+}
+
+}  // namespace granule::io
+
+namespace granule::io {
+
+namespace {
+std::string join_lines(const std::vector<std::string>& lines) {
+  std::string out;
+  for (const auto& l : lines) out += l + "\n";
+  return out;
+}
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (start < text.size()) {
+    std::size_t end = text.find('\n', start);
+    if (end == std::string::npos) end = text.size();
+    out.push_back(text.substr(start, end - start));
+    start = end + 1;
+  }
+  return out;
+}
+std::vector<std::string> split_tabs(const std::string& line) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (true) {
+    std::size_t end = line.find('\t', start);
+    out.push_back(line.substr(start, end == std::string::npos ? std::string::npos : end - start));
+    if (end == std::string::npos) return out;
+    start = end + 1;
+  }
+}
+[[noreturn]] void damaged_mark(const std::string& what) {
+  throw InputError(fmt::format("checkpoint: the output mark is damaged ({})", what));
+}
+std::int64_t to_count(const std::string& text, const std::string& what) {
+  std::size_t used = 0;
+  long long v = -1;
+  try {
+    v = std::stoll(text, &used);
+  } catch (...) {
+    damaged_mark(what);
+  }
+  if (used != text.size() || v < 0) damaged_mark(what);
+  return v;
+}
+}  // namespace
+
+void RunOutput::save_mark(StateBlob& state) {
+  if (!file_) return;
+  file_->flush();
+  state.texts["output.path"] = settings_.path;
+  std::vector<std::string> series;
+  for (const auto& [group, rows] : file_->series_rows())
+    series.push_back(fmt::format("{}\t{}", group, rows));
+  state.texts["output.series"] = join_lines(series);
+  state.texts["output.results"] = join_lines(file_->attribute_names("/results"));
+  state.integers["output.progress"] = {static_cast<std::int64_t>(file_->snapshot_count()),
+                                       header_written_ ? 1 : 0, walls_written_,
+                                       last_snapshot_step_, wall_extent_set_ ? 1 : 0};
+  state.doubles["output.wall_extent"] = {wall_extent_.begin(), wall_extent_.end()};
+  // The XDMF index: each snapshot's line, then its walls' lines; numbers in flat arrays.
+  std::vector<std::string> lines;
+  std::vector<double> times, points;
+  std::vector<std::int64_t> connectivity;
+  if (xdmf_)
+    for (const auto& x : xdmf_->snapshots()) {
+      lines.push_back(fmt::format("{}\t{}\t{}\t{}\t{}", x.group, x.step, x.count, x.dimension,
+                                  x.walls.size()));
+      times.push_back(x.time);
+      for (const auto& w : x.walls) {
+        lines.push_back(fmt::format("{}\t{}\t{}\t{}\t{}", w.name, w.topology,
+                                    w.nodes_per_element, w.points.size(), w.connectivity.size()));
+        points.insert(points.end(), w.points.begin(), w.points.end());
+        connectivity.insert(connectivity.end(), w.connectivity.begin(), w.connectivity.end());
+      }
+    }
+  state.texts["output.xdmf"] = join_lines(lines);
+  state.doubles["output.xdmf.time"] = times;
+  state.doubles["output.xdmf.points"] = points;
+  state.integers["output.xdmf.connectivity"] = connectivity;
+}
+
+void RunOutput::resume(const StateBlob& state) {
+  if (!settings_.muted) throw std::logic_error("RunOutput::resume: the output is not muted");
+  const std::string original = state.t("output.path");
+  std::map<std::string, std::int64_t> series;
+  for (const auto& line : lines_of(state.t("output.series"))) {
+    auto f = split_tabs(line);
+    if (f.size() != 2) damaged_mark("output.series");
+    series[f[0]] = to_count(f[1], "output.series");
+  }
+  const auto results = lines_of(state.t("output.results"));
+  const auto& progress = state.i("output.progress");
+  const auto& extent = state.d("output.wall_extent");
+  if (progress.size() != 5) damaged_mark("output.progress");
+  if (extent.size() != 6) damaged_mark("output.wall_extent");
+  // The XDMF index as it stood.
+  std::vector<XdmfSnapshot> index;
+  {
+    const auto lines = lines_of(state.t("output.xdmf"));
+    const auto& times = state.d("output.xdmf.time");
+    const auto& points = state.d("output.xdmf.points");
+    const auto& conn = state.i("output.xdmf.connectivity");
+    std::size_t line = 0, p = 0, c = 0;
+    while (line < lines.size()) {
+      auto f = split_tabs(lines[line++]);
+      if (f.size() != 5 || index.size() >= times.size()) damaged_mark("output.xdmf");
+      XdmfSnapshot x;
+      x.group = f[0];
+      x.step = to_count(f[1], "output.xdmf");
+      x.count = static_cast<std::size_t>(to_count(f[2], "output.xdmf"));
+      x.dimension = static_cast<int>(to_count(f[3], "output.xdmf"));
+      x.time = times[index.size()];
+      const std::int64_t walls = to_count(f[4], "output.xdmf");
+      for (std::int64_t w = 0; w < walls; ++w) {
+        if (line >= lines.size()) damaged_mark("output.xdmf");
+        auto g = split_tabs(lines[line++]);
+        if (g.size() != 5) damaged_mark("output.xdmf");
+        XdmfShape shape;
+        shape.name = g[0];
+        shape.topology = g[1];
+        shape.nodes_per_element = static_cast<int>(to_count(g[2], "output.xdmf"));
+        const auto np = static_cast<std::size_t>(to_count(g[3], "output.xdmf"));
+        const auto nc = static_cast<std::size_t>(to_count(g[4], "output.xdmf"));
+        if (points.size() - p < np || conn.size() - c < nc) damaged_mark("output.xdmf");
+        shape.points.assign(points.begin() + static_cast<std::ptrdiff_t>(p),
+                            points.begin() + static_cast<std::ptrdiff_t>(p + np));
+        for (std::size_t k = 0; k < nc; ++k) shape.connectivity.push_back(static_cast<int>(conn[c + k]));
+        p += np;
+        c += nc;
+        x.walls.push_back(std::move(shape));
+      }
+      index.push_back(std::move(x));
+    }
+  }
+  // The first run's file, copied where this run writes (unless they are one file).
+  std::error_code ec;
+  if (!std::filesystem::exists(original, ec))
+    throw InputError(fmt::format(
+        "restart: the output {} of the run that wrote the checkpoint is missing; a restart "
+        "continues that file",
+        original));
+  if (!std::filesystem::equivalent(original, settings_.path, ec)) {
+    std::filesystem::copy_file(original, settings_.path,
+                               std::filesystem::copy_options::overwrite_existing, ec);
+    if (ec)
+      throw std::runtime_error(fmt::format("restart: cannot copy {} to {}: {}", original,
+                                           settings_.path, ec.message()));
+  }
+  file_ = H5Output::reopen(settings_.path, static_cast<std::size_t>(progress[0]), series,
+                           "/results", results);
+  if (settings_.xdmf) {
+    xdmf_ = std::make_unique<XdmfIndex>(settings_.path);
+    xdmf_->restore(std::move(index));
+  }
+  header_written_ = progress[1] != 0;
+  walls_written_ = static_cast<int>(progress[2]);
+  last_snapshot_step_ = progress[3];
+  wall_extent_set_ = progress[4] != 0;
+  std::copy(extent.begin(), extent.end(), wall_extent_.begin());
+  settings_.muted = false;
 }
 
 }  // namespace granule::io

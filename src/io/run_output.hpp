@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/simulation_base.hpp"
+#include "core/state.hpp"
 #include "hooks/diagnostic.hpp"
 #include "io/h5_output.hpp"
 #include "io/xdmf.hpp"
@@ -26,6 +27,8 @@ struct RunOutputSettings {
   std::string scene_source;
   std::vector<std::pair<std::string, std::string>> parameters;  // name -> value as text
   std::map<std::string, double> numeric_parameters;
+  // Made but writing nothing until resume(): a restarted scene replaying its past.
+  bool muted = false;
 };
 
 class RunOutput final : public OutputSink {
@@ -41,6 +44,12 @@ class RunOutput final : public OutputSink {
   void write_failure(const std::string& message);            // finite particles + message
   void finish();                                             // final snapshot + flush
   const std::string& path() const { return settings_.path; }
+
+  // Checkpoints: how far the file has got (flushed first), under "output.*" keys; and,
+  // for a muted output, the file of the run that wrote the checkpoint copied to this
+  // output's path and cut back to that mark, then written on as if never stopped.
+  void save_mark(StateBlob& state);
+  void resume(const StateBlob& state);
 
   // OutputSink: where the scene's diagnostics write.
   void declare_series(const std::string& group, const std::vector<std::string>& columns) override;

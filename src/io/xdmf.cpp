@@ -158,6 +158,15 @@ std::vector<XdmfShape> wall_shapes(const std::vector<WallSpec>& walls, int dimen
 XdmfIndex::XdmfIndex(std::string h5_path)
     : h5_name_(std::filesystem::path(h5_path).filename().string()), path_(xdmf_path_for(h5_path)) {}
 
+void XdmfIndex::restore(std::vector<XdmfSnapshot> snapshots) {
+  snapshots_.clear();
+  if (snapshots.empty()) return;
+  XdmfSnapshot last = std::move(snapshots.back());
+  snapshots.pop_back();
+  snapshots_ = std::move(snapshots);
+  add(std::move(last));
+}
+
 void XdmfIndex::add(XdmfSnapshot snapshot) {
   snapshots_.push_back(std::move(snapshot));
   // Write beside the target and rename: a reader never sees half a file.

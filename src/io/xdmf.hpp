@@ -52,6 +52,9 @@ class XdmfIndex {
   // Records a snapshot and rewrites the file; throws std::runtime_error if it cannot.
   void add(XdmfSnapshot snapshot);
   std::string text() const;  // the XML as it would be written now
+  const std::vector<XdmfSnapshot>& snapshots() const { return snapshots_; }
+  // Replaces the index by `snapshots` (a continued run) and rewrites the file.
+  void restore(std::vector<XdmfSnapshot> snapshots);
 
  private:
   std::string h5_name_;  // as referenced from the XML: the file name, since both lie together

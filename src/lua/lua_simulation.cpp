@@ -17,6 +17,7 @@
 #include "core/simulation_base.hpp"
 #include "io/run_output.hpp"
 #include "lua/api_docs.hpp"
+#include "lua/journal.hpp"
 #include "lua/lua_util.hpp"
 #include "lua/run_progress.hpp"
 #include "lua/scene.hpp"
@@ -470,38 +471,60 @@ int l_run(lua_State* L) {
     t.mark("stop_when");
     t.finish();
 
-    // A restarted scene: runs that had ended before the checkpoint return at once
-    // with their recorded results; the run that was going on loads the checkpoint.
+    // A restarted scene living through its past (journal.hpp): a run that had begun
+    // before the checkpoint fires the callbacks it fired then, in the same order, and a
+    // run that had ended returns what it returned then. When the journal is used up
+    // inside this run, the checkpoint's state is in place and the run goes on for real.
     SceneContext* ctx = context(L);
-    const std::size_t run_index = s.completed_runs.size();
+    Journal* journal = ctx ? ctx->journal.get() : nullptr;
+    if (journal && journal->replaying()) {
+      s.running = true;
+      struct Running {
+        LuaSim& s;
+        ~Running() { s.running = false; }
+      } running{s};
+      while (journal->replaying()) {
+        const Journal::Next next = journal->peek();
+        if (next == Journal::Next::results) return journal->push_results(L);
+        if (next == Journal::Next::error) {
+          journal->push_error(L);
+          std::string message = lua_tostring(L, -1) ? lua_tostring(L, -1) : "(error object)";
+          lua_pop(L, 1);
+          throw ScriptError(message);
+        }
+        if (next == Journal::Next::end) break;
+        const std::int64_t id = journal->take_callback();
+        if (id < 0) {
+          if (!t.push_function("stop_when"))
+            throw std::runtime_error(
+                "restart: the run that wrote the checkpoint had a stop_when, this one has none");
+          const int ref = luaL_ref(L, LUA_REGISTRYINDEX);
+          struct Unref {
+            lua_State* L;
+            int ref;
+            ~Unref() { luaL_unref(L, LUA_REGISTRYINDEX, ref); }
+          } unref{L, ref};
+          call_lua(L, ref, s.self_ref, 1, "stop_when");
+          lua_pop(L, 1);
+        } else {
+          auto hook = s.lua_hooks.find(static_cast<int>(id));
+          if (hook == s.lua_hooks.end())
+            throw std::runtime_error(fmt::format(
+                "restart: the checkpoint's journal fires hook {}, which this scene has not made",
+                id));
+          call_lua(L, hook->second, s.self_ref, 0, "every");
+        }
+      }
+    }
     std::int64_t done = 0;
     bool resuming = false;
-    if (s.restart && !s.restart->applied) {
-      Restart& r = *s.restart;
-      if (run_index < r.completed.size()) {
-        const RunRecord rec = r.completed[run_index];
-        s.completed_runs.push_back(rec);
-        lua_newtable(L);
-        lua_pushinteger(L, rec.steps);
-        lua_setfield(L, -2, "steps");
-        lua_pushboolean(L, rec.stopped);
-        lua_setfield(L, -2, "stopped");
-        lua_pushboolean(L, true);
-        lua_setfield(L, -2, "replayed");
-        return 1;
-      }
-      s.sim->load_state(*r.state);
-      r.applied = true;
-      r.state.reset();
-      if (r.in_run) {
-        resuming = true;
-        s.run_start_step = r.run_start_step;
-        s.run_total_steps = r.run_total_steps;
-        done = s.sim->step_count() - r.run_start_step;
-      }
-      if (!(ctx && ctx->quiet))
-        std::cerr << fmt::format("granule: continuing from {} at step {} (t = {:.6g} s)\n", r.path,
-                                 s.sim->step_count(), s.sim->time());
+    if (ctx && ctx->restart && ctx->restart->resume_run && ctx->restart->target == &s) {
+      Restart& r = *ctx->restart;
+      r.resume_run = false;
+      resuming = true;
+      s.run_start_step = r.run_start_step;
+      s.run_total_steps = r.run_total_steps;
+      done = s.sim->step_count() - r.run_start_step;
     }
 
     const bool first_run = s.sim->step_count() == 0 && !s.header_printed;
@@ -600,6 +623,7 @@ int l_run(lua_State* L) {
       if (progress) progress->update(done - done_at_start, s.sim->time());
       if (stop_ref != LUA_NOREF && (done % check_every == 0 || done == steps)) {
         try {
+          if (journal) journal->record_callback(-1);
           call_lua(L, stop_ref, s.self_ref, 1, "stop_when");
         } catch (const ScriptError&) {
           if (interrupt_pending()) stop_on_interrupt();  // Ctrl-C landed in the callback
@@ -621,7 +645,6 @@ int l_run(lua_State* L) {
         if (by_steps || by_time) write_checkpoint_now(s, plan.path, true);
       }
     }
-    s.completed_runs.push_back({done, stopped});
     if (progress) progress->finish();
     lua_newtable(L);
     lua_pushinteger(L, done);
@@ -658,8 +681,16 @@ int l_every(lua_State* L) {
     }
     int ref = luaL_ref(L, LUA_REGISTRYINDEX);
     int self_ref = s.self_ref;
-    h.fire = [L, ref, self_ref] { call_lua(L, ref, self_ref, 0, "every"); };
-    lua_pushinteger(L, s.sim->add_hook(h));
+    // The journal notes where each callback fired, so that a restart fires it there again.
+    std::shared_ptr<Journal> journal = context(L) ? context(L)->journal : nullptr;
+    auto id = std::make_shared<int>(0);
+    h.fire = [L, ref, self_ref, journal, id] {
+      if (journal && !journal->replaying()) journal->record_callback(*id);
+      call_lua(L, ref, self_ref, 0, "every");
+    };
+    *id = s.sim->add_hook(h);
+    s.lua_hooks[*id] = ref;
+    lua_pushinteger(L, *id);
     return 1;
   });
 }
@@ -672,6 +703,7 @@ int l_remove_hook(lua_State* L) {
     if (id < 1 || id > std::numeric_limits<int>::max())
       throw std::runtime_error(fmt::format("remove_hook: no hook with id {}", id));
     s.sim->remove_hook(static_cast<int>(id));
+    s.lua_hooks.erase(static_cast<int>(id));
     return 0;
   });
 }
@@ -729,9 +761,13 @@ int l_output(lua_State* L) {
     o.scene_source = ctx->scene_source;
     o.parameters = ctx->parameter_values;
     o.numeric_parameters = ctx->numeric_parameters;
+    // Replaying a restarted scene's past: the output is made (its hooks in their places)
+    // but writes nothing; the checkpoint's output is continued when the journal ends.
+    o.muted = ctx->journal && ctx->journal->replaying();
     s.output.reset();
     s.output = std::make_unique<io::RunOutput>(*s.sim, o);
-    ctx->outputs_written.push_back(o.path);
+    ++s.output_calls;
+    if (!o.muted) ctx->outputs_written.push_back(o.path);
     lua_pushstring(L, o.path.c_str());
     return 1;
   });
@@ -745,9 +781,6 @@ io::RunOutput& output_of(LuaSim& s) {
 int l_snapshot(lua_State* L) {
   return protect(L, [](lua_State* L) {
     LuaSim& s = self(L);
-    // Before a restart has loaded its checkpoint the state is only the script's
-    // fresh set-up, not the run's: nothing worth a snapshot.
-    if (s.restart && !s.restart->applied) return 0;
     output_of(s).write_snapshot();
     return 0;
   });
@@ -1080,15 +1113,13 @@ int l_simulation(lua_State* L) {
     sim->set_warning_handler([quiet](const std::string& m) {
       if (!quiet) std::cerr << "warning: " << m << "\n";
     });
-    std::unique_ptr<Restart> restart;
-    if (SceneContext* ctx = context(L); ctx && !ctx->restart_path.empty() && !ctx->restart_taken) {
-      restart = read_restart(ctx->restart_path);  // the scene's first simulation continues it
-      ctx->restart_taken = true;
-    }
     void* mem = lua_newuserdatauv(L, sizeof(LuaSim), 0);
     auto* s = new (mem) LuaSim();
     s->sim = std::move(sim);
-    s->restart = std::move(restart);
+    s->context = context(L);
+    // The scene's first simulation continues the checkpoint.
+    if (SceneContext* ctx = context(L); ctx && ctx->restart && !ctx->restart->target)
+      ctx->restart->target = s;
     luaL_setmetatable(L, metatable_name);
     lua_pushvalue(L, -1);
     s->self_ref = luaL_ref(L, LUA_REGISTRYINDEX);
@@ -1193,6 +1224,7 @@ void open_simulation(lua_State* L) {
         push_checked(L, *doc, m->func);
       else
         lua_pushcfunction(L, m->func);
+      push_journaled(L, (std::string("sim:") + m->name).c_str(), journal_kind(m->name));
       lua_setfield(L, -2, m->name);
     }
   // Unknown method names are errors with a suggestion, not silent nils.
@@ -1207,9 +1239,15 @@ void open_simulation(lua_State* L) {
   lua_setfield(L, -2, "__tostring");
   lua_pop(L, 1);
   push_checked(L, *find_doc("simulation"), l_simulation);
+  push_journaled(L, "simulation", Journal::Kind::build);
   lua_setglobal(L, "simulation");
   push_checked(L, *find_doc("simulations"), l_simulations);
   lua_setglobal(L, "simulations");
+  if (SceneContext* ctx = context(L)) {
+    ctx->journal = std::make_shared<Journal>();
+    if (!ctx->restart_path.empty())
+      ctx->begin_replay = [ctx] { begin_restart(*ctx); };
+  }
 }
 
 }  // namespace granule::lua

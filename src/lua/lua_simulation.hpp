@@ -4,6 +4,8 @@
 
 #include <atomic>
 #include <chrono>
+#include <cstdint>
+#include <map>
 #include <lua.hpp>
 #include <memory>
 #include <string>
@@ -12,15 +14,17 @@
 #include "core/simulation_base.hpp"
 #include "core/state.hpp"
 #include "io/run_output.hpp"
+#include "lua/scene.hpp"
 
 namespace granule::lua {
 
 inline constexpr const char* simulation_metatable = "granule.Simulation";
 
 // Checkpoints and restarts (wrap_checkpoint.cpp). A restarted scene runs its
-// script from the top: the sim:run calls that had finished before the
-// checkpoint return at once, and the one that was running loads the
-// checkpoint and continues it, so the script's own stage logic is replayed.
+// script from the top with the checkpoint's journal in replay (journal.hpp):
+// the script lives through its past exactly as the first run did, without
+// computing it, and when the journal is used up the checkpoint's state is
+// loaded and the scene goes on for real.
 struct CheckpointPlan {
   std::string path;              // where periodic checkpoints go
   std::int64_t every_steps = 0;  // 0: not by steps
@@ -29,38 +33,40 @@ struct CheckpointPlan {
   std::chrono::steady_clock::time_point last_wall = std::chrono::steady_clock::now();
 };
 
-struct RunRecord {
-  std::int64_t steps = 0;
-  bool stopped = false;
-};
+struct LuaSim;
 
 struct Restart {
   std::string path;
   std::unique_ptr<StateBlob> state;
-  std::vector<RunRecord> completed;  // runs that had ended before the checkpoint
+  std::vector<std::uint8_t> journal;
   std::int64_t run_start_step = 0;   // the run in progress: where it began
   std::int64_t run_total_steps = 0;  // and how many steps it was to take
   bool in_run = false;               // the checkpoint was taken inside a run
+  std::int64_t output_index = 0;     // which sim:output call made the open output (0: none)
+  LuaSim* target = nullptr;          // the scene's first simulation, which continues it
   bool applied = false;
+  bool resume_run = false;  // the next sim:run to reach the real path continues the run
 };
 
 struct LuaSim {
   std::unique_ptr<SimulationBase> sim;
   std::unique_ptr<io::RunOutput> output;
+  SceneContext* context = nullptr;  // the scene that made it (its journal, its -D values)
   int self_ref = LUA_NOREF;
   bool running = false;
   bool header_printed = false;
   // run bookkeeping, for checkpoints
-  std::vector<RunRecord> completed_runs;
   std::int64_t run_start_step = 0, run_total_steps = 0;
+  std::int64_t output_calls = 0;  // sim:output calls so far (which output is open)
+  std::map<int, int> lua_hooks;   // sim:every hook id -> registry ref of its function
   CheckpointPlan checkpoint;
-  std::unique_ptr<Restart> restart;  // set when this scene continues a checkpoint
 };
 
 // Writes a checkpoint of `s` now (between steps), with the run bookkeeping.
 void write_checkpoint_now(LuaSim& s, const std::string& path, bool in_run);
-// Reads a checkpoint for --restart (the first simulation of the scene takes it).
-std::unique_ptr<Restart> read_restart(const std::string& path);
+// --restart: reads the checkpoint, checks the -D values and the scene against it and
+// starts the journal's replay (before the scene's first journaled call).
+void begin_restart(SceneContext& ctx);
 
 // The simulation at stack index 1; throws (use inside protect()) if it is not one.
 LuaSim& self(lua_State* L);

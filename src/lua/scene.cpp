@@ -11,6 +11,7 @@
 
 #include "contact/parameters.hpp"
 #include "lua/api_docs.hpp"
+#include "lua/journal.hpp"
 #include "lua/lua_util.hpp"
 
 namespace granule::lua {
@@ -207,6 +208,7 @@ lua_State* new_state(SceneContext* ctx) {
   lua_setglobal(L, "wall_time");
   open_simulation(L);
   open_help(L);
+  journal_clocks(L);
   return L;
 }
 

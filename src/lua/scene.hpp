@@ -3,7 +3,9 @@
 // error reaches the user with its file and line.
 #pragma once
 
+#include <functional>
 #include <map>
+#include <memory>
 #include <set>
 #include <string>
 #include <utility>
@@ -12,6 +14,9 @@
 struct lua_State;
 
 namespace granule::lua {
+
+class Journal;
+struct Restart;
 
 struct SceneContext {
   std::string scene_path;
@@ -29,6 +34,9 @@ struct SceneContext {
   bool interrupted = false;  // a run stopped on Ctrl-C (the program exits with 130)
   bool progress = false;  // progress line for long runs (the CLI: stderr is a terminal, no --quiet)
   std::vector<std::string> outputs_written;
+  std::shared_ptr<Journal> journal;    // what the scene saw of the engine (journal.hpp)
+  std::shared_ptr<Restart> restart;    // --restart: the checkpoint being continued
+  std::function<void()> begin_replay;  // run before the scene's first journaled call
   // `granule sweep` checks each case's -D values against the scene before running any:
   // parameters{...} validates the overrides, records the declared names and then stops
   // the scene; so does simulation{...}, should a scene make one before (or without)

@@ -4,25 +4,86 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <iostream>
+#include <set>
 
 #include "core/errors.hpp"
 #include "io/checkpoint.hpp"
+#include "lua/journal.hpp"
 #include "lua/lua_simulation.hpp"
 #include "lua/lua_util.hpp"
 #include "lua/scene.hpp"
 
 namespace granule::lua {
 
+namespace {
+
+// -D values as "name=value" lines, in name order.
+std::string overrides_text(const SceneContext& ctx) {
+  std::string text;
+  for (const auto& [name, value] : ctx.overrides) text += name + "=" + value + "\n";
+  return text;
+}
+
+std::map<std::string, std::string> parse_overrides(const std::string& text) {
+  std::map<std::string, std::string> out;
+  std::size_t start = 0;
+  while (start < text.size()) {
+    std::size_t end = text.find('\n', start);
+    if (end == std::string::npos) end = text.size();
+    const std::string line = text.substr(start, end - start);
+    const std::size_t eq = line.find('=');
+    if (eq != std::string::npos) out[line.substr(0, eq)] = line.substr(eq + 1);
+    start = end + 1;
+  }
+  return out;
+}
+
+// The first line at which two texts differ (1-based).
+std::size_t first_differing_line(const std::string& a, const std::string& b) {
+  std::size_t line = 1;
+  for (std::size_t k = 0; k < a.size() && k < b.size(); ++k) {
+    if (a[k] != b[k]) return line;
+    if (a[k] == '\n') ++line;
+  }
+  return line;
+}
+
+// The journal's end: the checkpoint's state, diagnostics and output take over.
+void apply_restart(SceneContext& ctx) {
+  Restart& r = *ctx.restart;
+  if (!r.target)
+    throw InputError(fmt::format(
+        "restart: the scene had made no simulation when the checkpoint {} was written", r.path));
+  LuaSim& s = *r.target;
+  s.sim->load_state(*r.state);
+  if (r.output_index > 0 && r.output_index == s.output_calls && s.output) {
+    s.output->resume(*r.state);
+    ctx.outputs_written.push_back(s.output->path());
+  } else {
+    s.output.reset();  // an output the scene had closed before the checkpoint
+  }
+  r.state.reset();
+  r.applied = true;
+  r.resume_run = r.in_run;
+  if (!ctx.quiet)
+    std::cerr << fmt::format("granule: continuing from {} at step {} (t = {:.6g} s)\n", r.path,
+                             s.sim->step_count(), s.sim->time());
+}
+
+}  // namespace
+
 void write_checkpoint_now(LuaSim& s, const std::string& path, bool in_run) {
   StateBlob state = s.sim->save_state();
-  std::vector<std::int64_t> steps, stopped;
-  for (const auto& r : s.completed_runs) {
-    steps.push_back(r.steps);
-    stopped.push_back(r.stopped ? 1 : 0);
-  }
-  state.integers["lua.completed_steps"] = steps;
-  state.integers["lua.completed_stopped"] = stopped;
+  // The scene's record: what it saw (the journal), what it was given (-D, its source),
+  // which run was going on, and how far the open output had got.
+  SceneContext* ctx = s.context;
+  if (ctx && ctx->journal) state.bytes["lua.journal"] = ctx->journal->bytes();
+  state.texts["lua.overrides"] = ctx ? overrides_text(*ctx) : std::string();
+  state.texts["lua.scene_source"] = ctx ? ctx->scene_source : std::string();
   state.integers["lua.current"] = {in_run ? 1 : 0, s.run_start_step, s.run_total_steps};
+  state.integers["lua.output"] = {s.output ? s.output_calls : 0};
+  if (s.output) s.output->save_mark(state);
   io::write_checkpoint(path, state,
                        {{"program", std::string("granule ") + GRANULE_VERSION},
                         {"step", std::to_string(s.sim->step_count())},
@@ -31,21 +92,57 @@ void write_checkpoint_now(LuaSim& s, const std::string& path, bool in_run) {
   s.checkpoint.last_wall = std::chrono::steady_clock::now();
 }
 
-std::unique_ptr<Restart> read_restart(const std::string& path) {
-  auto r = std::make_unique<Restart>();
-  r->path = path;
-  r->state = std::make_unique<StateBlob>(io::read_checkpoint(path));
-  const auto& steps = r->state->i("lua.completed_steps");
-  const auto& stopped = r->state->i("lua.completed_stopped");
-  const auto& current = r->state->i("lua.current");
-  if (steps.size() != stopped.size() || current.size() != 3)
-    throw InputError(fmt::format("checkpoint {}: damaged run bookkeeping", path));
-  for (std::size_t k = 0; k < steps.size(); ++k)
-    r->completed.push_back({steps[k], stopped[k] != 0});
+void begin_restart(SceneContext& ctx) {
+  auto r = std::make_shared<Restart>();
+  r->path = ctx.restart_path;
+  r->state = std::make_unique<StateBlob>(io::read_checkpoint(ctx.restart_path));
+  const StateBlob& st = *r->state;
+  for (const char* key : {"lua.journal", "lua.overrides", "lua.scene_source"})
+    if (!st.has(key))
+      throw InputError(fmt::format(
+          "checkpoint {}: no '{}' (written by an older granule, which kept no journal of the "
+          "scene; rerun the scene to write a new checkpoint)",
+          ctx.restart_path, key));
+  // The same scene with the same parameters, or the past cannot be replayed.
+  const auto recorded = parse_overrides(st.t("lua.overrides"));
+  std::set<std::string> names;
+  for (const auto& [k, v] : recorded) names.insert(k);
+  for (const auto& [k, v] : ctx.overrides) names.insert(k);
+  for (const auto& name : names) {
+    auto a = recorded.find(name);
+    auto b = ctx.overrides.find(name);
+    const std::string was = a == recorded.end() ? "(not given)" : "-D " + name + "=" + a->second;
+    const std::string now = b == ctx.overrides.end() ? "(not given)" : "-D " + name + "=" + b->second;
+    if (was != now)
+      throw InputError(fmt::format(
+          "restart: parameter '{}' differs from the run that wrote {}: it had {}, this run has "
+          "{}; a restart continues that run, so give it the same -D values",
+          name, ctx.restart_path, was, now));
+  }
+  if (st.t("lua.scene_source") != ctx.scene_source)
+    throw InputError(fmt::format(
+        "restart: the scene {} changed since {} was written (from line {} on); a restart "
+        "replays the scene that wrote the checkpoint",
+        ctx.scene_path, ctx.restart_path,
+        first_differing_line(st.t("lua.scene_source"), ctx.scene_source)));
+  const auto& current = st.i("lua.current");
+  if (current.size() != 3)
+    throw InputError(fmt::format("checkpoint {}: 'lua.current' must hold 3 values, has {}",
+                                 ctx.restart_path, current.size()));
   r->in_run = current[0] != 0;
   r->run_start_step = current[1];
   r->run_total_steps = current[2];
-  return r;
+  if (r->in_run && (r->run_start_step < 0 || r->run_total_steps < 0))
+    throw InputError(
+        fmt::format("checkpoint {}: 'lua.current' holds a negative step", ctx.restart_path));
+  const auto& output = st.i("lua.output");
+  if (output.size() != 1 || output[0] < 0)
+    throw InputError(fmt::format("checkpoint {}: 'lua.output' is damaged", ctx.restart_path));
+  r->output_index = output[0];
+  r->journal = st.b("lua.journal");
+  ctx.restart = r;
+  SceneContext* c = &ctx;
+  ctx.journal->start_replay(r->journal, [c] { apply_restart(*c); });
 }
 
 namespace {

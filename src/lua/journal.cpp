@@ -1,0 +1,506 @@
+#include "lua/journal.hpp"
+
+#include <fmt/format.h>
+
+#include <cstring>
+#include <lua.hpp>
+#include <stdexcept>
+
+#include "lua/scene.hpp"
+
+namespace granule::lua {
+
+namespace {
+
+// Entry tags. A call is 'C' name, then (after any callbacks it made) 'R' values,
+// 'B' (a build call, results not kept) or 'X' error; a callback is 'H' hook id + 1.
+constexpr std::uint8_t tag_call = 'C', tag_results = 'R', tag_build = 'B', tag_error = 'X',
+                       tag_callback = 'H';
+// Value tags.
+constexpr std::uint8_t v_nil = 'n', v_true = 't', v_false = 'f', v_integer = 'i', v_float = 'd',
+                       v_string = 's', v_table = '{', v_table_end = '}';
+constexpr int max_depth = 64;
+
+}  // namespace
+
+void Journal::start_replay(std::vector<std::uint8_t> recorded, std::function<void()> apply) {
+  bytes_ = std::move(recorded);
+  cursor_ = 0;
+  apply_ = std::move(apply);
+  replaying_ = true;
+  check_end();
+}
+
+void Journal::put_u64(std::uint64_t v) {
+  for (int k = 0; k < 8; ++k) bytes_.push_back(static_cast<std::uint8_t>(v >> (8 * k)));
+}
+
+void Journal::put_string(const char* s, std::size_t n) {
+  put_u64(n);
+  bytes_.insert(bytes_.end(), s, s + n);
+}
+
+void Journal::put_value(lua_State* L, int index, int depth) {
+  index = lua_absindex(L, index);
+  switch (lua_type(L, index)) {
+    case LUA_TNIL:
+      put_byte(v_nil);
+      return;
+    case LUA_TBOOLEAN:
+      put_byte(lua_toboolean(L, index) ? v_true : v_false);
+      return;
+    case LUA_TNUMBER:
+      if (lua_isinteger(L, index)) {
+        put_byte(v_integer);
+        put_u64(static_cast<std::uint64_t>(lua_tointeger(L, index)));
+      } else {
+        // The bits, so that a replayed value is the recorded one exactly.
+        double d = lua_tonumber(L, index);
+        std::uint64_t bits = 0;
+        std::memcpy(&bits, &d, sizeof bits);
+        put_byte(v_float);
+        put_u64(bits);
+      }
+      return;
+    case LUA_TSTRING: {
+      std::size_t n = 0;
+      const char* s = lua_tolstring(L, index, &n);
+      put_byte(v_string);
+      put_string(s, n);
+      return;
+    }
+    case LUA_TTABLE: {
+      if (depth >= max_depth)
+        throw std::runtime_error("journal: a result nests tables deeper than 64 levels");
+      put_byte(v_table);
+      lua_pushnil(L);
+      while (lua_next(L, index) != 0) {
+        put_value(L, -2, depth + 1);
+        put_value(L, -1, depth + 1);
+        lua_pop(L, 1);
+      }
+      put_byte(v_table_end);
+      return;
+    }
+    default:
+      throw std::runtime_error(fmt::format(
+          "journal: cannot keep a {} value (a call that returns one must be a build call)",
+          lua_typename(L, lua_type(L, index))));
+  }
+}
+
+void Journal::record_call(const char* name) {
+  put_byte(tag_call);
+  put_string(name, std::strlen(name));
+  ++entries_;
+}
+
+void Journal::record_results(lua_State* L, int first, int count) {
+  const std::size_t mark = bytes_.size();
+  try {
+    put_byte(tag_results);
+    put_u64(static_cast<std::uint64_t>(count));
+    for (int k = 0; k < count; ++k) put_value(L, first + k, 0);
+  } catch (...) {
+    bytes_.resize(mark);
+    throw;
+  }
+}
+
+void Journal::record_no_results() {
+  put_byte(tag_build);
+}
+
+void Journal::record_error(lua_State* L, int index) {
+  put_byte(tag_error);
+  const int t = lua_type(L, index);
+  if (t == LUA_TSTRING || t == LUA_TTABLE || t == LUA_TNUMBER || t == LUA_TBOOLEAN ||
+      t == LUA_TNIL) {
+    const std::size_t mark = bytes_.size();
+    try {
+      put_value(L, index, 0);
+      return;
+    } catch (...) {
+      bytes_.resize(mark);
+    }
+  }
+  const char* text = luaL_tolstring(L, index, nullptr);  // pushes; popped below
+  put_byte(v_string);
+  put_string(text, std::strlen(text));
+  lua_pop(L, 1);
+}
+
+void Journal::record_callback(std::int64_t hook_id) {
+  put_byte(tag_callback);
+  put_u64(static_cast<std::uint64_t>(hook_id + 1));
+  ++entries_;
+}
+
+[[noreturn]] void Journal::damaged(const char* what) const {
+  throw std::runtime_error(
+      fmt::format("restart: the checkpoint's journal is damaged ({} at byte {} of {})", what,
+                  cursor_, bytes_.size()));
+}
+
+std::uint8_t Journal::get_byte() {
+  if (cursor_ >= bytes_.size()) damaged("it ends inside an entry");
+  return bytes_[cursor_++];
+}
+
+std::uint64_t Journal::get_u64() {
+  if (bytes_.size() - cursor_ < 8) damaged("it ends inside a number");
+  std::uint64_t v = 0;
+  for (int k = 0; k < 8; ++k) v |= std::uint64_t(bytes_[cursor_ + k]) << (8 * k);
+  cursor_ += 8;
+  return v;
+}
+
+std::string Journal::get_string() {
+  const std::uint64_t n = get_u64();
+  if (n > bytes_.size() - cursor_) damaged("a string runs past its end");
+  std::string s(reinterpret_cast<const char*>(bytes_.data() + cursor_), n);
+  cursor_ += n;
+  return s;
+}
+
+void Journal::push_value(lua_State* L, int depth) {
+  if (depth >= max_depth) damaged("tables nest too deep");
+  luaL_checkstack(L, 4, "journal");
+  switch (get_byte()) {
+    case v_nil:
+      lua_pushnil(L);
+      return;
+    case v_true:
+      lua_pushboolean(L, 1);
+      return;
+    case v_false:
+      lua_pushboolean(L, 0);
+      return;
+    case v_integer:
+      lua_pushinteger(L, static_cast<lua_Integer>(get_u64()));
+      return;
+    case v_float: {
+      std::uint64_t bits = get_u64();
+      double d = 0;
+      std::memcpy(&d, &bits, sizeof d);
+      lua_pushnumber(L, d);
+      return;
+    }
+    case v_string: {
+      std::string s = get_string();
+      lua_pushlstring(L, s.data(), s.size());
+      return;
+    }
+    case v_table: {
+      lua_newtable(L);
+      while (true) {
+        if (cursor_ >= bytes_.size()) damaged("a table has no end");
+        if (bytes_[cursor_] == v_table_end) {
+          ++cursor_;
+          return;
+        }
+        push_value(L, depth + 1);
+        push_value(L, depth + 1);
+        if (lua_isnil(L, -2)) damaged("a table key is nil");
+        lua_rawset(L, -3);
+      }
+    }
+    default:
+      damaged("an unknown value");
+  }
+}
+
+void Journal::check_end() {
+  if (replaying_ && cursor_ == bytes_.size()) {
+    replaying_ = false;
+    took_results_ = false;
+    if (apply_) {
+      auto apply = std::move(apply_);
+      apply_ = nullptr;
+      apply();
+    }
+  }
+}
+
+void Journal::expect_call(const char* name) {
+  if (cursor_ >= bytes_.size()) damaged("it ended");
+  const std::size_t at = cursor_;
+  const std::uint8_t tag = get_byte();
+  if (tag == tag_callback) {
+    cursor_ = at;
+    throw std::runtime_error(fmt::format(
+        "restart: the scene took another path than the run that wrote the checkpoint: it "
+        "called {} where that run's sim:run fired a callback (did the scene or its -D values "
+        "change?)",
+        name));
+  }
+  if (tag != tag_call) damaged("a call was expected");
+  const std::string recorded = get_string();
+  took_results_ = false;
+  if (recorded != name)
+    throw std::runtime_error(fmt::format(
+        "restart: the scene took another path than the run that wrote the checkpoint: it "
+        "called {} where that run called {} (did the scene, a file it reads or its -D values "
+        "change?)",
+        name, recorded));
+  check_end();
+}
+
+Journal::Next Journal::peek() {
+  if (!replaying_) return Next::end;
+  if (cursor_ >= bytes_.size()) damaged("it ended");
+  switch (bytes_[cursor_]) {
+    case tag_results:
+    case tag_build:
+      return Next::results;
+    case tag_error:
+      return Next::error;
+    case tag_callback:
+      return Next::callback;
+    case tag_call:
+      damaged("a call where a call's results were expected");
+    default:
+      damaged("an unknown entry");
+  }
+}
+
+int Journal::push_results(lua_State* L) {
+  const std::uint8_t tag = get_byte();
+  int n = 0;
+  if (tag == tag_results) {
+    const std::uint64_t count = get_u64();
+    if (count > 255) damaged("too many results");
+    n = static_cast<int>(count);
+    for (int k = 0; k < n; ++k) push_value(L, 0);
+  } else if (tag != tag_build) {
+    damaged("results were expected");
+  }
+  check_end();
+  took_results_ = true;
+  return n;
+}
+
+void Journal::skip_results() {
+  const std::uint8_t tag = get_byte();
+  if (tag == tag_results) {
+    // Results of a build call are not replayed; a build call journals none, so this
+    // only skips a count of zero.
+    if (get_u64() != 0) damaged("a build call with results");
+  } else if (tag != tag_build) {
+    damaged("results were expected");
+  }
+  check_end();
+  took_results_ = true;
+}
+
+void Journal::push_error(lua_State* L) {
+  if (get_byte() != tag_error) damaged("an error was expected");
+  push_value(L, 0);
+  check_end();
+  took_results_ = true;
+}
+
+std::int64_t Journal::take_callback() {
+  if (get_byte() != tag_callback) damaged("a callback was expected");
+  const std::int64_t id = static_cast<std::int64_t>(get_u64()) - 1;
+  check_end();
+  return id;
+}
+
+// ---- the wrapper ----
+
+namespace {
+
+struct CallName {
+  const char* name;
+  Journal::Kind kind;
+};
+
+// upvalue 1: the wrapped function; upvalue 2: light userdata, the CallName.
+int journaled_call(lua_State* L) {
+  const auto* call = static_cast<const CallName*>(lua_touserdata(L, lua_upvalueindex(2)));
+  SceneContext* ctx = context(L);
+  Journal* j = ctx ? ctx->journal.get() : nullptr;
+  const int nargs = lua_gettop(L);
+  auto call_inner = [&](bool record) -> int {
+    // The wrapped function below the arguments, called protected so that an error can be
+    // journaled before it goes on.
+    lua_pushvalue(L, lua_upvalueindex(1));
+    lua_insert(L, 1);
+    const int status = lua_pcall(L, nargs, LUA_MULTRET, 0);
+    if (record && j && !j->replaying() && !j->took_results()) {
+      bool failed = false;
+      {
+        std::string message;
+        try {
+          if (status != LUA_OK)
+            j->record_error(L, -1);
+          else if (call->kind == Journal::Kind::build)
+            j->record_no_results();
+          else
+            j->record_results(L, 1, lua_gettop(L));
+        } catch (const std::exception& e) {
+          message = fmt::format("{}: {}", call->name, e.what());
+          failed = true;
+        }
+        if (failed) lua_pushstring(L, message.c_str());
+      }
+      if (failed) return lua_error(L);
+    }
+    if (status != LUA_OK) return lua_error(L);
+    return lua_gettop(L);
+  };
+  if (!j) return call_inner(false);
+  if (ctx->begin_replay) {  // --restart: the replay starts before the first journaled call
+    bool failed = false;
+    {
+      std::string message;
+      try {
+        auto begin = std::move(ctx->begin_replay);
+        ctx->begin_replay = nullptr;
+        begin();
+      } catch (const std::exception& e) {
+        message = e.what();
+        failed = true;
+      }
+      if (failed) lua_pushstring(L, message.c_str());
+    }
+    if (failed) return lua_error(L);
+  }
+
+  if (!j->replaying()) {
+    bool failed = false;
+    {
+      std::string message;
+      try {
+        j->record_call(call->name);
+      } catch (const std::exception& e) {
+        message = e.what();
+        failed = true;
+      }
+      if (failed) {
+        lua_pushstring(L, message.c_str());
+      }
+    }
+    if (failed) return lua_error(L);
+    return call_inner(true);
+  }
+
+  bool failed = false;
+  {
+    std::string message;
+    try {
+      j->expect_call(call->name);
+    } catch (const std::exception& e) {
+      message = e.what();
+      failed = true;
+    }
+    if (failed) {
+      luaL_where(L, 1);
+      lua_pushstring(L, message.c_str());
+      lua_concat(L, 2);
+    }
+  }
+  if (failed) return lua_error(L);
+  // The journal ended with this call's start: it executes for real, and is journaled.
+  if (!j->replaying()) return call_inner(true);
+
+  Journal::Next next = Journal::Next::results;
+  int results = 0;
+  {
+    std::string message;
+    try {
+      next = j->peek();
+      if (call->kind == Journal::Kind::run) {
+        next = Journal::Next::callback;  // the run replays its own callbacks (l_run)
+      } else if (next == Journal::Next::error) {
+        j->push_error(L);
+      } else if (next == Journal::Next::results) {
+        if (call->kind == Journal::Kind::build)
+          j->skip_results();
+        else
+          results = j->push_results(L);
+      } else {
+        throw std::runtime_error(fmt::format(
+            "restart: the checkpoint's journal holds a callback inside {}", call->name));
+      }
+    } catch (const std::exception& e) {
+      message = e.what();
+      failed = true;
+    }
+    if (failed) lua_pushstring(L, message.c_str());
+  }
+  if (failed) return lua_error(L);
+  switch (call->kind) {
+    case Journal::Kind::run:
+      // The run itself replays the callbacks it fired and returns its journaled result,
+      // or, when the journal ends inside it, continues it for real (journaled again).
+      return call_inner(true);
+    case Journal::Kind::build:
+      if (next == Journal::Next::error) return lua_error(L);
+      return call_inner(true);
+    case Journal::Kind::observe:
+    case Journal::Kind::checkpoint:
+      if (next == Journal::Next::error) return lua_error(L);
+      return results;
+  }
+  return 0;
+}
+
+}  // namespace
+
+void push_journaled(lua_State* L, const char* name, Journal::Kind kind) {
+  // One CallName per wrapped function, alive as long as the program (names are literals or
+  // interned below).
+  static std::vector<std::unique_ptr<CallName>> names;
+  static std::vector<std::unique_ptr<std::string>> texts;
+  texts.push_back(std::make_unique<std::string>(name));
+  names.push_back(std::make_unique<CallName>(CallName{texts.back()->c_str(), kind}));
+  lua_pushlightuserdata(L, names.back().get());
+  lua_pushcclosure(L, journaled_call, 2);
+}
+
+Journal::Kind journal_kind(const std::string& method) {
+  // Calls that build the scene's structure execute again in replay: the engine must
+  // hold the same materials, laws, walls, hooks, diagnostics and output when the
+  // checkpoint's state is loaded into it. Everything else reads or changes the state
+  // (which the checkpoint brings) or writes output (which the continued file holds).
+  static const char* build[] = {
+      "simulation",  "material",   "contact",          "set_contact",          "wall_plane",
+      "wall_cylinder", "set_wall", "gravity",          "central_field",        "remove_central_field",
+      "set_central_strength", "every", "remove_hook",  "set",                  "output",
+      "checkpoint",  "diagnostic", "remove_diagnostic"};
+  if (method == "run") return Journal::Kind::run;
+  if (method == "save_checkpoint") return Journal::Kind::checkpoint;
+  for (const char* b : build)
+    if (method == b) return Journal::Kind::build;
+  return Journal::Kind::observe;
+}
+
+void journal_clocks(lua_State* L) {
+  // The clocks are inputs like the engine's results; a restarted scene sees the times
+  // the first run saw.
+  lua_getglobal(L, "os");
+  for (const char* name : {"time", "clock", "date"}) {
+    lua_getfield(L, -1, name);
+    push_journaled(L, (std::string("os.") + name).c_str(), Journal::Kind::observe);
+    lua_setfield(L, -2, name);
+  }
+  lua_pop(L, 1);
+  lua_getglobal(L, "wall_time");
+  if (lua_isfunction(L, -1)) {
+    push_journaled(L, "wall_time", Journal::Kind::observe);
+    lua_setglobal(L, "wall_time");
+  } else {
+    lua_pop(L, 1);
+  }
+  // math.random from a fixed seed: a scene draws the same numbers every run (and so
+  // again after a restart); math.randomseed(os.time()) varies them, journaled.
+  lua_getglobal(L, "math");
+  lua_getfield(L, -1, "randomseed");
+  lua_pushinteger(L, 20011);
+  lua_call(L, 1, 0);
+  lua_pop(L, 1);
+}
+
+}  // namespace granule::lua

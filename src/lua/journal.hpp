@@ -1,0 +1,103 @@
+// The journal: what a scene saw of the engine, so that a restarted scene can
+// live through its past again without computing it.
+//
+// A scene is a Lua program whose only inputs, besides its source and its -D
+// parameters, are the values the engine hands it: the results of sim:stats(),
+// sim:particle(id), sim:run{...}, the clock. While a scene runs, every call
+// into the engine is journaled with its results (or its error), and every
+// Lua callback the engine makes during a run (sim:every hooks, stop_when) is
+// journaled where it fired. A checkpoint stores the journal beside the state.
+//
+// `granule run --restart` runs the script from the top again with the journal
+// in replay: each call must be the call the journal holds next (else the
+// scene took another path, and the restart is refused); calls that build the
+// scene (materials, walls, hooks, output) execute for real, so that the
+// engine's structure is rebuilt; calls that read or change the state return
+// their journaled results without executing (the state will come from the
+// checkpoint); a finished sim:run fires its journaled callbacks in order and
+// returns its journaled result. So the script's locals, the values its
+// callbacks accumulated and the lines it printed are exactly those of the run
+// that wrote the checkpoint. When the journal is used up, the checkpoint is
+// applied (state, diagnostics, output) and the scene continues for real,
+// journaling again.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+struct lua_State;
+
+namespace granule::lua {
+
+class Journal {
+ public:
+  // How a journaled call behaves in replay.
+  enum class Kind {
+    build,       // executes for real; its results are the real ones
+    observe,     // does not execute; returns the journaled results
+    run,         // a run: replays its callbacks, then returns the journaled result
+    checkpoint,  // sim:save_checkpoint: journaled before it executes
+  };
+
+  bool replaying() const { return replaying_; }
+  const std::vector<std::uint8_t>& bytes() const { return bytes_; }
+  std::size_t entries() const { return entries_; }
+  // Whether the call being replayed took its results from the journal (false once the
+  // journal was used up before they came): its results must then be journaled.
+  bool took_results() const { return took_results_; }
+
+  // Starts replaying `recorded`; `apply` is called once, at the moment the journal is
+  // used up (then recording resumes, appending to the same journal).
+  void start_replay(std::vector<std::uint8_t> recorded, std::function<void()> apply);
+
+  // ---- recording ----
+  void record_call(const char* name);
+  void record_results(lua_State* L, int first, int count);  // the values at first..first+count-1
+  void record_no_results();                                 // a build call: results not kept
+  void record_error(lua_State* L, int index);
+  void record_callback(std::int64_t hook_id);  // a hook fired (-1: the run's stop_when)
+
+  // ---- replaying ----
+  // The next entry must be a call of `name`; throws std::runtime_error naming both if not.
+  void expect_call(const char* name);
+  enum class Next { results, error, callback, end };
+  // What comes next inside a call being replayed (end: the journal is used up).
+  Next peek();
+  // Pushes the journaled results; returns their count.
+  int push_results(lua_State* L);
+  void skip_results();
+  void push_error(lua_State* L);  // the journaled error value
+  std::int64_t take_callback();   // a hook's id (-1: stop_when)
+
+ private:
+  void put_byte(std::uint8_t b) { bytes_.push_back(b); }
+  void put_u64(std::uint64_t v);
+  void put_string(const char* s, std::size_t n);
+  void put_value(lua_State* L, int index, int depth);
+  std::uint8_t get_byte();
+  std::uint64_t get_u64();
+  std::string get_string();
+  void push_value(lua_State* L, int depth);
+  void check_end();  // calls apply_ when the journal is used up
+  [[noreturn]] void damaged(const char* what) const;
+
+  std::vector<std::uint8_t> bytes_;
+  std::size_t cursor_ = 0;
+  std::size_t entries_ = 0;
+  bool replaying_ = false;
+  bool took_results_ = false;
+  std::function<void()> apply_;
+};
+
+// Wraps the function on the stack top (a method named `name`) so that its calls are
+// journaled as `kind`; leaves the wrapper in its place.
+void push_journaled(lua_State* L, const char* name, Journal::Kind kind);
+// How the method `name` of a simulation is journaled (build, observe, run, checkpoint).
+Journal::Kind journal_kind(const std::string& method);
+// Journals the scene's clocks (os.time, os.clock, os.date, wall_time) and seeds
+// math.random with a fixed seed, so that a scene's run depends on nothing unjournaled.
+void journal_clocks(lua_State* L);
+
+}  // namespace granule::lua
