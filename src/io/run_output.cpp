@@ -385,7 +385,10 @@ std::int64_t to_count(const std::string& text, const std::string& what) {
 void RunOutput::save_mark(StateBlob& state) {
   if (!file_) return;
   file_->flush();
-  state.texts["output.path"] = settings_.path;
+  // Absolute: a restart may run in another folder.
+  std::error_code ec;
+  const auto absolute = std::filesystem::absolute(settings_.path, ec);
+  state.texts["output.path"] = ec ? settings_.path : absolute.string();
   std::vector<std::string> series;
   for (const auto& [group, rows] : file_->series_rows())
     series.push_back(fmt::format("{}\t{}", group, rows));

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cstring>
+#include <iterator>
 #include <lua.hpp>
 #include <stdexcept>
 
@@ -18,7 +19,9 @@ constexpr std::uint8_t tag_call = 'C', tag_results = 'R', tag_build = 'B', tag_e
                        tag_callback = 'H';
 // Value tags.
 constexpr std::uint8_t v_nil = 'n', v_true = 't', v_false = 'f', v_integer = 'i', v_float = 'd',
-                       v_string = 's', v_table = '{', v_table_end = '}';
+                       v_string = 's', v_new_string = 'S', v_string_ref = 'r', v_table = '{',
+                       v_table_end = '}';
+constexpr std::size_t interned_length = 64;  // longer strings are kept in full each time
 constexpr int max_depth = 64;
 
 }  // namespace
@@ -32,7 +35,30 @@ void Journal::start_replay(std::vector<std::uint8_t> recorded, std::function<voi
 }
 
 void Journal::put_u64(std::uint64_t v) {
-  for (int k = 0; k < 8; ++k) bytes_.push_back(static_cast<std::uint8_t>(v >> (8 * k)));
+  while (v >= 0x80) {
+    bytes_.push_back(static_cast<std::uint8_t>(v | 0x80));
+    v >>= 7;
+  }
+  bytes_.push_back(static_cast<std::uint8_t>(v));
+}
+
+void Journal::put_interned(const char* s, std::size_t n) {
+  if (n > interned_length) {
+    put_byte(v_string);
+    put_string(s, n);
+    return;
+  }
+  std::string key(s, n);
+  auto it = interned_.find(key);
+  if (it != interned_.end()) {
+    put_byte(v_string_ref);
+    put_u64(it->second);
+    return;
+  }
+  const std::uint64_t number = interned_.size();
+  interned_.emplace(std::move(key), number);
+  put_byte(v_new_string);
+  put_string(s, n);
 }
 
 void Journal::put_string(const char* s, std::size_t n) {
@@ -51,22 +77,23 @@ void Journal::put_value(lua_State* L, int index, int depth) {
       return;
     case LUA_TNUMBER:
       if (lua_isinteger(L, index)) {
+        // Zig-zag, so that small negative numbers stay short too.
+        const auto i = static_cast<std::uint64_t>(lua_tointeger(L, index));
         put_byte(v_integer);
-        put_u64(static_cast<std::uint64_t>(lua_tointeger(L, index)));
+        put_u64((i << 1) ^ (0 - (i >> 63)));
       } else {
         // The bits, so that a replayed value is the recorded one exactly.
         double d = lua_tonumber(L, index);
-        std::uint64_t bits = 0;
-        std::memcpy(&bits, &d, sizeof bits);
+        std::uint8_t raw[8];
+        std::memcpy(raw, &d, sizeof raw);
         put_byte(v_float);
-        put_u64(bits);
+        bytes_.insert(bytes_.end(), raw, raw + 8);
       }
       return;
     case LUA_TSTRING: {
       std::size_t n = 0;
       const char* s = lua_tolstring(L, index, &n);
-      put_byte(v_string);
-      put_string(s, n);
+      put_interned(s, n);
       return;
     }
     case LUA_TTABLE: {
@@ -91,18 +118,24 @@ void Journal::put_value(lua_State* L, int index, int depth) {
 
 void Journal::record_call(const char* name) {
   put_byte(tag_call);
-  put_string(name, std::strlen(name));
+  put_interned(name, std::strlen(name));
   ++entries_;
 }
 
+void Journal::forget_after(std::size_t bytes, std::size_t strings) {
+  bytes_.resize(bytes);
+  for (auto it = interned_.begin(); it != interned_.end();)
+    it = it->second >= strings ? interned_.erase(it) : std::next(it);
+}
+
 void Journal::record_results(lua_State* L, int first, int count) {
-  const std::size_t mark = bytes_.size();
+  const std::size_t mark = bytes_.size(), strings = interned_.size();
   try {
     put_byte(tag_results);
     put_u64(static_cast<std::uint64_t>(count));
     for (int k = 0; k < count; ++k) put_value(L, first + k, 0);
   } catch (...) {
-    bytes_.resize(mark);
+    forget_after(mark, strings);
     throw;
   }
 }
@@ -116,17 +149,16 @@ void Journal::record_error(lua_State* L, int index) {
   const int t = lua_type(L, index);
   if (t == LUA_TSTRING || t == LUA_TTABLE || t == LUA_TNUMBER || t == LUA_TBOOLEAN ||
       t == LUA_TNIL) {
-    const std::size_t mark = bytes_.size();
+    const std::size_t mark = bytes_.size(), strings = interned_.size();
     try {
       put_value(L, index, 0);
       return;
     } catch (...) {
-      bytes_.resize(mark);
+      forget_after(mark, strings);
     }
   }
   const char* text = luaL_tolstring(L, index, nullptr);  // pushes; popped below
-  put_byte(v_string);
-  put_string(text, std::strlen(text));
+  put_interned(text, std::strlen(text));
   lua_pop(L, 1);
 }
 
@@ -148,11 +180,28 @@ std::uint8_t Journal::get_byte() {
 }
 
 std::uint64_t Journal::get_u64() {
-  if (bytes_.size() - cursor_ < 8) damaged("it ends inside a number");
   std::uint64_t v = 0;
-  for (int k = 0; k < 8; ++k) v |= std::uint64_t(bytes_[cursor_ + k]) << (8 * k);
-  cursor_ += 8;
-  return v;
+  for (int shift = 0; shift < 64; shift += 7) {
+    if (cursor_ >= bytes_.size()) damaged("it ends inside a number");
+    const std::uint8_t b = bytes_[cursor_++];
+    v |= std::uint64_t(b & 0x7f) << shift;
+    if (!(b & 0x80)) return v;
+  }
+  damaged("a number is too long");
+}
+
+std::string Journal::get_interned(std::uint8_t tag) {
+  if (tag == v_string) return get_string();
+  if (tag == v_new_string) {
+    strings_.push_back(get_string());
+    return strings_.back();
+  }
+  if (tag == v_string_ref) {
+    const std::uint64_t number = get_u64();
+    if (number >= strings_.size()) damaged("a string refers past the strings seen");
+    return strings_[number];
+  }
+  damaged("a string was expected");
 }
 
 std::string Journal::get_string() {
@@ -176,18 +225,23 @@ void Journal::push_value(lua_State* L, int depth) {
     case v_false:
       lua_pushboolean(L, 0);
       return;
-    case v_integer:
-      lua_pushinteger(L, static_cast<lua_Integer>(get_u64()));
+    case v_integer: {
+      const std::uint64_t z = get_u64();
+      lua_pushinteger(L, static_cast<lua_Integer>((z >> 1) ^ (0 - (z & 1))));
       return;
+    }
     case v_float: {
-      std::uint64_t bits = get_u64();
+      if (bytes_.size() - cursor_ < 8) damaged("it ends inside a number");
       double d = 0;
-      std::memcpy(&d, &bits, sizeof d);
+      std::memcpy(&d, bytes_.data() + cursor_, sizeof d);
+      cursor_ += 8;
       lua_pushnumber(L, d);
       return;
     }
-    case v_string: {
-      std::string s = get_string();
+    case v_string:
+    case v_new_string:
+    case v_string_ref: {
+      std::string s = get_interned(bytes_[cursor_ - 1]);
       lua_pushlstring(L, s.data(), s.size());
       return;
     }
@@ -214,6 +268,8 @@ void Journal::check_end() {
   if (replaying_ && cursor_ == bytes_.size()) {
     replaying_ = false;
     took_results_ = false;
+    interned_.clear();  // recording goes on numbering the strings the journal holds
+    for (std::size_t k = 0; k < strings_.size(); ++k) interned_.emplace(strings_[k], k);
     if (apply_) {
       auto apply = std::move(apply_);
       apply_ = nullptr;
@@ -235,7 +291,7 @@ void Journal::expect_call(const char* name) {
         name));
   }
   if (tag != tag_call) damaged("a call was expected");
-  const std::string recorded = get_string();
+  const std::string recorded = get_interned(get_byte());
   took_results_ = false;
   if (recorded != name)
     throw std::runtime_error(fmt::format(

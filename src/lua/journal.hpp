@@ -25,6 +25,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 struct lua_State;
@@ -73,13 +74,17 @@ class Journal {
 
  private:
   void put_byte(std::uint8_t b) { bytes_.push_back(b); }
-  void put_u64(std::uint64_t v);
+  void put_u64(std::uint64_t v);  // LEB128: small numbers in one byte
   void put_string(const char* s, std::size_t n);
+  // A short string once in full, then as its number (names and keys repeat endlessly).
+  void put_interned(const char* s, std::size_t n);
   void put_value(lua_State* L, int index, int depth);
   std::uint8_t get_byte();
   std::uint64_t get_u64();
   std::string get_string();
+  std::string get_interned(std::uint8_t tag);
   void push_value(lua_State* L, int depth);
+  void forget_after(std::size_t bytes, std::size_t strings);  // undoes a half-kept entry
   void check_end();  // calls apply_ when the journal is used up
   [[noreturn]] void damaged(const char* what) const;
 
@@ -89,6 +94,8 @@ class Journal {
   bool replaying_ = false;
   bool took_results_ = false;
   std::function<void()> apply_;
+  std::unordered_map<std::string, std::uint64_t> interned_;  // recording: string -> number
+  std::vector<std::string> strings_;                          // replaying: number -> string
 };
 
 // Wraps the function on the stack top (a method named `name`) so that its calls are

@@ -1,0 +1,56 @@
+-- A scene of three stages with Lua between them, for the restart tests
+-- (tests/scenes/restart_stages_test.py): each stage's start is printed, so
+-- that the test can interrupt the run inside it; what the script reads, the
+-- values its callbacks accumulate, its results, series and snapshots must
+-- all come out the same after a restart as in a run that never stopped.
+local p = parameters {
+  checkpoint = { default = "stages.chk.h5" },
+  stage_steps = { default = 60000, doc = "steps in each stage" },
+  checkpoint_every = { default = 5000 },
+}
+local sim = simulation { dimension = 2 }
+sim:material { name = "powder", density = 1200 }
+sim:material { name = "steel", density = 7800 }
+sim:contact { "powder", "powder", model = "walton_braun", k_load = 2e4, restitution = 0.85, friction = 0.1 }
+sim:contact { "powder", "steel", model = "walton_braun", k_load = 2e4, restitution = 0.85, friction = 0.5 }
+sim:wall_cylinder { name = "drum", center = { 0, 0 }, radius = 6e-3, angular_velocity = 150, material = "steel" }
+sim:fill { region = { circle = { center = { 0, 0 }, radius = 6e-3 } }, count = 600, radius = 0.2e-3,
+           material = "powder", seed = 3, max_speed = 0.05 }
+sim:gravity { 0, -9.81 }
+sim:output { snapshot_every = 2e-3 }
+sim:checkpoint { file = p.checkpoint, every_steps = p.checkpoint_every }
+sim:series("stage_log", { "time", "kinetic_energy", "peak" })
+
+local peak, fired = 0, 0
+sim:every { steps = 500, function(s)
+  fired = fired + 1
+  local e = s:stats().kinetic_energy
+  if e > peak then peak = e end
+  s:append("stage_log", { s:time(), e, peak })
+end }
+
+local function mark(stage)
+  print(string.format("stage %s t=%.17g step=%d ke=%.17g peak=%.17g fired=%d clock=%s", stage,
+    sim:time(), sim:step_count(), sim:stats().kinetic_energy, peak, fired, tostring(os.clock() >= 0)))
+  io.stdout:flush()
+end
+
+mark("one")
+local r1 = sim:run { steps = p.stage_steps }
+print("run one", r1.steps, r1.time, r1.stopped)
+sim:result { after_one = sim:stats().kinetic_energy }
+local x0 = sim:particle(0).position
+sim:set_contact("powder", "powder", { friction = 0.4 })
+sim:set_velocity(0, { 0.02, 0.01 })
+mark("two")
+local r2 = sim:run { steps = p.stage_steps, check_every = 700,
+                     stop_when = function(s) return s:stats().kinetic_energy < 1e-15 end }
+print("run two", r2.steps, r2.time, r2.stopped, x0[1], x0[2])
+sim:set_wall("drum", { angular_velocity = -100 })
+local late = 0
+sim:every { steps = 300, function(s) late = late + s:particle(1).velocity[1] end }
+mark("three")
+local r3 = sim:run { duration = p.stage_steps * sim:time_step() }
+mark("end")
+print("run three", r3.steps, r3.time, r3.stopped, string.format("late=%.17g", late))
+sim:result { peak = peak, fired = fired, late = late }

@@ -1,0 +1,169 @@
+#!/usr/bin/python3
+"""Restart of multi-stage scenes, end to end through the program.
+
+For each scene: one run that is never stopped; then, for each stage and each
+signal (SIGINT, SIGTERM), a run interrupted inside that stage (the test waits
+for the stage's start to be printed, then signals), which must exit with
+128 + the signal's number and leave a checkpoint taken inside the stage; and
+its restart, which must print the same lines on stdout as the whole run and
+leave an output file identical to the whole run's, bit for bit
+(compare_runs.py: every snapshot, series, result and diagnostic).
+
+    restart_stages_test.py GRANULE SOURCE_DIR
+"""
+import os
+import re
+import signal
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+
+GRANULE, SOURCE = sys.argv[1], sys.argv[2]
+COMPARE = os.path.join(SOURCE, "tests", "scenes", "compare_runs.py")
+SIGNALS = [("SIGINT", signal.SIGINT, 130), ("SIGTERM", signal.SIGTERM, 143)]
+
+
+def checkpoint_step(path):
+    import h5py
+    with h5py.File(path, "r") as f:
+        return int(f["checkpoint"].attrs["step"])
+
+
+# Every run writes out.h5 in a folder of its own, so that the lines a scene prints
+# about its file are the same in every run.
+def folder(work, tag):
+    path = os.path.join(work, tag)
+    os.makedirs(path, exist_ok=True)
+    return path
+
+
+ENV = dict(os.environ, GRANULE_PROGRESS_AFTER="1e9")
+
+
+def run_whole(scene, args, work):
+    cwd = folder(work, "whole")
+    out = os.path.join(cwd, "out.h5")
+    r = subprocess.run([GRANULE, "run", scene, *args, "-o", "out.h5"], cwd=cwd, env=ENV,
+                       capture_output=True, text=True, timeout=300)
+    if r.returncode != 0:
+        sys.exit(f"the whole run failed ({r.returncode}): {r.stderr}")
+    return out, r.stdout, r.stderr
+
+
+def interrupt(scene, args, work, tag, trigger, delay, signum):
+    """Runs until `trigger` (a regex) appears on stdout or stderr, waits `delay` s, signals."""
+    cwd = folder(work, tag)
+    out = os.path.join(cwd, "out.h5")
+    p = subprocess.Popen([GRANULE, "run", scene, *args, "-o", "out.h5"], cwd=cwd,
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV)
+    seen = threading.Event()
+    texts = {"stdout": [], "stderr": []}
+
+    def read(stream, name):
+        for line in stream:
+            texts[name].append(line)
+            if re.search(trigger, line):
+                seen.set()
+
+    readers = [threading.Thread(target=read, args=(p.stdout, "stdout")),
+               threading.Thread(target=read, args=(p.stderr, "stderr"))]
+    for t in readers:
+        t.start()
+    if not seen.wait(120):
+        p.kill()
+        sys.exit(f"{tag}: '{trigger}' never appeared")
+    time.sleep(delay)
+    p.send_signal(signum)
+    status = p.wait(120)
+    for t in readers:
+        t.join()
+    return out, status, "".join(texts["stdout"]), "".join(texts["stderr"])
+
+
+def check_case(name, scene, args, checkpoint, stages):
+    """stages: (stage name, trigger regex, delay s, function(step) -> bool: inside the stage)."""
+    failures = 0
+    with tempfile.TemporaryDirectory() as work:
+        whole, whole_stdout, _ = run_whole(scene, args, work)
+        for signame, signum, expected in SIGNALS:
+            for stage, trigger, delay, inside in stages:
+                tag = f"{stage}_{signame}"
+                chk = os.path.join(work, tag, checkpoint)
+                for attempt in range(4):  # the signal must land inside the stage
+                    if os.path.exists(chk):
+                        os.remove(chk)
+                    out, status, _, err = interrupt(scene, args, work, tag, trigger, delay, signum)
+                    if status != expected:
+                        print(f"FAIL {name} {tag}: exit status {status}, expected {expected}\n{err}")
+                        failures += 1
+                        break
+                    if not os.path.exists(chk):
+                        print(f"FAIL {name} {tag}: no checkpoint {checkpoint}\n{err}")
+                        failures += 1
+                        break
+                    step = checkpoint_step(chk)
+                    if inside(step):
+                        break
+                    delay = delay / 2
+                else:
+                    print(f"FAIL {name} {tag}: four signals missed the stage (last at step {step})")
+                    failures += 1
+                    continue
+                if status != expected or not os.path.exists(chk):
+                    continue
+                if "checkpoint written to" not in err:
+                    print(f"FAIL {name} {tag}: the interrupt message lacks the checkpoint:\n{err}")
+                    failures += 1
+                cwd = folder(work, f"{tag}_resumed")
+                resumed = os.path.join(cwd, "out.h5")
+                r = subprocess.run([GRANULE, "run", scene, *args, "--restart", chk, "-o", "out.h5"],
+                                   cwd=cwd, env=ENV, capture_output=True, text=True, timeout=300)
+                if r.returncode != 0:
+                    print(f"FAIL {name} {tag}: the restart failed ({r.returncode}):\n{r.stderr}")
+                    failures += 1
+                    continue
+                if r.stdout != whole_stdout:
+                    print(f"FAIL {name} {tag} (interrupted at step {step}): printed lines differ:\n--- whole\n{whole_stdout}"
+                          f"--- restarted\n{r.stdout}")
+                    failures += 1
+                    continue
+                c = subprocess.run(["/usr/bin/python3", COMPARE, whole, resumed],
+                                   capture_output=True, text=True)
+                if c.returncode != 0:
+                    print(f"FAIL {name} {tag}: outputs differ: {c.stdout}{c.stderr}")
+                    failures += 1
+                    continue
+                print(f"ok {name} {tag}: interrupted at step {step}, restarted: {c.stdout.strip()}")
+    return failures
+
+
+def main():
+    failures = 0
+    stages = os.path.join(SOURCE, "tests", "scenes", "restart_stages.lua")
+    # The stage scene prints each stage's start with its step; stage k spans
+    # [k * stage_steps, (k + 1) * stage_steps).
+    n = 30000
+    args = ["-D", f"stage_steps={n}"]
+    failures += check_case(
+        "stages", stages, args, "stages.chk.h5",
+        [(s, rf"^stage {s} ", 0.2, lambda step, k=k: k * n < step < (k + 1) * n)
+         for k, s in enumerate(["one", "two", "three"])])
+    # The tutorial drum: settling until at rest, then turning (its stages print
+    # their end on stderr); Ctrl-C's checkpoint goes to tutorial_drum.checkpoint.h5.
+    drum = os.path.join(SOURCE, "scenarios", "tutorial_drum.lua")
+    drum_args = ["-D", "duration=0.3"]
+    with tempfile.TemporaryDirectory() as work:
+        _, _, err = run_whole(drum, drum_args, work)
+    settled = int(re.search(r"stage settle .* after (\d+) steps", err).group(1))
+    failures += check_case(
+        "tutorial_drum", drum, drum_args, "tutorial_drum.checkpoint.h5",
+        [("settle", r"granule: time step", 0.15, lambda step: 0 < step < settled),
+         ("rotate", r"stage settle", 0.3, lambda step: step > settled)])
+    print(f"restart stages: {'all passed' if failures == 0 else f'{failures} failed'}")
+    sys.exit(1 if failures else 0)
+
+
+if __name__ == "__main__":
+    main()
