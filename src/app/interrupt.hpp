@@ -43,7 +43,9 @@ inline void on_sigint(int) {
   first_sigint_seconds = std::sig_atomic_t(t.tv_sec);
   first_sigint_nanoseconds = std::sig_atomic_t(t.tv_nsec);
   lua::request_interrupt();
-  if (interrupted_state)
+  // A run stops between two chunks of steps by itself; only script code outside runs
+  // needs the Lua hook to stop.
+  if (interrupted_state && !lua::run_active())
     lua_sethook(interrupted_state, stop_hook, LUA_MASKCALL | LUA_MASKRET | LUA_MASKCOUNT, 1);
 }
 

@@ -14,6 +14,7 @@
 #include <optional>
 
 #include "core/errors.hpp"
+#include "core/run_loop.hpp"
 #include "core/simulation_base.hpp"
 #include "io/run_output.hpp"
 #include "lua/api_docs.hpp"
@@ -568,82 +569,50 @@ int l_run(lua_State* L) {
                        s.sim->time() + static_cast<double>(steps - done) * dt,
                        stop_ref != LUA_NOREF, RunProgress::Clock{}, delay);
     }
-    // Chunks: about 0.1 s of wall time each (so the progress line and Ctrl-C are
-    // served promptly at negligible overhead), ending at every stop_when check
-    // (every check_every steps counted from the run's start, also when the run
-    // was continued from a checkpoint) and at every checkpoint step.
-    std::int64_t chunk = 16;
-    bool stopped = false;
-    CheckpointPlan& plan = s.checkpoint;
-    const std::int64_t done_at_start = done;
-    // Ctrl-C: a checkpoint of the state between steps, then an error that says
-    // where the run stopped and how to continue it.
-    auto stop_on_interrupt = [&]() {
-      // The Lua hook the signal handler also set (to stop script loops) is no longer needed.
-      lua_sethook(L, nullptr, 0, 0);
+    // The engine's runner takes the steps; the scene's criterion, its checkpoints and the
+    // user's interrupt are served between its chunks.
+    RunHooks hooks;
+    hooks.stop_when = [&] {
+      if (journal) journal->record_callback(-1);
+      call_lua(L, stop_ref, s.self_ref, 1, "stop_when");
+      const bool stop = lua_toboolean(L, -1);
+      lua_pop(L, 1);
+      return stop;
+    };
+    hooks.write_checkpoint = [&](const std::string& path) { write_checkpoint_now(s, path, true); };
+    hooks.interrupt_pending = [] { return interrupt_pending(); };
+    if (progress)
+      hooks.progress = [&](std::int64_t n, double time) { progress->update(n, time); };
+    std::string interrupt_path = s.checkpoint.path;
+    if (interrupt_path.empty())
+      interrupt_path = (ctx && !ctx->scene_path.empty()
+                            ? std::filesystem::path(ctx->scene_path).stem().string()
+                            : std::string("granule")) +
+                       ".checkpoint.h5";
+    RunPlan plan;
+    plan.steps = steps;
+    plan.done = done;
+    plan.check_every = stop_ref != LUA_NOREF ? check_every : 0;
+    RunOutcome outcome;
+    {
+      struct Active {
+        Active() { set_run_active(true); }
+        ~Active() { set_run_active(false); }
+      } active;
+      outcome = run_in_chunks(*s.sim, plan, s.checkpoint, interrupt_path, hooks);
+    }
+    done = outcome.done;
+    const bool stopped = outcome.stopped;
+    if (outcome.interrupted) {
+      // Between two steps, with the checkpoint written: say where and how to go on.
+      lua_sethook(L, nullptr, 0, 0);  // the hook the signal also set, to stop script loops
       clear_interrupt();
-      std::string path = plan.path;
-      if (path.empty()) {
-        std::string stem = ctx && !ctx->scene_path.empty()
-                               ? std::filesystem::path(ctx->scene_path).stem().string()
-                               : std::string("granule");
-        path = stem + ".checkpoint.h5";
-      }
-      write_checkpoint_now(s, path, true);
       if (ctx) ctx->interrupted = true;
       throw std::runtime_error(fmt::format(
           "run interrupted (Ctrl-C) after {} of {} steps, at t = {} s (step {}); checkpoint "
           "written to {}; continue with: granule run {} --restart {}",
-          done, steps, s.sim->time(), s.sim->step_count(), path,
-          ctx ? ctx->scene_path : std::string("SCENE.lua"), path));
-    };
-    while (done < steps) {
-      if (interrupt_pending()) stop_on_interrupt();
-      std::int64_t n = std::min<std::int64_t>(chunk, steps - done);
-      if (stop_ref != LUA_NOREF) n = std::min(n, check_every - done % check_every);
-      if (plan.every_steps > 0)
-        n = std::min(n, plan.every_steps - s.sim->step_count() % plan.every_steps);
-      const auto t0 = std::chrono::steady_clock::now();
-      const std::int64_t before = s.sim->step_count();
-      try {
-        s.sim->advance(n);
-      } catch (const ScriptError&) {
-        // Ctrl-C landed in a sim:every callback, after its step was complete.
-        done += s.sim->step_count() - before;
-        if (interrupt_pending()) stop_on_interrupt();
-        throw;
-      }
-      done += n;
-      const double wall =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      if (wall < 0.05 && chunk < (std::int64_t{1} << 24))
-        chunk *= 2;
-      else if (wall > 0.2 && chunk > 1)
-        chunk /= 2;
-      if (progress) progress->update(done - done_at_start, s.sim->time());
-      if (stop_ref != LUA_NOREF && (done % check_every == 0 || done == steps)) {
-        try {
-          if (journal) journal->record_callback(-1);
-          call_lua(L, stop_ref, s.self_ref, 1, "stop_when");
-        } catch (const ScriptError&) {
-          if (interrupt_pending()) stop_on_interrupt();  // Ctrl-C landed in the callback
-          throw;
-        }
-        bool stop = lua_toboolean(L, -1);
-        lua_pop(L, 1);
-        if (stop) {
-          stopped = true;
-          break;
-        }
-      }
-      if (!plan.path.empty() && done < steps) {
-        const bool by_steps = plan.every_steps > 0 && s.sim->step_count() % plan.every_steps == 0;
-        const bool by_time =
-            plan.every_seconds > 0 &&
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - plan.last_wall)
-                    .count() >= plan.every_seconds;
-        if (by_steps || by_time) write_checkpoint_now(s, plan.path, true);
-      }
+          done, steps, s.sim->time(), s.sim->step_count(), interrupt_path,
+          ctx ? ctx->scene_path : std::string("SCENE.lua"), interrupt_path));
     }
     if (progress) progress->finish();
     lua_newtable(L);

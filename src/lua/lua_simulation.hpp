@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "core/run_loop.hpp"
 #include "core/simulation_base.hpp"
 #include "core/state.hpp"
 #include "io/run_output.hpp"
@@ -25,14 +26,6 @@ inline constexpr const char* simulation_metatable = "granule.Simulation";
 // the script lives through its past exactly as the first run did, without
 // computing it, and when the journal is used up the checkpoint's state is
 // loaded and the scene goes on for real.
-struct CheckpointPlan {
-  std::string path;              // where periodic checkpoints go
-  std::int64_t every_steps = 0;  // 0: not by steps
-  double every_seconds = 0;      // wall-clock seconds; 0: not by time
-  std::int64_t last_step = -1;   // step of the last checkpoint written
-  std::chrono::steady_clock::time_point last_wall = std::chrono::steady_clock::now();
-};
-
 struct LuaSim;
 
 struct Restart {

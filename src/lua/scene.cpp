@@ -158,6 +158,16 @@ int strict_newindex(lua_State* L) {
 }
 }  // namespace
 
+namespace {
+volatile std::sig_atomic_t run_active_flag = 0;
+}
+void set_run_active(bool active) {
+  run_active_flag = active ? 1 : 0;
+}
+bool run_active() {
+  return run_active_flag != 0;
+}
+
 void request_interrupt() {
   interrupt_flag = 1;
 }

@@ -54,6 +54,11 @@ inline constexpr const char* parameters_checked_stop = "parameters checked (gran
 void request_interrupt();
 bool interrupt_pending();
 void clear_interrupt();
+// Whether sim:run is taking steps: then an interrupt is served between two chunks of
+// steps, and the signal handler must not also stop the Lua code of a callback midway
+// (a callback cut short would leave the scene in a state no uninterrupted run reaches).
+void set_run_active(bool active);
+bool run_active();
 
 // A fresh state with the standard libraries, the granule API and lua/ on package.path.
 lua_State* new_state(SceneContext* context);

@@ -1,0 +1,57 @@
+#include "core/run_loop.hpp"
+
+#include <algorithm>
+
+namespace granule {
+
+RunOutcome run_in_chunks(SimulationBase& sim, const RunPlan& plan, CheckpointPlan& checkpoints,
+                         const std::string& interrupt_path, const RunHooks& hooks) {
+  RunOutcome out;
+  out.done = plan.done;
+  std::int64_t chunk = 16;
+  const std::int64_t steps = plan.steps;
+  const std::int64_t check_every = plan.check_every;
+  auto checkpoint = [&](const std::string& path) {
+    hooks.write_checkpoint(path);
+    checkpoints.last_step = sim.step_count();
+    checkpoints.last_wall = std::chrono::steady_clock::now();
+  };
+  while (out.done < steps) {
+    if (hooks.interrupt_pending && hooks.interrupt_pending()) {
+      checkpoint(interrupt_path);
+      out.interrupted = true;
+      return out;
+    }
+    std::int64_t n = std::min<std::int64_t>(chunk, steps - out.done);
+    if (check_every > 0) n = std::min(n, check_every - out.done % check_every);
+    if (checkpoints.every_steps > 0)
+      n = std::min(n, checkpoints.every_steps - sim.step_count() % checkpoints.every_steps);
+    const auto t0 = std::chrono::steady_clock::now();
+    sim.advance(n);
+    out.done += n;
+    const double wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (wall < 0.05 && chunk < (std::int64_t{1} << 24))
+      chunk *= 2;
+    else if (wall > 0.2 && chunk > 1)
+      chunk /= 2;
+    if (hooks.progress) hooks.progress(out.done - plan.done, sim.time());
+    if (check_every > 0 && (out.done % check_every == 0 || out.done == steps) &&
+        hooks.stop_when()) {
+      out.stopped = true;
+      return out;
+    }
+    if (!checkpoints.path.empty() && out.done < steps) {
+      const bool by_steps =
+          checkpoints.every_steps > 0 && sim.step_count() % checkpoints.every_steps == 0;
+      const bool by_time =
+          checkpoints.every_seconds > 0 &&
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - checkpoints.last_wall)
+                  .count() >= checkpoints.every_seconds;
+      if (by_steps || by_time) checkpoint(checkpoints.path);
+    }
+  }
+  return out;
+}
+
+}  // namespace granule

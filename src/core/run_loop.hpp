@@ -1,0 +1,55 @@
+// One run of a scene: the steps taken in chunks, with the scene's stop
+// criterion, its checkpoint plan and the user's interrupt served between
+// chunks. The engine's runner knows nothing of Lua: the binding (sim:run)
+// hands it the criterion, the checkpoint writer and the progress line as
+// functions, and reports the outcome to the script.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "core/simulation_base.hpp"
+
+namespace granule {
+
+// When a running scene writes checkpoints (sim:checkpoint).
+struct CheckpointPlan {
+  std::string path;              // where periodic checkpoints go ("" = none)
+  std::int64_t every_steps = 0;  // 0: not by steps
+  double every_seconds = 0;      // wall-clock seconds; 0: not by time
+  std::int64_t last_step = -1;   // step of the last checkpoint written
+  std::chrono::steady_clock::time_point last_wall = std::chrono::steady_clock::now();
+};
+
+struct RunPlan {
+  std::int64_t steps = 0;        // the run's length
+  std::int64_t done = 0;         // steps already taken (a run continued from a checkpoint)
+  std::int64_t check_every = 0;  // steps between stop checks, counted from the run's start;
+                                 // 0: the run has no stop criterion
+};
+
+struct RunHooks {
+  std::function<bool()> stop_when;  // true ends the run (called only if check_every > 0)
+  std::function<void(const std::string& path)> write_checkpoint;
+  std::function<bool()> interrupt_pending;  // the user asked to stop (a signal)
+  std::function<void(std::int64_t done, double time)> progress;
+};
+
+struct RunOutcome {
+  std::int64_t done = 0;     // steps taken, counting those before a continuation
+  bool stopped = false;      // the stop criterion ended the run
+  bool interrupted = false;  // a signal ended it, after a checkpoint to `interrupt_path`
+};
+
+// Takes plan.steps - plan.done steps. Chunks last about 0.1 s of wall time (so
+// that the progress line and an interrupt are served promptly at negligible
+// cost) and end at every stop check (every check_every steps of the run, also
+// when it was continued from a checkpoint) and at every checkpoint step. On an
+// interrupt it writes a checkpoint to `interrupt_path` between two steps and
+// returns. Exceptions from the steps or the functions propagate.
+RunOutcome run_in_chunks(SimulationBase& sim, const RunPlan& plan, CheckpointPlan& checkpoints,
+                         const std::string& interrupt_path, const RunHooks& hooks);
+
+}  // namespace granule
