@@ -272,6 +272,11 @@ class SimulationBase {
   int add_hook(Hook hook);
   void remove_hook(int id);
   std::size_t hook_count() const { return hooks_.size(); }
+  bool has_hook(int id) const {
+    for (const auto& h : hooks_)
+      if (h.id == id) return true;
+    return false;
+  }
   // Called when a run fails (NaN, escape) just before the error propagates.
   void set_failure_handler(std::function<void(const std::string&)> f) {
     on_failure_ = std::move(f);

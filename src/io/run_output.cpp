@@ -270,6 +270,7 @@ void RunOutput::declare_series(const std::string& name, const std::vector<std::s
   bool ok =
       !name.empty() && name[0] != '/' && name.back() != '/' && name.find("//") == std::string::npos;
   for (const char* r : reserved) ok = ok && first != r;
+  if (first != "diagnostics") ok = ok && name.find('/') == std::string::npos;
   if (!ok)
     throw InputError(fmt::format(
         "series name '{}' must be a plain word (or 'diagnostics/<label>') other than series, "

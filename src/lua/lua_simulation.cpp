@@ -198,6 +198,9 @@ int l_fill(lua_State* L) {
     f.seed = static_cast<std::uint64_t>(t.integer("seed", 1));
     f.max_speed = t.number("max_speed", 0);
     f.max_attempts = t.integer("max_attempts", 0);
+    if (t.has("max_attempts") && f.max_attempts < 1)
+      throw InputError(fmt::format("fill: max_attempts must be >= 1 (placement tries), got {}",
+                                   f.max_attempts));
     f.allow_overlap = t.boolean("overlap", true);
     const int size_rules = int(t.has("radius")) + int(t.has("radii")) +
                            int(t.has("radius_min") || t.has("radius_max"));
@@ -430,15 +433,32 @@ int l_remove_particle(lua_State* L) {
 }
 
 // ---- running ----
+// A callback's error that is not a string (error({...}), error(nil)) still names where
+// it was raised: the handler runs where the error was raised, before the stack unwinds.
+int callback_error_handler(lua_State* L) {
+  if (lua_type(L, 1) == LUA_TSTRING || lua_type(L, 1) == LUA_TNUMBER) return 1;
+  const char* what = lua_tostring(L, lua_upvalueindex(1));
+  luaL_where(L, 1);
+  const char* value = luaL_tolstring(L, 1, nullptr);
+  lua_pushfstring(L, "%s raised a %s as its error (%s); raise a string: error(\"...\")", what,
+                  luaL_typename(L, 1), value);
+  lua_remove(L, -2);
+  lua_concat(L, 2);
+  return 1;
+}
+
 void call_lua(lua_State* L, int function_ref, int self_ref, int results, const char* what) {
+  lua_pushstring(L, what);
+  lua_pushcclosure(L, callback_error_handler, 1);
+  const int handler = lua_gettop(L);
   lua_rawgeti(L, LUA_REGISTRYINDEX, function_ref);
   lua_rawgeti(L, LUA_REGISTRYINDEX, self_ref);
-  if (lua_pcall(L, 1, results, 0) != LUA_OK) {
-    std::string message = lua_tostring(L, -1) ? lua_tostring(L, -1) : "(non-string error)";
-    lua_pop(L, 1);
-    throw ScriptError(fmt::format("{}", message));
+  if (lua_pcall(L, 1, results, handler) != LUA_OK) {
+    std::string message = lua_tostring(L, -1) ? lua_tostring(L, -1) : "(error)";
+    lua_settop(L, handler - 1);
+    throw ScriptError(message);
   }
-  (void)what;
+  lua_remove(L, handler);
 }
 
 // Undoes what a run set up, however it ends (normally, by an error, by Ctrl-C).
@@ -505,7 +525,7 @@ int l_run(lua_State* L) {
             int ref;
             ~Unref() { luaL_unref(L, LUA_REGISTRYINDEX, ref); }
           } unref{L, ref};
-          call_lua(L, ref, s.self_ref, 1, "stop_when");
+          call_lua(L, ref, s.self_ref, 1, "the run's stop_when");
           lua_pop(L, 1);
         } else {
           auto hook = s.lua_hooks.find(static_cast<int>(id));
@@ -513,7 +533,7 @@ int l_run(lua_State* L) {
             throw std::runtime_error(fmt::format(
                 "restart: the checkpoint's journal fires hook {}, which this scene has not made",
                 id));
-          call_lua(L, hook->second, s.self_ref, 0, "every");
+          call_lua(L, hook->second, s.self_ref, 0, "the sim:every callback");
         }
       }
     }
@@ -574,7 +594,7 @@ int l_run(lua_State* L) {
     RunHooks hooks;
     hooks.stop_when = [&] {
       if (journal) journal->record_callback(-1);
-      call_lua(L, stop_ref, s.self_ref, 1, "stop_when");
+      call_lua(L, stop_ref, s.self_ref, 1, "the run's stop_when");
       const bool stop = lua_toboolean(L, -1);
       lua_pop(L, 1);
       return stop;
@@ -655,7 +675,7 @@ int l_every(lua_State* L) {
     auto id = std::make_shared<int>(0);
     h.fire = [L, ref, self_ref, journal, id] {
       if (journal && !journal->replaying()) journal->record_callback(*id);
-      call_lua(L, ref, self_ref, 0, "every");
+      call_lua(L, ref, self_ref, 0, "the sim:every callback");
     };
     *id = s.sim->add_hook(h);
     s.lua_hooks[*id] = ref;
@@ -669,7 +689,7 @@ int l_remove_hook(lua_State* L) {
     LuaSim& s = self(L);
     std::int64_t id = read_integer(L, 2, "remove_hook: hook id");
     // Hook ids are small positive ints; a larger number must not wrap onto a real one.
-    if (id < 1 || id > std::numeric_limits<int>::max())
+    if (id < 1 || id > std::numeric_limits<int>::max() || !s.sim->has_hook(static_cast<int>(id)))
       throw std::runtime_error(fmt::format("remove_hook: no hook with id {}", id));
     s.sim->remove_hook(static_cast<int>(id));
     s.lua_hooks.erase(static_cast<int>(id));
@@ -721,7 +741,8 @@ int l_output(lua_State* L) {
       o.path =
           (p.parent_path() / (p.stem().string() + "_restarted" + p.extension().string())).string();
     }
-    if (!ctx->output_path.empty()) t.mark("file");
+    // -o wins, but the scene's own 'file' must still be a file name.
+    if (!ctx->output_path.empty() && t.has("file")) (void)t.string("file");
     o.snapshot_every = t.number("snapshot_every", 0);
     o.series_every = t.number("series_every", 0);
     o.xdmf = t.boolean("xdmf", true);
