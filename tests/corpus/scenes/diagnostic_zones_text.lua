@@ -1,5 +1,5 @@
 -- diagnostic zones text
--- expect: diagnostic_zones_text\.lua:11\b.*zones
+-- expect: diagnostic_zones_text\.lua:11\b.*'zones' must be a number, got the text 'seven'
 local sim = simulation { dimension = 2 }
 sim:material { name = "glass", density = 2500 }
 sim:material { name = "steel", density = 0 }
