@@ -22,6 +22,10 @@
 -- and when to stop. Every number is an option with the dissertation's value
 -- as its default; unknown options are errors.
 local granule = require "granule"
+-- Errors are raised at the first caller outside the library (granule.checks),
+-- so that they name the scene's line whether the scene calls a helper itself
+-- or through prepare().
+local raise = require("granule.checks").raise
 
 local agglomerate = {}
 
@@ -63,6 +67,9 @@ end
 --- Copies `given` over `defaults`; an unknown key is an error naming it and
 --- the nearest valid name. `context` starts the message.
 function agglomerate.options(given, defaults, context)
+  if given ~= nil and type(given) ~= "table" then
+    raise(string.format("%s: the options must be a table { name = value, ... }, got a %s", context, type(given)))
+  end
   local out = {}
   for k, v in pairs(defaults) do out[k] = v end
   for k, v in pairs(given or {}) do
@@ -71,8 +78,8 @@ function agglomerate.options(given, defaults, context)
       for name in pairs(defaults) do names[#names + 1] = name end
       table.sort(names)
       local hint = type(k) == "string" and nearest(k, names) or nil
-      error(string.format("%s: unknown option '%s'%s", context, tostring(k),
-        hint and string.format(" (did you mean '%s'?)", hint) or ""), 3)
+      raise(string.format("%s: unknown option '%s'%s", context, tostring(k),
+        hint and string.format(" (did you mean '%s'?)", hint) or ""))
     end
     out[k] = v
   end
@@ -98,7 +105,7 @@ function agglomerate.check(o, rules, context)
     end
     if not ok then
       local wanted = kind == "count" and "a whole number >= 1" or (kind == "positive" and "> 0" or ">= 0")
-      error(string.format("%s: '%s' must be %s [%s], got %s", context, name, wanted, unit, tostring(v)), 3)
+      raise(string.format("%s: '%s' must be %s [%s], got %s", context, name, wanted, unit, tostring(v)))
     end
   end
 end
@@ -126,7 +133,7 @@ function agglomerate.size_classes(mean_diameter, spread, classes)
   local o = { mean_diameter = mean_diameter, size_spread = spread, size_classes = classes }
   agglomerate.check(o, { mean_diameter = { "positive", "m" }, size_spread = { "non_negative" },
                          size_classes = { "count" } }, "size_classes")
-  if spread >= 1 then error("size_classes: 'size_spread' must be < 1 (a fraction of the mean)", 2) end
+  if spread >= 1 then raise("size_classes: 'size_spread' must be < 1 (a fraction of the mean)") end
   local out = {}
   for k = 0, o.size_classes - 1 do
     local fraction = o.size_classes == 1 and 0 or (2 * k / (o.size_classes - 1) - 1)
@@ -193,8 +200,8 @@ function agglomerate.random_positions(dimension, center, region_radius, radii, c
   local region = dimension == 2 and math.pi * region_radius ^ 2 or 4 / 3 * math.pi * region_radius ^ 3
   local limit = dimension == 2 and 0.75 or 0.55  -- well below random close packing (0.82, 0.64)
   if solid / region > limit then
-    error(string.format("generation_diameter %.4g m is too small for %d primaries: they would fill %.0f %% of "
-      .. "it (at most %.0f %% can be placed at random)", 2 * region_radius, n, 100 * solid / region, 100 * limit), 3)
+    raise(string.format("random_positions: generation_diameter %.4g m is too small for %d primaries: they would fill %.0f %% of "
+      .. "it (at most %.0f %% can be placed at random)", 2 * region_radius, n, 100 * solid / region, 100 * limit))
   end
   local positions = {}
   for i = 1, n do positions[i] = random_in_ball(dimension, region_radius - radii[i]) end
@@ -254,8 +261,8 @@ function agglomerate.random_positions(dimension, center, region_radius, radii, c
       return positions, sweep
     end
   end
-  error(string.format("random_positions: overlaps remain after %d sweeps; enlarge generation_diameter (%.4g m) "
-    .. "or lower count (%d)", max_sweeps, 2 * region_radius, n), 3)
+  raise(string.format("random_positions: overlaps remain after %d sweeps; enlarge generation_diameter (%.4g m) "
+    .. "or lower count (%d)", max_sweeps, 2 * region_radius, n))
 end
 
 -- ---------------------------------------------------------------------------

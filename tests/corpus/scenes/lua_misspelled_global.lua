@@ -1,0 +1,3 @@
+-- runtime error: a misspelled global function
+-- expect: lua_misspelled_global\.lua:3\b.*undeclared global 'simulaton'
+local sim = simulaton { dimension = 2 }  -- <- wrong
