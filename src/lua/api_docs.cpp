@@ -494,7 +494,7 @@ int checked_call(lua_State* L) {
   int given = lua_gettop(L);
   if (method) {
     if (given == 0 || !luaL_testudata(L, 1, "granule.Simulation"))
-      return luaL_error(L, "%s: call it with a colon, as %s(...)", d->name, d->name);
+      return script_error(L, "%s: call it with a colon, as %s(...)", d->name, d->name);
     --given;
   }
   int most = 0, least = 0;
@@ -509,12 +509,12 @@ int checked_call(lua_State* L) {
   }
   if (given < least || given > most) {
     if (d->form == CallForm::table)
-      return luaL_error(L, "%s expects one table { ... }, got %d arguments (usage: %s)", d->name,
+      return script_error(L, "%s expects one table { ... }, got %d arguments (usage: %s)", d->name,
                         given, d->signature);
     if (least == most)
-      return luaL_error(L, "%s expects %d argument%s, got %d (usage: %s)", d->name, least,
+      return script_error(L, "%s expects %d argument%s, got %d (usage: %s)", d->name, least,
                         least == 1 ? "" : "s", given, d->signature);
-    return luaL_error(L, "%s expects %d to %d arguments, got %d (usage: %s)", d->name, least, most,
+    return script_error(L, "%s expects %d to %d arguments, got %d (usage: %s)", d->name, least, most,
                       given, d->signature);
   }
   return f(L);

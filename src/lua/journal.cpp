@@ -7,6 +7,7 @@
 #include <lua.hpp>
 #include <stdexcept>
 
+#include "lua/lua_util.hpp"
 #include "lua/scene.hpp"
 
 namespace granule::lua {
@@ -452,7 +453,7 @@ int journaled_call(lua_State* L) {
       failed = true;
     }
     if (failed) {
-      luaL_where(L, 1);
+      push_script_where(L);
       lua_pushstring(L, message.c_str());
       lua_concat(L, 2);
     }

@@ -438,7 +438,7 @@ int l_remove_particle(lua_State* L) {
 int callback_error_handler(lua_State* L) {
   if (lua_type(L, 1) == LUA_TSTRING || lua_type(L, 1) == LUA_TNUMBER) return 1;
   const char* what = lua_tostring(L, lua_upvalueindex(1));
-  luaL_where(L, 1);
+  push_script_where(L);
   const char* value = luaL_tolstring(L, 1, nullptr);
   lua_pushfstring(L, "%s raised a %s as its error (%s); raise a string: error(\"...\")", what,
                   luaL_typename(L, 1), value);
@@ -1191,7 +1191,7 @@ int unknown_method(lua_State* L) {
     std::string message =
         fmt::format("simulation has no method '{}'{}", name ? name : "?",
                     hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint));
-    luaL_where(L, 1);
+    push_script_where(L);
     lua_pushstring(L, message.c_str());
     lua_concat(L, 2);
   }  // the strings are destroyed before lua_error longjmps

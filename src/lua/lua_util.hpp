@@ -9,6 +9,7 @@
 #pragma once
 
 #include <array>
+#include <cstdarg>
 #include <cstdint>
 #include <lua.hpp>
 #include <set>
@@ -23,8 +24,33 @@ struct ScriptError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Pushes "file:line: " of the nearest script line calling into C (the first level
+// of the stack that runs Lua code), or "" if none: bindings are reached through
+// wrappers (the arity check, the journal), which are C levels of their own.
+inline void push_script_where(lua_State* L) {
+  lua_Debug ar;
+  for (int level = 1; lua_getstack(L, level, &ar); ++level) {
+    if (lua_getinfo(L, "Sl", &ar) && ar.currentline > 0) {
+      lua_pushfstring(L, "%s:%d: ", ar.short_src, ar.currentline);
+      return;
+    }
+  }
+  lua_pushliteral(L, "");
+}
+
+// luaL_error with push_script_where's position instead of level 1's.
+inline int script_error(lua_State* L, const char* format, ...) {
+  va_list args;
+  va_start(args, format);
+  push_script_where(L);
+  lua_pushvfstring(L, format, args);
+  va_end(args);
+  lua_concat(L, 2);
+  return lua_error(L);
+}
+
 // Runs body(L) -> int; converts any C++ exception into a Lua error prefixed with
-// the caller's file:line (luaL_where level 1).
+// the calling script's file:line (push_script_where).
 template <typename Body>
 int protect(lua_State* L, Body&& body) {
   int result = 0;
@@ -42,7 +68,7 @@ int protect(lua_State* L, Body&& body) {
       failed = true;
     }
     if (failed) {
-      if (!script) luaL_where(L, 1);
+      if (!script) push_script_where(L);
       lua_pushstring(L, message.c_str());
       if (!script) lua_concat(L, 2);
     }
