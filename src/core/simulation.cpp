@@ -127,6 +127,8 @@ void Simulation<D>::step() {
     else
       pair_forces<M, false>(pb, pairs_.params<I>());
   });
+  // The pairs' deepest overlap / smaller radius, before the walls add theirs.
+  const double pair_overlap_ratio = max_overlap_ratio_;
   const auto walls_start = Clock::now();
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
@@ -147,6 +149,9 @@ void Simulation<D>::step() {
     stage_times_.scatter += std::chrono::duration<double>(Clock::now() - scatter_start).count();
   }
   if (observed) list_logged_slots();  // simulation_log.cpp
+  // One comparison a step; the contacts are looked at only when it fails.
+  if (pair_overlap_ratio > overlap_warning_) check_overlaps(pair_overlap_ratio);
+  else scene_overlaps_ = false;
   auto t2 = Clock::now();
   stage_times_.force += std::chrono::duration<double>(t2 - t1).count();
 

@@ -236,7 +236,11 @@ class Simulation final : public SimulationBase {
   void list_logged_slots();  // the contact log's active slots, from the kernels' lists
   void integrate();
   void report_non_finite(std::size_t index);
+  void refuse_beyond_memory(std::int64_t particles, const char* what) const;
   void check_escapes();  // at each list rebuild: stops the run if a centre passed a wall
+  // Steps whose deepest pair overlap exceeds overlap_warning: warns once, stops
+  // a pass-through (simulation_checks.cpp).
+  void check_overlaps(double pair_ratio);
   Diagnostic<D>& diagnostic(int id) const;
 
   struct AttachedDiagnostic {

@@ -2,9 +2,14 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
 #include <iostream>
+#include <thread>
+
+#include <unistd.h>
 
 #include "core/errors.hpp"
 #include "core/simulation.hpp"
@@ -24,7 +29,9 @@ int SimulationBase::add_material(const Material& m) {
   positive_or_zero(m.density, "density", "kg/m^3");
   positive_or_zero(m.young, "young", "Pa");
   positive_or_zero(m.surface_energy, "surface_energy", "J/m^2");
-  if (!std::isfinite(m.poisson) || m.poisson < -1 || m.poisson >= 0.5 + 1e-12)
+  // Elastic stability of an isotropic solid needs -1 < nu <= 1/2: at nu = -1 the shear
+  // modulus E / (2 (1 + nu)) of the Rayleigh time (Eq. 6.1) and of G* is infinite.
+  if (!(m.poisson > -1 && m.poisson <= 0.5))
     throw InputError(
         fmt::format("material '{}': 'poisson' must be in (-1, 0.5], got {}", m.name, m.poisson));
   materials_.push_back(m);
@@ -55,6 +62,21 @@ void SimulationBase::set_contact(const std::string& a, const std::string& b,
       resolve_parameters(contact_model_catalogue()[m].parameters, given, context);
   pairs_.set(ia, ib, m, resolved, {materials_[ia], materials_[ib]});
   prepared_ = false;
+}
+
+void SimulationBase::declare_contact(const std::string& a, const std::string& b,
+                                     const std::string& model, const ParamValues& given,
+                                     const std::string& where) {
+  const int ia = material_id(a), ib = material_id(b);
+  const std::pair<int, int> key{std::min(ia, ib), std::max(ia, ib)};
+  const auto first = contact_declared_at_.find(key);
+  if (first != contact_declared_at_.end())
+    throw InputError(fmt::format(
+        "contact '{}'-'{}' is declared twice: first at {}, again at {}; a pair has one law "
+        "(declare it once, and change its parameters with sim:set_contact('{}', '{}', {{ ... }}))",
+        a, b, first->second, where, a, b));
+  set_contact(a, b, model, given);
+  contact_declared_at_[key] = where;
 }
 
 void SimulationBase::update_contact(const std::string& a, const std::string& b,
@@ -88,6 +110,15 @@ void SimulationBase::set_skin(double skin) {
   prepared_ = false;
 }
 
+void SimulationBase::set_overlap_warning(double fraction) {
+  // Above 1 a pair is stopped as passing through before any warning could come.
+  if (!(fraction > 0 && fraction <= 1))
+    throw InputError(fmt::format(
+        "overlap_warning must be in (0, 1] (a fraction of the smaller radius), got {}", fraction));
+  overlap_warning_ = fraction;
+  overlap_warned_ = false;
+}
+
 void SimulationBase::set_periodic(int axis, double origin, double length) {
   if (axis < 0 || axis >= dimension())
     throw InputError(fmt::format("periodic axis {} does not exist in {}D", axis, dimension()));
@@ -101,6 +132,13 @@ void SimulationBase::set_periodic(int axis, double origin, double length) {
 void SimulationBase::set_threads(int threads) {
   if (threads < 0 || threads > 4096)
     throw InputError(fmt::format("threads must be >= 0 (0 = all cores), got {}", threads));
+  // More threads than cores only take turns on them: every pair-loop barrier
+  // then waits for a thread that is not running.
+  const unsigned cores = std::thread::hardware_concurrency();
+  if (cores > 0 && static_cast<unsigned>(threads) > 2 * cores)
+    warn(fmt::format("threads = {} is far above the {} cores of this machine: the threads will "
+                     "wait for one another; give at most {}",
+                     threads, cores, cores));
   threads_ = threads;
 }
 
@@ -173,6 +211,17 @@ void SimulationBase::fail(const std::string& message) {
     }
   }
   throw RunError(message);
+}
+
+double available_memory_bytes() {
+  std::ifstream meminfo("/proc/meminfo");
+  std::string key;
+  double kib = 0;
+  std::string unit;
+  while (meminfo >> key >> kib >> unit)
+    if (key == "MemAvailable:") return kib * 1024;
+  const long pages = sysconf(_SC_AVPHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+  return pages > 0 && page > 0 ? static_cast<double>(pages) * static_cast<double>(page) : 0;
 }
 
 std::unique_ptr<SimulationBase> make_simulation(int dimension) {

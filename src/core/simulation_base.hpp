@@ -113,8 +113,9 @@ struct Hook {
 
 struct TimeStepReport {
   double rule = 0;             // Eq. 4.1 (or the model's analogue) over the pairs in use, s
-  double stability_limit = 0;  // 2 / omega_max, s
-  std::string governing_pair;  // "a-b (model)"
+  double stability_limit = 0;  // 1 / omega_max (half of leap-frog's 2 / omega_max), s
+  std::string governing_pair;  // "a-b (model)": the pair whose rule is shortest
+  std::string limit_pair;      // the pair whose stability limit is shortest
 };
 
 // What a prepared scene simulates, and so what its step pays for: the run
@@ -150,6 +151,12 @@ class SimulationBase {
   void set_contact(const std::string& a, const std::string& b, const std::string& model,
                    const ParamValues& given);
   void update_contact(const std::string& a, const std::string& b, const ParamValues& changes);
+  // A scene's declaration of the law between a and b, made at `where` (its
+  // file:line): a second one for the pair, in either order, is refused naming
+  // both places, so that a law is never replaced by accident (set_contact
+  // changes parameters on purpose).
+  void declare_contact(const std::string& a, const std::string& b, const std::string& model,
+                       const ParamValues& given, const std::string& where);
   const PairTable& pair_table() const { return pairs_; }
 
   virtual int add_wall(const WallSpec& spec) = 0;
@@ -161,6 +168,9 @@ class SimulationBase {
   void set_time_step(double dt);  // > 0 fixed; 0 = Eq. 4.1 rule (default)
   void set_steps_per_contact(double n);
   void set_skin(double skin);  // m; 0 = automatic (half the median radius)
+  // Pair overlaps above this fraction of the smaller radius are warned of once (0 < f <= 1).
+  void set_overlap_warning(double fraction);
+  double overlap_warning() const { return overlap_warning_; }
   void set_periodic(int axis, double origin, double length);
   void set_record_contacts(bool on) { record_contacts_ = on; }
   // Threads for the contact and integration loops. The results do not depend
@@ -303,11 +313,18 @@ class SimulationBase {
 
   std::vector<Material> materials_;
   PairTable pairs_;
+  std::map<std::pair<int, int>, std::string> contact_declared_at_;  // (a <= b) -> file:line
   double dt_ = 0;
   double dt_fixed_ = 0;
   double steps_per_contact_ = 40;  // Eq. 4.1, n = 40 in the dissertation
   double skin_ = 0;
   double skin_set_ = 0;
+  double overlap_warning_ = 0.1;
+  bool overlap_warned_ = false;
+  // Set by prepare() and set_position(): overlaps deeper than a radius are then the
+  // scene's (coincident particles, an overlapping fill) until every pair is back
+  // under overlap_warning (check_overlaps).
+  bool scene_overlaps_ = false;
   Periodicity periodic_;
   bool record_contacts_ = false;
   int threads_ = 0;
@@ -325,5 +342,8 @@ class SimulationBase {
 };
 
 std::unique_ptr<SimulationBase> make_simulation(int dimension);
+// Memory the machine can give this process now (MemAvailable, else sysconf's
+// free pages), in bytes; 0 when unknown.
+double available_memory_bytes();
 
 }  // namespace granule

@@ -71,6 +71,27 @@ void Simulation<D>::check_particle_input(const ParticleSpec& s, const std::strin
     throw InputError(fmt::format("{}: position, velocity and spin must be finite", context));
 }
 
+// A request for more particles than the machine's memory holds is refused at
+// once, instead of thrashing or failing deep inside an allocation. Per
+// particle: its arrays (positions, velocities, spins, forces, radii, masses,
+// ids, the list's reference positions: ~200 bytes in 3D) and its share of
+// the neighbour candidates, ~10 per particle in a dense 3D pack at the
+// automatic skin, each with indices, ids and a contact history (~100 bytes).
+template <int D>
+void Simulation<D>::refuse_beyond_memory(std::int64_t particles, const char* what) const {
+  const double per_particle =
+      static_cast<double>(4 * sizeof(V) + sizeof(S) + sizeof(ForceTorque<D>) + 4 * sizeof(double) +
+                          sizeof(std::int64_t) + 2 * sizeof(std::int32_t) + 1) +
+      10.0 * 100.0;
+  const double needed = per_particle * static_cast<double>(particles);
+  const double available = available_memory_bytes();
+  if (available > 0 && needed > available)
+    throw InputError(fmt::format(
+        "{}: {} particles need about {:.3g} GB (about {:.0f} bytes each, with their neighbour "
+        "candidates), more than the {:.3g} GB of memory available (MemAvailable, /proc/meminfo)",
+        what, particles, needed / 1e9, per_particle, available / 1e9));
+}
+
 template <int D>
 std::int64_t Simulation<D>::add_particle(const ParticleSpec& s) {
   check_particle_input(s, "particle");
@@ -109,6 +130,7 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
       throw InputError(fmt::format("fill: radii must be > 0 [m], got {}", r));
   if (!(f.max_speed >= 0) || !std::isfinite(f.max_speed))
     throw InputError(fmt::format("fill: max_speed must be >= 0 [m/s], got {}", f.max_speed));
+  refuse_beyond_memory(static_cast<std::int64_t>(p_.size()) + f.count, "fill");
   Random rng(f.seed);
   const double density = materials_[f.material].density;
   if (!(density > 0))
@@ -347,7 +369,11 @@ TimeStepReport Simulation<D>::time_step_rule() {
         r.governing_pair =
             fmt::format("{}-{} ({}, {})", materials_[a].name, materials_[b].name, M::name, kind);
       }
-      r.stability_limit = std::min(r.stability_limit, limit);
+      if (limit < r.stability_limit) {
+        r.stability_limit = limit;
+        r.limit_pair =
+            fmt::format("{}-{} ({}, {})", materials_[a].name, materials_[b].name, M::name, kind);
+      }
     });
   };
   for (int a = 0; a < nm; ++a) {
@@ -396,6 +422,27 @@ void Simulation<D>::prepare() {
   // Skin: automatic = half the median radius.
   if (skin_set_ > 0) {
     skin_ = skin_set_;
+    // A skin beyond the scene's extent makes every pair a candidate: it is a
+    // slip of units or of a factor, never a setting that helps.
+    double extent = periodic_.on() ? periodic_.length : 0;
+    if (p_.size()) {
+      V lo = p_.position[0], hi = p_.position[0];
+      auto include = [&](const V& x, double reach) {
+        lo = lo.cwiseMin(x - V::Constant(reach));
+        hi = hi.cwiseMax(x + V::Constant(reach));
+      };
+      for (std::size_t i = 0; i < p_.size(); ++i) include(p_.position[i], p_.radius[i]);
+      for (const auto& w : walls_)
+        include(w.type == WallType::plane ? w.point : w.center,
+                w.type == WallType::plane ? 0.0 : w.radius);
+      extent = std::max(extent, (hi - lo).maxCoeff());
+    }
+    if (p_.size() && skin_ > extent)
+      throw InputError(fmt::format(
+          "skin {:.4g} m is larger than the scene ({:.4g} m across its particles and walls): "
+          "every pair would be a neighbour candidate; give a skin of a fraction of a radius "
+          "(0 = automatic, half the median radius)",
+          skin_, extent));
   } else if (p_.size()) {
     std::vector<double> r(p_.radius.begin(), p_.radius.end());
     std::nth_element(r.begin(), r.begin() + r.size() / 2, r.end());
@@ -452,7 +499,7 @@ void Simulation<D>::prepare() {
             "time_step {:.4g} s is above the stability limit 1/omega = {:.4g} s of {} (half of "
             "leap-frog's 2/omega: with fewer than pi steps per contact an impact gains energy): "
             "refused",
-            dt_, rule.stability_limit, rule.governing_pair));
+            dt_, rule.stability_limit, rule.limit_pair));
       if (dt_ > rule.rule * (1 + 1e-9))
         warn(
             fmt::format("time_step {:.4g} s exceeds the Eq. 4.1 rule {:.4g} s (n = {} steps per "
@@ -468,11 +515,23 @@ void Simulation<D>::prepare() {
       // than needed is kept, so that removing particles does not change it.
       dt_ = rule.rule;
     }
+    // The automatic dt is t_c / n (Eq. 4.1): a small n puts it beyond the limit
+    // as surely as a time_step does (n = 1 gives restitution 3 with Walton-Braun,
+    // 17 with Hertz), so it is refused the same way. The limit is 1/omega, so
+    // linear and Walton-Braun laws accept n > pi; Hertz and Thornton, whose rule
+    // is 8 T_R / n against a limit of T_R / 2, n > 16.
+    if (!(dt_fixed_ > 0) && dt_ >= rule.stability_limit)
+      throw InputError(fmt::format(
+          "steps_per_contact = {} gives a time step {:.4g} s (Eq. 4.1 for {}), above the "
+          "stability limit 1/omega = {:.4g} s of {} (half of leap-frog's 2/omega: with fewer than "
+          "pi steps per contact an impact gains energy): refused; raise steps_per_contact",
+          steps_per_contact_, dt_, rule.governing_pair, rule.stability_limit, rule.limit_pair));
   } else if (dt_ == 0) {
     dt_ = dt_fixed_;
   }
   if (!(dt_ > 0)) throw InputError("no time step: the scene has no particles and no time_step");
   rebuild_lists();
+  scene_overlaps_ = true;
   prepared_ = true;
 }
 
@@ -572,6 +631,7 @@ void Simulation<D>::set_position(std::int64_t id, const Triple& x) {
   if (!finite3(x)) throw InputError("position must be finite");
   p_.position[checked(id)] = to_vec(x);
   lists_valid_ = false;
+  scene_overlaps_ = true;  // a deep overlap made here is the scene's, not a pass-through
 }
 template <int D>
 void Simulation<D>::set_velocity(std::int64_t id, const Triple& v) {

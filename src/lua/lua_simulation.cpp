@@ -94,7 +94,12 @@ int l_contact(lua_State* L) {
       if (key == "model") continue;
       values[key] = t.number(key.c_str());
     }
-    s.sim->set_contact(a, b, model, values);
+    // The caller's file:line, for the message that a second declaration gets.
+    lua_Debug ar;
+    std::string where = "?";
+    if (lua_getstack(L, 1, &ar) && lua_getinfo(L, "Sl", &ar))
+      where = ar.currentline > 0 ? fmt::format("{}:{}", ar.short_src, ar.currentline) : ar.short_src;
+    s.sim->declare_contact(a, b, model, values, where);
     return 0;
   });
 }
@@ -1069,7 +1074,7 @@ int l_tostring(lua_State* L) {
 }
 
 // simulation { dimension = 2|3, time_step = s, steps_per_contact = n, skin = m,
-//              record_contacts = bool, periodic = { axis = "z", origin = m, length = m } }
+//              record_contacts = bool, overlap_warning = f, periodic = { axis = "z", origin = m, length = m } }
 int l_simulation(lua_State* L) {
   return protect(L, [](lua_State* L) {
     // `granule sweep` checking parameters: a scene that reaches its simulation has declared
@@ -1082,10 +1087,16 @@ int l_simulation(lua_State* L) {
     TableReader t(L, 1, "simulation");
     int d = static_cast<int>(t.integer("dimension", 3));
     auto sim = make_simulation(d);
+    // Before the settings, so that their warnings (threads) follow --quiet.
+    bool quiet = context(L) && context(L)->quiet;
+    sim->set_warning_handler([quiet](const std::string& m) {
+      if (!quiet) std::cerr << "warning: " << m << "\n";
+    });
     sim->set_time_step(t.number("time_step", 0));
     sim->set_steps_per_contact(t.number("steps_per_contact", 40));
     sim->set_skin(t.number("skin", 0));
     sim->set_record_contacts(t.boolean("record_contacts", false));
+    if (t.has("overlap_warning")) sim->set_overlap_warning(t.number("overlap_warning"));
     sim->set_threads(static_cast<int>(t.integer("threads", 0)));
     if (context(L) && context(L)->threads > 0) sim->set_threads(context(L)->threads);
     if (t.push_table("periodic")) {
@@ -1099,10 +1110,6 @@ int l_simulation(lua_State* L) {
       sim->set_periodic(a, origin, length);
     }
     t.finish();
-    bool quiet = context(L) && context(L)->quiet;
-    sim->set_warning_handler([quiet](const std::string& m) {
-      if (!quiet) std::cerr << "warning: " << m << "\n";
-    });
     void* mem = lua_newuserdatauv(L, sizeof(LuaSim), 0);
     auto* s = new (mem) LuaSim();
     s->sim = std::move(sim);

@@ -2,9 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "contact/parameters.hpp"
+#include "lua/api_docs.hpp"
 
 namespace granule::lua {
 
@@ -17,6 +19,38 @@ TableReader::TableReader(lua_State* L, int index, std::string context)
   if (!lua_istable(L, index_))
     throw std::runtime_error(
         fmt::format("{}: expected a table {{ ... }}, got {}", context_, type_name(L, index_)));
+  refuse_undocumented_keys();
+}
+
+// A binding reads its keys one by one and raises the first error it meets, so a
+// misspelt key ('radis') would be reported as the required one it stands for
+// ("'radius_min' is required"). The keys a function takes are declared once, in
+// the API table (api_docs.cpp): a table checked against them before anything is
+// read reports the misspelling first, for every binding the table describes.
+// The context names the function: "fill", or "material 'glass'" (a quoted
+// name after it); nested tables ("fill.region") and parameter specifications
+// ("parameters: 'x'") are checked by finish() as they are read.
+void TableReader::refuse_undocumented_keys() {
+  const std::size_t end = context_.find(' ');
+  if (end != std::string::npos && context_.compare(end, 2, " '") != 0) return;
+  const std::string name = context_.substr(0, end);
+  if (name.empty() || name.find_first_of(".:") != std::string::npos) return;
+  const FunctionDoc* doc = find_doc(name);
+  if (!doc || doc->form != CallForm::table || doc->open_keys) return;
+  std::vector<std::string> known;
+  for (const ArgDoc& a : doc->args) known.emplace_back(a.name);
+  lua_pushnil(L_);
+  while (lua_next(L_, index_) != 0) {
+    lua_pop(L_, 1);
+    if (lua_type(L_, -1) != LUA_TSTRING) continue;  // positional entries are read by callers
+    std::string key = lua_tostring(L_, -1);
+    if (std::find(known.begin(), known.end(), key) != known.end()) continue;
+    lua_pop(L_, 1);
+    std::string hint = nearest_name(key, known);
+    throw std::runtime_error(
+        fmt::format("{}: unknown key '{}'{}", context_, key,
+                    hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint)));
+  }
 }
 
 int TableReader::push(const char* key) {

@@ -80,8 +80,10 @@ int protect(lua_State* L, Body&& body) {
 std::string type_name(lua_State* L, int index);
 
 // Reads fields of a Lua table at a stack index; throws std::runtime_error naming
-// the context and key. finish() refuses keys that were not read, suggesting
-// the nearest known name.
+// the context and key. A table for a function of the API table (api_docs.cpp)
+// is checked against its documented keys when the reader is made, so an unknown
+// key is reported before a missing required one; finish() refuses keys that
+// were not read, suggesting the nearest known name.
 class TableReader {
  public:
   TableReader(lua_State* L, int index, std::string context);
@@ -108,6 +110,7 @@ class TableReader {
 
  private:
   int push(const char* key);  // pushes field, returns its type
+  void refuse_undocumented_keys();
   lua_State* L_;
   int index_;
   std::string context_;

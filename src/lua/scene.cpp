@@ -200,6 +200,22 @@ lua_State* new_state(SceneContext* ctx) {
   lua_pop(L, 1);
   lua_pushstring(L, path.c_str());
   lua_setfield(L, -2, "path");
+  // C modules only from absolute directories: Lua's default cpath ends with
+  // ./?.so, so a `require` run in a directory holding a stray .so of that name
+  // would load and run native code the user never meant to (docs/security.md).
+  lua_getfield(L, -1, "cpath");
+  const std::string given = lua_tostring(L, -1);
+  lua_pop(L, 1);
+  std::string cpath;
+  for (std::size_t from = 0; from <= given.size();) {
+    std::size_t to = given.find(';', from);
+    if (to == std::string::npos) to = given.size();
+    const std::string entry = given.substr(from, to - from);
+    if (!entry.empty() && entry[0] == '/') cpath += (cpath.empty() ? "" : ";") + entry;
+    from = to + 1;
+  }
+  lua_pushstring(L, cpath.c_str());
+  lua_setfield(L, -2, "cpath");
   lua_pop(L, 1);
   push_checked(L, *find_doc("parameters"), l_parameters);
   lua_setglobal(L, "parameters");

@@ -76,24 +76,24 @@ TEST_CASE("lua: bad physical input is refused with the parameter named", "[lua][
                  "radius must be > 0");
   expect_refused("sim:material { name = 'x', density = -5 }\n", 6, "'density' must be >= 0");
   expect_refused(
-      "sim:contact { 'glass', 'glass', model = 'walton_braun', k_load = 1e4, restitution = 1.5 }\n",
+      "sim:contact { 'steel', 'steel', model = 'walton_braun', k_load = 1e4, restitution = 1.5 }\n",
       6, "'restitution' = 1.5");
   expect_refused(
-      "sim:contact { 'glass', 'glass', model = 'walton_braun', k_load = 1e4, restitution = 0 }\n",
+      "sim:contact { 'steel', 'steel', model = 'walton_braun', k_load = 1e4, restitution = 0 }\n",
       6, "'restitution' = 0");
   expect_refused(
-      "sim:contact { 'glass', 'glass', model = 'linear', k_normal = 1e4, restitution = 0.5, "
+      "sim:contact { 'steel', 'steel', model = 'linear', k_normal = 1e4, restitution = 0.5, "
       "friction = -0.1 }\n",
       6, "'friction' = -0.1");
   expect_refused("sim:add_particle { position = {0, 0}, radius = 1e-3, material = 'glas' }\n", 6,
                  "unknown material 'glas' (did you mean 'glass'?)");
   expect_refused(
-      "sim:contact { 'glass', 'glass', model = 'walton_braun', k_lod = 1e4, restitution = 0.5 }\n",
+      "sim:contact { 'steel', 'steel', model = 'walton_braun', k_lod = 1e4, restitution = 0.5 }\n",
       6, "unknown parameter 'k_lod' (did you mean 'k_load'?)");
   expect_refused(
-      "sim:contact { 'glass', 'glass', model = 'waltonbraun', k_load = 1, restitution = 0.5 }\n", 6,
+      "sim:contact { 'steel', 'steel', model = 'waltonbraun', k_load = 1, restitution = 0.5 }\n", 6,
       "unknown contact model 'waltonbraun'");
-  expect_refused("sim:contact { 'glass', 'glass', model = 'walton_braun', restitution = 0.5 }\n", 6,
+  expect_refused("sim:contact { 'steel', 'steel', model = 'walton_braun', restitution = 0.5 }\n", 6,
                  "'k_load' [N/m] is required");
   expect_refused(
       "sim:add_particle { position = {0, 0}, radius = 1e-3, material = 'glass', velocity = {0/0, "
@@ -165,4 +165,71 @@ assert(p.flag == true)
   auto read_unknown = run_scene("local p = parameters { a = 1 }\nlocal x = p.b\n");
   CHECK_THAT(read_unknown.error, Catch::Contains(":2:"));
   CHECK_THAT(read_unknown.error, Catch::Contains("unknown parameter 'b'"));
+}
+
+TEST_CASE("lua: a second contact law for a pair names both declarations", "[lua][errors]") {
+  // The header declares glass-steel on line 5; again here, in the other order, on line 6.
+  auto r = run_scene(std::string(header) +
+                     "sim:contact { 'steel', 'glass', model = 'linear', k_normal = 1e4, "
+                     "restitution = 0.5 }\n");
+  const std::string file = std::filesystem::path(r.path).filename().string();
+  INFO("error: " << r.error);
+  CHECK_THAT(r.error, Catch::Contains("declared twice"));
+  CHECK_THAT(r.error, Catch::Contains("first at " ));
+  CHECK_THAT(r.error, Catch::Contains(file + ":5, again at "));
+  CHECK_THAT(r.error, Catch::Contains(file + ":6"));
+  CHECK_THAT(r.error, Catch::Contains("sim:set_contact"));
+  // A deliberate change goes through set_contact.
+  CHECK(run_scene(std::string(header) + "sim:set_contact('steel', 'glass', { friction = 0.2 })\n")
+            .error == "");
+}
+
+TEST_CASE("lua: an unknown key is reported before a missing required one", "[lua][errors]") {
+  // 'radis' stands for 'radius', whose absence the binding would otherwise report
+  // as "'radius_min' is required".
+  expect_refused(
+      "sim:fill { region = { circle = { center = {0, 0}, radius = 0.008 } }, count = 5, radis = "
+      "3e-4, material = 'glass' }\n",
+      6, "fill: unknown key 'radis' (did you mean 'radius'?)");
+  expect_refused("sim:add_particle { position = {0, 0}, radiu = 1e-3, material = 'glass' }\n", 6,
+                 "unknown key 'radiu' (did you mean 'radius'?)");
+  expect_refused("sim:wall_plane { nam = 'floor', point = {0, 0}, normal = {0, 1}, material = "
+                 "'steel' }\n",
+                 6, "unknown key 'nam' (did you mean 'name'?)");
+  expect_refused("sim:material { nme = 'x', density = 1 }\n", 6, "unknown key 'nme'");
+  auto r = run_scene("local sim = simulation { dimensio = 2 }\n");
+  CHECK_THAT(r.error, Catch::Contains("simulation: unknown key 'dimensio' (did you mean 'dimension'?)"));
+}
+
+TEST_CASE("lua: requests that cannot be met are refused with the reason", "[lua][errors]") {
+  // Poisson's ratio must lie in (-1, 0.5]: at -1 the shear modulus is infinite.
+  expect_refused("sim:material { name = 'x', density = 1, young = 1e9, poisson = -1 }\n", 6,
+                 "'poisson' must be in (-1, 0.5]");
+  CHECK(run_scene(std::string(header) +
+                  "sim:material { name = 'x', density = 1, young = 1e9, poisson = 0.5 }\n")
+            .error == "");
+  // A skin wider than the whole scene.
+  expect_refused(R"(sim:add_particle { position = {0, 0}, radius = 1e-3, material = "glass" }
+sim:add_particle { position = {3e-3, 0}, radius = 1e-3, material = "glass" }
+sim:set { skin = 1 }
+sim:run { steps = 1 }
+)",
+                 9, "skin 1 m is larger than the scene (0.005 m across its particles and walls)");
+  // More particles than the machine's memory holds: refused at once, with the estimate.
+  expect_refused(
+      "sim:fill { region = { circle = { center = {0, 0}, radius = 0.008 } }, count = 900000000, "
+      "radius = 1e-6, material = 'glass' }\n",
+      6, "GB of memory available");
+}
+
+TEST_CASE("lua: a scene loads no C module from the current directory", "[lua]") {
+  // A stray module in the working directory: Lua's default cpath (./?.so) would find it.
+  const std::string name = "granule_stray_module_" + std::to_string(getpid());
+  std::ofstream(name + ".so") << "not a library";
+  auto r = run_scene("assert(package.searchpath('" + name +
+                     "', package.cpath) == nil, 'found ' .. tostring(package.searchpath('" + name +
+                     "', package.cpath)))\nfor entry in package.cpath:gmatch('[^;]+') do "
+                     "assert(entry:sub(1, 1) == '/', entry) end\n");
+  std::filesystem::remove(name + ".so");
+  CHECK(r.error == "");
 }

@@ -42,6 +42,50 @@ for _, fraction in ipairs { 0.05, 0.2, 0.5, 0.8, 0.99 } do
   local restitution = (vb - va) / 1.0
   S.check(restitution > 0.7 and restitution < 1, "dt = %s of the limit: restitution %s", fraction, restitution)
 end
+-- steps_per_contact: the automatic dt = t_c / n must meet the same limit. Leap-frog on
+-- the linear law accepts n > pi / sqrt(1 - zeta^2) (t_c = pi / omega_d against 1/omega),
+-- Walton-Braun n > pi (t_c e sqrt(m*/K1) pi against sqrt(m*/K2) = e sqrt(m*/K1)), Hertz
+-- n > 16 (8 T_R / n against T_R / 2). Below: refused before any step, naming the parameter,
+-- the dt, the limit and the pair; at and above: runs, its impact physical.
+local laws = {
+  linear = { model = "linear", k_normal = k, restitution = e },
+  walton_braun = { model = "walton_braun", k_load = k, restitution = e },
+  hertz_mindlin = { model = "hertz_mindlin", restitution = e },
+}
+local function impact(law, n)
+  local sim = simulation { dimension = 2, steps_per_contact = n, record_contacts = true }
+  sim:material { name = "m", density = 1200, young = 1e8, poisson = 0.3 }
+  local c = { "m", "m" }
+  for key, value in pairs(laws[law]) do c[key] = value end
+  sim:contact(c)
+  local a = sim:add_particle { position = { -0.201e-3, 0 }, velocity = { 0.5, 0 }, radius = 0.2e-3, material = "m" }
+  local b = sim:add_particle { position = { 0.201e-3, 0 }, velocity = { -0.5, 0 }, radius = 0.2e-3, material = "m" }
+  return sim, a, b
+end
+for law, cases in pairs { linear = { refused = { 1, 2, 3 }, runs = { 4, 10 } },
+                          walton_braun = { refused = { 1, 3 }, runs = { 4, 10 } },
+                          hertz_mindlin = { refused = { 1, 8, 16 }, runs = { 17, 40 } } } do
+  for _, n in ipairs(cases.refused) do
+    local sim = impact(law, n)
+    local message = S.fails("stability limit", sim.run, sim, { steps = 10 })
+    S.check(message:find("steps_per_contact = " .. n, 1, true) and message:find("m-m", 1, true)
+      and message:find("time step", 1, true), "%s, n = %s: the refusal names neither n, dt nor the pair: %s",
+      law, n, message)
+    S.check(sim:step_count() == 0, "%s, n = %s: a refused run advanced %s steps", law, n, sim:step_count())
+  end
+  for _, n in ipairs(cases.runs) do
+    local sim, a, b = impact(law, n)
+    local seen, ended = false, false
+    sim:every { steps = 1, function(s)
+      if #s:contacts() > 0 then seen = true elseif seen then ended = true end
+    end }
+    sim:run { steps = 10000, check_every = 1, stop_when = function() return ended end }
+    S.check(ended, "%s, n = %s: contact never ended", law, n)
+    S.all_finite(sim)
+    local restitution = sim:particle(b).velocity[1] - sim:particle(a).velocity[1]
+    S.check(restitution > 0.5 and restitution < 1, "%s, n = %s: restitution %s", law, n, restitution)
+  end
+end
 -- The automatic step follows the stiffness: 100x stiffer, 10x shorter (Eq. 4.1, t_c ~ k^-1/2).
 local sim = pair(nil)
 sim:run { steps = 1 }

@@ -1,0 +1,138 @@
+// Guards on a run: overlaps deeper than overlap_warning are warned of once,
+// with the speed their contact would launch the pair at; two particles passing
+// through each other stop the run, naming them; a thread count far above the
+// cores is warned of.
+#include <fmt/format.h>
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <thread>
+
+#include "core/errors.hpp"
+#include "core/simulation.hpp"
+
+using namespace granule;
+
+namespace {
+constexpr double k = 2e4, r = 0.2e-3, density = 1200;
+const double mass = 4.0 / 3.0 * M_PI * r * r * r * density;
+const double omega = std::sqrt(k / (mass / 2));  // of the pair's spring, reduced mass m/2
+
+template <int D>
+void linear_pair_scene(Simulation<D>& sim, std::vector<std::string>& warnings) {
+  sim.set_warning_handler([&warnings](const std::string& m) { warnings.push_back(m); });
+  sim.add_material({"m", density, 0, 0, 0});
+  sim.set_contact("m", "m", "linear", {{"k_normal", k}, {"restitution", 0.85}});
+}
+template <int D>
+std::int64_t particle(Simulation<D>& sim, double x, double y, double vx) {
+  ParticleSpec s;
+  s.position = {x, y, 0};
+  s.velocity = {vx, 0, 0};
+  s.radius = r;
+  s.material = 0;
+  return sim.add_particle(s);
+}
+int count_containing(const std::vector<std::string>& list, const std::string& needle) {
+  int n = 0;
+  for (const auto& m : list) n += m.find(needle) != std::string::npos;
+  return n;
+}
+}  // namespace
+
+TEST_CASE("guards: an overlap above overlap_warning is warned of once, naming the pair",
+          "[guards]") {
+  for (double fraction : {0.05, 0.3}) {
+    for (double threshold : {0.1, 0.5}) {
+      Simulation<2> sim;
+      std::vector<std::string> warnings;
+      linear_pair_scene(sim, warnings);
+      if (threshold != 0.1) sim.set_overlap_warning(threshold);
+      // Two pairs at rest, far apart: one overlapping by `fraction` r, one by half of it.
+      const double a = fraction * r;
+      particle(sim, -(r - a / 2), 0, 0), particle(sim, r - a / 2, 0, 0);
+      particle(sim, 0.01 - (r - a / 4), 0, 0), particle(sim, 0.01 + r - a / 4, 0, 0);
+      sim.advance(200);
+      INFO("overlap " << fraction << " r, overlap_warning " << threshold);
+      const int warned = count_containing(warnings, "overlap by");
+      if (fraction <= threshold) {
+        CHECK(warned == 0);
+        continue;
+      }
+      REQUIRE(warned == 1);  // once, although the overlap lasts several steps
+      const std::string& w = warnings[0];
+      CHECK_THAT(w, Catch::Contains("particles 0 and 1"));
+      CHECK_THAT(w, Catch::Contains("step 0"));
+      // The spring's energy (1/2) k a^2 given to the reduced mass: v = a omega.
+      CHECK_THAT(w, Catch::Contains(fmt::format("at about {:.3g} m/s", a * omega)));
+      // Started by the scene: the gentle start is offered.
+      CHECK_THAT(w, Catch::Contains("overlap = false"));
+    }
+  }
+}
+
+TEST_CASE("guards: two particles passing through each other stop the run, naming them",
+          "[guards]") {
+  // Head-on at 10 r omega: the spring cannot stop them (its largest overlap would be
+  // 10 r), and each step carries them 10 r omega dt ~ 0.8 r closer (dt = t_c / 40).
+  const double v = 10 * r * omega;
+  auto provoke = [&](auto& sim) {
+    std::vector<std::string> warnings;
+    linear_pair_scene(sim, warnings);
+    particle(sim, -1.05 * r, 0, v / 2), particle(sim, 1.05 * r, 0, -v / 2);
+    std::string message;
+    try {
+      sim.advance(100);
+    } catch (const RunError& e) {
+      message = e.what();
+    }
+    INFO("dimension " << sim.dimension() << ": " << message);
+    CHECK_THAT(message, Catch::Contains("particles 0 and 1 pass through each other"));
+    CHECK_THAT(message, Catch::Contains("closing at"));
+    // Stopped before the centres crossed: the output keeps a state that shows it.
+    CHECK(sim.position(0)[0] < sim.position(1)[0]);
+    CHECK(sim.step_count() < 10);
+    // The deep overlap was first warned of, with no second warning.
+    CHECK(count_containing(warnings, "overlap by") == 1);
+  };
+  Simulation<2> flat;
+  provoke(flat);
+  Simulation<3> solid;  // the batched 3D kernel keeps the deepest overlap too
+  provoke(solid);
+}
+
+TEST_CASE("guards: overlaps the scene made are pushed apart, not stopped", "[guards]") {
+  // Coincident centres (overlap 2 r), then, after they separated, one particle moved
+  // onto the other with set_position: neither is a pass-through.
+  Simulation<3> sim;
+  std::vector<std::string> warnings;
+  linear_pair_scene(sim, warnings);
+  particle(sim, 0, 0, 0), particle(sim, 0, 0, 0);
+  REQUIRE_NOTHROW(sim.advance(2000));
+  CHECK(sim.stats().contacts_particle == 0);
+  const Triple far = sim.position(1);
+  sim.set_position(0, {far[0] + 0.1 * r, far[1], far[2]});
+  REQUIRE_NOTHROW(sim.advance(2000));
+  CHECK(sim.stats().contacts_particle == 0);
+  CHECK(count_containing(warnings, "overlap by") == 1);
+}
+
+TEST_CASE("guards: overlap_warning outside (0, 1] is refused", "[guards]") {
+  Simulation<2> sim;
+  for (double bad : {0.0, -0.1, 1.5, std::nan("")})
+    CHECK_THROWS_WITH(sim.set_overlap_warning(bad), Catch::Contains("overlap_warning must be"));
+  CHECK_NOTHROW(sim.set_overlap_warning(1));
+}
+
+TEST_CASE("guards: a thread count far above the cores is warned of", "[guards]") {
+  const unsigned cores = std::thread::hardware_concurrency();
+  if (cores == 0) return;  // unknown: nothing to compare with
+  Simulation<2> sim;
+  std::vector<std::string> warnings;
+  sim.set_warning_handler([&warnings](const std::string& m) { warnings.push_back(m); });
+  sim.set_threads(static_cast<int>(cores));
+  CHECK(warnings.empty());
+  sim.set_threads(static_cast<int>(std::min(4096u, 4 * cores)));
+  REQUIRE(warnings.size() == 1);
+  CHECK_THAT(warnings[0], Catch::Contains(fmt::format("{} cores", cores)));
+}
