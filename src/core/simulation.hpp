@@ -189,6 +189,10 @@ class Simulation final : public SimulationBase {
   // needs the scene to have declared the same materials and walls.
   StateBlob save_state() const override;
   void load_state(const StateBlob& state) override;
+  // The diagnostics' accumulators and the contact tracking their events come
+  // from (simulation_diagnostics.cpp).
+  void save_diagnostics(StateBlob& blob) const override;
+  void load_diagnostics(const StateBlob& blob) override;
 
   // One step of the pipeline.
   void step();

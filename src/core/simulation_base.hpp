@@ -267,6 +267,11 @@ class SimulationBase {
   // ---- checkpoints ----
   virtual StateBlob save_state() const = 0;
   virtual void load_state(const StateBlob& state) = 0;
+  // The attached diagnostics' accumulators (simulation_diagnostics.cpp).
+  // load_diagnostics() needs the same diagnostics attached, in the same order
+  // and with the same options, and the particles' state loaded first.
+  virtual void save_diagnostics(StateBlob& blob) const = 0;
+  virtual void load_diagnostics(const StateBlob& blob) = 0;
 
   // ---- diagnostics (src/hooks): C++ observers attached by name ----
   virtual int attach_diagnostic(const std::string& name, DiagnosticOptions& options) = 0;

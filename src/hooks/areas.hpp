@@ -159,6 +159,35 @@ class AreasDiagnostic final : public Diagnostic<D> {
                        frame_.chamber_name, frame_.inner_name, every_, window_length());
   }
 
+  // The per-particle force buffers are refilled by every observe(): not state.
+  void save_state(StateBlob& blob, const std::string& prefix) const override {
+    DiagnosticStateWriter w(blob, prefix);
+    w.fingerprint(fingerprint());
+    frame_.save(w);
+    w.put_integers("counts", {window_.samples, total_.samples});
+    w.put("times", {window_start_, last_time_});
+    w.put("window_sums", flat(window_));
+    w.put("total_sums", flat(total_));
+    w.put_integers("collisions_particle", particle_collisions_);
+    w.put_integers("collisions_boundary", boundary_collisions_);
+  }
+  void load_state(const StateBlob& blob, const std::string& prefix) override {
+    DiagnosticStateReader r(blob, prefix, name);
+    r.check_fingerprint(fingerprint());
+    const auto counts = r.integers("counts", 2);
+    if (counts[0] < 0 || counts[1] < counts[0]) r.invalid("counts", "holds impossible counts");
+    AreasDiagnostic next = *this;  // all or nothing: a refused load leaves this as it was
+    next.frame_.load(r);
+    const auto times = r.doubles("times", 2);
+    next.window_start_ = times[0], next.last_time_ = times[1];
+    unflat(r.doubles("window_sums", 6 * A), next.window_);
+    unflat(r.doubles("total_sums", 6 * A), next.total_);
+    next.window_.samples = counts[0], next.total_.samples = counts[1];
+    r.read("collisions_particle", next.particle_collisions_);
+    r.read("collisions_boundary", next.boundary_collisions_);
+    *this = std::move(next);
+  }
+
  private:
   struct Sums {
     double particles = 0, particle_normal = 0, particle_tangential = 0;
@@ -173,6 +202,26 @@ class AreasDiagnostic final : public Diagnostic<D> {
     std::int64_t samples = 0;
   };
   double window_length() const { return window_seconds_; }
+  std::string fingerprint() const {
+    return fmt::format(
+        "{}; chamber {}; inner piece {}; sectors {:.17g}; label {}; every {}; "
+        "window {:.17g}",
+        name, frame_.chamber_name, frame_.inner_name, fmt::join(sectors_.bounds(), " "), label_,
+        every_, window_seconds_);
+  }
+  static std::vector<double> flat(const Accumulator& acc) {
+    std::vector<double> out;
+    for (const Sums& s : acc.sums)
+      out.insert(out.end(), {s.particles, s.particle_normal, s.particle_tangential, s.contacts,
+                             s.contact_normal, s.contact_tangential});
+    return out;
+  }
+  static void unflat(const std::vector<double>& in, Accumulator& acc) {
+    for (int k = 0; k < A; ++k) {
+      const double* x = &in[6 * k];
+      acc.sums[k] = {x[0], x[1], x[2], x[3], x[4], x[5]};
+    }
+  }
 
   // One value per series and area from an accumulator (collisions are cumulative).
   std::array<std::array<double, A>, series_count> row_values(const Accumulator& acc) const {

@@ -65,9 +65,32 @@ struct ChamberFrame {
       }
       resolved = true;
     }
+    if (chamber_wall < 0 || chamber_wall >= static_cast<int>(walls.size()))
+      throw InputError(
+          fmt::format("diagnostic '{}': the chamber's wall index {} is out of range "
+                      "(a checkpoint of another scene?)",
+                      who, chamber_wall));
     const Wall<D>& c = walls[chamber_wall];
     omega = c.angular_velocity;
     if constexpr (D == 3) omega *= c.axis.z() > 0 ? 1 : -1;
+  }
+
+  // Checkpoints: what the first step found (the inner piece may have moved since).
+  void save(DiagnosticStateWriter& w) const {
+    w.put_integers("frame.resolved", {resolved ? 1 : 0, chamber_wall});
+    std::vector<double> g(center.data(), center.data() + D);
+    g.insert(g.end(), {radius, omega, reference});
+    w.put("frame.geometry", std::move(g));
+  }
+  void load(const DiagnosticStateReader& r) {
+    const auto flags = r.integers("frame.resolved", 2);
+    if ((flags[0] != 0 && flags[0] != 1) || (flags[0] == 1 && flags[1] < 0))
+      r.invalid("frame.resolved", "is not a resolved flag and a wall index");
+    const auto g = r.doubles("frame.geometry", D + 3);
+    resolved = flags[0] == 1;
+    chamber_wall = static_cast<int>(flags[1]);
+    for (int k = 0; k < D; ++k) center[k] = g[k];
+    radius = g[D], omega = g[D + 1], reference = g[D + 2];
   }
 
   // Radial distance from the axis, m.

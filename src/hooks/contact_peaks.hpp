@@ -178,8 +178,79 @@ class ContactPeaksDiagnostic final : public Diagnostic<D> {
                        force_max_, velocity_max_, c_);
   }
 
+  void save_state(StateBlob& blob, const std::string& prefix) const override {
+    DiagnosticStateWriter w(blob, prefix);
+    w.fingerprint(fingerprint());
+    frame_.save(w);
+    w.put_integers("counts", {reached_ ? 1 : 0, host_collisions_});
+    w.put("times", {start_time_, window_start_, last_time_, coating_time_});
+    w.put("areas", {target_area_, covered_area_});
+    std::vector<double> hist;
+    for (const auto* h : {&force_hist_, &velocity_hist_, &impact_hist_})
+      for (const auto& set : *h) hist.insert(hist.end(), set.begin(), set.end());
+    w.put("histograms", std::move(hist));
+    w.put("sum_force", sum_force_);
+    w.put_integers("counted", counted_);
+    w.put_integers("above_100_mm_s", above_01_);
+    w.put_integers("above_200_mm_s", above_02_);
+    w.put_integers("above_1000_mm_s", above_10_);
+    w.put("collision_time", kept_time_);
+    w.put("collision_overlap", kept_overlap_);
+    w.put("collision_radius", kept_radius_);
+  }
+  void load_state(const StateBlob& blob, const std::string& prefix) override {
+    DiagnosticStateReader r(blob, prefix, name);
+    r.check_fingerprint(fingerprint());
+    const auto counts = r.integers("counts", 2);
+    if ((counts[0] != 0 && counts[0] != 1) || counts[1] < 0)
+      r.invalid("counts", "holds impossible counts");
+    ContactPeaksDiagnostic next = *this;  // all or nothing: a refused load leaves this as it was
+    next.frame_.load(r);
+    next.reached_ = counts[0] == 1, next.host_collisions_ = counts[1];
+    const auto times = r.doubles("times", 4);
+    next.start_time_ = times[0], next.window_start_ = times[1], next.last_time_ = times[2];
+    next.coating_time_ = times[3];
+    const auto areas = r.doubles("areas", 2);
+    next.target_area_ = areas[0], next.covered_area_ = areas[1];
+    const auto hist = r.doubles("histograms", 3 * sets * static_cast<std::size_t>(bins_));
+    auto at = hist.begin();
+    for (auto* h : {&next.force_hist_, &next.velocity_hist_, &next.impact_hist_})
+      for (auto& set : *h) {
+        set.assign(at, at + bins_);
+        at += bins_;
+      }
+    r.read("sum_force", next.sum_force_);
+    r.read("counted", next.counted_);
+    r.read("above_100_mm_s", next.above_01_);
+    r.read("above_200_mm_s", next.above_02_);
+    r.read("above_1000_mm_s", next.above_10_);
+    next.kept_time_ = r.doubles("collision_time", DiagnosticStateReader::any_size);
+    if (next.kept_time_.size() > keep_)
+      r.invalid("collision_time", fmt::format("holds {} collisions, more than keep_collisions = {}",
+                                              next.kept_time_.size(), keep_));
+    next.kept_overlap_ = r.doubles("collision_overlap", DiagnosticStateReader::any_size);
+    next.kept_radius_ = r.doubles("collision_radius", DiagnosticStateReader::any_size);
+    if (next.kept_overlap_.size() != next.kept_time_.size() ||
+        next.kept_radius_.size() != next.kept_time_.size())
+      r.invalid("collision_time",
+                fmt::format("has {} entries, '{}collision_overlap' {} and '{}collision_radius' {}: "
+                            "one per kept collision in each",
+                            next.kept_time_.size(), r.prefix(), next.kept_overlap_.size(),
+                            r.prefix(), next.kept_radius_.size()));
+    *this = std::move(next);
+  }
+
  private:
   static std::string set_name(int s) { return s < A ? AreaSectors::names[s] : "all"; }
+  std::string fingerprint() const {
+    static const char* const contacts[] = {"all", "particle", "boundary"};
+    return fmt::format(
+        "{}; chamber {}; inner piece {}; sectors {:.17g}; force_max {:.17g}; velocity_max "
+        "{:.17g}; force_per_velocity {:.17g}; bins {}; contacts {}; keep_collisions {}; label {}; "
+        "window {:.17g}",
+        name, frame_.chamber_name, frame_.inner_name, fmt::join(sectors_.bounds(), " "), force_max_,
+        velocity_max_, c_, bins_, contacts[which_], keep_, label_, window_);
+  }
   std::vector<double> edges(double max) const {
     std::vector<double> e(bins_ + 1);
     for (int k = 0; k <= bins_; ++k) e[k] = max * k / bins_;

@@ -8,13 +8,19 @@
 // through an OutputSink (the HDF5 run output, when the scene has one).
 #pragma once
 
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
 #include <cstdint>
 #include <map>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "core/errors.hpp"
 #include "core/particles.hpp"
+#include "core/state.hpp"
 #include "geometry/walls.hpp"
 #include "hooks/contact_log.hpp"
 
@@ -76,6 +82,100 @@ struct StepView {
   std::int64_t step;
 };
 
+// A diagnostic's accumulators in a checkpoint, each under "<prefix><name>":
+// doubles as doubles and counts as integers, so a restarted run reports
+// exactly what the uninterrupted one reports. The reader refuses a missing or
+// wrongly sized entry, naming the key and the diagnostic.
+class DiagnosticStateWriter {
+ public:
+  DiagnosticStateWriter(StateBlob& blob, std::string prefix)
+      : blob_(blob), prefix_(std::move(prefix)) {}
+  void put(const std::string& key, std::vector<double> values) {
+    blob_.doubles[prefix_ + key] = std::move(values);
+  }
+  void put(const std::string& key, double value) { put(key, std::vector<double>{value}); }
+  template <std::size_t N>
+  void put(const std::string& key, const std::array<double, N>& values) {
+    put(key, std::vector<double>(values.begin(), values.end()));
+  }
+  void put_integers(const std::string& key, std::vector<std::int64_t> values) {
+    blob_.integers[prefix_ + key] = std::move(values);
+  }
+  void put_integer(const std::string& key, std::int64_t value) { put_integers(key, {value}); }
+  template <std::size_t N>
+  void put_integers(const std::string& key, const std::array<std::int64_t, N>& values) {
+    put_integers(key, std::vector<std::int64_t>(values.begin(), values.end()));
+  }
+  // The options the diagnostic was attached with, as one line: a restart
+  // that attaches it otherwise is refused (DiagnosticStateReader::check_fingerprint).
+  void fingerprint(const std::string& line) { blob_.texts[prefix_ + "fingerprint"] = line; }
+
+ private:
+  StateBlob& blob_;
+  std::string prefix_;
+};
+
+class DiagnosticStateReader {
+ public:
+  static constexpr std::size_t any_size = static_cast<std::size_t>(-1);
+  DiagnosticStateReader(const StateBlob& blob, std::string prefix, std::string who)
+      : blob_(blob), prefix_(std::move(prefix)), who_(std::move(who)) {}
+
+  std::vector<double> doubles(const std::string& key, std::size_t size) const {
+    const auto it = blob_.doubles.find(prefix_ + key);
+    if (it == blob_.doubles.end()) throw missing(key);
+    check_size(key, it->second.size(), size);
+    return it->second;
+  }
+  double number(const std::string& key) const { return doubles(key, 1)[0]; }
+  template <std::size_t N>
+  void read(const std::string& key, std::array<double, N>& out) const {
+    const auto v = doubles(key, N);
+    std::copy(v.begin(), v.end(), out.begin());
+  }
+  std::vector<std::int64_t> integers(const std::string& key, std::size_t size) const {
+    const auto it = blob_.integers.find(prefix_ + key);
+    if (it == blob_.integers.end()) throw missing(key);
+    check_size(key, it->second.size(), size);
+    return it->second;
+  }
+  std::int64_t integer(const std::string& key) const { return integers(key, 1)[0]; }
+  template <std::size_t N>
+  void read(const std::string& key, std::array<std::int64_t, N>& out) const {
+    const auto v = integers(key, N);
+    std::copy(v.begin(), v.end(), out.begin());
+  }
+  // Refuses a checkpoint whose diagnostic was attached with other options.
+  void check_fingerprint(const std::string& now) const {
+    const auto it = blob_.texts.find(prefix_ + "fingerprint");
+    if (it == blob_.texts.end()) throw missing("fingerprint");
+    if (it->second != now)
+      throw InputError(fmt::format(
+          "checkpoint: diagnostic '{}' was attached with other options (checkpoint: {}; "
+          "now: {}); attach it as the checkpointed run did",
+          who_, it->second, now));
+  }
+  const std::string& prefix() const { return prefix_; }
+  // A saved value that cannot be the diagnostic's (a negative count, say).
+  [[noreturn]] void invalid(const std::string& key, const std::string& why) const {
+    throw InputError(
+        fmt::format("checkpoint: '{}{}' of diagnostic '{}' {}", prefix_, key, who_, why));
+  }
+
+ private:
+  InputError missing(const std::string& key) const {
+    return InputError(
+        fmt::format("checkpoint lacks '{}{}' (the state of diagnostic '{}')", prefix_, key, who_));
+  }
+  void check_size(const std::string& key, std::size_t got, std::size_t want) const {
+    if (want != any_size && got != want)
+      throw InputError(fmt::format("checkpoint: '{}{}' has {} values, diagnostic '{}' expects {}",
+                                   prefix_, key, got, who_, want));
+  }
+  const StateBlob& blob_;
+  std::string prefix_, who_;
+};
+
 template <int D>
 class Diagnostic {
  public:
@@ -100,6 +200,14 @@ class Diagnostic {
   virtual std::map<std::string, std::vector<double>> arrays() const { return {}; }
   // One line for the run header.
   virtual std::string describe() const = 0;
+  // Checkpoints: every accumulator (anything observe() or on_events() changes)
+  // under "<prefix><name>" through DiagnosticStateWriter, with a fingerprint of
+  // the options; load_state restores them exactly or throws InputError. Options
+  // are not saved: the restarted scene attaches the diagnostic again. Pure, so
+  // a new diagnostic cannot be checkpointed by silently saving nothing; a
+  // stateless one says so with empty bodies.
+  virtual void save_state(StateBlob& blob, const std::string& prefix) const = 0;
+  virtual void load_state(const StateBlob& blob, const std::string& prefix) = 0;
 };
 
 struct DiagnosticInfo {

@@ -49,7 +49,7 @@ class WallForceDiagnostic final : public Diagnostic<D> {
   }
 
   void observe(const StepView<D>& v) override {
-    if (wall_ < 0) wall_ = find_wall(v);
+    if (wall_ < 0 || wall_ >= static_cast<int>(v.walls.size())) wall_ = find_wall(v);
     const Wall<D>& w = v.walls[wall_];
     double normal = 0;
     V tangential = V::Zero(), total = V::Zero();
@@ -88,7 +88,34 @@ class WallForceDiagnostic final : public Diagnostic<D> {
                        window_);
   }
 
+  void save_state(StateBlob& blob, const std::string& prefix) const override {
+    DiagnosticStateWriter w(blob, prefix);
+    w.fingerprint(fingerprint());
+    w.put_integers("counts", {wall_, window_samples_, total_samples_});
+    std::vector<double> sums{window_start_,      last_time_,  window_normal_,
+                             window_tangential_, sum_normal_, sum_tangential_};
+    sums.insert(sums.end(), window_total_.data(), window_total_.data() + D);
+    w.put("sums", std::move(sums));
+  }
+  void load_state(const StateBlob& blob, const std::string& prefix) override {
+    DiagnosticStateReader r(blob, prefix, name);
+    r.check_fingerprint(fingerprint());
+    const auto counts = r.integers("counts", 3);
+    if (counts[0] < -1 || counts[1] < 0 || counts[2] < counts[1])
+      r.invalid("counts", "holds impossible counts");
+    const auto sums = r.doubles("sums", 6 + D);
+    wall_ = static_cast<int>(counts[0]);
+    window_samples_ = counts[1], total_samples_ = counts[2];
+    window_start_ = sums[0], last_time_ = sums[1], window_normal_ = sums[2];
+    window_tangential_ = sums[3], sum_normal_ = sums[4], sum_tangential_ = sums[5];
+    for (int k = 0; k < D; ++k) window_total_[k] = sums[6 + k];
+  }
+
  private:
+  std::string fingerprint() const {
+    return fmt::format("{}; wall {}; label {}; every {}; window {:.17g}", name, wall_name_, label_,
+                       every_, window_);
+  }
   int find_wall(const StepView<D>& v) const {
     for (std::size_t w = 0; w < v.walls.size(); ++w)
       if (v.walls[w].name == wall_name_) return static_cast<int>(w);

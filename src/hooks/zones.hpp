@@ -79,6 +79,7 @@ class ZonesDiagnostic final : public Diagnostic<D> {
     zones_ = static_cast<int>(o.integer("zones", 7, 1));
     if (zones_ > 1000) throw InputError(fmt::format("{}: 'zones' must be <= 1000", o.context()));
     depth_ = o.number_in("depth", 0, 0, 1e3, "m");
+    depth_option_ = depth_;
     if (D == 3 && !(depth_ > 0))
       throw InputError(fmt::format(
           "{}: give depth = the slab's length along the axis [m] (3D zone volumes)", o.context()));
@@ -220,7 +221,47 @@ class ZonesDiagnostic final : public Diagnostic<D> {
                        frame_.chamber_name, every_, window_, polar_ ? "polar" : "cartesian");
   }
 
+  // The depth, radii and volumes are state too: in 2D the depth is the mean
+  // diameter at the first observation, not an option.
+  void save_state(StateBlob& blob, const std::string& prefix) const override {
+    DiagnosticStateWriter w(blob, prefix);
+    w.fingerprint(fingerprint());
+    frame_.save(w);
+    w.put_integers("counts", {volume_.empty() ? 0 : 1, window_samples_, total_samples_});
+    w.put("times", {window_start_, last_time_, depth_});
+    w.put("zone_radii", radii_);
+    w.put("zone_volume", volume_);
+    w.put("window_sum", window_sum_);
+    w.put("total_sum", total_sum_);
+  }
+  void load_state(const StateBlob& blob, const std::string& prefix) override {
+    DiagnosticStateReader r(blob, prefix, name);
+    r.check_fingerprint(fingerprint());
+    const auto counts = r.integers("counts", 3);
+    if ((counts[0] != 0 && counts[0] != 1) || counts[1] < 0 || counts[2] < counts[1])
+      r.invalid("counts", "holds impossible counts");
+    const bool set_up = counts[0] == 1;
+    const std::size_t z = set_up ? zones_ : 0;
+    ZonesDiagnostic next = *this;  // all or nothing: a refused load leaves this as it was
+    next.frame_.load(r);
+    const auto times = r.doubles("times", 3);
+    next.window_start_ = times[0], next.last_time_ = times[1], next.depth_ = times[2];
+    next.radii_ = r.doubles("zone_radii", set_up ? z + 1 : 0);
+    next.volume_ = r.doubles("zone_volume", z);
+    next.window_sum_ = r.doubles("window_sum", quantity_count * z);
+    next.total_sum_ = r.doubles("total_sum", quantity_count * z);
+    next.window_samples_ = counts[1], next.total_samples_ = counts[2];
+    *this = std::move(next);
+  }
+
  private:
+  // The options as attached (depth 0: one mean diameter, found on the first observation).
+  std::string fingerprint() const {
+    return fmt::format(
+        "{}; chamber {}; zones {}; depth {:.17g}; mean {}; label {}; every {}; window {:.17g}",
+        name, frame_.chamber_name, zones_, depth_option_, polar_ ? "polar" : "cartesian", label_,
+        every_, window_);
+  }
   void setup(const Particles<D>& p) {
     if constexpr (D == 2) {
       if (!(depth_ > 0)) {  // one particle diameter (4.3.2): the mean over the powder
@@ -309,7 +350,7 @@ class ZonesDiagnostic final : public Diagnostic<D> {
 
   ChamberFrame<D> frame_;
   int zones_ = 7;
-  double depth_ = 0;
+  double depth_ = 0, depth_option_ = 0;
   bool polar_ = true;
   std::int64_t every_ = 10;
   double window_ = 0.01;

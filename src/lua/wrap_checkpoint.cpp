@@ -57,6 +57,7 @@ void apply_restart(SceneContext& ctx) {
         "restart: the scene had made no simulation when the checkpoint {} was written", r.path));
   LuaSim& s = *r.target;
   s.sim->load_state(*r.state);
+  s.sim->load_diagnostics(*r.state);  // after the state: it needs the contact lists
   if (r.output_index > 0 && r.output_index == s.output_calls && s.output) {
     s.output->resume(*r.state);
     ctx.outputs_written.push_back(s.output->path());
@@ -75,6 +76,7 @@ void apply_restart(SceneContext& ctx) {
 
 void write_checkpoint_now(LuaSim& s, const std::string& path, bool in_run) {
   StateBlob state = s.sim->save_state();
+  s.sim->save_diagnostics(state);
   // The scene's record: what it saw (the journal), what it was given (-D, its source),
   // which run was going on, and how far the open output had got.
   SceneContext* ctx = s.context;

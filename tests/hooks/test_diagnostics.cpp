@@ -29,6 +29,13 @@ struct EventRecorder final : Diagnostic<D> {
     ended.insert(ended.end(), v.contacts.ended.begin(), v.contacts.ended.end());
   }
   std::string describe() const override { return "test recorder"; }
+  // Never checkpointed by these tests; refuse rather than save nothing.
+  void save_state(StateBlob&, const std::string&) const override {
+    throw InputError("test recorder: no checkpoint");
+  }
+  void load_state(const StateBlob&, const std::string&) override {
+    throw InputError("test recorder: no checkpoint");
+  }
 };
 
 // A settled bed of `count` disks on a floor under gravity (2D), Walton-Braun.
