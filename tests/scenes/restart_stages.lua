@@ -20,6 +20,8 @@ sim:gravity { 0, -9.81 }
 sim:output { snapshot_every = 2e-3 }
 sim:checkpoint { file = p.checkpoint, every_steps = p.checkpoint_every }
 sim:series("stage_log", { "time", "kinetic_energy", "peak" })
+-- A diagnostic whose averaging windows (3.3e-4 s) straddle the checkpoints.
+local drum_force = sim:diagnostic("wall_force", { wall = "drum", window = 3.3e-4, every = 3 })
 
 local peak, fired = 0, 0
 sim:every { steps = 500, function(s)
@@ -54,3 +56,8 @@ local r3 = sim:run { duration = p.stage_steps * sim:time_step() }
 mark("end")
 print("run three", r3.steps, r3.time, r3.stopped, string.format("late=%.17g", late))
 sim:result { peak = peak, fired = fired, late = late }
+local means = sim:diagnostic_results(drum_force)
+local keys = {}
+for k in pairs(means) do keys[#keys + 1] = k end
+table.sort(keys)
+for _, k in ipairs(keys) do print(string.format("wall_force %s = %.17g", k, means[k])) end

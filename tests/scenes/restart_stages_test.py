@@ -161,6 +161,13 @@ def main():
         "tutorial_drum", drum, drum_args, "tutorial_drum.checkpoint.h5",
         [("settle", r"granule: time step", 0.15, lambda step: 0 < step < settled),
          ("rotate", r"stage settle", 0.3, lambda step: step > settled)])
+    # The Mechanofusion base case with its diagnostics (areas, zones, contact peaks, wall
+    # forces), settled first and then measured; interrupted while it measures.
+    mf = os.path.join(SOURCE, "scenarios", "mechanofusion.lua")
+    failures += check_case(
+        "mechanofusion", mf, ["-D", "settle=0.002", "-D", "duration=0.006"],
+        "mechanofusion.checkpoint.h5",
+        [("measure", r"granule: time step", 2.0, lambda step: step > 0)])
     print(f"restart stages: {'all passed' if failures == 0 else f'{failures} failed'}")
     sys.exit(1 if failures else 0)
 
