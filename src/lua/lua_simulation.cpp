@@ -95,10 +95,11 @@ int l_contact(lua_State* L) {
       values[key] = t.number(key.c_str());
     }
     // The caller's file:line, for the message that a second declaration gets.
-    lua_Debug ar;
-    std::string where = "?";
-    if (lua_getstack(L, 1, &ar) && lua_getinfo(L, "Sl", &ar))
-      where = ar.currentline > 0 ? fmt::format("{}:{}", ar.short_src, ar.currentline) : ar.short_src;
+    push_script_where(L);  // "file:line: "
+    std::string where = lua_tostring(L, -1);
+    lua_pop(L, 1);
+    while (!where.empty() && (where.back() == ' ' || where.back() == ':')) where.pop_back();
+    if (where.empty()) where = "?";
     s.sim->declare_contact(a, b, model, values, where);
     return 0;
   });

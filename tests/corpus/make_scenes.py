@@ -387,8 +387,8 @@ for name, line, expect in [
     case(name, "sim:fill: " + name.replace("fill_", "").replace("_", " "), expect, replace={"fill": wrong(line)})
 case("fill_box_reversed", "a fill box with lo above hi",
      r"{at}.*box", replace={"fill": wrong('sim:fill { region = { box = { lo = { 0.002, 0.002, 0.004 }, hi = { -0.002, -0.002, 0.001 } } }, count = 5, radius = 3e-4, material = "glass" }')}, base=BASE3)
-case("fill_huge_count_memory", "a fill of 1e10 particles, far more memory than the machine has",
-     r"{at}.*particles need about .* GB", replace={"fill": wrong('sim:fill { region = { circle = { center = { 0, 0 }, radius = 0.008 } }, count = 1e10, radius = 1e-9, material = "glass" }')})
+case("fill_huge_count_memory", "a fill of 5e8 particles, far more memory than the machine has",
+     r"{at}.*particles need about .* GB", replace={"fill": wrong('sim:fill { region = { circle = { center = { 0, 0 }, radius = 0.008 } }, count = 5e8, radius = 1e-9, material = "glass" }')})
 
 # ---------------------------------------------------------------------------
 # sim:add_particle
@@ -505,8 +505,8 @@ for name, line, expect in [
 for name, body, expect in [
     ("callback_runtime_error", "local x = nil; x.y = 1", r"{at}.*attempt to index"),
     ("callback_error_string", 'error("the probe failed")', r"{at}.*the probe failed"),
-    ("callback_error_table", "error({ reason = 'probe' })", r"error object is a table value[\s\S]*{at}"),
-    ("callback_error_nil", "error(nil)", r"error object is a nil value[\s\S]*{at}"),
+    ("callback_error_table", "error({ reason = 'probe' })", r"{at}.*raised a table as its error"),
+    ("callback_error_nil", "error(nil)", r"{at}.*raised a nil as its error"),
     ("callback_calls_run", "s:run { steps = 1 }", r"{at}.*run"),
     ("callback_append_nan", 's:append("probe", { s:time(), 0/0 })', r"{at}.*(finite|nan)"),
     ("callback_set_wall_nan", 's:set_wall("drum", { angular_velocity = 0/0 })', r"{at}.*angular_velocity"),
@@ -543,7 +543,7 @@ for name, text, expect in [
     case(name, name.replace("_", " "), expect, replace={"run": wrong(text)})
 for name, body, expect in [
     ("stop_when_error", 'error("cannot decide")', r"{at}.*cannot decide"),
-    ("stop_when_error_table", "error({})", r"error object is a table value[\s\S]*{at}"),
+    ("stop_when_error_table", "error({})", r"{at}.*raised a table as its error"),
     ("stop_when_runtime_error", "return s:particle(99999).position[1] > 0", r"{at}.*99999"),
     ("stop_when_calls_run", "s:run { steps = 1 }; return false", r"{at}.*run"),
 ]:
