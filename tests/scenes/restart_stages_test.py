@@ -139,6 +139,36 @@ def check_case(name, scene, args, checkpoint, stages):
     return failures
 
 
+def check_refusals(scene, args):
+    """A restart with other -D values, or of an edited scene, is refused by name."""
+    failures = 0
+    with tempfile.TemporaryDirectory() as work:
+        cwd = folder(work, "run")
+        subprocess.run([GRANULE, "run", scene, *args, "-o", "out.h5", "--quiet"], cwd=cwd,
+                       env=ENV, capture_output=True, text=True, timeout=300, check=True)
+        chk = os.path.join(cwd, "stages.chk.h5")
+        other = [a.replace("stage_steps=", "stage_steps=1") for a in args]
+        r = subprocess.run([GRANULE, "run", scene, *other, "--restart", chk, "-o", "r.h5"],
+                           cwd=cwd, env=ENV, capture_output=True, text=True, timeout=300)
+        if r.returncode == 0 or "parameter 'stage_steps' differs" not in r.stderr:
+            print(f"FAIL refusal: a restart with other -D values ran ({r.returncode}): {r.stderr}")
+            failures += 1
+        else:
+            print("ok refusal: other -D values")
+        edited = os.path.join(cwd, os.path.basename(scene))
+        lines = open(scene).read().split("\n")
+        lines[20] += "  -- edited"
+        open(edited, "w").write("\n".join(lines))
+        r = subprocess.run([GRANULE, "run", edited, *args, "--restart", chk, "-o", "r.h5"],
+                           cwd=cwd, env=ENV, capture_output=True, text=True, timeout=300)
+        if r.returncode == 0 or "changed since" not in r.stderr or "line 21" not in r.stderr:
+            print(f"FAIL refusal: a restart of an edited scene ran ({r.returncode}): {r.stderr}")
+            failures += 1
+        else:
+            print("ok refusal: an edited scene")
+    return failures
+
+
 def main():
     failures = 0
     stages = os.path.join(SOURCE, "tests", "scenes", "restart_stages.lua")
@@ -146,6 +176,7 @@ def main():
     # [k * stage_steps, (k + 1) * stage_steps).
     n = 30000
     args = ["-D", f"stage_steps={n}"]
+    failures += check_refusals(stages, ["-D", "stage_steps=3000"])
     failures += check_case(
         "stages", stages, args, "stages.chk.h5",
         [(s, rf"^stage {s} ", 0.2, lambda step, k=k: k * n < step < (k + 1) * n)
