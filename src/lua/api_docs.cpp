@@ -178,7 +178,7 @@ const std::vector<FunctionDoc> entries = {
   {"name", "string", "", false, "shown in the run header"}},
  "{ steps = 10, function(s) end }"},
 {"sim:remove_hook", "simulation", P, "sim:remove_hook(id)", "Stops a callback that sim:every returned the id of.",
- {{"1", "integer", "", true, "hook id"}}, "1"},
+ {{"1", "integer", "", true, "hook id"}}, "sim:every { steps = 100, function(s) end }"},
 {"sim:set", "simulation", T, "sim:set { skin =, time_step =, steps_per_contact =, threads =, pruning = }",
  "Changes numerical settings between runs; the next run re-checks the scene and rebuilds its neighbour lists.",
  {{"skin", "number", "m", false, "neighbour-list skin; 0 = automatic"},

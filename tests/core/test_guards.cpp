@@ -117,7 +117,7 @@ TEST_CASE("guards: overlaps the scene made are pushed apart, not stopped", "[gua
   CHECK(count_containing(warnings, "overlap by") == 1);
 }
 
-TEST_CASE("guards: overlap_warning outside (0, 1] is refused", "[guards]") {
+TEST_CASE("guards: overlap_warning outside 0 < w <= 1 is refused", "[guards]") {
   Simulation<2> sim;
   for (double bad : {0.0, -0.1, 1.5, std::nan("")})
     CHECK_THROWS_WITH(sim.set_overlap_warning(bad), Catch::Contains("overlap_warning must be"));
