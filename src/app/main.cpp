@@ -76,7 +76,14 @@ int run_scene(Options& o) {
         std::cerr << "partial results kept in " << f << "\n";
         shown.push_back(f);
       }
-    return o.ctx.interrupted ? 130 : 1;  // 128 + SIGINT, as shells report it
+    if (o.ctx.interrupted) {
+      // 128 + the signal, as a shell reports a program it ended: 130 Ctrl-C, 143 SIGTERM,
+      // 129 SIGHUP; a scheduler or `granule sweep` reads the cause from the status.
+      std::cerr << "granule: stopped by " << granule::lua::interrupt_cause() << " (exit status "
+                << 128 + granule::lua::interrupt_signal() << ")\n";
+      return 128 + granule::lua::interrupt_signal();
+    }
+    return 1;
   }
   return 0;
 }

@@ -18,6 +18,7 @@ namespace granule::lua {
 namespace {
 const char* context_key = "granule.context";
 volatile std::sig_atomic_t interrupt_flag = 0;
+volatile std::sig_atomic_t interrupt_signal_number = SIGINT;
 
 int traceback(lua_State* L) {
   const char* msg = lua_tostring(L, 1);
@@ -157,7 +158,8 @@ int strict_newindex(lua_State* L) {
 }
 }  // namespace
 
-void request_interrupt() {
+void request_interrupt(int signal_number) {
+  interrupt_signal_number = signal_number;
   interrupt_flag = 1;
 }
 bool interrupt_pending() {
@@ -165,6 +167,19 @@ bool interrupt_pending() {
 }
 void clear_interrupt() {
   interrupt_flag = 0;
+}
+int interrupt_signal() {
+  return interrupt_signal_number;
+}
+const char* interrupt_cause() {
+  switch (interrupt_signal_number) {
+    case SIGTERM:
+      return "SIGTERM";
+    case SIGHUP:
+      return "SIGHUP";
+    default:
+      return "Ctrl-C";
+  }
 }
 
 SceneContext* context(lua_State* L) {
