@@ -19,6 +19,7 @@
 #include "app/repl.hpp"
 #include "app/sweep.hpp"
 #include "contact/models.hpp"
+#include "io/h5_output.hpp"
 #include "lua/api_docs.hpp"
 #include "lua/scene.hpp"
 
@@ -129,6 +130,7 @@ int run_command(const std::vector<std::string>& args);
 int main(int argc, char** argv) {
   // Whatever escapes (out of memory, a Lua state that cannot be made) ends
   // with a message and status 1, never with an abort.
+  granule::io::keep_hdf5_files_at_exit();
   try {
     return run_command(std::vector<std::string>(argv + 1, argv + argc));
   } catch (const std::exception& e) {
