@@ -167,9 +167,9 @@ void check_state(const StateBlob& s, std::size_t material_count, std::size_t wal
   at_least(5, 0, false);
   at_least(6, 0, false);
   at_least(10, 0, false);
-  const int axis = static_cast<int>(md[7]);
-  if (md[7] != axis || axis < -1 || axis >= D)
+  if (!(md[7] == -1 || md[7] == 0 || md[7] == 1 || (D == 3 && md[7] == 2)))
     refuse("meta", fmt::format("periodic axis {} is not -1 (none) or an axis below {}", md[7], D));
+  const int axis = static_cast<int>(md[7]);
   if (axis >= 0 && !(md[9] > 0))
     refuse("meta", fmt::format("periodic length {} must be > 0", md[9]));
   // A set time step is the one in use (prepare() makes it so).
