@@ -1,10 +1,14 @@
-// Ctrl-C while Lua runs, following lua.c: the first SIGINT asks the running
-// sim:run to stop at the next chunk boundary and sets a Lua hook that raises
-// "interrupted" at the next Lua call, so a script loop stops too; a second
-// SIGINT before the first was handled ends the program the default way. A
-// second SIGINT within half a second of the first counts as the same request:
-// `timeout -s INT` and some launchers signal both the child and its process
-// group, and that echo must not turn a clean stop into a kill.
+// Ctrl-C (SIGINT), SIGTERM and SIGHUP while Lua runs, following lua.c: the
+// first signal asks the running sim:run to write a checkpoint and stop at the
+// next chunk boundary, and sets a Lua hook that raises "interrupted" at the
+// next Lua call, so a script loop stops too; a second signal before the first
+// was handled ends the program the default way (killed by that signal). A
+// second signal within half a second of the first counts as the same request:
+// `timeout`, batch schedulers and some launchers signal both the child and its
+// process group (and `granule sweep` passes its own signal on), and that echo
+// must not turn a clean stop into a kill. SIGTERM and SIGHUP are what a
+// scheduler sends at the end of a job's time and a closed terminal sends: a
+// run they stop keeps its checkpoint, as one stopped by Ctrl-C does.
 #pragma once
 
 #include <csignal>
@@ -15,9 +19,11 @@
 
 namespace granule::app {
 
+inline constexpr int interrupt_signals[] = {SIGINT, SIGTERM, SIGHUP};
+
 inline lua_State* interrupted_state = nullptr;
-inline volatile std::sig_atomic_t first_sigint_seconds = 0;
-inline volatile std::sig_atomic_t first_sigint_nanoseconds = 0;
+inline volatile std::sig_atomic_t first_signal_seconds = 0;
+inline volatile std::sig_atomic_t first_signal_nanoseconds = 0;
 
 inline double monotonic_seconds_now() {  // clock_gettime is async-signal-safe
   timespec t{};
@@ -27,38 +33,40 @@ inline double monotonic_seconds_now() {  // clock_gettime is async-signal-safe
 
 inline void stop_hook(lua_State* L, lua_Debug*) {
   lua_sethook(L, nullptr, 0, 0);
-  luaL_error(L, "interrupted (Ctrl-C)");
+  // Stopped by the signal, as a run is: the program exits with 128 + the signal.
+  if (lua::SceneContext* ctx = lua::context(L)) ctx->interrupted = true;
+  luaL_error(L, "interrupted (%s)", lua::interrupt_cause());
 }
 
-inline void on_sigint(int) {
+inline void on_interrupt_signal(int signal_number) {
   if (lua::interrupt_pending()) {  // asked twice: give up waiting
-    double first = double(first_sigint_seconds) + 1e-9 * double(first_sigint_nanoseconds);
-    if (monotonic_seconds_now() - first < 0.5) return;  // the same Ctrl-C, delivered twice
-    std::signal(SIGINT, SIG_DFL);
-    std::raise(SIGINT);
+    double first = double(first_signal_seconds) + 1e-9 * double(first_signal_nanoseconds);
+    if (monotonic_seconds_now() - first < 0.5) return;  // the same request, delivered twice
+    std::signal(signal_number, SIG_DFL);
+    std::raise(signal_number);
     return;
   }
   timespec t{};
   clock_gettime(CLOCK_MONOTONIC, &t);
-  first_sigint_seconds = std::sig_atomic_t(t.tv_sec);
-  first_sigint_nanoseconds = std::sig_atomic_t(t.tv_nsec);
-  lua::request_interrupt();
+  first_signal_seconds = std::sig_atomic_t(t.tv_sec);
+  first_signal_nanoseconds = std::sig_atomic_t(t.tv_nsec);
+  lua::request_interrupt(signal_number);
   // A run stops between two chunks of steps by itself; only script code outside runs
   // needs the Lua hook to stop.
   if (interrupted_state && !lua::run_active())
     lua_sethook(interrupted_state, stop_hook, LUA_MASKCALL | LUA_MASKRET | LUA_MASKCOUNT, 1);
 }
 
-// Handles SIGINT while it exists (around running a chunk), then restores the default.
+// Handles the signals while it exists (around running a chunk), then restores the defaults.
 class InterruptScope {
  public:
   explicit InterruptScope(lua_State* L) {
     lua::clear_interrupt();
     interrupted_state = L;
-    std::signal(SIGINT, on_sigint);
+    for (int s : interrupt_signals) std::signal(s, on_interrupt_signal);
   }
   ~InterruptScope() {
-    std::signal(SIGINT, SIG_DFL);
+    for (int s : interrupt_signals) std::signal(s, SIG_DFL);
     lua_sethook(interrupted_state, nullptr, 0, 0);
     interrupted_state = nullptr;
     lua::clear_interrupt();

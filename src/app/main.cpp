@@ -19,6 +19,7 @@
 #include "app/repl.hpp"
 #include "app/sweep.hpp"
 #include "contact/models.hpp"
+#include "io/h5_output.hpp"
 #include "lua/api_docs.hpp"
 #include "lua/scene.hpp"
 
@@ -76,7 +77,14 @@ int run_scene(Options& o) {
         std::cerr << "partial results kept in " << f << "\n";
         shown.push_back(f);
       }
-    return o.ctx.interrupted ? 130 : 1;  // 128 + SIGINT, as shells report it
+    if (o.ctx.interrupted) {
+      // 128 + the signal, as a shell reports a program it ended: 130 Ctrl-C, 143 SIGTERM,
+      // 129 SIGHUP; a scheduler or `granule sweep` reads the cause from the status.
+      std::cerr << "granule: stopped by " << granule::lua::interrupt_cause() << " (exit status "
+                << 128 + granule::lua::interrupt_signal() << ")\n";
+      return 128 + granule::lua::interrupt_signal();
+    }
+    return 1;
   }
   return 0;
 }
@@ -122,6 +130,7 @@ int run_command(const std::vector<std::string>& args);
 int main(int argc, char** argv) {
   // Whatever escapes (out of memory, a Lua state that cannot be made) ends
   // with a message and status 1, never with an abort.
+  granule::io::keep_hdf5_files_at_exit();
   try {
     return run_command(std::vector<std::string>(argv + 1, argv + argc));
   } catch (const std::exception& e) {

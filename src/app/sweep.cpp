@@ -99,6 +99,7 @@ struct Outcome {
   int rank = 0;
   double wall_seconds = 0;
   std::map<std::string, double> results;
+  int stop_signal = 0;  // the signal an interrupted case stopped on, when its status tells
 };
 
 // ---- the command line ----
@@ -332,6 +333,7 @@ class RunningCase {
         for (int other = 3; other < 1024; ++other) close(other);
       signal(SIGINT, SIG_DFL);
       signal(SIGTERM, SIG_DFL);
+      signal(SIGHUP, SIG_DFL);
       execve(argv[0], argv.data(), env.data());
       ssize_t ignored = write(2, exec_error.data(), exec_error.size());
       (void)ignored;
@@ -374,7 +376,11 @@ class RunningCase {
           fmt::format("killed by signal {} ({})", WTERMSIG(status), strsignal(WTERMSIG(status)));
     } else {
       int code = WEXITSTATUS(status);
-      out.status = (code == 130 || forwarded_) ? Status::interrupted : Status::failed;
+      // A case stopped by a signal of its own (a scheduler signals the whole process
+      // group) exits 128 + that signal, with its checkpoint written.
+      const bool stopped = code == 128 + SIGINT || code == 128 + SIGTERM || code == 128 + SIGHUP;
+      out.status = (stopped || forwarded_) ? Status::interrupted : Status::failed;
+      if (stopped) out.stop_signal = code - 128;
       out.error = error_from_log(case_.log);
       if (out.error.empty()) out.error = fmt::format("exit status {}", code);
     }
@@ -715,8 +721,12 @@ int sweep(const Settings& s, Ranks& ranks) {
   if (threads == 0 && ranks.per_node() > 1 && !std::getenv("OMP_NUM_THREADS"))
     threads = std::max(1, int(std::thread::hardware_concurrency()) / ranks.per_node());
 
+  // SIGTERM and SIGHUP (a scheduler ending the job, a closed terminal) stop the sweep as
+  // Ctrl-C does: the running cases get the signal, write their checkpoints and stop, and
+  // the summary records what finished.
   std::signal(SIGINT, on_stop_signal);
   std::signal(SIGTERM, on_stop_signal);
+  std::signal(SIGHUP, on_stop_signal);
 #ifdef GRANULE_HAVE_MPI
   if (!lead) {  // a worker: ask for cases until there are none
     std::string report;
@@ -755,7 +765,8 @@ int sweep(const Settings& s, Ranks& ranks) {
 
   std::size_t done = reused;
   auto record = [&](Outcome o) {
-    if (o.status == Status::interrupted) stop_signal = stop_signal ? stop_signal : SIGINT;
+    if (o.status == Status::interrupted && !stop_signal)
+      stop_signal = o.stop_signal ? o.stop_signal : SIGINT;
     ++done;
     const Case& c = cases[o.index];
     std::string line =

@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include "io/h5_output.hpp"
+
 namespace granule::io {
 
 namespace {
@@ -31,8 +33,13 @@ struct Id {
   throw std::runtime_error(fmt::format("checkpoint {}: {}", path, what));
 }
 
+[[noreturn]] void fail_h5(const std::string& path, const std::string& what) {
+  const std::string detail = hdf5_error_text();
+  fail(path, detail.empty() ? what : what + " (" + detail + ")");
+}
+
 hid_t check(hid_t id, const std::string& path, const std::string& what) {
-  if (id < 0) fail(path, "cannot " + what);
+  if (id < 0) fail_h5(path, "cannot " + what);
   return id;
 }
 
@@ -46,7 +53,7 @@ void write_array(hid_t group, const std::string& name, hid_t file_type, hid_t me
              path, "create " + name),
        H5Dclose);
   if (n > 0 && H5Dwrite(d.id, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) < 0)
-    fail(path, "cannot write " + name);
+    fail_h5(path, "cannot write " + name);
 }
 
 void write_string(hid_t loc, const std::string& name, const std::string& value, bool attribute,
@@ -60,14 +67,14 @@ void write_string(hid_t loc, const std::string& name, const std::string& value, 
     Id a(check(H5Acreate2(loc, name.c_str(), type.id, space.id, H5P_DEFAULT, H5P_DEFAULT), path,
                "create attribute " + name),
          H5Aclose);
-    if (H5Awrite(a.id, type.id, &p) < 0) fail(path, "cannot write attribute " + name);
+    if (H5Awrite(a.id, type.id, &p) < 0) fail_h5(path, "cannot write attribute " + name);
   } else {
     Id d(check(H5Dcreate2(loc, name.c_str(), type.id, space.id, H5P_DEFAULT, H5P_DEFAULT,
                           H5P_DEFAULT),
                path, "create " + name),
          H5Dclose);
     if (H5Dwrite(d.id, type.id, H5S_ALL, H5S_ALL, H5P_DEFAULT, &p) < 0)
-      fail(path, "cannot write " + name);
+      fail_h5(path, "cannot write " + name);
   }
 }
 
@@ -122,13 +129,12 @@ std::vector<std::string> member_names(hid_t group, const std::string& path) {
 
 }  // namespace
 
-void write_checkpoint(const std::string& path, const StateBlob& s,
-                      const std::map<std::string, std::string>& attributes) {
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  const std::string tmp = path + ".tmp";
+namespace {
+void write_file(const std::string& path, const std::string& tmp, const StateBlob& s,
+                const std::map<std::string, std::string>& attributes) {
+  Id file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+  if (file.id < 0) fail_h5(path, fmt::format("cannot create {} (is the folder writable?)", tmp));
   {
-    Id file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
-    if (file.id < 0) fail(path, fmt::format("cannot create {} (is the folder writable?)", tmp));
     Id root(check(H5Gcreate2(file.id, "/checkpoint", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), path,
                   "create /checkpoint"),
             H5Gclose);
@@ -158,11 +164,39 @@ void write_checkpoint(const std::string& path, const StateBlob& s,
       Id g = group("texts");
       for (const auto& [k, v] : s.texts) write_string(g.id, k, v, false, path);
     }
-    if (H5Fflush(file.id, H5F_SCOPE_GLOBAL) < 0) fail(path, "cannot flush " + tmp);
   }
+  if (H5Fflush(file.id, H5F_SCOPE_GLOBAL) < 0) fail_h5(path, "cannot flush " + tmp);
+  // Closing writes what HDF5 still holds (metadata): a close that fails leaves a file
+  // that must not replace the last good checkpoint.
+  const herr_t closed = H5Fclose(file.id);
+  file.id = H5I_INVALID_HID;
+  if (closed < 0) fail_h5(path, "cannot close " + tmp);
+}
+}  // namespace
+
+void write_checkpoint(const std::string& path, const StateBlob& s,
+                      const std::map<std::string, std::string>& attributes) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  const std::string tmp = path + ".tmp";
   std::error_code ec;
+  try {
+    write_file(path, tmp, s, attributes);
+  } catch (const std::runtime_error& e) {
+    // The half-written file goes (it would fill the disk further and could be taken for a
+    // checkpoint); the last good one stays where it was.
+    std::filesystem::remove(tmp, ec);
+    const bool kept = std::filesystem::exists(path, ec);
+    const std::string full = disk_full_note(path, e.what());
+    throw std::runtime_error(fmt::format(
+        "{}{}; {}", e.what(), full.empty() ? "" : "; " + full,
+        kept ? fmt::format("the previous checkpoint {} is kept", path)
+             : std::string("no checkpoint was written")));
+  }
   std::filesystem::rename(tmp, path, ec);
-  if (ec) fail(path, fmt::format("cannot rename {} into place: {}", tmp, ec.message()));
+  if (ec) {
+    std::filesystem::remove(tmp, ec);
+    fail(path, fmt::format("cannot rename {} into place: {}", tmp, ec.message()));
+  }
 }
 
 StateBlob read_checkpoint(const std::string& path, std::map<std::string, std::string>* attributes) {

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 #include <hdf5.h>
+#include <sys/statvfs.h>
 
 #include <chrono>
 #include <cmath>
@@ -9,6 +10,7 @@
 #include <ctime>
 #include <algorithm>
 #include <functional>
+#include <filesystem>
 #include <map>
 #include <stdexcept>
 #include <utility>
@@ -45,6 +47,7 @@ class Handle {
   Handle& operator=(const Handle&) = delete;
   ~Handle() { reset(); }
   hid_t get() const { return id_; }
+  void release() { id_ = H5I_INVALID_HID; }  // forgets the id without closing it
   void reset() {
     if (id_ >= 0 && close_) close_(id_);
     id_ = H5I_INVALID_HID;
@@ -64,8 +67,7 @@ herr_t collect_error(unsigned n, const H5E_error2_t* err, void* data) {
 }
 
 std::string h5_error_detail() {
-  std::string text;
-  H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, collect_error, &text);
+  const std::string text = hdf5_error_text();
   return text.empty() ? "HDF5 error" : text;
 }
 
@@ -94,6 +96,38 @@ std::string join_path(const std::string& group, const std::string& name) {
 
 }  // namespace
 
+std::string hdf5_error_text() {
+  std::string text;
+  H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, collect_error, &text);
+  // A failed write's description carries the call's whole record (time, descriptor,
+  // buffer address, over two lines); its first words and the system's message suffice.
+  const std::string marker = "error message = '";
+  const auto m = text.find(marker);
+  if (m != std::string::npos) {
+    const auto end = text.find('\'', m + marker.size());
+    text = text.substr(0, text.find(':')) + ": " +
+           text.substr(m + marker.size(), end == std::string::npos ? end : end - m - marker.size());
+  }
+  return text;
+}
+
+void keep_hdf5_files_at_exit() {
+  H5dont_atexit();
+}
+
+std::string disk_full_note(const std::string& path, const std::string& detail) {
+  std::filesystem::path dir = std::filesystem::path(path).parent_path();
+  if (dir.empty()) dir = ".";
+  struct statvfs fs {};
+  const bool measured = statvfs(dir.c_str(), &fs) == 0;
+  const double free_bytes = measured ? double(fs.f_bavail) * double(fs.f_frsize) : 0;
+  const bool enospc = detail.find("No space left") != std::string::npos ||
+                      detail.find("errno = 28") != std::string::npos;
+  if (!enospc && !(measured && free_bytes < 1024.0 * 1024.0)) return "";
+  return fmt::format("no space left on the disk holding {} ({:.0f} KiB free)", dir.string(),
+                     free_bytes / 1024);
+}
+
 struct H5Output::Impl {
   struct Series {
     std::vector<std::string> columns;
@@ -105,6 +139,13 @@ struct H5Output::Impl {
 
   std::string path;
   Handle file;  // declared first: destroyed last, after every object opened in it
+  // After a failed write (a full disk, an I/O error) HDF5's cache no longer matches the
+  // file, and flushing or closing it again can write half of its metadata or crash in
+  // the library. So the first failure is kept, every later call is refused with it, and
+  // the file is left as the last successful flush wrote it. `full`: a write refused
+  // before HDF5 was asked (too little space left), so the file was never touched since.
+  enum class Health { ok, full, broken } health = Health::ok;
+  std::string failure;
   std::map<std::string, Series> series;
   std::size_t snapshots = 0;
   bool materials_written = false;
@@ -114,15 +155,44 @@ struct H5Output::Impl {
                          const std::string& detail) const {
     throw std::runtime_error(fmt::format("cannot {} '{}' in {}: {}", what, object, path, detail));
   }
-  [[noreturn]] void fail_h5(const std::string& what, const std::string& object) const {
-    fail(what, object, h5_error_detail());
+  [[noreturn]] void fail_h5(const std::string& what, const std::string& object) {
+    const std::string detail = h5_error_detail(), full = disk_full_note(path, detail);
+    const std::string why = full.empty() ? detail : full + " (" + detail + ")";
+    if (!full.empty() || what == "write" || what == "extend" || what == "flush" ||
+        what == "write attribute") {
+      health = Health::broken;
+      failure = why;
+    }
+    fail(what, object, why);
   }
-  hid_t check(hid_t id, const std::string& what, const std::string& object) const {
+  hid_t check(hid_t id, const std::string& what, const std::string& object) {
     if (id < 0) fail_h5(what, object);
     return id;
   }
-  void check(herr_t status, const std::string& what, const std::string& object) const {
+  void check(herr_t status, const std::string& what, const std::string& object) {
     if (status < 0) fail_h5(what, object);
+  }
+  // Refuses everything once a write has failed (see `health`).
+  void usable(const std::string& what, const std::string& object) const {
+    if (health != Health::ok)
+      fail(what, object,
+           fmt::format("an earlier write failed ({}); the file keeps what was written before it",
+                       failure));
+  }
+  // Refuses a write of about `bytes` before HDF5 starts it when the disk lacks the room
+  // (with 64 KiB for the metadata written with it): a write that fails halfway through
+  // HDF5 leaves its cache out of step with the file.
+  void ensure_space(double bytes, const std::string& what, const std::string& object) {
+    std::filesystem::path dir = std::filesystem::path(path).parent_path();
+    if (dir.empty()) dir = ".";
+    struct statvfs fs {};
+    if (statvfs(dir.c_str(), &fs) != 0) return;  // cannot tell: let the write find out
+    const double free_bytes = double(fs.f_bavail) * double(fs.f_frsize);
+    if (free_bytes >= bytes + 65536.0) return;
+    health = Health::full;
+    failure = fmt::format("no space left on the disk holding {} ({:.0f} KiB free, {:.0f} KiB needed)",
+                          dir.string(), free_bytes / 1024, (bytes + 65536.0) / 1024);
+    fail(what, object, failure);
   }
 
   // "/a/b" from "a/b/", rejecting empty components: HDF5 would read "a//b" as "a/b" but a
@@ -137,7 +207,7 @@ struct H5Output::Impl {
   }
 
   // Does every component of `p` exist? (H5Lexists needs the parents to exist.)
-  bool exists(const std::string& p) const {
+  bool exists(const std::string& p) {
     if (p == "/") return true;
     std::size_t pos = 0;
     while (pos != std::string::npos) {
@@ -150,7 +220,7 @@ struct H5Output::Impl {
 
   // HDF5 reports a dataset in the middle of a path as "message type not found"; say what
   // is wrong instead.
-  void check_parents_are_groups(const std::string& p, const std::string& what) const {
+  void check_parents_are_groups(const std::string& p, const std::string& what) {
     for (std::size_t pos = p.find('/', 1); pos != std::string::npos; pos = p.find('/', pos + 1)) {
       const std::string prefix = p.substr(0, pos);
       if (!exists(prefix)) return;
@@ -160,7 +230,7 @@ struct H5Output::Impl {
     }
   }
 
-  Handle link_create_plist(const std::string& object) const {
+  Handle link_create_plist(const std::string& object) {
     Handle lcpl(check(H5Pcreate(H5P_LINK_CREATE), "create", object), H5Pclose);
     check(H5Pset_create_intermediate_group(lcpl.get(), 1), "create", object);
     check(H5Pset_char_encoding(lcpl.get(), H5T_CSET_UTF8), "create", object);
@@ -168,7 +238,7 @@ struct H5Output::Impl {
   }
 
   // Opens the object at `p` (any type), creating it as a group with its parents if absent.
-  Handle object(const std::string& p) const {
+  Handle object(const std::string& p) {
     if (exists(p))
       return Handle(check(H5Oopen(file.get(), p.c_str(), H5P_DEFAULT), "open", p), H5Oclose);
     check_parents_are_groups(p, "create");
@@ -178,7 +248,7 @@ struct H5Output::Impl {
         H5Gclose);
   }
 
-  Handle group(const std::string& p) const {
+  Handle group(const std::string& p) {
     Handle h = object(p);
     if (H5Iget_type(h.get()) != H5I_GROUP) fail("use as a group", p, "it is not a group");
     return h;
@@ -195,7 +265,7 @@ struct H5Output::Impl {
   // Writes attribute `name` on `where` (replacing one of that name) from `data` of memory
   // type `mem_type`, stored as `file_type` with shape `dims` (empty = scalar).
   void attribute(const std::string& where, const std::string& name, hid_t file_type, hid_t mem_type,
-                 const std::vector<hsize_t>& dims, const void* data) const {
+                 const std::vector<hsize_t>& dims, const void* data) {
     const std::string object_name = where + "@" + name;
     if (name.empty() || name.find('\0') != std::string::npos)
       fail("write attribute", object_name, "attribute names must be non-empty plain text");
@@ -219,7 +289,7 @@ struct H5Output::Impl {
   }
 
   void string_attribute(const std::string& where, const std::string& name,
-                        const std::string& value) const {
+                        const std::string& value) {
     if (value.find('\0') != std::string::npos)
       fail("write attribute", where + "@" + name,
            "text contains a NUL character, which HDF5 strings cannot hold");
@@ -229,7 +299,7 @@ struct H5Output::Impl {
   }
 
   void string_array_attribute(const std::string& where, const std::string& name,
-                              const std::vector<std::string>& values) const {
+                              const std::vector<std::string>& values) {
     std::vector<const char*> ptrs;
     for (const auto& v : values) {
       if (v.find('\0') != std::string::npos)
@@ -243,7 +313,7 @@ struct H5Output::Impl {
 
   // Creates dataset `name` in `group` (at `full` in the file) and writes it whole.
   void dataset(hid_t group, const std::string& name, const std::string& full, hid_t file_type,
-               hid_t mem_type, const std::vector<hsize_t>& dims, const void* data) const {
+               hid_t mem_type, const std::vector<hsize_t>& dims, const void* data) {
     Handle space(check(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr),
                        "create", full),
                  H5Sclose);
@@ -264,6 +334,7 @@ struct H5Output::Impl {
     s.last_write = std::chrono::steady_clock::now();
     if (rows == 0) return;
     const hsize_t total = s.written + rows;
+    ensure_space(double(rows) * double(ncol) * sizeof(double), "write", group_path);
     // Extend every column before writing any, and forget the rows only when all are
     // written: a failed batch can then be retried whole, leaving the columns equally long.
     for (std::size_t c = 0; c < ncol; ++c)
@@ -323,13 +394,26 @@ H5Output::H5Output(const std::string& path) : impl_(std::make_unique<Impl>()) {
 }
 
 H5Output::~H5Output() {
-  try {
-    impl_->write_all_series();
-    impl_->flush_file();
-  } catch (const std::exception& e) {
-    // A destructor must not throw, but losing the last rows silently would hide a full disk.
-    std::fprintf(stderr, "granule: warning: %s\n", e.what());
+  Impl& m = *impl_;
+  if (m.health == Impl::Health::ok) {
+    try {
+      m.write_all_series();
+      m.flush_file();
+    } catch (const std::exception& e) {
+      // A destructor must not throw, but losing the last rows silently would hide a full disk.
+      std::fprintf(stderr, "granule: warning: %s\n", e.what());
+    }
   }
+  m.series.clear();  // their datasets close before the file
+  if (m.health != Impl::Health::broken && m.file.get() >= 0 && H5Fclose(m.file.get()) >= 0) {
+    m.file.release();
+    return;
+  }
+  // A file whose writes failed is not closed: HDF5 would flush its cache into it again
+  // (and its close callback crashes on a file whose flush failed). Its descriptor goes
+  // with the process; `granule` asks HDF5 not to close such files at exit either
+  // (keep_hdf5_files_at_exit).
+  m.file.release();
 }
 
 const std::string& H5Output::path() const {
@@ -344,6 +428,7 @@ void H5Output::write_text(const std::string& dataset_path, const std::string& te
   Impl& m = *impl_;
   silence_hdf5();
   const std::string p = m.normalise(dataset_path, "write text");
+  m.usable("write text", p);
   if (p == "/") m.fail("write text", p, "the root group cannot be a dataset");
   if (text.find('\0') != std::string::npos)
     m.fail("write text", p, "text contains a NUL character, which HDF5 strings cannot hold");
@@ -372,6 +457,7 @@ void H5Output::write_attribute(const std::string& group_path, const std::string&
                                double value) {
   Impl& m = *impl_;
   silence_hdf5();
+  m.usable("write attribute", group_path + "@" + name);
   const std::string p = m.normalise(group_path, "write attribute");
   if (!std::isfinite(value))
     m.fail("write attribute", p + "@" + name, fmt::format("value {} is not finite", value));
@@ -382,6 +468,7 @@ void H5Output::write_attribute(const std::string& group_path, const std::string&
                                std::int64_t value) {
   Impl& m = *impl_;
   silence_hdf5();
+  m.usable("write attribute", group_path + "@" + name);
   m.attribute(m.normalise(group_path, "write attribute"), name, H5T_STD_I64LE, H5T_NATIVE_INT64, {},
               &value);
 }
@@ -390,6 +477,7 @@ void H5Output::write_attribute(const std::string& group_path, const std::string&
                                const std::string& value) {
   Impl& m = *impl_;
   silence_hdf5();
+  m.usable("write attribute", group_path + "@" + name);
   m.string_attribute(m.normalise(group_path, "write attribute"), name, value);
 }
 
@@ -397,6 +485,7 @@ void H5Output::write_attribute(const std::string& group_path, const std::string&
                                const std::vector<double>& value) {
   Impl& m = *impl_;
   silence_hdf5();
+  m.usable("write attribute", group_path + "@" + name);
   const std::string p = m.normalise(group_path, "write attribute");
   for (std::size_t i = 0; i < value.size(); ++i)
     if (!std::isfinite(value[i]))
@@ -411,6 +500,7 @@ void H5Output::series_declare(const std::string& group_path,
   Impl& m = *impl_;
   silence_hdf5();
   const std::string p = m.normalise(group_path, "declare series");
+  m.usable("declare series", p);
   auto it = m.series.find(p);
   if (it != m.series.end()) {
     if (it->second.columns == columns) return;
@@ -462,6 +552,7 @@ void H5Output::series_append(const std::string& group_path, const std::vector<do
   Impl& m = *impl_;
   silence_hdf5();
   const std::string p = m.normalise(group_path, "append to series");
+  m.usable("append to series", p);
   auto it = m.series.find(p);
   if (it == m.series.end()) m.fail("append to series", p, "the series was never declared");
   Impl::Series& s = it->second;
@@ -488,6 +579,7 @@ std::string H5Output::write_snapshot(const SnapshotView& v) {
   const std::string name = fmt::format("{:06d}", m.snapshots);
   const std::string g = "/snapshots/" + name;
   auto refuse = [&](const std::string& why) { m.fail("write snapshot", g, why); };
+  m.usable("write snapshot", g);
 
   // Check everything before writing anything, so that a refused snapshot leaves no trace.
   if (v.dimension != 2 && v.dimension != 3)
@@ -526,6 +618,12 @@ std::string H5Output::write_snapshot(const SnapshotView& v) {
         refuse(fmt::format("particle id {} has material index {}, but there are {} materials",
                            v.id[i], v.material[i], v.material_names.size()));
 
+  // Room for the arrays (and the series rows written with them) before any is written.
+  {
+    double bytes = double(v.count) * (8 + 8 + 8.0 * double(2 * d + sc) + 4 + 1);
+    for (const auto& [name, series] : m.series) bytes += 8.0 * double(series.pending.size());
+    m.ensure_space(bytes, "write snapshot", g);
+  }
   // Series rows up to this moment belong on disk together with the snapshot.
   m.write_all_series();
 
@@ -576,6 +674,7 @@ std::string H5Output::write_snapshot(const SnapshotView& v) {
 
 void H5Output::flush() {
   silence_hdf5();
+  impl_->usable("flush", impl_->path);
   impl_->write_all_series();
   impl_->flush_file();
 }

@@ -35,6 +35,22 @@ struct SnapshotView {  // plain pointers into the engine's arrays; nothing owned
   std::vector<std::string> material_names;
 };
 
+// After a failed write to `path`: "no space left on the disk holding <dir> (N KiB free)"
+// when the file system is full (`detail`, the library's message, says ENOSPC, or under
+// 1 MiB is left), else "" (the failure has another cause, which `detail` gives).
+std::string disk_full_note(const std::string& path, const std::string& detail);
+
+// The description of the HDF5 error just raised (innermost first; "" if none), made short:
+// a failed write says "file write failed: No space left on device". Call it before any
+// other HDF5 function, which would clear the error.
+std::string hdf5_error_text();
+
+// Asks HDF5 not to close the files still open when the program exits: the only ones are
+// files whose writes failed (H5Output leaves them as the last flush wrote them), and
+// closing one would flush a cache that no longer matches it. Call before any other
+// HDF5 function (first thing in main).
+void keep_hdf5_files_at_exit();
+
 class H5Output {
  public:
   // Creates or truncates `path`; root attrs format="granule-1", created (ISO time string).

@@ -3,10 +3,14 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+
+#include "io/h5_output.hpp"
 
 namespace granule::io {
 
@@ -172,11 +176,21 @@ void XdmfIndex::add(XdmfSnapshot snapshot) {
   // Write beside the target and rename: a reader never sees half a file.
   const std::string tmp = path_ + ".tmp";
   {
+    errno = 0;
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error(fmt::format("cannot write XDMF file '{}'", tmp));
+    if (!out)
+      throw std::runtime_error(
+          fmt::format("cannot write XDMF file '{}': {}", tmp, std::strerror(errno)));
     out << text();
     out.close();
-    if (!out) throw std::runtime_error(fmt::format("writing XDMF file '{}' failed", tmp));
+    if (!out) {
+      // A full disk: the half-written index goes, the previous one stays in place.
+      const std::string why = errno ? std::strerror(errno) : "write failed";
+      std::remove(tmp.c_str());
+      const std::string full = disk_full_note(path_, why);
+      throw std::runtime_error(fmt::format("writing XDMF file '{}' failed: {}; '{}' is kept as it was",
+                                           tmp, full.empty() ? why : full, path_));
+    }
   }
   if (std::rename(tmp.c_str(), path_.c_str()) != 0) {
     std::remove(tmp.c_str());

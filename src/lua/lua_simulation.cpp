@@ -635,9 +635,9 @@ int l_run(lua_State* L) {
       clear_interrupt();
       if (ctx) ctx->interrupted = true;
       throw std::runtime_error(fmt::format(
-          "run interrupted (Ctrl-C) after {} of {} steps, at t = {} s (step {}); checkpoint "
+          "run interrupted ({}) after {} of {} steps, at t = {} s (step {}); checkpoint "
           "written to {}; continue with: granule run {} --restart {}",
-          done, steps, s.sim->time(), s.sim->step_count(), interrupt_path,
+          interrupt_cause(), done, steps, s.sim->time(), s.sim->step_count(), interrupt_path,
           ctx ? ctx->scene_path : std::string("SCENE.lua"), interrupt_path));
     }
     if (progress) progress->finish();

@@ -19,6 +19,7 @@ namespace granule::lua {
 namespace {
 const char* context_key = "granule.context";
 volatile std::sig_atomic_t interrupt_flag = 0;
+volatile std::sig_atomic_t interrupt_signal_number = SIGINT;
 
 int traceback(lua_State* L) {
   const char* msg = lua_tostring(L, 1);
@@ -168,7 +169,8 @@ bool run_active() {
   return run_active_flag != 0;
 }
 
-void request_interrupt() {
+void request_interrupt(int signal_number) {
+  interrupt_signal_number = signal_number;
   interrupt_flag = 1;
 }
 bool interrupt_pending() {
@@ -176,6 +178,19 @@ bool interrupt_pending() {
 }
 void clear_interrupt() {
   interrupt_flag = 0;
+}
+int interrupt_signal() {
+  return interrupt_signal_number;
+}
+const char* interrupt_cause() {
+  switch (interrupt_signal_number) {
+    case SIGTERM:
+      return "SIGTERM";
+    case SIGHUP:
+      return "SIGHUP";
+    default:
+      return "Ctrl-C";
+  }
 }
 
 SceneContext* context(lua_State* L) {

@@ -31,7 +31,7 @@ struct SceneContext {
   int threads = 0;           // --threads N: overrides every simulation's own setting when > 0
   std::string restart_path;  // --restart FILE: the first simulation continues this checkpoint
   bool restart_taken = false;
-  bool interrupted = false;  // a run stopped on Ctrl-C (the program exits with 130)
+  bool interrupted = false;  // a run stopped on a signal (the program exits with 128 + it)
   bool progress = false;  // progress line for long runs (the CLI: stderr is a terminal, no --quiet)
   std::vector<std::string> outputs_written;
   std::shared_ptr<Journal> journal;    // what the scene saw of the engine (journal.hpp)
@@ -49,9 +49,10 @@ struct SceneContext {
 // The message parameters{...} stops a scene with when SceneContext::parameters_only is set.
 inline constexpr const char* parameters_checked_stop = "parameters checked (granule sweep)";
 
-// Ctrl-C. The signal handler only sets a flag (async-signal-safe); sim:run
-// checks it between chunks of steps and ends with an error naming the step.
-void request_interrupt();
+// Ctrl-C, SIGTERM and SIGHUP (what `timeout` and batch schedulers send). The
+// signal handler only records the signal (async-signal-safe); sim:run checks
+// it between chunks of steps and ends with an error naming the step.
+void request_interrupt(int signal_number);
 bool interrupt_pending();
 void clear_interrupt();
 // Whether sim:run is taking steps: then an interrupt is served between two chunks of
@@ -59,6 +60,11 @@ void clear_interrupt();
 // (a callback cut short would leave the scene in a state no uninterrupted run reaches).
 void set_run_active(bool active);
 bool run_active();
+// The signal of the latest request (SIGINT when none came), kept after
+// clear_interrupt() so that the message written after the checkpoint can name it.
+int interrupt_signal();
+// "Ctrl-C", "SIGTERM" or "SIGHUP": the latest request's signal, for messages.
+const char* interrupt_cause();
 
 // A fresh state with the standard libraries, the granule API and lua/ on package.path.
 lua_State* new_state(SceneContext* context);

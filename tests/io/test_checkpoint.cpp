@@ -1,11 +1,16 @@
 // Checkpoints: a run saved at step K, written to disk, read back into a freshly
-// declared scene and continued is bit-identical to the run that never stopped.
+// declared scene and continued is bit-identical to the run that never stopped; a
+// damaged checkpoint is refused, naming the damaged entry.
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fmt/format.h>
+#include <limits>
+#include <string>
+#include <vector>
 
 #include "core/errors.hpp"
 #include "core/simulation.hpp"
@@ -105,4 +110,196 @@ TEST_CASE("checkpoint: a scene that does not match the checkpoint is refused by 
   Simulation<3> c;
   CHECK_THROWS_WITH(c.load_state(state), Catch::Contains("2D"));
   CHECK_THROWS_WITH(io::read_checkpoint("/nonexistent/x.h5"), Catch::Contains("no such file"));
+}
+
+namespace {
+// One damaged copy of a checkpoint, and the entry its refusal must name.
+struct Corruption {
+  std::string what;  // for the report: "particles.radius[3] = nan"
+  std::string key;   // the entry the message must name, quoted
+  StateBlob state;
+};
+
+// Every entry of a valid checkpoint, damaged one way at a time: left out, one value
+// short or over, NaN, -1 or huge where those cannot be, every index table entry just
+// out of range. Each must be refused before the engine takes the state.
+template <int D>
+std::vector<Corruption> corruptions(const StateBlob& valid, double stability_limit) {
+  std::vector<Corruption> out;
+  auto add = [&](const std::string& what, const std::string& key, StateBlob s) {
+    out.push_back({what, key, std::move(s)});
+  };
+  for (const auto& [k, v] : valid.doubles) {
+    StateBlob s = valid;
+    s.doubles.erase(k);
+    add(k + " (doubles) left out", k, s);
+  }
+  for (const auto& [k, v] : valid.integers) {
+    StateBlob s = valid;
+    s.integers.erase(k);
+    add(k + " (integers) left out", k, s);
+  }
+  for (const auto& [k, v] : valid.bytes) {
+    StateBlob s = valid;
+    s.bytes.erase(k);
+    add(k + " left out", k, s);
+  }
+  for (const auto& [k, v] : valid.texts) {
+    StateBlob s = valid;
+    s.texts.erase(k);
+    add(k + " (text) left out", k, s);
+  }
+  // Sizes: one short (or one over when empty). The hooks' times are matched by name and
+  // may be fewer than the scene's hooks.
+  auto resize = [&](auto&& map, const std::string& k, const StateBlob& base, const char* kind) {
+    StateBlob s = base;
+    auto& v = map(s).at(k);
+    if (v.empty())
+      v.push_back({});
+    else
+      v.pop_back();
+    add(k + " (" + kind + ") resized to " + std::to_string(v.size()), k, s);
+  };
+  for (const auto& [k, v] : valid.doubles)
+    if (k != "hooks.next_time")
+      resize([](StateBlob& s) -> auto& { return s.doubles; }, k, valid, "doubles");
+  for (const auto& [k, v] : valid.integers)
+    resize([](StateBlob& s) -> auto& { return s.integers; }, k, valid, "integers");
+  for (const auto& [k, v] : valid.bytes)
+    resize([](StateBlob& s) -> auto& { return s.bytes; }, k, valid, "bytes");
+
+  auto set_double = [&](const std::string& k, std::size_t e, double x) {
+    StateBlob s = valid;
+    auto& v = s.doubles.at(k);
+    if (e >= v.size()) return;
+    v[e] = x;
+    add(fmt::format("{}[{}] = {}", k, e, x), k, s);
+  };
+  auto set_integer = [&](const std::string& k, std::size_t e, std::int64_t x) {
+    StateBlob s = valid;
+    auto& v = s.integers.at(k);
+    if (e >= v.size()) return;
+    v[e] = x;
+    add(fmt::format("{}[{}] = {}", k, e, x), k, s);
+  };
+  auto some = [](std::size_t size) {  // the first, a middle and the last element
+    return std::vector<std::size_t>{0, size / 2, size ? size - 1 : 0};
+  };
+  const double nan = std::numeric_limits<double>::quiet_NaN(), huge = 1e300;
+  const std::int64_t huge_index = std::int64_t{1} << 40;
+  const std::vector<std::string> particle_doubles = {
+      "particles.position", "particles.velocity", "particles.spin",
+      "particles.force",    "particles.torque",   "particles.position_at_rebuild",
+      "particles.radius",   "particles.mass",     "particles.inv_mass",
+      "particles.inv_inertia"};
+  // NaN: nowhere.
+  for (const auto& [k, v] : valid.doubles) {
+    const bool small = k == "meta" || k == "walls" || k == "body" || k == "materials";
+    std::vector<std::size_t> at = some(v.size());
+    if (small) {
+      at.clear();
+      for (std::size_t e = 0; e < v.size(); ++e) at.push_back(e);
+    }
+    for (std::size_t e : at) set_double(k, e, nan);
+  }
+  // Huge: no particle, wall or body force that far out, no time step that long.
+  for (const auto& k : particle_doubles)
+    for (std::size_t e : some(valid.doubles.at(k).size())) set_double(k, e, huge);
+  for (std::size_t e = 0; e < valid.doubles.at("walls").size(); ++e) set_double("walls", e, huge);
+  for (std::size_t e : {1, 2, 3, 5, 6, 7, 8}) set_double("body", e, huge);
+  for (std::size_t e : {1, 2, 10}) set_double("meta", e, huge);  // dt, dt set, contact reach
+  set_double("meta", 1, 1.01 * stability_limit);  // just above the engine's own limit
+  // -1 where values are positive (radius, masses, material properties, time, time step, skin).
+  for (const auto& k : {"particles.radius", "particles.mass", "particles.inv_mass",
+                        "particles.inv_inertia"})
+    for (std::size_t e : some(valid.doubles.at(k).size())) set_double(k, e, -1);
+  for (std::size_t e = 0; e < valid.doubles.at("materials").size(); ++e)
+    set_double("materials", e, -1);
+  for (std::size_t e : {0, 1, 2, 3, 4, 5, 6, 10}) set_double("meta", e, -1);
+  if (D == 3) set_double("meta", 9, -1);  // the periodic length, when periodic
+  for (std::size_t e : {0, 4, 8}) set_double("body", e, -1);  // flags, central strength
+  // Integers: -1 and huge in every table (indices, ids, flags, the header).
+  for (const auto& [k, v] : valid.integers) {
+    if (k == "meta") continue;
+    for (std::size_t e : some(v.size())) {
+      set_integer(k, e, -1);
+      set_integer(k, e, huge_index);
+    }
+  }
+  for (std::size_t e : {0, 1, 2, 3, 4, 5}) set_integer("meta", e, -1);
+  for (std::size_t e : {0, 1, 3, 5}) set_integer("meta", e, huge_index);
+  // Every entry of every index table one past its range.
+  const auto n = static_cast<std::int64_t>(valid.integers.at("particles.id").size());
+  const auto walls = static_cast<std::int64_t>(valid.doubles.at("walls").size() / 10);
+  const auto materials = static_cast<std::int64_t>(valid.doubles.at("materials").size() / 4);
+  for (const auto& [k, v] : valid.integers) {
+    std::int64_t limit = -1;
+    auto ends = [&](const char* tail) {
+      return k.size() > std::strlen(tail) && k.compare(k.size() - std::strlen(tail), std::string::npos, tail) == 0;
+    };
+    if (k == "particles.material") limit = materials;
+    else if (k == "particles.index_of_id") limit = n;
+    else if (k.rfind("pairs.", 0) == 0 && (ends(".i") || ends(".j"))) limit = n;
+    else if (k.rfind("walls.", 0) == 0 && ends(".particle")) limit = n;
+    else if (k.rfind("walls.", 0) == 0 && ends(".wall")) limit = walls;
+    if (limit < 0) continue;
+    for (std::size_t e = 0; e < v.size(); ++e) set_integer(k, e, limit);
+  }
+  // A contact law's value hand-edited into text that is not a number.
+  {
+    StateBlob s = valid;
+    std::string& laws = s.texts.at("contacts");
+    const auto eq = laws.find('=');
+    laws.replace(eq + 1, laws.find_first_of("\t\n", eq) - eq - 1, "nan");
+    add("contacts: a value made 'nan'", "contacts", s);
+  }
+  return out;
+}
+}  // namespace
+
+TEMPLATE_TEST_CASE_SIG("checkpoint: every damaged entry is refused with its name",
+                       "[checkpoint][corrupt]", ((int D), D), 2, 3) {
+  Simulation<D> original;
+  scene(original);
+  original.advance(3000);
+  const std::string path =
+      (std::filesystem::temp_directory_path() /
+       ("granule_corrupt_" + std::to_string(getpid()) + "_" + std::to_string(D) + ".chk.h5"))
+          .string();
+  io::write_checkpoint(path, original.save_state());
+  const StateBlob valid = io::read_checkpoint(path);  // through the file, as a restart reads it
+  std::remove(path.c_str());
+  const double limit = original.time_step_rule().stability_limit;
+  // The lists hold contacts of both models with particles and walls, so their index
+  // tables have entries to damage.
+  std::size_t listed = 0;
+  for (const auto& [k, v] : valid.integers)
+    if (k.rfind("pairs.", 0) == 0 || k.rfind("walls.", 0) == 0) listed += v.size();
+  REQUIRE(listed > 100);
+  {
+    Simulation<D> intact;
+    scene(intact);
+    REQUIRE_NOTHROW(intact.load_state(valid));
+  }
+  const auto cases = corruptions<D>(valid, limit);
+  REQUIRE(cases.size() > 500);
+  std::size_t refused = 0;
+  for (const auto& c : cases) {
+    Simulation<D> target;
+    scene(target);
+    std::string message;
+    bool input_error = false;
+    try {
+      target.load_state(c.state);
+    } catch (const InputError& e) {
+      message = e.what(), input_error = true;
+    } catch (const std::exception& e) {
+      message = e.what();
+    }
+    INFO(c.what << ": " << (message.empty() ? "accepted" : message));
+    CHECK(input_error);
+    CHECK(message.find("'" + c.key + "'") != std::string::npos);
+    refused += input_error;
+  }
+  CHECK(refused == cases.size());
 }
