@@ -80,7 +80,8 @@ step=$(/usr/bin/python3 -c 'import sys, h5py; print(int(h5py.File(sys.argv[1], "
   fail "checkpoint: the previous checkpoint is not readable"
 [ "$step" -eq 1000 ] || fail "checkpoint: the kept checkpoint is at step $step, expected 1000"
 rm -f "$disk/filler"
-"$granule" run "$source/tests/scenes/restart.lua" -D checkpoint="$work/again.chk.h5" \
+# The same -D values: a restart continues the run that wrote the checkpoint.
+"$granule" run "$source/tests/scenes/restart.lua" -D checkpoint="$disk/run.chk.h5" \
   -D checkpoint_every=1000 --restart "$disk/run.chk.h5" -o "$work/again.h5" --quiet \
   > "$work/restart.txt" 2>&1 || fail "the kept checkpoint does not restart"
 echo "the message:"; head -1 "$work/checkpoint.txt"

@@ -33,7 +33,9 @@ wait_running() {
 # exit status $1, the checkpoint written, the message naming the signal $3.
 stop_with() {
   want=$1 signal=$2 name=$3 restart=${4:-}
-  rm -f signals.chk.h5 long.h5
+  rm -f signals.chk.h5
+  # A restart continues the first run's output (here in place), so that one stays.
+  [ -n "$restart" ] || rm -f long.h5
   "$granule" run "$scene" -D checkpoint=signals.chk.h5 -D checkpoint_every=1000000 \
     -D stage2_steps=400000 -o long.h5 --quiet $restart > "$name.txt" 2>&1 &
   pid=$!
@@ -41,7 +43,7 @@ stop_with() {
   # Twice in a row: a launcher signals the program and its process group, and that echo
   # (within half a second) must not turn the clean stop into a kill.
   kill -s "$signal" $pid
-  kill -s "$signal" $pid
+  kill -s "$signal" $pid 2> /dev/null || true  # it may have stopped already
   status=0
   wait $pid || status=$?
   [ "$status" -eq "$want" ] || fail "$name: expected exit status $want, got $status"
