@@ -373,121 +373,91 @@ struct CallName {
   Journal::Kind kind;
 };
 
+// Runs f(); a C++ exception leaves its message on the stack (prefixed with the
+// script's line if `where`) and true: the caller raises it once the C++ frames are
+// gone (a Lua error is a longjmp).
+template <typename F>
+bool failed_with_message(lua_State* L, F&& f, bool where = false) {
+  bool failed = false;
+  {
+    std::string message;
+    try {
+      f();
+    } catch (const std::exception& e) {
+      message = e.what();
+      failed = true;
+    }
+    if (failed) {
+      if (where) push_script_where(L);
+      lua_pushstring(L, message.c_str());
+      if (where) lua_concat(L, 2);
+    }
+  }
+  return failed;
+}
+
 // upvalue 1: the wrapped function; upvalue 2: light userdata, the CallName.
 int journaled_call(lua_State* L) {
   const auto* call = static_cast<const CallName*>(lua_touserdata(L, lua_upvalueindex(2)));
   SceneContext* ctx = context(L);
   Journal* j = ctx ? ctx->journal.get() : nullptr;
   const int nargs = lua_gettop(L);
+  // Calls the wrapped function below the arguments, protected, so that an error can be
+  // journaled before it goes on; journals the outcome when `record` and the journal is
+  // recording (and the results were not the journal's own).
   auto call_inner = [&](bool record) -> int {
-    // The wrapped function below the arguments, called protected so that an error can be
-    // journaled before it goes on.
     lua_pushvalue(L, lua_upvalueindex(1));
     lua_insert(L, 1);
     const int status = lua_pcall(L, nargs, LUA_MULTRET, 0);
-    if (record && j && !j->replaying() && !j->took_results()) {
-      bool failed = false;
-      {
-        std::string message;
-        try {
+    if (record && j && !j->replaying() && !j->took_results() &&
+        failed_with_message(L, [&] {
           if (status != LUA_OK)
             j->record_error(L, -1);
           else if (call->kind == Journal::Kind::build)
             j->record_no_results();
           else
             j->record_results(L, 1, lua_gettop(L));
-        } catch (const std::exception& e) {
-          message = fmt::format("{}: {}", call->name, e.what());
-          failed = true;
-        }
-        if (failed) lua_pushstring(L, message.c_str());
-      }
-      if (failed) return lua_error(L);
-    }
+        }))
+      return lua_error(L);
     if (status != LUA_OK) return lua_error(L);
     return lua_gettop(L);
   };
   if (!j) return call_inner(false);
   if (ctx->begin_replay) {  // --restart: the replay starts before the first journaled call
-    bool failed = false;
-    {
-      std::string message;
-      try {
-        auto begin = std::move(ctx->begin_replay);
-        ctx->begin_replay = nullptr;
-        begin();
-      } catch (const std::exception& e) {
-        message = e.what();
-        failed = true;
-      }
-      if (failed) lua_pushstring(L, message.c_str());
-    }
-    if (failed) return lua_error(L);
+    if (failed_with_message(L, [&] {
+          auto begin = std::move(ctx->begin_replay);
+          ctx->begin_replay = nullptr;
+          begin();
+        }))
+      return lua_error(L);
   }
-
   if (!j->replaying()) {
-    bool failed = false;
-    {
-      std::string message;
-      try {
-        j->record_call(call->name);
-      } catch (const std::exception& e) {
-        message = e.what();
-        failed = true;
-      }
-      if (failed) {
-        lua_pushstring(L, message.c_str());
-      }
-    }
-    if (failed) return lua_error(L);
+    if (failed_with_message(L, [&] { j->record_call(call->name); })) return lua_error(L);
     return call_inner(true);
   }
-
-  bool failed = false;
-  {
-    std::string message;
-    try {
-      j->expect_call(call->name);
-    } catch (const std::exception& e) {
-      message = e.what();
-      failed = true;
-    }
-    if (failed) {
-      push_script_where(L);
-      lua_pushstring(L, message.c_str());
-      lua_concat(L, 2);
-    }
-  }
-  if (failed) return lua_error(L);
+  if (failed_with_message(L, [&] { j->expect_call(call->name); }, true)) return lua_error(L);
   // The journal ended with this call's start: it executes for real, and is journaled.
   if (!j->replaying()) return call_inner(true);
 
   Journal::Next next = Journal::Next::results;
   int results = 0;
-  {
-    std::string message;
-    try {
-      next = j->peek();
-      if (call->kind == Journal::Kind::run) {
-        next = Journal::Next::callback;  // the run replays its own callbacks (l_run)
-      } else if (next == Journal::Next::error) {
-        j->push_error(L);
-      } else if (next == Journal::Next::results) {
-        if (call->kind == Journal::Kind::build)
-          j->skip_results();
-        else
-          results = j->push_results(L);
-      } else {
-        throw std::runtime_error(fmt::format(
-            "restart: the checkpoint's journal holds a callback inside {}", call->name));
-      }
-    } catch (const std::exception& e) {
-      message = e.what();
-      failed = true;
-    }
-    if (failed) lua_pushstring(L, message.c_str());
-  }
-  if (failed) return lua_error(L);
+  if (failed_with_message(L, [&] {
+        next = j->peek();
+        if (call->kind == Journal::Kind::run) {
+          next = Journal::Next::callback;  // the run replays its own callbacks (l_run)
+        } else if (next == Journal::Next::error) {
+          j->push_error(L);
+        } else if (next == Journal::Next::results) {
+          if (call->kind == Journal::Kind::build)
+            j->skip_results();
+          else
+            results = j->push_results(L);
+        } else {
+          throw std::runtime_error(fmt::format(
+              "restart: the checkpoint's journal holds a callback inside {}", call->name));
+        }
+      }))
+    return lua_error(L);
   switch (call->kind) {
     case Journal::Kind::run:
       // The run itself replays the callbacks it fired and returns its journaled result,
