@@ -53,6 +53,25 @@ void TableReader::refuse_undocumented_keys() {
   }
 }
 
+// A required key is absent. In a table no declared key list covers (a nested one, as
+// fill.region's), a present key that is a near spelling of it is the likelier mistake:
+// name that one first.
+void TableReader::refuse_missing(const char* key) {
+  std::string typo;
+  lua_pushnil(L_);
+  while (lua_next(L_, index_) != 0) {
+    lua_pop(L_, 1);
+    if (lua_type(L_, -1) == LUA_TSTRING && typo.empty()) {
+      std::string present = lua_tostring(L_, -1);
+      if (!used_.count(present) && !nearest_name(present, {key}).empty()) typo = present;
+    }
+  }
+  if (!typo.empty())
+    throw std::runtime_error(fmt::format("{}: unknown key '{}' (did you mean '{}'?)", context_,
+                                         typo, key));
+  throw std::runtime_error(fmt::format("{}: '{}' is required", context_, key));
+}
+
 int TableReader::push(const char* key) {
   used_.insert(key);
   return lua_getfield(L_, index_, key);
@@ -65,7 +84,7 @@ bool TableReader::has(const char* key) {
 }
 
 double TableReader::number(const char* key) {
-  if (!has(key)) throw std::runtime_error(fmt::format("{}: '{}' is required", context_, key));
+  if (!has(key)) refuse_missing(key);
   return number(key, 0);
 }
 
@@ -88,7 +107,7 @@ double TableReader::number(const char* key, double fallback) {
 }
 
 std::int64_t TableReader::integer(const char* key) {
-  if (!has(key)) throw std::runtime_error(fmt::format("{}: '{}' is required", context_, key));
+  if (!has(key)) refuse_missing(key);
   return integer(key, 0);
 }
 
@@ -126,7 +145,7 @@ bool TableReader::boolean(const char* key, bool fallback) {
 }
 
 std::string TableReader::string(const char* key) {
-  if (!has(key)) throw std::runtime_error(fmt::format("{}: '{}' is required", context_, key));
+  if (!has(key)) refuse_missing(key);
   return string(key, "");
 }
 
@@ -147,7 +166,7 @@ std::string TableReader::string(const char* key, const std::string& fallback) {
 }
 
 std::array<double, 3> TableReader::vector(const char* key, int dimension) {
-  if (!has(key)) throw std::runtime_error(fmt::format("{}: '{}' is required", context_, key));
+  if (!has(key)) refuse_missing(key);
   return vector(key, dimension, {0, 0, 0});
 }
 

@@ -109,6 +109,7 @@ class TableReader {
   std::vector<std::string> keys();  // string keys present
 
  private:
+  [[noreturn]] void refuse_missing(const char* key);
   int push(const char* key);  // pushes field, returns its type
   void refuse_undocumented_keys();
   lua_State* L_;

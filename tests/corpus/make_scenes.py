@@ -387,6 +387,8 @@ for name, line, expect in [
     case(name, "sim:fill: " + name.replace("fill_", "").replace("_", " "), expect, replace={"fill": wrong(line)})
 case("fill_box_reversed", "a fill box with lo above hi",
      r"{at}.*box", replace={"fill": wrong('sim:fill { region = { box = { lo = { 0.002, 0.002, 0.004 }, hi = { -0.002, -0.002, 0.001 } } }, count = 5, radius = 3e-4, material = "glass" }')}, base=BASE3)
+case("fill_region_misspelled_radius", "a misspelled key inside fill's region (a nested table)",
+     r"{at}.*unknown key 'radis' \(did you mean 'radius'\?\)", replace={"fill": wrong('sim:fill { region = { circle = { center = { 0, 0 }, radis = 0.008 } }, count = 5, radius = 3e-4, material = "glass" }')})
 case("fill_huge_count_memory", "a fill of 5e8 particles, far more memory than the machine has",
      r"{at}.*particles need about .* GB", replace={"fill": wrong('sim:fill { region = { circle = { center = { 0, 0 }, radius = 0.008 } }, count = 5e8, radius = 1e-9, material = "glass" }')})
 

@@ -1,0 +1,11 @@
+-- a misspelled key inside fill's region (a nested table)
+-- expect: fill_region_misspelled_radius\.lua:9\b.*unknown key 'radis' \(did you mean 'radius'\?\)
+local sim = simulation { dimension = 2 }
+sim:material { name = "glass", density = 2500 }
+sim:material { name = "steel", density = 0 }
+sim:contact { "glass", "glass", model = "linear", k_normal = 1e4, restitution = 0.8, friction = 0.3 }
+sim:contact { "glass", "steel", model = "linear", k_normal = 1e4, restitution = 0.8, friction = 0.3 }
+sim:wall_cylinder { name = "drum", center = { 0, 0 }, radius = 0.01, material = "steel" }
+sim:fill { region = { circle = { center = { 0, 0 }, radis = 0.008 } }, count = 5, radius = 3e-4, material = "glass" }  -- <- wrong
+sim:output {}
+sim:run { steps = 10 }
