@@ -439,6 +439,8 @@ int l_remove_particle(lua_State* L) {
 }
 
 // ---- running ----
+}  // namespace
+
 // A callback's error that is not a string (error({...}), error(nil)) still names where
 // it was raised: the handler runs where the error was raised, before the stack unwinds.
 int callback_error_handler(lua_State* L) {
@@ -466,6 +468,8 @@ void call_lua(lua_State* L, int function_ref, int self_ref, int results, const c
   }
   lua_remove(L, handler);
 }
+
+namespace {
 
 // Undoes what a run set up, however it ends (normally, by an error, by Ctrl-C).
 struct RunGuard {
@@ -498,50 +502,14 @@ int l_run(lua_State* L) {
     t.mark("stop_when");
     t.finish();
 
-    // A restarted scene living through its past (journal.hpp): a run that had begun
-    // before the checkpoint fires the callbacks it fired then, in the same order, and a
-    // run that had ended returns what it returned then. When the journal is used up
-    // inside this run, the checkpoint's state is in place and the run goes on for real.
+    // A restarted scene living through its past: a run that had ended returns what it
+    // returned then (after firing its callbacks again); one that was going on when the
+    // checkpoint was written fires its callbacks up to there and goes on below.
     SceneContext* ctx = context(L);
     Journal* journal = ctx ? ctx->journal.get() : nullptr;
     if (journal && journal->replaying()) {
-      s.running = true;
-      struct Running {
-        LuaSim& s;
-        ~Running() { s.running = false; }
-      } running{s};
-      while (journal->replaying()) {
-        const Journal::Next next = journal->peek();
-        if (next == Journal::Next::results) return journal->push_results(L);
-        if (next == Journal::Next::error) {
-          journal->push_error(L);
-          std::string message = lua_tostring(L, -1) ? lua_tostring(L, -1) : "(error object)";
-          lua_pop(L, 1);
-          throw ScriptError(message);
-        }
-        if (next == Journal::Next::end) break;
-        const std::int64_t id = journal->take_callback();
-        if (id < 0) {
-          if (!t.push_function("stop_when"))
-            throw std::runtime_error(
-                "restart: the run that wrote the checkpoint had a stop_when, this one has none");
-          const int ref = luaL_ref(L, LUA_REGISTRYINDEX);
-          struct Unref {
-            lua_State* L;
-            int ref;
-            ~Unref() { luaL_unref(L, LUA_REGISTRYINDEX, ref); }
-          } unref{L, ref};
-          call_lua(L, ref, s.self_ref, 1, "the run's stop_when");
-          lua_pop(L, 1);
-        } else {
-          auto hook = s.lua_hooks.find(static_cast<int>(id));
-          if (hook == s.lua_hooks.end())
-            throw std::runtime_error(fmt::format(
-                "restart: the checkpoint's journal fires hook {}, which this scene has not made",
-                id));
-          call_lua(L, hook->second, s.self_ref, 0, "the sim:every callback");
-        }
-      }
+      const int results = replay_run(L, s, t);
+      if (results >= 0) return results;
     }
     std::int64_t done = 0;
     bool resuming = false;

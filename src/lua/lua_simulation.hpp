@@ -15,6 +15,7 @@
 #include "core/simulation_base.hpp"
 #include "core/state.hpp"
 #include "io/run_output.hpp"
+#include "lua/lua_util.hpp"
 #include "lua/scene.hpp"
 
 namespace granule::lua {
@@ -54,6 +55,15 @@ struct LuaSim {
   std::map<int, int> lua_hooks;   // sim:every hook id -> registry ref of its function
   CheckpointPlan checkpoint;
 };
+
+// Calls the Lua function at registry `function_ref` with the simulation at `self_ref`,
+// leaving `results` values; an error becomes ScriptError naming `what` and the line.
+void call_lua(lua_State* L, int function_ref, int self_ref, int results, const char* what);
+// A restarted scene's sim:run while the journal replays (wrap_checkpoint.cpp): fires
+// the callbacks the run fired before the checkpoint and returns the number of results
+// it pushed (the run had ended), or -1 when the journal ended inside the run, which
+// then goes on for real. `run` is the run's argument table.
+int replay_run(lua_State* L, LuaSim& s, TableReader& run);
 
 // Writes a checkpoint of `s` now (between steps), with the run bookkeeping.
 void write_checkpoint_now(LuaSim& s, const std::string& path, bool in_run);

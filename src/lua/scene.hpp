@@ -30,7 +30,6 @@ struct SceneContext {
   bool quiet = false;
   int threads = 0;           // --threads N: overrides every simulation's own setting when > 0
   std::string restart_path;  // --restart FILE: the first simulation continues this checkpoint
-  bool restart_taken = false;
   bool interrupted = false;  // a run stopped on a signal (the program exits with 128 + it)
   bool progress = false;  // progress line for long runs (the CLI: stderr is a terminal, no --quiet)
   std::vector<std::string> outputs_written;

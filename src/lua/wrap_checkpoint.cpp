@@ -94,6 +94,47 @@ void write_checkpoint_now(LuaSim& s, const std::string& path, bool in_run) {
   s.checkpoint.last_wall = std::chrono::steady_clock::now();
 }
 
+int replay_run(lua_State* L, LuaSim& s, TableReader& run) {
+  Journal& journal = *s.context->journal;
+  s.running = true;  // as in the first run: its callbacks may not run or set the simulation
+  struct Running {
+    LuaSim& s;
+    ~Running() { s.running = false; }
+  } running{s};
+  while (journal.replaying()) {
+    const Journal::Next next = journal.peek();
+    if (next == Journal::Next::results) return journal.push_results(L);
+    if (next == Journal::Next::error) {
+      journal.push_error(L);
+      std::string message = lua_tostring(L, -1) ? lua_tostring(L, -1) : "(error object)";
+      lua_pop(L, 1);
+      throw ScriptError(message);
+    }
+    if (next == Journal::Next::end) break;
+    const std::int64_t id = journal.take_callback();
+    if (id < 0) {
+      if (!run.push_function("stop_when"))
+        throw std::runtime_error(
+            "restart: the run that wrote the checkpoint had a stop_when, this one has none");
+      const int ref = luaL_ref(L, LUA_REGISTRYINDEX);
+      struct Unref {
+        lua_State* L;
+        int ref;
+        ~Unref() { luaL_unref(L, LUA_REGISTRYINDEX, ref); }
+      } unref{L, ref};
+      call_lua(L, ref, s.self_ref, 1, "the run's stop_when");
+      lua_pop(L, 1);
+    } else {
+      auto hook = s.lua_hooks.find(static_cast<int>(id));
+      if (hook == s.lua_hooks.end())
+        throw std::runtime_error(fmt::format(
+            "restart: the checkpoint's journal fires hook {}, which this scene has not made", id));
+      call_lua(L, hook->second, s.self_ref, 0, "the sim:every callback");
+    }
+  }
+  return -1;
+}
+
 void begin_restart(SceneContext& ctx) {
   auto r = std::make_shared<Restart>();
   r->path = ctx.restart_path;
