@@ -345,6 +345,12 @@ void check_state(const StateBlob& s, std::size_t material_count, std::size_t wal
   const auto& next = s.d("hooks.next_time");
   for (std::size_t k = 0; k < next.size(); ++k)
     if (std::isnan(next[k])) refuse("hooks.next_time", fmt::format("value {} is NaN", k));
+  const auto& guards = s.i("guards");
+  if (guards.size() != 2) refuse("guards", fmt::format("has {} values, not 2", guards.size()));
+  for (std::size_t k = 0; k < 2; ++k)
+    if (guards[k] != 0 && guards[k] != 1)
+      refuse("guards", fmt::format("value {} is {}, not 0 or 1", k, guards[k]));
+  (void)s.t("time_step.governing_pair");
 }
 }  // namespace
 
@@ -484,6 +490,11 @@ StateBlob Simulation<D>::save_state() const {
   }
   s.texts["hooks"] = hook_names;
   s.doubles["hooks.next_time"] = next;
+  // The guards' memory: whether deep overlaps are still the scene's own (an overlapping
+  // fill relaxing, not a pass-through) and whether the one overlap warning was given;
+  // and the pair that set the automatic time step, for the run's description.
+  s.integers["guards"] = {scene_overlaps_ ? 1 : 0, overlap_warned_ ? 1 : 0};
+  s.texts["time_step.governing_pair"] = dt_governing_pair_;
   return s;
 }
 
@@ -680,6 +691,9 @@ void Simulation<D>::load_state(const StateBlob& s) {
     if (hooks_[h].name == hook_names[h]) hooks_[h].next_time = next[h];
 
   lists_valid_ = meta[5] != 0;
+  scene_overlaps_ = s.i("guards")[0] != 0;
+  overlap_warned_ = s.i("guards")[1] != 0;
+  dt_governing_pair_ = s.t("time_step.governing_pair");
   // The same limit prepare() holds a run to before its first step, for the laws
   // and particles just loaded (prepare() itself would rebuild the lists and so
   // change the order of the force sums).
