@@ -615,13 +615,15 @@ void Simulation<D>::load_state(const StateBlob& s) {
   if (p_.material.size() != n || p_.fixed.size() != n ||
       p_.index_of_id.size() != static_cast<std::size_t>(p_.next_id))
     throw InputError("checkpoint: particle arrays differ in length");
-  // As prepare() requires of a scene: every centre on the allowed side of every wall.
+  // What a run itself tolerates (check_escapes): a free particle pressed into a wall
+  // may have its centre beyond it, by less than its radius, and still be pushed back;
+  // one further beyond has escaped, and no run writes such a state.
   for (std::size_t i = 0; i < p_.size(); ++i)
     for (const auto& w : walls_)
-      if (w.clearance(p_.position[i], p_.radius[i]) + p_.radius[i] < 0)
+      if (!p_.fixed[i] && w.clearance(p_.position[i], p_.radius[i]) + 2 * p_.radius[i] < 0)
         refuse("particles.position",
-               fmt::format("particle {} at ({}) lies outside wall '{}'", p_.id[i],
-                           fmt::join(to_triple(p_.position[i]), ", "), w.name));
+               fmt::format("particle {} at ({}) lies beyond wall '{}' by more than its radius",
+                           p_.id[i], fmt::join(to_triple(p_.position[i]), ", "), w.name));
 
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;

@@ -117,6 +117,29 @@ TEMPLATE_TEST_CASE_SIG("checkpoint: a run continued while its fill's overlaps re
   CHECK(same_state<D>(whole, resumed));
 }
 
+// A run lets a particle pressed into a wall have its centre beyond it by less than its
+// radius (check_escapes); its checkpoint must restart. One further beyond is refused.
+TEST_CASE("checkpoint: a particle pressed into a wall restarts; one through it is refused",
+          "[checkpoint]") {
+  for (const double beyond : {0.5, 1.5}) {
+    Simulation<2> first;
+    scene(first);
+    first.advance(10);
+    const auto id = first.particle_ids().front();
+    const double r = first.flat_state().radius.front();
+    first.set_position(id, {6e-3 + beyond * r, 0, 0});  // the drum's wall is at 6 mm
+    const StateBlob saved = first.save_state();
+    Simulation<2> again;
+    scene(again);
+    if (beyond < 1) {
+      REQUIRE_NOTHROW(again.load_state(saved));
+    } else {
+      REQUIRE_THROWS_WITH(again.load_state(saved),
+                          Catch::Contains("particles.position") && Catch::Contains("drum"));
+    }
+  }
+}
+
 TEST_CASE("checkpoint: a scene that does not match the checkpoint is refused by name",
           "[checkpoint]") {
   Simulation<2> a;
