@@ -150,8 +150,10 @@ void Simulation<D>::step() {
   }
   if (observed) list_logged_slots();  // simulation_log.cpp
   // One comparison a step; the contacts are looked at only when it fails.
-  if (pair_overlap_ratio > overlap_warning_) check_overlaps(pair_overlap_ratio);
-  else scene_overlaps_ = false;
+  if (pair_overlap_ratio > overlap_warning_)
+    check_overlaps(pair_overlap_ratio);
+  else
+    scene_overlaps_ = false;
   auto t2 = Clock::now();
   stage_times_.force += std::chrono::duration<double>(t2 - t1).count();
 

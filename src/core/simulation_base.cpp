@@ -1,6 +1,7 @@
 #include "core/simulation_base.hpp"
 
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -8,8 +9,6 @@
 #include <fstream>
 #include <iostream>
 #include <thread>
-
-#include <unistd.h>
 
 #include "core/errors.hpp"
 #include "core/simulation.hpp"
@@ -136,9 +135,10 @@ void SimulationBase::set_threads(int threads) {
   // then waits for a thread that is not running.
   const unsigned cores = std::thread::hardware_concurrency();
   if (cores > 0 && static_cast<unsigned>(threads) > 2 * cores)
-    warn(fmt::format("threads = {} is far above the {} cores of this machine: the threads will "
-                     "wait for one another; give at most {}",
-                     threads, cores, cores));
+    warn(
+        fmt::format("threads = {} is far above the {} cores of this machine: the threads will "
+                    "wait for one another; give at most {}",
+                    threads, cores, cores));
   threads_ = threads;
 }
 

@@ -123,8 +123,8 @@ void Simulation<D>::check_overlaps(double pair_ratio) {
       "at about {:.3g} m/s{} (warned once)",
       step_, p_.id[wi], p_.id[wj], overlap, 100 * worst, overlap_warning_, force, launch,
       from_scene ? "; if a fill made this overlap, sim:fill { ..., overlap = false } starts "
-                        "without overlaps"
-                      : ""));
+                   "without overlaps"
+                 : ""));
 }
 
 template class Simulation<2>;

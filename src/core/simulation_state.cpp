@@ -7,8 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <cstdlib>
+#include <cstring>
 #include <limits>
 #include <sstream>
 #include <type_traits>
@@ -92,15 +92,14 @@ std::string expected_size(std::size_t size, std::size_t count, const std::string
   return fmt::format("has {} values, expected {}{}", size, count,
                      reference.empty() ? "" : fmt::format(" (from '{}')", reference));
 }
-const std::vector<double>& doubles_of(const StateBlob& s, const std::string& key,
-                                      std::size_t count, const std::string& reference = "") {
+const std::vector<double>& doubles_of(const StateBlob& s, const std::string& key, std::size_t count,
+                                      const std::string& reference = "") {
   const auto& v = s.d(key);
   if (v.size() != count) refuse(key, expected_size(v.size(), count, reference));
   return v;
 }
 const std::vector<std::int64_t>& integers_of(const StateBlob& s, const std::string& key,
-                                             std::size_t count,
-                                             const std::string& reference = "") {
+                                             std::size_t count, const std::string& reference = "") {
   const auto& v = s.i(key);
   if (v.size() != count) refuse(key, expected_size(v.size(), count, reference));
   return v;
@@ -128,8 +127,8 @@ void all_below(const std::vector<std::int64_t>& v, std::int64_t limit, const std
 // 1/x as the engine stores it (0 for a fixed particle), to the rounding of one division.
 // `of_keys` name the entries `of` comes from: one of them or `key` is damaged.
 void inverse_of(const std::vector<double>& inv, const std::vector<double>& of,
-                const std::vector<std::int64_t>& fixed, const std::string& key,
-                const char* what, const char* of_keys) {
+                const std::vector<std::int64_t>& fixed, const std::string& key, const char* what,
+                const char* of_keys) {
   for (std::size_t k = 0; k < inv.size(); ++k) {
     const double expected = fixed[k] ? 0.0 : 1.0 / of[k];
     if (!std::isfinite(inv[k]) || std::abs(inv[k] - expected) > 1e-12 * std::abs(expected))
@@ -148,10 +147,17 @@ void check_state(const StateBlob& s, std::size_t material_count, std::size_t wal
   if (meta[5] != 0 && meta[5] != 1)
     refuse("meta", fmt::format("lists-valid flag {} is neither 0 nor 1", meta[5]));
   const auto& md = doubles_of(s, "meta", 11);
-  const char* meta_names[] = {"time",          "time_step",      "time_step set",
-                              "steps_per_contact", "skin",       "skin set",
-                              "max_displacement_sq", "periodic axis", "periodic origin",
-                              "periodic length", "contact_reach"};
+  const char* meta_names[] = {"time",
+                              "time_step",
+                              "time_step set",
+                              "steps_per_contact",
+                              "skin",
+                              "skin set",
+                              "max_displacement_sq",
+                              "periodic axis",
+                              "periodic origin",
+                              "periodic length",
+                              "contact_reach"};
   for (std::size_t k = 0; k < md.size(); ++k)
     if (!std::isfinite(md[k])) refuse("meta", fmt::format("{} is {}", meta_names[k], md[k]));
   auto at_least = [&](std::size_t k, double low, bool strictly) {
@@ -199,8 +205,8 @@ void check_state(const StateBlob& s, std::size_t material_count, std::size_t wal
   const auto& id = s.i("particles.id");
   const std::int64_t next_id = meta[3];
   if (next_id < static_cast<std::int64_t>(n) || next_id >= (std::int64_t{1} << 31))
-    refuse("meta", fmt::format("next id {} is below the particle count {} or too large", next_id,
-                               n));
+    refuse("meta",
+           fmt::format("next id {} is below the particle count {} or too large", next_id, n));
   all_below(id, next_id, "particles.id", "particle id");
   const auto& index_of_id =
       integers_of(s, "particles.index_of_id", static_cast<std::size_t>(next_id), "meta");
@@ -219,8 +225,8 @@ void check_state(const StateBlob& s, std::size_t material_count, std::size_t wal
       refuse("particles.id", fmt::format("entry {} is id {}, which the index table puts at {}", i,
                                          id[i], index_of_id[static_cast<std::size_t>(id[i])]));
   const std::string ids = "particles.id";
-  all_below(integers_of(s, "particles.material", n, ids),
-            static_cast<std::int64_t>(material_count), "particles.material", "material");
+  all_below(integers_of(s, "particles.material", n, ids), static_cast<std::int64_t>(material_count),
+            "particles.material", "material");
   const auto& fixed = integers_of(s, "particles.fixed", n, ids);
   all_below(fixed, 2, "particles.fixed", "flag 0 or 1");
   for (const char* key : {"particles.position", "particles.velocity",
@@ -234,8 +240,8 @@ void check_state(const StateBlob& s, std::size_t material_count, std::size_t wal
   all_positive(mass, "particles.mass");
   std::vector<double> inertia(n);
   for (std::size_t i = 0; i < n; ++i) inertia[i] = sphere_inertia(mass[i], radius[i]);
-  inverse_of(doubles_of(s, "particles.inv_mass", n, ids), mass, fixed, "particles.inv_mass",
-             "mass", "'particles.mass'");
+  inverse_of(doubles_of(s, "particles.inv_mass", n, ids), mass, fixed, "particles.inv_mass", "mass",
+             "'particles.mass'");
   inverse_of(doubles_of(s, "particles.inv_inertia", n, ids), inertia, fixed,
              "particles.inv_inertia", "moment of inertia 0.4 m r^2",
              "'particles.mass', 'particles.radius'");
@@ -245,8 +251,8 @@ void check_state(const StateBlob& s, std::size_t material_count, std::size_t wal
   {
     const double skin = md[4], skin_set = md[5], reach = md[10];
     if (n > 0 && !(skin > 1.5 * reach && skin > 0))
-      refuse("meta", fmt::format("skin {} is not above 1.5 times the contact reach {}", skin,
-                                 reach));
+      refuse("meta",
+             fmt::format("skin {} is not above 1.5 times the contact reach {}", skin, reach));
     if (skin_set > 0 && skin != skin_set && skin != 2 * reach)
       refuse("meta", fmt::format("skin {} is not the skin set, {}", skin, skin_set));
   }
@@ -278,8 +284,8 @@ void check_state(const StateBlob& s, std::size_t material_count, std::size_t wal
       const auto& layout = s.i(key);
       if (layout.size() != 2 ||
           layout[1] != static_cast<std::int64_t>(sizeof(typename M::template History<D>)))
-        refuse(key, fmt::format("describes {} histories of another layout (another build?)",
-                                M::name));
+        refuse(key,
+               fmt::format("describes {} histories of another layout (another build?)", M::name));
       if (layout[0] < 0 || layout[0] >= (std::int64_t{1} << 30))
         refuse(key, fmt::format("slot offset {} is out of range", layout[0]));
     }
@@ -296,8 +302,10 @@ void check_state(const StateBlob& s, std::size_t material_count, std::size_t wal
     std::vector<std::pair<std::int64_t, std::int64_t>> seen(np);
     for (std::size_t k = 0; k < np; ++k) {
       const auto a = static_cast<std::size_t>(pi[k]), b = static_cast<std::size_t>(pj[k]);
-      if (id_i[k] != id[a]) refuse(pk + "id_i", fmt::format("entry {} is not particle {}'s id", k, a));
-      if (id_j[k] != id[b]) refuse(pk + "id_j", fmt::format("entry {} is not particle {}'s id", k, b));
+      if (id_i[k] != id[a])
+        refuse(pk + "id_i", fmt::format("entry {} is not particle {}'s id", k, a));
+      if (id_j[k] != id[b])
+        refuse(pk + "id_j", fmt::format("entry {} is not particle {}'s id", k, b));
       if (!(id[a] < id[b]))
         refuse(pk + "i", fmt::format("contact {} pairs ids {} and {}: not in increasing order", k,
                                      id[a], id[b]));
@@ -310,8 +318,8 @@ void check_state(const StateBlob& s, std::size_t material_count, std::size_t wal
     const auto& wp = s.i(wk + "particle");
     const auto& ww = integers_of(s, wk + "wall", nw, wk + "particle");
     const auto& wid = integers_of(s, wk + "id", nw, wk + "particle");
-    all_below(integers_of(s, wk + "slot", nw, wk + "particle"), std::int64_t{1} << 30,
-              wk + "slot", "parameter slot");
+    all_below(integers_of(s, wk + "slot", nw, wk + "particle"), std::int64_t{1} << 30, wk + "slot",
+              "parameter slot");
     all_below(wp, static_cast<std::int64_t>(n), wk + "particle", "particle index");
     all_below(ww, static_cast<std::int64_t>(wall_count), wk + "wall", "wall");
     std::vector<std::pair<std::int64_t, std::int64_t>> touching(nw);
@@ -503,8 +511,8 @@ void Simulation<D>::load_state(const StateBlob& s) {
   const auto& meta = s.i("meta");
   if (meta.size() != 6) refuse("meta", fmt::format("has {} integers, expected 6", meta.size()));
   if (meta[0] != state_version)
-    refuse("meta", fmt::format("holds state version {} (this build reads {})", meta[0],
-                               state_version));
+    refuse("meta",
+           fmt::format("holds state version {} (this build reads {})", meta[0], state_version));
   if (meta[1] != 2 && meta[1] != 3)
     refuse("meta", fmt::format("holds dimension {}, not 2 or 3", meta[1]));
   if (meta[1] != D)

@@ -20,8 +20,8 @@ double DiagnosticOptions::number(const std::string& key) {
     // number(key, fallback) comes here for a key that is present, so a given
     // key of the wrong kind must be told apart from a missing one.
     if (auto text = strings.find(key); text != strings.end())
-      throw InputError(fmt::format("{}: '{}' must be a number, got the text '{}'", context_, key,
-                                   text->second));
+      throw InputError(
+          fmt::format("{}: '{}' must be a number, got the text '{}'", context_, key, text->second));
     if (lists.count(key))
       throw InputError(fmt::format("{}: '{}' must be a number, got a list", context_, key));
     throw InputError(fmt::format("{}: '{}' is required (a number)", context_, key));

@@ -58,10 +58,10 @@ void write_array(hid_t group, const std::string& name, hid_t file_type, hid_t me
     if (H5Pset_chunk(dcpl.id, 1, &chunk) < 0 || H5Pset_deflate(dcpl.id, 1) < 0)
       fail_h5(path, "cannot set compression for " + name);
   }
-  Id d(check(H5Dcreate2(group, name.c_str(), file_type, space.id, H5P_DEFAULT, dcpl.id,
-                        H5P_DEFAULT),
-             path, "create " + name),
-       H5Dclose);
+  Id d(
+      check(H5Dcreate2(group, name.c_str(), file_type, space.id, H5P_DEFAULT, dcpl.id, H5P_DEFAULT),
+            path, "create " + name),
+      H5Dclose);
   if (n > 0 && H5Dwrite(d.id, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) < 0)
     fail_h5(path, "cannot write " + name);
 }
@@ -197,10 +197,10 @@ void write_checkpoint(const std::string& path, const StateBlob& s,
     std::filesystem::remove(tmp, ec);
     const bool kept = std::filesystem::exists(path, ec);
     const std::string full = disk_full_note(path, e.what());
-    throw std::runtime_error(fmt::format(
-        "{}{}; {}", e.what(), full.empty() ? "" : "; " + full,
-        kept ? fmt::format("the previous checkpoint {} is kept", path)
-             : std::string("no checkpoint was written")));
+    throw std::runtime_error(
+        fmt::format("{}{}; {}", e.what(), full.empty() ? "" : "; " + full,
+                    kept ? fmt::format("the previous checkpoint {} is kept", path)
+                         : std::string("no checkpoint was written")));
   }
   std::filesystem::rename(tmp, path, ec);
   if (ec) {

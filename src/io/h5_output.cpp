@@ -4,13 +4,13 @@
 #include <hdf5.h>
 #include <sys/statvfs.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
-#include <algorithm>
-#include <functional>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <stdexcept>
 #include <utility>
@@ -190,8 +190,9 @@ struct H5Output::Impl {
     const double free_bytes = double(fs.f_bavail) * double(fs.f_frsize);
     if (free_bytes >= bytes + 65536.0) return;
     health = Health::full;
-    failure = fmt::format("no space left on the disk holding {} ({:.0f} KiB free, {:.0f} KiB needed)",
-                          dir.string(), free_bytes / 1024, (bytes + 65536.0) / 1024);
+    failure =
+        fmt::format("no space left on the disk holding {} ({:.0f} KiB free, {:.0f} KiB needed)",
+                    dir.string(), free_bytes / 1024, (bytes + 65536.0) / 1024);
     fail(what, object, failure);
   }
 
@@ -704,12 +705,11 @@ std::vector<std::string> H5Output::attribute_names(const std::string& group_path
   std::vector<std::string> names;
   const std::string p = impl_->normalise(group_path, "read attributes of");
   if (!impl_->exists(p)) return names;
-  Handle obj(impl_->check(H5Oopen(impl_->file.get(), p.c_str(), H5P_DEFAULT), "open", p),
-             H5Oclose);
+  Handle obj(impl_->check(H5Oopen(impl_->file.get(), p.c_str(), H5P_DEFAULT), "open", p), H5Oclose);
   hsize_t at = 0;
-  impl_->check(H5Aiterate2(obj.get(), H5_INDEX_NAME, H5_ITER_INC, &at, collect_attribute_name,
-                           &names),
-               "read attributes of", p);
+  impl_->check(
+      H5Aiterate2(obj.get(), H5_INDEX_NAME, H5_ITER_INC, &at, collect_attribute_name, &names),
+      "read attributes of", p);
   return names;
 }
 
@@ -727,8 +727,8 @@ std::unique_ptr<H5Output> H5Output::reopen(const std::string& path, std::size_t 
 #endif
   hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl.get());
   if (f < 0)
-    throw std::runtime_error(fmt::format("cannot open {} to continue it: {}", path,
-                                         h5_error_detail()));
+    throw std::runtime_error(
+        fmt::format("cannot open {} to continue it: {}", path, h5_error_detail()));
   m.file = Handle(f, H5Fclose);
   // Snapshots written after the mark go; the count readers trust is set back.
   for (std::size_t k = snapshots;; ++k) {
@@ -740,18 +740,17 @@ std::unique_ptr<H5Output> H5Output::reopen(const std::string& path, std::size_t 
     const std::int64_t count = static_cast<std::int64_t>(snapshots);
     m.attribute("/snapshots", "count", H5T_STD_I64LE, H5T_NATIVE_INT64, {}, &count);
   } else if (snapshots > 0) {
-    m.fail("continue", "/snapshots", fmt::format("the mark has {} snapshots, the file none",
-                                                 snapshots));
+    m.fail("continue", "/snapshots",
+           fmt::format("the mark has {} snapshots, the file none", snapshots));
   }
   m.snapshots = snapshots;
   // Series: those of the mark cut back to their rows, any later one removed.
   std::function<void(const std::string&)> visit = [&](const std::string& group) {
     std::vector<std::string> names;
-    Handle g(m.check(H5Gopen2(m.file.get(), group.c_str(), H5P_DEFAULT), "open", group),
-             H5Gclose);
+    Handle g(m.check(H5Gopen2(m.file.get(), group.c_str(), H5P_DEFAULT), "open", group), H5Gclose);
     hsize_t at = 0;
-    m.check(H5Literate(g.get(), H5_INDEX_NAME, H5_ITER_INC, &at, collect_link_name, &names),
-            "list", group);
+    m.check(H5Literate(g.get(), H5_INDEX_NAME, H5_ITER_INC, &at, collect_link_name, &names), "list",
+            group);
     for (const auto& name : names) {
       const std::string child = join_path(group, name);
       H5O_info_t info;
@@ -804,8 +803,7 @@ std::unique_ptr<H5Output> H5Output::reopen(const std::string& path, std::size_t 
   };
   visit("/");
   for (const auto& [group, rows] : series_rows)
-    if (!m.series.count(group))
-      m.fail("continue", group, "the series is not in the file");
+    if (!m.series.count(group)) m.fail("continue", group, "the series is not in the file");
   // Attributes written after the mark (results) go.
   const std::string ag = m.normalise(attribute_group, "continue");
   if (m.exists(ag)) {

@@ -396,8 +396,8 @@ void RunOutput::save_mark(StateBlob& state) {
   state.texts["output.series"] = join_lines(series);
   state.texts["output.results"] = join_lines(file_->attribute_names("/results"));
   state.integers["output.progress"] = {static_cast<std::int64_t>(file_->snapshot_count()),
-                                       header_written_ ? 1 : 0, walls_written_,
-                                       last_snapshot_step_, wall_extent_set_ ? 1 : 0};
+                                       header_written_ ? 1 : 0, walls_written_, last_snapshot_step_,
+                                       wall_extent_set_ ? 1 : 0};
   state.doubles["output.wall_extent"] = {wall_extent_.begin(), wall_extent_.end()};
   // The XDMF index: each snapshot's line, then its walls' lines; numbers in flat arrays.
   std::vector<std::string> lines;
@@ -405,12 +405,12 @@ void RunOutput::save_mark(StateBlob& state) {
   std::vector<std::int64_t> connectivity;
   if (xdmf_)
     for (const auto& x : xdmf_->snapshots()) {
-      lines.push_back(fmt::format("{}\t{}\t{}\t{}\t{}", x.group, x.step, x.count, x.dimension,
-                                  x.walls.size()));
+      lines.push_back(
+          fmt::format("{}\t{}\t{}\t{}\t{}", x.group, x.step, x.count, x.dimension, x.walls.size()));
       times.push_back(x.time);
       for (const auto& w : x.walls) {
-        lines.push_back(fmt::format("{}\t{}\t{}\t{}\t{}", w.name, w.topology,
-                                    w.nodes_per_element, w.points.size(), w.connectivity.size()));
+        lines.push_back(fmt::format("{}\t{}\t{}\t{}\t{}", w.name, w.topology, w.nodes_per_element,
+                                    w.points.size(), w.connectivity.size()));
         points.insert(points.end(), w.points.begin(), w.points.end());
         connectivity.insert(connectivity.end(), w.connectivity.begin(), w.connectivity.end());
       }
@@ -466,7 +466,8 @@ void RunOutput::resume(const StateBlob& state) {
         if (points.size() - p < np || conn.size() - c < nc) damaged_mark("output.xdmf");
         shape.points.assign(points.begin() + static_cast<std::ptrdiff_t>(p),
                             points.begin() + static_cast<std::ptrdiff_t>(p + np));
-        for (std::size_t k = 0; k < nc; ++k) shape.connectivity.push_back(static_cast<int>(conn[c + k]));
+        for (std::size_t k = 0; k < nc; ++k)
+          shape.connectivity.push_back(static_cast<int>(conn[c + k]));
         p += np;
         c += nc;
         x.walls.push_back(std::move(shape));
@@ -485,8 +486,8 @@ void RunOutput::resume(const StateBlob& state) {
     std::filesystem::copy_file(original, settings_.path,
                                std::filesystem::copy_options::overwrite_existing, ec);
     if (ec)
-      throw std::runtime_error(fmt::format("restart: cannot copy {} to {}: {}", original,
-                                           settings_.path, ec.message()));
+      throw std::runtime_error(
+          fmt::format("restart: cannot copy {} to {}: {}", original, settings_.path, ec.message()));
   }
   file_ = H5Output::reopen(settings_.path, static_cast<std::size_t>(progress[0]), series,
                            "/results", results);

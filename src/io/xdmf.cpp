@@ -188,8 +188,9 @@ void XdmfIndex::add(XdmfSnapshot snapshot) {
       const std::string why = errno ? std::strerror(errno) : "write failed";
       std::remove(tmp.c_str());
       const std::string full = disk_full_note(path_, why);
-      throw std::runtime_error(fmt::format("writing XDMF file '{}' failed: {}; '{}' is kept as it was",
-                                           tmp, full.empty() ? why : full, path_));
+      throw std::runtime_error(
+          fmt::format("writing XDMF file '{}' failed: {}; '{}' is kept as it was", tmp,
+                      full.empty() ? why : full, path_));
     }
   }
   if (std::rename(tmp.c_str(), path_.c_str()) != 0) {

@@ -511,12 +511,12 @@ int checked_call(lua_State* L) {
   if (given < least || given > most) {
     if (d->form == CallForm::table)
       return script_error(L, "%s expects one table { ... }, got %d arguments (usage: %s)", d->name,
-                        given, d->signature);
+                          given, d->signature);
     if (least == most)
       return script_error(L, "%s expects %d argument%s, got %d (usage: %s)", d->name, least,
-                        least == 1 ? "" : "s", given, d->signature);
-    return script_error(L, "%s expects %d to %d arguments, got %d (usage: %s)", d->name, least, most,
-                      given, d->signature);
+                          least == 1 ? "" : "s", given, d->signature);
+    return script_error(L, "%s expects %d to %d arguments, got %d (usage: %s)", d->name, least,
+                        most, given, d->signature);
   }
   return f(L);
 }

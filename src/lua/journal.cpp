@@ -409,8 +409,7 @@ int journaled_call(lua_State* L) {
     lua_pushvalue(L, lua_upvalueindex(1));
     lua_insert(L, 1);
     const int status = lua_pcall(L, nargs, LUA_MULTRET, 0);
-    if (record && j && !j->replaying() && !j->took_results() &&
-        failed_with_message(L, [&] {
+    if (record && j && !j->replaying() && !j->took_results() && failed_with_message(L, [&] {
           if (status != LUA_OK)
             j->record_error(L, -1);
           else if (call->kind == Journal::Kind::build)
@@ -435,7 +434,9 @@ int journaled_call(lua_State* L) {
     if (failed_with_message(L, [&] { j->record_call(call->name); })) return lua_error(L);
     return call_inner(true);
   }
-  if (failed_with_message(L, [&] { j->expect_call(call->name); }, true)) return lua_error(L);
+  if (failed_with_message(
+          L, [&] { j->expect_call(call->name); }, true))
+    return lua_error(L);
   // The journal ended with this call's start: it executes for real, and is journaled.
   if (!j->replaying()) return call_inner(true);
 
@@ -492,11 +493,24 @@ Journal::Kind journal_kind(const std::string& method) {
   // hold the same materials, laws, walls, hooks, diagnostics and output when the
   // checkpoint's state is loaded into it. Everything else reads or changes the state
   // (which the checkpoint brings) or writes output (which the continued file holds).
-  static const char* build[] = {
-      "simulation",  "material",   "contact",          "set_contact",          "wall_plane",
-      "wall_cylinder", "set_wall", "gravity",          "central_field",        "remove_central_field",
-      "set_central_strength", "every", "remove_hook",  "set",                  "output",
-      "checkpoint",  "diagnostic", "remove_diagnostic"};
+  static const char* build[] = {"simulation",
+                                "material",
+                                "contact",
+                                "set_contact",
+                                "wall_plane",
+                                "wall_cylinder",
+                                "set_wall",
+                                "gravity",
+                                "central_field",
+                                "remove_central_field",
+                                "set_central_strength",
+                                "every",
+                                "remove_hook",
+                                "set",
+                                "output",
+                                "checkpoint",
+                                "diagnostic",
+                                "remove_diagnostic"};
   if (method == "run") return Journal::Kind::run;
   if (method == "save_checkpoint") return Journal::Kind::checkpoint;
   for (const char* b : build)

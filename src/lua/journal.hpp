@@ -95,7 +95,7 @@ class Journal {
   bool took_results_ = false;
   std::function<void()> apply_;
   std::unordered_map<std::string, std::uint64_t> interned_;  // recording: string -> number
-  std::vector<std::string> strings_;                          // replaying: number -> string
+  std::vector<std::string> strings_;                         // replaying: number -> string
 };
 
 // Wraps the function on the stack top (a method named `name`) so that its calls are

@@ -205,8 +205,8 @@ int l_fill(lua_State* L) {
     f.max_speed = t.number("max_speed", 0);
     f.max_attempts = t.integer("max_attempts", 0);
     if (t.has("max_attempts") && f.max_attempts < 1)
-      throw InputError(fmt::format("fill: max_attempts must be >= 1 (placement tries), got {}",
-                                   f.max_attempts));
+      throw InputError(
+          fmt::format("fill: max_attempts must be >= 1 (placement tries), got {}", f.max_attempts));
     f.allow_overlap = t.boolean("overlap", true);
     const int size_rules = int(t.has("radius")) + int(t.has("radii")) +
                            int(t.has("radius_min") || t.has("radius_max"));
@@ -575,14 +575,13 @@ int l_run(lua_State* L) {
     };
     hooks.write_checkpoint = [&](const std::string& path) { write_checkpoint_now(s, path, true); };
     hooks.interrupt_pending = [] { return interrupt_pending(); };
-    if (progress)
-      hooks.progress = [&](std::int64_t n, double time) { progress->update(n, time); };
+    if (progress) hooks.progress = [&](std::int64_t n, double time) { progress->update(n, time); };
     std::string interrupt_path = s.checkpoint.path;
     if (interrupt_path.empty())
-      interrupt_path = (ctx && !ctx->scene_path.empty()
-                            ? std::filesystem::path(ctx->scene_path).stem().string()
-                            : std::string("granule")) +
-                       ".checkpoint.h5";
+      interrupt_path =
+          (ctx && !ctx->scene_path.empty() ? std::filesystem::path(ctx->scene_path).stem().string()
+                                           : std::string("granule")) +
+          ".checkpoint.h5";
     RunPlan plan;
     plan.steps = steps;
     plan.done = done;
@@ -1043,7 +1042,8 @@ int l_tostring(lua_State* L) {
 }
 
 // simulation { dimension = 2|3, time_step = s, steps_per_contact = n, skin = m,
-//              record_contacts = bool, overlap_warning = f, periodic = { axis = "z", origin = m, length = m } }
+//              record_contacts = bool, overlap_warning = f, periodic = { axis = "z", origin = m,
+//              length = m } }
 int l_simulation(lua_State* L) {
   return protect(L, [](lua_State* L) {
     // `granule sweep` checking parameters: a scene that reaches its simulation has declared
@@ -1211,8 +1211,7 @@ void open_simulation(lua_State* L) {
   lua_setglobal(L, "simulations");
   if (SceneContext* ctx = context(L)) {
     ctx->journal = std::make_shared<Journal>();
-    if (!ctx->restart_path.empty())
-      ctx->begin_replay = [ctx] { begin_restart(*ctx); };
+    if (!ctx->restart_path.empty()) ctx->begin_replay = [ctx] { begin_restart(*ctx); };
   }
 }
 

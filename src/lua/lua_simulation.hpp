@@ -5,8 +5,8 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
-#include <map>
 #include <lua.hpp>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>

@@ -67,8 +67,8 @@ void TableReader::refuse_missing(const char* key) {
     }
   }
   if (!typo.empty())
-    throw std::runtime_error(fmt::format("{}: unknown key '{}' (did you mean '{}'?)", context_,
-                                         typo, key));
+    throw std::runtime_error(
+        fmt::format("{}: unknown key '{}' (did you mean '{}'?)", context_, typo, key));
   throw std::runtime_error(fmt::format("{}: '{}' is required", context_, key));
 }
 

@@ -155,7 +155,8 @@ void begin_restart(SceneContext& ctx) {
     auto a = recorded.find(name);
     auto b = ctx.overrides.find(name);
     const std::string was = a == recorded.end() ? "(not given)" : "-D " + name + "=" + a->second;
-    const std::string now = b == ctx.overrides.end() ? "(not given)" : "-D " + name + "=" + b->second;
+    const std::string now =
+        b == ctx.overrides.end() ? "(not given)" : "-D " + name + "=" + b->second;
     if (was != now)
       throw InputError(fmt::format(
           "restart: parameter '{}' differs from the run that wrote {}: it had {}, this run has "
