@@ -15,6 +15,7 @@
 
 #include "core/errors.hpp"
 #include "core/simulation.hpp"
+#include "core/state_checks.hpp"
 
 namespace granule {
 
@@ -74,292 +75,6 @@ std::vector<std::string> split_lines(const std::string& text) {
   return out;
 }
 
-// A checkpoint is a file anyone can edit or damage, and load_state copies its
-// arrays straight into the engine: an index out of range would be read far past
-// an array's end, a NaN or a negative mass would only show steps later as a run
-// that blew up. So every value load_state reads is checked first, before any of
-// the scene's state is replaced, and refused with the entry's name.
-[[noreturn]] void refuse(const std::string& key, const std::string& why) {
-  throw InputError(fmt::format("checkpoint: '{}' {}", key, why));
-}
-
-// Positions, velocities and spins beyond 1e100 are far outside any scene, and
-// their squares (separations, energies) would overflow to inf within a step.
-constexpr double largest_kinematic = 1e100;
-
-// `count` values, as many as `reference` (another entry) implies.
-std::string expected_size(std::size_t size, std::size_t count, const std::string& reference) {
-  return fmt::format("has {} values, expected {}{}", size, count,
-                     reference.empty() ? "" : fmt::format(" (from '{}')", reference));
-}
-const std::vector<double>& doubles_of(const StateBlob& s, const std::string& key, std::size_t count,
-                                      const std::string& reference = "") {
-  const auto& v = s.d(key);
-  if (v.size() != count) refuse(key, expected_size(v.size(), count, reference));
-  return v;
-}
-const std::vector<std::int64_t>& integers_of(const StateBlob& s, const std::string& key,
-                                             std::size_t count, const std::string& reference = "") {
-  const auto& v = s.i(key);
-  if (v.size() != count) refuse(key, expected_size(v.size(), count, reference));
-  return v;
-}
-void all_finite(const std::vector<double>& v, const std::string& key, double bound) {
-  for (std::size_t k = 0; k < v.size(); ++k)
-    if (!std::isfinite(v[k]) || std::abs(v[k]) > bound)
-      refuse(key, fmt::format("value {} is {}: must be finite{}", k, v[k],
-                              bound < std::numeric_limits<double>::max()
-                                  ? fmt::format(" and within +-{:g}", bound)
-                                  : ""));
-}
-void all_positive(const std::vector<double>& v, const std::string& key) {
-  for (std::size_t k = 0; k < v.size(); ++k)
-    if (!(std::isfinite(v[k]) && v[k] > 0))
-      refuse(key, fmt::format("value {} is {}: must be positive and finite", k, v[k]));
-}
-// Each value's index k must lie in [0, limit).
-void all_below(const std::vector<std::int64_t>& v, std::int64_t limit, const std::string& key,
-               const char* what) {
-  for (std::size_t k = 0; k < v.size(); ++k)
-    if (v[k] < 0 || v[k] >= limit)
-      refuse(key, fmt::format("entry {} is {}: not a {} (there are {})", k, v[k], what, limit));
-}
-// 1/x as the engine stores it (0 for a fixed particle), to the rounding of one division.
-// `of_keys` name the entries `of` comes from: one of them or `key` is damaged.
-void inverse_of(const std::vector<double>& inv, const std::vector<double>& of,
-                const std::vector<std::int64_t>& fixed, const std::string& key, const char* what,
-                const char* of_keys) {
-  for (std::size_t k = 0; k < inv.size(); ++k) {
-    const double expected = fixed[k] ? 0.0 : 1.0 / of[k];
-    if (!std::isfinite(inv[k]) || std::abs(inv[k] - expected) > 1e-12 * std::abs(expected))
-      refuse(key, fmt::format("value {} is {}, but the particle's {} ({}) gives {}", k, inv[k],
-                              what, of_keys, expected));
-  }
-}
-
-template <int D>
-void check_state(const StateBlob& s, std::size_t material_count, std::size_t wall_count) {
-  constexpr std::size_t spin_width = D == 2 ? 1 : 3;
-  const auto& meta = s.i("meta");  // version and dimension: checked by load_state
-  if (meta.size() != 6) refuse("meta", fmt::format("has {} integers, expected 6", meta.size()));
-  if (meta[2] < 0) refuse("meta", fmt::format("step {} is negative", meta[2]));
-  if (meta[4] < 0) refuse("meta", fmt::format("rebuild count {} is negative", meta[4]));
-  if (meta[5] != 0 && meta[5] != 1)
-    refuse("meta", fmt::format("lists-valid flag {} is neither 0 nor 1", meta[5]));
-  const auto& md = doubles_of(s, "meta", 11);
-  const char* meta_names[] = {"time",
-                              "time_step",
-                              "time_step set",
-                              "steps_per_contact",
-                              "skin",
-                              "skin set",
-                              "max_displacement_sq",
-                              "periodic axis",
-                              "periodic origin",
-                              "periodic length",
-                              "contact_reach"};
-  for (std::size_t k = 0; k < md.size(); ++k)
-    if (!std::isfinite(md[k])) refuse("meta", fmt::format("{} is {}", meta_names[k], md[k]));
-  auto at_least = [&](std::size_t k, double low, bool strictly) {
-    if (strictly ? !(md[k] > low) : !(md[k] >= low))
-      refuse("meta", fmt::format("{} is {}: must be {} {}", meta_names[k], md[k],
-                                 strictly ? ">" : ">=", low));
-  };
-  at_least(0, 0, false);  // time
-  at_least(1, 0, true);   // time step (below the stability limit: load_state, once loaded)
-  at_least(2, 0, false);
-  at_least(3, 1, false);  // as set_steps_per_contact requires
-  at_least(4, 0, false);
-  at_least(5, 0, false);
-  at_least(6, 0, false);
-  at_least(10, 0, false);
-  if (!(md[7] == -1 || md[7] == 0 || md[7] == 1 || (D == 3 && md[7] == 2)))
-    refuse("meta", fmt::format("periodic axis {} is not -1 (none) or an axis below {}", md[7], D));
-  const int axis = static_cast<int>(md[7]);
-  if (axis >= 0 && !(md[9] > 0))
-    refuse("meta", fmt::format("periodic length {} must be > 0", md[9]));
-  // A set time step is the one in use (prepare() makes it so).
-  if (md[2] > 0 && md[1] != md[2])
-    refuse("meta", fmt::format("time_step {} differs from the time_step set, {}", md[1], md[2]));
-
-  const auto& props = doubles_of(s, "materials", 4 * material_count);
-  for (std::size_t m = 0; m < material_count; ++m) {
-    const double* x = &props[4 * m];
-    if (!(std::isfinite(x[0]) && x[0] >= 0 && std::isfinite(x[1]) && x[1] >= 0 &&
-          std::isfinite(x[3]) && x[3] >= 0 && std::isfinite(x[2]) && x[2] > -1 &&
-          x[2] < 0.5 + 1e-12))
-      refuse("materials", fmt::format("material {} has density {}, young {}, poisson {}, "
-                                      "surface_energy {}: as add_material requires, each must "
-                                      "be >= 0 (poisson in (-1, 0.5])",
-                                      m, x[0], x[1], x[2], x[3]));
-  }
-  all_finite(doubles_of(s, "walls", 10 * wall_count), "walls", largest_kinematic);
-  const auto& body = doubles_of(s, "body", 9);
-  all_finite(body, "body", largest_kinematic);
-  if ((body[0] != 0 && body[0] != 1) || (body[4] != 0 && body[4] != 1) || body[8] < 0)
-    refuse("body", "flags must be 0 or 1 and the central strength >= 0");
-
-  // Particles: every array as long as the id list, ids and their index table inverse
-  // to each other.
-  const std::size_t n = s.i("particles.id").size();
-  const auto& id = s.i("particles.id");
-  const std::int64_t next_id = meta[3];
-  if (next_id < static_cast<std::int64_t>(n) || next_id >= (std::int64_t{1} << 31))
-    refuse("meta",
-           fmt::format("next id {} is below the particle count {} or too large", next_id, n));
-  all_below(id, next_id, "particles.id", "particle id");
-  const auto& index_of_id =
-      integers_of(s, "particles.index_of_id", static_cast<std::size_t>(next_id), "meta");
-  for (std::size_t k = 0; k < index_of_id.size(); ++k)
-    if (index_of_id[k] < -1 || index_of_id[k] >= static_cast<std::int64_t>(n))
-      refuse("particles.index_of_id",
-             fmt::format("entry {} is {}: not -1 (removed) or one of the {} particles of "
-                         "'particles.id'",
-                         k, index_of_id[k], n));
-  std::size_t live = 0;
-  for (auto x : index_of_id) live += x >= 0;
-  if (live != n)
-    refuse("particles.index_of_id", fmt::format("names {} particles, there are {}", live, n));
-  for (std::size_t i = 0; i < n; ++i)
-    if (index_of_id[static_cast<std::size_t>(id[i])] != static_cast<std::int64_t>(i))
-      refuse("particles.id", fmt::format("entry {} is id {}, which the index table puts at {}", i,
-                                         id[i], index_of_id[static_cast<std::size_t>(id[i])]));
-  const std::string ids = "particles.id";
-  all_below(integers_of(s, "particles.material", n, ids), static_cast<std::int64_t>(material_count),
-            "particles.material", "material");
-  const auto& fixed = integers_of(s, "particles.fixed", n, ids);
-  all_below(fixed, 2, "particles.fixed", "flag 0 or 1");
-  for (const char* key : {"particles.position", "particles.velocity",
-                          "particles.position_at_rebuild", "particles.force"})
-    all_finite(doubles_of(s, key, n * D, ids), key, largest_kinematic);
-  for (const char* key : {"particles.spin", "particles.torque"})
-    all_finite(doubles_of(s, key, n * spin_width, ids), key, largest_kinematic);
-  const auto& radius = doubles_of(s, "particles.radius", n, ids);
-  const auto& mass = doubles_of(s, "particles.mass", n, ids);
-  all_positive(radius, "particles.radius");
-  all_positive(mass, "particles.mass");
-  std::vector<double> inertia(n);
-  for (std::size_t i = 0; i < n; ++i) inertia[i] = sphere_inertia(mass[i], radius[i]);
-  inverse_of(doubles_of(s, "particles.inv_mass", n, ids), mass, fixed, "particles.inv_mass", "mass",
-             "'particles.mass'");
-  inverse_of(doubles_of(s, "particles.inv_inertia", n, ids), inertia, fixed,
-             "particles.inv_inertia", "moment of inertia 0.4 m r^2",
-             "'particles.mass', 'particles.radius'");
-  // The skin in use is the one prepare() chose: the set one (or twice the adhesive
-  // contacts' reach), and in any case beyond 1.5 times that reach, or contacts would be
-  // lost from the lists while they still pull.
-  {
-    const double skin = md[4], skin_set = md[5], reach = md[10];
-    if (n > 0 && !(skin > 1.5 * reach && skin > 0))
-      refuse("meta",
-             fmt::format("skin {} is not above 1.5 times the contact reach {}", skin, reach));
-    if (skin_set > 0 && skin != skin_set && skin != 2 * reach)
-      refuse("meta", fmt::format("skin {} is not the skin set, {}", skin, skin_set));
-  }
-  if (axis >= 0) {
-    // The force loops take minimum images of separations below 1.5 lengths
-    // (Periodicity::wrap): positions must lie in (or just beside) the box.
-    const auto& x = s.d("particles.position");
-    for (std::size_t i = 0; i < n; ++i) {
-      const double c = x[i * D + static_cast<std::size_t>(axis)];
-      if (c < md[8] - 0.25 * md[9] || c > md[8] + 1.25 * md[9])
-        refuse("particles.position",
-               fmt::format("particle {} lies at {} along the periodic axis, outside the box "
-                           "[{}, {}]",
-                           id[i], c, md[8], md[8] + md[9]));
-    }
-  }
-
-  // Contact lists: particles and walls that exist, each pair oriented (id i < id j,
-  // the history's sign convention) and listed once, ids matching the particles, and
-  // the slots of all lists apart.
-  std::vector<std::pair<std::size_t, std::size_t>> slot_ranges;
-  for_each_model([&](auto index) {
-    constexpr int I = decltype(index)::value;
-    using M = ContactModelAt<I>;
-    const std::string pk = fmt::format("pairs.{}.", M::name),
-                      wk = fmt::format("walls.{}.", M::name);
-    for (const std::string& prefix : {pk, wk}) {
-      const std::string key = prefix + "layout";
-      const auto& layout = s.i(key);
-      if (layout.size() != 2 ||
-          layout[1] != static_cast<std::int64_t>(sizeof(typename M::template History<D>)))
-        refuse(key,
-               fmt::format("describes {} histories of another layout (another build?)", M::name));
-      if (layout[0] < 0 || layout[0] >= (std::int64_t{1} << 30))
-        refuse(key, fmt::format("slot offset {} is out of range", layout[0]));
-    }
-    const std::size_t np = s.i(pk + "i").size();
-    const auto& pi = s.i(pk + "i");
-    const auto& pj = integers_of(s, pk + "j", np, pk + "i");
-    const auto& id_i = integers_of(s, pk + "id_i", np, pk + "i");
-    const auto& id_j = integers_of(s, pk + "id_j", np, pk + "i");
-    // Slots are taken afresh from the scene's pair table; stored ones must still be slots.
-    all_below(integers_of(s, pk + "slot", np, pk + "i"), std::int64_t{1} << 30, pk + "slot",
-              "parameter slot");
-    all_below(pi, static_cast<std::int64_t>(n), pk + "i", "particle index");
-    all_below(pj, static_cast<std::int64_t>(n), pk + "j", "particle index");
-    std::vector<std::pair<std::int64_t, std::int64_t>> seen(np);
-    for (std::size_t k = 0; k < np; ++k) {
-      const auto a = static_cast<std::size_t>(pi[k]), b = static_cast<std::size_t>(pj[k]);
-      if (id_i[k] != id[a])
-        refuse(pk + "id_i", fmt::format("entry {} is not particle {}'s id", k, a));
-      if (id_j[k] != id[b])
-        refuse(pk + "id_j", fmt::format("entry {} is not particle {}'s id", k, b));
-      if (!(id[a] < id[b]))
-        refuse(pk + "i", fmt::format("contact {} pairs ids {} and {}: not in increasing order", k,
-                                     id[a], id[b]));
-      seen[k] = {id[a], id[b]};
-    }
-    std::sort(seen.begin(), seen.end());
-    if (std::adjacent_find(seen.begin(), seen.end()) != seen.end())
-      refuse(pk + "i", "lists a pair of particles twice");
-    const std::size_t nw = s.i(wk + "particle").size();
-    const auto& wp = s.i(wk + "particle");
-    const auto& ww = integers_of(s, wk + "wall", nw, wk + "particle");
-    const auto& wid = integers_of(s, wk + "id", nw, wk + "particle");
-    all_below(integers_of(s, wk + "slot", nw, wk + "particle"), std::int64_t{1} << 30, wk + "slot",
-              "parameter slot");
-    all_below(wp, static_cast<std::int64_t>(n), wk + "particle", "particle index");
-    all_below(ww, static_cast<std::int64_t>(wall_count), wk + "wall", "wall");
-    std::vector<std::pair<std::int64_t, std::int64_t>> touching(nw);
-    for (std::size_t k = 0; k < nw; ++k) {
-      if (wid[k] != id[static_cast<std::size_t>(wp[k])])
-        refuse(wk + "id", fmt::format("entry {} is not particle {}'s id", k, wp[k]));
-      touching[k] = {wid[k], ww[k]};
-    }
-    std::sort(touching.begin(), touching.end());
-    if (std::adjacent_find(touching.begin(), touching.end()) != touching.end())
-      refuse(wk + "particle", "lists a particle and wall twice");
-    using H = typename M::template History<D>;
-    for (const auto& [key, count] : {std::pair{pk + "history", np}, std::pair{wk + "history", nw}})
-      if (s.b(key).size() != count * sizeof(H))
-        refuse(key, fmt::format("has {} bytes, expected {} contacts of {} bytes (from '{}')",
-                                s.b(key).size(), count, sizeof(H),
-                                key == pk + "history" ? pk + "i" : wk + "particle"));
-    for (const auto& [key, count] : {std::pair{pk + "track", np}, std::pair{wk + "track", nw}})
-      if (!s.b(key).empty() && s.b(key).size() != count * sizeof(ContactTrack<D>))
-        refuse(key, fmt::format("has {} bytes, expected none or {} contacts of {} bytes",
-                                s.b(key).size(), count, sizeof(ContactTrack<D>)));
-    slot_ranges.emplace_back(static_cast<std::size_t>(s.i(pk + "layout")[0]), np);
-    slot_ranges.emplace_back(static_cast<std::size_t>(s.i(wk + "layout")[0]), nw);
-  });
-  std::sort(slot_ranges.begin(), slot_ranges.end());
-  for (std::size_t k = 1; k < slot_ranges.size(); ++k)
-    if (slot_ranges[k - 1].second > 0 &&
-        slot_ranges[k - 1].first + slot_ranges[k - 1].second > slot_ranges[k].first &&
-        slot_ranges[k].second > 0)
-      refuse("layout", "the contact lists' slot ranges overlap");
-  const auto& next = s.d("hooks.next_time");
-  for (std::size_t k = 0; k < next.size(); ++k)
-    if (std::isnan(next[k])) refuse("hooks.next_time", fmt::format("value {} is NaN", k));
-  const auto& guards = s.i("guards");
-  if (guards.size() != 2) refuse("guards", fmt::format("has {} values, not 2", guards.size()));
-  for (std::size_t k = 0; k < 2; ++k)
-    if (guards[k] != 0 && guards[k] != 1)
-      refuse("guards", fmt::format("value {} is {}, not 0 or 1", k, guards[k]));
-  (void)s.t("time_step.governing_pair");
-}
 }  // namespace
 
 const std::vector<double>& StateBlob::d(const std::string& key) const {
@@ -509,12 +224,13 @@ StateBlob Simulation<D>::save_state() const {
 template <int D>
 void Simulation<D>::load_state(const StateBlob& s) {
   const auto& meta = s.i("meta");
-  if (meta.size() != 6) refuse("meta", fmt::format("has {} integers, expected 6", meta.size()));
+  if (meta.size() != 6)
+    refuse_entry("meta", fmt::format("has {} integers, expected 6", meta.size()));
   if (meta[0] != state_version)
-    refuse("meta",
-           fmt::format("holds state version {} (this build reads {})", meta[0], state_version));
+    refuse_entry("meta", fmt::format("holds state version {} (this build reads {})", meta[0],
+                                     state_version));
   if (meta[1] != 2 && meta[1] != 3)
-    refuse("meta", fmt::format("holds dimension {}, not 2 or 3", meta[1]));
+    refuse_entry("meta", fmt::format("holds dimension {}, not 2 or 3", meta[1]));
   if (meta[1] != D)
     throw InputError(
         fmt::format("checkpoint holds a {}D simulation, this scene is {}D", meta[1], D));
@@ -629,9 +345,10 @@ void Simulation<D>::load_state(const StateBlob& s) {
   for (std::size_t i = 0; i < p_.size(); ++i)
     for (const auto& w : walls_)
       if (!p_.fixed[i] && w.clearance(p_.position[i], p_.radius[i]) + 2 * p_.radius[i] < 0)
-        refuse("particles.position",
-               fmt::format("particle {} at ({}) lies beyond wall '{}' by more than its radius",
-                           p_.id[i], fmt::join(to_triple(p_.position[i]), ", "), w.name));
+        refuse_entry(
+            "particles.position",
+            fmt::format("particle {} at ({}) lies beyond wall '{}' by more than its radius",
+                        p_.id[i], fmt::join(to_triple(p_.position[i]), ", "), w.name));
 
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
