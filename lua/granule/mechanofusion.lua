@@ -56,6 +56,8 @@ M.defaults = {
   area_free_from = { default = 150, unit = "deg", doc = "free-diffusion area starts, scraper area ends" },
   area_input_from = { default = 250, unit = "deg", doc = "input area starts, free diffusion ends" },
   zones = { default = 7, unit = "-", doc = "radial zones of equal volume (4.2.3)" },
+  gap_sector = { default = 10, unit = "deg", doc = "half-width of the gap_profile sector about the inner piece (Eqs. 5.4, 5.6)" },
+  gap_bins = { default = 8, unit = "-", doc = "bins across the gap of the gap_profile diagnostic" },
   window = { default = 0.01, unit = "s", doc = "averaging window of the diagnostics' series" },
   every = { default = 10, unit = "-", doc = "steps between diagnostic samples" },
 }
@@ -80,7 +82,7 @@ local function complete(p)
   if v.dimension ~= 2 and v.dimension ~= 3 then checks.fail(where, "dimension", "2 or 3", v.dimension) end
   for _, k in ipairs { "radius", "density", "chamber_radius", "inner_radius", "gap", "k_load",
                        "restitution", "size_scale", "steps_per_contact", "slab_layers", "zones",
-                       "window", "every" } do
+                       "window", "every", "gap_sector", "gap_bins" } do
     checks.positive(where, k, v[k], M.defaults[k].unit)
   end
   for _, k in ipairs { "particles", "rpm", "friction_particle", "friction_wall", "scraper_length",
@@ -208,10 +210,11 @@ function M.build(p)
   return sim, g
 end
 
---- mf.attach_diagnostics(sim, geo, { inner_force =, zones =, areas =, peaks =, window =, every =,
----                                   zones_mean =, keep_collisions = }) -> ids
---- Attaches the diagnostics of 4.3-4.5 and 7.2 (each true by default; false
---- leaves it out and the run pays nothing for it).
+--- mf.attach_diagnostics(sim, geo, { inner_force =, zones =, areas =, peaks =, gap =, overlaps =,
+---                                   window =, every =, zones_mean =, keep_collisions = }) -> ids
+--- Attaches the diagnostics of 4.3-4.5 and 7.2, the flow across the gap
+--- (5.2: gap_profile over +-gap_sector degrees) and the deepest overlaps
+--- (each true by default; false leaves it out and the run pays nothing for it).
 function M.attach_diagnostics(sim, g, opts)
   opts = opts or {}
   local v = g.values
@@ -233,6 +236,13 @@ function M.attach_diagnostics(sim, g, opts)
     local o = { window = window, every = every }
     for k, b in pairs(areas) do o[k] = b end
     ids.areas = sim:diagnostic("areas", o)
+  end
+  if wanted("gap") then
+    ids.gap = sim:diagnostic("gap_profile", { sector = v.gap_sector, bins = v.gap_bins, window = window,
+                                               every = every, depth = g.dimension == 3 and g.depth or nil })
+  end
+  if wanted("overlaps") then
+    ids.overlaps = sim:diagnostic("overlaps", { window = window, every = every })
   end
   if wanted("peaks") then
     local o = { window = window, keep_collisions = opts.keep_collisions or 0,
@@ -299,6 +309,27 @@ function M.summary(sim, g, ids)
       out["mean_peak_force_" .. a] = r["mean_peak_force_" .. a]
       out["fraction_over_200_mm_s_" .. a] = r["fraction_over_200_mm_s_" .. a]
     end
+  end
+  if ids.gap then
+    local r = sim:diagnostic_results(ids.gap)
+    for _, q in ipairs { "shear_rate", "nominal_shear_rate", "mean_granular_temperature", "mean_solid_fraction",
+                         "particles", "normal_force_per_contact", "tangential_force_per_contact", "mean_gap" } do
+      out["gap_" .. q] = r[q]
+    end
+    out.gap_profile = {}
+    for _, q in ipairs { "azimuthal_velocity", "radial_velocity", "granular_temperature", "solid_fraction",
+                         "count" } do
+      out.gap_profile[q] = r[q]
+    end
+  end
+  if ids.overlaps then
+    local r = sim:diagnostic_results(ids.overlaps)
+    for _, k in ipairs { "particle", "fixed", "wall" } do
+      out["max_overlap_ratio_" .. k] = r["max_overlap_ratio_" .. k]
+    end
+    out.max_overlap_ratio = r.max_overlap_ratio
+    out.deepest_kind, out.deepest_time = r.deepest_kind, r.deepest_time
+    out.deepest_x, out.deepest_y = r.deepest_x, r.deepest_y
   end
   if ids.zones then
     local r = sim:diagnostic_results(ids.zones)

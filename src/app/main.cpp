@@ -28,17 +28,19 @@ namespace {
 const char* usage =
     "usage:\n"
     "  granule run SCENE.lua [-D name=value ...] [-o OUT.h5] [--quiet] [--threads N]\n"
-    "              [--restart CHECKPOINT.h5]\n"
+    "              [--restart CHECKPOINT.h5] [--checkpoint FILE.h5] [--checkpoint-every SECONDS]\n"
     "  granule repl [SCENE.lua] [-D name=value ...]\n"
     "  granule sweep SCENE.lua -D name=v1,v2,... [-D ...] [-o DIR] [--threads N] [-q]\n"
-    "              [--case-timeout SECONDS] [--list]\n"
+    "              [--case-timeout SECONDS] [--checkpoint-every SECONDS] [--list]\n"
     "  granule models\n"
     "  granule api [NAME | --markdown]\n"
     "  granule --version\n"
     "options:\n"
     "  -D name=value   override a parameter the scene declares (repeatable)\n"
     "  -o OUT.h5       output file (an OUT.xmf for ParaView is written beside it)\n"
-    "  -q, --quiet     no run header, warnings or progress line\n";
+    "  -q, --quiet     no run header, warnings or progress line\n"
+    "  --checkpoint FILE.h5      where the run's checkpoints go (periodic, and on a signal)\n"
+    "  --checkpoint-every S      a checkpoint every S seconds of wall time\n";
 
 struct Options {
   std::string command, scene;
@@ -183,6 +185,18 @@ int run_command(const std::vector<std::string>& args) {
     } else if (a == "--restart") {
       if (k + 1 >= args.size()) return fail_usage("--restart needs a checkpoint file");
       o.ctx.restart_path = args[++k];
+    } else if (a == "--checkpoint") {
+      if (k + 1 >= args.size() || args[k + 1].empty())
+        return fail_usage("--checkpoint needs a file name");
+      o.ctx.checkpoint_path = args[++k];
+    } else if (a == "--checkpoint-every") {
+      if (k + 1 >= args.size()) return fail_usage("--checkpoint-every needs a value");
+      const std::string& v = args[++k];
+      char* end = nullptr;
+      const double t = std::strtod(v.c_str(), &end);
+      if (v.empty() || *end != 0 || !(t > 0) || !std::isfinite(t))
+        return fail_usage("--checkpoint-every expects seconds of wall time > 0, got '" + v + "'");
+      o.ctx.checkpoint_every_seconds = t;
     } else if (a == "--threads") {
       if (k + 1 >= args.size()) return fail_usage("--threads needs a value");
       const std::string& v = args[++k];

@@ -45,7 +45,9 @@ namespace fs = std::filesystem;
 
 const char* sweep_usage =
     "usage: granule sweep SCENE.lua -D name=v1,v2,... [-D name=value ...] [-o DIR]\n"
-    "                     [--threads N] [-q] [--case-timeout SECONDS] [--list]\n"
+    "                     [--threads N] [-q] [--case-timeout SECONDS] [--checkpoint-every "
+    "SECONDS]\n"
+    "                     [--list]\n"
     "  runs every combination of the listed values, one `granule run` per case;\n"
     "  under mpirun the cases are shared among the ranks (see docs/performance.md)\n";
 
@@ -65,6 +67,9 @@ struct Settings {
   bool quiet = false;
   bool list_only = false;   // --list: print the cases and their files, run nothing
   double case_timeout = 0;  // s of wall time per case; 0 = none
+  // Each case writes a checkpoint this often (s of wall time; 0: none but the one a
+  // signal writes), and a case that did not finish continues from it on the next sweep.
+  double checkpoint_every = 600;
 };
 
 struct Case {
@@ -72,6 +77,7 @@ struct Case {
   std::vector<std::pair<std::string, std::string>> values;  // in -D order
   std::string key;                                          // "name=value;..."
   std::string file, log;
+  std::string checkpoint;  // where the case's run writes its checkpoints
 };
 
 enum class Status { ok, reused, failed, interrupted, not_run };
@@ -99,7 +105,8 @@ struct Outcome {
   int rank = 0;
   double wall_seconds = 0;
   std::map<std::string, double> results;
-  int stop_signal = 0;  // the signal an interrupted case stopped on, when its status tells
+  int stop_signal = 0;     // the signal an interrupted case stopped on, when its status tells
+  bool continued = false;  // the case went on from the checkpoint an earlier sweep left
 };
 
 // ---- the command line ----
@@ -172,8 +179,17 @@ Settings parse(const std::vector<std::string>& args) {
       if (v.empty() || *end != 0 || !(t > 0) || !std::isfinite(t))
         throw UsageError("--case-timeout expects seconds > 0, got '" + v + "'");
       s.case_timeout = t;
+    } else if (a == "--checkpoint-every") {
+      const std::string& v = value();
+      char* end = nullptr;
+      double t = std::strtod(v.c_str(), &end);
+      if (v.empty() || *end != 0 || !(t >= 0) || !std::isfinite(t))
+        throw UsageError("--checkpoint-every expects seconds >= 0 (0: none), got '" + v + "'");
+      s.checkpoint_every = t;
     } else if (a == "--restart") {
-      throw UsageError("--restart is for one run; a sweep reruns what is not finished");
+      throw UsageError(
+          "--restart is for one run; a sweep continues each unfinished case from its own "
+          "checkpoint");
     } else if (!a.empty() && a[0] == '-') {
       throw UsageError("unknown option '" + a + "'");
     } else if (s.scene.empty()) {
@@ -236,6 +252,7 @@ std::vector<Case> make_cases(const Settings& s) {
     fs::path base = fs::path(s.directory) / c.file;
     c.file = base.string() + ".h5";
     c.log = base.string() + ".log";
+    c.checkpoint = base.string() + ".checkpoint.h5";
   }
   return cases;
 }
@@ -301,6 +318,15 @@ class RunningCase {
     std::vector<std::string> args{self_executable(), "run", s.scene};
     for (const auto& [name, value] : c.values) args.insert(args.end(), {"-D", name + "=" + value});
     args.insert(args.end(), {"-o", c.file});
+    // A case stopped half-way (a signal, a lost node, the sweep killed) left its
+    // checkpoint: it goes on from there, its output file continued, its log appended.
+    std::error_code ec;
+    const bool resume = fs::exists(c.checkpoint, ec);
+    continued_ = resume;
+    if (resume) args.insert(args.end(), {"--restart", c.checkpoint});
+    args.insert(args.end(), {"--checkpoint", c.checkpoint});
+    if (s.checkpoint_every > 0)
+      args.insert(args.end(), {"--checkpoint-every", fmt::format("{:g}", s.checkpoint_every)});
     if (threads > 0) args.insert(args.end(), {"--threads", std::to_string(threads)});
     if (s.quiet) args.push_back("-q");
     std::vector<char*> argv;
@@ -320,7 +346,7 @@ class RunningCase {
     pid_ = fork();
     if (pid_ < 0) throw std::runtime_error(std::string("cannot start a case: ") + strerror(errno));
     if (pid_ == 0) {
-      int fd = open(log, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      int fd = open(log, O_WRONLY | O_CREAT | (resume ? O_APPEND : O_TRUNC), 0644);
       if (fd >= 0) {
         dup2(fd, 1);
         dup2(fd, 2);
@@ -362,6 +388,7 @@ class RunningCase {
     out.index = case_.index;
     out.rank = rank_;
     out.wall_seconds = elapsed;
+    out.continued = continued_;
     if (r < 0) {
       out.status = Status::failed;
       out.error = std::string("lost the case's process: ") + strerror(errno);
@@ -398,6 +425,8 @@ class RunningCase {
       record.wall_seconds = out.wall_seconds;
       io::write_case_record(case_.file, record);
       out.status = Status::ok;
+      // Finished: its checkpoint would only make a later sweep continue a done case.
+      fs::remove(case_.checkpoint, ec);
     } catch (const std::exception& e) {
       out.status = Status::failed;
       out.error = e.what();
@@ -409,7 +438,7 @@ class RunningCase {
   double timeout_;
   std::chrono::steady_clock::time_point start_;
   pid_t pid_ = -1;
-  bool forwarded_ = false, timed_out_ = false;
+  bool forwarded_ = false, timed_out_ = false, continued_ = false;
 };
 
 #ifdef GRANULE_HAVE_MPI
@@ -434,8 +463,8 @@ std::string clean_line(std::string text) {
 }
 
 std::string encode(const Outcome& o) {
-  std::string text = fmt::format("{}\t{}\t{}\t{:.17g}\t{}\n", o.index, int(o.status), o.rank,
-                                 o.wall_seconds, clean_line(o.error));
+  std::string text = fmt::format("{}\t{}\t{}\t{:.17g}\t{}\t{}\n", o.index, int(o.status), o.rank,
+                                 o.wall_seconds, o.continued ? 1 : 0, clean_line(o.error));
   for (const auto& [name, value] : o.results) text += fmt::format("{}\t{:.17g}\n", name, value);
   return text;
 }
@@ -455,6 +484,8 @@ Outcome decode(const std::string& text) {
   o.rank = std::stoi(field);
   std::getline(head, field, '\t');
   o.wall_seconds = std::stod(field);
+  std::getline(head, field, '\t');
+  o.continued = field == "1";
   std::getline(head, o.error);
   while (std::getline(in, line)) {
     auto tab = line.find('\t');
@@ -703,8 +734,12 @@ int sweep(const Settings& s, Ranks& ranks) {
       for (const Case& c : cases) {
         auto record = io::read_case_record(c.file);
         bool finished = record && record->key == c.key;
+        std::error_code ec;
+        const bool resumable = !finished && fs::exists(c.checkpoint, ec);
         std::cout << fmt::format("{} {} -> {}{}\n", c.index, describe(c), c.file,
-                                 finished ? " (finished)" : "");
+                                 finished    ? " (finished)"
+                                 : resumable ? " (continues from " + c.checkpoint + ")"
+                                             : "");
       }
     return 0;
   }
@@ -771,7 +806,9 @@ int sweep(const Settings& s, Ranks& ranks) {
     const Case& c = cases[o.index];
     std::string line =
         fmt::format("[{}/{}] {}: {}", done, cases.size(), describe(c), status_name(o.status));
-    if (o.status == Status::ok) line += fmt::format(" ({:.1f} s, rank {})", o.wall_seconds, o.rank);
+    if (o.status == Status::ok)
+      line += fmt::format(" ({:.1f} s, rank {}{})", o.wall_seconds, o.rank,
+                          o.continued ? ", continued from its checkpoint" : "");
     if (!o.error.empty()) line += ": " + o.error + " (log: " + c.log + ")";
     if (o.status != Status::ok)
       std::cerr << line << "\n";

@@ -10,6 +10,8 @@
 #include "hooks/areas.hpp"
 #include "hooks/contact_peaks.hpp"
 #include "hooks/diagnostic.hpp"
+#include "hooks/gap_profile.hpp"
+#include "hooks/overlaps.hpp"
 #include "hooks/wall_force.hpp"
 #include "hooks/zones.hpp"
 
@@ -17,8 +19,9 @@ namespace granule {
 
 namespace {
 template <int D>
-using Catalogue = std::tuple<WallForceDiagnostic<D>, ZonesDiagnostic<D>, AreasDiagnostic<D>,
-                             ContactPeaksDiagnostic<D>>;
+using Catalogue =
+    std::tuple<WallForceDiagnostic<D>, ZonesDiagnostic<D>, AreasDiagnostic<D>,
+               ContactPeaksDiagnostic<D>, GapProfileDiagnostic<D>, OverlapsDiagnostic<D>>;
 
 template <int D, std::size_t... I>
 std::unique_ptr<Diagnostic<D>> make_by_name(const std::string& name, DiagnosticOptions& options,

@@ -1086,6 +1086,18 @@ int l_simulation(lua_State* L) {
     // The scene's first simulation continues the checkpoint.
     if (SceneContext* ctx = context(L); ctx && ctx->restart && !ctx->restart->target)
       ctx->restart->target = s;
+    // And writes its checkpoints where the command line says.
+    if (SceneContext* ctx = context(L);
+        ctx && (!ctx->checkpoint_path.empty() || ctx->checkpoint_every_seconds > 0) &&
+        !ctx->checkpoint_assigned) {
+      ctx->checkpoint_assigned = true;
+      s->checkpoint.path =
+          !ctx->checkpoint_path.empty()
+              ? ctx->checkpoint_path
+              : std::filesystem::path(ctx->scene_path).stem().string() + ".checkpoint.h5";
+      s->checkpoint.every_seconds = ctx->checkpoint_every_seconds;
+      s->checkpoint_path_fixed = true;
+    }
     luaL_setmetatable(L, metatable_name);
     lua_pushvalue(L, -1);
     s->self_ref = luaL_ref(L, LUA_REGISTRYINDEX);

@@ -54,6 +54,7 @@ struct LuaSim {
   std::int64_t output_calls = 0;  // sim:output calls so far (which output is open)
   std::map<int, int> lua_hooks;   // sim:every hook id -> registry ref of its function
   CheckpointPlan checkpoint;
+  bool checkpoint_path_fixed = false;  // --checkpoint named the file: sim:checkpoint keeps it
 };
 
 // Calls the Lua function at registry `function_ref` with the simulation at `self_ref`,

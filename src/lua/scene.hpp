@@ -30,7 +30,13 @@ struct SceneContext {
   bool quiet = false;
   int threads = 0;           // --threads N: overrides every simulation's own setting when > 0
   std::string restart_path;  // --restart FILE: the first simulation continues this checkpoint
-  bool interrupted = false;  // a run stopped on a signal (the program exits with 128 + it)
+  // --checkpoint FILE [--checkpoint-every SECONDS]: where the first simulation's
+  // checkpoints go (periodic ones, and the one a signal writes), whatever file the
+  // scene names, and how often by wall time when the scene asks for none.
+  std::string checkpoint_path;
+  double checkpoint_every_seconds = 0;
+  bool checkpoint_assigned = false;  // the first simulation has taken checkpoint_path
+  bool interrupted = false;          // a run stopped on a signal (the program exits with 128 + it)
   bool progress = false;  // progress line for long runs (the CLI: stderr is a terminal, no --quiet)
   std::vector<std::string> outputs_written;
   std::shared_ptr<Journal> journal;    // what the scene saw of the engine (journal.hpp)

@@ -206,7 +206,9 @@ int l_checkpoint(lua_State* L) {
       throw InputError("checkpoint: every_seconds must be >= 0 [s of wall time]");
     if (every_steps == 0 && every_seconds == 0)
       throw InputError("checkpoint: give every_steps > 0 or every_seconds > 0");
-    s.checkpoint.path = file;
+    // A file named on the command line (--checkpoint, as granule sweep gives each
+    // case its own) wins over the scene's, which every case of a sweep shares.
+    if (!s.checkpoint_path_fixed) s.checkpoint.path = file;
     s.checkpoint.every_steps = every_steps;
     s.checkpoint.every_seconds = every_seconds;
     s.checkpoint.last_step = s.sim->step_count();

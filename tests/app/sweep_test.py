@@ -12,6 +12,10 @@ a rerun skips finished cases but reruns one whose mark is missing and one whose 
 was cut short; a changed fixed value reruns everything; Ctrl-C stops the sweep with a
 summary and a rerun finishes it; --list and --case-timeout; bad command lines exit 2.
 mpi: `mpirun -np 2` shares the cases between both ranks and the summary is complete.
+resume: a sweep killed outright (SIGKILL, as a lost node) mid-case, its case having
+written a periodic checkpoint, is rerun: the case continues from the checkpoint (less
+wall time, its log appended) and its results are the uninterrupted sweep's, bit for bit;
+the finished case's checkpoint is removed.
 Prints "sweep_test <mode> ok" at the end; any failed check raises.
 """
 import csv
@@ -36,8 +40,8 @@ def sweep(*args, launcher=(), env=None):
     return p.returncode, p.stdout + p.stderr
 
 
-def table(directory):
-    with open(os.path.join(directory, "sweep_case.sweep.csv")) as f:
+def table(directory, scene="sweep_case"):
+    with open(os.path.join(directory, scene + ".sweep.csv")) as f:
         return list(csv.DictReader(f))
 
 
@@ -205,8 +209,53 @@ def mpi(mpirun):
         check_results(r)
 
 
+def resume():
+    drum = os.path.join(SOURCE, "scenarios", "tutorial_drum.lua")
+    common = ["-D", "duration=1.5"]
+
+    def run_sweep(directory, *extra):
+        return subprocess.Popen([GRANULE, "sweep", drum, *common, "-o", directory, *extra],
+                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                                start_new_session=True)
+
+    ref_dir, cut_dir = os.path.join(WORK, "sweep_resume_ref"), os.path.join(WORK, "sweep_resume_cut")
+    for d in (ref_dir, cut_dir):
+        shutil.rmtree(d, ignore_errors=True)
+    p = run_sweep(ref_dir, "--checkpoint-every", "0")
+    out = p.communicate(timeout=120)[0]
+    check(p.returncode == 0, f"the uninterrupted sweep exits 0, got {p.returncode}", out)
+    p = run_sweep(cut_dir, "--checkpoint-every", "0.3")
+    checkpoint = os.path.join(cut_dir, "tutorial_drum.checkpoint.h5")
+    deadline = time.time() + 60
+    while not os.path.exists(checkpoint) and p.poll() is None and time.time() < deadline:
+        time.sleep(0.05)
+    check(os.path.exists(checkpoint), "the case writes its checkpoint into the sweep's directory")
+    time.sleep(0.5)  # past a second checkpoint, into the run
+    os.killpg(p.pid, signal.SIGKILL)
+    p.wait()
+    listed = subprocess.run([GRANULE, "sweep", drum, *common, "-o", cut_dir, "--list"], capture_output=True,
+                            text=True).stdout
+    check("continues from" in listed, "--list says the case continues from its checkpoint", listed)
+    p = run_sweep(cut_dir, "--checkpoint-every", "0.3")
+    out = p.communicate(timeout=120)[0]
+    check(p.returncode == 0, f"the rerun finishes the case, got exit {p.returncode}", out)
+    check("continued from its checkpoint" in out, "the case went on from its checkpoint", out)
+    with h5py.File(os.path.join(ref_dir, "tutorial_drum.h5"), "r") as a, \
+            h5py.File(os.path.join(cut_dir, "tutorial_drum.h5"), "r") as b:
+        ra, rb = dict(a["results"].attrs), dict(b["results"].attrs)
+        check(ra.keys() == rb.keys() and all((ra[k] == rb[k]).all() for k in ra),
+              f"the continued case's results are the uninterrupted one's, bit for bit: {ra} vs {rb}")
+        check((a["series/time"][:] == b["series/time"][:]).all(), "and so are its series' times")
+    check(not os.path.exists(checkpoint), "a finished case's checkpoint is removed")
+    with open(os.path.join(cut_dir, "tutorial_drum.log")) as f:
+        log = f.read()
+    check(log.count("stage settle") >= 2, "the continued case's log is appended, not replaced", log)
+
+
 if MODE == "serial":
     serial()
+elif MODE == "resume":
+    resume()
 elif MODE == "mpi":
     mpi(sys.argv[5])
 else:

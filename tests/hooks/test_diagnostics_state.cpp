@@ -95,6 +95,12 @@ DiagnosticOptions options_for(const std::string& name, double window) {
     o.numbers["force_max"] = 0.02;
     o.numbers["velocity_max"] = 2;
     o.numbers["keep_collisions"] = 100000;
+  } else if (name == "gap_profile") {
+    o.numbers["every"] = 2;
+    o.numbers["sector"] = 30;
+    o.numbers["bins"] = 4;
+  } else if (name == "overlaps") {
+    o.numbers["every"] = 3;
   } else {
     FAIL("give options_for() a setting that makes diagnostic '" << name << "' accumulate");
   }
