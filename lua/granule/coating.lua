@@ -286,7 +286,7 @@ function M.max_force_slope(args)
 end
 
 --- coating.minimum_time { collisions = list or iterator, host_count = N, host_radius_m = r,
----                        [patches_per_contact = 1] }
+---                        [patches_per_contact = 1], [contact_radius = "effective"] }
 --- -> time_s, details   or   nil, message, details
 --- Section 4.7: walk the host-host collisions in time order, add the contact
 --- area pi a^2 with a = (d R)^(1/2) of each, and return the time of the
@@ -297,17 +297,25 @@ end
 --- iterator function returning one collision per call and nil at the end (it
 --- must come in non-decreasing time). The dissertation counts one patch per
 --- contact although a contact marks both hosts; patches_per_contact = 2 counts
---- both. details = { covered_area_m2, target_area_m2, collisions_used }.
+--- both. The text's a = (d R)^(1/2) does not say which R: contact_radius =
+--- "effective" takes each collision's R* (Hertz's a^2 = R* d), "host" the
+--- host radius r (2 R* for equal hosts). The four readings of 4.7 are these
+--- two choices crossed. details = { covered_area_m2, target_area_m2, collisions_used }.
 --- When the collisions never cover the surface: nil, a message, details.
 function M.minimum_time(args)
   local where = "coating.minimum_time"
   checks.table_arg(where, args, "collisions, host_count, host_radius_m, patches_per_contact")
-  checks.known_keys(where, args, { "collisions", "host_count", "host_radius_m", "patches_per_contact" })
+  checks.known_keys(where, args, { "collisions", "host_count", "host_radius_m", "patches_per_contact",
+                                   "contact_radius" })
   local n = checks.positive(where, "host_count", args.host_count, "-")
   if math.type(n) ~= "integer" and n ~= math.floor(n) then checks.fail(where, "host_count", "a whole number", n) end
   local r = checks.positive(where, "host_radius_m", args.host_radius_m, "m")
   local patches = args.patches_per_contact == nil and 1 or args.patches_per_contact
   checks.positive(where, "patches_per_contact", patches, "-")
+  local radius_choice = args.contact_radius == nil and "effective" or args.contact_radius
+  if radius_choice ~= "effective" and radius_choice ~= "host" then
+    checks.fail(where, "contact_radius", "'effective' (R*) or 'host' (r)", radius_choice)
+  end
   local target = n * 4 * pi * r ^ 2
 
   local next_collision
@@ -358,6 +366,7 @@ function M.minimum_time(args)
     end
     last_time = t
     used = used + 1
+    if radius_choice == "host" then big_r = r end
     covered = covered + patches * pi * d * big_r   -- pi a^2 with a^2 = d R (section 4.7)
     if covered >= target then
       return t, { covered_area_m2 = covered, target_area_m2 = target, collisions_used = used }

@@ -276,6 +276,8 @@ end
 
 local area_names = { "inner_piece", "scraper", "input", "free_diffusion" }
 M.area_names = area_names
+--- The readings of 4.7 the contact_peaks diagnostic sums side by side.
+M.coating_readings = { "one_patch_rstar", "two_patches_rstar", "one_patch_r", "two_patches_r" }
 
 --- mf.summary(sim, geo, ids) -> a flat table of the long-time means: the
 --- inner piece's normal and tangential force, per area the mean force per
@@ -305,9 +307,20 @@ function M.summary(sim, g, ids)
     out.coating_time_estimate = r.coating_time_estimate
     out.coating_reached = r.coating_reached
     out.covered_fraction = r.covered_fraction
+    -- The four readings of 4.7: patches per contact (one, two) x R (R*, r).
+    for _, c in ipairs(M.coating_readings) do
+      out["coating_time_" .. c] = r["coating_time_" .. c]
+      out["coating_time_estimate_" .. c] = r["coating_time_estimate_" .. c]
+      out["covered_fraction_" .. c] = r["covered_fraction_" .. c]
+    end
+    for _, threshold in ipairs { "100", "200", "1000" } do
+      for _, a in ipairs(area_names) do
+        out["fraction_over_" .. threshold .. "_mm_s_" .. a] = r["fraction_over_" .. threshold .. "_mm_s_" .. a]
+      end
+    end
     for _, a in ipairs(area_names) do
       out["mean_peak_force_" .. a] = r["mean_peak_force_" .. a]
-      out["fraction_over_200_mm_s_" .. a] = r["fraction_over_200_mm_s_" .. a]
+      out["contacts_" .. a] = r["contacts_" .. a]
     end
   end
   if ids.gap then
@@ -343,11 +356,20 @@ function M.summary(sim, g, ids)
   return out
 end
 
---- mf.record(sim, summary): the scalar entries of a summary into /results.
+--- mf.record(sim, summary): the scalar entries of a summary into /results,
+--- and the profiles as one scalar per zone (zone<k>_<quantity>, innermost
+--- first) and per gap bin (gap_bin<k>_<quantity>, from the chamber wall), so
+--- that a sweep's summary table holds them.
 function M.record(sim, summary)
   local scalars = {}
-  for k, value in pairs(summary) do
+  local function put(k, value)
     if type(value) == "number" and value == value and math.abs(value) ~= math.huge then scalars[k] = value end
+  end
+  for k, value in pairs(summary) do put(k, value) end
+  for prefix, profile in pairs { zone = summary.profiles, gap_bin = summary.gap_profile } do
+    for q, values in pairs(profile) do
+      for z, value in ipairs(values) do put(string.format("%s%d_%s", prefix, z, q), value) end
+    end
   end
   sim:result(scalars)
 end

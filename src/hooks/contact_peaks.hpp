@@ -8,7 +8,11 @@
 // It also accumulates the minimum coating time of 4.7: over host-host
 // contacts (both particles moving) add the contact area pi a^2 with
 // a = sqrt(d R) (d the largest overlap of the contact, R = R*) until the sum
-// reaches the hosts' total surface sum 4 pi r^2. The kept collisions can be
+// reaches the hosts' total surface sum 4 pi r^2. The text leaves two choices
+// open, so all four readings are summed side by side: one patch per contact
+// or one on each host (a contact marks both surfaces), and R = R* (Hertz's
+// a^2 = R* d) or R = the host's radius r (for equal hosts r = 2 R*); the
+// plain coating_time is the first (one patch, R*). The kept collisions can be
 // handed to coating.minimum_time in Lua (keep_collisions = n).
 #pragma once
 
@@ -31,6 +35,10 @@ class ContactPeaksDiagnostic final : public Diagnostic<D> {
   using V = Vec<D>;
   static constexpr int A = AreaSectors::count;
   static constexpr int sets = A + 1;  // the four areas, then all contacts
+  // The readings of 4.7 (see the top of this file): patches per contact x radius.
+  static constexpr int conventions = 4;
+  static constexpr std::array<const char*, conventions> convention_names = {
+      "one_patch_rstar", "two_patches_rstar", "one_patch_r", "two_patches_r"};
   static constexpr const char* name = "contact_peaks";
   static constexpr const char* doc =
       "largest normal force of each contact: histograms per area and of the impact velocity "
@@ -104,6 +112,20 @@ class ContactPeaksDiagnostic final : public Diagnostic<D> {
           reached_ = true;
           coating_time_ = e.end_time - start_time_;
         }
+        const int ia = p.index(e.id_a), ib = p.index(e.id_b);
+        const double mean_radius =
+            ia >= 0 && ib >= 0 ? 0.5 * (p.radius[ia] + p.radius[ib]) : 2 * e.effective_radius;
+        const double d = std::max(0.0, e.peak_overlap);
+        const std::array<double, conventions> add_area = {
+            pi * d * e.effective_radius, 2 * pi * d * e.effective_radius, pi * d * mean_radius,
+            2 * pi * d * mean_radius};
+        for (int k = 0; k < conventions; ++k) {
+          covered_by_[k] += add_area[k];
+          if (!reached_by_[k] && covered_by_[k] >= target_area_) {
+            reached_by_[k] = 1;
+            coating_time_by_[k] = e.end_time - start_time_;
+          }
+        }
         if (kept_time_.size() < keep_) {
           kept_time_.push_back(e.end_time);
           kept_overlap_.push_back(e.peak_overlap);
@@ -144,6 +166,15 @@ class ContactPeaksDiagnostic final : public Diagnostic<D> {
                  : (covered_area_ > 0 && elapsed > 0 ? target_area_ * elapsed / covered_area_ : 0);
     r["covered_fraction"] = target_area_ > 0 ? covered_area_ / target_area_ : 0;
     r["host_collisions"] = static_cast<double>(host_collisions_);
+    for (int k = 0; k < conventions; ++k) {
+      const std::string n = convention_names[k];
+      r["coating_time_" + n] = reached_by_[k] ? coating_time_by_[k] : 0;
+      r["coating_time_estimate_" + n] =
+          reached_by_[k]
+              ? coating_time_by_[k]
+              : (covered_by_[k] > 0 && elapsed > 0 ? target_area_ * elapsed / covered_by_[k] : 0);
+      r["covered_fraction_" + n] = target_area_ > 0 ? covered_by_[k] / target_area_ : 0;
+    }
     for (int s = 0; s < sets; ++s) {
       const std::string n = set_name(s);
       const double c = static_cast<double>(counted_[s]);
@@ -194,6 +225,10 @@ class ContactPeaksDiagnostic final : public Diagnostic<D> {
     w.put_integers("above_100_mm_s", above_01_);
     w.put_integers("above_200_mm_s", above_02_);
     w.put_integers("above_1000_mm_s", above_10_);
+    w.put("conventions",
+          {covered_by_[0], covered_by_[1], covered_by_[2], covered_by_[3], coating_time_by_[0],
+           coating_time_by_[1], coating_time_by_[2], coating_time_by_[3]});
+    w.put_integers("conventions_reached", reached_by_);
     w.put("collision_time", kept_time_);
     w.put("collision_overlap", kept_overlap_);
     w.put("collision_radius", kept_radius_);
@@ -224,6 +259,13 @@ class ContactPeaksDiagnostic final : public Diagnostic<D> {
     r.read("above_100_mm_s", next.above_01_);
     r.read("above_200_mm_s", next.above_02_);
     r.read("above_1000_mm_s", next.above_10_);
+    const auto by = r.doubles("conventions", 2 * conventions);
+    for (int k = 0; k < conventions; ++k)
+      next.covered_by_[k] = by[k], next.coating_time_by_[k] = by[conventions + k];
+    r.read("conventions_reached", next.reached_by_);
+    for (auto flag : next.reached_by_)
+      if (flag != 0 && flag != 1)
+        r.invalid("conventions_reached", "holds a flag other than 0 or 1");
     next.kept_time_ = r.doubles("collision_time", DiagnosticStateReader::any_size);
     if (next.kept_time_.size() > keep_)
       r.invalid("collision_time", fmt::format("holds {} collisions, more than keep_collisions = {}",
@@ -266,9 +308,10 @@ class ContactPeaksDiagnostic final : public Diagnostic<D> {
     if (declared_ || !sink_) return;
     declared_ = true;
     const std::string g = "diagnostics/" + label_;
-    sink_->declare_series(g + "/coating",
-                          {"time", "covered_area", "covered_fraction", "host_collisions"});
-    sink_->write_attribute(g + "/coating", "units", std::string("s, m^2, -, -"));
+    std::vector<std::string> coating{"time", "covered_area", "covered_fraction", "host_collisions"};
+    for (const char* n : convention_names) coating.push_back(std::string("covered_fraction_") + n);
+    sink_->declare_series(g + "/coating", coating);
+    sink_->write_attribute(g + "/coating", "units", std::string("s, m^2, -, -, - (each reading)"));
     std::vector<std::string> columns{"time"};
     for (int k = 1; k <= bins_; ++k) columns.push_back(fmt::format("bin_{}", k));
     for (int s = 0; s < sets; ++s)
@@ -288,9 +331,11 @@ class ContactPeaksDiagnostic final : public Diagnostic<D> {
     if (sink_) {
       declare();
       const std::string g = "diagnostics/" + label_;
-      sink_->append_series(
-          g + "/coating", {time, covered_area_, target_area_ > 0 ? covered_area_ / target_area_ : 0,
-                           static_cast<double>(host_collisions_)});
+      std::vector<double> coating{time, covered_area_,
+                                  target_area_ > 0 ? covered_area_ / target_area_ : 0,
+                                  static_cast<double>(host_collisions_)};
+      for (double c : covered_by_) coating.push_back(target_area_ > 0 ? c / target_area_ : 0);
+      sink_->append_series(g + "/coating", coating);
       for (int s = 0; s < sets; ++s) {
         auto write = [&](const char* q, const std::vector<double>& h) {
           std::vector<double> row{time};
@@ -320,6 +365,8 @@ class ContactPeaksDiagnostic final : public Diagnostic<D> {
   double target_area_ = 0, covered_area_ = 0, coating_time_ = 0;
   bool reached_ = false;
   std::int64_t host_collisions_ = 0;
+  std::array<double, conventions> covered_by_{}, coating_time_by_{};
+  std::array<std::int64_t, conventions> reached_by_{};
   std::vector<double> kept_time_, kept_overlap_, kept_radius_;
 };
 

@@ -7,9 +7,10 @@
 // jammed in a wedge shows up here as a ratio of tens of per cent that holds
 // for the whole run.
 //
-// The contact log is read every `every` steps, so the peak of a short
-// collision is caught to within the overlap's change over that many steps;
-// a jammed particle's overlap is caught exactly.
+// Every contact that ends reports the largest overlap it reached (the
+// engine tracks it every step), so the peak of each collision is exact
+// whatever `every` is; contacts still going on (a jammed particle's) are read
+// from the contact log every `every` steps.
 #pragma once
 
 #include <fmt/format.h>
@@ -42,7 +43,7 @@ class OverlapsDiagnostic final : public Diagnostic<D> {
     label_ = o.string("label", "overlaps");
   }
 
-  typename Diagnostic<D>::Needs needs() const override { return {true, false}; }
+  typename Diagnostic<D>::Needs needs() const override { return {true, true}; }
   std::int64_t every() const override { return every_; }
 
   void attach_output(OutputSink* sink) override {
@@ -50,6 +51,17 @@ class OverlapsDiagnostic final : public Diagnostic<D> {
     declared_ = false;
   }
 
+  // Contacts that ended this step, with the peak each reached.
+  void on_events(const StepView<D>& v) override {
+    const auto& p = v.particles;
+    for (const auto& e : v.contacts.ended) {
+      const int a = p.index(e.id_a), b = e.id_b < 0 ? -1 : p.index(e.id_b);
+      if (a < 0 || (e.id_b >= 0 && b < 0)) continue;  // a particle removed meanwhile
+      note(p, a, e.id_b < 0 ? -1 : b, e.peak_overlap, e.end_time, e.position);
+    }
+  }
+
+  // Contacts going on now, from the log.
   void observe(const StepView<D>& v) override {
     declare();
     const auto& p = v.particles;
@@ -58,30 +70,8 @@ class OverlapsDiagnostic final : public Diagnostic<D> {
     last_time_ = v.time;
     for (std::size_t s = 0; s < log.size(); ++s) {
       if (!log.active[s]) continue;
-      const int a = log.a[s], b = log.b[s];
-      Kind kind = wall;
-      double radius = p.radius[a];
-      int deep = a;  // the moving particle the ratio refers to
-      if (!ContactLog<D>::is_wall(b)) {
-        if (p.fixed[a] || p.fixed[b]) {
-          kind = fixed;
-          deep = p.fixed[a] ? b : a;
-          radius = p.radius[deep];
-        } else {
-          kind = particle;
-          if (p.radius[b] < radius) radius = p.radius[b], deep = b;
-        }
-      }
-      const double ratio = log.overlap[s] / radius;
-      if (ratio > in_window_[kind]) in_window_[kind] = ratio;
-      if (ratio > deepest_[kind]) {
-        deepest_[kind] = ratio;
-        if (ratio > worst_ratio_) {
-          worst_ratio_ = ratio, worst_time_ = v.time, worst_kind_ = kind;
-          worst_id_ = p.id[deep];
-          worst_point_ = log.point[s];
-        }
-      }
+      note(p, log.a[s], ContactLog<D>::is_wall(log.b[s]) ? -1 : log.b[s], log.overlap[s], v.time,
+           log.point[s]);
     }
     ++samples_;
     if (v.time + 0.5 * v.dt >= window_start_ + window_) emit(v.time);
@@ -144,6 +134,33 @@ class OverlapsDiagnostic final : public Diagnostic<D> {
   }
 
  private:
+  // One contact of particle a with particle b (-1: a wall) at `overlap`.
+  void note(const Particles<D>& p, int a, int b, double overlap, double time, const V& point) {
+    Kind kind = wall;
+    double radius = p.radius[a];
+    int deep = a;  // the moving particle the ratio refers to
+    if (b >= 0) {
+      if (p.fixed[a] || p.fixed[b]) {
+        kind = fixed;
+        deep = p.fixed[a] ? b : a;
+        radius = p.radius[deep];
+      } else {
+        kind = particle;
+        if (p.radius[b] < radius) radius = p.radius[b], deep = b;
+      }
+    }
+    const double ratio = overlap / radius;
+    if (ratio > in_window_[kind]) in_window_[kind] = ratio;
+    if (ratio > deepest_[kind]) {
+      deepest_[kind] = ratio;
+      if (ratio > worst_ratio_) {
+        worst_ratio_ = ratio, worst_time_ = time, worst_kind_ = kind;
+        worst_id_ = p.id[deep];
+        worst_point_ = point;
+      }
+    }
+  }
+
   void declare() {
     window_open_ = true;
     if (declared_ || !sink_) return;

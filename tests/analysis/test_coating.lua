@@ -178,6 +178,22 @@ H.relative(details.target_area_m2, 3 * 4 * pi * r_host ^ 2, 1e-12, "target area 
 -- Counting both hosts' patches halves the count: the 600th collision.
 t = coating.minimum_time { collisions = list, host_count = 3, host_radius_m = r_host, patches_per_contact = 2 }
 H.near(t, 0.6, 1e-12, "two patches per contact, 600th collision")
+-- The four readings of 4.7 on a hand-counted list: one host of r = 1 mm (surface
+-- 4 pi r^2), collisions with d R* = r^2 / 2 each, i.e. pi r^2 / 2 for one patch and R*:
+-- eight collisions cover it; two patches or R = r (= 2 R* here, d r = r^2) four; both two.
+do
+  local r1 = 1e-3
+  local hand = {}
+  for i = 1, 10 do hand[i] = { time_s = i * 0.1, max_overlap_m = r1, effective_radius_m = r1 / 2 } end
+  for _, case in ipairs { { 1, "effective", 8 }, { 2, "effective", 4 }, { 1, "host", 4 }, { 2, "host", 2 } } do
+    local tc = coating.minimum_time { collisions = hand, host_count = 1, host_radius_m = r1,
+                                      patches_per_contact = case[1], contact_radius = case[2] }
+    H.near(tc, case[3] * 0.1, 1e-12, string.format("%d patch(es), contact_radius=%s: collision %d", case[1], case[2],
+      case[3]))
+  end
+  H.fails("contact_radius", coating.minimum_time, { collisions = hand, host_count = 1, host_radius_m = r1,
+    contact_radius = "r" })
+end
 -- The same from an iterator.
 local k = 0
 t = coating.minimum_time { collisions = function() k = k + 1 if k <= 1500 then return collision(k) end end,

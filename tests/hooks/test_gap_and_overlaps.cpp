@@ -223,3 +223,30 @@ TEST_CASE("overlaps: the deepest contact of each kind, kept after it has relaxed
   CHECK(res.at("max_overlap_ratio_wall") == Approx(0.03).epsilon(1e-6));
   CHECK(res.at("samples") == 2001);
 }
+
+TEST_CASE("overlaps: a collision's peak is exact even between samples", "[diagnostics]") {
+  // Two equal spheres meeting at v: the Walton-Braun loading spring stops them at
+  // d = v sqrt(m* / K1); samples every 100000 steps never see the contact.
+  Simulation<2> sim;
+  sim.set_warning_handler([](const std::string&) {});
+  sim.add_material({"powder", rho, 0, 0, 0});
+  ParamValues law{{"k_load", k1}, {"restitution", 0.85}, {"friction", 0}};
+  sim.set_contact("powder", "powder", "walton_braun", law);
+  const double r = 0.2e-3, v = 0.5, gap = 1e-6;
+  for (double side : {-1.0, 1.0}) {
+    ParticleSpec s;
+    s.position = {side * (r + gap), 0, 0}, s.velocity = {-side * v / 2, 0, 0};
+    s.radius = r, s.material = 0;
+    sim.add_particle(s);
+  }
+  DiagnosticOptions o;
+  o.numbers["every"] = 100000;
+  const int id = sim.attach_diagnostic("overlaps", o);
+  sim.advance(20000);
+  const double m_eff = 0.5 * sphere_mass(r, rho);
+  const auto res = sim.diagnostic_results(id);
+  CHECK(res.at("max_overlap_ratio_particle") ==
+        Approx(v * std::sqrt(m_eff / k1) / r).epsilon(0.02));
+  CHECK(res.at("max_overlap_ratio_wall") == 0);
+  CHECK(res.at("samples") == 1);
+}

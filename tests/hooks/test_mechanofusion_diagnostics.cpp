@@ -271,6 +271,54 @@ TEST_CASE("contact_peaks: a binary impact's peak force, derived velocity and coa
   CHECK(arr.at("collision_overlap")[0] == Approx(d).epsilon(0.02));
   CHECK(arr.at("collision_radius")[0] == Approx(r / 2));
   CHECK(res.at("coating_reached") == 0);
+  // The readings of 4.7 on this one collision: two patches double it, and so does
+  // R = r (= 2 R* for equal hosts); both, four times.
+  const double one = res.at("covered_fraction");
+  CHECK(res.at("covered_fraction_one_patch_rstar") == Approx(one).epsilon(1e-12));
+  CHECK(res.at("covered_fraction_two_patches_rstar") == Approx(2 * one).epsilon(1e-12));
+  CHECK(res.at("covered_fraction_one_patch_r") == Approx(2 * one).epsilon(1e-12));
+  CHECK(res.at("covered_fraction_two_patches_r") == Approx(4 * one).epsilon(1e-12));
+}
+
+TEST_CASE("contact_peaks: the coating readings of 4.7 on unequal hosts, counted by hand",
+          "[diagnostics][mechanofusion]") {
+  // Pairs of radii r and r/2 colliding at three speeds, each far from the others:
+  // every collision adds pi d R* (one patch), 2 pi d R*, pi d (r + r/2) / 2 and
+  // pi d (r + r/2), with d the kept peak overlap; the target is the moving hosts'
+  // surface sum 4 pi r_i^2.
+  Simulation<2> sim;
+  chamber(sim, 0);
+  const double gap = 1e-6, small = r / 2;
+  int placed = 0;
+  for (double v : {0.2, 0.5, 1.0}) {
+    const double y = -4e-3 + 4e-3 * placed++;
+    ParticleSpec a, b;
+    a.position = {-r - gap, y, 0}, a.velocity = {v / 2, 0, 0}, a.radius = r, a.material = 0;
+    b.position = {small + gap, y, 0}, b.velocity = {-v / 2, 0, 0}, b.radius = small, b.material = 0;
+    sim.add_particle(a);
+    sim.add_particle(b);
+  }
+  DiagnosticOptions o;
+  o.strings["inner_piece"] = "";
+  o.numbers["keep_collisions"] = 10;
+  const int id = attach(sim, "contact_peaks", o);
+  sim.advance(20000);
+  const auto res = sim.diagnostic_results(id);
+  const auto arr = sim.diagnostic_arrays(id);
+  REQUIRE(arr.at("collision_overlap").size() == 3);
+  const double target = 3 * 4 * pi * (r * r + small * small);
+  double by_rstar = 0, by_r = 0;
+  for (std::size_t k = 0; k < 3; ++k) {
+    CHECK(arr.at("collision_radius")[k] == Approx(r * small / (r + small)));
+    by_rstar += pi * arr.at("collision_overlap")[k] * arr.at("collision_radius")[k];
+    by_r += pi * arr.at("collision_overlap")[k] * (r + small) / 2;
+  }
+  CHECK(res.at("covered_fraction_one_patch_rstar") == Approx(by_rstar / target).epsilon(1e-12));
+  CHECK(res.at("covered_fraction_two_patches_rstar") ==
+        Approx(2 * by_rstar / target).epsilon(1e-12));
+  CHECK(res.at("covered_fraction_one_patch_r") == Approx(by_r / target).epsilon(1e-12));
+  CHECK(res.at("covered_fraction_two_patches_r") == Approx(2 * by_r / target).epsilon(1e-12));
+  CHECK(res.at("coating_time_two_patches_r") == 0);  // far from covered: not reached
 }
 
 TEST_CASE("zones: in 3D the depth is the slab's and spin about x and y counts in full (4.10)",

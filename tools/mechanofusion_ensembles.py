@@ -1,0 +1,260 @@
+#!/usr/bin/python3
+"""The Mechanofusion studies as ensembles (docs/mechanofusion.md, "Full-length
+studies"): tables from the sweeps, then figures and fits from the tables.
+
+usage:
+  /usr/bin/python3 tools/mechanofusion_ensembles.py tables WORK [--data docs/data]
+  /usr/bin/python3 tools/mechanofusion_ensembles.py figures [--data docs/data] [-o docs/figures]
+
+tables: reads WORK/<study>/mechanofusion.sweep.csv for every study that
+tools/mechanofusion_long.sh ran (a sweep over scenarios/mechanofusion.lua with
+seeds), keeps the finished cases and writes docs/data/mechanofusion_<study>.csv
+(one row per case: its parameters and every result the scene recorded).
+figures: reads those tables only, so the figures and fits are made again from
+what is committed. Per value of a study's parameter: the mean over the seeds
+and its standard error (sample standard deviation / sqrt(seeds)); per
+quantity the power-law exponent fitted to each seed's cases, reported as the
+mean over the seeds +- its standard error (one seed: the fit's own standard
+error from the scatter about the line). Writes the figures, and
+docs/data/mechanofusion_fits.csv (study, quantity, exponent, standard error,
+seeds, claim); prints one line per fit and per mean.
+"""
+
+import argparse
+import csv
+import math
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from plot_mechanofusion import AREAS, AREA_LABEL, power_fit  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# Each study: the parameter it varies, the others that split it into series,
+# and the claims its fits are set against (quantity, claimed exponent, where).
+STUDIES = {
+    "rpm": {"x": "rpm", "claims": [("inner_normal_force", 2, "Fig. 5.3"),
+                                   ("inner_tangential_force", 2, "Fig. 5.3")]
+            + [(f"normal_force_per_contact_{a}", 1, "Figs. 5.11-5.12") for a in AREAS]
+            + [("gap_shear_rate", 1, "Eq. 5.6"), ("gap_normal_force_per_contact", 1, "Eq. 5.10"),
+               ("coating_time_estimate_one_patch_rstar", -1, "Fig. 4.33")]},
+    "gap": {"x": "gap", "claims": [("normal_force_per_contact_inner_piece", -1, "Eq. 5.11, Fig. 5.13"),
+                                   ("gap_normal_force_per_contact", -1, "Eq. 5.11"),
+                                   ("gap_shear_rate", -1, "Eq. 5.6")]},
+    "stiffness": {"x": "k_load", "claims": [(f"normal_force_per_contact_{a}", 0.5, "Figs. 5.9-5.10")
+                                            for a in AREAS]},
+    "loading": {"x": "particles", "by": "rpm", "claims": [("inner_normal_force", None, "Fig. 4.17"),
+                                                          ("inner_tangential_force", None, "Fig. 4.18")]},
+    "scraper": {"x": "scraper", "claims": []},
+    "double": {"x": "size_scale", "claims": []},
+    "slab": {"x": "dimension", "claims": []},
+}
+NOT_RESULTS = {"case", "status", "rank", "wall_s", "file", "error"}
+
+
+def read_csv(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def number(text):
+    try:
+        return float(text)
+    except (TypeError, ValueError):
+        return {"true": 1.0, "false": 0.0}.get(str(text).strip().lower(), float("nan"))
+
+
+def tables(args):
+    os.makedirs(args.data, exist_ok=True)
+    written = 0
+    for study in STUDIES:
+        path = os.path.join(args.work, study, "mechanofusion.sweep.csv")
+        if not os.path.exists(path):
+            continue
+        rows = [r for r in read_csv(path) if r["status"] in ("ok", "reused")]
+        if not rows:
+            print(f"{study}: no finished case yet in {path}")
+            continue
+        columns = [c for c in rows[0].keys() if c not in ("status", "rank", "file", "error")]
+        out = os.path.join(args.data, f"mechanofusion_{study}.csv")
+        with open(out, "w", newline="") as f:
+            w = csv.writer(f)
+            w.writerow(columns)
+            for r in rows:
+                w.writerow([r[c] for c in columns])
+        print(f"{out}: {len(rows)} finished cases")
+        written += 1
+    if not written:
+        sys.exit(f"no study's sweep summary under {args.work}")
+
+
+def grouped(rows, x, quantity, by=None):
+    """{series value: (xs, means, standard errors, counts, per-seed {seed: (xs, ys)})}"""
+    out = {}
+    for r in rows:
+        key = number(r[by]) if by else None
+        xv, yv, seed = number(r[x]), number(r.get(quantity)), number(r.get("seed", 1))
+        if not math.isfinite(yv):
+            continue
+        s = out.setdefault(key, {})
+        s.setdefault(xv, []).append((seed, yv))
+    result = {}
+    for key, points in out.items():
+        xs = sorted(points)
+        means, errors, counts = [], [], []
+        seeds = {}
+        for xv in xs:
+            ys = np.array([y for _, y in points[xv]])
+            means.append(ys.mean())
+            errors.append(ys.std(ddof=1) / math.sqrt(len(ys)) if len(ys) > 1 else float("nan"))
+            counts.append(len(ys))
+            for seed, y in points[xv]:
+                seeds.setdefault(seed, ([], []))
+                seeds[seed][0].append(xv)
+                seeds[seed][1].append(y)
+        result[key] = (np.array(xs), np.array(means), np.array(errors), counts, seeds)
+    return result
+
+
+def exponent(xs, means, seeds):
+    """Mean +- standard error over the seeds' own fits; one seed: the fit's error."""
+    per_seed = [power_fit(sx, sy)[0] for sx, sy in seeds.values() if len(sx) >= 2]
+    per_seed = [b for b in per_seed if math.isfinite(b)]
+    if len(per_seed) >= 2:
+        return float(np.mean(per_seed)), float(np.std(per_seed, ddof=1) / math.sqrt(len(per_seed))), len(per_seed)
+    b, se, _ = power_fit(xs, means)
+    return b, se, len(per_seed)
+
+
+def fit_figure(study, rows, spec, fits, out_dir):
+    claims = spec["claims"]
+    if not claims:
+        return
+    n = len(claims)
+    cols = min(3, n)
+    fig, axes = plt.subplots((n + cols - 1) // cols, cols, figsize=(4.2 * cols, 3.4 * ((n + cols - 1) // cols)),
+                             squeeze=False)
+    for ax, (quantity, claim, where) in zip(axes.flat, claims):
+        for key, (xs, means, errors, counts, seeds) in sorted(grouped(rows, spec["x"], quantity, spec.get("by")).items(),
+                                                             key=lambda kv: (kv[0] is None, kv[0])):
+            if len(xs) < 2:
+                continue
+            b, se, nseeds = exponent(xs, means, seeds)
+            label = (f"{spec['by']}={key:g}: " if key is not None else "") + f"x^{b:.2f}+-{se:.2f}"
+            ax.errorbar(xs, np.abs(means), yerr=np.nan_to_num(errors), fmt="o", capsize=3, label=label)
+            fits.append((study, quantity + (f" ({spec['by']}={key:g})" if key is not None else ""), b, se,
+                         max(nseeds, min(counts)), "" if claim is None else f"x^{claim:g} ({where})"))
+            print(f"fit study={study} quantity={fits[-1][1]} exponent={b:.3f} +- {se:.3f} seeds={fits[-1][4]} "
+                  f"claim={fits[-1][5]}")
+            if claim is not None:
+                xm = math.exp(np.mean(np.log(xs)))
+                ym = math.exp(np.mean(np.log(np.abs(means))))
+                xx = np.geomspace(xs.min(), xs.max(), 20)
+                ax.plot(xx, ym * (xx / xm) ** claim, "k--", lw=0.8)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel(spec["x"])
+        ax.set_title(quantity.replace("_", " "), fontsize=8)
+        ax.legend(fontsize=6)
+        ax.grid(True, which="both", alpha=0.3)
+    for ax in list(axes.flat)[n:]:
+        ax.axis("off")
+    fig.suptitle(f"{study} study: mean over seeds +- standard error; dashed: the claimed law", fontsize=9)
+    save(fig, os.path.join(out_dir, f"mechanofusion_{study}_ensemble.png"))
+
+
+def profile_figure(study, rows, spec, out_dir, prefix, quantities, title):
+    fig, axes = plt.subplots(1, len(quantities), figsize=(3.6 * len(quantities), 3.2), squeeze=False)
+    for ax, q in zip(axes.flat, quantities):
+        zones = sorted({int(c[len(prefix):].split("_")[0]) for c in rows[0] if c.startswith(prefix)
+                        and c.endswith("_" + q) and c[len(prefix):].split("_")[0].isdigit()})
+        for value in sorted({number(r[spec["x"]]) for r in rows}):
+            subset = [r for r in rows if number(r[spec["x"]]) == value]
+            data = np.array([[number(r.get(f"{prefix}{z}_{q}")) for z in zones] for r in subset])
+            mean = np.nanmean(data, axis=0)
+            se = np.nanstd(data, axis=0, ddof=1) / math.sqrt(len(subset)) if len(subset) > 1 else 0 * mean
+            ax.errorbar(zones, mean, yerr=np.nan_to_num(se), fmt="o-", capsize=3,
+                        label=f"{spec['x']}={value:g} ({len(subset)} seeds)")
+        ax.set_xlabel(prefix.rstrip("_") + " (1: " + ("innermost" if prefix == "zone" else "at the chamber wall") + ")")
+        ax.set_title(q.replace("_", " "), fontsize=8)
+        if q not in ("azimuthal_velocity", "radial_velocity"):
+            ax.set_yscale("log")
+        ax.legend(fontsize=6)
+        ax.grid(True, alpha=0.3)
+    fig.suptitle(title, fontsize=9)
+    save(fig, os.path.join(out_dir, f"mechanofusion_{study}_{prefix.rstrip('_')}_profiles.png"))
+
+
+def save(fig, path):
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    print(path)
+
+
+def means_table(study, rows, spec, quantities):
+    """Mean +- standard error per value of the study's parameter, one line each."""
+    for q in quantities:
+        for key, (xs, means, errors, counts, _) in grouped(rows, spec["x"], q, spec.get("by")).items():
+            for xv, m, e, c in zip(xs, means, errors, counts):
+                tag = f" {spec['by']}={key:g}" if key is not None else ""
+                print(f"mean study={study}{tag} {spec['x']}={xv:g} {q}={m:.4g} +- {e:.2g} seeds={c}")
+
+
+def figures(args):
+    os.makedirs(args.output, exist_ok=True)
+    fits = []
+    found = False
+    for study, spec in STUDIES.items():
+        path = os.path.join(args.data, f"mechanofusion_{study}.csv")
+        if not os.path.exists(path):
+            continue
+        found = True
+        rows = read_csv(path)
+        fit_figure(study, rows, spec, fits, args.output)
+        means_table(study, rows, spec, ["inner_normal_force", "max_overlap_ratio_fixed", "max_overlap_ratio_wall",
+                                        "max_overlap_ratio_particle", "gap_shear_rate", "gap_nominal_shear_rate"]
+                    + [f"coating_time_estimate_{c}" for c in ("one_patch_rstar", "two_patches_rstar",
+                                                              "one_patch_r", "two_patches_r")]
+                    + [f"normal_force_per_contact_{a}" for a in AREAS]
+                    + [f"fraction_over_{t}_mm_s_{a}" for t in ("100", "200", "1000") for a in AREAS])
+        if study in ("scraper", "slab"):
+            profile_figure(study, rows, spec, args.output, "zone",
+                           ["rotational_ke", "deviatoric_ke", "pressure", "collision_work_rate", "solid_fraction"],
+                           f"{study} study: zone profiles (4.3), mean over seeds +- standard error")
+        if study in ("rpm", "gap"):
+            profile_figure(study, rows, spec, args.output, "gap_bin",
+                           ["azimuthal_velocity", "granular_temperature", "solid_fraction"],
+                           f"{study} study: across the gap (sector +-10 deg), mean over seeds +- standard error")
+    if not found:
+        sys.exit(f"no mechanofusion_<study>.csv under {args.data}: run `tables` first")
+    out = os.path.join(args.data, "mechanofusion_fits.csv")
+    with open(out, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["study", "quantity", "exponent", "standard_error", "seeds", "claim"])
+        for row in fits:
+            w.writerow([row[0], row[1], f"{row[2]:.4f}", f"{row[3]:.4f}", row[4], row[5]])
+    print(out)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = ap.add_subparsers(dest="command", required=True)
+    t = sub.add_parser("tables")
+    t.add_argument("work")
+    t.add_argument("--data", default=os.path.join(ROOT, "docs", "data"))
+    f = sub.add_parser("figures")
+    f.add_argument("--data", default=os.path.join(ROOT, "docs", "data"))
+    f.add_argument("-o", "--output", default=os.path.join(ROOT, "docs", "figures"))
+    args = ap.parse_args(argv)
+    tables(args) if args.command == "tables" else figures(args)
+
+
+if __name__ == "__main__":
+    main()

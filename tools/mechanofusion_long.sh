@@ -1,0 +1,52 @@
+#!/bin/sh
+# The Mechanofusion studies at full length (docs/mechanofusion.md, "Full-length
+# studies"): each study is one `granule sweep` of scenarios/mechanofusion.lua
+# over its parameter and the seeds, every case `SETTLE` s of settling and then
+# `MEASURE` s with every diagnostic attached. Under mpirun the cases share the
+# ranks; every case writes a checkpoint every CHECKPOINT s of wall time, so a
+# study stopped at any point (Ctrl-C, a lost machine, the end of a session) is
+# continued by running the same command again: finished cases are kept,
+# unfinished ones go on from their checkpoints. Then
+#   /usr/bin/python3 tools/mechanofusion_ensembles.py tables WORK
+#   /usr/bin/python3 tools/mechanofusion_ensembles.py figures
+# make the tables under docs/data/ and the figures from them.
+#
+# usage, from the repository root after a build:
+#   sh tools/mechanofusion_long.sh WORK [study ...]
+# studies: rpm scraper gap stiffness loading double slab (default: all, in that order)
+# environment: RANKS (2), SEEDS (1,2,3), SETTLE (0.2), MEASURE (1), CHECKPOINT (600),
+#              GRANULE (build/granule)
+set -e
+root=$(cd "$(dirname "$0")/.." && pwd)
+work=${1:?usage: sh tools/mechanofusion_long.sh WORK [study ...]}
+shift
+studies=${*:-"rpm scraper gap stiffness loading double slab"}
+granule=${GRANULE:-$root/build/granule}
+ranks=${RANKS:-2}
+seeds=${SEEDS:-1,2,3}
+settle=${SETTLE:-0.2}
+measure=${MEASURE:-1}
+checkpoint=${CHECKPOINT:-600}
+launch=""
+if [ "$ranks" -gt 1 ]; then
+  launch="mpirun --allow-run-as-root --oversubscribe --mca btl self,vader -np $ranks"
+fi
+mkdir -p "$work"
+for study in $studies; do
+  case $study in
+    rpm) axes="-D rpm=500,1000,2000,3000,4000" ;;
+    scraper) axes="-D scraper=true,false" ;;
+    gap) axes="-D gap=1.0e-3,1.6e-3,2.4e-3,3.2e-3" ;;
+    stiffness) axes="-D k_load=2000,5000,20000,50000" ;;
+    loading) axes="-D rpm=1000,2000,4000 -D particles=500,1000,1500,2000" ;;
+    double) axes="-D size_scale=1,2" ;;
+    slab) axes="-D dimension=2,3" ;;
+    *) echo "unknown study '$study' (rpm scraper gap stiffness loading double slab)" >&2; exit 2 ;;
+  esac
+  echo "== $study" >&2
+  # The seed varies slowest: every value of a study has its first seed before any has a second.
+  # shellcheck disable=SC2086
+  OMP_WAIT_POLICY=PASSIVE $launch "$granule" sweep "$root/scenarios/mechanofusion.lua" -D seed=$seeds $axes \
+    -D settle=$settle -D duration=$measure -o "$work/$study" --threads 1 --checkpoint-every $checkpoint -q \
+    || echo "$study: some cases did not finish (rerun the same command to continue them)" >&2
+done
