@@ -51,6 +51,7 @@ STUDIES = {
                                             for a in AREAS]},
     "loading": {"x": "particles", "by": "rpm", "claims": [("inner_normal_force", None, "Fig. 4.17"),
                                                           ("inner_tangential_force", None, "Fig. 4.18")]},
+    "coating": {"x": "rpm", "claims": []},
     "scraper": {"x": "scraper", "claims": []},
     "double": {"x": "size_scale", "claims": []},
     "slab": {"x": "dimension", "claims": []},
@@ -70,6 +71,19 @@ def number(text):
         return {"true": 1.0, "false": 0.0}.get(str(text).strip().lower(), float("nan"))
 
 
+def derive(row):
+    """The "two times" of 4.4.2 (chapter 4's summary: the force on a particle in the
+    inner-piece and scraper areas is twice that in the others), per particle and per
+    contact, and the share of impacts below 0.1 m/s (4.6), added to a case's row."""
+    for kind in ("per_particle", "per_contact"):
+        f = {a: number(row.get(f"normal_force_{kind}_{a}")) for a in AREAS}
+        low = f["input"] + f["free_diffusion"]
+        row[f"two_times_ratio_{kind}"] = f"{(f['inner_piece'] + f['scraper']) / low:.6g}" if low > 0 else "nan"
+    for a in AREAS:
+        over = number(row.get(f"fraction_over_100_mm_s_{a}"))
+        row[f"fraction_below_100_mm_s_{a}"] = f"{1 - over:.6g}" if math.isfinite(over) else "nan"
+
+
 def tables(args):
     os.makedirs(args.data, exist_ok=True)
     written = 0
@@ -81,6 +95,8 @@ def tables(args):
         if not rows:
             print(f"{study}: no finished case yet in {path}")
             continue
+        for r in rows:
+            derive(r)
         columns = [c for c in rows[0].keys() if c not in ("status", "rank", "file", "error")]
         out = os.path.join(args.data, f"mechanofusion_{study}.csv")
         with open(out, "w", newline="") as f:
@@ -207,10 +223,38 @@ def means_table(study, rows, spec, quantities):
                 print(f"mean study={study}{tag} {spec['x']}={xv:g} {q}={m:.4g} +- {e:.2g} seeds={c}")
 
 
+def cost_figure(path, fits, out_dir):
+    """Fig. 4.4: CPU time per simulated second against the loading (tools/mechanofusion_cost.lua)."""
+    rows = read_csv(path)
+    fig, ax = plt.subplots(figsize=(4.8, 3.6))
+    for diagnostics, marker in (("no", "o"), ("yes", "s")):
+        sub = [r for r in rows if r["diagnostics"] == diagnostics]
+        if len(sub) < 2:
+            continue
+        n = np.array([number(r["particles"]) for r in sub])
+        t = np.array([number(r["cpu_seconds_per_simulated_second"]) for r in sub])
+        b, se, a = power_fit(n, t)
+        fits.append(("cost", f"cpu_seconds_per_simulated_second (diagnostics {diagnostics})", b, se, 1,
+                     "faster than N^2 (Fig. 4.4)"))
+        print(f"fit study=cost diagnostics={diagnostics} exponent={b:.3f} +- {se:.3f}")
+        ax.loglog(n, t, marker, label=f"diagnostics {diagnostics}: N^{b:.2f}+-{se:.2f}")
+        ax.loglog(n, a * n ** b, "-", lw=0.8, color=ax.lines[-1].get_color())
+    ax.set_xlabel("particles")
+    ax.set_ylabel("CPU s per simulated s (one core)")
+    ax.set_title("computing time against loading (Fig. 4.4)", fontsize=9)
+    ax.legend(fontsize=7)
+    ax.grid(True, which="both", alpha=0.3)
+    save(fig, os.path.join(out_dir, "mechanofusion_cost.png"))
+
+
 def figures(args):
     os.makedirs(args.output, exist_ok=True)
     fits = []
     found = False
+    cost = os.path.join(args.data, "mechanofusion_cost.csv")
+    if os.path.exists(cost):
+        found = True
+        cost_figure(cost, fits, args.output)
     for study, spec in STUDIES.items():
         path = os.path.join(args.data, f"mechanofusion_{study}.csv")
         if not os.path.exists(path):
@@ -223,7 +267,11 @@ def figures(args):
                     + [f"coating_time_estimate_{c}" for c in ("one_patch_rstar", "two_patches_rstar",
                                                               "one_patch_r", "two_patches_r")]
                     + [f"normal_force_per_contact_{a}" for a in AREAS]
-                    + [f"fraction_over_{t}_mm_s_{a}" for t in ("100", "200", "1000") for a in AREAS])
+                    + [f"fraction_over_{t}_mm_s_{a}" for t in ("100", "200", "1000") for a in AREAS]
+                    + [f"fraction_below_100_mm_s_{a}" for a in AREAS]
+                    + ["two_times_ratio_per_particle", "two_times_ratio_per_contact"]
+                    + [f"coating_time_{c}" for c in ("one_patch_rstar", "two_patches_rstar", "one_patch_r",
+                                                     "two_patches_r")])
         if study in ("scraper", "slab"):
             profile_figure(study, rows, spec, args.output, "zone",
                            ["rotational_ke", "deviatoric_ke", "pressure", "collision_work_rate", "solid_fraction"],
