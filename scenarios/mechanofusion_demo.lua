@@ -23,7 +23,7 @@ local p = parameters {
   friction_wall = { default = 0.5 },
   scraper = { default = true, doc = "add the scraper (a row of fixed particles)" },
   scraper_angle = { default = 100, unit = "deg", doc = "position downstream of the inner piece" },
-  scraper_tilt = { default = 40, unit = "deg", doc = "angle to the wall's tangent" },
+  scraper_tilt = { default = 70, unit = "deg", doc = "angle to the wall's tangent (70 jams no particle against the wall: docs/mechanofusion.md)" },
   scraper_length = { default = 4.4e-3, unit = "m" },
   seed = { default = 1 },
   snapshot_every = { default = 0.002, unit = "s" },

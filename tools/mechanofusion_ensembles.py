@@ -39,14 +39,19 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 # Each study: the parameter it varies, the others that split it into series,
 # and the claims its fits are set against (quantity, claimed exponent, where).
 STUDIES = {
-    "rpm": {"x": "rpm", "claims": [("inner_normal_force", 2, "Fig. 5.3"),
+    "rpm": {"x": "rpm", "versus": [("gap_mean_granular_temperature", "gap_shear_rate", 2, "Eq. 5.4")],
+            "claims": [("inner_normal_force", 2, "Fig. 5.3"),
                                    ("inner_tangential_force", 2, "Fig. 5.3")]
             + [(f"normal_force_per_contact_{a}", 1, "Figs. 5.11-5.12") for a in AREAS]
             + [("gap_shear_rate", 1, "Eq. 5.6"), ("gap_normal_force_per_contact", 1, "Eq. 5.10"),
                ("coating_time_estimate_one_patch_rstar", -1, "Fig. 4.33")]},
     "gap": {"x": "gap", "claims": [("normal_force_per_contact_inner_piece", -1, "Eq. 5.11, Fig. 5.13"),
                                    ("gap_normal_force_per_contact", -1, "Eq. 5.11"),
-                                   ("gap_shear_rate", -1, "Eq. 5.6")]},
+                                   ("gap_shear_rate", -1, "Eq. 5.6"),
+                                   ("gap_mean_granular_temperature", -2, "Eqs. 5.4, 5.6")],
+            "versus": [("gap_normal_force_per_contact", "gap_shear_rate", 1, "Eq. 5.10"),
+                       ("normal_force_per_contact_inner_piece", "gap_shear_rate", 1, "Eq. 5.10"),
+                       ("gap_mean_granular_temperature", "gap_shear_rate", 2, "Eq. 5.4")]},
     "stiffness": {"x": "k_load", "claims": [(f"normal_force_per_contact_{a}", 0.5, "Figs. 5.9-5.10")
                                             for a in AREAS]},
     "loading": {"x": "particles", "by": "rpm", "claims": [("inner_normal_force", None, "Fig. 4.17"),
@@ -82,6 +87,23 @@ def derive(row):
     for a in AREAS:
         over = number(row.get(f"fraction_over_100_mm_s_{a}"))
         row[f"fraction_below_100_mm_s_{a}"] = f"{1 - over:.6g}" if math.isfinite(over) else "nan"
+    # Eq. 5.4 with the measured shear rate and solid fraction of the gap: the
+    # granular temperature a simple shear flow of nearly elastic spheres would
+    # have, T^1/2 = sqrt(J / 15 (1 - e)) d du/dy, J = 1 + pi/12 (1 + 5 / 8G)^2,
+    # G = nu g0, g0 = (2 - nu) / 2 (1 - nu)^3 (5.1-5.3).
+    nu, rate = number(row.get("gap_mean_solid_fraction")), number(row.get("gap_shear_rate"))
+    d = 2 * (number(row.get("radius")) if math.isfinite(number(row.get("radius"))) else 0.2e-3)
+    e = number(row.get("restitution")) if math.isfinite(number(row.get("restitution"))) else 0.85
+    measured = number(row.get("gap_mean_granular_temperature"))
+    if 0 < nu < 1 and rate > 0 and e < 1:
+        g = nu * (2 - nu) / (2 * (1 - nu) ** 3)
+        j = 1 + math.pi / 12 * (1 + 5 / (8 * g)) ** 2
+        predicted = j / (15 * (1 - e)) * (d * rate) ** 2
+        row["gap_eq_5_4_temperature"] = f"{predicted:.6g}"
+        row["gap_temperature_over_eq_5_4"] = f"{measured / predicted:.6g}" if math.isfinite(measured) else "nan"
+    shear, nominal = number(row.get("gap_shear_rate")), number(row.get("gap_nominal_shear_rate"))
+    if nominal > 0:
+        row["gap_shear_rate_over_nominal"] = f"{shear / nominal:.6g}"
 
 
 def tables(args):
@@ -185,6 +207,36 @@ def fit_figure(study, rows, spec, fits, out_dir):
     save(fig, os.path.join(out_dir, f"mechanofusion_{study}_ensemble.png"))
 
 
+def versus_figure(study, rows, spec, fits, out_dir):
+    """A quantity against another measured one (the force per contact against the
+    measured shear rate, Eq. 5.10), every case a point, fitted over all of them."""
+    pairs = spec.get("versus", [])
+    if not pairs:
+        return
+    fig, axes = plt.subplots(1, len(pairs), figsize=(4.2 * len(pairs), 3.4), squeeze=False)
+    for ax, (yq, xq, claim, where) in zip(axes.flat, pairs):
+        x = np.array([number(r.get(xq)) for r in rows])
+        y = np.array([number(r.get(yq)) for r in rows])
+        ok = np.isfinite(x) & np.isfinite(y) & (x > 0) & (y > 0)
+        if ok.sum() < 2:
+            continue
+        b, se, a = power_fit(x[ok], y[ok])
+        fits.append((study, f"{yq} against {xq}", b, se, int(ok.sum()), f"x^{claim:g} ({where}), every case a point"))
+        print(f"fit study={study} quantity={yq} against={xq} exponent={b:.3f} +- {se:.3f} points={ok.sum()}")
+        values = np.array([number(r.get(spec["x"])) for r in rows])
+        for v in sorted(set(values[ok])):
+            sel = ok & (values == v)
+            ax.loglog(x[sel], y[sel], "o", label=f"{spec['x']}={v:g}")
+        xx = np.geomspace(x[ok].min(), x[ok].max(), 20)
+        ax.loglog(xx, a * xx ** b, "-", lw=0.8, color="k", label=f"fit x^{b:.2f}+-{se:.2f}")
+        ax.set_xlabel(xq.replace("_", " "))
+        ax.set_ylabel(yq.replace("_", " "), fontsize=7)
+        ax.set_title(f"claim x^{claim:g} ({where})", fontsize=8)
+        ax.legend(fontsize=6)
+        ax.grid(True, which="both", alpha=0.3)
+    save(fig, os.path.join(out_dir, f"mechanofusion_{study}_versus.png"))
+
+
 def profile_figure(study, rows, spec, out_dir, prefix, quantities, title):
     fig, axes = plt.subplots(1, len(quantities), figsize=(3.6 * len(quantities), 3.2), squeeze=False)
     for ax, q in zip(axes.flat, quantities):
@@ -262,6 +314,7 @@ def figures(args):
         found = True
         rows = read_csv(path)
         fit_figure(study, rows, spec, fits, args.output)
+        versus_figure(study, rows, spec, fits, args.output)
         means_table(study, rows, spec, ["inner_normal_force", "max_overlap_ratio_fixed", "max_overlap_ratio_wall",
                                         "max_overlap_ratio_particle", "gap_shear_rate", "gap_nominal_shear_rate"]
                     + [f"coating_time_estimate_{c}" for c in ("one_patch_rstar", "two_patches_rstar",
@@ -269,7 +322,8 @@ def figures(args):
                     + [f"normal_force_per_contact_{a}" for a in AREAS]
                     + [f"fraction_over_{t}_mm_s_{a}" for t in ("100", "200", "1000") for a in AREAS]
                     + [f"fraction_below_100_mm_s_{a}" for a in AREAS]
-                    + ["two_times_ratio_per_particle", "two_times_ratio_per_contact"]
+                    + ["two_times_ratio_per_particle", "two_times_ratio_per_contact",
+                       "gap_temperature_over_eq_5_4", "gap_shear_rate_over_nominal", "gap_mean_solid_fraction"]
                     + [f"coating_time_{c}" for c in ("one_patch_rstar", "two_patches_rstar", "one_patch_r",
                                                      "two_patches_r")])
         if study in ("scraper", "slab"):

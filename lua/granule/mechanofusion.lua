@@ -44,7 +44,7 @@ M.defaults = {
   steps_per_contact = { default = 40, unit = "-", doc = "n of Eq. 4.1" },
   scraper = { default = true, doc = "add the scraper (a row of fixed particles)" },
   scraper_angle = { default = 100, unit = "deg", doc = "scraper position downstream of the inner piece" },
-  scraper_tilt = { default = 40, unit = "deg", doc = "scraper angle to the wall's tangent" },
+  scraper_tilt = { default = 70, unit = "deg", doc = "scraper angle to the wall's tangent (70: no particle jams in the wedge with the wall; 40, SPEC 4.1, jams one: docs/mechanofusion.md)" },
   scraper_length = { default = 4.4e-3, unit = "m", doc = "scraper length (at size_scale 1)" },
   scraper_wall_overlap = { default = 0, unit = "m", doc = "sink the scraper row into the wall this far (0: touching, SPEC 4.1)" },
   size_scale = { default = 1, unit = "-", doc = "machine lengths x s, loading x s^2 (5.3.2: 2)" },
