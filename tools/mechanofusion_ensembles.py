@@ -5,6 +5,13 @@ studies"): tables from the sweeps, then figures and fits from the tables.
 usage:
   /usr/bin/python3 tools/mechanofusion_ensembles.py tables WORK [--data docs/data]
   /usr/bin/python3 tools/mechanofusion_ensembles.py figures [--data docs/data] [-o docs/figures]
+  /usr/bin/python3 tools/mechanofusion_ensembles.py overlaps SWEEP_DIR ... [--data docs/data]
+
+overlaps: the scraper's tilt against the deepest contacts (sweeps of
+scenarios/mechanofusion.lua over rpm and scraper_tilt, and over rpm with
+scraper=false): per case the largest overlap over the run and the median over
+the windows of each window's largest, per contact kind, into
+docs/data/mechanofusion_scraper_tilt.csv (`figures` draws it).
 
 tables: reads WORK/<study>/mechanofusion.sweep.csv for every study that
 tools/mechanofusion_long.sh ran (a sweep over scenarios/mechanofusion.lua with
@@ -307,6 +314,10 @@ def figures(args):
     if os.path.exists(cost):
         found = True
         cost_figure(cost, fits, args.output)
+    tilt = os.path.join(args.data, "mechanofusion_scraper_tilt.csv")
+    if os.path.exists(tilt):
+        found = True
+        tilt_figure(tilt, args.output)
     for study, spec in STUDIES.items():
         path = os.path.join(args.data, f"mechanofusion_{study}.csv")
         if not os.path.exists(path):
@@ -345,6 +356,56 @@ def figures(args):
     print(out)
 
 
+def overlaps(args):
+    import h5py
+    out_rows = []
+    for directory in args.sweeps:
+        for r in read_csv(os.path.join(directory, "mechanofusion.sweep.csv")):
+            if r["status"] not in ("ok", "reused"):
+                continue
+            with h5py.File(os.path.join(directory, r["file"]), "r") as f:
+                group = f["diagnostics/overlaps/max_overlap_ratio"]
+                medians = {k: float(np.median(group[k][()])) for k in ("particle", "fixed", "wall")}
+            tilt = r.get("scraper_tilt") or ("none" if r.get("scraper", "true") == "false" else "70")
+            out_rows.append([r["rpm"], tilt] + [r[f"max_overlap_ratio_{k}"] for k in ("fixed", "wall", "particle")]
+                            + [f"{medians[k]:.6g}" for k in ("fixed", "wall", "particle")]
+                            + [r["zone7_solid_fraction"], r["inner_normal_force"],
+                               r["normal_force_per_particle_scraper"], r["duration"], r["settle"]])
+    out = os.path.join(args.data, "mechanofusion_scraper_tilt.csv")
+    with open(out, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["rpm", "scraper_tilt", "max_fixed", "max_wall", "max_particle", "window_median_fixed",
+                    "window_median_wall", "window_median_particle", "outer_zone_solid_fraction",
+                    "inner_normal_force", "scraper_area_force_per_particle", "measured_s", "settled_s"])
+        for row in sorted(out_rows, key=lambda x: (number(x[0]), str(x[1]))):
+            w.writerow(row)
+    print(f"{out}: {len(out_rows)} cases")
+
+
+def tilt_figure(path, out_dir):
+    rows = read_csv(path)
+    fig, axes = plt.subplots(1, 3, figsize=(11, 3.4))
+    for ax, kind in zip(axes, ("fixed", "wall", "particle")):
+        for rpm in sorted({number(r["rpm"]) for r in rows}):
+            sub = sorted([r for r in rows if number(r["rpm"]) == rpm and r["scraper_tilt"] != "none"],
+                         key=lambda r: number(r["scraper_tilt"]))
+            tilts = [number(r["scraper_tilt"]) for r in sub]
+            line, = ax.semilogy(tilts, [number(r[f"max_{kind}"]) for r in sub], "o-", label=f"{rpm:g} rpm, run max")
+            ax.semilogy(tilts, [number(r[f"window_median_{kind}"]) for r in sub], "s--", color=line.get_color(),
+                        label=f"{rpm:g} rpm, median window max")
+            none = [r for r in rows if number(r["rpm"]) == rpm and r["scraper_tilt"] == "none"]
+            if none and kind != "fixed":
+                ax.axhline(number(none[0][f"max_{kind}"]), color=line.get_color(), lw=0.6, ls=":")
+        ax.axhline(0.02, color="k", lw=0.8)
+        ax.set_xlabel("scraper tilt to the wall's tangent (deg)")
+        ax.set_ylabel("overlap / radius")
+        ax.set_title({"fixed": "particle-scraper", "wall": "particle-wall", "particle": "particle-particle"}[kind]
+                     + " (dotted: no scraper)", fontsize=8)
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0].legend(fontsize=6)
+    save(fig, os.path.join(out_dir, "mechanofusion_scraper_tilt.png"))
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = ap.add_subparsers(dest="command", required=True)
@@ -354,8 +415,11 @@ def main(argv=None):
     f = sub.add_parser("figures")
     f.add_argument("--data", default=os.path.join(ROOT, "docs", "data"))
     f.add_argument("-o", "--output", default=os.path.join(ROOT, "docs", "figures"))
+    o = sub.add_parser("overlaps")
+    o.add_argument("sweeps", nargs="+")
+    o.add_argument("--data", default=os.path.join(ROOT, "docs", "data"))
     args = ap.parse_args(argv)
-    tables(args) if args.command == "tables" else figures(args)
+    {"tables": tables, "figures": figures, "overlaps": overlaps}[args.command](args)
 
 
 if __name__ == "__main__":
