@@ -93,6 +93,12 @@ local per_area = { "normal_force_per_particle", "tangential_force_per_particle",
 for _, q in ipairs(per_area) do
   for _, a in ipairs(mf.area_names) do case_columns[#case_columns + 1] = q .. "_" .. a end
 end
+-- The flow in the narrow gap sector (5.2), the deepest contacts, the readings of 4.7.
+local extra_columns = { "gap_shear_rate", "gap_nominal_shear_rate", "gap_mean_granular_temperature",
+                        "gap_mean_solid_fraction", "gap_normal_force_per_contact", "max_overlap_ratio_particle",
+                        "max_overlap_ratio_fixed", "max_overlap_ratio_wall" }
+for _, c in ipairs(mf.coating_readings) do extra_columns[#extra_columns + 1] = "coating_time_estimate_" .. c end
+for _, c in ipairs(extra_columns) do case_columns[#case_columns + 1] = c end
 for _, c in ipairs { "coating_time_estimate", "covered_fraction", "escaped", "wall_seconds" } do
   case_columns[#case_columns + 1] = c
 end
@@ -138,6 +144,7 @@ for k, case in ipairs(cases) do
   for _, q in ipairs(per_area) do
     for _, a in ipairs(mf.area_names) do row[#row + 1] = s[q .. "_" .. a] end
   end
+  for _, c in ipairs(extra_columns) do row[#row + 1] = s[c] or 0 end
   row[#row + 1] = s.coating_time_estimate
   row[#row + 1] = s.covered_fraction
   row[#row + 1] = s.escaped
