@@ -3,6 +3,7 @@
 // continues bit-identically (see LuaSim in lua_simulation.hpp).
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <set>
@@ -211,6 +212,9 @@ int l_checkpoint(lua_State* L) {
     if (!s.checkpoint_path_fixed) s.checkpoint.path = file;
     s.checkpoint.every_steps = every_steps;
     s.checkpoint.every_seconds = every_seconds;
+    // And a wall-clock period given there (--checkpoint-every) holds too: the sooner wins.
+    if (const double cli = s.context ? s.context->checkpoint_every_seconds : 0; cli > 0)
+      s.checkpoint.every_seconds = every_seconds > 0 ? std::min(every_seconds, cli) : cli;
     s.checkpoint.last_step = s.sim->step_count();
     s.checkpoint.last_wall = std::chrono::steady_clock::now();
     return 0;

@@ -27,6 +27,23 @@ test -f restart_test.chk.h5
 "$granule" run "$scene" --restart restart_test.chk.h5 -o resumed.h5 --quiet > resumed.txt
 cmp whole.txt resumed.txt
 compare whole.h5 resumed.h5
+# --checkpoint names the file whatever the scene's sim:checkpoint says (as granule
+# sweep gives each case its own); the restart from it is the same run.
+rm -f restart_test.chk.h5
+"$granule" run "$scene" --checkpoint own.chk.h5 -o own.h5 --quiet > own.txt
+test -f own.chk.h5 || { echo "--checkpoint own.chk.h5 wrote no checkpoint there"; exit 1; }
+test ! -f restart_test.chk.h5 || { echo "the scene's own checkpoint file was written despite --checkpoint"; exit 1; }
+"$granule" run "$scene" --restart own.chk.h5 -o own_resumed.h5 --quiet > own_resumed.txt
+cmp whole.txt own_resumed.txt
+compare whole.h5 own_resumed.h5
+# --checkpoint-every: wall-clock checkpoints for a scene that asks for none.
+"$granule" run "$scene" -D checkpoint_every=100000000 --checkpoint timed.chk.h5 --checkpoint-every 0.2 \
+  -o timed.h5 --quiet > /dev/null
+test -f timed.chk.h5 || { echo "--checkpoint-every 0.2 wrote no checkpoint"; exit 1; }
+if "$granule" run "$scene" --checkpoint-every 0 -o x.h5 --quiet 2> bad.txt; then
+  echo "--checkpoint-every 0 was accepted"; exit 1
+fi
+grep -q "checkpoint-every expects seconds" bad.txt || { cat bad.txt; exit 1; }
 # Ctrl-C: a checkpoint at the next chunk boundary, exit status 130, then continue.
 rm -f restart_test.chk.h5
 "$granule" run "$scene" -D checkpoint_every=1000000 -D stage2_steps=400000 -o long.h5 --quiet > /dev/null &
