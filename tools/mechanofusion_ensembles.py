@@ -13,10 +13,11 @@ scraper=false): per case the largest overlap over the run and the median over
 the windows of each window's largest, per contact kind, into
 docs/data/mechanofusion_scraper_tilt.csv (`figures` draws it).
 
-tables: reads WORK/<study>/mechanofusion.sweep.csv for every study that
+tables: reads the finished case files under WORK/<study>/ for every study that
 tools/mechanofusion_long.sh ran (a sweep over scenarios/mechanofusion.lua with
-seeds), keeps the finished cases and writes docs/data/mechanofusion_<study>.csv
-(one row per case: its parameters and every result the scene recorded).
+seeds; a study still running gives the cases finished so far) and writes
+docs/data/mechanofusion_<study>.csv (one row per case: its parameters, its
+wall time and every result the scene recorded).
 figures: reads those tables only, so the figures and fits are made again from
 what is committed. Per value of a study's parameter: the mean over the seeds
 and its standard error (sample standard deviation / sqrt(seeds)); per
@@ -113,26 +114,55 @@ def derive(row):
         row["gap_shear_rate_over_nominal"] = f"{shear / nominal:.6g}"
 
 
+def finished_cases(directory):
+    """Every case file of a sweep directory that carries the sweep's mark of a
+    finished case: its parameters (from the mark) and its /results. Read from
+    the files, not the sweep's summary, so a study still running (whose summary
+    is written only when its sweep ends) gives the cases finished so far."""
+    import glob
+    import h5py
+    rows = []
+    for path in sorted(glob.glob(os.path.join(directory, "*.h5"))):
+        if path.endswith((".sweep.h5", ".checkpoint.h5")):
+            continue
+        try:
+            with h5py.File(path, "r") as f:
+                mark = f["sweep_case"].attrs if "sweep_case" in f else None
+                if mark is None or int(mark.get("complete", 0)) != 1 or "results" not in f:
+                    continue
+                key = mark["case"].decode() if isinstance(mark["case"], bytes) else str(mark["case"])
+                row = dict(item.split("=", 1) for item in key.split(";"))
+                row["wall_s"] = f"{float(mark['wall_seconds']):.3f}"
+                row["case"] = os.path.basename(path)
+                for name, value in f["results"].attrs.items():
+                    row[name] = f"{float(np.ravel(value)[0]):.10g}"
+        except (OSError, KeyError, ValueError) as e:
+            print(f"{path}: skipped ({e})")
+            continue
+        rows.append(row)
+    return rows
+
+
 def tables(args):
     os.makedirs(args.data, exist_ok=True)
     written = 0
     for study in STUDIES:
-        path = os.path.join(args.work, study, "mechanofusion.sweep.csv")
-        if not os.path.exists(path):
+        directory = os.path.join(args.work, study)
+        if not os.path.isdir(directory):
             continue
-        rows = [r for r in read_csv(path) if r["status"] in ("ok", "reused")]
+        rows = finished_cases(directory)
         if not rows:
-            print(f"{study}: no finished case yet in {path}")
+            print(f"{study}: no finished case yet in {directory}")
             continue
         for r in rows:
             derive(r)
-        columns = [c for c in rows[0].keys() if c not in ("status", "rank", "file", "error")]
+        columns = sorted({c for r in rows for c in r}, key=lambda c: (c != "case", c))
         out = os.path.join(args.data, f"mechanofusion_{study}.csv")
         with open(out, "w", newline="") as f:
             w = csv.writer(f)
             w.writerow(columns)
             for r in rows:
-                w.writerow([r[c] for c in columns])
+                w.writerow([r.get(c, "") for c in columns])
         print(f"{out}: {len(rows)} finished cases")
         written += 1
     if not written:
@@ -252,11 +282,19 @@ def profile_figure(study, rows, spec, out_dir, prefix, quantities, title):
         for value in sorted({number(r[spec["x"]]) for r in rows}):
             subset = [r for r in rows if number(r[spec["x"]]) == value]
             data = np.array([[number(r.get(f"{prefix}{z}_{q}")) for z in zones] for r in subset])
-            mean = np.nanmean(data, axis=0)
-            se = np.nanstd(data, axis=0, ddof=1) / math.sqrt(len(subset)) if len(subset) > 1 else 0 * mean
-            ax.errorbar(zones, mean, yerr=np.nan_to_num(se), fmt="o-", capsize=3,
+            # A bin nobody visited has no velocity or temperature, not a zero one.
+            counts = np.array([[number(r.get(f"{prefix}{z}_count")) for z in zones] for r in subset])
+            data[~(counts > 0)] = np.nan
+            with np.errstate(all="ignore"):
+                mean = np.nanmean(data, axis=0)
+                se = np.nanstd(data, axis=0, ddof=1) / math.sqrt(len(subset)) if len(subset) > 1 else 0 * mean
+            where = np.array(zones, float)
+            if prefix == "gap_bin":
+                where = (where - 0.5) / len(zones)  # xi at the bin's middle
+            ax.errorbar(where, mean, yerr=np.nan_to_num(se), fmt="o-", capsize=3,
                         label=f"{spec['x']}={value:g} ({len(subset)} seeds)")
-        ax.set_xlabel(prefix.rstrip("_") + " (1: " + ("innermost" if prefix == "zone" else "at the chamber wall") + ")")
+        ax.set_xlabel("zone (1: innermost)" if prefix == "zone"
+                      else "xi = distance from the chamber wall / local gap")
         ax.set_title(q.replace("_", " "), fontsize=8)
         if q not in ("azimuthal_velocity", "radial_velocity"):
             ax.set_yscale("log")
