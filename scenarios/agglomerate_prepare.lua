@@ -37,6 +37,8 @@ local report = agglomerate.prepare(sim, {
   quiet_duration = p.quiet_duration, snapshot_generated = true,
 })
 agglomerate.write_preparation(sim, report)
-sim:snapshot()
+-- The last snapshot and, beside it, the contact histories of the same step, so
+-- that a test starts from exactly the prepared state.
+agglomerate.save(sim, out, report)
 print(agglomerate.preparation_line(report) .. string.format(" cpu_time_s=%.3g", os.clock() - clock))
-io.stderr:write("agglomerate written to " .. out .. " (last snapshot)\n")
+io.stderr:write("agglomerate written to " .. out .. " (last snapshot, contact histories)\n")

@@ -528,6 +528,16 @@ function agglomerate.prepare(sim, given)
   return report
 end
 
+--- Writes the prepared agglomerate to the simulation's output file `path`: a
+--- last snapshot, then (the output closed) the contact histories of the same
+--- step (sim:save_contact_histories), which sim:load_particles restores with
+--- it. Returns the number of histories saved.
+function agglomerate.save(sim, path, report)
+  sim:snapshot()
+  sim:close()
+  return sim:save_contact_histories { file = path, material = report.material }
+end
+
 --- One line "key=value ..." summarising a preparation report.
 function agglomerate.preparation_line(report)
   local ended = {}

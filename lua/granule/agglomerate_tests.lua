@@ -13,8 +13,9 @@
 --   local result = tests.run(sim, "wall", { file = "agglomerate_2d_g1.h5", velocity = 0.5 })
 --
 -- A test (1) loads the agglomerate from the last snapshot of a preparation's
--- output and lets it settle with damping, because a snapshot holds positions
--- and velocities but not the contacts' tangential histories; (2) places the
+-- output with the contact histories saved beside it (a file without them
+-- loses its tangential forces, and the agglomerate first settles again with
+-- damping: option `settle`); (2) places the
 -- target `gap` below it (along -y) and gives the velocities; (3) samples the
 -- breakage (sim:breakage, 7.4) every `sample_every` steps into the series
 -- /breakage and watches the target's contact force every `contact_every`
@@ -40,6 +41,7 @@ tests.defaults = {
   surface_energy = 1.0,             -- Gamma between primaries [J/m^2] (7.5.2: 1.0 and 2.0)
   velocity = 0.1,                   -- m/s: impact velocity (host: of each body) or wall speed
   gap = 20e-9,                      -- m: initial distance to the target ("very small", 7.4)
+  settle = "auto",                  -- "auto": settle only without saved contact histories; "always"; "never"
   settle_damping_rate = 1e6,        -- 1/s: damping while the loaded agglomerate settles
   settle_rest_speed = 1e-4,         -- m/s: settled when the internal rms speed is below this
   settle_steady_time = 1e-6,        -- s: ... with the contact count unchanged this long
@@ -121,23 +123,30 @@ function tests.run(sim, kind, given)
     error(context .. ": 'file' is required: the output of scenarios/agglomerate_prepare.lua", 2)
   end
   if o.strain >= 1 then error(context .. ": 'strain' must be < 1 (a fraction of the height)", 2) end
+  if o.settle ~= "auto" and o.settle ~= "always" and o.settle ~= "never" then
+    error(context .. ": 'settle' must be \"auto\", \"always\" or \"never\", got " .. tostring(o.settle), 2)
+  end
   if #sim:particles() > 0 then error(context .. ": the simulation must hold no particles yet", 2) end
   local d = sim:dimension()
   local clock = os.clock()
   local up = function(s) return agglomerate.axis_vector(d, 2, s) end
 
-  -- (1) The agglomerate, and its settling with damping.
+  -- (1) The agglomerate with its contact histories, or settled again with
+  -- damping where the file has none.
   sim:material { name = o.material, density = o.density, young = o.young, poisson = o.poisson }
   sim:contact { o.material, o.material, model = "thornton_jkr", friction = o.friction,
                 surface_energy = o.surface_energy }
-  local ids = sim:load_particles { file = o.file, snapshot = o.snapshot }
+  local ids, restored = sim:load_particles { file = o.file, snapshot = o.snapshot }
   local mass = agglomerate.total_mass(sim, ids)
   sim:run { steps = 1 }
   local bonds_loaded = #sim:bonds { material = o.material }
-  local damping = agglomerate.start_damping(sim, o.material, o.settle_damping_rate, o.damping_every)
-  local settle = agglomerate.run_stage(sim, "settle after loading", o.settle_max_duration, o.sample_every,
-    agglomerate.at_rest(mass, o.settle_rest_speed, o.settle_steady_time), o.quiet)
-  sim:remove_hook(damping)
+  local settle = { duration = 0, ended_by = "criterion" }
+  if o.settle == "always" or (o.settle == "auto" and restored == 0) then
+    local damping = agglomerate.start_damping(sim, o.material, o.settle_damping_rate, o.damping_every)
+    settle = agglomerate.run_stage(sim, "settle after loading", o.settle_max_duration, o.sample_every,
+      agglomerate.at_rest(mass, o.settle_rest_speed, o.settle_steady_time), o.quiet)
+    sim:remove_hook(damping)
+  end
   local shape = agglomerate.geometry(sim, ids)
   local height = shape.high[2] - shape.low[2]
 
@@ -277,6 +286,7 @@ function tests.run(sim, kind, given)
   local result = {
     kind = kind, dimension = d, velocity = o.velocity, surface_energy = o.surface_energy, primaries = #ids,
     diameter = shape.diameter, height = height, initial_bonds = #initial_bonds, bonds_loaded = bonds_loaded,
+    histories_restored = restored,
     settle_duration = settle.duration, settled_by_criterion = settle.ended_by == "criterion" and 1 or 0,
     damage_ratio = b.damage_ratio, debris_ratio = b.debris_ratio, fines_ratio = b.fines_ratio,
     largest_fraction = b.largest_fraction, fragments = b.fragments, large = b.large, medium = b.medium,

@@ -12,8 +12,13 @@
 namespace granule::lua {
 
 // sim:load_particles { file = "agg.h5", snapshot = -1, material_map = { saved = "current" },
-//                      offset = {x, y[, z]}, velocity = {vx, vy[, vz]} } -> list of new ids
+//                      offset = {x, y[, z]}, velocity = {vx, vy[, vz]}, histories = true }
+//   -> list of new ids, number of contact histories restored
 int load_particles(lua_State* L, SimulationBase& sim);
+
+// sim:save_contact_histories { file = "agg.h5", particles = | material = } -> number saved
+// (the run's output closed: sim:close())
+int save_contact_histories(lua_State* L, SimulationBase& sim);
 
 // sim:bonds { particles = {ids} | material = "name" } -> { {a, b}, ... } (ids, a < b)
 int bonds(lua_State* L, SimulationBase& sim);

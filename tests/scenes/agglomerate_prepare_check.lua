@@ -8,7 +8,7 @@ local agglomerate = require "granule.agglomerate"
 
 local count, rest_speed = 60, 1e-4
 local sim = simulation { dimension = 2, record_contacts = true }
-sim:output {}
+local out = sim:output {}
 local report = agglomerate.prepare(sim, { count = count, generation_diameter = 52e-6, rest_speed = rest_speed,
                                           quiet_duration = 100e-6, quiet = true })
 agglomerate.write_preparation(sim, report)
@@ -36,5 +36,5 @@ assert(ratio > 0.6 and ratio < 1.7, string.format("tensile / compressive = %d / 
 local solid = count * 2.5e-6 ^ 2
 local fraction = solid / (report.diameter / 2) ^ 2
 assert(fraction > 0.6 and fraction < 0.9, "packing fraction " .. fraction)
-sim:snapshot()
+agglomerate.save(sim, out, report)
 print("agglomerate_prepare_check ok")
