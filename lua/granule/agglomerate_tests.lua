@@ -93,7 +93,8 @@ tests.kinds = { host = "normal impact with a host particle (7.5)", wall = "norma
 tests.series_columns = { "time", "damage_ratio", "debris_ratio", "fines_ratio", "largest_fraction", "fragments",
                          "large", "medium", "small", "broken_bonds", "debris_ratio_bonds",
                          "largest_fraction_bonds", "fragments_bonds", "kinetic_energy", "target_force",
-                         "in_contact", "wall_travel" }
+                         "in_contact", "wall_travel", "debris_ratio_by_size", "singles_ratio", "bonded_debris_ratio",
+                         "debris_ratio_by_size_bonds", "bonded_debris_ratio_bonds", "approach_speed" }
 
 -- Kinetic energy of one particle (translation + rotation, I = m d^2 / 10, SPEC 2).
 local function particle_kinetic_energy(p)
@@ -227,7 +228,20 @@ function tests.run(sim, kind, given)
   local history = {}
   local function measure(s, graph, labels)
     return s:breakage { initial_bonds = initial_bonds, material = o.material, initial_mass = mass, graph = graph,
-                        labels = labels, large = classes.large, debris = classes.debris, fines = classes.fines }
+                        labels = labels, large = classes.large, debris = classes.debris, fines = classes.fines,
+                        initial_count = #ids }
+  end
+  -- The speed at which agglomerate and target close (> 0) or part (< 0) along
+  -- y: from the momentum of the agglomerate's centre of mass (the total less
+  -- the host's), for the impact times of 7.5.1.
+  local function approach_speed(s)
+    local p = s:stats().momentum[2]
+    if target.host then
+      local h = s:particle(target.host)
+      p = p - h.mass * h.velocity[2]
+      return h.velocity[2] - p / mass
+    end
+    return -p / mass
   end
   local function sample(s)
     local b, kept = measure(s, "contacts"), measure(s, "surviving_bonds")
@@ -236,7 +250,8 @@ function tests.run(sim, kind, given)
     s:append("breakage", { row.time, b.damage_ratio, b.debris_ratio, b.fines_ratio, b.largest_fraction, b.fragments,
                            b.large, b.medium, b.small, b.broken_bonds, kept.debris_ratio, kept.largest_fraction,
                            kept.fragments, row.kinetic_energy, target.force(s), contact.now and 1 or 0,
-                           wall_travel(s) })
+                           wall_travel(s), b.debris_ratio_by_size, b.singles_ratio, b.bonded_debris_ratio,
+                           kept.debris_ratio_by_size, kept.bonded_debris_ratio, approach_speed(s) })
   end
   sample(sim)
   local sampler = sim:every { steps = o.sample_every, name = "breakage sample", sample }
@@ -292,7 +307,10 @@ function tests.run(sim, kind, given)
     largest_fraction = b.largest_fraction, fragments = b.fragments, large = b.large, medium = b.medium,
     small = b.small, fines = b.fines, singles = b.singles, broken_bonds = b.broken_bonds,
     debris_ratio_bonds = kept.debris_ratio, largest_fraction_bonds = kept.largest_fraction,
-    fragments_bonds = kept.fragments,
+    fragments_bonds = kept.fragments, debris_ratio_by_size = b.debris_ratio_by_size, singles_ratio = b.singles_ratio,
+    bonded_debris_ratio = b.bonded_debris_ratio, bonded_debris = b.bonded_debris,
+    debris_ratio_by_size_bonds = kept.debris_ratio_by_size, singles_ratio_bonds = kept.singles_ratio,
+    bonded_debris_ratio_bonds = kept.bonded_debris_ratio,
     contact_start = contact.first and contact.first - t0 or -1,
     impact_duration = (contact.first and contact.ended) and contact.ended - contact.first or -1,
     last_contact = contact.last and contact.last - t0 or -1, contact_episodes = contact.episodes,

@@ -336,6 +336,7 @@ int breakage(lua_State* L, SimulationBase& sim) {
   classes.fines = t.number("fines", classes.fines);
   const bool labels = t.boolean("labels", false);
   const std::string graph = t.string("graph", "contacts");
+  const double initial_count = t.number("initial_count", static_cast<double>(ids.size()));
   t.finish();
   if (graph != "contacts" && graph != "surviving_bonds")
     throw InputError(fmt::format(
@@ -351,7 +352,8 @@ int breakage(lua_State* L, SimulationBase& sim) {
       ids, masses, graph == "contacts" ? now : analysis::surviving_bonds(initial, now));
   analysis::BreakageSummary s;
   try {
-    s = analysis::summarize_breakage(initial, now, f, initial_mass, classes);
+    s = analysis::summarize_breakage(initial, now, f, initial_mass, classes,
+                                     whole_number(initial_count, "breakage: 'initial_count'"));
   } catch (const std::invalid_argument& e) {
     throw InputError(e.what());
   }
@@ -373,6 +375,12 @@ int breakage(lua_State* L, SimulationBase& sim) {
   set_integer(L, "small", s.small);
   set_integer(L, "fines", s.fines);
   set_integer(L, "singles", s.singles);
+  set_integer(L, "initial_count", s.initial_count);
+  set_integer(L, "debris_by_size", s.debris_by_size);
+  set_integer(L, "bonded_debris", s.bonded_debris);
+  set_number(L, "debris_ratio_by_size", s.debris_ratio_by_size);
+  set_number(L, "singles_ratio", s.singles_ratio);
+  set_number(L, "bonded_debris_ratio", s.bonded_debris_ratio);
   if (labels) {
     push_labels(L, f);
     lua_setfield(L, -2, "labels");
