@@ -61,6 +61,17 @@ COLUMNS = ["name", "change", "bonds", "coordination", "diameter_um", "packing_fr
            "stage3_us", "cpu_s"]
 
 
+def complete(path):
+    """An output to reuse: its run got to writing /results (an interrupted one did not)."""
+    if not os.path.exists(path):
+        return False
+    try:
+        with g.open_run(path) as f:
+            return "results" in f and len(f["results"].attrs) > 0
+    except Exception:  # a file cut short is not HDF5 at all
+        return False
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--dimension", type=int, default=2, choices=(2, 3))
@@ -80,7 +91,7 @@ def main(argv=None):
             continue
         path = os.path.join(work, f"prep_{d}d_{name}.h5")
         cpu = float("nan")
-        if not os.path.exists(path):
+        if not complete(path):
             command = [args.granule, "run", "scenarios/agglomerate_prepare.lua", "-D", f"dimension={d}"]
             for k, v in settings.items():
                 command += ["-D", f"{k}={v:g}" if isinstance(v, float) else f"{k}={v}"]

@@ -13,10 +13,10 @@ For every surface energy Gamma and seed it prepares an agglomerate once
 a different random start per seed), then runs the test scene at every velocity
 (-> WORK/<protocol>_<d>d_g<Gamma>_s<S>_v<v>.h5). Outputs that exist are reused;
 delete them to run again. It then writes
-  DATA/agglomerate_<protocol>_<d>d_runs.csv  one row per run: final ratios (contact graph and
+  DATA/agglomerate_<protocol>_<d>d<label>_runs.csv  one row per run: final ratios (contact graph and
                        surviving-bond graph; debris by mass, 7.4, and by size: singles and bonded
                        debris, 7.6), fragments, the impact-time candidates of 7.5.1, how it ended, CPU s
-  DATA/agglomerate_<protocol>_<d>d.csv       per (Gamma, velocity): mean and standard error over the seeds
+  DATA/agglomerate_<protocol>_<d>d<label>.csv       per (Gamma, velocity): mean and standard error over the seeds
   FIGURES/<protocol>_<d>d_vs_velocity.png    the means with error bars (Figs. 7.23, 7.29-7.30, 7.35-7.36),
                        drawn from the second CSV alone (--from-csv redraws it without running anything)
   FIGURES/<protocol>_<d>d_vs_time.png        damage and debris (by size) vs time, first Gamma and seed
@@ -28,6 +28,7 @@ and prints the table and the commands it ran.
 Impact-time candidates (7.5.1: "15 us at 0.1 m/s ... 2.5 us at 1.0 m/s"), each from the
 first contact with the target (the /breakage series, every 100 steps = 28 ns):
   t_first_episode   the first contact episode (force on the target non-zero)
+  t_release_to_end  from the start of the test (target `gap` away) to the end of that episode
   t_first_to_last   first to last contact with the target
   t_force_10        time with the target force above 10 % of its peak
   t_compression     until the approach speed of agglomerate and target first reaches zero
@@ -70,7 +71,7 @@ RESULTS = ["damage_ratio", "debris_ratio", "debris_ratio_bonds", "debris_ratio_b
            "largest_fraction", "largest_fraction_bonds", "fragments", "fragments_bonds", "large", "medium", "small",
            "singles", "bonded_debris", "initial_bonds", "contact_episodes", "peak_force", "test_duration",
            "ended_by_criterion", "settle_duration", "histories_restored", "cpu_time"]
-TIMES = ["t_first_episode", "t_first_to_last", "t_force_10", "t_compression", "t_rebound", "t_damage_95",
+TIMES = ["t_first_episode", "t_release_to_end", "t_first_to_last", "t_force_10", "t_compression", "t_rebound", "t_damage_95",
          "t_debris_95"]
 RUN_COLUMNS = ["gamma", "seed", "velocity"] + RESULTS + TIMES
 # Averaged over the seeds (mean and standard error).
@@ -156,6 +157,7 @@ def impact_times(data, results):
     if start < 0:
         return out
     out["t_first_episode"] = results.get("impact_duration", nan)
+    out["t_release_to_end"] = start + out["t_first_episode"]
     last = results.get("last_contact", -1)
     out["t_first_to_last"] = last - start if last >= start else nan
     force = data["target_force"]
@@ -281,6 +283,7 @@ def main(argv=None):
     parser.add_argument("--data", help="folder for the CSVs (default: WORK)")
     parser.add_argument("--figures", help="folder for the figures (default: WORK)")
     parser.add_argument("--from-csv", help="draw the velocity figure from this summary CSV; run nothing")
+    parser.add_argument("--label", default="", help="appended to the CSV and figure names, e.g. _g2")
     parser.add_argument("--prepare", action="append", default=[], metavar="NAME=VALUE",
                         help="a parameter of agglomerate_prepare.lua, e.g. count=60 (repeatable)")
     parser.add_argument("--test", action="append", default=[], metavar="NAME=VALUE",
@@ -292,7 +295,8 @@ def main(argv=None):
     work = os.path.abspath(args.work)
     figures = os.path.abspath(args.figures or work)
     os.makedirs(figures, exist_ok=True)
-    out_velocity = os.path.join(figures, f"{args.protocol}_{d}d_vs_velocity.png")
+    name = f"{args.protocol}_{d}d{args.label}"
+    out_velocity = os.path.join(figures, f"{name}_vs_velocity.png")
     if args.from_csv:
         velocity_figure(read_summary(args.from_csv), args.protocol, d, out_velocity)
         print(out_velocity)
@@ -333,10 +337,10 @@ def main(argv=None):
         paths = dict(zip(cases, pool.map(one, cases)))
 
     rows = [run_row(path, gamma, seed, v) for (gamma, seed, v), path in paths.items()]
-    runs_csv = os.path.join(data_dir, f"agglomerate_{args.protocol}_{d}d_runs.csv")
+    runs_csv = os.path.join(data_dir, f"agglomerate_{name}_runs.csv")
     write_csv(runs_csv, RUN_COLUMNS, rows)
     summary = summarize(rows, gammas, velocities)
-    summary_csv = os.path.join(data_dir, f"agglomerate_{args.protocol}_{d}d.csv")
+    summary_csv = os.path.join(data_dir, f"agglomerate_{name}.csv")
     write_csv(summary_csv, SUMMARY_COLUMNS, summary)
     velocity_figure(read_summary(summary_csv), args.protocol, d, out_velocity)
 
@@ -347,7 +351,7 @@ def main(argv=None):
     axes[1].set_xscale("symlog", linthresh=1.0)
     axes[1].set_xlim(left=0)
     fig.tight_layout()
-    out_time = os.path.join(figures, f"{args.protocol}_{d}d_vs_time.png")
+    out_time = os.path.join(figures, f"{name}_vs_time.png")
     save_small(fig, out_time, 100)
 
     # Surface energy at the highest velocity (Figs. 7.22-7.23).
@@ -359,7 +363,7 @@ def main(argv=None):
         axes[1].set_xscale("symlog", linthresh=1.0)
         axes[1].set_xlim(left=0)
         fig.tight_layout()
-        out_gamma = os.path.join(figures, f"{args.protocol}_{d}d_gamma.png")
+        out_gamma = os.path.join(figures, f"{name}_gamma.png")
         save_small(fig, out_gamma, 100)
 
     # Fragments at the end, first Gamma and seed: of the contact graph (7.4) and
@@ -374,7 +378,7 @@ def main(argv=None):
         for ax in list(axes.flat)[len(first):]:
             ax.axis("off")
         fig.tight_layout()
-        out_clusters.append(os.path.join(figures, f"{args.protocol}_{d}d_clusters{suffix}.png"))
+        out_clusters.append(os.path.join(figures, f"{name}_clusters{suffix}.png"))
         save_small(fig, out_clusters[-1], 90)
 
     def cell(r, key, scale=1.0):
