@@ -253,6 +253,9 @@ def velocity_figure(summary, protocol, d, out):
         if impacts:
             for key, style in (("t_first_episode", "o-"), ("t_damage_95", "s--")):
                 bars(axes[2], key, style, f"$\\Gamma$ = {gamma:g}: {key[2:].replace('_', ' ')}", color)
+    if protocol == "wall":  # 7.6 at 1.0 m/s: damage 40 %, debris 60 %
+        axes[0].plot([1.0], [0.40], "k*", markersize=10, label="dissertation 7.6")
+        axes[1].plot([1.0], [0.60], "k*", markersize=10, label="dissertation 7.6")
     axes[0].set_ylabel("damage ratio at the end")
     axes[1].set_ylabel("debris ratio at the end (by size)")
     if impacts:
