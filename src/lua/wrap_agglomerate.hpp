@@ -28,7 +28,7 @@ int bonds(lua_State* L, SimulationBase& sim);
 int fragments(lua_State* L, SimulationBase& sim);
 
 // sim:breakage { initial_bonds = sim:bonds {...}, particles = | material =,
-//                initial_mass = kg, large = 0.1, debris = 0.025, fines = 0.002,
+//                initial_mass = kg, initial_count = n, large = 0.1, debris = 0.025, fines = 0.002,
 //                labels = false, graph = "contacts" | "surviving_bonds" }
 //   -> damage and debris ratios, fragment counts
 int breakage(lua_State* L, SimulationBase& sim);
