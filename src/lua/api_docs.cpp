@@ -243,7 +243,7 @@ const std::vector<FunctionDoc> entries = {
  "Writes the contact histories among the particles into a closed output file, for sim:load_particles.",
  {{"file", "string", "", true, "the run's output, after sim:close()"},
   {"particles", "list", "", false, "only these ids"}, {"material", "string", "", false, "or only this material"}},
- "{ file = 'agglomerate.h5', material = 'alumina' }"},
+ "{ file = 'agglomerate.h5', material = 'glass' }"},
 {"sim:bonds", "simulation", T, "sim:bonds { particles = {ids} | material = } -> { {a, b}, ... }",
  "The contact graph: pairs of particle ids in contact (needs record_contacts).",
  {{"particles", "list", "", false, "only these ids"}, {"material", "string", "", false, "or only this material"}},
