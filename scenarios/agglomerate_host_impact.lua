@@ -18,6 +18,7 @@ local p = parameters {
   velocity = { default = 0.4, unit = "m/s", doc = "speed of each body" },
   surface_energy = { default = d.surface_energy, unit = "J/m^2", doc = "between primaries" },
   host_diameter = { default = d.host_diameter, unit = "m" },
+  gap = { default = d.gap, unit = "m", doc = "initial distance between host and agglomerate" },
   host_surface_energy = { default = d.host_surface_energy, unit = "J/m^2" },
   sample_every = { default = d.sample_every, doc = "steps between breakage samples" },
   steady_time = { default = d.steady_time, unit = "s" },
@@ -27,7 +28,7 @@ local p = parameters {
 local sim = simulation { dimension = p.dimension, record_contacts = true }
 local out = sim:output {}
 local result = tests.run(sim, "host", {
-  file = p.file, velocity = p.velocity, surface_energy = p.surface_energy, host_diameter = p.host_diameter,
+  file = p.file, velocity = p.velocity, surface_energy = p.surface_energy, host_diameter = p.host_diameter, gap = p.gap,
   host_surface_energy = p.host_surface_energy, sample_every = p.sample_every, steady_time = p.steady_time,
   max_duration = p.max_duration,
 })

@@ -14,6 +14,12 @@ local d = agglomerate.preparation_defaults
 
 local p = parameters {
   dimension = { default = 2 },
+  protocol = { default = d.protocol, doc = "dense (7.3 literally) or sticky (friction and adhesion on while compacting)" },
+  compaction_friction = { default = -1, doc = "mu while the field compacts; -1: the protocol's" },
+  compaction_surface_energy = { default = -1, unit = "J/m^2", doc = "Gamma while the field compacts; -1: the protocol's" },
+  switch_order = { default = d.switch_order, doc = "together, friction_first or adhesion_first" },
+  surface_energy_steps = { default = d.surface_energy_steps, doc = "Gamma raised in this many steps" },
+  decrement_duration = { default = d.decrement_duration, unit = "s", doc = "per field decrement; 0: until rest" },
   count = { default = d.count, doc = "number of primaries" },
   surface_energy = { default = d.surface_energy, unit = "J/m^2" },
   friction = { default = d.friction },
@@ -30,13 +36,19 @@ local p = parameters {
 local sim = simulation { dimension = p.dimension, record_contacts = true }
 local out = sim:output {}
 local clock = os.clock()
-local report = agglomerate.prepare(sim, {
-  count = p.count, surface_energy = p.surface_energy, friction = p.friction, mean_diameter = p.mean_diameter,
+local options = {
+  protocol = p.protocol, switch_order = p.switch_order, surface_energy_steps = p.surface_energy_steps,
+  decrement_duration = p.decrement_duration, count = p.count, surface_energy = p.surface_energy, friction = p.friction, mean_diameter = p.mean_diameter,
   generation_diameter = p.generation_diameter, seed = p.seed, field_strength = p.field_strength,
   damping_rate = p.damping_rate, rest_speed = p.rest_speed, field_decrements = p.field_decrements,
   quiet_duration = p.quiet_duration, snapshot_generated = true,
-})
+}
+if p.compaction_friction >= 0 then options.compaction_friction = p.compaction_friction end
+if p.compaction_surface_energy >= 0 then options.compaction_surface_energy = p.compaction_surface_energy end
+local report = agglomerate.prepare(sim, options)
 agglomerate.write_preparation(sim, report)
-sim:snapshot()
+-- The last snapshot and, beside it, the contact histories of the same step, so
+-- that a test starts from exactly the prepared state.
+agglomerate.save(sim, out, report)
 print(agglomerate.preparation_line(report) .. string.format(" cpu_time_s=%.3g", os.clock() - clock))
-io.stderr:write("agglomerate written to " .. out .. " (last snapshot)\n")
+io.stderr:write("agglomerate written to " .. out .. " (last snapshot, contact histories)\n")

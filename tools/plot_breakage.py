@@ -43,9 +43,11 @@ def label_of(path, results):
     return os.path.basename(path)
 
 
-def plot(axes, paths, x="time", graph="contacts", shade=True):
-    """Draws damage (axes[0]) and debris (axes[1]) for every file."""
-    debris_key = "debris_ratio_bonds" if graph == "bonds" else "debris_ratio"
+def plot(axes, paths, x="time", graph="contacts", shade=True, measure="debris_ratio"):
+    """Draws damage (axes[0]) and debris (axes[1]) for every file. `measure` is
+    debris_ratio (by mass, 7.4) or debris_ratio_by_size (by primaries, 7.6);
+    graph "bonds" takes its surviving-bond version."""
+    debris_key = measure + "_bonds" if graph == "bonds" else measure
     for path in paths:
         data, results = read(path)
         if x not in data or debris_key not in data:
@@ -60,7 +62,8 @@ def plot(axes, paths, x="time", graph="contacts", shade=True):
                 ax.axvspan(t0, t0 + results["impact_duration"] * 1e6, color="0.9", zorder=0,
                            label="first contact" if ax is axes[0] else None)
     axes[0].set_ylabel("damage ratio")
-    axes[1].set_ylabel("debris ratio" + (" (surviving bonds)" if graph == "bonds" else ""))
+    axes[1].set_ylabel("debris ratio" + (" by size" if measure.endswith("by_size") else "")
+                       + (" (surviving bonds)" if graph == "bonds" else ""))
     axes[1].set_xlabel("time [$\\mu$s]" if x == "time" else "wall travel [$\\mu$m]")
     for ax in axes:
         ax.set_ylim(bottom=0)
@@ -73,13 +76,15 @@ def main(argv=None):
     parser.add_argument("files", nargs="+", help="outputs of agglomerate tests (.h5)")
     parser.add_argument("--x", default="time", choices=("time", "wall_travel"))
     parser.add_argument("--graph", default="contacts", choices=("contacts", "bonds"))
+    parser.add_argument("--measure", default="debris_ratio", choices=("debris_ratio", "debris_ratio_by_size"),
+                        help="debris by mass (7.4) or by size in primaries (7.6)")
     parser.add_argument("--log-x", action="store_true", help="logarithmic time axis")
     parser.add_argument("-o", "--output", help="PNG to write")
     args = parser.parse_args(argv)
     output = args.output or os.path.splitext(args.files[0])[0] + "_breakage.png"
     try:
         fig, axes = plt.subplots(2, 1, sharex=True, figsize=(6, 5.5))
-        plot(axes, args.files, args.x, args.graph)
+        plot(axes, args.files, args.x, args.graph, measure=args.measure)
         if args.log_x:
             axes[1].set_xscale("log")
         fig.tight_layout()

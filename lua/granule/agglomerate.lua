@@ -40,230 +40,11 @@ agglomerate.pmma = { density = 1190, young = 3.3e9, poisson = 0.5, friction = 0.
 --- Target wall, 7.6 (density given for completeness: the wall does not move).
 agglomerate.target = { density = 6000, young = 1000e9, poisson = 0.45, friction = 0.5 }
 
--- ---------------------------------------------------------------------------
--- Options: defaults, units, checks
--- ---------------------------------------------------------------------------
-
--- The nearest of `names` to `word` (edit distance), for "did you mean" hints.
-local function nearest(word, names)
-  local best, best_distance = nil, math.huge
-  for _, name in ipairs(names) do
-    local previous = {}
-    for j = 0, #name do previous[j] = j end
-    for i = 1, #word do
-      local current = { [0] = i }
-      for j = 1, #name do
-        local cost = word:sub(i, i) == name:sub(j, j) and 0 or 1
-        current[j] = math.min(previous[j] + 1, current[j - 1] + 1, previous[j - 1] + cost)
-      end
-      previous = current
-    end
-    if previous[#name] < best_distance then best, best_distance = name, previous[#name] end
-  end
-  if best and best_distance <= math.max(2, #word // 3) then return best end
-  return nil
-end
-
---- Copies `given` over `defaults`; an unknown key is an error naming it and
---- the nearest valid name. `context` starts the message.
-function agglomerate.options(given, defaults, context)
-  if given ~= nil and type(given) ~= "table" then
-    raise(string.format("%s: the options must be a table { name = value, ... }, got a %s", context, type(given)))
-  end
-  local out = {}
-  for k, v in pairs(defaults) do out[k] = v end
-  for k, v in pairs(given or {}) do
-    if defaults[k] == nil then
-      local names = {}
-      for name in pairs(defaults) do names[#names + 1] = name end
-      table.sort(names)
-      local hint = type(k) == "string" and nearest(k, names) or nil
-      raise(string.format("%s: unknown option '%s'%s", context, tostring(k),
-        hint and string.format(" (did you mean '%s'?)", hint) or ""))
-    end
-    out[k] = v
-  end
-  return out
-end
-
---- Checks options against rules { name = { "positive" | "non_negative" | "count", unit } };
---- the error names the option and its unit. Whole-number options become integers.
-function agglomerate.check(o, rules, context)
-  for name, rule in pairs(rules) do
-    local v, kind, unit = o[name], rule[1], rule[2] or "-"
-    local ok
-    if kind == "count" then
-      local n = type(v) == "number" and math.tointeger(v) or nil
-      ok = n ~= nil and n >= 1
-      if ok then o[name] = n end
-    elseif type(v) ~= "number" or v ~= v or v == math.huge then
-      ok = false
-    elseif kind == "positive" then
-      ok = v > 0
-    else
-      ok = v >= 0
-    end
-    if not ok then
-      local wanted = kind == "count" and "a whole number >= 1" or (kind == "positive" and "> 0" or ">= 0")
-      raise(string.format("%s: '%s' must be %s [%s], got %s", context, name, wanted, unit, tostring(v)))
-    end
-  end
-end
-
-local function zero_vector(dimension)
-  if dimension == 3 then return { 0, 0, 0 } end
-  return { 0, 0 }
-end
-
--- e_k: the unit vector along axis k (1 = x, 2 = y, 3 = z) scaled by s.
-local function axis_vector(dimension, k, s)
-  local v = zero_vector(dimension)
-  v[k] = s
-  return v
-end
-agglomerate.axis_vector = axis_vector
-
--- ---------------------------------------------------------------------------
--- Size distribution (Fig. 7.9) and random placement (Fig. 7.10)
--- ---------------------------------------------------------------------------
-
---- The diameters of `classes` size classes spread evenly over
---- mean (1 - spread) .. mean (1 + spread): seven classes over 5 um +- 5 % by default.
-function agglomerate.size_classes(mean_diameter, spread, classes)
-  local o = { mean_diameter = mean_diameter, size_spread = spread, size_classes = classes }
-  agglomerate.check(o, { mean_diameter = { "positive", "m" }, size_spread = { "non_negative" },
-                         size_classes = { "count" } }, "size_classes")
-  if spread >= 1 then raise("size_classes: 'size_spread' must be < 1 (a fraction of the mean)") end
-  local out = {}
-  for k = 0, o.size_classes - 1 do
-    local fraction = o.size_classes == 1 and 0 or (2 * k / (o.size_classes - 1) - 1)
-    out[#out + 1] = mean_diameter * (1 + spread * fraction)
-  end
-  return out
-end
-
---- `count` diameters, equal numbers in each class (Fig. 7.9 is lost; 217 =
---- 7 x 31 suggests equal counts), in an order shuffled by math.random.
-function agglomerate.primary_diameters(count, classes)
-  local out = {}
-  for k = 1, count do out[k] = classes[(k - 1) % #classes + 1] end
-  for k = count, 2, -1 do  -- Fisher-Yates
-    local j = math.random(k)
-    out[k], out[j] = out[j], out[k]
-  end
-  return out
-end
-
--- A uniform random point in the ball of radius r about the origin.
-local function random_in_ball(dimension, r)
-  while true do
-    local x, s = {}, 0
-    for k = 1, dimension do
-      x[k] = (2 * math.random() - 1) * r
-      s = s + x[k] * x[k]
-    end
-    if s <= r * r then return x end
-  end
-end
-
--- The neighbour cells of a cell (itself included), as offsets.
-local function cell_offsets(dimension)
-  local out = {}
-  for a = -1, 1 do
-    for b = -1, 1 do
-      if dimension == 2 then
-        out[#out + 1] = { a, b }
-      else
-        for c = -1, 1 do out[#out + 1] = { a, b, c } end
-      end
-    end
-  end
-  return out
-end
-
---- Random positions for spheres of the given radii inside a circle (2D) or
---- sphere (3D) of `region_radius` about `center`, without overlaps. Centres are
---- drawn uniformly; overlaps are then removed by moving each overlapping pair
---- apart along its line of centres (a geometric relaxation, no dynamics),
---- because 217 discs covering 54 % of a 100 um circle are beyond what random
---- sequential addition can place (its jamming limit is 0.547 in an unbounded
---- plane, lower against a boundary). `clearance` is the gap left between
---- neighbours, a fraction of the sum of their radii. Returns the positions and
---- the number of sweeps, or raises an error when the region cannot hold them.
-function agglomerate.random_positions(dimension, center, region_radius, radii, clearance, max_sweeps)
-  local n = #radii
-  local r_max, solid = 0, 0
-  for i = 1, n do
-    r_max = math.max(r_max, radii[i])
-    solid = solid + (dimension == 2 and math.pi * radii[i] ^ 2 or 4 / 3 * math.pi * radii[i] ^ 3)
-  end
-  local region = dimension == 2 and math.pi * region_radius ^ 2 or 4 / 3 * math.pi * region_radius ^ 3
-  local limit = dimension == 2 and 0.75 or 0.55  -- well below random close packing (0.82, 0.64)
-  if solid / region > limit then
-    raise(string.format("random_positions: generation_diameter %.4g m is too small for %d primaries: they would fill %.0f %% of "
-      .. "it (at most %.0f %% can be placed at random)", 2 * region_radius, n, 100 * solid / region, 100 * limit))
-  end
-  local positions = {}
-  for i = 1, n do positions[i] = random_in_ball(dimension, region_radius - radii[i]) end
-  local cell = 2 * r_max * (1 + clearance)
-  local offsets = cell_offsets(dimension)
-  local function cell_name(x, offset)
-    local parts = {}
-    for k = 1, dimension do parts[k] = math.floor(x[k] / cell) + (offset and offset[k] or 0) end
-    return table.concat(parts, ",")
-  end
-  for sweep = 1, max_sweeps do
-    local grid = {}
-    for i = 1, n do
-      local name = cell_name(positions[i])
-      grid[name] = grid[name] or {}
-      table.insert(grid[name], i)
-    end
-    local overlapping = false
-    for i = 1, n do
-      local xi = positions[i]
-      for _, offset in ipairs(offsets) do
-        for _, j in ipairs(grid[cell_name(xi, offset)] or {}) do
-          if j > i then
-            local xj = positions[j]
-            local dx, dist2 = {}, 0
-            for k = 1, dimension do
-              dx[k] = xj[k] - xi[k]
-              dist2 = dist2 + dx[k] * dx[k]
-            end
-            local dist = math.sqrt(dist2)
-            local wanted = (radii[i] + radii[j]) * (1 + clearance)
-            if dist < wanted then
-              if dist < radii[i] + radii[j] then overlapping = true end
-              if dist == 0 then dx, dist = axis_vector(dimension, 1, 1), 1 end
-              local push = 0.5 * (wanted - dist) / dist
-              for k = 1, dimension do
-                xi[k] = xi[k] - push * dx[k]
-                xj[k] = xj[k] + push * dx[k]
-              end
-            end
-          end
-        end
-      end
-    end
-    for i = 1, n do  -- back inside the region
-      local x, r2 = positions[i], 0
-      for k = 1, dimension do r2 = r2 + x[k] * x[k] end
-      local reach = region_radius - radii[i]
-      if r2 > reach * reach then
-        for k = 1, dimension do x[k] = x[k] * reach / math.sqrt(r2) end
-      end
-    end
-    if not overlapping then
-      for i = 1, n do
-        for k = 1, dimension do positions[i][k] = positions[i][k] + center[k] end
-      end
-      return positions, sweep
-    end
-  end
-  raise(string.format("random_positions: overlaps remain after %d sweeps; enlarge generation_diameter (%.4g m) "
-    .. "or lower count (%d)", max_sweeps, 2 * region_radius, n))
-end
+-- Options, checks and the random generation (Figs. 7.9-7.10) live in
+-- granule.agglomerate_util; they are part of this module's interface.
+local util = require "granule.agglomerate_util"
+for name, f in pairs(util) do agglomerate[name] = f end
+local zero_vector, axis_vector = util.zero_vector, util.axis_vector
 
 -- ---------------------------------------------------------------------------
 -- Measures of a set of particles
@@ -386,6 +167,7 @@ end
 -- ---------------------------------------------------------------------------
 
 agglomerate.preparation_defaults = {
+  protocol = "dense",              -- a named set of the options below (agglomerate.protocols); given options win
   material = "alumina",            -- name of the primaries' material (declared by prepare)
   density = agglomerate.alumina.density,
   young = agglomerate.alumina.young,
@@ -405,7 +187,12 @@ agglomerate.preparation_defaults = {
   damping_every = 10,              -- steps between velocity scalings
   rest_speed = 1e-4,               -- m/s: at rest when the internal rms speed is below this
   steady_time = 2e-6,              -- s: ... and the contact count has not changed for this long
+  compaction_friction = 0,         -- mu during stage 1 (7.3: zero, "to obtain a dense agglomerate")
+  compaction_surface_energy = 0,   -- Gamma [J/m^2] during stage 1 (7.3: zero)
+  switch_order = "together",       -- stage 2: "together", "friction_first" or "adhesion_first" (each to rest)
+  surface_energy_steps = 1,        -- stage 2 raises Gamma to its value in this many equal steps, each to rest
   field_decrements = 10,           -- stage 3 lowers the field in this many equal steps
+  decrement_duration = 0,          -- s per decrement; 0: each decrement until rest (else a ramp at this rate)
   check_every = 200,               -- steps between checks of the stage criteria
   stage1_max_duration = 400e-6,    -- s: caps, a safety net only
   stage2_max_duration = 100e-6,    -- s
@@ -414,6 +201,17 @@ agglomerate.preparation_defaults = {
   snapshot_generated = false,      -- write a snapshot of the random start (Fig. 7.10); needs sim:output
   quiet = false,                   -- no progress lines on stderr
   trace = false,                   -- print the criterion's quantities at every check
+}
+
+--- Named preparation protocols: option sets that prepare { protocol = name }
+--- starts from. "dense" is 7.3 read literally (zero friction and adhesion
+--- while the field compacts, both switched on once the packing is at rest);
+--- "sticky" has friction and adhesion on from the first contact, so that
+--- primaries stick where they meet (the loosest reading, the one that could
+--- give a tree of N - 1 bonds).
+agglomerate.protocols = {
+  dense = {},
+  sticky = { compaction_friction = agglomerate.alumina.friction, compaction_surface_energy = "surface_energy" },
 }
 
 local preparation_rules = {
@@ -425,6 +223,8 @@ local preparation_rules = {
   rest_speed = { "positive", "m/s" }, steady_time = { "non_negative", "s" }, field_decrements = { "count" },
   check_every = { "count" }, stage1_max_duration = { "positive", "s" }, stage2_max_duration = { "positive", "s" },
   decrement_max_duration = { "positive", "s" }, quiet_duration = { "non_negative", "s" },
+  compaction_friction = { "non_negative" }, compaction_surface_energy = { "non_negative", "J/m^2" },
+  surface_energy_steps = { "count" }, decrement_duration = { "non_negative", "s" },
 }
 
 --- Prepares an agglomerate in `sim` (no particles yet, record_contacts = true)
@@ -435,7 +235,23 @@ local preparation_rules = {
 function agglomerate.prepare(sim, given)
   local context = "agglomerate.prepare"
   local o = agglomerate.options(given, agglomerate.preparation_defaults, context)
+  local preset = agglomerate.protocols[o.protocol]
+  if not preset then
+    local names = {}
+    for name in pairs(agglomerate.protocols) do names[#names + 1] = name end
+    table.sort(names)
+    raise(string.format("%s: unknown protocol '%s' (%s)", context, tostring(o.protocol), table.concat(names, ", ")))
+  end
+  for k, v in pairs(preset) do
+    if given == nil or given[k] == nil then o[k] = v end
+  end
+  if o.compaction_surface_energy == "surface_energy" then o.compaction_surface_energy = o.surface_energy end
   agglomerate.check(o, preparation_rules, context)
+  local orders = { together = true, friction_first = true, adhesion_first = true }
+  if not orders[o.switch_order] then
+    raise(string.format("%s: 'switch_order' must be \"together\", \"friction_first\" or \"adhesion_first\", got %s",
+      context, tostring(o.switch_order)))
+  end
   local d = sim:dimension()
   if #sim:particles() > 0 then error(context .. ": the simulation must hold no particles yet", 2) end
   local center = o.center or zero_vector(d)
@@ -457,15 +273,17 @@ function agglomerate.prepare(sim, given)
   end
   local positions, sweeps = agglomerate.random_positions(d, center, region_diameter / 2, radii, o.clearance, 5000)
   sim:material { name = o.material, density = o.density, young = o.young, poisson = o.poisson }
-  -- Stage 1's law: Thornton's with mu = 0 and Gamma = 0, i.e. frictionless Hertz.
-  sim:contact { o.material, o.material, model = "thornton_jkr", friction = 0, surface_energy = 0 }
+  -- Stage 1's law: Thornton's with mu = 0 and Gamma = 0 (7.3), i.e. frictionless
+  -- Hertz, unless the protocol compacts with friction or adhesion on.
+  sim:contact { o.material, o.material, model = "thornton_jkr", friction = o.compaction_friction,
+                surface_energy = o.compaction_surface_energy }
   local ids = {}
   for k = 1, o.count do ids[k] = sim:add_particle { position = positions[k], radius = radii[k], material = o.material } end
   if o.snapshot_generated then sim:snapshot() end
   local mass = agglomerate.total_mass(sim, ids)
   local report = { ids = ids, stages = {}, count = o.count, mass = mass, generation_diameter = region_diameter,
                    relaxation_sweeps = sweeps, surface_energy = o.surface_energy, friction = o.friction,
-                   material = o.material }
+                   material = o.material, options = o, solid = solid, dimension = d }
   local rest = function() return agglomerate.at_rest(mass, o.rest_speed, o.steady_time, o.trace) end
 
   -- Thornton's law with mu = Gamma = 0 dissipates nothing: without damping the
@@ -476,14 +294,41 @@ function agglomerate.prepare(sim, given)
   -- Stage 1: the centripetal field pulls the primaries together; frictionless and
   -- without adhesion they slide into a dense packing.
   sim:central_field { point = center, strength = o.field_strength }
-  report.stages[1] = agglomerate.run_stage(sim, "1 field, mu = Gamma = 0", o.stage1_max_duration, o.check_every,
-    rest(), o.quiet)
+  report.stages[1] = agglomerate.run_stage(sim, string.format("1 field, mu = %g, Gamma = %g", o.compaction_friction,
+    o.compaction_surface_energy), o.stage1_max_duration, o.check_every, rest(), o.quiet)
 
   -- Stage 2: friction and surface energy switched on as late as possible: now,
-  -- with the packing at rest under the field.
-  sim:set_contact(o.material, o.material, { friction = o.friction, surface_energy = o.surface_energy })
-  report.stages[2] = agglomerate.run_stage(sim, "2 mu and Gamma on", o.stage2_max_duration, o.check_every, rest(),
-    o.quiet)
+  -- with the packing at rest under the field. In one go, or one after the
+  -- other, Gamma in `surface_energy_steps` equal steps; each change to rest.
+  local steps = {}
+  local gamma0 = o.compaction_surface_energy
+  local function gamma_steps(mu)
+    for k = 1, o.surface_energy_steps do
+      steps[#steps + 1] = { friction = mu, surface_energy = gamma0 + (o.surface_energy - gamma0) * k / o.surface_energy_steps }
+    end
+  end
+  if o.switch_order == "friction_first" then
+    steps[1] = { friction = o.friction, surface_energy = gamma0 }
+    gamma_steps(o.friction)
+  elseif o.switch_order == "adhesion_first" then
+    gamma_steps(o.compaction_friction)
+    steps[#steps + 1] = { friction = o.friction, surface_energy = o.surface_energy }
+  else
+    gamma_steps(o.friction)
+  end
+  local stage2 = { name = "2 mu and Gamma on", start = sim:time(), steps = 0, ended_by = "criterion" }
+  for _, law in ipairs(steps) do
+    sim:set_contact(o.material, o.material, law)
+    local r = agglomerate.run_stage(sim, "2 mu and Gamma on", o.stage2_max_duration, o.check_every, rest(), true)
+    stage2.steps = stage2.steps + r.steps
+    if r.ended_by == "cap" then stage2.ended_by = "cap" end
+  end
+  stage2.duration = sim:time() - stage2.start
+  report.stages[2] = stage2
+  if not o.quiet then
+    io.stderr:write(string.format("stage %-24s %9.3f us %9d steps, ended by %s\n", stage2.name, stage2.duration * 1e6,
+      stage2.steps, stage2.ended_by))
+  end
 
   -- Stage 3: the field removed in equal decrements, each followed by a return to
   -- rest, so the agglomerate stays in equilibrium.
@@ -491,8 +336,15 @@ function agglomerate.prepare(sim, given)
   for k = 1, o.field_decrements do
     local strength = o.field_strength * (1 - k / o.field_decrements)
     if k == o.field_decrements then sim:remove_central_field() else sim:set_central_strength(strength) end
-    local r = agglomerate.run_stage(sim, string.format("3.%d field %.3g m/s^2", k, strength),
-      o.decrement_max_duration, o.check_every, rest(), true)
+    local r
+    if o.decrement_duration > 0 then  -- a ramp: a fixed time per decrement, rest or not
+      r = agglomerate.run_stage(sim, string.format("3.%d field %.3g m/s^2", k, strength), o.decrement_duration,
+        o.check_every, function() return false end, true)
+      r.ended_by = "criterion"
+    else
+      r = agglomerate.run_stage(sim, string.format("3.%d field %.3g m/s^2", k, strength),
+        o.decrement_max_duration, o.check_every, rest(), true)
+    end
     stage3.steps = stage3.steps + r.steps
     stage3.decrements[k] = r
     if r.ended_by == "cap" then stage3.ended_by = "cap" end
@@ -521,11 +373,24 @@ function agglomerate.prepare(sim, given)
   report.quiet = { duration = o.quiet_duration, peak_rms_speed = peak, bonds_before = bonds_before,
                    bonds_after = census.bonds }
   report.diameter, report.center = shape.diameter, shape.center
+  -- Solids over the circle (sphere) of the outer diameter.
+  local enclosed = d == 2 and math.pi * (shape.diameter / 2) ^ 2 or 4 / 3 * math.pi * (shape.diameter / 2) ^ 3
+  report.packing_fraction = solid / enclosed
   report.bonds, report.coordination = census.bonds, census.coordination
   report.compressive, report.tensile = census.compressive, census.tensile
   report.rms_speed = agglomerate.internal_rms_speed(sim:stats(), mass)
   report.time = sim:time()
   return report
+end
+
+--- Writes the prepared agglomerate to the simulation's output file `path`: a
+--- last snapshot, then (the output closed) the contact histories of the same
+--- step (sim:save_contact_histories), which sim:load_particles restores with
+--- it. Returns the number of histories saved.
+function agglomerate.save(sim, path, report)
+  sim:snapshot()
+  sim:close()
+  return sim:save_contact_histories { file = path, material = report.material }
 end
 
 --- One line "key=value ..." summarising a preparation report.
@@ -557,7 +422,16 @@ function agglomerate.write_preparation(sim, report)
     quiet_peak_rms_speed = report.quiet.peak_rms_speed,
     quiet_bonds_lost = report.quiet.bonds_before - report.quiet.bonds_after,
     generation_diameter = report.generation_diameter, mass = report.mass, surface_energy = report.surface_energy,
-    friction = report.friction, prepared_in = report.time,
+    friction = report.friction, prepared_in = report.time, packing_fraction = report.packing_fraction,
+    compaction_friction = report.options.compaction_friction,
+    compaction_surface_energy = report.options.compaction_surface_energy,
+    field_strength = report.options.field_strength, damping_rate = report.options.damping_rate,
+    field_decrements = report.options.field_decrements, decrement_duration = report.options.decrement_duration,
+    surface_energy_steps = report.options.surface_energy_steps,
+    stage1_duration = report.stages[1].duration, stage2_duration = report.stages[2].duration,
+    stage3_duration = report.stages[3].duration,
+    stages_by_criterion = (report.stages[1].ended_by == "criterion" and 1 or 0)
+      + (report.stages[2].ended_by == "criterion" and 1 or 0) + (report.stages[3].ended_by == "criterion" and 1 or 0),
   }
 end
 

@@ -13,8 +13,9 @@
 --   local result = tests.run(sim, "wall", { file = "agglomerate_2d_g1.h5", velocity = 0.5 })
 --
 -- A test (1) loads the agglomerate from the last snapshot of a preparation's
--- output and lets it settle with damping, because a snapshot holds positions
--- and velocities but not the contacts' tangential histories; (2) places the
+-- output with the contact histories saved beside it (a file without them
+-- loses its tangential forces, and the agglomerate first settles again with
+-- damping: option `settle`); (2) places the
 -- target `gap` below it (along -y) and gives the velocities; (3) samples the
 -- breakage (sim:breakage, 7.4) every `sample_every` steps into the series
 -- /breakage and watches the target's contact force every `contact_every`
@@ -40,6 +41,7 @@ tests.defaults = {
   surface_energy = 1.0,             -- Gamma between primaries [J/m^2] (7.5.2: 1.0 and 2.0)
   velocity = 0.1,                   -- m/s: impact velocity (host: of each body) or wall speed
   gap = 20e-9,                      -- m: initial distance to the target ("very small", 7.4)
+  settle = "auto",                  -- "auto": settle only without saved contact histories; "always"; "never"
   settle_damping_rate = 1e6,        -- 1/s: damping while the loaded agglomerate settles
   settle_rest_speed = 1e-4,         -- m/s: settled when the internal rms speed is below this
   settle_steady_time = 1e-6,        -- s: ... with the contact count unchanged this long
@@ -91,7 +93,8 @@ tests.kinds = { host = "normal impact with a host particle (7.5)", wall = "norma
 tests.series_columns = { "time", "damage_ratio", "debris_ratio", "fines_ratio", "largest_fraction", "fragments",
                          "large", "medium", "small", "broken_bonds", "debris_ratio_bonds",
                          "largest_fraction_bonds", "fragments_bonds", "kinetic_energy", "target_force",
-                         "in_contact", "wall_travel" }
+                         "in_contact", "wall_travel", "debris_ratio_by_size", "singles_ratio", "bonded_debris_ratio",
+                         "debris_ratio_by_size_bonds", "bonded_debris_ratio_bonds", "approach_speed" }
 
 -- Kinetic energy of one particle (translation + rotation, I = m d^2 / 10, SPEC 2).
 local function particle_kinetic_energy(p)
@@ -121,23 +124,30 @@ function tests.run(sim, kind, given)
     error(context .. ": 'file' is required: the output of scenarios/agglomerate_prepare.lua", 2)
   end
   if o.strain >= 1 then error(context .. ": 'strain' must be < 1 (a fraction of the height)", 2) end
+  if o.settle ~= "auto" and o.settle ~= "always" and o.settle ~= "never" then
+    error(context .. ": 'settle' must be \"auto\", \"always\" or \"never\", got " .. tostring(o.settle), 2)
+  end
   if #sim:particles() > 0 then error(context .. ": the simulation must hold no particles yet", 2) end
   local d = sim:dimension()
   local clock = os.clock()
   local up = function(s) return agglomerate.axis_vector(d, 2, s) end
 
-  -- (1) The agglomerate, and its settling with damping.
+  -- (1) The agglomerate with its contact histories, or settled again with
+  -- damping where the file has none.
   sim:material { name = o.material, density = o.density, young = o.young, poisson = o.poisson }
   sim:contact { o.material, o.material, model = "thornton_jkr", friction = o.friction,
                 surface_energy = o.surface_energy }
-  local ids = sim:load_particles { file = o.file, snapshot = o.snapshot }
+  local ids, restored = sim:load_particles { file = o.file, snapshot = o.snapshot }
   local mass = agglomerate.total_mass(sim, ids)
   sim:run { steps = 1 }
   local bonds_loaded = #sim:bonds { material = o.material }
-  local damping = agglomerate.start_damping(sim, o.material, o.settle_damping_rate, o.damping_every)
-  local settle = agglomerate.run_stage(sim, "settle after loading", o.settle_max_duration, o.sample_every,
-    agglomerate.at_rest(mass, o.settle_rest_speed, o.settle_steady_time), o.quiet)
-  sim:remove_hook(damping)
+  local settle = { duration = 0, ended_by = "criterion" }
+  if o.settle == "always" or (o.settle == "auto" and restored == 0) then
+    local damping = agglomerate.start_damping(sim, o.material, o.settle_damping_rate, o.damping_every)
+    settle = agglomerate.run_stage(sim, "settle after loading", o.settle_max_duration, o.sample_every,
+      agglomerate.at_rest(mass, o.settle_rest_speed, o.settle_steady_time), o.quiet)
+    sim:remove_hook(damping)
+  end
   local shape = agglomerate.geometry(sim, ids)
   local height = shape.high[2] - shape.low[2]
 
@@ -218,7 +228,20 @@ function tests.run(sim, kind, given)
   local history = {}
   local function measure(s, graph, labels)
     return s:breakage { initial_bonds = initial_bonds, material = o.material, initial_mass = mass, graph = graph,
-                        labels = labels, large = classes.large, debris = classes.debris, fines = classes.fines }
+                        labels = labels, large = classes.large, debris = classes.debris, fines = classes.fines,
+                        initial_count = #ids }
+  end
+  -- The speed at which agglomerate and target close (> 0) or part (< 0) along
+  -- y: from the momentum of the agglomerate's centre of mass (the total less
+  -- the host's), for the impact times of 7.5.1.
+  local function approach_speed(s)
+    local p = s:stats().momentum[2]
+    if target.host then
+      local h = s:particle(target.host)
+      p = p - h.mass * h.velocity[2]
+      return h.velocity[2] - p / mass
+    end
+    return -p / mass
   end
   local function sample(s)
     local b, kept = measure(s, "contacts"), measure(s, "surviving_bonds")
@@ -227,7 +250,8 @@ function tests.run(sim, kind, given)
     s:append("breakage", { row.time, b.damage_ratio, b.debris_ratio, b.fines_ratio, b.largest_fraction, b.fragments,
                            b.large, b.medium, b.small, b.broken_bonds, kept.debris_ratio, kept.largest_fraction,
                            kept.fragments, row.kinetic_energy, target.force(s), contact.now and 1 or 0,
-                           wall_travel(s) })
+                           wall_travel(s), b.debris_ratio_by_size, b.singles_ratio, b.bonded_debris_ratio,
+                           kept.debris_ratio_by_size, kept.bonded_debris_ratio, approach_speed(s) })
   end
   sample(sim)
   local sampler = sim:every { steps = o.sample_every, name = "breakage sample", sample }
@@ -277,12 +301,16 @@ function tests.run(sim, kind, given)
   local result = {
     kind = kind, dimension = d, velocity = o.velocity, surface_energy = o.surface_energy, primaries = #ids,
     diameter = shape.diameter, height = height, initial_bonds = #initial_bonds, bonds_loaded = bonds_loaded,
+    histories_restored = restored,
     settle_duration = settle.duration, settled_by_criterion = settle.ended_by == "criterion" and 1 or 0,
     damage_ratio = b.damage_ratio, debris_ratio = b.debris_ratio, fines_ratio = b.fines_ratio,
     largest_fraction = b.largest_fraction, fragments = b.fragments, large = b.large, medium = b.medium,
     small = b.small, fines = b.fines, singles = b.singles, broken_bonds = b.broken_bonds,
     debris_ratio_bonds = kept.debris_ratio, largest_fraction_bonds = kept.largest_fraction,
-    fragments_bonds = kept.fragments,
+    fragments_bonds = kept.fragments, debris_ratio_by_size = b.debris_ratio_by_size, singles_ratio = b.singles_ratio,
+    bonded_debris_ratio = b.bonded_debris_ratio, bonded_debris = b.bonded_debris,
+    debris_ratio_by_size_bonds = kept.debris_ratio_by_size, singles_ratio_bonds = kept.singles_ratio,
+    bonded_debris_ratio_bonds = kept.bonded_debris_ratio,
     contact_start = contact.first and contact.first - t0 or -1,
     impact_duration = (contact.first and contact.ended) and contact.ended - contact.first or -1,
     last_contact = contact.last and contact.last - t0 or -1, contact_episodes = contact.episodes,

@@ -113,7 +113,8 @@ Fragments find_fragments(const std::vector<std::int64_t>& ids, const std::vector
 
 BreakageSummary summarize_breakage(const std::vector<Bond>& initial_bonds,
                                    const std::vector<Bond>& bonds, const Fragments& fragments,
-                                   double initial_mass, const FragmentClasses& classes) {
+                                   double initial_mass, const FragmentClasses& classes,
+                                   std::int64_t initial_count) {
   if (!(initial_mass > 0) || !std::isfinite(initial_mass))
     throw std::invalid_argument(
         fmt::format("breakage: initial_mass must be > 0 [kg], got {}", initial_mass));
@@ -145,6 +146,11 @@ BreakageSummary summarize_breakage(const std::vector<Bond>& initial_bonds,
       s.initial_bonds > 0 ? static_cast<double>(s.broken_bonds) / s.initial_bonds : 0.0;
   s.initial_mass = initial_mass;
   s.fragments = static_cast<std::int64_t>(fragments.count());
+  if (initial_count < 0)
+    throw std::invalid_argument(
+        fmt::format("breakage: initial_count must be >= 0 primaries, got {}", initial_count));
+  s.initial_count =
+      initial_count > 0 ? initial_count : static_cast<std::int64_t>(fragments.ids.size());
   double fines_mass = 0;
   for (std::size_t f = 0; f < fragments.count(); ++f) {
     const double fraction = fragments.mass[f] / initial_mass;
@@ -161,6 +167,18 @@ BreakageSummary summarize_breakage(const std::vector<Bond>& initial_bonds,
       }
     }
     if (fragments.members[f] == 1) ++s.singles;
+    // By size: n < debris N.
+    const std::int64_t n = fragments.members[f];
+    if (static_cast<double>(n) < classes.debris * static_cast<double>(s.initial_count)) {
+      ++s.debris_by_size;
+      s.debris_ratio_by_size += fragments.mass[f] / initial_mass;
+      if (n == 1) {
+        s.singles_ratio += fragments.mass[f] / initial_mass;
+      } else {
+        ++s.bonded_debris;
+        s.bonded_debris_ratio += fragments.mass[f] / initial_mass;
+      }
+    }
   }
   s.debris_ratio = s.debris_mass / initial_mass;
   s.fines_ratio = fines_mass / initial_mass;

@@ -81,13 +81,28 @@ struct BreakageSummary {
   std::int64_t fragments = 0;      // all clusters, single primaries included
   std::int64_t large = 0, medium = 0, small = 0, fines = 0;  // counts; fines are among small
   std::int64_t singles = 0;                                  // clusters of one primary
+  // By fragment size in primaries, n, against the initial count N (the reading of
+  // 7.4 with 7.6's words): debris has n < debris N (217 primaries: n <= 5); within
+  // it the singles (n = 1) and the bonded debris (n >= 2), 7.6's "fines where
+  // single primary particle still had some connecting bonds with others". The
+  // mass classes above cannot hold that: with 217 primaries one primary is 0.46 %
+  // of the mass, above the 0.2 % of fines.
+  std::int64_t initial_count = 0;   // N
+  std::int64_t debris_by_size = 0;  // fragments with n < debris N
+  std::int64_t bonded_debris = 0;   // ... of them with n >= 2
+  double debris_ratio_by_size = 0;  // their mass / initial_mass
+  double singles_ratio = 0;         // mass in fragments of one primary / initial_mass
+  double bonded_debris_ratio = 0;   // mass in debris_by_size fragments with n >= 2 / initial_mass
 };
 
 // Damage ratio and fragment statistics. initial_bonds and bonds must be
 // normalised (normalized_bonds). initial_mass > 0 is the agglomerate's mass
-// before the test; `classes` must satisfy 0 < fines <= debris <= large < 1.
+// before the test; `classes` must satisfy 0 < fines <= debris <= large < 1;
+// initial_count is the number of primaries before the test (0: the number in
+// `fragments`).
 BreakageSummary summarize_breakage(const std::vector<Bond>& initial_bonds,
                                    const std::vector<Bond>& bonds, const Fragments& fragments,
-                                   double initial_mass, const FragmentClasses& classes = {});
+                                   double initial_mass, const FragmentClasses& classes = {},
+                                   std::int64_t initial_count = 0);
 
 }  // namespace granule::analysis

@@ -140,6 +140,62 @@ std::vector<std::string> member_names(hid_t group, const std::string& path) {
 }  // namespace
 
 namespace {
+// The four groups of a StateBlob (doubles, integers, bytes, texts) under `root`.
+void write_blob(hid_t root, const StateBlob& s, const std::string& path) {
+  auto group = [&](const char* name) {
+    return Id(check(H5Gcreate2(root, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), path,
+                    std::string("create ") + name),
+              H5Gclose);
+  };
+  {
+    Id g = group("doubles");
+    for (const auto& [k, v] : s.doubles)
+      write_array(g.id, k, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, v, path);
+  }
+  {
+    Id g = group("integers");
+    for (const auto& [k, v] : s.integers)
+      write_array(g.id, k, H5T_STD_I64LE, H5T_NATIVE_INT64, v, path);
+  }
+  {
+    Id g = group("bytes");
+    for (const auto& [k, v] : s.bytes)
+      write_array(g.id, k, H5T_STD_U8LE, H5T_NATIVE_UINT8, v, path);
+  }
+  {
+    Id g = group("texts");
+    for (const auto& [k, v] : s.texts) write_string(g.id, k, v, false, path);
+  }
+}
+
+StateBlob read_blob(hid_t root, const std::string& path) {
+  StateBlob s;
+  auto open = [&](const char* name) {
+    return Id(check(H5Gopen2(root, name, H5P_DEFAULT), path, std::string("open ") + name),
+              H5Gclose);
+  };
+  {
+    Id g = open("doubles");
+    for (const auto& k : member_names(g.id, path))
+      s.doubles[k] = read_array<double>(g.id, k, H5T_NATIVE_DOUBLE, path);
+  }
+  {
+    Id g = open("integers");
+    for (const auto& k : member_names(g.id, path))
+      s.integers[k] = read_array<std::int64_t>(g.id, k, H5T_NATIVE_INT64, path);
+  }
+  {
+    Id g = open("bytes");
+    for (const auto& k : member_names(g.id, path))
+      s.bytes[k] = read_array<std::uint8_t>(g.id, k, H5T_NATIVE_UINT8, path);
+  }
+  {
+    Id g = open("texts");
+    for (const auto& k : member_names(g.id, path)) s.texts[k] = read_string(g.id, k, false, path);
+  }
+  return s;
+}
+
 void write_file(const std::string& path, const std::string& tmp, const StateBlob& s,
                 const std::map<std::string, std::string>& attributes) {
   Id file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
@@ -150,30 +206,7 @@ void write_file(const std::string& path, const std::string& tmp, const StateBlob
             H5Gclose);
     write_string(root.id, "format", format_name, true, path);
     for (const auto& [k, v] : attributes) write_string(root.id, k, v, true, path);
-    auto group = [&](const char* name) {
-      return Id(check(H5Gcreate2(root.id, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), path,
-                      std::string("create ") + name),
-                H5Gclose);
-    };
-    {
-      Id g = group("doubles");
-      for (const auto& [k, v] : s.doubles)
-        write_array(g.id, k, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, v, path);
-    }
-    {
-      Id g = group("integers");
-      for (const auto& [k, v] : s.integers)
-        write_array(g.id, k, H5T_STD_I64LE, H5T_NATIVE_INT64, v, path);
-    }
-    {
-      Id g = group("bytes");
-      for (const auto& [k, v] : s.bytes)
-        write_array(g.id, k, H5T_STD_U8LE, H5T_NATIVE_UINT8, v, path);
-    }
-    {
-      Id g = group("texts");
-      for (const auto& [k, v] : s.texts) write_string(g.id, k, v, false, path);
-    }
+    write_blob(root.id, s, path);
   }
   if (H5Fflush(file.id, H5F_SCOPE_GLOBAL) < 0) fail_h5(path, "cannot flush " + tmp);
   // Closing writes what HDF5 still holds (metadata): a close that fails leaves a file
@@ -232,31 +265,46 @@ StateBlob read_checkpoint(const std::string& path, std::map<std::string, std::st
       (*attributes)[name] = read_string(root.id, name, true, path);
     }
   }
-  StateBlob s;
-  auto open = [&](const char* name) {
-    return Id(check(H5Gopen2(root.id, name, H5P_DEFAULT), path, std::string("open ") + name),
-              H5Gclose);
-  };
+  return read_blob(root.id, path);
+}
+
+void add_state_group(const std::string& path, const std::string& group, const StateBlob& s) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  Id file(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
+  if (file.id < 0)
+    fail_h5(path, "cannot open for writing (not an HDF5 file, or still open by its run?)");
+  if (H5Lexists(file.id, group.c_str(), H5P_DEFAULT) > 0) fail(path, group + " exists already");
   {
-    Id g = open("doubles");
-    for (const auto& k : member_names(g.id, path))
-      s.doubles[k] = read_array<double>(g.id, k, H5T_NATIVE_DOUBLE, path);
+    Id root(check(H5Gcreate2(file.id, group.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), path,
+                  "create " + group),
+            H5Gclose);
+    write_string(root.id, "format", format_name, true, path);
+    write_blob(root.id, s, path);
   }
-  {
-    Id g = open("integers");
-    for (const auto& k : member_names(g.id, path))
-      s.integers[k] = read_array<std::int64_t>(g.id, k, H5T_NATIVE_INT64, path);
-  }
-  {
-    Id g = open("bytes");
-    for (const auto& k : member_names(g.id, path))
-      s.bytes[k] = read_array<std::uint8_t>(g.id, k, H5T_NATIVE_UINT8, path);
-  }
-  {
-    Id g = open("texts");
-    for (const auto& k : member_names(g.id, path)) s.texts[k] = read_string(g.id, k, false, path);
-  }
-  return s;
+  const herr_t closed = H5Fclose(file.id);
+  file.id = H5I_INVALID_HID;
+  if (closed < 0) fail_h5(path, "cannot close after writing " + group);
+}
+
+bool has_state_group(const std::string& path, const std::string& group) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) fail(path, "no such file");
+  Id file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  if (file.id < 0) fail(path, "not an HDF5 file");
+  return H5Lexists(file.id, group.c_str(), H5P_DEFAULT) > 0;
+}
+
+StateBlob read_state_group(const std::string& path, const std::string& group) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  Id file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  if (file.id < 0) fail(path, "not an HDF5 file");
+  if (H5Lexists(file.id, group.c_str(), H5P_DEFAULT) <= 0) fail(path, "has no " + group);
+  Id root(check(H5Gopen2(file.id, group.c_str(), H5P_DEFAULT), path, "open " + group), H5Gclose);
+  if (H5Aexists(root.id, "format") <= 0 ||
+      read_string(root.id, "format", true, path) != format_name)
+    fail(path, fmt::format("{} is not in the {} layout", group, format_name));
+  return read_blob(root.id, path);
 }
 
 }  // namespace granule::io

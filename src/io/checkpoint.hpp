@@ -20,4 +20,12 @@ void write_checkpoint(const std::string& path, const StateBlob& state,
 StateBlob read_checkpoint(const std::string& path,
                           std::map<std::string, std::string>* attributes = nullptr);
 
+// The same layout as a group of an existing HDF5 file, e.g. a closed run output that
+// keeps part of a state beside its snapshots (a prepared agglomerate's contact
+// histories). add_state_group refuses a group that exists; read_state_group one
+// that is missing or of another layout; both name the file.
+void add_state_group(const std::string& path, const std::string& group, const StateBlob& state);
+bool has_state_group(const std::string& path, const std::string& group);
+StateBlob read_state_group(const std::string& path, const std::string& group);
+
 }  // namespace granule::io

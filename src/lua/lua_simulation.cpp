@@ -1157,6 +1157,7 @@ const luaL_Reg methods[] = {
     {"timings", l_timings},
     // wrap_agglomerate.cpp (dissertation chapter 7)
     {"load_particles", bound<load_particles>},
+    {"save_contact_histories", bound<save_contact_histories>},
     {"bonds", bound<bonds>},
     {"fragments", bound<fragments>},
     {"breakage", bound<breakage>},

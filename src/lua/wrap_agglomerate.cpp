@@ -5,14 +5,18 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
+#include <numeric>
 #include <string>
 #include <unordered_set>
 #include <vector>
 
 #include "analysis/breakage.hpp"
 #include "core/errors.hpp"
+#include "io/checkpoint.hpp"
+#include "io/contact_histories.hpp"
 #include "io/h5_input.hpp"
 #include "lua/lua_util.hpp"
 
@@ -129,6 +133,9 @@ void push_labels(lua_State* L, const analysis::Fragments& f) {
   }
 }
 
+// Where a prepared agglomerate's file keeps its contact histories.
+constexpr const char* histories_group = "/contact_histories";
+
 }  // namespace
 
 int load_particles(lua_State* L, SimulationBase& sim) {
@@ -153,9 +160,30 @@ int load_particles(lua_State* L, SimulationBase& sim) {
   }
   const Triple offset = t.vector("offset", d, {0, 0, 0});
   const Triple added_velocity = t.vector("velocity", d, {0, 0, 0});
+  const bool histories_asked = t.has("histories");
+  const bool histories_wanted = t.boolean("histories", true);
   t.finish();
 
   const io::SnapshotData s = io::read_snapshot(file, index);
+  // Histories belong to one instant: they are used only with the snapshot of
+  // the step they were saved at.
+  bool use_histories = false;
+  StateBlob saved_histories;
+  if (histories_wanted && io::has_state_group(file, histories_group)) {
+    saved_histories = io::read_state_group(file, histories_group);
+    const auto& meta = saved_histories.i("meta");
+    use_histories = meta.size() == 2 && meta[1] == s.step;
+    if (!use_histories && histories_asked)
+      throw InputError(fmt::format(
+          "load_particles: {} holds contact histories of step {}, its snapshot {} is of step {}; "
+          "load that snapshot or give histories = false",
+          file, meta.size() == 2 ? meta[1] : -1, index, s.step));
+  } else if (histories_wanted && histories_asked) {
+    throw InputError(fmt::format(
+        "load_particles: histories = true, but {} holds no contact histories ({}; written by "
+        "sim:save_contact_histories)",
+        file, histories_group));
+  }
   if (s.dimension != d)
     throw InputError(fmt::format("load_particles: {} holds a {}D snapshot, this scene is {}D", file,
                                  s.dimension, d));
@@ -191,10 +219,17 @@ int load_particles(lua_State* L, SimulationBase& sim) {
     return m;
   };
 
+  // In the order of the saved ids: the new ids then keep the order of every
+  // pair, and with it the sign of its history (the force on the lower id).
+  std::vector<std::size_t> order(s.id.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t x, std::size_t y) { return s.id[x] < s.id[y]; });
   std::vector<std::int64_t> ids;
   ids.reserve(s.id.size());
+  std::map<std::int64_t, std::int64_t> renamed;
   const int sc = s.spin_components;
-  for (std::size_t i = 0; i < s.id.size(); ++i) {
+  for (std::size_t i : order) {
     ParticleSpec p;
     for (int k = 0; k < d; ++k) {
       p.position[k] = s.position[i * d + k] + offset[k];
@@ -209,12 +244,37 @@ int load_particles(lua_State* L, SimulationBase& sim) {
     p.material = material_for(s.material[i]);
     p.fixed = s.fixed[i] != 0;
     ids.push_back(sim.add_particle(p));
+    renamed[s.id[i]] = ids.back();
+  }
+  std::size_t seeded = 0;
+  if (use_histories) {
+    // Through the engine's own state: the histories join its pair lists keyed
+    // by id pair, and its next list rebuild gives each to its contact.
+    sim.prepare();
+    StateBlob state = sim.save_state();
+    seeded = io::seed_pair_histories(state, saved_histories, renamed, file);
+    sim.load_state(state);
   }
   lua_createtable(L, static_cast<int>(ids.size()), 0);
   for (std::size_t k = 0; k < ids.size(); ++k) {
     lua_pushinteger(L, ids[k]);
     lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
   }
+  lua_pushinteger(L, static_cast<lua_Integer>(seeded));
+  return 2;
+}
+
+int save_contact_histories(lua_State* L, SimulationBase& sim) {
+  TableReader t(L, 2, "save_contact_histories");
+  const std::string file = t.string("file");
+  const std::vector<std::int64_t> ids = selected_particles(t, sim);
+  t.finish();
+  const StateBlob part = io::pair_histories_of(sim.save_state(), ids);
+  io::add_state_group(file, histories_group, part);
+  std::size_t count = 0;
+  for (const auto& [key, values] : part.integers)
+    if (key.size() > 5 && key.compare(key.size() - 5, 5, ".id_i") == 0) count += values.size();
+  lua_pushinteger(L, static_cast<lua_Integer>(count));
   return 1;
 }
 
@@ -276,6 +336,7 @@ int breakage(lua_State* L, SimulationBase& sim) {
   classes.fines = t.number("fines", classes.fines);
   const bool labels = t.boolean("labels", false);
   const std::string graph = t.string("graph", "contacts");
+  const double initial_count = t.number("initial_count", static_cast<double>(ids.size()));
   t.finish();
   if (graph != "contacts" && graph != "surviving_bonds")
     throw InputError(fmt::format(
@@ -291,7 +352,8 @@ int breakage(lua_State* L, SimulationBase& sim) {
       ids, masses, graph == "contacts" ? now : analysis::surviving_bonds(initial, now));
   analysis::BreakageSummary s;
   try {
-    s = analysis::summarize_breakage(initial, now, f, initial_mass, classes);
+    s = analysis::summarize_breakage(initial, now, f, initial_mass, classes,
+                                     whole_number(initial_count, "breakage: 'initial_count'"));
   } catch (const std::invalid_argument& e) {
     throw InputError(e.what());
   }
@@ -313,6 +375,12 @@ int breakage(lua_State* L, SimulationBase& sim) {
   set_integer(L, "small", s.small);
   set_integer(L, "fines", s.fines);
   set_integer(L, "singles", s.singles);
+  set_integer(L, "initial_count", s.initial_count);
+  set_integer(L, "debris_by_size", s.debris_by_size);
+  set_integer(L, "bonded_debris", s.bonded_debris);
+  set_number(L, "debris_ratio_by_size", s.debris_ratio_by_size);
+  set_number(L, "singles_ratio", s.singles_ratio);
+  set_number(L, "bonded_debris_ratio", s.bonded_debris_ratio);
   if (labels) {
     push_labels(L, f);
     lua_setfield(L, -2, "labels");

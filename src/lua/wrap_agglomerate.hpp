@@ -12,8 +12,13 @@
 namespace granule::lua {
 
 // sim:load_particles { file = "agg.h5", snapshot = -1, material_map = { saved = "current" },
-//                      offset = {x, y[, z]}, velocity = {vx, vy[, vz]} } -> list of new ids
+//                      offset = {x, y[, z]}, velocity = {vx, vy[, vz]}, histories = true }
+//   -> list of new ids, number of contact histories restored
 int load_particles(lua_State* L, SimulationBase& sim);
+
+// sim:save_contact_histories { file = "agg.h5", particles = | material = } -> number saved
+// (the run's output closed: sim:close())
+int save_contact_histories(lua_State* L, SimulationBase& sim);
 
 // sim:bonds { particles = {ids} | material = "name" } -> { {a, b}, ... } (ids, a < b)
 int bonds(lua_State* L, SimulationBase& sim);
@@ -23,7 +28,7 @@ int bonds(lua_State* L, SimulationBase& sim);
 int fragments(lua_State* L, SimulationBase& sim);
 
 // sim:breakage { initial_bonds = sim:bonds {...}, particles = | material =,
-//                initial_mass = kg, large = 0.1, debris = 0.025, fines = 0.002,
+//                initial_mass = kg, initial_count = n, large = 0.1, debris = 0.025, fines = 0.002,
 //                labels = false, graph = "contacts" | "surviving_bonds" }
 //   -> damage and debris ratios, fragment counts
 int breakage(lua_State* L, SimulationBase& sim);

@@ -170,6 +170,51 @@ TEST_CASE("class boundaries: exactly 10 % is medium, exactly 2.5 % is not debris
   CHECK(s.damage_ratio == 0);  // no initial bonds: nothing to break
 }
 
+TEST_CASE("debris by fragment size: singles and bonded debris (7.4 with 7.6's words)",
+          "[breakage]") {
+  // 200 primaries of 1 kg before the test. Debris by size: n < 2.5 % of 200 = 5
+  // primaries. Fragments after it, by hand: 150 (large), 20 (medium: exactly
+  // 10 %), 5 (exactly 2.5 %: not debris), 4, 2 and 2 (bonded debris: 8 primaries)
+  // and 17 singles. Debris = 8 + 17 = 25 primaries, 12.5 % of the mass.
+  Fragments f;
+  f.mass = {150, 20, 5, 4, 2, 2};
+  f.members = {150, 20, 5, 4, 2, 2};
+  for (int k = 0; k < 17; ++k) f.mass.push_back(1), f.members.push_back(1);
+  for (std::int64_t id = 0; id < 200; ++id) f.ids.push_back(id);
+  f.label.assign(200, 0);  // not read by the summary
+  const BreakageSummary s = summarize_breakage({}, {}, f, 200.0, {}, 200);
+  CHECK(s.initial_count == 200);
+  CHECK(s.debris_by_size == 20);  // 3 bonded + 17 singles
+  CHECK(s.bonded_debris == 3);
+  CHECK(s.bonded_debris_ratio == Approx(8.0 / 200));
+  CHECK(s.singles_ratio == Approx(17.0 / 200));
+  CHECK(s.debris_ratio_by_size == Approx(25.0 / 200));
+  CHECK(s.debris_ratio == Approx(25.0 / 200));  // equal masses: the mass classes agree
+  CHECK(s.fines == 0);                          // 0.2 % of 200 kg is below one primary
+  CHECK(s.large == 1);
+  CHECK(s.medium == 2);
+
+  // Size, not mass: with debris below 10 % and N = 20, a single heavy primary
+  // (30 kg of 200, 15 %: medium by mass) is debris by size (1 < 2 primaries).
+  Fragments g;
+  g.ids = {1, 2, 3, 4};
+  g.label = {0, 0, 0, 1};
+  g.mass = {170, 30};
+  g.members = {3, 1};
+  const BreakageSummary t = summarize_breakage({}, {}, g, 200.0, {0.5, 0.1, 0.01}, 20);
+  CHECK(t.debris_ratio == 0);
+  CHECK(t.medium == 1);
+  CHECK(t.debris_by_size == 1);
+  CHECK(t.singles_ratio == Approx(0.15));
+  CHECK(t.bonded_debris == 0);
+  // Without a count, N is the number of primaries in the fragments: 4, and
+  // 1 < 0.1 x 4 fails, so nothing is debris by size.
+  const BreakageSummary u = summarize_breakage({}, {}, g, 200.0, {0.5, 0.1, 0.01});
+  CHECK(u.initial_count == 4);
+  CHECK(u.debris_by_size == 0);
+  CHECK_THROWS_WITH(summarize_breakage({}, {}, g, 200.0, {}, -1), Catch::Contains("initial_count"));
+}
+
 TEST_CASE("surviving bonds ignore contacts made during the test", "[breakage]") {
   const auto initial = normalized_bonds({{1, 2}, {2, 3}, {3, 4}});
   const auto now = normalized_bonds({{1, 2}, {3, 4}, {1, 4}});

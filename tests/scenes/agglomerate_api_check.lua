@@ -71,6 +71,13 @@ end)
 refused("saved material 'glass'", function()
   simulation { dimension = 2 }:load_particles { file = "agglomerate_api_check.h5" }
 end)
+refused("holds no contact histories", function()
+  copy:load_particles { file = "agglomerate_api_check.h5", material_map = { glass = "sand" }, histories = true }
+end)
+refused("exists already", function()
+  sim:save_contact_histories { file = "agglomerate_api_check.h5" }
+  sim:save_contact_histories { file = "agglomerate_api_check.h5" }
+end)
 refused("holds a 2D snapshot, this scene is 3D", function()
   local s3 = simulation { dimension = 3 }
   s3:material { name = "glass", density = 2500 }
