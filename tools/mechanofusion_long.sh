@@ -56,5 +56,13 @@ for study in $studies; do
   # shellcheck disable=SC2086
   OMP_WAIT_POLICY=PASSIVE $launch "$granule" sweep "$root/scenarios/mechanofusion.lua" -D seed=$seeds $axes \
     -D settle=$settle -D duration=$length -D every=$every -o "$work/$study" --threads 1 --checkpoint-every $checkpoint -q \
-    || echo "$study: some cases did not finish (rerun the same command to continue them)" >&2
+    || status=$?
+  if [ "${status:-0}" -ge 128 ]; then
+    # Stopped by a signal: the running cases wrote their checkpoints; go no further.
+    echo "$study: stopped (status $status); run the same command again to continue" >&2
+    exit "$status"
+  elif [ "${status:-0}" -ne 0 ]; then
+    echo "$study: some cases failed (their logs say why); rerun the same command to retry them" >&2
+  fi
+  status=0
 done
