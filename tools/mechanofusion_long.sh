@@ -38,6 +38,9 @@ if [ "$ranks" -gt 1 ]; then
   launch="mpirun --allow-run-as-root --oversubscribe --mca btl self,vader -np $ranks"
 fi
 mkdir -p "$work"
+# Ctrl-C or SIGTERM to this script ends it after the running sweep has stopped its cases.
+trap 'exit 130' INT
+trap 'exit 143' TERM
 for study in $studies; do
   length=$measure
   case $study in
@@ -57,6 +60,11 @@ for study in $studies; do
   OMP_WAIT_POLICY=PASSIVE $launch "$granule" sweep "$root/scenarios/mechanofusion.lua" -D seed=$seeds $axes \
     -D settle=$settle -D duration=$length -D every=$every -o "$work/$study" --threads 1 --checkpoint-every $checkpoint -q \
     || status=$?
+  # Under mpirun the exit status is mpirun's (1 for a rank stopped by a signal):
+  # the summary's "interrupted" cases tell a stop from a failure.
+  if [ "${status:-0}" -ne 0 ] && grep -q ',interrupted,' "$work/$study/mechanofusion.sweep.csv" 2>/dev/null; then
+    status=143
+  fi
   if [ "${status:-0}" -ge 128 ]; then
     # Stopped by a signal: the running cases wrote their checkpoints; go no further.
     echo "$study: stopped (status $status); run the same command again to continue" >&2
