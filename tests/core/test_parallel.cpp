@@ -157,7 +157,7 @@ TEST_CASE("stage times: the wall contacts and the fixed-order sums are parts of 
                     << t.scatter << " s");
     CHECK(t.walls > 0);
     CHECK(t.walls + t.scatter < t.force);
-    if (threads == 1) CHECK(t.scatter == 0);  // one thread sums in slot order as it goes
+    if (threads == 1) CHECK(t.scatter == 0);    // one thread sums in slot order as it goes
     if (threads == 1) CHECK(t.pair_wait == 0);  // nobody to wait for
   }
 }

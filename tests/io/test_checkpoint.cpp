@@ -1,13 +1,13 @@
 // Checkpoints: a run saved at step K, written to disk, read back into a freshly
 // declared scene and continued is bit-identical to the run that never stopped; a
 // damaged checkpoint is refused, naming the damaged entry.
+#include <fmt/format.h>
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fmt/format.h>
 #include <limits>
 #include <string>
 #include <vector>
@@ -101,13 +101,15 @@ TEMPLATE_TEST_CASE_SIG("checkpoint: a continued run is bit-identical to an unint
 // The random fill overlaps pairs by more than a radius; while they relax, the guard
 // that stops pairs passing through each other must know those overlaps are the
 // scene's own, also in a run continued from a checkpoint taken then.
-TEMPLATE_TEST_CASE_SIG("checkpoint: a run continued while its fill's overlaps relax goes on as "
-                       "the uninterrupted one",
-                       "[checkpoint]", ((int D), D), 2, 3) {
+TEMPLATE_TEST_CASE_SIG(
+    "checkpoint: a run continued while its fill's overlaps relax goes on as "
+    "the uninterrupted one",
+    "[checkpoint]", ((int D), D), 2, 3) {
   Simulation<D> whole;
   scene(whole);
   whole.advance(2);
-  REQUIRE(whole.stats().max_overlap_ratio > 1);  // deeper than a radius: a pass-through if not the scene's
+  REQUIRE(whole.stats().max_overlap_ratio >
+          1);  // deeper than a radius: a pass-through if not the scene's
   const StateBlob saved = whole.save_state();
   whole.advance(3000);
   Simulation<D> resumed;
@@ -204,11 +206,14 @@ std::vector<Corruption> corruptions(const StateBlob& valid, double stability_lim
   };
   for (const auto& [k, v] : valid.doubles)
     if (k != "hooks.next_time")
-      resize([](StateBlob& s) -> auto& { return s.doubles; }, k, valid, "doubles");
+      resize(
+          [](StateBlob & s) -> auto& { return s.doubles; }, k, valid, "doubles");
   for (const auto& [k, v] : valid.integers)
-    resize([](StateBlob& s) -> auto& { return s.integers; }, k, valid, "integers");
+    resize(
+        [](StateBlob & s) -> auto& { return s.integers; }, k, valid, "integers");
   for (const auto& [k, v] : valid.bytes)
-    resize([](StateBlob& s) -> auto& { return s.bytes; }, k, valid, "bytes");
+    resize(
+        [](StateBlob & s) -> auto& { return s.bytes; }, k, valid, "bytes");
 
   auto set_double = [&](const std::string& k, std::size_t e, double x) {
     StateBlob s = valid;
@@ -230,9 +235,9 @@ std::vector<Corruption> corruptions(const StateBlob& valid, double stability_lim
   const double nan = std::numeric_limits<double>::quiet_NaN(), huge = 1e300;
   const std::int64_t huge_index = std::int64_t{1} << 40;
   const std::vector<std::string> particle_doubles = {
-      "particles.position", "particles.velocity", "particles.spin",
-      "particles.force",    "particles.torque",   "particles.position_at_rebuild",
-      "particles.radius",   "particles.mass",     "particles.inv_mass",
+      "particles.position",   "particles.velocity", "particles.spin",
+      "particles.force",      "particles.torque",   "particles.position_at_rebuild",
+      "particles.radius",     "particles.mass",     "particles.inv_mass",
       "particles.inv_inertia"};
   // NaN: nowhere.
   for (const auto& [k, v] : valid.doubles) {
@@ -252,13 +257,13 @@ std::vector<Corruption> corruptions(const StateBlob& valid, double stability_lim
   for (std::size_t e : {1, 2, 10}) set_double("meta", e, huge);  // dt, dt set, contact reach
   set_double("meta", 1, 1.01 * stability_limit);  // just above the engine's own limit
   // -1 where values are positive (radius, masses, material properties, time, time step, skin).
-  for (const auto& k : {"particles.radius", "particles.mass", "particles.inv_mass",
-                        "particles.inv_inertia"})
+  for (const auto& k :
+       {"particles.radius", "particles.mass", "particles.inv_mass", "particles.inv_inertia"})
     for (std::size_t e : some(valid.doubles.at(k).size())) set_double(k, e, -1);
   for (std::size_t e = 0; e < valid.doubles.at("materials").size(); ++e)
     set_double("materials", e, -1);
   for (std::size_t e : {0, 1, 2, 3, 4, 5, 6, 10}) set_double("meta", e, -1);
-  if (D == 3) set_double("meta", 9, -1);  // the periodic length, when periodic
+  if (D == 3) set_double("meta", 9, -1);                      // the periodic length, when periodic
   for (std::size_t e : {0, 4, 8}) set_double("body", e, -1);  // flags, central strength
   // Integers: -1 and huge in every table (indices, ids, flags, the header).
   for (const auto& [k, v] : valid.integers) {
@@ -277,13 +282,19 @@ std::vector<Corruption> corruptions(const StateBlob& valid, double stability_lim
   for (const auto& [k, v] : valid.integers) {
     std::int64_t limit = -1;
     auto ends = [&](const char* tail) {
-      return k.size() > std::strlen(tail) && k.compare(k.size() - std::strlen(tail), std::string::npos, tail) == 0;
+      return k.size() > std::strlen(tail) &&
+             k.compare(k.size() - std::strlen(tail), std::string::npos, tail) == 0;
     };
-    if (k == "particles.material") limit = materials;
-    else if (k == "particles.index_of_id") limit = n;
-    else if (k.rfind("pairs.", 0) == 0 && (ends(".i") || ends(".j"))) limit = n;
-    else if (k.rfind("walls.", 0) == 0 && ends(".particle")) limit = n;
-    else if (k.rfind("walls.", 0) == 0 && ends(".wall")) limit = walls;
+    if (k == "particles.material")
+      limit = materials;
+    else if (k == "particles.index_of_id")
+      limit = n;
+    else if (k.rfind("pairs.", 0) == 0 && (ends(".i") || ends(".j")))
+      limit = n;
+    else if (k.rfind("walls.", 0) == 0 && ends(".particle"))
+      limit = n;
+    else if (k.rfind("walls.", 0) == 0 && ends(".wall"))
+      limit = walls;
     if (limit < 0) continue;
     for (std::size_t e = 0; e < v.size(); ++e) set_integer(k, e, limit);
   }

@@ -175,7 +175,7 @@ TEST_CASE("lua: a second contact law for a pair names both declarations", "[lua]
   const std::string file = std::filesystem::path(r.path).filename().string();
   INFO("error: " << r.error);
   CHECK_THAT(r.error, Catch::Contains("declared twice"));
-  CHECK_THAT(r.error, Catch::Contains("first at " ));
+  CHECK_THAT(r.error, Catch::Contains("first at "));
   CHECK_THAT(r.error, Catch::Contains(file + ":5, again at "));
   CHECK_THAT(r.error, Catch::Contains(file + ":6"));
   CHECK_THAT(r.error, Catch::Contains("sim:set_contact"));
@@ -193,12 +193,14 @@ TEST_CASE("lua: an unknown key is reported before a missing required one", "[lua
       6, "fill: unknown key 'radis' (did you mean 'radius'?)");
   expect_refused("sim:add_particle { position = {0, 0}, radiu = 1e-3, material = 'glass' }\n", 6,
                  "unknown key 'radiu' (did you mean 'radius'?)");
-  expect_refused("sim:wall_plane { nam = 'floor', point = {0, 0}, normal = {0, 1}, material = "
-                 "'steel' }\n",
-                 6, "unknown key 'nam' (did you mean 'name'?)");
+  expect_refused(
+      "sim:wall_plane { nam = 'floor', point = {0, 0}, normal = {0, 1}, material = "
+      "'steel' }\n",
+      6, "unknown key 'nam' (did you mean 'name'?)");
   expect_refused("sim:material { nme = 'x', density = 1 }\n", 6, "unknown key 'nme'");
   auto r = run_scene("local sim = simulation { dimensio = 2 }\n");
-  CHECK_THAT(r.error, Catch::Contains("simulation: unknown key 'dimensio' (did you mean 'dimension'?)"));
+  CHECK_THAT(r.error,
+             Catch::Contains("simulation: unknown key 'dimensio' (did you mean 'dimension'?)"));
 }
 
 TEST_CASE("lua: requests that cannot be met are refused with the reason", "[lua][errors]") {
