@@ -104,18 +104,12 @@ class ContactPeaksDiagnostic final : public Diagnostic<D> {
         const int ia = p.index(e.id_a), ib = p.index(e.id_b);
         boundary = (ia >= 0 && p.fixed[ia]) || (ib >= 0 && p.fixed[ib]);
       }
-      if (!boundary) {                                          // 4.7: host-host contacts only
-        const double a2 = e.peak_overlap * e.effective_radius;  // a^2 = d R
-        if (a2 > 0) covered_area_ += pi * a2;
+      if (!boundary) {  // 4.7: host-host contacts only
         ++host_collisions_;
-        if (!reached_ && covered_area_ >= target_area_) {
-          reached_ = true;
-          coating_time_ = e.end_time - start_time_;
-        }
         const int ia = p.index(e.id_a), ib = p.index(e.id_b);
         const double mean_radius =
             ia >= 0 && ib >= 0 ? 0.5 * (p.radius[ia] + p.radius[ib]) : 2 * e.effective_radius;
-        const double d = std::max(0.0, e.peak_overlap);
+        const double d = std::max(0.0, e.peak_overlap);  // a^2 = d R, by each reading of R
         const std::array<double, conventions> add_area = {
             pi * d * e.effective_radius, 2 * pi * d * e.effective_radius, pi * d * mean_radius,
             2 * pi * d * mean_radius};
@@ -158,13 +152,16 @@ class ContactPeaksDiagnostic final : public Diagnostic<D> {
   std::map<std::string, double> results() const override {
     std::map<std::string, double> r;
     const double elapsed = last_time_ - start_time_;
-    r["coating_reached"] = reached_ ? 1 : 0;
-    r["coating_time"] = reached_ ? coating_time_ : 0;
+    // The plain coating time is the first reading (one patch, R*).
+    const bool reached = reached_by_[0] != 0;
+    const double covered = covered_by_[0], coating_time = coating_time_by_[0];
+    r["coating_reached"] = reached ? 1 : 0;
+    r["coating_time"] = reached ? coating_time : 0;
     // The rate so far extrapolated (the short runs rarely cover the surface).
     r["coating_time_estimate"] =
-        reached_ ? coating_time_
-                 : (covered_area_ > 0 && elapsed > 0 ? target_area_ * elapsed / covered_area_ : 0);
-    r["covered_fraction"] = target_area_ > 0 ? covered_area_ / target_area_ : 0;
+        reached ? coating_time
+                : (covered > 0 && elapsed > 0 ? target_area_ * elapsed / covered : 0);
+    r["covered_fraction"] = target_area_ > 0 ? covered / target_area_ : 0;
     r["host_collisions"] = static_cast<double>(host_collisions_);
     for (int k = 0; k < conventions; ++k) {
       const std::string n = convention_names[k];
@@ -213,9 +210,9 @@ class ContactPeaksDiagnostic final : public Diagnostic<D> {
     DiagnosticStateWriter w(blob, prefix);
     w.fingerprint(fingerprint());
     frame_.save(w);
-    w.put_integers("counts", {reached_ ? 1 : 0, host_collisions_});
-    w.put("times", {start_time_, window_start_, last_time_, coating_time_});
-    w.put("areas", {target_area_, covered_area_});
+    w.put_integers("counts", {host_collisions_});
+    w.put("times", {start_time_, window_start_, last_time_});
+    w.put("areas", {target_area_});
     std::vector<double> hist;
     for (const auto* h : {&force_hist_, &velocity_hist_, &impact_hist_})
       for (const auto& set : *h) hist.insert(hist.end(), set.begin(), set.end());
@@ -236,17 +233,14 @@ class ContactPeaksDiagnostic final : public Diagnostic<D> {
   void load_state(const StateBlob& blob, const std::string& prefix) override {
     DiagnosticStateReader r(blob, prefix, name);
     r.check_fingerprint(fingerprint());
-    const auto counts = r.integers("counts", 2);
-    if ((counts[0] != 0 && counts[0] != 1) || counts[1] < 0)
-      r.invalid("counts", "holds impossible counts");
+    const auto counts = r.integers("counts", 1);
+    if (counts[0] < 0) r.invalid("counts", "holds impossible counts");
     ContactPeaksDiagnostic next = *this;  // all or nothing: a refused load leaves this as it was
     next.frame_.load(r);
-    next.reached_ = counts[0] == 1, next.host_collisions_ = counts[1];
-    const auto times = r.doubles("times", 4);
+    next.host_collisions_ = counts[0];
+    const auto times = r.doubles("times", 3);
     next.start_time_ = times[0], next.window_start_ = times[1], next.last_time_ = times[2];
-    next.coating_time_ = times[3];
-    const auto areas = r.doubles("areas", 2);
-    next.target_area_ = areas[0], next.covered_area_ = areas[1];
+    next.target_area_ = r.number("areas");
     const auto hist = r.doubles("histograms", 3 * sets * static_cast<std::size_t>(bins_));
     auto at = hist.begin();
     for (auto* h : {&next.force_hist_, &next.velocity_hist_, &next.impact_hist_})
@@ -331,8 +325,8 @@ class ContactPeaksDiagnostic final : public Diagnostic<D> {
     if (sink_) {
       declare();
       const std::string g = "diagnostics/" + label_;
-      std::vector<double> coating{time, covered_area_,
-                                  target_area_ > 0 ? covered_area_ / target_area_ : 0,
+      std::vector<double> coating{time, covered_by_[0],
+                                  target_area_ > 0 ? covered_by_[0] / target_area_ : 0,
                                   static_cast<double>(host_collisions_)};
       for (double c : covered_by_) coating.push_back(target_area_ > 0 ? c / target_area_ : 0);
       sink_->append_series(g + "/coating", coating);
@@ -362,8 +356,7 @@ class ContactPeaksDiagnostic final : public Diagnostic<D> {
   std::array<double, sets> sum_force_{};
   std::array<std::int64_t, sets> counted_{}, above_01_{}, above_02_{}, above_10_{};
   double start_time_ = -1, window_start_ = 0, last_time_ = 0;
-  double target_area_ = 0, covered_area_ = 0, coating_time_ = 0;
-  bool reached_ = false;
+  double target_area_ = 0;
   std::int64_t host_collisions_ = 0;
   std::array<double, conventions> covered_by_{}, coating_time_by_{};
   std::array<std::int64_t, conventions> reached_by_{};
