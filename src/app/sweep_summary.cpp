@@ -1,0 +1,143 @@
+// granule sweep's summary of all cases: CSV, markdown and HDF5 (docs/performance.md,
+// "Parameter sweeps").
+#include "app/sweep_summary.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <stdexcept>
+
+#include "io/case_record.hpp"
+#include "io/h5_output.hpp"
+
+namespace granule::app::sweep_detail {
+
+namespace {
+
+namespace fs = std::filesystem;
+std::string csv_field(const std::string& text) {
+  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  std::string out = "\"";
+  for (char c : text) out += (c == '"') ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+std::string number(double v) {
+  return fmt::format("{:.10g}", v);
+}
+
+}  // namespace
+
+Summary tabulate(const Settings& s, const std::vector<Case>& cases,
+                 const std::vector<Outcome>& outcomes, std::vector<std::string>& result_names) {
+  std::set<std::string> names;
+  for (const auto& o : outcomes)
+    for (const auto& r : o.results) names.insert(r.first);
+  result_names.assign(names.begin(), names.end());
+  Summary t;
+  t.header.push_back("case");
+  for (const auto& a : s.axes) t.header.push_back(a.name);
+  t.header.push_back("status");
+  for (const auto& r : result_names) t.header.push_back(r);
+  t.header.insert(t.header.end(), {"rank", "wall_s", "file", "error"});
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const Outcome& o = outcomes[i];
+    std::vector<std::string> row{std::to_string(i)};
+    for (const auto& v : cases[i].values) row.push_back(v.second);
+    row.push_back(status_name(o.status));
+    for (const auto& r : result_names) {
+      auto it = o.results.find(r);
+      row.push_back(it == o.results.end() ? "" : number(it->second));
+    }
+    bool ran = o.status != Status::not_run;
+    row.push_back(ran ? std::to_string(o.rank) : "");
+    row.push_back(ran ? fmt::format("{:.3f}", o.wall_seconds) : "");
+    row.push_back(fs::path(cases[i].file).filename().string());
+    row.push_back(o.error);
+    t.rows.push_back(std::move(row));
+  }
+  return t;
+}
+
+void write_csv(const std::string& path, const Summary& t) {
+  std::ofstream out(path);
+  for (std::size_t k = 0; k < t.header.size(); ++k) out << (k ? "," : "") << csv_field(t.header[k]);
+  out << "\n";
+  for (const auto& row : t.rows) {
+    for (std::size_t k = 0; k < row.size(); ++k) out << (k ? "," : "") << csv_field(row[k]);
+    out << "\n";
+  }
+  if (!out) throw std::runtime_error("cannot write " + path);
+}
+
+void write_markdown(const std::string& path, const Settings& s, const Summary& t) {
+  std::ofstream out(path);
+  out << "# Sweep of " << s.scene << "\n\n";
+  auto cell = [](std::string text) {
+    if (text.size() > 100) text = text.substr(0, 97) + "...";
+    std::string out;
+    for (char c : text) out += (c == '|') ? std::string("\\|") : std::string(1, c);
+    return out;
+  };
+  for (const auto& h : t.header) out << "| " << cell(h) << " ";
+  out << "|\n";
+  for (std::size_t k = 0; k < t.header.size(); ++k) out << "|---";
+  out << "|\n";
+  for (const auto& row : t.rows) {
+    for (const auto& v : row) out << "| " << cell(v) << " ";
+    out << "|\n";
+  }
+  if (!out) throw std::runtime_error("cannot write " + path);
+}
+
+// One series group /sweep (the form tools/plot_sweep.py reads from one file): a row per
+// finished case with every result, numeric parameters and results as columns; the whole
+// table (every case, failed ones too) as CSV text in /sweep_table.
+void write_h5(const std::string& path, const Settings& s, const std::vector<Case>& cases,
+              const std::vector<Outcome>& outcomes, const std::vector<std::string>& result_names,
+              const std::string& csv_text) {
+  io::H5Output out(path);
+  std::vector<std::size_t> numeric_axes;
+  for (std::size_t a = 0; a < s.axes.size(); ++a) {
+    bool numeric = true;
+    for (const auto& v : s.axes[a].values) {
+      char* end = nullptr;
+      double x = std::strtod(v.c_str(), &end);
+      numeric = numeric && *end == 0 && std::isfinite(x);
+    }
+    if (numeric) numeric_axes.push_back(a);
+  }
+  std::vector<std::string> columns{"case"};
+  for (auto a : numeric_axes) columns.push_back(s.axes[a].name);
+  for (const auto& r : result_names)
+    if (std::find(columns.begin(), columns.end(), r) == columns.end()) columns.push_back(r);
+  for (const char* extra : {"rank", "wall_seconds"})
+    if (std::find(columns.begin(), columns.end(), extra) == columns.end()) columns.push_back(extra);
+  out.series_declare("/sweep", columns);
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const Outcome& o = outcomes[i];
+    if (o.status != Status::ok && o.status != Status::reused) continue;
+    std::map<std::string, double> values{
+        {"case", double(i)}, {"rank", double(o.rank)}, {"wall_seconds", o.wall_seconds}};
+    for (auto a : numeric_axes)
+      values[s.axes[a].name] = std::strtod(cases[i].values[a].second.c_str(), nullptr);
+    for (const auto& [name, v] : o.results) values[name] = v;
+    std::vector<double> row;
+    for (const auto& c : columns) {
+      auto it = values.find(c);
+      if (it == values.end() || !std::isfinite(it->second)) break;
+      row.push_back(it->second);
+    }
+    if (row.size() == columns.size()) out.series_append("/sweep", row);
+  }
+  out.write_text("/sweep_table", csv_text);
+  out.write_attribute("/sweep", "scene", s.scene);
+  out.write_attribute("/sweep", "cases", static_cast<std::int64_t>(cases.size()));
+  out.flush();
+}
+
+}  // namespace granule::app::sweep_detail
