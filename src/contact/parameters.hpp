@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "core/names.hpp"
+
 namespace granule {
 
 struct ParamSpec {
@@ -32,8 +34,5 @@ using ParamValues = std::map<std::string, double>;
 // message starts with `context` (e.g. "contact 'pmma'-'pmma' (walton_braun)").
 ParamValues resolve_parameters(const std::vector<ParamSpec>& spec, const ParamValues& given,
                                const std::string& context);
-
-// The closest name in `candidates` to `name` (edit distance), or "" if none is close.
-std::string nearest_name(const std::string& name, const std::vector<std::string>& candidates);
 
 }  // namespace granule

@@ -11,7 +11,7 @@
 #include <numeric>
 
 #include "core/errors.hpp"
-#include "core/simulation_base.hpp"
+#include "engine/simulation_base.hpp"
 
 namespace granule::io {
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "core/simulation_base.hpp"
+#include "engine/simulation_base.hpp"
 #include "core/state.hpp"
 #include "hooks/diagnostic.hpp"
 #include "io/h5_output.hpp"

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "core/simulation_base.hpp"
+#include "engine/simulation_base.hpp"
 
 namespace granule::io {
 

@@ -14,8 +14,8 @@
 #include <optional>
 
 #include "core/errors.hpp"
-#include "core/run_loop.hpp"
-#include "core/simulation_base.hpp"
+#include "engine/run_loop.hpp"
+#include "engine/simulation_base.hpp"
 #include "io/run_output.hpp"
 #include "lua/api_docs.hpp"
 #include "lua/journal.hpp"

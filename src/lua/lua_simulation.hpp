@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "core/run_loop.hpp"
-#include "core/simulation_base.hpp"
+#include "engine/run_loop.hpp"
+#include "engine/simulation_base.hpp"
 #include "core/state.hpp"
 #include "io/run_output.hpp"
 #include "lua/lua_util.hpp"

@@ -7,7 +7,7 @@
 
 #include <lua.hpp>
 
-#include "core/simulation_base.hpp"
+#include "engine/simulation_base.hpp"
 
 namespace granule::lua {
 

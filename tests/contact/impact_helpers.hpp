@@ -9,7 +9,7 @@
 #include <utility>
 
 #include "contact/parameters.hpp"
-#include "core/simulation.hpp"
+#include "engine/simulation.hpp"
 
 namespace granule::test {
 

@@ -11,7 +11,7 @@
 #include "contact/thornton_elastic.hpp"
 #include "contact/thornton_jkr.hpp"
 #include "core/errors.hpp"
-#include "core/simulation.hpp"
+#include "engine/simulation.hpp"
 
 using namespace granule;
 

@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "core/simulation.hpp"
+#include "engine/simulation.hpp"
 
 namespace granule::test {
 

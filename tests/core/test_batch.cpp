@@ -1,4 +1,4 @@
-// The pair loop's batched path (core/pair_batch.hpp with a model's
+// The pair loop's batched path (kernel/pair_batch.hpp with a model's
 // force_batch) against its per-contact path (set_batched_contacts(false)) on
 // the same 3D scene: a pile of overlapping spheres with friction in a box,
 // settling under gravity; all of one material (one law for the whole
@@ -8,7 +8,7 @@
 #include <cstring>
 
 #include "box_walls.hpp"
-#include "core/simulation.hpp"
+#include "engine/simulation.hpp"
 
 using namespace granule;
 

@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "core/random.hpp"
-#include "core/simulation.hpp"
+#include "engine/simulation.hpp"
 
 using namespace granule;
 

@@ -5,7 +5,7 @@
 #include <set>
 
 #include "core/random.hpp"
-#include "core/simulation.hpp"
+#include "engine/simulation.hpp"
 #include "neighbor/cell_grid.hpp"
 
 using namespace granule;

@@ -7,7 +7,7 @@
 #include <cstring>
 
 #include "box_walls.hpp"
-#include "core/simulation.hpp"
+#include "engine/simulation.hpp"
 
 using namespace granule;
 

@@ -9,7 +9,7 @@
 #include <string>
 
 #include "box_walls.hpp"
-#include "core/simulation.hpp"
+#include "engine/simulation.hpp"
 
 using namespace granule;
 

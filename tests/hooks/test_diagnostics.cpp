@@ -6,7 +6,7 @@
 #include <cstring>
 
 #include "core/random.hpp"
-#include "core/simulation.hpp"
+#include "engine/simulation.hpp"
 #include "hooks/diagnostic.hpp"
 
 using namespace granule;

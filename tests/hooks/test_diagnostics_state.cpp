@@ -10,7 +10,7 @@
 #include <memory>
 #include <random>
 
-#include "core/simulation.hpp"
+#include "engine/simulation.hpp"
 #include "hooks/diagnostic.hpp"
 
 using namespace granule;

@@ -7,7 +7,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "core/simulation.hpp"
+#include "engine/simulation.hpp"
 
 using namespace granule;
 

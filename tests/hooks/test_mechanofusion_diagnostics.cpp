@@ -8,7 +8,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "core/simulation.hpp"
+#include "engine/simulation.hpp"
 #include "hooks/chamber_frame.hpp"
 #include "hooks/zones.hpp"
 

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "core/errors.hpp"
-#include "core/simulation.hpp"
+#include "engine/simulation.hpp"
 #include "io/checkpoint.hpp"
 
 using namespace granule;

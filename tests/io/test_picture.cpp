@@ -9,7 +9,7 @@
 #include <sstream>
 
 #include "core/errors.hpp"
-#include "core/simulation_base.hpp"
+#include "engine/simulation_base.hpp"
 #include "io/picture.hpp"
 
 using namespace granule;

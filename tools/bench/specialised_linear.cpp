@@ -25,7 +25,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "core/simulation.hpp"
+#include "engine/simulation.hpp"
 
 using namespace granule;
 using V = Eigen::Vector2d;

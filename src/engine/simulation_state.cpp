@@ -14,8 +14,8 @@
 #include <type_traits>
 
 #include "core/errors.hpp"
-#include "core/simulation.hpp"
-#include "core/state_checks.hpp"
+#include "engine/simulation.hpp"
+#include "engine/state_checks.hpp"
 
 namespace granule {
 

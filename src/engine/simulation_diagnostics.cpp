@@ -14,7 +14,7 @@
 #include <sstream>
 
 #include "core/errors.hpp"
-#include "core/simulation.hpp"
+#include "engine/simulation.hpp"
 
 namespace granule {
 

@@ -10,7 +10,7 @@
 #include <functional>
 #include <string>
 
-#include "core/simulation_base.hpp"
+#include "engine/simulation_base.hpp"
 
 namespace granule {
 

@@ -7,7 +7,7 @@
 
 #include <algorithm>
 
-#include "core/simulation.hpp"
+#include "engine/simulation.hpp"
 
 namespace granule {
 

@@ -1,4 +1,4 @@
-#include "core/simulation_base.hpp"
+#include "engine/simulation_base.hpp"
 
 #include <fmt/format.h>
 #include <unistd.h>
@@ -11,7 +11,7 @@
 #include <thread>
 
 #include "core/errors.hpp"
-#include "core/simulation.hpp"
+#include "engine/simulation.hpp"
 
 namespace granule {
 

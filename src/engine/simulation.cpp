@@ -1,4 +1,4 @@
-#include "core/simulation.hpp"
+#include "engine/simulation.hpp"
 
 #include <fmt/format.h>
 
@@ -14,7 +14,7 @@
 #endif
 
 #include "core/errors.hpp"
-#include "core/pair_batch.hpp"
+#include "kernel/pair_batch.hpp"
 #include "core/random.hpp"
 
 namespace granule {

@@ -8,7 +8,7 @@
 
 #include "contact/models.hpp"
 #include "core/particles.hpp"
-#include "core/simulation_base.hpp"
+#include "engine/simulation_base.hpp"
 #include "core/state.hpp"
 #include "fields/body_forces.hpp"
 #include "geometry/walls.hpp"

@@ -1,5 +1,5 @@
 // The checks load_state makes of a checkpoint before it takes any of it.
-#include "core/state_checks.hpp"
+#include "engine/state_checks.hpp"
 
 #include <fmt/format.h>
 
@@ -8,7 +8,7 @@
 #include <limits>
 
 #include "core/errors.hpp"
-#include "core/simulation.hpp"
+#include "engine/simulation.hpp"
 
 namespace granule {
 

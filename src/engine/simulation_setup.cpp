@@ -9,7 +9,7 @@
 
 #include "core/errors.hpp"
 #include "core/random.hpp"
-#include "core/simulation.hpp"
+#include "engine/simulation.hpp"
 
 namespace granule {
 

@@ -1,4 +1,4 @@
-#include "core/run_loop.hpp"
+#include "engine/run_loop.hpp"
 
 #include <algorithm>
 

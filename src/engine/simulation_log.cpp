@@ -2,7 +2,7 @@
 // force kernels on the steps that log contacts, from the lists of touching
 // contacts the kernels made anyway. Observers then visit the few hundred
 // contacts of a step instead of its thousands of candidate slots.
-#include "core/simulation.hpp"
+#include "engine/simulation.hpp"
 
 namespace granule {
 

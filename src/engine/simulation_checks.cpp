@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/simulation.hpp"
+#include "engine/simulation.hpp"
 
 namespace granule {
 

@@ -1,0 +1,19 @@
+// "Did you mean": the nearest known name to a misspelt one, for every error
+// that names a parameter, model, diagnostic, material or wall. One function
+// for C++ and Lua (lua/granule/checks.lua calls it through granule.nearest_name).
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace granule {
+
+// Levenshtein distance between two strings, case-sensitive.
+std::size_t edit_distance(const std::string& a, const std::string& b);
+
+// The closest name in `candidates` to `name` (edit distance at most
+// max(3, |name| / 3)), or "" if none is that close.
+std::string nearest_name(const std::string& name, const std::vector<std::string>& candidates);
+
+}  // namespace granule
