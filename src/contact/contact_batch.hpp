@@ -12,7 +12,7 @@
 //   static void force_batch(const Params* const lanes[], BatchHistory&, ContactBatch<3>&);
 // (each lane's parameters: the contacts of a batch may belong to different
 // material pairs). The engine then uses it for particle pairs in 3D
-// (pair_forces); 2D scenes, wall contacts and models without it take the
+// (PairKernel, kernel/pair_kernel.hpp); 2D scenes, wall contacts and models without it take the
 // per-contact force(). A model whose law reads inv_mass_sum only on some
 // steps of a contact (the linear law: once, when it first touches) may say so
 // with `static bool batch_needs_mass(const History3&)`: on the other steps the

@@ -8,114 +8,18 @@
 
 #include "contact/models.hpp"
 #include "core/particles.hpp"
-#include "engine/simulation_base.hpp"
 #include "core/state.hpp"
+#include "engine/simulation_base.hpp"
 #include "fields/body_forces.hpp"
 #include "geometry/walls.hpp"
 #include "hooks/contact_log.hpp"
 #include "hooks/diagnostic.hpp"
+#include "kernel/buckets.hpp"
+#include "kernel/pair_kernel.hpp"
+#include "kernel/team.hpp"
 #include "neighbor/cell_grid.hpp"
 
 namespace granule {
-
-// A list filled anew every step: its storage only grows, so filling it costs a
-// store per entry and no allocation or initialisation. With more than one
-// thread each listed wall contact also leaves its results at its position in
-// the list, for scatter_forces() to sum the reactions on the walls afterwards
-// in slot order.
-template <int D>
-struct StepList {
-  HotArray<std::uint32_t> entries;
-  std::size_t count = 0;
-  std::vector<std::uint32_t> b;  // wall contacts: the wall
-  std::vector<Vec<D>> force;     // on the particle (on the wall: minus it)
-  std::vector<double> axial;     // torque on the wall about its axis
-  void reserve_outputs(std::size_t most) {
-    if (force.size() < most) b.resize(most), force.resize(most), axial.resize(most);
-  }
-  void start(std::size_t most) {
-    if (entries.size() < most) entries.resize(most);
-    count = 0;
-  }
-  void push(std::uint32_t e) { entries[count++] = e; }
-  const std::uint32_t* begin() const { return entries.data(); }
-  const std::uint32_t* end() const { return entries.data() + count; }
-};
-
-// What each thread of a pair loop did since its range was last judged
-// (Simulation::rebalance), and the cost of a listed contact in candidates,
-// fitted to those times.
-struct ThreadPace {
-  std::vector<double> seconds, candidates, listed;  // per thread
-  std::int64_t steps = 0;
-  bool moved = false;  // the ranges moved since the lists were first built (else judged at once)
-  double contact_weight = 12;
-  void reset(int team) {
-    seconds.assign(team, 0.0), candidates.assign(team, 0.0), listed.assign(team, 0.0);
-    steps = 0;
-  }
-};
-
-// Contacts between particles handled by model M, as flat arrays. A pair is
-// oriented so that id(i) < id(j): the history (force on i) keeps its meaning
-// when particles are re-sorted or lists rebuilt. Entry k is slot `offset + k`
-// of the step's per-slot flags and of the contact log.
-template <int D, typename M>
-struct PairBucket {
-  static constexpr bool is_pair = true;
-  using History = typename M::template History<D>;
-  // Streamed by the contact loop every step: in huge pages (hot_array.hpp).
-  HotArray<std::uint32_t> i, j, slot;
-  HotArray<History> history;
-  std::vector<std::int64_t> id_i, id_j;  // cold: for carrying histories across rebuilds
-  // The parameter slot every candidate shares (one law for the whole bucket),
-  // -1 when they differ, -2 until pair_forces looks (set again when the slots change).
-  std::int64_t law = -2;
-  std::vector<ContactTrack<D>> track;  // only while an observer tracks contact events
-  std::size_t offset = 0;
-  // This step's contacts, per thread: entry k << 1 | touching, in increasing k
-  // within a list and from list to list (each thread takes a contiguous range).
-  std::vector<StepList<D>> touched;
-  // With a team of threads: where their candidate ranges start (and the last
-  // ends), and 1 for each particle that two ranges name (its forces are summed
-  // after the others'); set afresh when the lists are rebuilt or the team
-  // changes, moved when the work gathers in one range (pair_forces).
-  std::vector<std::int64_t> split;
-  std::vector<std::uint8_t> shared;
-  // The first and the last candidate that names each particle (none: ~0u
-  // and 0), found once per list: a particle is shared when they fall in two
-  // ranges, so moving the ranges costs a pass over the particles.
-  std::vector<std::uint32_t> first_named, last_named;
-  // Where each thread's particles start for adding the deferred forces (and
-  // the last end): cut so that each gets as many shared particles.
-  std::vector<std::uint32_t> shared_split;
-  // What rebalance() judges the ranges by; kept over list rebuilds with them.
-  ThreadPace pace;
-  int ran_team = 0;  // the threads OpenMP gave the last step's loop
-  // Pruned lists (pair_forces): one per thread of the team that noted them,
-  // the candidates of its range that were in contact or within the prune
-  // distance of touching when noted, in increasing k; valid while no two
-  // particles can have closed that distance.
-  std::vector<HotArray<std::uint32_t>> near;
-  std::vector<std::int64_t> near_split;  // the ranges they were noted for
-  // false: note afresh (a new bucket, a step without pruning, a smaller team than asked for)
-  bool near_valid = false;
-  bool near_pays = false;  // short enough to repay the extra index per candidate
-  std::size_t size() const { return i.size(); }
-};
-
-template <int D, typename M>
-struct WallBucket {
-  static constexpr bool is_pair = false;
-  using History = typename M::template History<D>;
-  std::vector<std::uint32_t> particle, wall, slot;
-  std::vector<History> history;
-  std::vector<std::int64_t> id;  // cold
-  std::vector<ContactTrack<D>> track;
-  std::size_t offset = 0;
-  std::vector<StepList<D>> touched;  // as in PairBucket
-  std::size_t size() const { return particle.size(); }
-};
 
 template <int D, typename Tuple>
 struct BucketsOf;
@@ -123,6 +27,7 @@ template <int D, typename... Ms>
 struct BucketsOf<D, std::tuple<Ms...>> {
   using pairs = std::tuple<PairBucket<D, Ms>...>;
   using walls = std::tuple<WallBucket<D, Ms>...>;
+  using pair_kernels = std::tuple<PairKernel<D, Ms>...>;
 };
 
 template <int D>
@@ -222,16 +127,10 @@ class Simulation final : public SimulationBase {
   void rebuild_lists();
   void build_slots();
   bool lists_stale() const;
-  template <typename M, bool Observed>
-  void pair_forces(PairBucket<D, M>& bucket, const std::vector<typename M::Params>& params);
-  template <typename M>
-  void mark_shared(PairBucket<D, M>& bucket);
-  template <typename M>
-  void rebalance(PairBucket<D, M>& bucket, int team);
-  template <typename M>
-  void set_split(PairBucket<D, M>& bucket, std::vector<std::int64_t> split);
-  template <typename M, bool Observed>
-  void wall_forces(WallBucket<D, M>& bucket, const std::vector<typename M::Params>& params);
+  // Which loops run on how many threads (kernel/team.hpp).
+  ThreadPolicy thread_policy() const {
+    return {thread_count(), parallel_min_candidates_, parallel_min_particles_};
+  }
   template <typename Bucket>
   void track_bucket(Bucket& bucket);
   void track_contacts();
@@ -260,6 +159,8 @@ class Simulation final : public SimulationBase {
   CellGrid<D> grid_;
   typename BucketsOf<D, ContactModels>::pairs pair_buckets_;
   typename BucketsOf<D, ContactModels>::walls wall_buckets_;
+  // One pair kernel per model: its thread ranges and pruned lists.
+  typename BucketsOf<D, ContactModels>::pair_kernels pair_kernels_;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> candidates_;
   // One slot per candidate contact (pairs, then walls): whether it touched at
   // the last step, and its place in the contact log. Each particle's force is
@@ -267,15 +168,6 @@ class Simulation final : public SimulationBase {
   std::size_t slot_count_ = 0;
   HotArray<std::uint8_t> slot_in_contact_;  // 0: history cleared
   bool fused_ = true;  // this step adds contact forces to particles directly (one thread)
-  // More threads (pair_forces): the contributions to particles that two
-  // threads' candidate ranges share (PairBucket::shared), per thread in its
-  // order, added after the others in slot order: bit-identical sums.
-  struct Deferred {
-    std::uint32_t particle;
-    V force;
-    S torque;
-  };
-  std::vector<std::vector<Deferred>> deferred_;
   void zero_forces();
   ContactLog<D> log_;
   std::vector<AttachedDiagnostic> diagnostics_;
@@ -287,8 +179,9 @@ class Simulation final : public SimulationBase {
   bool any_fixed_ = true;  // a fixed particle exists (refreshed at every list rebuild)
   bool lists_valid_ = false;
   std::size_t rebuilds_ = 0;
-  std::int64_t rebalances_ = 0;  // moves of the threads' shares of pair contacts (rebalance)
-  // Pruning (pair_forces): how far any particle can have moved since the pair
+  std::int64_t rebalances_ =
+      0;  // moves of the threads' shares of pair contacts (ThreadRanges::rebalance)
+  // Pruning (PrunedLists): how far any particle can have moved since the pair
   // lists were last pruned all at once (the fastest speed of each step times
   // dt, summed), whether this step prunes them all, and how many prunes so far.
   double prune_travel_ = 0;

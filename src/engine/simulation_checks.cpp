@@ -1,6 +1,6 @@
 // Checks that stop a run which has gone wrong, naming the step, the particle
 // and what it touched, before the state written with the failure is useless.
-// A NaN is caught in integrate() (simulation.cpp); an escape here.
+// A NaN is caught by the integration (integrate/leapfrog.hpp); an escape here.
 #include <fmt/format.h>
 
 #include <algorithm>

@@ -1,0 +1,147 @@
+// Leap-frog integration of the particles (Eqs. 4.8-4.9), in parallel over
+// particles: a = F/m and dw/dt = M/I (SPEC 2: Eq. 4.7's minus sign belongs to
+// its force convention), the body forces (gravity, the centripetal field)
+// added first. One loop per combination of the effects in use (body force,
+// periodic axis, spins, fixed particles), so a scene pays in the particle loop
+// only for what it has: the branches are resolved when the loop is compiled.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <type_traits>
+
+#include "core/hot_array.hpp"
+#include "core/particles.hpp"
+#include "fields/body_forces.hpp"
+#include "neighbor/cell_grid.hpp"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace granule {
+
+template <int D>
+struct LeapfrogStep {
+  Particles<D>& particles;
+  const HotArray<Vec<D>>& position_at_rebuild;  // for the displacement since the lists
+  const BodyForces<D>& body;
+  Periodicity periodic;  // positions are wrapped back into the box
+  double dt;
+  bool spins;      // integrate spins (some pair in use has friction)
+  bool any_fixed;  // skip fixed particles
+  bool parallel;   // ThreadPolicy::particles_parallel
+  int threads;
+};
+
+// What the step found, folded into the values given.
+struct LeapfrogResult {
+  double max_displacement_sq = 0;  // m^2, the largest since the lists were built
+  double fastest_speed_sq = 0;     // (m/s)^2, this step's fastest particle
+  // The first particle whose new state is not finite (left at its last
+  // finite state), or the largest int64 for none.
+  std::int64_t first_non_finite = std::numeric_limits<std::int64_t>::max();
+};
+
+template <int D>
+void leapfrog(const LeapfrogStep<D>& step, LeapfrogResult& result) {
+  using V = Vec<D>;
+  using S = Spin<D>;
+  Particles<D>& p = step.particles;
+  const BodyForces<D>& body_forces = step.body;
+  const std::int64_t n = static_cast<std::int64_t>(p.size());
+  const double dt = step.dt;
+  const bool body = body_forces.active();
+  const bool periodic = step.periodic.on();
+  const bool spins = step.spins;
+  double max_sq = result.max_displacement_sq;
+  double speed_sq = result.fastest_speed_sq;
+  std::int64_t bad = result.first_non_finite;
+  const int threads = step.threads;
+  const Periodicity pbc = step.periodic;
+  const bool any_fixed = step.any_fixed;
+  auto range = [&](auto body_c, auto periodic_c, auto spins_c, auto fixed_c, std::int64_t begin,
+                   std::int64_t end, double& max_sq_out, double& speed_sq_out,
+                   std::int64_t& bad_out) {
+    constexpr bool Body = decltype(body_c)::value, Periodic = decltype(periodic_c)::value;
+    constexpr bool Spins = decltype(spins_c)::value, Fixed = decltype(fixed_c)::value;
+    // The arrays as local pointers: captured by reference they would be
+    // reloaded after every store (Eigen's packet stores may alias anything).
+    V* const x = p.position.data();
+    V* const v = p.velocity.data();
+    S* const w = p.spin.data();
+    ForceTorque<D>* const load = p.force_torque.data();
+    const V* const x_rebuild = step.position_at_rebuild.data();
+    const double* const mass = p.mass.data();
+    const double* const inv_mass = p.inv_mass.data();
+    const double* const inv_inertia = p.inv_inertia.data();
+    const std::uint8_t* const fixed = p.fixed.data();
+    const BodyForces<D>& forces = body_forces;
+    const double h = dt;
+    const Periodicity periodicity = pbc;
+    double max_moved = max_sq_out, fastest = speed_sq_out;
+    std::int64_t first_bad = bad_out;
+    for (std::int64_t i = begin; i < end; ++i) {
+      if constexpr (Fixed)
+        if (fixed[i]) continue;  // immobile: its contact force stays for reports
+      if constexpr (Body) load[i].force += forces.force(mass[i], x[i]);
+      // The new state in registers first: a step that makes it non-finite is
+      // not stored, so the failure report writes the last finite state.
+      const V v_new = v[i] + load[i].force * (inv_mass[i] * h);  // Eq. 4.8
+      V x_new = v_new * h + x[i];                                // Eq. 4.9
+      V moved_by = x_new - x_rebuild[i];
+      if constexpr (Periodic) {
+        double& coordinate = x_new[periodicity.axis];
+        coordinate -=
+            periodicity.length * std::floor((coordinate - periodicity.origin) / periodicity.length);
+        moved_by[periodicity.axis] = periodicity.wrap(moved_by[periodicity.axis]);
+      }
+      const double moved = moved_by.squaredNorm();
+      if (!(moved <= max_moved)) {  // also true for NaN
+        if (!std::isfinite(moved) ||
+            (Spins &&
+             !std::isfinite(Dim<D>::spin_sq(w[i] + load[i].torque * (inv_inertia[i] * h))))) {
+          if (i < first_bad) first_bad = i;
+          continue;
+        }
+        max_moved = moved;
+      }
+      fastest = std::max(fastest, v_new.squaredNorm());  // this step moves i by |v_new| dt
+      v[i] = v_new;
+      x[i] = x_new;
+      if constexpr (Spins) w[i] += load[i].torque * (inv_inertia[i] * h);  // no friction: no torque
+    }
+    max_sq_out = max_moved;
+    speed_sq_out = fastest;
+    bad_out = first_bad;
+  };
+  auto run = [&](auto body_c, auto periodic_c, auto spins_c, auto fixed_c) {
+    if (step.parallel) {
+#pragma omp parallel num_threads(threads) reduction(max : max_sq, speed_sq) reduction(min : bad)
+      {
+        const std::int64_t t = omp_get_thread_num(), nt = omp_get_num_threads();
+        range(body_c, periodic_c, spins_c, fixed_c, n * t / nt, n * (t + 1) / nt, max_sq, speed_sq,
+              bad);
+      }
+    } else {
+      range(body_c, periodic_c, spins_c, fixed_c, 0, n, max_sq, speed_sq, bad);
+    }
+  };
+  using yes = std::true_type;
+  using no = std::false_type;
+  auto with_fixed = [&](auto b, auto p, auto s) {
+    any_fixed ? run(b, p, s, yes{}) : run(b, p, s, no{});
+  };
+  auto with_spins = [&](auto b, auto p) {
+    spins ? with_fixed(b, p, yes{}) : with_fixed(b, p, no{});
+  };
+  auto with_periodic = [&](auto b) { periodic ? with_spins(b, yes{}) : with_spins(b, no{}); };
+  body ? with_periodic(yes{}) : with_periodic(no{});
+  result.max_displacement_sq = max_sq;
+  result.fastest_speed_sq = speed_sq;
+  result.first_non_finite = bad;
+}
+
+}  // namespace granule

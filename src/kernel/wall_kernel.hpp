@@ -1,0 +1,196 @@
+// The wall kernel: one step of the contact forces between particles and the
+// walls, for one contact model, over its bucket (buckets.hpp). Candidates are
+// particle-major, so a team of threads owns whole particles: each particle's
+// wall contacts are added to it in slot order, after all pair contacts, as on
+// one thread. The reactions on the walls (the inner-piece force of 4.4.1) are
+// summed at once on one thread ("fused"); on more, each contact leaves its
+// part in its thread's list and scatter_reactions() sums them in slot order.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "contact/contact_state.hpp"
+#include "core/particles.hpp"
+#include "geometry/walls.hpp"
+#include "hooks/contact_log.hpp"
+#include "kernel/buckets.hpp"
+#include "kernel/team.hpp"
+
+namespace granule {
+
+// What the wall kernel reads and writes of the engine in one step.
+template <int D>
+struct WallStep {
+  Particles<D>& particles;      // reads the state, adds to force_torque
+  std::vector<Wall<D>>& walls;  // the reactions, when fused
+  double dt;
+  std::uint8_t* in_contact;  // the bucket's per-slot flags (0: history cleared)
+  ContactLog<D>* log;        // written when Observed
+  int team;                  // threads (ThreadPolicy::wall_team)
+  bool fused;                // reactions summed at once (one thread)
+};
+
+struct WallTally {
+  std::int64_t touching = 0;
+  double max_ratio = 0;  // deepest overlap / radius
+};
+
+template <int D, typename M>
+struct WallKernel {
+  template <bool Observed>
+  static void run(WallBucket<D, M>& b, const std::vector<typename M::Params>& params,
+                  const WallStep<D>& step, WallTally& tally);
+
+  // The reactions the threads left in their lists, onto the walls in slot
+  // order (within a bucket the threads' lists follow one another in
+  // increasing k): the order one thread adds them in, so the sums are
+  // bit-identical whatever the threads.
+  static void scatter_reactions(const WallBucket<D, M>& b, std::vector<Wall<D>>& walls) {
+    for (const auto& list : b.touched)
+      for (std::size_t e = 0; e < list.count; ++e) {
+        Wall<D>& w = walls[list.b[e]];
+        w.force -= list.force[e];
+        w.axial_torque -= list.axial[e];
+      }
+  }
+
+ private:
+  // The particles ahead (the candidates name particles in memory order, but
+  // sparsely: those near a wall).
+  static constexpr std::int64_t wall_prefetch_distance = 8;
+  static constexpr std::int64_t wall_prefetch_min_candidates = 1 << 13;
+};
+
+template <int D, typename M>
+template <bool Observed>
+void WallKernel<D, M>::run(WallBucket<D, M>& b, const std::vector<typename M::Params>& params,
+                           const WallStep<D>& step, WallTally& tally) {
+  using History = typename M::template History<D>;
+  using V = Vec<D>;
+  using S = Spin<D>;
+  const std::int64_t count = static_cast<std::int64_t>(b.size());
+  const std::size_t offset = b.offset;
+  std::int64_t touching = 0;
+  double max_ratio = 0;
+  const int team = step.team;
+  Particles<D>& p = step.particles;
+  ContactLog<D>* const log = step.log;
+  b.touched.resize(team);
+  // OpenMP may run fewer threads than asked for (see PairKernel::run): the ranges
+  // are taken from the team it gives, and the lists of the others stay empty.
+  for (auto& list : b.touched) list.count = 0;
+  // The work of thread t of nt, called directly on one thread and from an
+  // OpenMP region on more. Its arrays are local pointers declared inside:
+  // captured by reference, or shared with an OpenMP region, they would be
+  // reloaded after every store (Eigen's packet stores may alias anything).
+  auto work = [&](std::int64_t t, std::int64_t nt, std::int64_t& touching_out,
+                  double& max_ratio_out) {
+    // Local pointers: captured by reference they would be reloaded per contact.
+    const std::uint32_t* const bp = b.particle.data();
+    const std::uint32_t* const bw = b.wall.data();
+    const std::uint32_t* const bslot = b.slot.data();
+    History* const hist = b.history.data();
+    const typename M::Params* const par_of = params.data();
+    const Wall<D>* const walls = step.walls.data();
+    Wall<D>* const reacting_walls = step.walls.data();
+    const V* const x = p.position.data();
+    const V* const v = p.velocity.data();
+    const S* const w_spin = p.spin.data();
+    const double* const radius = p.radius.data();
+    const double* const mass = p.mass.data();
+    const double* const inv_mass = p.inv_mass.data();
+    std::uint8_t* const in_contact = step.in_contact;
+    const bool fused = step.fused;
+    ForceTorque<D>* const load = p.force_torque.data();
+    const double dt = step.dt;
+    std::int64_t touching = 0;
+    double max_ratio = 0;
+    // Threads own whole particles (the candidates are particle-major): a range
+    // ends where a particle's run of candidates does. Each particle's wall
+    // contacts are added to it in slot order, after all pair contacts, as on
+    // one thread; the reactions on the walls are summed afterwards in slot
+    // order (scatter_forces) from what each contact leaves in the list.
+    // cut() never moves a point backwards, so the ranges never overlap.
+    auto cut = [&](std::int64_t at) {
+      while (at > 0 && at < count && bp[at] == bp[at - 1]) ++at;
+      return at;
+    };
+    const std::int64_t begin = cut(count * t / nt), end = cut(count * (t + 1) / nt);
+    StepList<D>& list = b.touched[t];
+    list.start(static_cast<std::size_t>(end - begin));
+    if (!fused) list.reserve_outputs(static_cast<std::size_t>(end - begin));
+    std::uint32_t* const out_b = list.b.data();
+    V* const out_force = list.force.data();
+    double* const out_axial = list.axial.data();
+    const bool prefetch = count >= wall_prefetch_min_candidates;
+    for (std::int64_t k = begin; k < end; ++k) {
+      if (prefetch && k + wall_prefetch_distance < end) {
+        const std::uint32_t ahead = bp[k + wall_prefetch_distance];
+        __builtin_prefetch(&x[ahead]);
+        __builtin_prefetch(&radius[ahead]);
+        __builtin_prefetch(&v[ahead]);
+        __builtin_prefetch(&w_spin[ahead]);
+        __builtin_prefetch(&load[ahead], 1);
+      }
+      const std::uint32_t i = bp[k];
+      const Wall<D>& w = walls[bw[k]];
+      const typename M::Params& par = par_of[bslot[k]];
+      History& h = hist[k];
+      V n, surface_velocity, lever;
+      const double overlap = w.contact(x[i], radius[i], n, surface_velocity, lever);
+      if (!M::touching(par, h, overlap)) {
+        if (in_contact[k]) {
+          h = History{};
+          in_contact[k] = 0;
+        }
+        continue;
+      }
+      in_contact[k] = 1;
+      const std::size_t e = list.count;  // this contact's place in the list
+      list.push(static_cast<std::uint32_t>(k) << 1 | 1u);
+      ContactState<D> c;
+      c.dt = dt;
+      c.normal = n;
+      c.overlap = overlap;
+      const V v_rel = surface_velocity - v[i];
+      c.normal_velocity = v_rel.dot(n);
+      c.tangential_velocity =
+          v_rel - n * c.normal_velocity + radius[i] * Dim<D>::spin_cross(w_spin[i], n);
+      c.effective_mass = mass[i];
+      c.inv_mass_sum = inv_mass[i];
+      const double r = radius[i];
+      c.effective_radius = w.effective_radius(r);
+      const ContactForce<D> f = M::force(par, h, c);
+      const V total = f.normal * n + f.tangential;
+      const S torque_i = Dim<D>::torque(-(r - overlap) * n, f.tangential);  // at the wall surface
+      const double axial = w.axial_moment(lever, total);
+      load[i].force += total;
+      load[i].torque += torque_i;
+      if (fused) {
+        Wall<D>& reacting = reacting_walls[bw[k]];
+        reacting.force -= total;
+        reacting.axial_torque -= axial;
+      } else {
+        out_b[e] = bw[k];
+        out_force[e] = total;
+        out_axial[e] = axial;
+      }
+      ++touching;
+      if (overlap > max_ratio * r) max_ratio = overlap / r;
+      if constexpr (Observed) {
+        const std::size_t s = offset + k;
+        log->record(s, static_cast<std::int32_t>(i), -1 - static_cast<std::int32_t>(b.wall[k]),
+                    overlap, f.normal, c.normal_velocity, n, f.tangential,
+                    x[i] - (r - overlap) * n);
+      }
+    }
+    touching_out += touching;
+    if (max_ratio > max_ratio_out) max_ratio_out = max_ratio;
+  };
+  run_on_team(team, work, touching, max_ratio);
+  tally.touching += touching;
+  if (max_ratio > tally.max_ratio) tally.max_ratio = max_ratio;
+}
+
+}  // namespace granule

@@ -1,0 +1,172 @@
+// The kernels' candidate lists, built from the cell grid's pairs and the
+// walls at each neighbour-list rebuild: one bucket per contact model (the
+// pair table says which model a material pair uses), with each contact's
+// history (and event tracking) carried over from the old lists by persistent
+// id, so a rebuild or a re-sort changes nothing a contact remembers. Also the
+// space-filling-curve order large scenes are kept in.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <numeric>
+#include <utility>
+#include <vector>
+
+#include "contact/pair_table.hpp"
+#include "core/particles.hpp"
+#include "geometry/walls.hpp"
+#include "kernel/buckets.hpp"
+
+namespace granule {
+
+namespace lists_detail {
+// Compressed rows of old entries by owner id, so each new contact finds its
+// old history by scanning only its owner's few old contacts.
+struct OwnerIndex {
+  std::vector<std::uint32_t> start, order;
+  void build(const std::vector<std::int64_t>& owner, std::int64_t max_id) {
+    start.assign(static_cast<std::size_t>(max_id) + 2, 0);
+    for (auto o : owner) ++start[o + 1];
+    for (std::size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
+    order.resize(owner.size());
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t k = 0; k < owner.size(); ++k)
+      order[fill[owner[k]]++] = static_cast<std::uint32_t>(k);
+  }
+};
+
+// Carries history (and tracking state) from `old` to `fresh` for every entry
+// whose owner id and partner match; `partner_old(o)` / `partner_new(k)` give
+// the second key (the other particle's id, or the wall index).
+template <typename Bucket, typename OwnerOf, typename PartnerOld, typename PartnerNew>
+void carry_history(const Bucket& old, Bucket& fresh, std::int64_t max_id, bool tracking,
+                   const OwnerOf& owner_ids, PartnerOld partner_old, PartnerNew partner_new) {
+  fresh.history.assign(fresh.size(), typename Bucket::History{});
+  if (tracking) fresh.track.assign(fresh.size(), {});
+  if (!old.size()) return;
+  OwnerIndex idx;
+  idx.build(owner_ids(old), max_id);
+  const auto& fresh_owner = owner_ids(fresh);
+  const bool carry_track = tracking && old.track.size() == old.size();
+  for (std::size_t k = 0; k < fresh.size(); ++k) {
+    const std::int64_t owner = fresh_owner[k];
+    for (std::uint32_t s = idx.start[owner]; s < idx.start[owner + 1]; ++s) {
+      const std::uint32_t o = idx.order[s];
+      if (partner_old(o) == partner_new(k)) {
+        fresh.history[k] = old.history[o];
+        if (carry_track) fresh.track[k] = old.track[o];
+        break;
+      }
+    }
+  }
+}
+}  // namespace lists_detail
+
+// Replaces `bucket` (model `model` of the pair table) by the candidate pairs
+// of that model, histories carried over. The step lists' storage only grows:
+// the new bucket keeps it. Returns the old bucket's size.
+template <int D, typename M>
+std::size_t list_pairs(PairBucket<D, M>& bucket, int model, const Particles<D>& p,
+                       const PairTable& pairs,
+                       const std::vector<std::pair<std::uint32_t, std::uint32_t>>& candidates,
+                       bool tracking) {
+  using B = PairBucket<D, M>;
+  B old = std::move(bucket);
+  B& fresh = bucket;
+  fresh = B{};
+  fresh.touched = std::move(old.touched);
+  for (auto& list : fresh.touched) list.count = 0;  // they named the old candidates
+  const std::size_t expect = old.size() + old.size() / 8;
+  fresh.i.reserve(expect), fresh.j.reserve(expect), fresh.slot.reserve(expect);
+  fresh.id_i.reserve(expect), fresh.id_j.reserve(expect);
+  for (auto [a, b] : candidates) {
+    if (p.id[a] > p.id[b]) std::swap(a, b);
+    const PairTable::Entry& e = pairs.at(p.material[a], p.material[b]);
+    if (e.model != model) continue;
+    fresh.i.push_back(a);
+    fresh.j.push_back(b);
+    fresh.slot.push_back(static_cast<std::uint32_t>(e.slot));
+    fresh.id_i.push_back(p.id[a]);
+    fresh.id_j.push_back(p.id[b]);
+  }
+  lists_detail::carry_history(
+      old, fresh, p.next_id, tracking, [](const B& x) -> const auto& { return x.id_i; },
+      [&](std::uint32_t o) { return old.id_j[o]; }, [&](std::size_t k) { return fresh.id_j[k]; });
+  return old.size();
+}
+
+// The same for the particle-wall candidates of model `model`: every movable
+// particle within `skin` of a wall. Particle by particle (then wall by wall):
+// the wall loop then walks the particles' data in memory order, and a
+// particle's wall contacts lie together, so threads can own whole particles.
+template <int D, typename M>
+void list_walls(WallBucket<D, M>& bucket, int model, const Particles<D>& p,
+                const std::vector<Wall<D>>& walls, const PairTable& pairs, double skin,
+                bool tracking) {
+  using WB = WallBucket<D, M>;
+  WB old = std::move(bucket);
+  WB& fresh = bucket;
+  fresh = WB{};
+  fresh.touched = std::move(old.touched);
+  for (auto& list : fresh.touched) list.count = 0;
+  const std::size_t expect = old.size() + old.size() / 8;
+  fresh.particle.reserve(expect), fresh.wall.reserve(expect), fresh.slot.reserve(expect);
+  fresh.id.reserve(expect);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (p.fixed[i]) continue;
+    for (std::size_t w = 0; w < walls.size(); ++w) {
+      const PairTable::Entry& e = pairs.at(p.material[i], walls[w].material);
+      if (e.model != model) continue;
+      if (walls[w].clearance(p.position[i], p.radius[i]) >= skin) continue;
+      fresh.particle.push_back(static_cast<std::uint32_t>(i));
+      fresh.wall.push_back(static_cast<std::uint32_t>(w));
+      fresh.slot.push_back(static_cast<std::uint32_t>(e.slot));
+      fresh.id.push_back(p.id[i]);
+    }
+  }
+  lists_detail::carry_history(
+      old, fresh, p.next_id, tracking, [](const WB& x) -> const auto& { return x.id; },
+      [&](std::uint32_t o) { return static_cast<std::int64_t>(old.wall[o]); },
+      [&](std::size_t k) { return static_cast<std::int64_t>(fresh.wall[k]); });
+}
+
+// Reorders the particles' storage along a Morton (Z-order) curve of cells one
+// median diameter wide: particles close in space end up close in memory, so
+// the contact loop reads neighbours from cache. The lists must be rebuilt
+// afterwards (histories follow by persistent id).
+template <int D>
+void sort_along_curve(Particles<D>& p) {
+  const std::size_t n = p.size();
+  if (n < 2) return;
+  std::vector<double> radii(p.radius.begin(), p.radius.end());
+  std::nth_element(radii.begin(), radii.begin() + n / 2, radii.end());
+  const double cell = 2 * radii[n / 2];
+  Vec<D> lo = p.position[0];
+  for (const auto& x : p.position) lo = lo.cwiseMin(x);
+  constexpr int bits = D == 2 ? 31 : 21;
+  const double top = static_cast<double>((std::uint64_t{1} << bits) - 1);
+  std::vector<std::uint64_t> key(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::uint64_t k = 0;
+    std::uint64_t c[D];
+    for (int d = 0; d < D; ++d)
+      c[d] = static_cast<std::uint64_t>(
+          std::min(top, std::max(0.0, (p.position[i][d] - lo[d]) / cell)));
+    for (int b = bits - 1; b >= 0; --b)
+      for (int d = 0; d < D; ++d) k = k << 1 | ((c[d] >> b) & 1u);
+    key[i] = k;
+  }
+  std::vector<std::size_t> perm(n);
+  std::iota(perm.begin(), perm.end(), 0);
+  std::stable_sort(perm.begin(), perm.end(), [&](auto a, auto b) { return key[a] < key[b]; });
+  auto apply = [&](auto& v) {
+    auto copy = v;
+    for (std::size_t k = 0; k < n; ++k) v[k] = copy[perm[k]];
+  };
+  apply(p.position), apply(p.velocity), apply(p.force_torque), apply(p.spin);
+  apply(p.radius), apply(p.inv_mass), apply(p.inv_inertia), apply(p.mass), apply(p.id);
+  apply(p.material), apply(p.fixed);
+  for (std::size_t k = 0; k < n; ++k) p.index_of_id[p.id[k]] = static_cast<std::int32_t>(k);
+}
+
+}  // namespace granule
