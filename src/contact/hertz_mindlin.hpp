@@ -123,8 +123,16 @@ struct HertzMindlin {
     const double root = std::sqrt(c.effective_radius * c.overlap);  // contact radius a
     const double s_n = 2 * p.young_eff * root;
     const double damp = 2 * std::sqrt(5.0 / 6.0) * p.damping;
-    double normal = (2.0 / 3.0) * s_n * c.overlap +
-                    damp * std::sqrt(s_n * c.effective_mass) * c.normal_velocity;
+    // The dashpot at the step's own time. Leap-frog gives the overlap rate
+    // half a step old, v_half; the rate now is v_half - N dt / (2 m*), so
+    // N = N_el + C (v_half - N dt / (2 m*)), solved for N. Taking v_half as
+    // it is leaves a first-order error in dt / contact time that drains the
+    // rebound as e falls (39 % short at e = 0.02 and 5 m/s with the default
+    // step); solved, the rebound is e to 1 % for e = 0.02-1 over four decades
+    // of speed (tests/contact/test_hertz_mindlin.cpp).
+    const double c_n = damp * std::sqrt(s_n * c.effective_mass);
+    double normal = ((2.0 / 3.0) * s_n * c.overlap + c_n * c.normal_velocity) /
+                    (1 + 0.5 * c_n * c.dt / c.effective_mass);
     if (normal < 0) normal = 0;
     out.normal = normal;
     const double s_t = 8 * p.shear_eff * root;
