@@ -156,4 +156,45 @@ function bench.result_line(fields)
   return table.concat(parts, " ")
 end
 
+-- Refuses a CSV file `path` that starts with a header other than `columns`'
+-- (call it before a long run, so that the run is not lost at its end).
+function bench.check_csv(path, columns, level)
+  local header = table.concat(columns, ",")
+  local f = io.open(path, "r")
+  local first = f and f:read("l")
+  if f then f:close() end
+  if first and first ~= header then
+    error(string.format("%s: its columns are not %s...: name another file", path, header:sub(1, 40)),
+          level or 2)
+  end
+  return first ~= nil
+end
+
+-- Appends `row` (a table keyed by the names in `columns`) to the CSV file
+-- `path`, writing the header first when the file is new or empty (a file with
+-- another header is refused). Numbers as result_line writes them; an absent
+-- value is an empty field.
+function bench.append_csv(path, columns, row)
+  local has_header = bench.check_csv(path, columns, 3)
+  local out, err = io.open(path, "a")
+  if not out then error("cannot write " .. tostring(err), 2) end
+  if not has_header then out:write(table.concat(columns, ","), "\n") end
+  local fields = {}
+  for k, name in ipairs(columns) do
+    local v = row[name]
+    if type(v) == "number" then
+      v = math.type(v) == "integer" and string.format("%d", v) or string.format("%.6g", v)
+    end
+    v = v == nil and "" or tostring(v)
+    if v:find('[,"\n]') then v = '"' .. v:gsub('"', '""') .. '"' end
+    fields[k] = v
+  end
+  out:write(table.concat(fields, ","), "\n")
+  out:close()
+end
+
+-- The stage columns of bench.stage_seconds, in CSV order.
+bench.stage_columns = { "neighbour_s", "contacts_s", "walls_s", "sums_s", "diagnostics_s", "integrate_s",
+                        "hooks_s", "pair_wait_s" }
+
 return bench
