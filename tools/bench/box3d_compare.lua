@@ -18,6 +18,7 @@ local p = parameters(bench.parameters {
   state = { default = "" },
   steps = { default = 1000 },
   out = { default = "" },  -- with state: write the state after the timed steps here
+  pruning = { default = true, doc = "pruned pair lists (false: every candidate every step, for comparison)" },
 })
 local box = bench.options(p)
 local sim = bench.shaken_box(box)
@@ -37,6 +38,7 @@ if p.state == "" then
   return
 end
 sim:load_particles { file = p.state }
+if not p.pruning then sim:set { pruning = false } end
 local contacts, pair_contacts, samples = 0, 0, 0
 sim:every { steps = 100, function(s)
   local st = s:stats()
