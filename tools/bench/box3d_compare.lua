@@ -11,6 +11,8 @@
 -- The timed run prints the stage times on stderr and one line on stdout for
 -- compare.py (bench.result_line: wall and stage seconds, mean contacts).
 local bench = require "granule.bench"
+-- A binary built elsewhere loads its own tree's library: say so, not "nil".
+assert(bench.result_line, "granule.bench lacks result_line (an older lua/): set GRANULE_LUA_PATH to this tree's lua/")
 local p = parameters(bench.parameters {
   layers = { default = 40 },
   settle = { default = 0.02, unit = "s" },

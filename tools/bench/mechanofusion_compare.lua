@@ -8,6 +8,8 @@
 -- compare.py (bench.result_line: wall and stage seconds, mean contacts).
 local granule = require "granule"
 local bench = require "granule.bench"
+-- A binary built elsewhere loads its own tree's library: say so, not "nil".
+assert(bench.result_line, "granule.bench lacks result_line (an older lua/): set GRANULE_LUA_PATH to this tree's lua/")
 local p = parameters {
   model = { default = "linear", doc = "linear (the law LAMMPS has too) | walton_braun" },
   particles = { default = 1500 },

@@ -16,6 +16,8 @@ local p = parameters {
 }
 local granule = require "granule"
 local bench = require "granule.bench"
+-- A binary built elsewhere loads its own tree's library: say so, not "nil".
+assert(bench.result_line, "granule.bench lacks result_line (an older lua/): set GRANULE_LUA_PATH to this tree's lua/")
 local columns = { "model", "particles", "steps", "pair_contacts", "wall_contacts", "list_rebuilds", "wall_s",
                   "particle_steps_per_s" }
 for _, c in ipairs(bench.stage_columns) do columns[#columns + 1] = c end

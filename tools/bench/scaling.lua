@@ -19,6 +19,8 @@ local p = parameters {
 }
 local r = p.radius
 local bench = require "granule.bench"
+-- A binary built elsewhere loads its own tree's library: say so, not "nil".
+assert(bench.result_line, "granule.bench lacks result_line (an older lua/): set GRANULE_LUA_PATH to this tree's lua/")
 local columns = { "spheres", "steps", "pair_contacts", "list_rebuilds", "wall_s", "particle_steps_per_s" }
 for _, c in ipairs(bench.stage_columns) do columns[#columns + 1] = c end
 if p.csv ~= "" then bench.check_csv(p.csv, columns) end
