@@ -7,9 +7,10 @@
 --
 --   local bench = require "granule.bench"
 --   local sim = bench.shaken_box { per_side = 50, time_step = 1.5e-6 }
--- Scenes that let -D change the box declare its options with bench.parameters
--- and pass them on with bench.options (tools/bench/box3d_compare.lua).
 --   bench.fill_lattice(sim, { per_side = 50, layers = 40 })
+-- Scenes that let -D change the box declare its options with bench.parameters
+-- and pass them on with bench.options (tools/bench/box3d_compare.lua); timed
+-- scenes report with bench.stage_seconds and bench.result_line.
 local bench = {}
 
 local defaults = {
@@ -116,5 +117,84 @@ function bench.fill_lattice(sim, options)
     end
   end
 end
+
+-- The stage seconds of a timed window: sim:timings() after it less `before`
+-- (sim:timings() taken at its start), under the names compare.py's CSV uses.
+-- contacts_s holds walls_s and sums_s (the wall contacts and, with more than
+-- one thread, keeping each particle's sum in slot order); pair_wait_s is in
+-- thread-seconds (the pair loop's threads waiting at its barrier).
+function bench.stage_seconds(sim, before)
+  local now = sim:timings()
+  local function d(k) return now[k] - before[k] end
+  return {
+    neighbour_s = d "neighbor", contacts_s = d "force", walls_s = d "walls", sums_s = d "scatter",
+    diagnostics_s = d "diagnostics", integrate_s = d "integrate", hooks_s = d "hooks",
+    pair_wait_s = d "pair_wait",
+  }
+end
+
+-- The order of the result line's fields (compare.py reads them by name).
+local line_fields = {
+  "model", "particles", "steps", "wall_s", "particle_steps_per_s", "mean_contacts", "mean_pair_contacts",
+  "neighbour_s", "contacts_s", "walls_s", "sums_s", "diagnostics_s", "integrate_s", "hooks_s",
+  "pair_wait_s", "list_rebuilds", "thread_rebalances",
+}
+
+-- The one line a timed bench scene prints on stdout for tools/bench/compare.py:
+-- "granule key=value ..." with the fields above (strings as given, integers
+-- as integers, other numbers to 6 significant digits; a missing field is left
+-- out).
+function bench.result_line(fields)
+  local parts = { "granule" }
+  for _, k in ipairs(line_fields) do
+    local v = fields[k]
+    if type(v) == "number" then
+      v = math.type(v) == "integer" and string.format("%d", v) or string.format("%.6g", v)
+    end
+    if v ~= nil then parts[#parts + 1] = k .. "=" .. tostring(v) end
+  end
+  return table.concat(parts, " ")
+end
+
+-- Refuses a CSV file `path` that starts with a header other than `columns`'
+-- (call it before a long run, so that the run is not lost at its end).
+function bench.check_csv(path, columns, level)
+  local header = table.concat(columns, ",")
+  local f = io.open(path, "r")
+  local first = f and f:read("l")
+  if f then f:close() end
+  if first and first ~= header then
+    error(string.format("%s: its columns are not %s...: name another file", path, header:sub(1, 40)),
+          level or 2)
+  end
+  return first ~= nil
+end
+
+-- Appends `row` (a table keyed by the names in `columns`) to the CSV file
+-- `path`, writing the header first when the file is new or empty (a file with
+-- another header is refused). Numbers as result_line writes them; an absent
+-- value is an empty field.
+function bench.append_csv(path, columns, row)
+  local has_header = bench.check_csv(path, columns, 3)
+  local out, err = io.open(path, "a")
+  if not out then error("cannot write " .. tostring(err), 2) end
+  if not has_header then out:write(table.concat(columns, ","), "\n") end
+  local fields = {}
+  for k, name in ipairs(columns) do
+    local v = row[name]
+    if type(v) == "number" then
+      v = math.type(v) == "integer" and string.format("%d", v) or string.format("%.6g", v)
+    end
+    v = v == nil and "" or tostring(v)
+    if v:find('[,"\n]') then v = '"' .. v:gsub('"', '""') .. '"' end
+    fields[k] = v
+  end
+  out:write(table.concat(fields, ","), "\n")
+  out:close()
+end
+
+-- The stage columns of bench.stage_seconds, in CSV order.
+bench.stage_columns = { "neighbour_s", "contacts_s", "walls_s", "sums_s", "diagnostics_s", "integrate_s",
+                        "hooks_s", "pair_wait_s" }
 
 return bench

@@ -8,7 +8,11 @@
 --   build/granule run tools/bench/box3d_compare.lua -D save=box_state.h5
 --   build/granule run tools/bench/box3d_compare.lua -D state=box_state.h5 -D steps=1000 --threads 2
 -- `-D out=FILE` then also writes the final state (to compare two builds' results).
+-- The timed run prints the stage times on stderr and one line on stdout for
+-- compare.py (bench.result_line: wall and stage seconds, mean contacts).
 local bench = require "granule.bench"
+-- A binary built elsewhere loads its own tree's library: say so, not "nil".
+assert(bench.result_line, "granule.bench lacks result_line (an older lua/): set GRANULE_LUA_PATH to this tree's lua/")
 local p = parameters(bench.parameters {
   layers = { default = 40 },
   settle = { default = 0.02, unit = "s" },
@@ -16,6 +20,7 @@ local p = parameters(bench.parameters {
   state = { default = "" },
   steps = { default = 1000 },
   out = { default = "" },  -- with state: write the state after the timed steps here
+  pruning = { default = true, doc = "pruned pair lists (false: every candidate every step, for comparison)" },
 })
 local box = bench.options(p)
 local sim = bench.shaken_box(box)
@@ -35,6 +40,7 @@ if p.state == "" then
   return
 end
 sim:load_particles { file = p.state }
+if not p.pruning then sim:set { pruning = false } end
 local contacts, pair_contacts, samples = 0, 0, 0
 sim:every { steps = 100, function(s)
   local st = s:stats()
@@ -42,26 +48,31 @@ sim:every { steps = 100, function(s)
   samples = samples + 1
 end }
 sim:run { steps = 1 }
-local t0, tm0 = wall_time(), sim:timings()
+local t0, tm0, st0 = wall_time(), sim:timings(), sim:stats()
 sim:run { steps = p.steps }
 local wall = wall_time() - t0
-local tm = sim:timings()
-io.stderr:write(string.format("stages [s]: neighbour %.3f contacts %.3f (of which walls %.3f, fixed-order sums %.3f) diagnostics %.3f integrate %.3f hooks %.3f; thread rebalances %d\n",
-  tm.neighbor - tm0.neighbor, tm.force - tm0.force, tm.walls - tm0.walls, tm.scatter - tm0.scatter, tm.diagnostics - tm0.diagnostics,
-  tm.integrate - tm0.integrate, tm.hooks - tm0.hooks, sim:stats().thread_rebalances))
+local stage = bench.stage_seconds(sim, tm0)
 local st = sim:stats()
+io.stderr:write(string.format("stages [s]: neighbour %.3f contacts %.3f (of which walls %.3f, fixed-order sums %.3f) diagnostics %.3f integrate %.3f hooks %.3f; thread rebalances %d\n",
+  stage.neighbour_s, stage.contacts_s, stage.walls_s, stage.sums_s, stage.diagnostics_s,
+  stage.integrate_s, stage.hooks_s, st.thread_rebalances))
 -- The pair loop's cost per pair contact (contact stage less walls and the
 -- fixed-order sums, per contact and step): docs/performance.md compares boxes
 -- of several sizes by it.
-local pair_seconds = (tm.force - tm0.force) - (tm.walls - tm0.walls) - (tm.scatter - tm0.scatter)
-io.stderr:write(string.format("threads' waits at the pair loop's barrier: %.3f thread-seconds\n", tm.pair_wait - tm0.pair_wait))
+local pair_seconds = stage.contacts_s - stage.walls_s - stage.sums_s
+io.stderr:write(string.format("threads' waits at the pair loop's barrier: %.3f thread-seconds\n", stage.pair_wait_s))
 io.stderr:write(string.format("pair loop: %.1f ns per pair contact and step\n",
   1e9 * pair_seconds / math.max(1, p.steps * pair_contacts / math.max(samples, 1))))
 io.stderr:write(string.format("pruned pair lists: the last step looked at %d pair candidates (all candidates, walls too: %d); %d prunes, %d list rebuilds so far\n",
   st.pair_candidates_visited, st.candidate_pairs, st.pair_list_prunes, st.list_rebuilds))
-print(string.format("granule model=linear particles=%d steps=%d wall_s=%.4f particle_steps_per_s=%.4g mean_contacts=%.1f mean_pair_contacts=%.1f",
-  sim:stats().particles, p.steps, wall, sim:stats().particles * p.steps / wall,
-  contacts / math.max(samples, 1), pair_contacts / math.max(samples, 1)))
+local line = {
+  model = "linear", particles = st.particles, steps = p.steps, wall_s = wall,
+  particle_steps_per_s = st.particles * p.steps / wall, mean_contacts = contacts / math.max(samples, 1),
+  mean_pair_contacts = pair_contacts / math.max(samples, 1),
+  list_rebuilds = st.list_rebuilds - st0.list_rebuilds, thread_rebalances = st.thread_rebalances - st0.thread_rebalances,
+}
+for k, v in pairs(stage) do line[k] = v end
+print(bench.result_line(line))
 if p.out ~= "" then
   sim:output { file = p.out, xdmf = false }
   sim:snapshot()

@@ -4,13 +4,21 @@ the same scene, particle count, time step, contact law and starting state,
 in one go on this machine, and prints particle-steps/s and the ratios.
 
     /usr/bin/python3 tools/bench/compare.py [--case mechanofusion2d|box3d|all]
-        [--steps N] [--threads 1,2] [--work DIR] [--repeat N]
+        [--steps N] [--threads 1,2] [--work DIR] [--repeat N] [--csv FILE]
 
 Each program starts from the state Granule settled and saved (converted to a
 LAMMPS data file), so both time the same steady flow; the mean number of
 contacts in the timed window is printed for each so that unlike work shows.
+Every run also appends one row to a CSV file (--csv, default
+WORK/bench_results.csv): the case, program, threads, steps, particles,
+contacts, wall seconds and, for Granule, the seconds of each stage of the step
+(the columns are listed in docs/performance.md). Without LAMMPS (`lmp`) or
+LIGGGHTS (`liggghts`) on PATH, or without `mpirun` for more than one rank, the
+Granule runs still happen and the report says which peers are missing.
 """
 import argparse
+import csv
+import datetime
 import math
 import os
 import platform
@@ -25,7 +33,7 @@ import h5py
 import numpy as np
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-GRANULE = os.path.join(ROOT, "build", "granule")
+GRANULE = os.path.join(ROOT, "build", "granule")  # --granule replaces it
 BENCH = os.path.join(ROOT, "tools", "bench")
 
 
@@ -76,11 +84,45 @@ def lammps_loop(out):
 
 
 def granule_line(out):
-    m = re.search(r"particle_steps_per_s=([0-9.eE+-]+) mean_contacts=([0-9.eE+-]+)"
-                  r"(?: mean_pair_contacts=([0-9.eE+-]+))?", out)
+    """The key=value fields of the line a bench scene prints (granule.bench's result_line)."""
+    m = re.search(r"^granule (.*particle_steps_per_s=.*)$", out, re.M)
     if not m:
         sys.exit("could not read Granule's timing line:\n" + out[-3000:])
-    return float(m.group(1)), float(m.group(2)), float(m.group(3) or "nan")
+    fields = dict(kv.split("=", 1) for kv in m.group(1).split())
+    for k, v in fields.items():
+        if k != "model":
+            fields[k] = float(v)
+    return fields
+
+
+def granule_row(program, threads, fields):
+    """A result row out of a Granule run's timing line."""
+    row = {"program": program, "threads": threads}
+    row.update({k: v for k, v in fields.items() if k in CSV_COLUMNS})
+    row["pair_contacts"] = fields.get("mean_pair_contacts", float("nan"))
+    for k in ("steps", "particles", "list_rebuilds", "thread_rebalances"):
+        if k in row:
+            row[k] = int(row[k])
+    return row
+
+
+def peer_row(program, procs, out):
+    """A result row out of a LAMMPS or LIGGGHTS run's output."""
+    loop, p, steps, atoms, pair_contacts = lammps_loop(out)
+    return {"program": program, "threads": procs, "steps": steps, "particles": atoms, "wall_s": loop,
+            "particle_steps_per_s": atoms * steps / loop, "pair_contacts": pair_contacts}
+
+
+def peers_available(threads):
+    """Which peer programs can run here: {'lmp': bool, 'liggghts': bool, 'mpirun': bool}."""
+    have = {tool: shutil.which(tool) is not None for tool in ("lmp", "liggghts", "mpirun")}
+    have["mpirun"] = have["mpirun"] or max(threads) == 1
+    return have
+
+
+def peer_procs(args):
+    """The rank counts the peers can run with (more than one needs mpirun)."""
+    return [p for p in args.threads if p == 1 or args.peers["mpirun"]]
 
 
 def mpi_prefix(procs):
@@ -91,11 +133,13 @@ def mpi_prefix(procs):
 
 def mechanofusion2d(args, work):
     steps = args.steps or 200000
-    state = os.path.join(work, "mf_state.h5")
+    custom = args.mf_particles != 1500 or args.mf_settle != 0.05
+    name = f"mf_state_{args.mf_particles}p_settled{args.mf_settle:g}s" if custom else "mf_state"
+    state = os.path.join(work, name + ".h5")
     if not os.path.exists(state):
-        print("settling the 2D base case (0.05 s of simulated time)...", flush=True)
-        run([GRANULE, "run", os.path.join(BENCH, "mechanofusion_compare.lua"), "-D", f"save={state}",
-             "--quiet"], work)
+        print(f"settling the 2D base case ({args.mf_settle:g} s of simulated time)...", flush=True)
+        run([args.granule, "run", os.path.join(BENCH, "mechanofusion_compare.lua"), "-D", f"save={state}",
+             "-D", f"particles={args.mf_particles}", "-D", f"settle={args.mf_settle!r}", "--quiet"], work)
     s = last_snapshot(state)
     n = len(s["id"])
     r, rho, kn, e = 0.2e-3, 1200.0, 2e4, 0.85
@@ -105,38 +149,37 @@ def mechanofusion2d(args, work):
     # Granule's linear law: c_n = 2 zeta sqrt(m* k_n); LAMMPS: c_n = m* gamma_n.
     gn = 2 * zeta * math.sqrt(kn / (mass / 2))   # particle pairs, m* = m/2
     gnw = 2 * zeta * math.sqrt(kn / mass)        # particle-wall, m* = m
-    data = os.path.join(work, "mf_state.data")
+    data = os.path.join(work, name + ".data")
     write_lammps_data(s, data, [(-0.0126, 0.0126), (-0.0126, 0.0126), (-0.5, 0.5)], 2)
     rows = []
     for model in ("linear", "walton_braun"):
         for t in args.threads:
-            out, _ = run([GRANULE, "run", os.path.join(BENCH, "mechanofusion_compare.lua"), "-D",
+            out, _ = run([args.granule, "run", os.path.join(BENCH, "mechanofusion_compare.lua"), "-D",
                           f"state={state}", "-D", f"steps={steps}", "-D", f"model={model}",
                           "--threads", str(t), "--quiet"], work)
-            pss, contacts, pair_contacts = granule_line(out)
-            rows.append(("granule " + model, t, pss, contacts, pair_contacts))
+            rows.append(granule_row("granule " + model, t, granule_line(out)))
     variables = dict(data=data, steps=steps, dt=dt, kn=kn, kt=kn * 2 / 7, gn=gn, gt=gn / 2, gnw=gnw,
                      gtw=gnw / 2, mu=0.4, muw=0.5, omega=2000 * 2 * math.pi / 60, mass=mass, skin=1e-4)
     lmp_vars = sum((["-var", k, str(v)] for k, v in variables.items()), [])
-    for procs in args.threads:
-        out, _ = run(mpi_prefix(procs) + ["lmp", "-in", os.path.join(BENCH, "mechanofusion_2d.lmp"),
-                                          "-log", "none"] + lmp_vars, work)
-        loop, p, steps, atoms, pair_contacts = lammps_loop(out)
-        rows.append(("lammps gran/hooke/history", procs, atoms * steps / loop, float("nan"), pair_contacts))
-    return f"2D Mechanofusion base case, {n} particles, dt = {dt:g} s, {steps} steps", rows
+    if args.peers["lmp"]:
+        for procs in peer_procs(args):
+            out, _ = run(mpi_prefix(procs) + ["lmp", "-in", os.path.join(BENCH, "mechanofusion_2d.lmp"),
+                                              "-log", "none"] + lmp_vars, work)
+            rows.append(peer_row("lammps gran/hooke/history", procs, out))
+    return f"2D Mechanofusion base case, {n} particles, dt = {dt:g} s, {steps} steps", os.path.basename(state), rows
 
 
 def box3d(args, work):
     per_side, layers, gap = args.box_side, args.box_layers, args.box_gap
     r = 1e-3
-    # gap 0: the touching lattice (stop 13's box); a gap: the disordered packing
-    # it collapses into, settled for longer (docs/performance.md).
+    # gap 0: the touching lattice; a gap: the disordered packing it collapses
+    # into, settled for longer (docs/performance.md).
     packed = gap > 0
     tag = f"_gap{gap:g}" if packed else ""
     # Settled for whole periods of the floor (z = A (1 - cos wt), granule.bench),
     # so that each program restarts with the floor at rest under a bed at rest;
-    # the settling time names the state (states of older stops, saved with the
-    # floor at mid-stroke, are not reused).
+    # the file name holds the box's size, gap and settling time, so a state
+    # settled otherwise is never reused.
     settle = 0.2 if packed else 0.02
     state = os.path.join(work, f"box_{per_side}x{per_side}x{layers}{tag}_settled{settle:g}s.h5")
     scene = os.path.join(BENCH, "box3d_compare.lua")
@@ -145,7 +188,7 @@ def box3d(args, work):
             "-D", f"amplitude={amplitude!r}"]
     if not os.path.exists(state):
         print(f"settling the 3D box ({per_side * per_side * layers} spheres, {settle} s)...", flush=True)
-        run([GRANULE, "run", scene, "-D", f"save={state}", "-D", f"settle={settle}", "--quiet",
+        run([args.granule, "run", scene, "-D", f"save={state}", "-D", f"settle={settle}", "--quiet",
              "--threads", str(max(args.threads))] + size, work)
     s = last_snapshot(state)
     n = len(s["id"])
@@ -162,19 +205,18 @@ def box3d(args, work):
     steps = max(args.steps // 20, 200) if args.steps else 1000
     rows = []
     for t in args.threads:
-        out, _ = run([GRANULE, "run", scene, "-D", f"state={state}", "-D", f"steps={steps}", "--threads", str(t),
-                      "--quiet"] + size, work)
-        pss, contacts, pair_contacts = granule_line(out)
-        rows.append(("granule linear", t, pss, contacts, pair_contacts))
+        out, _ = run([args.granule, "run", scene, "-D", f"state={state}", "-D", f"steps={steps}", "--threads",
+                      str(t), "--quiet"] + size, work)
+        rows.append(granule_row("granule linear", t, granule_line(out)))
     variables = dict(data=data, steps=steps, dt=dt, kn=kn, kt=kn * 2 / 7, gn=gn, gt=gn / 2, gnw=gnw, gtw=gnw / 2,
                      mu=mu, side=side, amplitude=amplitude, period=1 / frequency, mass=mass, skin=0.5 * r)
     lmp_vars = sum((["-var", k, str(v)] for k, v in variables.items()), [])
-    for procs in args.threads:
-        out, _ = run(mpi_prefix(procs) + ["lmp", "-in", os.path.join(BENCH, "box_3d.lmp"), "-log", "none"]
-                     + lmp_vars, work)
-        loop, p, steps_done, atoms, pair_contacts = lammps_loop(out)
-        rows.append(("lammps gran/hooke/history", procs, atoms * steps_done / loop, float("nan"), pair_contacts))
-    if shutil.which("liggghts"):
+    if args.peers["lmp"]:
+        for procs in peer_procs(args):
+            out, _ = run(mpi_prefix(procs) + ["lmp", "-in", os.path.join(BENCH, "box_3d.lmp"), "-log", "none"]
+                         + lmp_vars, work)
+            rows.append(peer_row("lammps gran/hooke/history", procs, out))
+    if args.peers["liggghts"]:
         ldata = os.path.join(work, f"box_state_liggghts{tag}.data")
         write_lammps_data(s, ldata, [(-r, side + r), (-r, side + r), (-r, top)], 3, density=rho, types=2)
         mesh = os.path.join(work, "floor.stl")
@@ -192,21 +234,20 @@ def box3d(args, work):
                      gtpp=gpp / 2, gtpw=gpw / 2, mu=mu, side=side, amplitude=amplitude, phase=math.pi,
                      period=1 / frequency, skin=0.5 * r)
         largs = sum((["-var", k, str(v)] for k, v in lvars.items()), [])
-        for procs in args.threads:
+        for procs in peer_procs(args):
             out, _ = run(mpi_prefix(procs) + ["liggghts", "-in", os.path.join(BENCH, "box_3d.liggghts"),
                                               "-log", "none"] + largs, work)
-            loop, p, steps_done, atoms, pair_contacts = lammps_loop(out)
-            rows.append(("liggghts hooke/stiffness", procs, atoms * steps_done / loop, float("nan"),
-                         pair_contacts))
+            rows.append(peer_row("liggghts hooke/stiffness", procs, out))
     kind = "disordered packing" if packed else "touching lattice"
     return (f"3D dense shaken box ({kind}, floor {amplitude * 1e3:g} mm at {frequency:g} Hz), {n} spheres, "
-            f"dt = {dt:g} s, {steps} steps"), rows
+            f"dt = {dt:g} s, {steps} steps"), os.path.basename(state), rows
 
 
 def ratios_to_lammps(rows):
     """Each row's particle-steps/s over LAMMPS's on the same cores, in one round."""
-    lammps = {c: pss for (name, c, pss, _, _) in rows if name.startswith("lammps")}
-    return {(name, c): pss / lammps[c] for (name, c, pss, _, _) in rows if c in lammps}
+    lammps = {r["threads"]: r["particle_steps_per_s"] for r in rows if r["program"].startswith("lammps")}
+    return {(r["program"], r["threads"]): r["particle_steps_per_s"] / lammps[r["threads"]]
+            for r in rows if r["threads"] in lammps}
 
 
 def report(title, rows, round_ratios=()):
@@ -215,13 +256,56 @@ def report(title, rows, round_ratios=()):
     print(f"{'program':32s} {'cores':>5s} {'particle-steps/s':>17s} {'pair contacts':>13s} {'vs LAMMPS':>10s}"
           + (f" {'per round: median (min-max)':>28s}" if paired else ""))
     best = ratios_to_lammps(rows)
-    for name, cores, pss, contacts, pairs in rows:
-        line = f"{name:32s} {cores:5d} {pss:17.3g} {pairs:13.1f} {best.get((name, cores), float('nan')):10.2f}"
+    for row in rows:
+        key = (row["program"], row["threads"])
+        ratio = f"{best[key]:10.2f}" if key in best else f"{'-':>10s}"
+        line = (f"{row['program']:32s} {row['threads']:5d} {row['particle_steps_per_s']:17.3g} "
+                f"{row['pair_contacts']:13.1f} {ratio}")
         if paired:
-            r = sorted(rr[(name, cores)] for rr in round_ratios if (name, cores) in rr)
+            r = sorted(rr[key] for rr in round_ratios if key in rr)
             if r:
                 line += f" {statistics.median(r):11.2f} ({r[0]:.2f}-{r[-1]:.2f})"
         print(line)
+
+
+# The CSV file's columns, one row per run (docs/performance.md describes them).
+CSV_COLUMNS = [
+    "date", "host", "commit", "case", "state", "round", "program", "threads", "steps", "particles",
+    "pair_contacts", "mean_contacts", "wall_s", "particle_steps_per_s",
+    "neighbour_s", "contacts_s", "walls_s", "sums_s", "diagnostics_s", "integrate_s", "hooks_s", "pair_wait_s",
+    "list_rebuilds", "thread_rebalances",
+]
+
+
+def open_csv(path):
+    """The CSV writer for `path`: appended to when it already has these columns, else started."""
+    if os.path.exists(path) and os.path.getsize(path) > 0:
+        with open(path, newline="") as f:
+            header = next(csv.reader(f), [])
+        if header != CSV_COLUMNS:
+            sys.exit(f"{path}: its columns are not compare.py's ({','.join(header[:4])}...): "
+                     "give another file with --csv")
+        f = open(path, "a", newline="")
+        return f, csv.DictWriter(f, CSV_COLUMNS)
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+    f = open(path, "w", newline="")
+    w = csv.DictWriter(f, CSV_COLUMNS)
+    w.writeheader()
+    return f, w
+
+
+def git_commit(path):
+    """The commit of the git tree holding `path` (+dirty when it has uncommitted
+    changes), or '' outside one: for a binary in TREE/build, what it was built from."""
+    where = os.path.dirname(path)
+    try:
+        commit = subprocess.run(["git", "-C", where, "rev-parse", "--short", "HEAD"], capture_output=True,
+                                text=True, check=True).stdout.strip()
+        dirty = subprocess.run(["git", "-C", where, "status", "--porcelain", "--untracked-files=no"],
+                               capture_output=True, text=True, check=True).stdout.strip()
+        return commit + ("+dirty" if dirty else "")
+    except (OSError, subprocess.CalledProcessError):
+        return ""
 
 
 def main():
@@ -230,9 +314,13 @@ def main():
     ap.add_argument("--steps", type=int, default=None,
                     help="2D: steps of the timed window (default 200,000: the flow is chaotic, and over "
                          "20,000 the two programs' trajectories part and their mean contacts differ by up "
-                         "to 10 %%); 3D box: a twentieth of it (default 1000)")
+                         "to 10 %%); 3D box: a twentieth of it (default 1000, at least 200)")
     ap.add_argument("--threads", default="1,2", help="core counts to time (threads / MPI ranks)")
     ap.add_argument("--work", default="bench_work")
+    ap.add_argument("--csv", default=None, help="append one row per run here (default WORK/bench_results.csv)")
+    ap.add_argument("--granule", default=GRANULE, help="the Granule binary (default build/granule)")
+    ap.add_argument("--mf-particles", type=int, default=1500, help="2D: particles (Table 4.1: 1500)")
+    ap.add_argument("--mf-settle", type=float, default=0.05, help="2D: settling time of the state, s")
     ap.add_argument("--box-side", type=int, default=50, help="3D box: spheres per side (50 -> 100,000 with 40 layers)")
     ap.add_argument("--box-layers", type=int, default=40)
     ap.add_argument("--box-gap", type=float, default=0.0,
@@ -243,27 +331,59 @@ def main():
                     help="run every program this many times, alternating, and keep each one's best "
                          "(the machine is shared: the best run is the least disturbed)")
     args = ap.parse_args()
-    args.threads = [int(t) for t in args.threads.split(",")]
-    for tool in ("lmp",):
-        if not shutil.which(tool):
-            sys.exit(f"{tool} not found: apt-get install lammps")
+    try:
+        args.threads = [int(t) for t in args.threads.split(",")]
+    except ValueError:
+        sys.exit(f"--threads: comma-separated whole numbers, got '{args.threads}'")
+    if not args.threads or min(args.threads) < 1:
+        sys.exit(f"--threads: each at least 1, got '{','.join(map(str, args.threads))}'")
+    for name in ("steps", "repeat", "mf_particles", "box_side", "box_layers"):
+        value = getattr(args, name)
+        if value is not None and value < 1:
+            sys.exit(f"--{name.replace('_', '-')}: at least 1, got {value}")
+    if not (args.mf_settle > 0 and math.isfinite(args.mf_settle)):
+        sys.exit(f"--mf-settle: a positive time in s, got {args.mf_settle}")
+    if not (os.path.isfile(args.granule) and os.access(args.granule, os.X_OK)):
+        sys.exit(f"{args.granule}: no Granule binary there (build it: cmake --build build), or give --granule")
+    args.granule = os.path.abspath(args.granule)
+    args.peers = peers_available(args.threads)
+    missing = []
+    if not args.peers["lmp"]:
+        missing.append("LAMMPS (lmp: apt-get install lammps)")
+    if args.case != "mechanofusion2d" and not args.peers["liggghts"]:
+        missing.append("LIGGGHTS (liggghts)")
+    if not args.peers["mpirun"]:
+        missing.append("mpirun, so the peers run on one rank only")
+    if missing:
+        print("not found: " + "; ".join(missing) + ". Timing Granule without them.")
     os.makedirs(args.work, exist_ok=True)
+    work = os.path.abspath(args.work)
+    csv_path = args.csv or os.path.join(work, "bench_results.csv")
+    csv_file, writer = open_csv(csv_path)
     print(f"machine: {platform.node()}, {os.cpu_count()} cores, {platform.processor() or platform.machine()}, "
           f"load average {os.getloadavg()[0]:.2f}")
+    stamp = dict(date=datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
+                 host=platform.node(), commit=git_commit(args.granule))
     cases = ["mechanofusion2d", "box3d"] if args.case == "all" else [args.case]
     for case in cases:
         best, round_ratios = {}, []
-        for _ in range(max(1, args.repeat)):
-            title, rows = globals()[case](args, os.path.abspath(args.work))
+        for k in range(max(1, args.repeat)):
+            title, state, rows = globals()[case](args, work)
             round_ratios.append(ratios_to_lammps(rows))  # the programs ran back to back
             for row in rows:
-                key = (row[0], row[1])
-                if key not in best or row[2] > best[key][2]:
+                writer.writerow({**stamp, "case": case, "state": state, "round": k + 1, **row})
+                key = (row["program"], row["threads"])
+                if key not in best or row["particle_steps_per_s"] > best[key]["particle_steps_per_s"]:
                     best[key] = row
+            csv_file.flush()
         if args.repeat > 1:
             title += (f", best of {args.repeat} alternating runs; vs LAMMPS: best against best, and "
                       f"the ratio within each round")
         report(title, list(best.values()), round_ratios)
+        if not any(r["program"].startswith("lammps") for r in best.values()):
+            print("(no LAMMPS rows: the ratios need lmp)")
+    csv_file.close()
+    print(f"\none row per run in {csv_path}")
 
 
 if __name__ == "__main__":

@@ -1,7 +1,7 @@
 -- What an unused feature costs: the same scene (the 2D Mechanofusion base case of
 -- Table 4.1 with linear or Walton-Braun contacts, 1500 particles, chamber at
 -- 2000 rpm) with and without each feature declared, and with every diagnostic
--- attached. A scene should pay only for what it names (issue 7), so every
+-- attached. A scene should pay only for what it names (docs/features_cost.md), so every
 -- "declared but unused" row should read 1.00 within the noise.
 --
 --   build/granule run tools/bench/features_cost.lua --quiet [-D steps=20000 -D rounds=3]

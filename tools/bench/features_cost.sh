@@ -1,5 +1,5 @@
 #!/bin/sh
-# A scene pays only for what it names (issue 7): runs tools/bench/features_cost.lua
+# A scene pays only for what it names (docs/features_cost.md): runs tools/bench/features_cost.lua
 # (the base case with each unused feature declared, and with every diagnostic
 # attached) and tools/bench/specialised_linear.cpp (the engine against a loop
 # written for the linear base case), printing both tables.

@@ -4,7 +4,12 @@
 -- from it); with `state`, it loads that snapshot and times `steps` steps.
 --   build/granule run tools/bench/mechanofusion_compare.lua -D settle=0.05 -D save=mf_state.h5
 --   build/granule run tools/bench/mechanofusion_compare.lua -D state=mf_state.h5 -D steps=20000 --threads 2
+-- The timed run prints the stage times on stderr and one line on stdout for
+-- compare.py (bench.result_line: wall and stage seconds, mean contacts).
 local granule = require "granule"
+local bench = require "granule.bench"
+-- A binary built elsewhere loads its own tree's library: say so, not "nil".
+assert(bench.result_line, "granule.bench lacks result_line (an older lua/): set GRANULE_LUA_PATH to this tree's lua/")
 local p = parameters {
   model = { default = "linear", doc = "linear (the law LAMMPS has too) | walton_braun" },
   particles = { default = 1500 },
@@ -51,13 +56,19 @@ sim:every { steps = 100, function(s)
   samples = samples + 1
 end }
 sim:run { steps = 1 }  -- lists built, first contacts formed: not part of the timing
-local t0, tm0 = wall_time(), sim:timings()
+local t0, tm0, st0 = wall_time(), sim:timings(), sim:stats()
 sim:run { steps = p.steps }
 local wall = wall_time() - t0
-local tm = sim:timings()
+local stage = bench.stage_seconds(sim, tm0)
+local st = sim:stats()
 io.stderr:write(string.format("stages [s]: neighbour %.3f contacts %.3f (of which fixed-order sums %.3f) diagnostics %.3f integrate %.3f hooks %.3f; thread rebalances %d, list rebuilds %d\n",
-  tm.neighbor - tm0.neighbor, tm.force - tm0.force, tm.scatter - tm0.scatter, tm.diagnostics - tm0.diagnostics,
-  tm.integrate - tm0.integrate, tm.hooks - tm0.hooks, sim:stats().thread_rebalances, sim:stats().list_rebuilds))
-print(string.format("granule model=%s particles=%d steps=%d wall_s=%.4f particle_steps_per_s=%.4g mean_contacts=%.1f mean_pair_contacts=%.1f",
-  p.model, sim:stats().particles, p.steps, wall, sim:stats().particles * p.steps / wall,
-  contacts / math.max(samples, 1), pair_contacts / math.max(samples, 1)))
+  stage.neighbour_s, stage.contacts_s, stage.sums_s, stage.diagnostics_s, stage.integrate_s, stage.hooks_s,
+  st.thread_rebalances, st.list_rebuilds))
+local line = {
+  model = p.model, particles = st.particles, steps = p.steps, wall_s = wall,
+  particle_steps_per_s = st.particles * p.steps / wall, mean_contacts = contacts / math.max(samples, 1),
+  mean_pair_contacts = pair_contacts / math.max(samples, 1),
+  list_rebuilds = st.list_rebuilds - st0.list_rebuilds, thread_rebalances = st.thread_rebalances - st0.thread_rebalances,
+}
+for k, v in pairs(stage) do line[k] = v end
+print(bench.result_line(line))

@@ -3,6 +3,8 @@
 -- seconds and print particle-steps/s (wall clock) with the per-stage breakdown.
 --   build/granule run tools/bench/mechanofusion_steady.lua --quiet
 -- Later runs can skip the settling: granule run ... --restart mechanofusion_settled.chk.h5
+-- `-D csv=FILE` also appends the timed window as one row (docs/performance.md
+-- lists the columns).
 local p = parameters {
   settle = { default = 0.05, unit = "s" },
   measure = { default = 0.01, unit = "s" },
@@ -10,8 +12,16 @@ local p = parameters {
   particles = { default = 1500 },
   checkpoint = { default = "mechanofusion_settled.chk.h5", doc = "written after settling" },
   skin = { default = 0, unit = "m", doc = "neighbour-list skin; 0 = automatic" },
+  csv = { default = "", doc = "also append the timed window as one row to this CSV file" },
 }
 local granule = require "granule"
+local bench = require "granule.bench"
+-- A binary built elsewhere loads its own tree's library: say so, not "nil".
+assert(bench.result_line, "granule.bench lacks result_line (an older lua/): set GRANULE_LUA_PATH to this tree's lua/")
+local columns = { "model", "particles", "steps", "pair_contacts", "wall_contacts", "list_rebuilds", "wall_s",
+                  "particle_steps_per_s" }
+for _, c in ipairs(bench.stage_columns) do columns[#columns + 1] = c end
+if p.csv ~= "" then bench.check_csv(p.csv, columns) end
 local sim = simulation { dimension = 2 }
 sim:material { name = "powder", density = 1200 }
 sim:material { name = "steel", density = 7800 }
@@ -36,12 +46,18 @@ if p.skin > 0 then sim:set { skin = p.skin } end
 local t0, tm0, rebuilds0 = wall_time(), sim:timings(), sim:stats().list_rebuilds
 local r = sim:run { duration = p.measure }
 local wall = wall_time() - t0
-local tm = sim:timings()
+local stage = bench.stage_seconds(sim, tm0)
 local s = sim:stats()
 print(string.format("steps %d wall %.2f s  -> %.3g particle-steps/s  contacts pp %d pw %d"
   .. "  candidates %d  rebuilds %d",
   r.steps, wall, p.particles * r.steps / wall, s.contacts_particle, s.contacts_wall,
   s.candidate_pairs, s.list_rebuilds - rebuilds0))
 print(string.format("neighbor %.2f force %.2f diagnostics %.2f integrate %.2f hooks %.2f",
-  tm.neighbor - tm0.neighbor, tm.force - tm0.force, tm.diagnostics - tm0.diagnostics,
-  tm.integrate - tm0.integrate, tm.hooks - tm0.hooks))
+  stage.neighbour_s, stage.contacts_s, stage.diagnostics_s, stage.integrate_s, stage.hooks_s))
+if p.csv ~= "" then
+  local row = { model = p.model, particles = p.particles, steps = r.steps, pair_contacts = s.contacts_particle,
+                wall_contacts = s.contacts_wall, list_rebuilds = s.list_rebuilds - rebuilds0, wall_s = wall,
+                particle_steps_per_s = p.particles * r.steps / wall }
+  for k, v in pairs(stage) do row[k] = v end
+  bench.append_csv(p.csv, columns, row)
+end
