@@ -8,8 +8,7 @@
 // 0.8-6.4 MB), more than the CPU's second-level TLB holds, so many partners
 // cost a page walk besides the cache miss; and the hardware prefetchers stop
 // at 4 KiB page boundaries in the streamed arrays. With 2 MiB pages the same
-// arrays fit in about a dozen entries (docs/performance.md, "What made stop 16
-// faster"). Most distributions set
+// arrays fit in about a dozen entries (docs/performance.md, "Huge pages"). Most distributions set
 // transparent huge pages to "madvise": a program gets them only where it asks,
 // which is what this allocator does (madvise(MADV_HUGEPAGE) on fresh memory,
 // before the vector first writes it). Elsewhere (THP off, another OS) it is an

@@ -15,7 +15,7 @@ namespace granule {
 // The force and torque on a particle, side by side in one cache line: the
 // contact loop adds to both for every contact, and in large scenes the
 // partner's force and torque, in two arrays, were two misses per contact
-// (docs/performance.md, "What made stop 16 faster").
+// (docs/performance.md, "Force and torque on one cache line").
 template <int D>
 struct alignas(D == 3 ? 64 : 32) ForceTorque {
   Vec<D> force = Vec<D>::Zero();         // N
