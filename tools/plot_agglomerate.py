@@ -10,8 +10,9 @@ label_bonds, mass_fraction_bonds; label 1 = the largest fragment). Fragments of
 at least --debris of the initial mass are drawn in colour (the largest black,
 as the dissertation's "surviving cluster"), debris (smaller fragments) grey,
 fines (below 0.2 %) light grey. The host particle (material "host") is drawn as
-an outline, the walls (their final heights from /results) as lines. 3D scenes are projected onto the x-y plane
-(the impact axis is y), the highest z drawn last.
+an outline, the walls (their final heights from /results) as lines. 3D scenes
+are projected onto the x-y plane (the impact axis is y), the highest z drawn
+last. Axes in micrometres, a scale bar, and a legend of the colours.
 
 --graph bonds uses the clusters of the surviving initial bonds instead of the
 contact graph (pieces pressed together between two walls stay apart).
@@ -30,7 +31,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-from matplotlib.patches import Circle  # noqa: E402
+from matplotlib.patches import Circle, Patch  # noqa: E402
+from matplotlib.ticker import FuncFormatter  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import granule_h5 as g  # noqa: E402
@@ -81,7 +83,35 @@ def colours(label, fraction, debris):
     return out
 
 
-def draw(ax, path, index=-1, graph="contacts", debris=0.025, title=None):
+def scale_bar_length(span):
+    """A round length (1, 2 or 5 times a power of ten, m) about a fifth of span."""
+    target = span / 5
+    power = 10.0 ** np.floor(np.log10(target))
+    return max(m * power for m in (1, 2, 5) if m * power <= target)
+
+
+def legend_handles(label, fraction, debris, has_host):
+    """What the colours mean, for the classes present."""
+    handles = []
+    ranked = sorted({int(lab) for lab, frac in zip(label, fraction)
+                     if lab > 0 and not np.isnan(frac) and frac >= debris})
+    for lab in ranked[:4]:
+        name = "largest fragment" if lab == 1 else f"fragment {lab}"
+        handles.append(Patch(color=FRAGMENT_COLOURS[(lab - 1) % len(FRAGMENT_COLOURS)], label=name))
+    if len(ranked) > 4:
+        handles.append(Patch(color="white", label=f"(+{len(ranked) - 4} more fragments)"))
+    if any(FINES <= frac < debris for frac in fraction if not np.isnan(frac)):
+        handles.append(Patch(color=DEBRIS_COLOUR, label=f"debris (< {100 * debris:g} % of mass)"))
+    if any(frac < FINES for frac in fraction if not np.isnan(frac)):
+        handles.append(Patch(color=FINES_COLOUR, label=f"fines (< {100 * FINES:g} %)"))
+    if (label < 0).any():
+        handles.append(Patch(color=PRIMARY_COLOUR, label="primary (no fragment data)"))
+    if has_host:
+        handles.append(Patch(facecolor="none", edgecolor="k", label="host particle"))
+    return handles
+
+
+def draw(ax, path, index=-1, graph="contacts", debris=0.025, title=None, legend=False):
     """Draws one file's fragments on ax; returns the results attributes."""
     snap, walls, results, label, fraction, material = load(path, index, graph)
     pos, radius = snap["position"], snap["radius"]
@@ -108,8 +138,20 @@ def draw(ax, path, index=-1, graph="contacts", debris=0.025, title=None):
     ax.set_xlim(x0, x1)
     ax.set_ylim(y0, y1)
     ax.set_aspect("equal")
-    ax.set_xticks([])
-    ax.set_yticks([])
+    micrometres = FuncFormatter(lambda value, _: f"{value * 1e6:g}")
+    ax.xaxis.set_major_formatter(micrometres)
+    ax.yaxis.set_major_formatter(micrometres)
+    ax.tick_params(labelsize=6)
+    ax.set_xlabel("x [um]", fontsize=7)
+    ax.set_ylabel("y [um]", fontsize=7)
+    bar = scale_bar_length(x1 - x0)
+    bx, by = x0 + 0.05 * (x1 - x0), y0 + 0.05 * (y1 - y0)
+    ax.plot([bx, bx + bar], [by, by], color="k", lw=2.5, zorder=4, solid_capstyle="butt")
+    ax.text(bx + bar / 2, by + 0.015 * (y1 - y0), f"{bar * 1e6:g} um", ha="center", va="bottom",
+            fontsize=6, zorder=4)
+    if legend:
+        ax.legend(handles=legend_handles(label[primary], fraction[primary], debris, (~primary).any()),
+                  fontsize=6, loc="upper center", bbox_to_anchor=(0.5, -0.3), ncol=2, frameon=False)
     if title is None:
         title = os.path.basename(path)
         if "velocity" in results:
@@ -135,10 +177,10 @@ def main(argv=None):
     args = parser.parse_args(argv)
     output = args.output or os.path.splitext(args.file)[0] + "_clusters.png"
     try:
-        fig, ax = plt.subplots(figsize=(4.2, 4.4))
-        draw(ax, args.file, args.index, args.graph, args.debris, args.title)
+        fig, ax = plt.subplots(figsize=(4.6, 4.8))
+        draw(ax, args.file, args.index, args.graph, args.debris, args.title, legend=True)
         fig.tight_layout()
-        fig.savefig(output, dpi=120)
+        fig.savefig(output, dpi=120, bbox_inches="tight")
         plt.close(fig)
     except g.GranuleH5Error as e:
         print(f"error: {e}", file=sys.stderr)

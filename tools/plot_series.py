@@ -7,14 +7,18 @@ usage: /usr/bin/python3 tools/plot_series.py out.h5 [--group /series] [--columns
 Any series group a scene writes (/series, /impact, /sweep, zone profiles...):
 one subplot per column (all columns but the x column unless --columns is
 given), sharing the x axis (default "time"; any column with --x). Axis labels
-carry the units stored with the series. --list prints the file's series groups
-and their columns instead. Writes a PNG (default: <file>_<group>.png next to
+carry the units stored with the series. Without --columns, a column that is
+zero throughout (momentum_z of a 2D run, a counter that never moved) gets no
+panel of its own; the figure's footnote names it. --list prints the file's
+series groups and their columns instead. Writes a PNG (default: <file>_<group>.png next to
 the input) and prints its path.
 """
 
 import argparse
 import os
 import sys
+
+import numpy as np
 
 import matplotlib
 
@@ -31,15 +35,24 @@ def plot_series(path, group="/series", columns=None, output=None, x="time", log_
         data = g.series(f, group)
         units = g.series_units(f, group)
         g.require_columns(f, group, data, [x])
+        skipped = []
         if columns is None:
             columns = [c for c in data if c != x]
+            # Zero throughout: a line on its axis says nothing a footnote cannot.
+            skipped = [c for c in columns if not np.any(np.nan_to_num(np.asarray(data[c], float)))]
+            if len(skipped) < len(columns):
+                columns = [c for c in columns if c not in skipped]
+            else:
+                skipped = []
         g.require_columns(f, group, data, columns)
         if not columns:
             raise g.GranuleH5Error(f"{path}: series '{group}' has no column besides {x}")
         time = data[x]
 
+    # constrained layout keeps the title clear of the first panel's labels
     fig, axes = plt.subplots(
-        len(columns), 1, sharex=True, squeeze=False, figsize=(7, 1.0 + 1.9 * len(columns))
+        len(columns), 1, sharex=True, squeeze=False, figsize=(7, 1.2 + 1.9 * len(columns)),
+        layout="constrained"
     )
     for ax, c in zip(axes[:, 0], columns):
         ax.plot(time, data[c], lw=1, marker="o" if len(time) < 50 else None, ms=3)
@@ -51,11 +64,15 @@ def plot_series(path, group="/series", columns=None, output=None, x="time", log_
         ax.grid(True, alpha=0.3)
     x_unit = units.get(x, "s" if x == "time" else "")
     axes[-1, 0].set_xlabel(g.axis_label(x, x_unit))
-    fig.suptitle(f"{os.path.basename(path)}: {group} ({len(time)} rows)")
-    fig.tight_layout()
+    fig.suptitle(f"{os.path.basename(path)}: {group} ({len(time)} rows)", fontsize=10)
+    if skipped:
+        fig.text(0.01, 0.002, "zero throughout, not drawn: " + ", ".join(skipped), fontsize=7,
+                 va="bottom", ha="left")
     output = g.output_path(path, group.strip("/").replace("/", "_") or "root", output)
     fig.savefig(output, dpi=120)
     plt.close(fig)
+    if skipped:
+        print("zero throughout, not drawn: " + ", ".join(skipped))
     return output
 
 
