@@ -1,0 +1,68 @@
+-- A 3D packing under gravity, the first scene of most DEM codes: glass beads
+-- poured into a square box settle on its floor. It checks what a settled bed
+-- must satisfy and reports the bed's solid fraction: the floor and the side
+-- walls together carry the weight (the side walls take a share by friction,
+-- of either sign as the bed last moved against them), and frictional spheres
+-- in a narrow box settle looser than random close packing
+-- (0.64), toward random loose packing (0.55-0.60).
+--   build/granule run scenarios/packing_3d.lua
+--   build/granule run scenarios/packing_3d.lua -D particles=4000 -D friction=0.1 -o packing.h5
+local granule = require "granule"
+local p = parameters {
+  particles = { default = 800, doc = "number of beads" },
+  radius = { default = 1e-3, unit = "m", doc = "bead radius" },
+  box = { default = 16e-3, unit = "m", doc = "side of the square box" },
+  friction = { default = 0.3, doc = "bead-bead and bead-wall friction coefficient" },
+  restitution = { default = 0.5, doc = "coefficient of restitution (damped Hertz-Mindlin)" },
+  settle = { default = 1.0, unit = "s", doc = "longest time allowed to settle" },
+}
+local sim = simulation { dimension = 3 }
+sim:material { name = "glass", density = 2500, young = 5e7, poisson = 0.25 }  -- a soft glass: larger steps
+sim:material { name = "steel", density = 7800, young = 5e7, poisson = 0.3 }
+for _, pair in ipairs { { "glass", "glass" }, { "glass", "steel" } } do
+  sim:contact { pair[1], pair[2], model = "hertz_mindlin", restitution = p.restitution,
+                friction = p.friction }
+end
+local half = p.box / 2
+sim:wall_plane { name = "floor", point = { 0, 0, 0 }, normal = { 0, 1, 0 }, material = "steel" }
+for name, wall in pairs { west = { { -half, 0, 0 }, { 1, 0, 0 } }, east = { { half, 0, 0 }, { -1, 0, 0 } },
+                          south = { { 0, 0, -half }, { 0, 0, 1 } }, north = { { 0, 0, half }, { 0, 0, -1 } } } do
+  sim:wall_plane { name = name, point = wall[1], normal = wall[2], material = "steel" }
+end
+-- A loose cloud four times the bed's height, without overlaps.
+local height = 4 * p.particles * (4 / 3 * math.pi * p.radius ^ 3) / 0.6 / p.box ^ 2
+sim:fill { region = { box = { lo = { -half, 0, -half }, hi = { half, height, half } } }, count = p.particles,
+           radius = p.radius, material = "glass", seed = 1, overlap = false }
+sim:gravity { 0, -9.81, 0 }
+local file = sim:output { snapshot_every = 0.05 }
+granule.stage(sim, { name = "settle", duration = p.settle, check_every = 1000,
+                     stop_when = function(s) return s:time() > 0.2 and s:stats().kinetic_energy < 1e-9 end })
+
+-- The bed: weight against the walls' forces, and the solid fraction below the
+-- top layer (the volume of the beads whose centres lie in the lower 80 % of
+-- the bed over that slab's volume).
+local weight, top, beads = 0, 0, {}
+for _, id in ipairs(sim:particles()) do
+  local b = sim:particle(id)
+  weight = weight + b.mass * 9.81
+  top = math.max(top, b.position[2] + b.radius)
+  beads[#beads + 1] = b
+end
+local slab = 0.8 * top
+local volume = 0
+for _, b in ipairs(beads) do
+  if b.position[2] < slab then volume = volume + 4 / 3 * math.pi * b.radius ^ 3 end
+end
+local solid_fraction = volume / (p.box ^ 2 * slab)
+local floor = sim:wall("floor").force[2]
+local sides = 0
+for _, name in ipairs { "west", "east", "south", "north" } do sides = sides + sim:wall(name).force[2] end
+local ke = sim:stats().kinetic_energy
+sim:result { solid_fraction = solid_fraction, bed_height = top, floor_share = -floor / weight,
+             wall_share = -sides / weight, kinetic_energy = ke }
+print(string.format("packing_3d: t = %.3f s, bed height %.4g m, solid fraction %.3f, floor carries %.1f %% " ..
+  "and the side walls %.1f %% of the weight, kinetic energy %.2g J",
+  sim:time(), top, solid_fraction, -100 * floor / weight, -100 * sides / weight, ke))
+assert(math.abs(-(floor + sides) / weight - 1) < 0.02, "the walls do not carry the bed's weight")
+assert(solid_fraction > 0.50 and solid_fraction < 0.66, "solid fraction outside random loose to close packing")
+print("results written to " .. file)
