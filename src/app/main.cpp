@@ -4,6 +4,7 @@
 //   granule sweep scene.lua -D name=v1,v2 ... [-o DIR]   (app/sweep.hpp)
 //   granule models          list contact models and their parameters
 //   granule api [NAME | --markdown]   the Lua API reference
+//   granule api --models-markdown PAGE   PAGE with its model parameter tables regenerated
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -18,6 +19,7 @@
 #include "app/interrupt.hpp"
 #include "app/repl.hpp"
 #include "app/sweep.hpp"
+#include "contact/model_docs.hpp"
 #include "contact/models.hpp"
 #include "io/h5_output.hpp"
 #include "lua/api_docs.hpp"
@@ -33,7 +35,7 @@ const char* usage =
     "  granule sweep SCENE.lua -D name=v1,v2,... [-D ...] [-o DIR] [--threads N] [-q]\n"
     "              [--case-timeout SECONDS] [--checkpoint-every SECONDS] [--list]\n"
     "  granule models\n"
-    "  granule api [NAME | --markdown]\n"
+    "  granule api [NAME | --markdown | --models-markdown docs/contact_models.md]\n"
     "  granule --version\n"
     "options:\n"
     "  -D name=value   override a parameter the scene declares (repeatable)\n"
@@ -92,18 +94,15 @@ int run_scene(Options& o) {
 }
 
 int list_models() {
-  for (const auto& m : granule::contact_model_catalogue()) {
-    std::cout << m.name << ": " << m.doc << "\n";
-    for (const auto& p : m.parameters) {
-      std::string def =
-          std::isnan(p.default_value) ? "required" : fmt::format("default {}", p.default_value);
-      std::cout << fmt::format("    {:<26} [{}] {}; {}\n", p.name, p.unit, def, p.doc);
-    }
-  }
+  std::cout << granule::format_models_help();
   return 0;
 }
 
 int api(const std::vector<std::string>& args) {
+  if (args.size() == 3 && args[1] == "--models-markdown") {  // docs/contact_models.md
+    std::cout << granule::regenerate_model_tables_in(args[2]);
+    return 0;
+  }
   if (args.size() > 2) return fail_usage("api takes at most one name");
   if (args.size() == 1) {
     std::cout << granule::lua::format_overview();

@@ -10,7 +10,7 @@ std::vector<ContactModelInfo> contact_model_catalogue() {
   std::vector<ContactModelInfo> out;
   for_each_model([&](auto index) {
     using M = ContactModelAt<decltype(index)::value>;
-    out.push_back({M::name, M::doc, M::parameters()});
+    out.push_back({M::name, M::doc, M::parameters(), M::adhesive, has_force_batch<M>::value});
   });
   return out;
 }

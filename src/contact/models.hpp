@@ -1,5 +1,7 @@
 // The contact-model registry: one line per model. Adding a model means one
-// header with a Params/History/force triple, one line here, and one test.
+// header with a Params/History/force triple, one line here, the model's
+// required parameters in the property suite (tests/contact/test_model_properties.cpp)
+// and a section with its table markers in docs/contact_models.md.
 // The engine keeps one pair bucket per model in this list, and loops over
 // each bucket with that model's kernel inlined: a scene whose pairs use one
 // model never runs another's code.
@@ -9,6 +11,7 @@
 #include <tuple>
 #include <vector>
 
+#include "contact/contact_batch.hpp"
 #include "contact/hertz_mindlin.hpp"
 #include "contact/linear_spring_dashpot.hpp"
 #include "contact/parameters.hpp"
@@ -27,6 +30,8 @@ struct ContactModelInfo {
   std::string name;
   std::string doc;
   std::vector<ParamSpec> parameters;
+  bool adhesive = false;  // its contacts persist into negative overlap (M::reach)
+  bool batched = false;   // it offers the batched 3D kernel (contact_batch.hpp)
 };
 
 // All registered models, in registry order (index = model id).
