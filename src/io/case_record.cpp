@@ -11,32 +11,11 @@
 #include <utility>
 #include <vector>
 
+#include "io/h5_handle.hpp"
+
 namespace granule::io {
 
 namespace {
-
-// H5Pset_file_locking exists from 1.10.7 in the 1.10 series and from 1.12.1 after that.
-#if (H5_VERS_MAJOR == 1 && H5_VERS_MINOR == 10 && H5_VERS_RELEASE >= 7) || H5_VERSION_GE(1, 12, 1)
-#define GRANULE_HAVE_FILE_LOCKING_PLIST 1
-#endif
-
-// One hid_t, closed once (as in h5_output.cpp and h5_input.cpp).
-class Handle {
- public:
-  using Closer = herr_t (*)(hid_t);
-  Handle(hid_t id, Closer close) : id_(id), close_(close) {}
-  Handle(const Handle&) = delete;
-  Handle& operator=(const Handle&) = delete;
-  ~Handle() {
-    if (id_ >= 0) close_(id_);
-  }
-  hid_t get() const { return id_; }
-  bool ok() const { return id_ >= 0; }
-
- private:
-  hid_t id_;
-  Closer close_;
-};
 
 std::string attribute_name(hid_t location, hsize_t index) {
   ssize_t n =
@@ -51,7 +30,7 @@ std::string attribute_name(hid_t location, hsize_t index) {
 // The file without HDF5's lock: the case's writer has exited, but a file on a shared
 // filesystem may refuse flock, and a lock left by a killed writer must not block us.
 hid_t open_file(const std::string& path, unsigned flags, bool create = false) {
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // our messages, not HDF5's stack dump
+  silence_hdf5();
   Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
 #ifdef GRANULE_HAVE_FILE_LOCKING_PLIST
   H5Pset_file_locking(fapl.get(), 0, 1);
