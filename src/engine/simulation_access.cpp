@@ -1,5 +1,6 @@
-// Simulation<D>: accessors (body fields, walls, particles, flat state, global
-// statistics, the contact list), the attached diagnostics, and describe().
+// Simulation<D>: accessors (walls, particles, flat state, global statistics, the
+// contact list), the attached diagnostics, and describe(). The setters, which
+// check their input, are in simulation_setup.cpp.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -13,34 +14,9 @@
 
 namespace granule {
 
-namespace {
-bool finite3(const Triple& t) {
-  return std::isfinite(t[0]) && std::isfinite(t[1]) && std::isfinite(t[2]);
-}
-}  // namespace
-
 // ----------------------------------------------------------------------------
 // Accessors
 // ----------------------------------------------------------------------------
-template <int D>
-void Simulation<D>::set_gravity(const Triple& g) {
-  if (!finite3(g)) throw InputError("gravity must be finite");
-  body_.gravity = to_vec(g);
-  body_.gravity_on = !body_.gravity.isZero();
-}
-template <int D>
-void Simulation<D>::set_central_field(const Triple& point, double strength) {
-  if (!finite3(point)) throw InputError("central_field: point must be finite");
-  body_.central_on = true;
-  body_.central_point = to_vec(point);
-  set_central_strength(strength);
-}
-template <int D>
-void Simulation<D>::set_central_strength(double strength) {
-  if (!std::isfinite(strength) || strength < 0)
-    throw InputError(fmt::format("central field strength must be >= 0 [m/s^2], got {}", strength));
-  body_.central_strength = strength;
-}
 
 template <int D>
 int Simulation<D>::wall_id(const std::string& name) const {
@@ -71,21 +47,6 @@ WallSpec Simulation<D>::wall(int w) const {
   return s;
 }
 template <int D>
-void Simulation<D>::set_wall_velocity(int w, const Triple& v) {
-  if (!finite3(v)) throw InputError("wall velocity must be finite");
-  if (walls_.at(w).type != WallType::plane)
-    throw InputError(
-        fmt::format("wall '{}' is a cylinder: set its angular velocity", walls_[w].name));
-  walls_[w].velocity = to_vec(v);
-}
-template <int D>
-void Simulation<D>::set_wall_angular_velocity(int w, double omega) {
-  if (!std::isfinite(omega)) throw InputError("wall angular velocity must be finite");
-  if (walls_.at(w).type != WallType::cylinder)
-    throw InputError(fmt::format("wall '{}' is a plane: set its velocity", walls_[w].name));
-  walls_[w].angular_velocity = omega;
-}
-template <int D>
 Triple Simulation<D>::wall_force(int w) const {
   return to_triple(walls_.at(w).force);
 }
@@ -109,27 +70,6 @@ Triple Simulation<D>::spin(std::int64_t id) const {
 template <int D>
 Triple Simulation<D>::force(std::int64_t id) const {
   return to_triple(p_.force_torque[checked(id)].force);
-}
-template <int D>
-void Simulation<D>::set_position(std::int64_t id, const Triple& x) {
-  if (!finite3(x)) throw InputError("position must be finite");
-  p_.position[checked(id)] = to_vec(x);
-  lists_valid_ = false;
-  scene_overlaps_ = true;  // a deep overlap made here is the scene's, not a pass-through
-}
-template <int D>
-void Simulation<D>::set_velocity(std::int64_t id, const Triple& v) {
-  if (!finite3(v)) throw InputError("velocity must be finite");
-  int i = checked(id);
-  if (p_.fixed[i]) throw InputError(fmt::format("particle {} is fixed: it cannot move", id));
-  p_.velocity[i] = to_vec(v);
-}
-template <int D>
-void Simulation<D>::set_spin(std::int64_t id, const Triple& w) {
-  if (!finite3(w)) throw InputError("spin must be finite");
-  int i = checked(id);
-  if (p_.fixed[i]) throw InputError(fmt::format("particle {} is fixed: it cannot spin", id));
-  p_.spin[i] = to_spin(w);
 }
 
 template <int D>

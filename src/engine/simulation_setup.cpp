@@ -1,6 +1,7 @@
 // Simulation<D>: set-up and validation -- the vector conversions, particle and
-// wall input checks, adding and removing particles and walls. The rest outside
-// the step: simulation_fill.cpp, simulation_prepare.cpp, simulation_access.cpp.
+// wall input checks, adding and removing particles and walls, and the setters.
+// The rest outside the step: simulation_fill.cpp, simulation_prepare.cpp,
+// simulation_access.cpp.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -158,6 +159,65 @@ int Simulation<D>::add_wall(const WallSpec& s) {
   lists_valid_ = false;
   prepared_ = false;
   return static_cast<int>(walls_.size() - 1);
+}
+
+// ----------------------------------------------------------------------------
+// Setters: body fields, walls and particles, their input checked
+// ----------------------------------------------------------------------------
+template <int D>
+void Simulation<D>::set_gravity(const Triple& g) {
+  if (!finite3(g)) throw InputError("gravity must be finite");
+  body_.gravity = to_vec(g);
+  body_.gravity_on = !body_.gravity.isZero();
+}
+template <int D>
+void Simulation<D>::set_central_field(const Triple& point, double strength) {
+  if (!finite3(point)) throw InputError("central_field: point must be finite");
+  body_.central_on = true;
+  body_.central_point = to_vec(point);
+  set_central_strength(strength);
+}
+template <int D>
+void Simulation<D>::set_central_strength(double strength) {
+  if (!std::isfinite(strength) || strength < 0)
+    throw InputError(fmt::format("central field strength must be >= 0 [m/s^2], got {}", strength));
+  body_.central_strength = strength;
+}
+template <int D>
+void Simulation<D>::set_wall_velocity(int w, const Triple& v) {
+  if (!finite3(v)) throw InputError("wall velocity must be finite");
+  if (walls_.at(w).type != WallType::plane)
+    throw InputError(
+        fmt::format("wall '{}' is a cylinder: set its angular velocity", walls_[w].name));
+  walls_[w].velocity = to_vec(v);
+}
+template <int D>
+void Simulation<D>::set_wall_angular_velocity(int w, double omega) {
+  if (!std::isfinite(omega)) throw InputError("wall angular velocity must be finite");
+  if (walls_.at(w).type != WallType::cylinder)
+    throw InputError(fmt::format("wall '{}' is a plane: set its velocity", walls_[w].name));
+  walls_[w].angular_velocity = omega;
+}
+template <int D>
+void Simulation<D>::set_position(std::int64_t id, const Triple& x) {
+  if (!finite3(x)) throw InputError("position must be finite");
+  p_.position[checked(id)] = to_vec(x);
+  lists_valid_ = false;
+  scene_overlaps_ = true;  // a deep overlap made here is the scene's, not a pass-through
+}
+template <int D>
+void Simulation<D>::set_velocity(std::int64_t id, const Triple& v) {
+  if (!finite3(v)) throw InputError("velocity must be finite");
+  int i = checked(id);
+  if (p_.fixed[i]) throw InputError(fmt::format("particle {} is fixed: it cannot move", id));
+  p_.velocity[i] = to_vec(v);
+}
+template <int D>
+void Simulation<D>::set_spin(std::int64_t id, const Triple& w) {
+  if (!finite3(w)) throw InputError("spin must be finite");
+  int i = checked(id);
+  if (p_.fixed[i]) throw InputError(fmt::format("particle {} is fixed: it cannot spin", id));
+  p_.spin[i] = to_spin(w);
 }
 
 template class Simulation<2>;
