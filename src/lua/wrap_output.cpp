@@ -23,9 +23,9 @@ io::RunOutput& output_of(LuaSim& s) {
 std::vector<std::string> read_string_list(lua_State* L, int index, const std::string& what) {
   if (!lua_istable(L, index)) throw std::runtime_error(what + " must be a list of names");
   std::vector<std::string> out;
-  lua_Integer n = luaL_len(L, index);
+  const auto n = static_cast<lua_Integer>(lua_rawlen(L, index));
   for (lua_Integer k = 1; k <= n; ++k) {
-    lua_geti(L, index, k);
+    lua_rawgeti(L, index, k);
     if (lua_type(L, -1) != LUA_TSTRING) {
       lua_pop(L, 1);
       throw std::runtime_error(fmt::format("{}[{}] must be a string", what, k));
@@ -102,9 +102,9 @@ int l_append(lua_State* L) {
     std::string name = read_string(L, 2, "series name");
     if (!lua_istable(L, 3)) throw std::runtime_error("append: expected a list of numbers");
     std::vector<double> row;
-    lua_Integer n = luaL_len(L, 3);
+    const auto n = static_cast<lua_Integer>(lua_rawlen(L, 3));
     for (lua_Integer k = 1; k <= n; ++k) {
-      lua_geti(L, 3, k);
+      lua_rawgeti(L, 3, k);
       row.push_back(read_number(L, -1, fmt::format("append '{}' value {}", name, k)));
       lua_pop(L, 1);
     }

@@ -22,22 +22,27 @@
 
 namespace granule::lua {
 
-// A callback's error that is not a string (error({...}), error(nil)) still names where
-// it was raised: the handler runs where the error was raised, before the stack unwinds.
+// The handler runs where the error was raised, before the stack unwinds: it names the
+// callback, keeps the traceback of the callback's frames, and gives an error that is not
+// a string (error({...}), error(nil)) the place it was raised.
 int callback_error_handler(lua_State* L) {
-  if (lua_type(L, 1) == LUA_TSTRING || lua_type(L, 1) == LUA_TNUMBER) return 1;
   const char* what = lua_tostring(L, lua_upvalueindex(1));
-  push_script_where(L);
-  const char* value = luaL_tolstring(L, 1, nullptr);
-  lua_pushfstring(L, "%s raised a %s as its error (%s); raise a string: error(\"...\")", what,
-                  luaL_typename(L, 1), value);
-  lua_remove(L, -2);
-  lua_concat(L, 2);
+  if (lua_type(L, 1) == LUA_TSTRING || lua_type(L, 1) == LUA_TNUMBER) {
+    lua_pushfstring(L, "%s: %s", what, lua_tostring(L, 1));
+  } else {
+    push_script_where(L);
+    const char* value = luaL_tolstring(L, 1, nullptr);
+    lua_pushfstring(L, "%s raised a %s as its error (%s); raise a string: error(\"...\")", what,
+                    luaL_typename(L, 1), value);
+    lua_remove(L, -2);
+    lua_concat(L, 2);
+  }
+  luaL_traceback(L, L, lua_tostring(L, -1), 1);
   return 1;
 }
 
-void call_lua(lua_State* L, int function_ref, int self_ref, int results, const char* what) {
-  lua_pushstring(L, what);
+void call_lua(lua_State* L, int function_ref, int self_ref, int results, const std::string& what) {
+  lua_pushlstring(L, what.data(), what.size());
   lua_pushcclosure(L, callback_error_handler, 1);
   const int handler = lua_gettop(L);
   lua_rawgeti(L, LUA_REGISTRYINDEX, function_ref);
@@ -215,7 +220,7 @@ int l_every(lua_State* L) {
     if ((h.every_steps > 0) == (h.every_time > 0))
       throw std::runtime_error("every: give exactly one of steps = N (> 0) or time = T [s] (> 0)");
     t.finish();
-    if (lua_geti(L, 2, 1) != LUA_TFUNCTION) {
+    if (lua_rawgeti(L, 2, 1) != LUA_TFUNCTION) {
       lua_pop(L, 1);
       throw std::runtime_error("every: the first entry must be a function(sim)");
     }
@@ -225,15 +230,16 @@ int l_every(lua_State* L) {
     }
     int ref = luaL_ref(L, LUA_REGISTRYINDEX);
     int self_ref = s.self_ref;
+    std::string what = fmt::format("sim:every callback '{}'", h.name);
     // The journal notes where each callback fired, so that a restart fires it there again.
     std::shared_ptr<Journal> journal = context(L) ? context(L)->journal : nullptr;
     auto id = std::make_shared<int>(0);
-    h.fire = [L, ref, self_ref, journal, id] {
+    h.fire = [L, ref, self_ref, journal, id, what] {
       if (journal && !journal->replaying()) journal->record_callback(*id);
-      call_lua(L, ref, self_ref, 0, "the sim:every callback");
+      call_lua(L, ref, self_ref, 0, what);
     };
     *id = s.sim->add_hook(h);
-    s.lua_hooks[*id] = ref;
+    s.lua_hooks[*id] = {ref, what};
     lua_pushinteger(L, *id);
     return 1;
   });

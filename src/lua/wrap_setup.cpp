@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "core/errors.hpp"
+#include "core/names.hpp"
 #include "engine/simulation_base.hpp"
 #include "lua/lua_util.hpp"
 #include "lua/wrap_simulation.hpp"
@@ -35,8 +36,10 @@ int l_contact(lua_State* L) {
     LuaSim& s = self(L);
     if (!lua_istable(L, 2))
       throw std::runtime_error("contact: expected { 'a', 'b', model = ..., ... }");
-    lua_geti(L, 2, 1);
-    lua_geti(L, 2, 2);
+    if (has_index_metamethod(L, 2))
+      throw std::runtime_error("contact: expected a plain table { 'a', 'b', model = ..., ... }");
+    lua_rawgeti(L, 2, 1);
+    lua_rawgeti(L, 2, 2);
     if (lua_type(L, -2) != LUA_TSTRING || lua_type(L, -1) != LUA_TSTRING)
       throw std::runtime_error("contact: the first two entries must be material names");
     std::string a = lua_tostring(L, -2), b = lua_tostring(L, -1);
@@ -212,6 +215,15 @@ int l_fill(lua_State* L) {
       c.finish();
       lua_pop(L, 1);
     } else {
+      // A misspelt shape ('circel') is named with the nearest shape; anything else (an
+      // empty region, a sphere in 2D) gets the list.
+      const std::vector<std::string> shapes =
+          d == 2 ? std::vector<std::string>{"circle", "box"}
+                 : std::vector<std::string>{"sphere", "box", "cylinder"};
+      for (const auto& key : r.keys())
+        if (std::string hint = nearest_name(key, shapes); !hint.empty())
+          throw InputError(
+              fmt::format("fill.region: unknown key '{}' (did you mean '{}'?)", key, hint));
       throw std::runtime_error(fmt::format("fill.region: give one of {}",
                                            d == 2 ? "circle, box" : "sphere, box, cylinder"));
     }
