@@ -84,15 +84,6 @@ void write_string(hid_t object, const std::string& name, const std::string& valu
   replace_attribute(object, name, type.get(), padded.data(), path);
 }
 
-std::string utc_now() {
-  std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char text[32];
-  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return text;
-}
-
 }  // namespace
 
 std::map<std::string, double> read_results(const std::string& path) {
@@ -150,7 +141,7 @@ void write_case_record(const std::string& path, const CaseRecord& record) {
   std::int64_t rank = record.rank;
   replace_attribute(group.get(), "rank", H5T_NATIVE_INT64, &rank, path);
   replace_attribute(group.get(), "wall_seconds", H5T_NATIVE_DOUBLE, &record.wall_seconds, path);
-  write_string(group.get(), "finished", record.finished.empty() ? utc_now() : record.finished,
+  write_string(group.get(), "finished", record.finished.empty() ? iso_time_now() : record.finished,
                path);
   H5Fflush(file.get(), H5F_SCOPE_LOCAL);
   std::int64_t one = 1;

@@ -1,10 +1,12 @@
 // What every HDF5 reader and writer in src/io shares: a handle that owns one
-// hid_t, the library's own description of the error just raised, and the
-// switch that keeps HDF5's stack dump off the terminal. Internal to src/io.
+// hid_t, the library's own description of the error just raised, the switch
+// that keeps HDF5's stack dump off the terminal, and the files' time stamps.
+// Internal to src/io.
 #pragma once
 
 #include <hdf5.h>
 
+#include <ctime>
 #include <string>
 #include <utility>
 
@@ -62,6 +64,16 @@ inline std::string h5_error_detail() {
 inline void silence_hdf5() {
   // Users should see our messages, which name the file and object, not HDF5's stack dump.
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+}
+
+// Now in UTC as ISO 8601 ("2026-01-31T12:00:00Z"), the time stamps our files carry.
+inline std::string iso_time_now() {
+  std::time_t t = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&t, &utc);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &utc);
+  return buf;
 }
 
 }  // namespace granule::io

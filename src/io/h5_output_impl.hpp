@@ -31,15 +31,6 @@ inline constexpr double series_batch_seconds = 0.5;
 // a whole column back.
 inline constexpr hsize_t series_chunk_rows = 1024;
 
-inline std::string iso_time_now() {
-  std::time_t t = std::time(nullptr);
-  std::tm utc{};
-  gmtime_r(&t, &utc);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &utc);
-  return buf;
-}
-
 inline std::string join_path(const std::string& group, const std::string& name) {
   return group == "/" ? "/" + name : group + "/" + name;
 }
