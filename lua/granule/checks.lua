@@ -7,6 +7,8 @@
 -- line of the scene or test that passed the value.
 local M = {}
 
+local names = require "granule.names"
+
 -- "@/path/to/lua/granule/" : frames from this folder are library frames.
 local library_prefix = debug.getinfo(1, "S").source:match("^(@.*[/\\])[^/\\]*$")
 
@@ -91,32 +93,11 @@ function M.table_arg(where, value, what)
   return value
 end
 
---- Levenshtein distance between two strings (case-insensitive), for "did you mean".
-function M.edit_distance(a, b)
-  a, b = a:lower(), b:lower()
-  local previous = {}
-  for j = 0, #b do previous[j] = j end
-  for i = 1, #a do
-    local current = { [0] = i }
-    for j = 1, #b do
-      local cost = a:sub(i, i) == b:sub(j, j) and 0 or 1
-      current[j] = math.min(previous[j] + 1, current[j - 1] + 1, previous[j - 1] + cost)
-    end
-    previous = current
-  end
-  return previous[#b]
-end
-
 --- M.nearest(name, candidates): the candidate closest to name, or nil when
---- none is within half the name's length (a suggestion that helps, not noise).
+--- none is close enough: core/names.cpp's nearest_name, the one the C++
+--- errors use (case-insensitive edit distance at most max(3, #name / 3)).
 function M.nearest(name, candidates)
-  local best, best_distance = nil, math.huge
-  for _, candidate in ipairs(candidates) do
-    local d = M.edit_distance(name, candidate)
-    if d < best_distance then best, best_distance = candidate, d end
-  end
-  if best and best_distance <= math.max(2, #name // 2) then return best end
-  return nil
+  return names.nearest_name(name, candidates)
 end
 
 --- M.known_keys(where, t, allowed): refuse keys of t that are not in the

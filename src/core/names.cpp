@@ -1,6 +1,7 @@
 #include "core/names.hpp"
 
 #include <algorithm>
+#include <cctype>
 
 namespace granule {
 
@@ -19,11 +20,21 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
   return row[b.size()];
 }
 
+namespace {
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+}  // namespace
+
+// Case is ignored: "Young" for "young" or "al2o3" for "Al2O3" is the name meant, at
+// distance 0, whatever else is one edit away.
 std::string nearest_name(const std::string& name, const std::vector<std::string>& candidates) {
   std::string best;
   std::size_t best_distance = std::max<std::size_t>(3, name.size() / 3) + 1;
+  const std::string key = lower(name);
   for (const auto& c : candidates) {
-    std::size_t d = edit_distance(name, c);
+    std::size_t d = edit_distance(key, lower(c));
     if (d < best_distance) {
       best_distance = d;
       best = c;

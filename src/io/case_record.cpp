@@ -11,32 +11,11 @@
 #include <utility>
 #include <vector>
 
+#include "io/h5_handle.hpp"
+
 namespace granule::io {
 
 namespace {
-
-// H5Pset_file_locking exists from 1.10.7 in the 1.10 series and from 1.12.1 after that.
-#if (H5_VERS_MAJOR == 1 && H5_VERS_MINOR == 10 && H5_VERS_RELEASE >= 7) || H5_VERSION_GE(1, 12, 1)
-#define GRANULE_HAVE_FILE_LOCKING_PLIST 1
-#endif
-
-// One hid_t, closed once (as in h5_output.cpp and h5_input.cpp).
-class Handle {
- public:
-  using Closer = herr_t (*)(hid_t);
-  Handle(hid_t id, Closer close) : id_(id), close_(close) {}
-  Handle(const Handle&) = delete;
-  Handle& operator=(const Handle&) = delete;
-  ~Handle() {
-    if (id_ >= 0) close_(id_);
-  }
-  hid_t get() const { return id_; }
-  bool ok() const { return id_ >= 0; }
-
- private:
-  hid_t id_;
-  Closer close_;
-};
 
 std::string attribute_name(hid_t location, hsize_t index) {
   ssize_t n =
@@ -51,7 +30,7 @@ std::string attribute_name(hid_t location, hsize_t index) {
 // The file without HDF5's lock: the case's writer has exited, but a file on a shared
 // filesystem may refuse flock, and a lock left by a killed writer must not block us.
 hid_t open_file(const std::string& path, unsigned flags, bool create = false) {
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // our messages, not HDF5's stack dump
+  silence_hdf5();
   Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
 #ifdef GRANULE_HAVE_FILE_LOCKING_PLIST
   H5Pset_file_locking(fapl.get(), 0, 1);
@@ -103,15 +82,6 @@ void write_string(hid_t object, const std::string& name, const std::string& valu
   H5Tset_strpad(type.get(), H5T_STR_NULLPAD);
   std::string padded = value.empty() ? std::string(1, '\0') : value;
   replace_attribute(object, name, type.get(), padded.data(), path);
-}
-
-std::string utc_now() {
-  std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char text[32];
-  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return text;
 }
 
 }  // namespace
@@ -171,7 +141,7 @@ void write_case_record(const std::string& path, const CaseRecord& record) {
   std::int64_t rank = record.rank;
   replace_attribute(group.get(), "rank", H5T_NATIVE_INT64, &rank, path);
   replace_attribute(group.get(), "wall_seconds", H5T_NATIVE_DOUBLE, &record.wall_seconds, path);
-  write_string(group.get(), "finished", record.finished.empty() ? utc_now() : record.finished,
+  write_string(group.get(), "finished", record.finished.empty() ? iso_time_now() : record.finished,
                path);
   H5Fflush(file.get(), H5F_SCOPE_LOCAL);
   std::int64_t one = 1;

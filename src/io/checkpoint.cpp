@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "io/h5_handle.hpp"
 #include "io/h5_output.hpp"
 
 namespace granule::io {
@@ -16,18 +17,6 @@ namespace granule::io {
 namespace {
 
 constexpr const char* format_name = "granule-checkpoint-1";
-
-// One hid_t, closed by its matching H5*close when it goes out of scope.
-struct Id {
-  hid_t id = H5I_INVALID_HID;
-  herr_t (*close)(hid_t) = nullptr;
-  Id(hid_t i, herr_t (*c)(hid_t)) : id(i), close(c) {}
-  Id(const Id&) = delete;
-  Id& operator=(const Id&) = delete;
-  ~Id() {
-    if (id >= 0 && close) close(id);
-  }
-};
 
 [[noreturn]] void fail(const std::string& path, const std::string& what) {
   throw std::runtime_error(fmt::format("checkpoint {}: {}", path, what));
@@ -51,55 +40,56 @@ template <typename T>
 void write_array(hid_t group, const std::string& name, hid_t file_type, hid_t mem_type,
                  const std::vector<T>& v, const std::string& path) {
   hsize_t n = v.size();
-  Id space(check(H5Screate_simple(1, &n, nullptr), path, "create a dataspace"), H5Sclose);
-  Id dcpl(check(H5Pcreate(H5P_DATASET_CREATE), path, "make a dataset property list"), H5Pclose);
+  Handle space(check(H5Screate_simple(1, &n, nullptr), path, "create a dataspace"), H5Sclose);
+  Handle dcpl(check(H5Pcreate(H5P_DATASET_CREATE), path, "make a dataset property list"), H5Pclose);
   if (sizeof(T) == 1 && n >= compress_bytes_from && H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0) {
     const hsize_t chunk = compress_bytes_from;
-    if (H5Pset_chunk(dcpl.id, 1, &chunk) < 0 || H5Pset_deflate(dcpl.id, 1) < 0)
+    if (H5Pset_chunk(dcpl.get(), 1, &chunk) < 0 || H5Pset_deflate(dcpl.get(), 1) < 0)
       fail_h5(path, "cannot set compression for " + name);
   }
-  Id d(
-      check(H5Dcreate2(group, name.c_str(), file_type, space.id, H5P_DEFAULT, dcpl.id, H5P_DEFAULT),
-            path, "create " + name),
-      H5Dclose);
-  if (n > 0 && H5Dwrite(d.id, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) < 0)
+  Handle d(check(H5Dcreate2(group, name.c_str(), file_type, space.get(), H5P_DEFAULT, dcpl.get(),
+                            H5P_DEFAULT),
+                 path, "create " + name),
+           H5Dclose);
+  if (n > 0 && H5Dwrite(d.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) < 0)
     fail_h5(path, "cannot write " + name);
 }
 
 void write_string(hid_t loc, const std::string& name, const std::string& value, bool attribute,
                   const std::string& path) {
-  Id type(check(H5Tcopy(H5T_C_S1), path, "make a string type"), H5Tclose);
-  H5Tset_size(type.id, H5T_VARIABLE);
-  H5Tset_cset(type.id, H5T_CSET_UTF8);
-  Id space(check(H5Screate(H5S_SCALAR), path, "create a dataspace"), H5Sclose);
+  Handle type(check(H5Tcopy(H5T_C_S1), path, "make a string type"), H5Tclose);
+  H5Tset_size(type.get(), H5T_VARIABLE);
+  H5Tset_cset(type.get(), H5T_CSET_UTF8);
+  Handle space(check(H5Screate(H5S_SCALAR), path, "create a dataspace"), H5Sclose);
   const char* p = value.c_str();
   if (attribute) {
-    Id a(check(H5Acreate2(loc, name.c_str(), type.id, space.id, H5P_DEFAULT, H5P_DEFAULT), path,
-               "create attribute " + name),
-         H5Aclose);
-    if (H5Awrite(a.id, type.id, &p) < 0) fail_h5(path, "cannot write attribute " + name);
+    Handle a(check(H5Acreate2(loc, name.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT),
+                   path, "create attribute " + name),
+             H5Aclose);
+    if (H5Awrite(a.get(), type.get(), &p) < 0) fail_h5(path, "cannot write attribute " + name);
   } else {
-    Id d(check(H5Dcreate2(loc, name.c_str(), type.id, space.id, H5P_DEFAULT, H5P_DEFAULT,
-                          H5P_DEFAULT),
-               path, "create " + name),
-         H5Dclose);
-    if (H5Dwrite(d.id, type.id, H5S_ALL, H5S_ALL, H5P_DEFAULT, &p) < 0)
+    Handle d(check(H5Dcreate2(loc, name.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT,
+                              H5P_DEFAULT),
+                   path, "create " + name),
+             H5Dclose);
+    if (H5Dwrite(d.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, &p) < 0)
       fail_h5(path, "cannot write " + name);
   }
 }
 
 std::string read_string(hid_t loc, const std::string& name, bool attribute,
                         const std::string& path) {
-  Id type(check(H5Tcopy(H5T_C_S1), path, "make a string type"), H5Tclose);
-  H5Tset_size(type.id, H5T_VARIABLE);
-  H5Tset_cset(type.id, H5T_CSET_UTF8);
+  Handle type(check(H5Tcopy(H5T_C_S1), path, "make a string type"), H5Tclose);
+  H5Tset_size(type.get(), H5T_VARIABLE);
+  H5Tset_cset(type.get(), H5T_CSET_UTF8);
   char* p = nullptr;
   if (attribute) {
-    Id a(check(H5Aopen(loc, name.c_str(), H5P_DEFAULT), path, "open attribute " + name), H5Aclose);
-    if (H5Aread(a.id, type.id, &p) < 0) fail(path, "cannot read attribute " + name);
+    Handle a(check(H5Aopen(loc, name.c_str(), H5P_DEFAULT), path, "open attribute " + name),
+             H5Aclose);
+    if (H5Aread(a.get(), type.get(), &p) < 0) fail(path, "cannot read attribute " + name);
   } else {
-    Id d(check(H5Dopen2(loc, name.c_str(), H5P_DEFAULT), path, "open " + name), H5Dclose);
-    if (H5Dread(d.id, type.id, H5S_ALL, H5S_ALL, H5P_DEFAULT, &p) < 0)
+    Handle d(check(H5Dopen2(loc, name.c_str(), H5P_DEFAULT), path, "open " + name), H5Dclose);
+    if (H5Dread(d.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, &p) < 0)
       fail(path, "cannot read " + name);
   }
   std::string out = p ? p : "";
@@ -110,13 +100,13 @@ std::string read_string(hid_t loc, const std::string& name, bool attribute,
 template <typename T>
 std::vector<T> read_array(hid_t group, const std::string& name, hid_t mem_type,
                           const std::string& path) {
-  Id d(check(H5Dopen2(group, name.c_str(), H5P_DEFAULT), path, "open " + name), H5Dclose);
-  Id space(check(H5Dget_space(d.id), path, "read " + name), H5Sclose);
-  if (H5Sget_simple_extent_ndims(space.id) != 1) fail(path, name + " is not a 1-D array");
+  Handle d(check(H5Dopen2(group, name.c_str(), H5P_DEFAULT), path, "open " + name), H5Dclose);
+  Handle space(check(H5Dget_space(d.get()), path, "read " + name), H5Sclose);
+  if (H5Sget_simple_extent_ndims(space.get()) != 1) fail(path, name + " is not a 1-D array");
   hsize_t n = 0;
-  H5Sget_simple_extent_dims(space.id, &n, nullptr);
+  H5Sget_simple_extent_dims(space.get(), &n, nullptr);
   std::vector<T> out(n);
-  if (n > 0 && H5Dread(d.id, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
+  if (n > 0 && H5Dread(d.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
     fail(path, "cannot read " + name);
   return out;
 }
@@ -143,83 +133,84 @@ namespace {
 // The four groups of a StateBlob (doubles, integers, bytes, texts) under `root`.
 void write_blob(hid_t root, const StateBlob& s, const std::string& path) {
   auto group = [&](const char* name) {
-    return Id(check(H5Gcreate2(root, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), path,
-                    std::string("create ") + name),
-              H5Gclose);
+    return Handle(check(H5Gcreate2(root, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), path,
+                        std::string("create ") + name),
+                  H5Gclose);
   };
   {
-    Id g = group("doubles");
+    Handle g = group("doubles");
     for (const auto& [k, v] : s.doubles)
-      write_array(g.id, k, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, v, path);
+      write_array(g.get(), k, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, v, path);
   }
   {
-    Id g = group("integers");
+    Handle g = group("integers");
     for (const auto& [k, v] : s.integers)
-      write_array(g.id, k, H5T_STD_I64LE, H5T_NATIVE_INT64, v, path);
+      write_array(g.get(), k, H5T_STD_I64LE, H5T_NATIVE_INT64, v, path);
   }
   {
-    Id g = group("bytes");
+    Handle g = group("bytes");
     for (const auto& [k, v] : s.bytes)
-      write_array(g.id, k, H5T_STD_U8LE, H5T_NATIVE_UINT8, v, path);
+      write_array(g.get(), k, H5T_STD_U8LE, H5T_NATIVE_UINT8, v, path);
   }
   {
-    Id g = group("texts");
-    for (const auto& [k, v] : s.texts) write_string(g.id, k, v, false, path);
+    Handle g = group("texts");
+    for (const auto& [k, v] : s.texts) write_string(g.get(), k, v, false, path);
   }
 }
 
 StateBlob read_blob(hid_t root, const std::string& path) {
   StateBlob s;
   auto open = [&](const char* name) {
-    return Id(check(H5Gopen2(root, name, H5P_DEFAULT), path, std::string("open ") + name),
-              H5Gclose);
+    return Handle(check(H5Gopen2(root, name, H5P_DEFAULT), path, std::string("open ") + name),
+                  H5Gclose);
   };
   {
-    Id g = open("doubles");
-    for (const auto& k : member_names(g.id, path))
-      s.doubles[k] = read_array<double>(g.id, k, H5T_NATIVE_DOUBLE, path);
+    Handle g = open("doubles");
+    for (const auto& k : member_names(g.get(), path))
+      s.doubles[k] = read_array<double>(g.get(), k, H5T_NATIVE_DOUBLE, path);
   }
   {
-    Id g = open("integers");
-    for (const auto& k : member_names(g.id, path))
-      s.integers[k] = read_array<std::int64_t>(g.id, k, H5T_NATIVE_INT64, path);
+    Handle g = open("integers");
+    for (const auto& k : member_names(g.get(), path))
+      s.integers[k] = read_array<std::int64_t>(g.get(), k, H5T_NATIVE_INT64, path);
   }
   {
-    Id g = open("bytes");
-    for (const auto& k : member_names(g.id, path))
-      s.bytes[k] = read_array<std::uint8_t>(g.id, k, H5T_NATIVE_UINT8, path);
+    Handle g = open("bytes");
+    for (const auto& k : member_names(g.get(), path))
+      s.bytes[k] = read_array<std::uint8_t>(g.get(), k, H5T_NATIVE_UINT8, path);
   }
   {
-    Id g = open("texts");
-    for (const auto& k : member_names(g.id, path)) s.texts[k] = read_string(g.id, k, false, path);
+    Handle g = open("texts");
+    for (const auto& k : member_names(g.get(), path))
+      s.texts[k] = read_string(g.get(), k, false, path);
   }
   return s;
 }
 
 void write_file(const std::string& path, const std::string& tmp, const StateBlob& s,
                 const std::map<std::string, std::string>& attributes) {
-  Id file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
-  if (file.id < 0) fail_h5(path, fmt::format("cannot create {} (is the folder writable?)", tmp));
+  Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+  if (file.get() < 0) fail_h5(path, fmt::format("cannot create {} (is the folder writable?)", tmp));
   {
-    Id root(check(H5Gcreate2(file.id, "/checkpoint", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), path,
-                  "create /checkpoint"),
-            H5Gclose);
-    write_string(root.id, "format", format_name, true, path);
-    for (const auto& [k, v] : attributes) write_string(root.id, k, v, true, path);
-    write_blob(root.id, s, path);
+    Handle root(check(H5Gcreate2(file.get(), "/checkpoint", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                      path, "create /checkpoint"),
+                H5Gclose);
+    write_string(root.get(), "format", format_name, true, path);
+    for (const auto& [k, v] : attributes) write_string(root.get(), k, v, true, path);
+    write_blob(root.get(), s, path);
   }
-  if (H5Fflush(file.id, H5F_SCOPE_GLOBAL) < 0) fail_h5(path, "cannot flush " + tmp);
+  if (H5Fflush(file.get(), H5F_SCOPE_GLOBAL) < 0) fail_h5(path, "cannot flush " + tmp);
   // Closing writes what HDF5 still holds (metadata): a close that fails leaves a file
   // that must not replace the last good checkpoint.
-  const herr_t closed = H5Fclose(file.id);
-  file.id = H5I_INVALID_HID;
+  const herr_t closed = H5Fclose(file.get());
+  file.release();
   if (closed < 0) fail_h5(path, "cannot close " + tmp);
 }
 }  // namespace
 
 void write_checkpoint(const std::string& path, const StateBlob& s,
                       const std::map<std::string, std::string>& attributes) {
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  silence_hdf5();
   const std::string tmp = path + ".tmp";
   std::error_code ec;
   try {
@@ -243,68 +234,71 @@ void write_checkpoint(const std::string& path, const StateBlob& s,
 }
 
 StateBlob read_checkpoint(const std::string& path, std::map<std::string, std::string>* attributes) {
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  silence_hdf5();
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) fail(path, "no such file");
-  Id file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
-  if (file.id < 0) fail(path, "not an HDF5 file");
-  if (H5Lexists(file.id, "/checkpoint", H5P_DEFAULT) <= 0)
+  Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  if (file.get() < 0) fail(path, "not an HDF5 file");
+  if (H5Lexists(file.get(), "/checkpoint", H5P_DEFAULT) <= 0)
     fail(path, "not a Granule checkpoint (no /checkpoint group)");
-  Id root(check(H5Gopen2(file.id, "/checkpoint", H5P_DEFAULT), path, "open /checkpoint"), H5Gclose);
-  if (H5Aexists(root.id, "format") <= 0 ||
-      read_string(root.id, "format", true, path) != format_name)
+  Handle root(check(H5Gopen2(file.get(), "/checkpoint", H5P_DEFAULT), path, "open /checkpoint"),
+              H5Gclose);
+  if (H5Aexists(root.get(), "format") <= 0 ||
+      read_string(root.get(), "format", true, path) != format_name)
     fail(path, fmt::format("not a {} file", format_name));
   if (attributes) {
     H5O_info_t info;
-    if (H5Oget_info2(root.id, &info, H5O_INFO_NUM_ATTRS) < 0) fail(path, "cannot read attributes");
+    if (H5Oget_info2(root.get(), &info, H5O_INFO_NUM_ATTRS) < 0)
+      fail(path, "cannot read attributes");
     for (hsize_t k = 0; k < info.num_attrs; ++k) {
       char name[256] = {0};
-      if (H5Aget_name_by_idx(root.id, ".", H5_INDEX_NAME, H5_ITER_INC, k, name, sizeof name,
+      if (H5Aget_name_by_idx(root.get(), ".", H5_INDEX_NAME, H5_ITER_INC, k, name, sizeof name,
                              H5P_DEFAULT) < 0)
         fail(path, "cannot read attributes");
-      (*attributes)[name] = read_string(root.id, name, true, path);
+      (*attributes)[name] = read_string(root.get(), name, true, path);
     }
   }
-  return read_blob(root.id, path);
+  return read_blob(root.get(), path);
 }
 
 void add_state_group(const std::string& path, const std::string& group, const StateBlob& s) {
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  Id file(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
-  if (file.id < 0)
+  silence_hdf5();
+  Handle file(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
+  if (file.get() < 0)
     fail_h5(path, "cannot open for writing (not an HDF5 file, or still open by its run?)");
-  if (H5Lexists(file.id, group.c_str(), H5P_DEFAULT) > 0) fail(path, group + " exists already");
+  if (H5Lexists(file.get(), group.c_str(), H5P_DEFAULT) > 0) fail(path, group + " exists already");
   {
-    Id root(check(H5Gcreate2(file.id, group.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), path,
-                  "create " + group),
-            H5Gclose);
-    write_string(root.id, "format", format_name, true, path);
-    write_blob(root.id, s, path);
+    Handle root(check(H5Gcreate2(file.get(), group.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                      path, "create " + group),
+                H5Gclose);
+    write_string(root.get(), "format", format_name, true, path);
+    write_blob(root.get(), s, path);
   }
-  const herr_t closed = H5Fclose(file.id);
-  file.id = H5I_INVALID_HID;
+  const herr_t closed = H5Fclose(file.get());
+  file.release();
   if (closed < 0) fail_h5(path, "cannot close after writing " + group);
 }
 
 bool has_state_group(const std::string& path, const std::string& group) {
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  silence_hdf5();
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) fail(path, "no such file");
-  Id file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
-  if (file.id < 0) fail(path, "not an HDF5 file");
-  return H5Lexists(file.id, group.c_str(), H5P_DEFAULT) > 0;
+  Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  if (file.get() < 0) fail(path, "not an HDF5 file");
+  return H5Lexists(file.get(), group.c_str(), H5P_DEFAULT) > 0;
 }
 
 StateBlob read_state_group(const std::string& path, const std::string& group) {
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  Id file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
-  if (file.id < 0) fail(path, "not an HDF5 file");
-  if (H5Lexists(file.id, group.c_str(), H5P_DEFAULT) <= 0) fail(path, "has no " + group);
-  Id root(check(H5Gopen2(file.id, group.c_str(), H5P_DEFAULT), path, "open " + group), H5Gclose);
-  if (H5Aexists(root.id, "format") <= 0 ||
-      read_string(root.id, "format", true, path) != format_name)
+  silence_hdf5();
+  Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  if (file.get() < 0) fail(path, "not an HDF5 file");
+  if (H5Lexists(file.get(), group.c_str(), H5P_DEFAULT) <= 0) fail(path, "has no " + group);
+  Handle root(check(H5Gopen2(file.get(), group.c_str(), H5P_DEFAULT), path, "open " + group),
+              H5Gclose);
+  if (H5Aexists(root.get(), "format") <= 0 ||
+      read_string(root.get(), "format", true, path) != format_name)
     fail(path, fmt::format("{} is not in the {} layout", group, format_name));
-  return read_blob(root.id, path);
+  return read_blob(root.get(), path);
 }
 
 }  // namespace granule::io

@@ -7,55 +7,11 @@
 #include <stdexcept>
 #include <utility>
 
+#include "io/h5_handle.hpp"
+
 namespace granule::io {
 
 namespace {
-
-// Same ownership rule as the writer's handle (h5_output.cpp): one hid_t, closed once.
-class Handle {
- public:
-  using Closer = herr_t (*)(hid_t);
-  Handle() = default;
-  Handle(hid_t id, Closer close) : id_(id), close_(close) {}
-  Handle(Handle&& o) noexcept : id_(std::exchange(o.id_, H5I_INVALID_HID)), close_(o.close_) {}
-  Handle& operator=(Handle&& o) noexcept {
-    if (this != &o) {
-      reset();
-      id_ = std::exchange(o.id_, H5I_INVALID_HID);
-      close_ = o.close_;
-    }
-    return *this;
-  }
-  Handle(const Handle&) = delete;
-  Handle& operator=(const Handle&) = delete;
-  ~Handle() { reset(); }
-  hid_t get() const { return id_; }
-  void reset() {
-    if (id_ >= 0 && close_) close_(id_);
-    id_ = H5I_INVALID_HID;
-  }
-
- private:
-  hid_t id_ = H5I_INVALID_HID;
-  Closer close_ = nullptr;
-};
-
-herr_t collect_error(unsigned n, const H5E_error2_t* err, void* data) {
-  auto* text = static_cast<std::string*>(data);
-  if (n == 0 && err && err->desc) *text = err->desc;
-  return 0;
-}
-
-std::string h5_error_detail() {
-  std::string text;
-  H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, collect_error, &text);
-  return text.empty() ? "HDF5 error" : text;
-}
-
-// H5Pset_file_locking exists from 1.10.7 in the 1.10 series and from 1.12.1 after that.
-#if (H5_VERS_MAJOR == 1 && H5_VERS_MINOR == 10 && H5_VERS_RELEASE >= 7) || H5_VERSION_GE(1, 12, 1)
-#define GRANULE_HAVE_FILE_LOCKING_PLIST 1
-#endif
 
 void free_vlen_strings(hid_t type, hid_t space, void* buf) {
 #if H5_VERSION_GE(1, 12, 0)
@@ -71,8 +27,7 @@ struct File {
   Handle id;
 
   explicit File(const std::string& p) : path(p) {
-    // Users should see our messages, which name the file and object, not HDF5's stack dump.
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+    silence_hdf5();
     std::error_code ec;
     if (!std::filesystem::exists(p, ec))
       throw std::runtime_error(fmt::format("cannot open {}: no such file", p));

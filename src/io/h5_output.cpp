@@ -19,21 +19,6 @@
 
 namespace granule::io {
 
-std::string hdf5_error_text() {
-  std::string text;
-  H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, collect_error, &text);
-  // A failed write's description carries the call's whole record (time, descriptor,
-  // buffer address, over two lines); its first words and the system's message suffice.
-  const std::string marker = "error message = '";
-  const auto m = text.find(marker);
-  if (m != std::string::npos) {
-    const auto end = text.find('\'', m + marker.size());
-    text = text.substr(0, text.find(':')) + ": " +
-           text.substr(m + marker.size(), end == std::string::npos ? end : end - m - marker.size());
-  }
-  return text;
-}
-
 void keep_hdf5_files_at_exit() {
   H5dont_atexit();
 }

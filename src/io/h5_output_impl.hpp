@@ -16,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "io/h5_handle.hpp"
 #include "io/h5_output.hpp"
 
 namespace granule::io {
@@ -29,69 +30,6 @@ inline constexpr double series_batch_seconds = 0.5;
 // Chunk of an extendible series dataset: 8 KiB, a good size for appending and for reading
 // a whole column back.
 inline constexpr hsize_t series_chunk_rows = 1024;
-
-// Owns one hid_t and closes it with the matching H5*close; move-only, so no handle is
-// closed twice or leaked when an exception unwinds.
-class Handle {
- public:
-  using Closer = herr_t (*)(hid_t);
-  Handle() = default;
-  Handle(hid_t id, Closer close) : id_(id), close_(close) {}
-  Handle(Handle&& o) noexcept : id_(std::exchange(o.id_, H5I_INVALID_HID)), close_(o.close_) {}
-  Handle& operator=(Handle&& o) noexcept {
-    if (this != &o) {
-      reset();
-      id_ = std::exchange(o.id_, H5I_INVALID_HID);
-      close_ = o.close_;
-    }
-    return *this;
-  }
-  Handle(const Handle&) = delete;
-  Handle& operator=(const Handle&) = delete;
-  ~Handle() { reset(); }
-  hid_t get() const { return id_; }
-  void release() { id_ = H5I_INVALID_HID; }  // forgets the id without closing it
-  void reset() {
-    if (id_ >= 0 && close_) close_(id_);
-    id_ = H5I_INVALID_HID;
-  }
-
- private:
-  hid_t id_ = H5I_INVALID_HID;
-  Closer close_ = nullptr;
-};
-
-// The library's own description of the error just raised (innermost first), since our
-// messages replace HDF5's automatic stack printing.
-inline herr_t collect_error(unsigned n, const H5E_error2_t* err, void* data) {
-  auto* text = static_cast<std::string*>(data);
-  if (n == 0 && err && err->desc) *text = err->desc;
-  return 0;
-}
-
-inline std::string h5_error_detail() {
-  const std::string text = hdf5_error_text();
-  return text.empty() ? "HDF5 error" : text;
-}
-
-// H5Pset_file_locking exists from 1.10.7 in the 1.10 series and from 1.12.1 after that.
-#if (H5_VERS_MAJOR == 1 && H5_VERS_MINOR == 10 && H5_VERS_RELEASE >= 7) || H5_VERSION_GE(1, 12, 1)
-#define GRANULE_HAVE_FILE_LOCKING_PLIST 1
-#endif
-
-inline void silence_hdf5() {
-  // Users should see our messages, which name the file and object, not HDF5's stack dump.
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-}
-
-inline std::string iso_time_now() {
-  std::time_t t = std::time(nullptr);
-  std::tm utc{};
-  gmtime_r(&t, &utc);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &utc);
-  return buf;
-}
 
 inline std::string join_path(const std::string& group, const std::string& name) {
   return group == "/" ? "/" + name : group + "/" + name;

@@ -158,7 +158,15 @@ void Journal::record_error(lua_State* L, int index) {
       forget_after(mark, strings);
     }
   }
-  const char* text = luaL_tolstring(L, index, nullptr);  // pushes; popped below
+  // Its __tostring could raise, a longjmp out of this C++ frame: that value gets the
+  // address form luaL_tolstring gives one without a metatable.
+  const char* text = nullptr;  // pushed; popped below
+  if (luaL_getmetafield(L, index, "__tostring") != LUA_TNIL) {
+    lua_pop(L, 1);
+    text = lua_pushfstring(L, "%s: %p", luaL_typename(L, index), lua_topointer(L, index));
+  } else {
+    text = luaL_tolstring(L, index, nullptr);
+  }
   put_interned(text, std::strlen(text));
   lua_pop(L, 1);
 }

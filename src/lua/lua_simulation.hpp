@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
+#include "core/state.hpp"
 #include "engine/run_loop.hpp"
 #include "engine/simulation_base.hpp"
-#include "core/state.hpp"
 #include "io/run_output.hpp"
 #include "lua/lua_util.hpp"
 #include "lua/scene.hpp"
@@ -52,14 +52,20 @@ struct LuaSim {
   // run bookkeeping, for checkpoints
   std::int64_t run_start_step = 0, run_total_steps = 0;
   std::int64_t output_calls = 0;  // sim:output calls so far (which output is open)
-  std::map<int, int> lua_hooks;   // sim:every hook id -> registry ref of its function
+  struct LuaHook {
+    int ref = LUA_NOREF;  // registry ref of its function
+    std::string what;     // "sim:every callback 'name'", for its errors
+  };
+  std::map<int, LuaHook> lua_hooks;  // sim:every hook id -> its function
   CheckpointPlan checkpoint;
   bool checkpoint_path_fixed = false;  // --checkpoint named the file: sim:checkpoint keeps it
 };
 
 // Calls the Lua function at registry `function_ref` with the simulation at `self_ref`,
-// leaving `results` values; an error becomes ScriptError naming `what` and the line.
-void call_lua(lua_State* L, int function_ref, int self_ref, int results, const char* what);
+// leaving `results` values, under lua_pcall with a message handler: an error becomes
+// ScriptError "what: file:line: message" followed by the traceback from where it was
+// raised (the callback's own frames, gone once lua_pcall returns).
+void call_lua(lua_State* L, int function_ref, int self_ref, int results, const std::string& what);
 // A restarted scene's sim:run while the journal replays (wrap_checkpoint.cpp): fires
 // the callbacks the run fired before the checkpoint and returns the number of results
 // it pushed (the run had ended), or -1 when the journal ended inside the run, which

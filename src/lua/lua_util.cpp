@@ -14,11 +14,26 @@ std::string type_name(lua_State* L, int index) {
   return luaL_typename(L, index);
 }
 
+bool has_index_metamethod(lua_State* L, int index) {
+  if (!lua_getmetatable(L, index)) return false;
+  lua_pushliteral(L, "__index");
+  const bool found = lua_rawget(L, -2) != LUA_TNIL;
+  lua_pop(L, 2);
+  return found;
+}
+
 TableReader::TableReader(lua_State* L, int index, std::string context)
     : L_(L), index_(lua_absindex(L, index)), context_(std::move(context)) {
   if (!lua_istable(L, index_))
     throw std::runtime_error(
         fmt::format("{}: expected a table {{ ... }}, got {}", context_, type_name(L, index_)));
+  // The reads below are raw, so a proxy's fields (parameters{}'s table, a table with
+  // defaults behind __index) would read as absent: say so instead.
+  if (has_index_metamethod(L, index_))
+    throw std::runtime_error(fmt::format(
+        "{}: expected a plain table {{ ... }}, got one with an __index metamethod, whose "
+        "fields are not read; copy them into a plain table",
+        context_));
   refuse_undocumented_keys();
 }
 
@@ -72,13 +87,16 @@ void TableReader::refuse_missing(const char* key) {
   throw std::runtime_error(fmt::format("{}: '{}' is required", context_, key));
 }
 
+// Raw reads: a metamethod that raised would longjmp over this reader's destructors.
 int TableReader::push(const char* key) {
   used_.insert(key);
-  return lua_getfield(L_, index_, key);
+  lua_pushstring(L_, key);
+  return lua_rawget(L_, index_);
 }
 
 bool TableReader::has(const char* key) {
-  int t = lua_getfield(L_, index_, key);
+  lua_pushstring(L_, key);
+  int t = lua_rawget(L_, index_);
   lua_pop(L_, 1);
   return t != LUA_TNIL;
 }
@@ -199,9 +217,9 @@ std::vector<double> TableReader::numbers(const char* key) {
     lua_pop(L_, 1);
     throw std::runtime_error(fmt::format("{}: '{}' must be a list of numbers", context_, key));
   }
-  lua_Integer n = luaL_len(L_, -1);
+  const auto n = static_cast<lua_Integer>(lua_rawlen(L_, -1));
   for (lua_Integer k = 1; k <= n; ++k) {
-    lua_geti(L_, -1, k);
+    lua_rawgeti(L_, -1, k);
     if (lua_type(L_, -1) != LUA_TNUMBER || !std::isfinite(lua_tonumber(L_, -1))) {
       lua_pop(L_, 2);
       throw std::runtime_error(
@@ -263,13 +281,13 @@ std::array<double, 3> read_vector(lua_State* L, int index, int dimension, const 
   if (!lua_istable(L, index))
     throw std::runtime_error(fmt::format("{} must be a vector {{x, y{}}}, got {}", what,
                                          dimension == 3 ? ", z" : "", type_name(L, index)));
-  lua_Integer n = luaL_len(L, index);
+  const auto n = static_cast<lua_Integer>(lua_rawlen(L, index));
   if (n != dimension && !(dimension == 2 && n == 3))
     throw std::runtime_error(fmt::format("{} must have {} components, got {}", what, dimension,
                                          static_cast<long long>(n)));
   std::array<double, 3> v{0, 0, 0};
   for (lua_Integer k = 1; k <= n; ++k) {
-    lua_geti(L, index, k);
+    lua_rawgeti(L, index, k);
     if (lua_type(L, -1) != LUA_TNUMBER) {
       std::string got = type_name(L, -1);
       lua_pop(L, 1);

@@ -3,9 +3,12 @@
 //  - Every binding runs its body inside `protect`, which catches C++
 //    exceptions and raises the Lua error only after the C++ frames are gone.
 //  - Bindings read arguments with the readers below, which throw C++
-//    exceptions instead of calling luaL_check* (which would longjmp).
-//  - Lua callbacks are called with lua_pcall, and their errors become C++
-//    exceptions (ScriptError) on the way back into the engine.
+//    exceptions instead of calling luaL_check* (which would longjmp), and
+//    read tables raw (lua_rawget, lua_rawgeti, lua_rawlen), so that no
+//    metamethod runs (and raises) inside a protected body.
+//  - Lua callbacks are called with lua_pcall and a traceback handler
+//    (call_lua), and their errors become C++ exceptions (ScriptError) naming
+//    the callback on the way back into the engine.
 #pragma once
 
 #include <array>
@@ -78,6 +81,8 @@ int protect(lua_State* L, Body&& body) {
 }
 
 std::string type_name(lua_State* L, int index);
+// Whether the value at `index` has a metatable with an __index field (read raw).
+bool has_index_metamethod(lua_State* L, int index);
 
 // Reads fields of a Lua table at a stack index; throws std::runtime_error naming
 // the context and key. A table for a function of the API table (api_docs.cpp)

@@ -5,11 +5,13 @@
 #include <chrono>
 #include <cmath>
 #include <csignal>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "contact/parameters.hpp"
+#include "core/names.hpp"
 #include "lua/api_docs.hpp"
 #include "lua/journal.hpp"
 #include "lua/lua_util.hpp"
@@ -23,8 +25,52 @@ volatile std::sig_atomic_t interrupt_signal_number = SIGINT;
 
 int traceback(lua_State* L) {
   const char* msg = lua_tostring(L, 1);
+  // A callback's error (call_lua) carries the traceback from where it was raised, which
+  // already runs down to the main chunk.
+  if (msg && std::strstr(msg, "\nstack traceback:")) return 1;
   if (!msg) msg = lua_pushfstring(L, "(error object is a %s value)", luaL_typename(L, 1));
   luaL_traceback(L, L, msg, 1);
+  return 1;
+}
+
+// require "granule.names" -> { nearest_name = f }: nearest_name(name, { candidates })
+// returns the candidate core/names.hpp's nearest_name picks, or nil, so that the Lua
+// library (lua/granule/checks.lua) suggests names exactly as the C++ errors do.
+int l_nearest_name(lua_State* L) {
+  return protect(L, [](lua_State* L) {
+    const std::string name = read_string(L, 1, "nearest_name: name");
+    if (!lua_istable(L, 2))
+      throw std::runtime_error(
+          fmt::format("nearest_name: the candidates must be a list of "
+                      "strings, got {}",
+                      type_name(L, 2)));
+    std::vector<std::string> candidates;
+    const lua_Integer n = static_cast<lua_Integer>(lua_rawlen(L, 2));
+    for (lua_Integer k = 1; k <= n; ++k) {
+      if (lua_rawgeti(L, 2, k) != LUA_TSTRING) {
+        const std::string got = type_name(L, -1);
+        lua_pop(L, 1);
+        throw std::runtime_error(
+            fmt::format("nearest_name: candidate {} must be a string, got {}", k, got));
+      }
+      std::size_t length = 0;
+      const char* text = lua_tolstring(L, -1, &length);
+      candidates.emplace_back(text, length);
+      lua_pop(L, 1);
+    }
+    const std::string best = nearest_name(name, candidates);
+    if (best.empty())
+      lua_pushnil(L);
+    else
+      lua_pushlstring(L, best.data(), best.size());
+    return 1;
+  });
+}
+
+int open_names_module(lua_State* L) {
+  lua_newtable(L);
+  lua_pushcfunction(L, l_nearest_name);
+  lua_setfield(L, -2, "nearest_name");
   return 1;
 }
 
@@ -36,8 +82,8 @@ int l_parameters(lua_State* L) {
     if (ctx->parameters_declared)
       throw std::runtime_error("parameters{...} may be called only once per scene");
     ctx->parameters_declared = true;
-    if (!lua_istable(L, 1))
-      throw std::runtime_error("parameters: expected a table { name = default, ... }");
+    if (!lua_istable(L, 1) || has_index_metamethod(L, 1))
+      throw std::runtime_error("parameters: expected a plain table { name = default, ... }");
     lua_newtable(L);  // values
     int values = lua_gettop(L);
     std::vector<std::string> names;
@@ -55,7 +101,8 @@ int l_parameters(lua_State* L) {
         r.string("doc", "");
         r.mark("default");
         r.finish();
-        lua_getfield(L, spec, "default");
+        lua_pushliteral(L, "default");
+        lua_rawget(L, spec);
         lua_replace(L, spec);
       }
       int t = lua_type(L, spec);
@@ -99,7 +146,7 @@ int l_parameters(lua_State* L) {
       ctx->parameter_values.emplace_back(name, shown);
       lua_pushvalue(L, -2);
       lua_pushvalue(L, spec);
-      lua_settable(L, values);
+      lua_rawset(L, values);
       lua_settop(L, values + 1);  // keep key for lua_next
     }
     for (const auto& [name, value] : ctx->overrides) {
@@ -231,7 +278,11 @@ lua_State* new_state(SceneContext* ctx) {
   }
   lua_pushstring(L, cpath.c_str());
   lua_setfield(L, -2, "cpath");
-  lua_pop(L, 1);
+  // The C++ half of the Lua library (lua/granule/checks.lua).
+  lua_getfield(L, -1, "preload");
+  lua_pushcfunction(L, open_names_module);
+  lua_setfield(L, -2, "granule.names");
+  lua_pop(L, 2);
   push_checked(L, *find_doc("parameters"), l_parameters);
   lua_setglobal(L, "parameters");
   lua_pushstring(L, GRANULE_VERSION);
@@ -274,18 +325,8 @@ std::string run_file(lua_State* L, const std::string& path) {
   buffer << in.rdbuf();
   std::string source = buffer.str();
   if (SceneContext* ctx = context(L); ctx && ctx->scene_source.empty()) ctx->scene_source = source;
-  lua_pushcfunction(L, traceback);
-  int handler = lua_gettop(L);
-  std::string chunk_name = "@" + path;
-  if (luaL_loadbuffer(L, source.data(), source.size(), chunk_name.c_str()) != LUA_OK) {
-    std::string err = lua_tostring(L, -1);
-    lua_settop(L, handler - 1);
-    return err;
-  }
-  std::string err;
-  if (lua_pcall(L, 0, 0, handler) != LUA_OK)
-    err = lua_tostring(L, -1) ? lua_tostring(L, -1) : "error";
-  lua_settop(L, handler - 1);
+  // "@path": Lua's messages then carry the file and line.
+  std::string err = run_string(L, source, "@" + path);
   if (err.empty()) {
     SceneContext* ctx = context(L);
     if (ctx && !ctx->parameters_declared && !ctx->overrides.empty())

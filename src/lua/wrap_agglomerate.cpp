@@ -83,10 +83,10 @@ std::vector<Bond> read_bonds(lua_State* L, TableReader& t, const char* key) {
                     "returns)",
                     t.context(), key));
   std::vector<Bond> bonds;
-  const lua_Integer n = luaL_len(L, -1);
+  const auto n = static_cast<lua_Integer>(lua_rawlen(L, -1));
   bonds.reserve(static_cast<std::size_t>(n));
   for (lua_Integer k = 1; k <= n; ++k) {
-    lua_geti(L, -1, k);
+    lua_rawgeti(L, -1, k);
     const std::string where = fmt::format("{}: '{}'[{}]", t.context(), key, k);
     if (!lua_istable(L, -1)) {
       lua_pop(L, 2);
@@ -94,7 +94,7 @@ std::vector<Bond> read_bonds(lua_State* L, TableReader& t, const char* key) {
     }
     std::int64_t pair[2];
     for (int e = 0; e < 2; ++e) {
-      lua_geti(L, -1, e + 1);
+      lua_rawgeti(L, -1, e + 1);
       const bool number = lua_isnumber(L, -1);
       const double v = number ? lua_tonumber(L, -1) : 0;
       lua_pop(L, 1);

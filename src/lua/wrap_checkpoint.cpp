@@ -130,7 +130,7 @@ int replay_run(lua_State* L, LuaSim& s, TableReader& run) {
       if (hook == s.lua_hooks.end())
         throw std::runtime_error(fmt::format(
             "restart: the checkpoint's journal fires hook {}, which this scene has not made", id));
-      call_lua(L, hook->second, s.self_ref, 0, "the sim:every callback");
+      call_lua(L, hook->second.ref, s.self_ref, 0, hook->second.what);
     }
   }
   return -1;

@@ -19,6 +19,12 @@ void read_options(lua_State* L, int index, const std::string& prefix, Diagnostic
                   int depth) {
   if (depth > 8) throw InputError(fmt::format("{}: options nest too deeply", o.context()));
   index = lua_absindex(L, index);
+  // Read raw, as every binding reads: a proxy's fields would read as absent.
+  if (has_index_metamethod(L, index))
+    throw InputError(
+        fmt::format("{}: options{} must be a plain table, not one with an __index "
+                    "metamethod",
+                    o.context(), prefix.empty() ? "" : " '" + prefix + "'"));
   lua_Integer length = static_cast<lua_Integer>(lua_rawlen(L, index));
   // A sequence: all numbers -> a list; all strings -> a joined string; tables -> key.1, key.2...
   if (length > 0) {
@@ -26,7 +32,7 @@ void read_options(lua_State* L, int index, const std::string& prefix, Diagnostic
     std::string joined;
     int kinds = 0;  // 1 numbers, 2 strings, 4 tables
     for (lua_Integer k = 1; k <= length; ++k) {
-      lua_geti(L, index, k);
+      lua_rawgeti(L, index, k);
       int t = lua_type(L, -1);
       if (t == LUA_TNUMBER) {
         kinds |= 1;

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <lua.hpp>
 
+#include "core/names.hpp"
 #include "lua/scene.hpp"
 
 using namespace granule;
@@ -234,4 +235,124 @@ TEST_CASE("lua: a scene loads no C module from the current directory", "[lua]") 
                      "assert(entry:sub(1, 1) == '/', entry) end\n");
   std::filesystem::remove(name + ".so");
   CHECK(r.error == "");
+}
+
+// ---- the Lua/C++ boundary ----
+
+// A table whose every metamethod raises: a binding that read it through lua_getfield or
+// luaL_len would longjmp out of its C++ body (skipping destructors: ASan sees the leak).
+const char* raising_table =
+    "local raising = setmetatable({}, { __index = function() error('index ran') end,\n"
+    "  __len = function() error('len ran') end })\n";  // two lines
+
+TEST_CASE("lua: a table whose __index raises is refused by name, and no metamethod runs",
+          "[lua][errors][boundary]") {
+  const std::string pre = raising_table;  // after the header: lines 6 and 7
+  // A keyword table: refused as a proxy, before any key is read.
+  expect_refused(pre + "sim:fill(raising)\n", 8, "fill: expected a plain table");
+  expect_refused(pre + "sim:run(raising)\n", 8, "run: expected a plain table");
+  expect_refused(pre + "sim:diagnostic('overlaps', raising)\n", 8, "must be a plain table");
+  expect_refused(pre + "sim:contact(raising)\n", 8, "contact: expected a plain table");
+  // A vector and a list are read raw: their length is the raw one, so __len never runs.
+  expect_refused(pre + "sim:gravity(raising)\n", 8, "gravity must have 2 components, got 0");
+  expect_refused(pre + "sim:output {}\nsim:series('s', { 'a' })\nsim:append('s', raising)\n", 10,
+                 "append");
+  // Fields present and a raising __index for the absent ones: reads through lua_getfield
+  // would have filled the reader's set of used keys before the longjmp (a leak that
+  // LeakSanitizer reports).
+  expect_refused(
+      "local t = setmetatable({ count = 5, radius = 1e-3, material = 'glass' },\n"
+      "  { __index = function() error('index ran') end })\nsim:fill(t)\n",
+      8, "fill: expected a plain table");
+  // The scene's own parameters{} proxy raises from __index for unknown names.
+  expect_refused("local p = parameters { count = 3 }\nsim:set(p)\n", 7,
+                 "set: expected a plain table");
+  for (const char* body : {"sim:fill(raising)\n", "sim:gravity(raising)\n"}) {
+    auto r = run_scene(std::string(header) + pre + body);
+    INFO(r.error);
+    CHECK_THAT(r.error, !Catch::Contains("index ran") && !Catch::Contains("len ran"));
+  }
+}
+
+TEST_CASE("lua: a failing callback names itself and carries its traceback",
+          "[lua][errors][boundary]") {
+  auto r = run_scene(std::string(header) +
+                     R"(sim:add_particle { position = {0, 0}, radius = 1e-3, material = "glass" }
+local function inner() local x = nil; return x.y end
+sim:every { name = "spin-up", steps = 2, function(s)
+  inner()
+end }
+sim:run { steps = 5 }
+)");
+  const std::string file = std::filesystem::path(r.path).filename().string();
+  INFO("error: " << r.error);
+  CHECK_THAT(r.error, Catch::Contains("sim:every callback 'spin-up': "));
+  CHECK_THAT(r.error, Catch::Contains(file + ":7: attempt to index a nil value"));
+  // The traceback is the callback's: the helper, the callback's line, then the run's.
+  CHECK_THAT(r.error, Catch::Contains("stack traceback:"));
+  CHECK_THAT(r.error, Catch::Contains(file + ":7: in "));
+  CHECK_THAT(r.error, Catch::Contains(file + ":9: in function"));
+  CHECK_THAT(r.error, Catch::Contains(file + ":11: in main chunk"));
+  // One traceback, not the callback's and then the scene's again.
+  const auto first = r.error.find("stack traceback:");
+  CHECK(r.error.find("stack traceback:", first + 1) == std::string::npos);
+
+  auto stop =
+      run_scene(std::string(header) +
+                "sim:add_particle { position = {0, 0}, radius = 1e-3, material = 'glass' }\n"
+                "sim:run { steps = 5, check_every = 1, stop_when = function(s) "
+                "error('no criterion') end }\n");
+  INFO("error: " << stop.error);
+  CHECK_THAT(stop.error, Catch::Contains("the run's stop_when: "));
+  CHECK_THAT(stop.error, Catch::Contains(":7: no criterion"));
+  CHECK_THAT(stop.error, Catch::Contains("stack traceback:"));
+}
+
+TEST_CASE("lua: every kind of binding suggests the nearest key", "[lua][errors]") {
+  // The API table's keys (sim:run), a nested table (fill.region), a contact model's
+  // parameters (set_contact), a diagnostic's options and a parameter's specification.
+  expect_refused("sim:run { step = 3 }\n", 6, "run: unknown key 'step' (did you mean 'steps'?)");
+  expect_refused(
+      "sim:fill { region = { circel = { center = {0, 0}, radius = 0.01 } }, count = 5, "
+      "radius = 1e-3, material = 'glass' }\n",
+      6, "fill.region: unknown key 'circel' (did you mean 'circle'?)");
+  expect_refused(
+      "sim:fill { region = { sphere = { center = {0, 0}, radius = 0.01 } }, count = 5, "
+      "radius = 1e-3, material = 'glass' }\n",
+      6, "fill.region: give one of circle, box");
+  expect_refused("sim:set_contact('glass', 'steel', { frction = 0.2 })\n", 6,
+                 "unknown parameter 'frction' (did you mean 'friction'?)");
+  expect_refused("sim:diagnostic('overlaps', { windw = 0.1 })\n", 6,
+                 "unknown option 'windw' (did you mean 'window'?)");
+  expect_refused("local p = parameters { n = { defalt = 3 } }\n", 6,
+                 "unknown key 'defalt' (did you mean 'default'?)");
+}
+
+TEST_CASE("names: one nearest name for C++ and Lua, case-insensitive", "[lua][names]") {
+  // Case-sensitively "YOUNG_X" is 2 edits from "YOUNG" and "young" 5.
+  CHECK(nearest_name("YOUNG", {"YOUNG_X", "young"}) == "young");
+  CHECK(nearest_name("al2o3", {"PMMA", "Al2O3"}) == "Al2O3");
+  CHECK(nearest_name("unobtainium", {"PMMA", "Al2O3"}).empty());
+  // The Lua library's suggestion is the C++ one, for names near and far.
+  const std::vector<std::string> candidates = {
+      "density_kg_m3", "young_modulus_pa", "poisson_ratio", "PMMA", "glass", "Al2O3"};
+  std::string lua_list = "{";
+  for (const auto& c : candidates) lua_list += "'" + c + "', ";
+  lua_list += "}";
+  for (const char* name : {"PMAA", "al2o3", "youngs_modulus_pa", "densty", "glas", "xyz", "poisson",
+                           "GLASS", "modulus", "Al", "youngs_mod_pa"}) {
+    const std::string expected = nearest_name(name, candidates);
+    const std::string scene =
+        "local checks = require 'granule.checks'\n"
+        "local got = checks.nearest('" +
+        std::string(name) + "', " + lua_list +
+        ")\n"
+        "assert(got == " +
+        (expected.empty() ? std::string("nil") : "'" + expected + "'") +
+        ", 'got ' .. tostring(got))\n";
+    INFO(name << " -> '" << expected << "'");
+    CHECK(run_scene(scene).error == "");
+  }
+  expect_refused("local names = require 'granule.names'\nnames.nearest_name('a', { 'b', 3 })\n", 7,
+                 "nearest_name: candidate 2 must be a string, got number");
 }

@@ -1,0 +1,316 @@
+// Simulation<D>: accessors (walls, particles, flat state, global statistics, the
+// contact list), the attached diagnostics, and describe(). The setters, which
+// check their input, are in simulation_setup.cpp.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <unordered_map>
+
+#include "core/errors.hpp"
+#include "core/random.hpp"
+#include "engine/simulation.hpp"
+
+namespace granule {
+
+// ----------------------------------------------------------------------------
+// Accessors
+// ----------------------------------------------------------------------------
+
+template <int D>
+int Simulation<D>::wall_id(const std::string& name) const {
+  std::vector<std::string> names;
+  for (std::size_t w = 0; w < walls_.size(); ++w) {
+    if (walls_[w].name == name) return static_cast<int>(w);
+    names.push_back(walls_[w].name);
+  }
+  std::string hint = nearest_name(name, names);
+  throw InputError(fmt::format("unknown wall '{}'{}", name,
+                               hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint)));
+}
+template <int D>
+WallSpec Simulation<D>::wall(int w) const {
+  const Wall<D>& x = walls_.at(w);
+  WallSpec s;
+  s.name = x.name;
+  s.type = x.type;
+  s.material = x.material;
+  s.point = to_triple(x.point);
+  s.normal = to_triple(x.normal);
+  s.velocity = to_triple(x.velocity);
+  s.center = to_triple(x.center);
+  if constexpr (D == 3) s.axis = to_triple(x.axis);
+  s.radius = x.radius;
+  s.inside = x.inside;
+  s.angular_velocity = x.angular_velocity;
+  return s;
+}
+template <int D>
+Triple Simulation<D>::wall_force(int w) const {
+  return to_triple(walls_.at(w).force);
+}
+template <int D>
+double Simulation<D>::wall_axial_torque(int w) const {
+  return walls_.at(w).axial_torque;
+}
+
+template <int D>
+Triple Simulation<D>::position(std::int64_t id) const {
+  return to_triple(p_.position[checked(id)]);
+}
+template <int D>
+Triple Simulation<D>::velocity(std::int64_t id) const {
+  return to_triple(p_.velocity[checked(id)]);
+}
+template <int D>
+Triple Simulation<D>::spin(std::int64_t id) const {
+  return spin_triple(p_.spin[checked(id)]);
+}
+template <int D>
+Triple Simulation<D>::force(std::int64_t id) const {
+  return to_triple(p_.force_torque[checked(id)].force);
+}
+
+template <int D>
+typename SimulationBase::FlatState Simulation<D>::flat_state() const {
+  FlatState s;
+  const std::size_t n = p_.size();
+  s.id = p_.id;
+  s.radius.assign(p_.radius.begin(), p_.radius.end());
+  s.material = p_.material;
+  s.fixed = p_.fixed;
+  s.position.resize(n * D);
+  s.velocity.resize(n * D);
+  s.spin.resize(n * Dim<D>::spin_components);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (int k = 0; k < D; ++k) {
+      s.position[i * D + k] = p_.position[i][k];
+      s.velocity[i * D + k] = p_.velocity[i][k];
+    }
+    if constexpr (D == 2) {
+      s.spin[i] = p_.spin[i];
+    } else {
+      for (int k = 0; k < 3; ++k) s.spin[i * 3 + k] = p_.spin[i][k];
+    }
+  }
+  return s;
+}
+
+template <int D>
+GlobalStats Simulation<D>::stats() const {
+  GlobalStats g;
+  g.time = time_;
+  g.step = step_;
+  g.particles = static_cast<std::int64_t>(p_.size());
+  V momentum = V::Zero();
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    if (p_.fixed[i]) continue;
+    const double m = p_.mass[i];
+    g.kinetic_translational += 0.5 * m * p_.velocity[i].squaredNorm();
+    g.kinetic_rotational += 0.5 * sphere_inertia(m, p_.radius[i]) * Dim<D>::spin_sq(p_.spin[i]);
+    momentum += m * p_.velocity[i];
+    const V& x = p_.position[i];
+    const V& v = p_.velocity[i];
+    double spin_z;
+    if constexpr (D == 2) {
+      spin_z = p_.spin[i];
+    } else {
+      spin_z = p_.spin[i][2];
+    }
+    g.angular_momentum_z +=
+        m * (x[0] * v[1] - x[1] * v[0]) + sphere_inertia(m, p_.radius[i]) * spin_z;
+  }
+  g.momentum = to_triple(momentum);
+  g.contacts_particle = contacts_particle_;
+  g.contacts_batched = contacts_batched_;
+  g.contacts_wall = contacts_wall_;
+  g.max_overlap_ratio = max_overlap_ratio_;
+  g.candidate_pairs = static_cast<std::int64_t>(slot_count_);
+  g.list_rebuilds = static_cast<std::int64_t>(rebuilds_);
+  g.thread_rebalances = rebalances_;
+  g.pair_list_prunes = prunes_;
+  g.pair_candidates_visited = candidates_visited_;
+  return g;
+}
+
+template <int D>
+std::vector<ContactRecord> Simulation<D>::contacts() const {
+  if (!record_contacts_)
+    throw InputError(
+        "contact forces are not recorded in this scene: set record_contacts = true in "
+        "simulation { ... } (it costs a few stores per contact)");
+  std::vector<ContactRecord> out;
+  if (!log_.filled) return out;  // no step taken yet
+  // Model names by slot range.
+  std::vector<std::pair<std::size_t, const char*>> model_at;  // (first slot, name)
+  for_each_model([&](auto index) {
+    constexpr int I = decltype(index)::value;
+    using M = ContactModelAt<I>;
+    const auto& pb = std::get<I>(pair_buckets_);
+    if (pb.size()) model_at.emplace_back(pb.offset, M::name);
+    const auto& wb = std::get<I>(wall_buckets_);
+    if (wb.size()) model_at.emplace_back(wb.offset, M::name);
+  });
+  std::sort(model_at.begin(), model_at.end());
+  std::size_t m = 0;
+  for (std::size_t s = 0; s < log_.size(); ++s) {
+    while (m + 1 < model_at.size() && model_at[m + 1].first <= s) ++m;
+    if (!log_.active[s]) continue;
+    ContactRecord r;
+    r.id_a = p_.id[log_.a[s]];
+    if (ContactLog<D>::is_wall(log_.b[s])) {
+      r.wall = ContactLog<D>::wall_of(log_.b[s]);
+    } else {
+      r.id_b = p_.id[log_.b[s]];
+    }
+    r.model = model_at.empty() ? "" : model_at[m].second;
+    r.overlap = log_.overlap[s];
+    r.normal_force = log_.normal_force[s];
+    r.tangential_force = to_triple(log_.tangential[s]);
+    r.normal = to_triple(log_.normal[s]);
+    out.push_back(r);
+  }
+  return out;
+}
+
+// ----------------------------------------------------------------------------
+// Diagnostics
+// ----------------------------------------------------------------------------
+template <int D>
+int Simulation<D>::attach_diagnostic(const std::string& name, DiagnosticOptions& options) {
+  options.set_context(fmt::format("diagnostic '{}'", name));
+  auto made = make_diagnostic<D>(name, options);
+  options.finish();
+  return attach(std::move(made), name);
+}
+
+template <int D>
+int Simulation<D>::attach(std::unique_ptr<Diagnostic<D>> diagnostic, const std::string& name) {
+  if (!diagnostic) throw InputError("attach: no diagnostic");
+  AttachedDiagnostic a;
+  a.name = name;
+  a.diagnostic = std::move(diagnostic);
+  a.needs = a.diagnostic->needs();
+  a.every = a.diagnostic->every();
+  if (a.every < 1) throw InputError(fmt::format("diagnostic '{}': every must be >= 1", name));
+  a.id = next_diagnostic_id_++;
+  if (sink_) a.diagnostic->attach_output(sink_);
+  diagnostics_.push_back(std::move(a));
+  tracking_ = false;
+  for (const auto& d : diagnostics_) tracking_ = tracking_ || d.needs.events;
+  return diagnostics_.back().id;
+}
+
+template <int D>
+Diagnostic<D>& Simulation<D>::diagnostic(int id) const {
+  for (const auto& d : diagnostics_)
+    if (d.id == id) return *d.diagnostic;
+  throw InputError(fmt::format("no diagnostic with id {} (detached?)", id));
+}
+
+template <int D>
+void Simulation<D>::detach_diagnostic(int id) {
+  for (auto it = diagnostics_.begin(); it != diagnostics_.end(); ++it)
+    if (it->id == id) {
+      it->diagnostic->flush();
+      diagnostics_.erase(it);
+      tracking_ = false;
+      for (const auto& d : diagnostics_) tracking_ = tracking_ || d.needs.events;
+      if (!tracking_) {  // nobody tracks events any more: drop the per-contact state
+        for_each_model([&](auto index) {
+          constexpr int I = decltype(index)::value;
+          std::get<I>(pair_buckets_).track.clear();
+          std::get<I>(wall_buckets_).track.clear();
+        });
+      }
+      return;
+    }
+  throw InputError(fmt::format("no diagnostic with id {} (detached already?)", id));
+}
+
+template <int D>
+std::map<std::string, double> Simulation<D>::diagnostic_results(int id) const {
+  return diagnostic(id).results();
+}
+
+template <int D>
+std::map<std::string, std::vector<double>> Simulation<D>::diagnostic_arrays(int id) const {
+  return diagnostic(id).arrays();
+}
+
+template <int D>
+void Simulation<D>::set_output_sink(OutputSink* sink) {
+  sink_ = sink;
+  for (auto& d : diagnostics_) d.diagnostic->attach_output(sink);
+}
+
+template <int D>
+void Simulation<D>::flush_diagnostics() {
+  for (auto& d : diagnostics_) d.diagnostic->flush();
+}
+
+template <int D>
+std::vector<std::string> Simulation<D>::describe() const {
+  std::vector<std::string> lines;
+  std::size_t fixed = 0;
+  for (auto f : p_.fixed) fixed += f;
+  lines.push_back(fmt::format("dimension: {}D{}", D,
+                              periodic_.on() ? fmt::format(", periodic along axis {} ({} m)",
+                                                           periodic_.axis, periodic_.length)
+                                             : std::string()));
+  lines.push_back(fmt::format("particles: {} ({} fixed)", p_.size(), fixed));
+  auto catalogue = contact_model_catalogue();
+  for (int a = 0; a < pairs_.material_count(); ++a)
+    for (int b = a; b < pairs_.material_count(); ++b) {
+      const auto& e = pairs_.at(a, b);
+      if (e.model < 0) continue;
+      std::vector<std::string> kv;
+      for (const auto& [k, v] : pairs_.values(a, b)) kv.push_back(fmt::format("{}={}", k, v));
+      lines.push_back(fmt::format("contact {}-{}: {} ({})", materials_[a].name, materials_[b].name,
+                                  catalogue[e.model].name, fmt::join(kv, ", ")));
+    }
+  for (const auto& w : walls_) {
+    if (w.type == WallType::plane)
+      lines.push_back(
+          fmt::format("wall {}: plane, material {}", w.name, materials_[w.material].name));
+    else
+      lines.push_back(fmt::format("wall {}: cylinder r={} m {}, {} rad/s, material {}", w.name,
+                                  w.radius, w.inside ? "inside" : "outside", w.angular_velocity,
+                                  materials_[w.material].name));
+  }
+  const ActiveEffects e = effects();
+  lines.push_back(e.adhesion ? fmt::format("adhesion: on ({})", fmt::join(e.adhesive_pairs, ", "))
+                             : std::string("adhesion: off (no adhesive pair in use)"));
+  lines.push_back(e.rotation ? std::string("rotation: spins integrated (friction in use)")
+                             : std::string("rotation: off (no pair in use has friction, so no "
+                                           "torque acts; spins stay as set)"));
+  lines.push_back(e.moving_walls.empty()
+                      ? std::string("moving walls: none")
+                      : fmt::format("moving walls: {}", fmt::join(e.moving_walls, ", ")));
+  lines.push_back(fmt::format("gravity: {}", body_.gravity_on ? "on" : "off"));
+  lines.push_back(fmt::format("central field: {}", body_.central_on ? "on" : "off"));
+  lines.push_back(fmt::format("contact forces recorded: {}", record_contacts_ ? "yes" : "no"));
+  if (diagnostics_.empty()) {
+    lines.push_back("diagnostics: none");
+  } else {
+    for (const auto& d : diagnostics_)
+      lines.push_back(fmt::format("diagnostic {}: {}", d.name, d.diagnostic->describe()));
+  }
+  lines.push_back(fmt::format("hooks: {}", hooks_.size()));
+  lines.push_back(
+      fmt::format("threads: {}{}", thread_count(),
+                  threads_ > 0 ? "" : " (OMP_NUM_THREADS, else 1; set with --threads N)"));
+  lines.push_back(fmt::format("time step: {:.6g} s ({}), skin {:.4g} m", dt_,
+                              dt_fixed_ > 0
+                                  ? "set by the scene"
+                                  : fmt::format("automatic: n = {} steps per contact of {}",
+                                                steps_per_contact_, dt_governing_pair_),
+                              skin_));
+  return lines;
+}
+
+template class Simulation<2>;
+template class Simulation<3>;
+
+}  // namespace granule

@@ -1,0 +1,238 @@
+// Simulation<D>: the time-step rule and prepare(), which checks the scene and
+// builds what a run needs before its first step.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <unordered_map>
+
+#include "core/errors.hpp"
+#include "core/random.hpp"
+#include "engine/simulation.hpp"
+
+namespace granule {
+
+template <int D>
+TimeStepReport Simulation<D>::time_step_rule() {
+  TimeStepReport r;
+  r.rule = INFINITY;
+  r.stability_limit = INFINITY;
+  const int nm = static_cast<int>(materials_.size());
+  // Smallest free-particle mass and radius per material (the shortest contacts).
+  std::vector<double> min_mass(nm, INFINITY), min_radius(nm, INFINITY),
+      min_radius_any(nm, INFINITY);
+  std::vector<char> used(nm, 0), free_used(nm, 0);
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    int m = p_.material[i];
+    used[m] = 1;
+    min_radius_any[m] = std::min(min_radius_any[m], p_.radius[i]);
+    if (!p_.fixed[i]) {
+      free_used[m] = 1;
+      min_mass[m] = std::min(min_mass[m], p_.mass[i]);
+      min_radius[m] = std::min(min_radius[m], p_.radius[i]);
+    }
+  }
+  // Eq. 6.1-6.2: Rayleigh time of the smallest particle of a material.
+  auto rayleigh = [&](int m, double radius) -> double {
+    const Material& mat = materials_[m];
+    if (!(mat.young > 0) || !(mat.density > 0) || std::isinf(radius)) return INFINITY;
+    const double shear = mat.young / (2 * (1 + mat.poisson));
+    return pi * radius / (0.1631 * mat.poisson + 0.876605) * std::sqrt(mat.density / shear);
+  };
+  std::vector<char> wall_material(nm, 0);
+  for (const auto& w : walls_) wall_material[w.material] = 1;
+  auto consider = [&](int a, int b, const PairScale& scale, const char* kind) {
+    const PairTable::Entry& e = pairs_.at(a, b);
+    if (e.model < 0)
+      throw InputError(fmt::format(
+          "no contact law for materials '{}' and '{}' ({} contacts can occur): declare "
+          "contact {{ '{}', '{}', model = ... }}",
+          materials_[a].name, materials_[b].name, kind, materials_[a].name, materials_[b].name));
+    for_each_model([&](auto index) {
+      constexpr int I = decltype(index)::value;
+      if (e.model != I) return;
+      using M = ContactModelAt<I>;
+      const auto& par = pairs_.params<I>()[e.slot];
+      double rule = M::rule_time_step(par, scale, steps_per_contact_);
+      // Leap-frog is stable on a spring for omega dt < 2, but an impact is resolved
+      // only with more than ~pi steps per contact: nearer 2/omega the overlap a
+      // particle jumps into on its first step stores more energy than it brought
+      // (restitution 1.1 at 0.8 (2/omega), 3 at 0.99; tests/stress/dt_limit.lua).
+      // So the accepted limit is half of it, 1/omega.
+      double limit = 0.5 * M::stability_limit(par, scale);
+      if (rule < r.rule) {
+        r.rule = rule;
+        r.governing_pair =
+            fmt::format("{}-{} ({}, {})", materials_[a].name, materials_[b].name, M::name, kind);
+      }
+      if (limit < r.stability_limit) {
+        r.stability_limit = limit;
+        r.limit_pair =
+            fmt::format("{}-{} ({}, {})", materials_[a].name, materials_[b].name, M::name, kind);
+      }
+    });
+  };
+  for (int a = 0; a < nm; ++a) {
+    if (!free_used[a]) continue;
+    for (int b = 0; b < nm; ++b) {
+      if (!used[b]) continue;
+      PairScale scale;
+      double mb = free_used[b] ? min_mass[b] : INFINITY;
+      scale.effective_mass = std::isinf(mb) ? min_mass[a] : min_mass[a] * mb / (min_mass[a] + mb);
+      double ra = min_radius[a], rb = min_radius_any[b];
+      scale.effective_radius = ra * rb / (ra + rb);
+      scale.rayleigh_time =
+          std::min(rayleigh(a, ra), rayleigh(b, free_used[b] ? min_radius[b] : INFINITY));
+      consider(a, b, scale, "particle-particle");
+    }
+    for (int w = 0; w < nm; ++w)
+      if (wall_material[w]) {
+        PairScale scale{min_mass[a], min_radius[a], rayleigh(a, min_radius[a])};
+        consider(a, w, scale, "particle-wall");
+      }
+  }
+  return r;
+}
+
+template <int D>
+void Simulation<D>::prepare() {
+  // Every position inside the periodic box: the force loops take minimum images
+  // of separations between two positions in the box (Periodicity::wrap).
+  if (periodic_.on())
+    for (auto& x : p_.position) {
+      double& c = x[periodic_.axis];
+      c -= periodic_.length * std::floor((c - periodic_.origin) / periodic_.length);
+    }
+  // Particles must start inside every wall (their centres on the allowed side).
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    for (const auto& w : walls_) {
+      double c = w.clearance(p_.position[i], p_.radius[i]);
+      if (c + p_.radius[i] < 0)
+        throw InputError(fmt::format("particle {} at ({}) lies outside wall '{}'", p_.id[i],
+                                     fmt::join(to_triple(p_.position[i]), ", "), w.name));
+      if (c < 0 && !p_.fixed[i] && step_ == 0)
+        warn(fmt::format("particle {} starts overlapping wall '{}' by {:.3g} m", p_.id[i], w.name,
+                         -c));
+    }
+  }
+  // Skin: automatic = half the median radius.
+  if (skin_set_ > 0) {
+    skin_ = skin_set_;
+    // A skin beyond the scene's extent makes every pair a candidate: it is a
+    // slip of units or of a factor, never a setting that helps.
+    double extent = periodic_.on() ? periodic_.length : 0;
+    if (p_.size()) {
+      V lo = p_.position[0], hi = p_.position[0];
+      auto include = [&](const V& x, double reach) {
+        lo = lo.cwiseMin(x - V::Constant(reach));
+        hi = hi.cwiseMax(x + V::Constant(reach));
+      };
+      for (std::size_t i = 0; i < p_.size(); ++i) include(p_.position[i], p_.radius[i]);
+      for (const auto& w : walls_)
+        include(w.type == WallType::plane ? w.point : w.center,
+                w.type == WallType::plane ? 0.0 : w.radius);
+      extent = std::max(extent, (hi - lo).maxCoeff());
+    }
+    if (p_.size() && skin_ > extent)
+      throw InputError(fmt::format(
+          "skin {:.4g} m is larger than the scene ({:.4g} m across its particles and walls): "
+          "every pair would be a neighbour candidate; give a skin of a fraction of a radius "
+          "(0 = automatic, half the median radius)",
+          skin_, extent));
+  } else if (p_.size()) {
+    std::vector<double> r(p_.radius.begin(), p_.radius.end());
+    std::nth_element(r.begin(), r.begin() + r.size() / 2, r.end());
+    skin_ = 0.5 * r[r.size() / 2];
+  }
+  // Adhesive contacts persist past zero overlap, to the JKR separation point
+  // (-alpha_f, Eq. 6.14): a pair stays in the neighbour list only while its gap
+  // is below the skin, so the skin must exceed that reach, taken for the
+  // largest effective radius (alpha_f grows as R*^(1/3)).
+  contact_reach_ = 0;
+  {
+    double r_max = 0;
+    for (double r : p_.radius) r_max = std::max(r_max, r);
+    // Only pairs that can meet: an adhesive law declared for materials no
+    // particle has must not widen the skin of the whole scene.
+    for (auto [a, b] : pairs_in_use()) {
+      const PairTable::Entry& e = pairs_.at(a, b);
+      for_each_model([&](auto index) {
+        constexpr int I = decltype(index)::value;
+        using M = ContactModelAt<I>;
+        if constexpr (M::adhesive)
+          if (e.model == I)
+            contact_reach_ = std::max(contact_reach_, M::reach(pairs_.params<I>()[e.slot], r_max));
+      });
+    }
+  }
+  // Spins are integrated only when some pair in use has friction: without it
+  // no contact exerts a torque (simulation_effects.cpp).
+  rotation_ = effects().rotation;
+  if (contact_reach_ > 0 && !(skin_ > 1.5 * contact_reach_)) {
+    if (skin_set_ > 0)
+      throw InputError(fmt::format(
+          "skin {:.4g} m is too small for the adhesive contacts: they last until the surfaces are "
+          "{:.4g} m apart (the JKR separation point); give a skin above {:.4g} m",
+          skin_, contact_reach_, 1.5 * contact_reach_));
+    skin_ = 2 * contact_reach_;
+  }
+  if (periodic_.on()) {
+    double r_max = 0;
+    for (double r : p_.radius) r_max = std::max(r_max, r);
+    if (periodic_.length < 2 * (2 * r_max + skin_))
+      throw InputError(fmt::format(
+          "periodic length {} m is too short: it must exceed twice the largest contact reach "
+          "(2 (2 r_max + skin) = {} m)",
+          periodic_.length, 2 * (2 * r_max + skin_)));
+  }
+  if (p_.size()) {
+    TimeStepReport rule = time_step_rule();
+    dt_governing_pair_ = rule.governing_pair;
+    if (dt_fixed_ > 0) {
+      dt_ = dt_fixed_;
+      if (dt_ >= rule.stability_limit)
+        throw InputError(fmt::format(
+            "time_step {:.4g} s is above the stability limit 1/omega = {:.4g} s of {} (half of "
+            "leap-frog's 2/omega: with fewer than pi steps per contact an impact gains energy): "
+            "refused",
+            dt_, rule.stability_limit, rule.limit_pair));
+      if (dt_ > rule.rule * (1 + 1e-9))
+        warn(
+            fmt::format("time_step {:.4g} s exceeds the Eq. 4.1 rule {:.4g} s (n = {} steps per "
+                        "contact) for {}",
+                        dt_, rule.rule, steps_per_contact_, rule.governing_pair));
+    } else if (dt_ == 0 || std::isinf(dt_)) {
+      if (std::isinf(rule.rule))
+        throw InputError("cannot choose a time step: no contact can occur; set time_step");
+      dt_ = rule.rule;
+    } else if (dt_ > rule.rule * (1 + 1e-9)) {
+      // An automatic dt chosen earlier is too long for changed parameters (a
+      // stiffer law, smaller particles): choose again. A dt that became shorter
+      // than needed is kept, so that removing particles does not change it.
+      dt_ = rule.rule;
+    }
+    // The automatic dt is t_c / n (Eq. 4.1): a small n puts it beyond the limit
+    // as surely as a time_step does (n = 1 gives restitution 3 with Walton-Braun,
+    // 17 with Hertz), so it is refused the same way. The limit is 1/omega, so
+    // linear and Walton-Braun laws accept n > pi; Hertz and Thornton, whose rule
+    // is 8 T_R / n against a limit of T_R / 2, n > 16.
+    if (!(dt_fixed_ > 0) && dt_ >= rule.stability_limit)
+      throw InputError(fmt::format(
+          "steps_per_contact = {} gives a time step {:.4g} s (Eq. 4.1 for {}), above the "
+          "stability limit 1/omega = {:.4g} s of {} (half of leap-frog's 2/omega: with fewer than "
+          "pi steps per contact an impact gains energy): refused; raise steps_per_contact",
+          steps_per_contact_, dt_, rule.governing_pair, rule.stability_limit, rule.limit_pair));
+  } else if (dt_ == 0) {
+    dt_ = dt_fixed_;
+  }
+  if (!(dt_ > 0)) throw InputError("no time step: the scene has no particles and no time_step");
+  rebuild_lists();
+  scene_overlaps_ = true;
+  prepared_ = true;
+}
+
+template class Simulation<2>;
+template class Simulation<3>;
+
+}  // namespace granule

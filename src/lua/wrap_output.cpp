@@ -1,0 +1,134 @@
+// The simulation's HDF5 output from Lua: sim:output opens it, snapshot, series,
+// append and result write into it, close finishes it (io/run_output.hpp).
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <memory>
+
+#include "core/errors.hpp"
+#include "io/run_output.hpp"
+#include "lua/journal.hpp"
+#include "lua/lua_util.hpp"
+#include "lua/scene.hpp"
+#include "lua/wrap_simulation.hpp"
+
+namespace granule::lua {
+
+namespace {
+io::RunOutput& output_of(LuaSim& s) {
+  if (!s.output) throw std::runtime_error("no output file: call sim:output { ... } first");
+  return *s.output;
+}
+
+std::vector<std::string> read_string_list(lua_State* L, int index, const std::string& what) {
+  if (!lua_istable(L, index)) throw std::runtime_error(what + " must be a list of names");
+  std::vector<std::string> out;
+  const auto n = static_cast<lua_Integer>(lua_rawlen(L, index));
+  for (lua_Integer k = 1; k <= n; ++k) {
+    lua_rawgeti(L, index, k);
+    if (lua_type(L, -1) != LUA_TSTRING) {
+      lua_pop(L, 1);
+      throw std::runtime_error(fmt::format("{}[{}] must be a string", what, k));
+    }
+    out.emplace_back(lua_tostring(L, -1));
+    lua_pop(L, 1);
+  }
+  return out;
+}
+}  // namespace
+
+// ---- output ----
+int l_output(lua_State* L) {
+  return protect(L, [](lua_State* L) {
+    LuaSim& s = self(L);
+    SceneContext* ctx = context(L);
+    TableReader t(L, 2, "output");
+    io::RunOutputSettings o;
+    std::string fallback = ctx->output_path;
+    if (fallback.empty())
+      fallback = ctx->scene_path.empty()
+                     ? "granule.h5"
+                     : std::filesystem::path(ctx->scene_path).stem().string() + ".h5";
+    // -o on the command line wins over the scene's own choice.
+    o.path = ctx->output_path.empty() ? t.string("file", fallback) : ctx->output_path;
+    // A restarted run writes beside the original's output, never over it (unless -o says so).
+    if (!ctx->restart_path.empty() && ctx->output_path.empty()) {
+      std::filesystem::path p(o.path);
+      o.path =
+          (p.parent_path() / (p.stem().string() + "_restarted" + p.extension().string())).string();
+    }
+    // -o wins, but the scene's own 'file' must still be a file name.
+    if (!ctx->output_path.empty() && t.has("file")) (void)t.string("file");
+    o.snapshot_every = t.number("snapshot_every", 0);
+    o.series_every = t.number("series_every", 0);
+    o.xdmf = t.boolean("xdmf", true);
+    t.finish();
+    o.scene_path = ctx->scene_path;
+    o.scene_source = ctx->scene_source;
+    o.parameters = ctx->parameter_values;
+    o.numeric_parameters = ctx->numeric_parameters;
+    // Replaying a restarted scene's past: the output is made (its hooks in their places)
+    // but writes nothing; the checkpoint's output is continued when the journal ends.
+    o.muted = ctx->journal && ctx->journal->replaying();
+    s.output.reset();
+    s.output = std::make_unique<io::RunOutput>(*s.sim, o);
+    ++s.output_calls;
+    if (!o.muted) ctx->outputs_written.push_back(o.path);
+    lua_pushstring(L, o.path.c_str());
+    return 1;
+  });
+}
+
+int l_snapshot(lua_State* L) {
+  return protect(L, [](lua_State* L) {
+    LuaSim& s = self(L);
+    output_of(s).write_snapshot();
+    return 0;
+  });
+}
+
+int l_series(lua_State* L) {
+  return protect(L, [](lua_State* L) {
+    auto& out = output_of(self(L));
+    std::string name = read_string(L, 2, "series name");
+    out.declare_series(name, read_string_list(L, 3, "series columns"));
+    return 0;
+  });
+}
+
+int l_append(lua_State* L) {
+  return protect(L, [](lua_State* L) {
+    auto& out = output_of(self(L));
+    std::string name = read_string(L, 2, "series name");
+    if (!lua_istable(L, 3)) throw std::runtime_error("append: expected a list of numbers");
+    std::vector<double> row;
+    const auto n = static_cast<lua_Integer>(lua_rawlen(L, 3));
+    for (lua_Integer k = 1; k <= n; ++k) {
+      lua_rawgeti(L, 3, k);
+      row.push_back(read_number(L, -1, fmt::format("append '{}' value {}", name, k)));
+      lua_pop(L, 1);
+    }
+    out.append_series(name, row);
+    return 0;
+  });
+}
+
+int l_result(lua_State* L) {
+  return protect(L, [](lua_State* L) {
+    auto& out = output_of(self(L));
+    TableReader t(L, 2, "result");
+    for (const auto& key : t.keys()) out.write_result(key, t.number(key.c_str()));
+    return 0;
+  });
+}
+
+int l_close(lua_State* L) {
+  return protect(L, [](lua_State* L) {
+    LuaSim& s = self(L);
+    if (s.output) s.output->finish();
+    s.output.reset();
+    return 0;
+  });
+}
+
+}  // namespace granule::lua
