@@ -9,10 +9,10 @@
 
 namespace granule {
 
-// Levenshtein distance between two strings, case-sensitive.
+// Levenshtein distance between two strings (as given: nearest_name lowers their case).
 std::size_t edit_distance(const std::string& a, const std::string& b);
 
-// The closest name in `candidates` to `name` (edit distance at most
+// The closest name in `candidates` to `name`, case-insensitively (edit distance at most
 // max(3, |name| / 3)), or "" if none is that close.
 std::string nearest_name(const std::string& name, const std::vector<std::string>& candidates);
 
