@@ -168,6 +168,7 @@ void Simulation<D>::advance(std::int64_t steps) {
   if (steps < 0)
     throw InputError(fmt::format("cannot advance a negative number of steps ({})", steps));
   if (!prepared_) prepare();
+  if (steps > 0 && step_ == 0) fire_start_hooks();
   for (std::int64_t s = 0; s < steps; ++s) step();
 }
 

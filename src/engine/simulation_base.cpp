@@ -194,6 +194,16 @@ void SimulationBase::fire_hooks() {
   }
 }
 
+void SimulationBase::fire_start_hooks() {
+  if (step_ != 0) return;  // a continued run has had its start
+  for (std::size_t k = 0; k < hooks_.size(); ++k) {
+    if (!hooks_[k].at_start) continue;
+    hooks_[k].at_start = false;  // once
+    auto fn = hooks_[k].fire;
+    fn();
+  }
+}
+
 void SimulationBase::warn(const std::string& message) const {
   if (warn_)
     warn_(message);

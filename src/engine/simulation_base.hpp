@@ -107,6 +107,9 @@ struct Hook {
   std::int64_t every_steps = 0;  // fire when step % every_steps == 0 (if > 0)
   double every_time = 0;         // or every this many simulated seconds (if > 0)
   double next_time = 0;
+  // Also fires once before the first step of a run that starts at step 0 (the
+  // snapshot of the initial state, t = 0).
+  bool at_start = false;
   std::function<void()> fire;
   int id = 0;
 };
@@ -314,6 +317,7 @@ class SimulationBase {
  protected:
   void warn(const std::string& message) const;
   void fire_hooks();
+  void fire_start_hooks();                // the at_start hooks, before step 0
   void fail(const std::string& message);  // calls the failure handler, throws RunError
 
   std::vector<Material> materials_;

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <limits>
 
 #include "core/errors.hpp"
 
@@ -47,13 +48,17 @@ RunOutput::RunOutput(SimulationBase& sim, RunOutputSettings settings)
     series.every_steps = 100;
   series.fire = [this] { write_series_row(); };
   hook_ids_.push_back(sim_.add_hook(series));
-  if (settings_.snapshot_every > 0) {
-    Hook snap;
-    snap.name = "output.snapshot";
-    snap.every_time = settings_.snapshot_every;
-    snap.fire = [this] { write_snapshot(); };
-    hook_ids_.push_back(sim_.add_hook(snap));
-  }
+  // Snapshots: the initial state (t = 0, before the first step), then every
+  // snapshot_every seconds, or (0) only the last besides.
+  Hook snap;
+  snap.name = "output.snapshot";
+  snap.every_time = settings_.snapshot_every > 0 ? settings_.snapshot_every
+                                                 : std::numeric_limits<double>::infinity();
+  snap.at_start = true;
+  snap.fire = [this] {
+    if (sim_.particle_count() > 0) write_snapshot();
+  };
+  hook_ids_.push_back(sim_.add_hook(snap));
   sim_.set_failure_handler([this](const std::string& m) { write_failure(m); });
   sim_.set_output_sink(this);
 }

@@ -199,7 +199,7 @@ return {
 {"sim:output", "simulation", T, "sim:output { file =, snapshot_every =, series_every =, xdmf = } -> path",
  "Writes results to HDF5 (and an XDMF file beside it for ParaView); -o on the command line overrides `file`.",
  {{"file", "string", "", false, "default: -o, else <scene>.h5"},
-  {"snapshot_every", "number", "s", false, "particle snapshots this often; 0 (default) = first and last"},
+  {"snapshot_every", "number", "s", false, "particle snapshots this often, the first of the initial state (t = 0); 0 (default) = the first and the last"},
   {"series_every", "number", "s", false, "rows of /series this often; 0 (default) = every 100 steps"},
   {"xdmf", "boolean", "", false, "keep <file>.xmf (for ParaView) beside the HDF5 file; default true"}},
  "{ file = 'example_output.h5' }"},
