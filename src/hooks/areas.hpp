@@ -36,8 +36,15 @@ class AreasDiagnostic final : public Diagnostic<D> {
   static constexpr const char* doc =
       "the four areas of 4.4.2 as sectors (deg from the inner piece): mean normal/tangential "
       "force per particle and per particle-particle contact, cumulative collisions and "
-      "collision ratio (4.14); options chamber, inner_piece, area_inner_piece/scraper/input/"
-      "free_diffusion = {from, to}, every (steps), window (s), label";
+      "collision ratio (4.14)";
+  static OptionDocs options() {
+    OptionDocs o = ChamberFrame<D>::option_docs(true);
+    for (const auto& a : AreaSectors::option_docs()) o.push_back(a);
+    o.insert(o.end(), {{"every", "steps", "10", "steps between samples"},
+                       {"window", "s", "0.01", "averaging window of the series"},
+                       {"label", "", "areas", "group under /diagnostics"}});
+    return o;
+  }
 
   enum Series {
     normal_per_particle,

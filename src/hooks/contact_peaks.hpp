@@ -43,9 +43,22 @@ class ContactPeaksDiagnostic final : public Diagnostic<D> {
   static constexpr const char* doc =
       "largest normal force of each contact: histograms per area and of the impact velocity "
       "F_max / c (7.2), measured approach speeds, and the coating-time sum of pi d R over "
-      "host-host contacts (4.7); options force_max (N), velocity_max (m/s), bins, "
-      "force_per_velocity (N s/m), contacts (all|particle|boundary), keep_collisions, area_*, "
-      "chamber, inner_piece, window (s), label";
+      "host-host contacts (4.7)";
+  static OptionDocs options() {
+    OptionDocs o = ChamberFrame<D>::option_docs(true);
+    for (const auto& a : AreaSectors::option_docs()) o.push_back(a);
+    o.insert(o.end(),
+             {{"force_max", "N", "0.1", "upper edge of the force histograms"},
+              {"velocity_max", "m/s", "5", "upper edge of the velocity histograms"},
+              {"force_per_velocity", "N s/m", "0.02", "c of F_max = c dv (7.2)"},
+              {"bins", "-", "50", "bins per histogram (at most 100000)"},
+              {"contacts", "", "all", "'all', 'particle' or 'boundary': the contacts histogrammed"},
+              {"keep_collisions", "-", "0",
+               "host-host collisions kept for coating.minimum_time (arrays collision_*)"},
+              {"window", "s", "0.01", "time between rows of the cumulative series"},
+              {"label", "", "contact_peaks", "group under /diagnostics"}});
+    return o;
+  }
 
   explicit ContactPeaksDiagnostic(DiagnosticOptions& o) {
     frame_.read(o, true);

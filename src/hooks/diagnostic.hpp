@@ -40,9 +40,24 @@ class OutputSink {
                                const std::vector<double>& value) = 0;
 };
 
+// One option of a diagnostic: what help() lists and what the option parsing
+// checks. A diagnostic's list of them is the one source of truth: a getter
+// asked for a key not in it, or with a default other than the listed one, is a
+// programming error (std::logic_error), and the scene's keys are checked
+// against it (nearest-key hints).
+struct OptionDoc {
+  std::string key;
+  std::string unit;      // SI unit; "-" dimensionless; "" not a physical quantity
+  std::string fallback;  // the default as the getter prints it ({a, b} for lists)
+  std::string doc;       // one line
+  bool required = false;
+};
+using OptionDocs = std::vector<OptionDoc>;
+
 // Options as the scene gave them: numbers, strings, lists of numbers and
 // booleans. Getters throw InputError naming the diagnostic and the key;
-// finish() refuses keys nobody read, suggesting the nearest known one.
+// finish() refuses keys the diagnostic does not declare (or, with no
+// declaration, keys nobody read), suggesting the nearest known one.
 class DiagnosticOptions {
  public:
   explicit DiagnosticOptions(std::string context = "diagnostic") : context_(std::move(context)) {}
@@ -52,6 +67,12 @@ class DiagnosticOptions {
 
   const std::string& context() const { return context_; }
   void set_context(std::string c) { context_ = std::move(c); }
+  // The options the diagnostic reads (its descriptors); from then on the
+  // getters and finish() check against them.
+  void declare(OptionDocs docs) { declared_ = std::move(docs); }
+  const OptionDocs& declared() const { return declared_; }
+  // The keys the getters were asked for, in order.
+  const std::vector<std::string>& read_keys() const { return used_; }
   bool has(const std::string& key) const;
   double number(const std::string& key);  // required
   double number(const std::string& key, double fallback);
@@ -66,8 +87,12 @@ class DiagnosticOptions {
 
  private:
   std::string context_;
+  OptionDocs declared_;
   mutable std::vector<std::string> used_;
-  void use(const std::string& key) const { used_.push_back(key); }
+  // Notes the key read; with descriptors, checks it is declared with this
+  // default (`fallback` as text; nullptr for a getter without one).
+  void use(const std::string& key, const std::string* fallback = nullptr) const;
+  double finite_number(const std::string& key) const;  // present, a finite number
 };
 
 // The state a diagnostic sees: positions x(n), velocities v(n-1/2) and the
@@ -213,10 +238,15 @@ class Diagnostic {
 struct DiagnosticInfo {
   std::string name;
   std::string doc;
+  OptionDocs options;
 };
 
 // The registry (registry.cpp): one line per diagnostic.
 std::vector<DiagnosticInfo> diagnostic_catalogue();
+// help("diagnostics") and help("<diagnostic name>"): the diagnostics' options
+// from their descriptors, for the terminal or (markdown) docs/lua_api.md; ""
+// when the topic is neither.
+std::string diagnostics_help(const std::string& topic, bool markdown);
 template <int D>
 std::unique_ptr<Diagnostic<D>> make_diagnostic(const std::string& name, DiagnosticOptions& options);
 

@@ -44,8 +44,20 @@ class GapProfileDiagnostic final : public Diagnostic<D> {
       "flow across the inner piece's gap (Eqs. 5.4, 5.6): per bin of the normalised distance "
       "from the chamber wall, mean radial and azimuthal velocity, granular temperature, solid "
       "fraction; the shear rate beside omega R / H; force per particle-particle contact in "
-      "the sector; options sector (deg), bins, depth (m, 3D), chamber, inner_piece, every "
-      "(steps), window (s), label";
+      "the sector";
+  static OptionDocs options() {
+    OptionDocs o = ChamberFrame<D>::option_docs(true);
+    o.insert(o.end(),
+             {{"sector", "deg", "10", "half-width of the sector about the inner piece, in (0, 90]"},
+              {"bins", "-", "8", "bins across the gap (at most 1000)"},
+              {"depth", "m", "0",
+               "the slab's length in 3D (required there); 0 in 2D: one "
+               "particle diameter"},
+              {"every", "steps", "10", "steps between samples"},
+              {"window", "s", "0.01", "averaging window of the series"},
+              {"label", "", "gap_profile", "group under /diagnostics"}});
+    return o;
+  }
 
   explicit GapProfileDiagnostic(DiagnosticOptions& o) {
     frame_.read(o, true);

@@ -32,7 +32,12 @@ class OverlapsDiagnostic final : public Diagnostic<D> {
   static constexpr const char* doc =
       "largest overlap / radius of particle-particle, particle-fixed-particle and particle-wall "
       "contacts, per window and since attaching, with the deepest contact's time, place and "
-      "particle; options every (steps), window (s), label";
+      "particle";
+  static OptionDocs options() {
+    return {{"every", "steps", "10", "steps between reads of the contacts going on"},
+            {"window", "s", "0.01", "window of the series' maxima"},
+            {"label", "", "overlaps", "group under /diagnostics"}};
+  }
   enum Kind { particle, fixed, wall, kinds };
   static constexpr std::array<const char*, kinds> kind_names = {"particle", "fixed", "wall"};
 

@@ -22,7 +22,13 @@ class WallForceDiagnostic final : public Diagnostic<D> {
   static constexpr const char* name = "wall_force";
   static constexpr const char* doc =
       "normal and tangential contact force on a wall (4.4.1): window-averaged series and "
-      "long-time means; options wall (name), every (steps), window (s), label";
+      "long-time means";
+  static OptionDocs options() {
+    return {{"wall", "", "", "the wall's name", true},
+            {"every", "steps", "1", "steps between samples"},
+            {"window", "s", "0.001", "averaging window of the series"},
+            {"label", "", "", "group under /diagnostics ('': wall_force_<wall>)"}};
+  }
 
   explicit WallForceDiagnostic(DiagnosticOptions& o) {
     wall_name_ = o.string("wall", "");
@@ -30,7 +36,8 @@ class WallForceDiagnostic final : public Diagnostic<D> {
     every_ = o.integer("every", 1, 1);
     window_ = o.number_in("window", 1e-3, 0, 1e9, "s");
     if (!(window_ > 0)) throw InputError(fmt::format("{}: window must be > 0 [s]", o.context()));
-    label_ = o.string("label", "wall_force_" + wall_name_);
+    label_ = o.string("label", "");
+    if (label_.empty()) label_ = "wall_force_" + wall_name_;
   }
 
   typename Diagnostic<D>::Needs needs() const override { return {true, false}; }

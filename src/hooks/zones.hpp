@@ -47,8 +47,21 @@ class ZonesDiagnostic final : public Diagnostic<D> {
   static constexpr const char* doc =
       "radial zones of equal volume (4.3-4.6): rotational KE less chamber spin (4.10), "
       "deviatoric KE (4.11, polar and Cartesian mean), pressure kinetic + virial (4.12), "
-      "collision work rate (4.13), solid fraction; options zones, chamber, depth (m), mean "
-      "(polar|cartesian, for the pressure), every (steps), window (s), label";
+      "collision work rate (4.13), solid fraction";
+  static OptionDocs options() {
+    OptionDocs o = ChamberFrame<D>::option_docs(false);
+    o.insert(o.end(), {{"zones", "-", "7", "number of zones of equal volume (at most 1000)"},
+                       {"depth", "m", "0",
+                        "zone depth: the slab's length in 3D (required there); 0 in 2D: "
+                        "one mean particle diameter (4.3.2)"},
+                       {"mean", "", "polar",
+                        "'polar' or 'cartesian': the mean velocity the pressure's "
+                        "kinetic part (4.12) is taken about"},
+                       {"every", "steps", "10", "steps between samples"},
+                       {"window", "s", "0.01", "averaging window of the series"},
+                       {"label", "", "zones", "group under /diagnostics"}});
+    return o;
+  }
 
   enum Quantity {
     rotational_ke,

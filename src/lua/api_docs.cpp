@@ -5,6 +5,7 @@
 #include <lua.hpp>
 
 #include "contact/parameters.hpp"
+#include "hooks/diagnostic.hpp"
 #include "lua/lua_util.hpp"
 
 namespace granule::lua {
@@ -219,7 +220,7 @@ const std::vector<FunctionDoc> entries = {
  "Writes a checkpoint now, between runs.", {{"1", "string", "", true, "checkpoint file (HDF5)"}},
  "'example.chk.h5'"},
 {"sim:diagnostic", "simulation", P, "sim:diagnostic(name, { option = value, ... }) -> id",
- "Attaches a C++ diagnostic by name (`wall_force`, `zones`, `areas`, `contact_peaks`, `gap_profile`, `overlaps`: docs/mechanofusion.md; how to add one: docs/architecture.md); a scene pays nothing for diagnostics it does not attach.",
+ "Attaches a C++ diagnostic by name (`wall_force`, `zones`, `areas`, `contact_peaks`, `gap_profile`, `overlaps`: docs/mechanofusion.md; help('diagnostics') and help('<name>') list their options; how to add one: docs/architecture.md); a scene pays nothing for diagnostics it does not attach.",
  {{"1", "string", "", true, "diagnostic name: 'wall_force', 'zones', 'areas', 'contact_peaks', 'gap_profile', 'overlaps' (docs/mechanofusion.md)"},
   {"2", "table", "", false, "its options; nested tables become dotted names"}},
  "'wall_force', { wall = 'drum' }"},
@@ -484,7 +485,7 @@ std::string api_markdown() {
     std::string example = call_line(d);
     if (!example.empty()) out += fmt::format("\nExample: `{}`\n", example);
   }
-  return out;
+  return out + diagnostics_help("diagnostics", true);  // src/hooks/registry.cpp
 }
 
 namespace {
@@ -578,13 +579,17 @@ int l_help(lua_State* L) {
     } else if (lua_type(L, 1) == LUA_TSTRING) {
       std::string name = lua_tostring(L, 1);
       const FunctionDoc* d = find_doc(name);
-      if (!d) {
+      const std::string diagnostic = diagnostics_help(name, false);  // src/hooks/registry.cpp
+      if (!d && !diagnostic.empty()) {
+        text = diagnostic;
+      } else if (!d) {
         std::string hint = nearest_doc_name(name);
         throw std::runtime_error(
             fmt::format("help: nothing is called '{}'{}; help() lists every name", name,
                         hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint)));
+      } else {
+        text = format_help(*d) + diagnostic;
       }
-      text = format_help(*d);
     } else if (luaL_testudata(L, 1, "granule.Simulation")) {
       for (const auto& d : entries)
         if (is_method(d)) text += fmt::format("  {:<28} {}\n", d.name, d.doc);
