@@ -136,4 +136,42 @@ void DiagnosticOptions::finish() const {
   }
 }
 
+// ---- Sampling (sampling.hpp): the shared trigger and window ----
+
+void Sampling::add_option_docs(std::vector<OptionDoc>& docs, const Defaults& d) {
+  if (d.every > 0) {
+    docs.push_back({"every", "steps", fmt::format("{}", static_cast<double>(d.every)),
+                    "steps between samples"});
+    docs.push_back({"every_time", "s", "0",
+                    "> 0: sample on the step nearest each multiple of this instead of every N "
+                    "steps"});
+  }
+  docs.push_back({"window", "s", fmt::format("{}", d.window), d.window_doc});
+}
+
+void Sampling::read(DiagnosticOptions& o, const Defaults& d) {
+  if (d.every > 0) {
+    every_steps_ = o.integer("every", d.every, 1);
+    every_seconds_ = o.number_in("every_time", 0, 0, 1e9, "s");
+    if (every_seconds_ > 0 && o.has("every"))
+      throw InputError(
+          fmt::format("{}: give 'every' (steps) or 'every_time' (s), not both", o.context()));
+    if (every_seconds_ > 0) every_steps_ = 1;
+  }
+  window_ = o.number_in("window", d.window, 0, 1e9, "s");
+  if (!(window_ > 0)) throw InputError(fmt::format("{}: window must be > 0 [s]", o.context()));
+}
+
+void Sampling::save(DiagnosticStateWriter& w) const {
+  w.put("sampling.window", {start_, last_});
+  w.put_integer("sampling.samples", samples_);
+}
+
+void Sampling::load(const DiagnosticStateReader& r) {
+  const auto times = r.doubles("sampling.window", 2);
+  const auto samples = r.integer("sampling.samples");
+  if (samples < 0) r.invalid("sampling.samples", "is negative");
+  start_ = times[0], last_ = times[1], samples_ = samples;
+}
+
 }  // namespace granule
