@@ -97,3 +97,31 @@ TEST_CASE("help lists each diagnostic's options from its descriptors", "[hooks][
   CHECK(diagnostics_help("no_such_diagnostic", false).empty());
   CHECK(diagnostics_help("sim:run", false).empty());
 }
+
+TEST_CASE("the shared trigger: every_time samples the step nearest each multiple of T",
+          "[hooks][descriptors]") {
+  const double dt = 1e-4, T = 3.3e-3;  // T is 33 steps
+  DiagnosticOptions o("diagnostic 'x'");
+  o.numbers["every_time"] = T;
+  Sampling s;
+  s.read(o, {10, 0.01});
+  CHECK(s.period() == 1);
+  std::vector<int> due;
+  for (int n = 0; n < 1000; ++n)
+    if (s.due(n * dt, dt)) due.push_back(n);
+  // Step k * 33 is nearest k T (the multiples fall on steps exactly, to round-off).
+  REQUIRE(due.size() == 31);  // k = 0 .. 30 (30 T = 0.099 s, step 990)
+  for (std::size_t k = 0; k < due.size(); ++k) CHECK(std::abs(due[k] - 33 * int(k)) <= 1);
+  // T below the step: every step.
+  DiagnosticOptions fast("diagnostic 'x'");
+  fast.numbers["every_time"] = dt / 3;
+  Sampling f;
+  f.read(fast, {10, 0.01});
+  for (int n = 0; n < 50; ++n) CHECK(f.due(n * dt, dt));
+  // Both triggers at once: refused by name.
+  DiagnosticOptions both("diagnostic 'x'");
+  both.numbers["every_time"] = T, both.numbers["every"] = 5;
+  Sampling b;
+  CHECK_THROWS_WITH(b.read(both, {10, 0.01}),
+                    Catch::Contains("'every'") && Catch::Contains("'every_time'"));
+}
