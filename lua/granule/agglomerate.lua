@@ -192,7 +192,7 @@ agglomerate.preparation_defaults = {
   switch_order = "together",       -- stage 2: "together", "friction_first" or "adhesion_first" (each to rest)
   surface_energy_steps = 1,        -- stage 2 raises Gamma to its value in this many equal steps, each to rest
   field_decrements = 10,           -- stage 3 lowers the field in this many equal steps
-  decrement_duration = 0,          -- s per decrement; 0: each decrement until rest (else a ramp at this rate)
+  decrement_duration = 0,          -- s per decrement; 0: each decrement until rest (else a linear ramp at this rate)
   check_every = 200,               -- steps between checks of the stage criteria
   stage1_max_duration = 400e-6,    -- s: caps, a safety net only
   stage2_max_duration = 100e-6,    -- s
@@ -331,17 +331,22 @@ function agglomerate.prepare(sim, given)
   end
 
   -- Stage 3: the field removed in equal decrements, each followed by a return to
-  -- rest, so the agglomerate stays in equilibrium.
+  -- rest, so the agglomerate stays in equilibrium; or, with a decrement_duration,
+  -- as a linear ramp to zero at the same mean rate, set in C++ before every step.
   local stage3 = { name = "3 field removed", start = sim:time(), steps = 0, ended_by = "criterion", decrements = {} }
+  local ramp_end = stage3.start + o.field_decrements * o.decrement_duration
+  if o.decrement_duration > 0 then
+    sim:schedule { "central_strength", linear = { stage3.start, o.field_strength, ramp_end, 0 } }
+  end
   for k = 1, o.field_decrements do
     local strength = o.field_strength * (1 - k / o.field_decrements)
-    if k == o.field_decrements then sim:remove_central_field() else sim:set_central_strength(strength) end
     local r
-    if o.decrement_duration > 0 then  -- a ramp: a fixed time per decrement, rest or not
-      r = agglomerate.run_stage(sim, string.format("3.%d field %.3g m/s^2", k, strength), o.decrement_duration,
+    if o.decrement_duration > 0 then  -- the ramp's k-th part: a fixed time, rest or not
+      r = agglomerate.run_stage(sim, string.format("3.%d field to %.3g m/s^2", k, strength), o.decrement_duration,
         o.check_every, function() return false end, true)
       r.ended_by = "criterion"
     else
+      if k == o.field_decrements then sim:remove_central_field() else sim:set_central_strength(strength) end
       r = agglomerate.run_stage(sim, string.format("3.%d field %.3g m/s^2", k, strength),
         o.decrement_max_duration, o.check_every, rest(), true)
     end
@@ -349,6 +354,7 @@ function agglomerate.prepare(sim, given)
     stage3.decrements[k] = r
     if r.ended_by == "cap" then stage3.ended_by = "cap" end
   end
+  if o.decrement_duration > 0 then sim:remove_central_field() end  -- the ramp's end (held at 0 after it)
   stage3.duration = sim:time() - stage3.start
   report.stages[3] = stage3
   if not o.quiet then

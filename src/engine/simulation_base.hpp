@@ -14,6 +14,7 @@
 
 #include "contact/pair_table.hpp"
 #include "core/material.hpp"
+#include "fields/schedule.hpp"
 #include "geometry/walls.hpp"
 #include "neighbor/cell_grid.hpp"
 
@@ -286,6 +287,16 @@ class SimulationBase {
   // Writes partly filled windows (end of a run).
   virtual void flush_diagnostics() = 0;
 
+  // ---- schedules (simulation_schedules.cpp): values that follow time ----
+  // Checks the target, sets it to its value now, and from then on before every step.
+  void add_schedule(ScheduleSpec spec);
+  // Sets every scheduled value to its value at the current time.
+  void apply_schedules();
+  const std::vector<ScheduleSpec>& schedules() const { return schedules_; }
+  // Checkpoints: the schedules as declared; a restart that declares others is refused.
+  void save_schedules(StateBlob& blob) const;
+  void load_schedules(const StateBlob& blob);
+
   // ---- hooks ----
   int add_hook(Hook hook);
   void remove_hook(int id);
@@ -344,6 +355,7 @@ class SimulationBase {
   double time_ = 0;
   std::int64_t step_ = 0;
   std::vector<Hook> hooks_;
+  std::vector<ScheduleSpec> schedules_;
   int next_hook_id_ = 1;
   std::function<void(const std::string&)> warn_;
   std::function<void(const std::string&)> on_failure_;

@@ -213,6 +213,7 @@ StateBlob Simulation<D>::save_state() const {
   }
   s.texts["hooks"] = hook_names;
   s.doubles["hooks.next_time"] = next;
+  save_schedules(s);  // simulation_schedules.cpp
   // The guards' memory: whether deep overlaps are still the scene's own (an overlapping
   // fill relaxing, not a pass-through) and whether the one overlap warning was given;
   // and the pair that set the automatic time step, for the run's description.
@@ -416,6 +417,7 @@ void Simulation<D>::load_state(const StateBlob& s) {
   const auto& next = s.d("hooks.next_time");
   for (std::size_t h = 0; h < hooks_.size() && h < hook_names.size() && h < next.size(); ++h)
     if (hooks_[h].name == hook_names[h]) hooks_[h].next_time = next[h];
+  load_schedules(s);  // simulation_schedules.cpp
 
   lists_valid_ = meta[5] != 0;
   scene_overlaps_ = s.i("guards")[0] != 0;

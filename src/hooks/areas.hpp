@@ -36,8 +36,14 @@ class AreasDiagnostic final : public Diagnostic<D> {
   static constexpr const char* doc =
       "the four areas of 4.4.2 as sectors (deg from the inner piece): mean normal/tangential "
       "force per particle and per particle-particle contact, cumulative collisions and "
-      "collision ratio (4.14); options chamber, inner_piece, area_inner_piece/scraper/input/"
-      "free_diffusion = {from, to}, every (steps), window (s), label";
+      "collision ratio (4.14)";
+  static OptionDocs options() {
+    OptionDocs o = ChamberFrame<D>::option_docs(true);
+    for (const auto& a : AreaSectors::option_docs()) o.push_back(a);
+    o.push_back({"label", "", "areas", "group under /diagnostics"});
+    Sampling::add_option_docs(o, {10, 0.01});
+    return o;
+  }
 
   enum Series {
     normal_per_particle,
@@ -63,18 +69,14 @@ class AreasDiagnostic final : public Diagnostic<D> {
   static constexpr const char* series_units[series_count] = {"N", "N", "N", "N", "-",
                                                              "-", "-", "-", "-"};
 
-  explicit AreasDiagnostic(DiagnosticOptions& o) {
+  explicit AreasDiagnostic(DiagnosticOptions& o) : Diagnostic<D>(name) {
     frame_.read(o, true);
     sectors_.read(o);
-    every_ = o.integer("every", 10, 1);
-    window_seconds_ = o.number_in("window", 0.01, 0, 1e9, "s");
-    if (!(window_seconds_ > 0))
-      throw InputError(fmt::format("{}: window must be > 0 [s]", o.context()));
+    this->sampling_.read(o, {10, 0.01});
     label_ = o.string("label", "areas");
   }
 
   typename Diagnostic<D>::Needs needs() const override { return {true, true}; }
-  std::int64_t every() const override { return every_; }
 
   void attach_output(OutputSink* sink) override {
     sink_ = sink;
@@ -97,7 +99,7 @@ class AreasDiagnostic final : public Diagnostic<D> {
     }
   }
 
-  void observe(const StepView<D>& v) override {
+  void sample(const StepView<D>& v) override {
     frame_.resolve(v.walls, name);
     declare();
     const auto& p = v.particles;
@@ -127,8 +129,6 @@ class AreasDiagnostic final : public Diagnostic<D> {
       particle_normal[area] += normal_[i];
       particle_tangential[area] += tangential_[i];
     }
-    if (window_start_ < 0) window_start_ = v.time;
-    last_time_ = v.time;
     for (int k = 0; k < A; ++k) {
       window_.sums[k].add(count[k], particle_normal[k], particle_tangential[k], contacts[k],
                           contact_normal[k], contact_tangential[k]);
@@ -137,11 +137,6 @@ class AreasDiagnostic final : public Diagnostic<D> {
     }
     ++window_.samples;
     ++total_.samples;
-    if (v.time + 0.5 * v.dt >= window_start_ + window_length()) emit(v.time);
-  }
-
-  void flush() override {
-    if (window_.samples > 0) emit(last_time_);
   }
 
   std::map<std::string, double> results() const override {
@@ -155,31 +150,24 @@ class AreasDiagnostic final : public Diagnostic<D> {
   }
 
   std::string describe() const override {
-    return fmt::format("4 areas about '{}' from '{}' every {} steps, {} s windows",
-                       frame_.chamber_name, frame_.inner_name, every_, window_length());
+    return fmt::format("4 areas about '{}' from '{}' {}", frame_.chamber_name, frame_.inner_name,
+                       this->sampling_.describe());
   }
 
   // The per-particle force buffers are refilled by every observe(): not state.
-  void save_state(StateBlob& blob, const std::string& prefix) const override {
-    DiagnosticStateWriter w(blob, prefix);
-    w.fingerprint(fingerprint());
+  void save_own(DiagnosticStateWriter& w) const override {
     frame_.save(w);
     w.put_integers("counts", {window_.samples, total_.samples});
-    w.put("times", {window_start_, last_time_});
     w.put("window_sums", flat(window_));
     w.put("total_sums", flat(total_));
     w.put_integers("collisions_particle", particle_collisions_);
     w.put_integers("collisions_boundary", boundary_collisions_);
   }
-  void load_state(const StateBlob& blob, const std::string& prefix) override {
-    DiagnosticStateReader r(blob, prefix, name);
-    r.check_fingerprint(fingerprint());
+  void load_own(const DiagnosticStateReader& r) override {
     const auto counts = r.integers("counts", 2);
     if (counts[0] < 0 || counts[1] < counts[0]) r.invalid("counts", "holds impossible counts");
     AreasDiagnostic next = *this;  // all or nothing: a refused load leaves this as it was
     next.frame_.load(r);
-    const auto times = r.doubles("times", 2);
-    next.window_start_ = times[0], next.last_time_ = times[1];
     unflat(r.doubles("window_sums", 6 * A), next.window_);
     unflat(r.doubles("total_sums", 6 * A), next.total_);
     next.window_.samples = counts[0], next.total_.samples = counts[1];
@@ -201,13 +189,10 @@ class AreasDiagnostic final : public Diagnostic<D> {
     std::array<Sums, A> sums{};
     std::int64_t samples = 0;
   };
-  double window_length() const { return window_seconds_; }
-  std::string fingerprint() const {
-    return fmt::format(
-        "{}; chamber {}; inner piece {}; sectors {:.17g}; label {}; every {}; "
-        "window {:.17g}",
-        name, frame_.chamber_name, frame_.inner_name, fmt::join(sectors_.bounds(), " "), label_,
-        every_, window_seconds_);
+  std::string fingerprint() const override {
+    return fmt::format("{}; chamber {}; inner piece {}; sectors {:.17g}; label {}", name,
+                       frame_.chamber_name, frame_.inner_name, fmt::join(sectors_.bounds(), " "),
+                       label_);
   }
   static std::vector<double> flat(const Accumulator& acc) {
     std::vector<double> out;
@@ -253,15 +238,15 @@ class AreasDiagnostic final : public Diagnostic<D> {
       sink_->write_attribute(group(q), "units", std::string(series_units[q]));
     }
     const std::string g = "diagnostics/" + label_;
-    sink_->write_attribute(g, "window", window_length());
-    sink_->write_attribute(g, "every_steps", static_cast<double>(every_));
+    sink_->write_attribute(g, "window", this->sampling_.window());
+    sink_->write_attribute(g, "every_steps", static_cast<double>(this->sampling_.every_steps()));
     sink_->write_attribute(g, "area_bounds_deg", sectors_.bounds());
     sink_->write_attribute(g, "chamber", frame_.chamber_name);
     sink_->write_attribute(g, "inner_piece", frame_.inner_name);
   }
   std::string group(int q) const { return "diagnostics/" + label_ + "/" + series_names[q]; }
 
-  void emit(double time) {
+  void close_window(double time) override {
     if (sink_ && window_.samples > 0) {
       declare();
       const auto values = row_values(window_);
@@ -271,21 +256,17 @@ class AreasDiagnostic final : public Diagnostic<D> {
         sink_->append_series(group(q), row);
       }
     }
-    window_start_ = time;
     window_ = Accumulator{};
   }
 
   ChamberFrame<D> frame_;
   AreaSectors sectors_;
-  std::int64_t every_ = 10;
-  double window_seconds_ = 0.01;
   std::string label_;
   OutputSink* sink_ = nullptr;
   bool declared_ = false;
   std::vector<double> normal_, tangential_;  // per particle, this sample
   Accumulator window_, total_;
   std::array<std::int64_t, A> particle_collisions_{}, boundary_collisions_{};
-  double window_start_ = -1, last_time_ = 0;
 };
 
 }  // namespace granule

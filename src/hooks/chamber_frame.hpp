@@ -28,6 +28,13 @@ struct ChamberFrame {
   double reference = 0;  // rad, direction of the inner piece's centre
   int chamber_wall = -1;
 
+  static OptionDocs option_docs(bool needs_inner) {
+    return {
+        {"chamber", "", "chamber", "the chamber's cylinder wall (particles inside; its axis z)"},
+        {"inner_piece", "", needs_inner ? "inner_piece" : "",
+         needs_inner ? "the inner piece's cylinder wall; angles count from its direction"
+                     : "the inner piece's cylinder wall ('': angles count from +x)"}};
+  }
   // Reads the wall names from the options (chamber = '...', inner_piece = '...').
   void read(DiagnosticOptions& o, bool needs_inner) {
     chamber_name = o.string("chamber", "chamber");
@@ -125,6 +132,13 @@ struct AreaSectors {
   static constexpr std::array<const char*, count> names = {"inner_piece", "scraper", "input",
                                                            "free_diffusion"};
   std::array<double, count> from{}, to{};  // deg, to > from, to - from <= 360
+
+  static OptionDocs option_docs() {
+    return {{"area_inner_piece", "deg", "{-45, 45}", "{from, to}: the inner piece's area (4.4.2)"},
+            {"area_scraper", "deg", "{45, 150}", "{from, to}: the scraper's area"},
+            {"area_input", "deg", "{250, 315}", "{from, to}: the input area"},
+            {"area_free_diffusion", "deg", "{150, 250}", "{from, to}: the free-diffusion area"}};
+  }
 
   void read(DiagnosticOptions& o) {
     // Defaults: the gap +-45 deg; the scraper's region to 150 deg; the free

@@ -43,11 +43,28 @@ class ContactPeaksDiagnostic final : public Diagnostic<D> {
   static constexpr const char* doc =
       "largest normal force of each contact: histograms per area and of the impact velocity "
       "F_max / c (7.2), measured approach speeds, and the coating-time sum of pi d R over "
-      "host-host contacts (4.7); options force_max (N), velocity_max (m/s), bins, "
-      "force_per_velocity (N s/m), contacts (all|particle|boundary), keep_collisions, area_*, "
-      "chamber, inner_piece, window (s), label";
+      "host-host contacts (4.7)";
+  // No trigger: it works on the contact events of every step; the window
+  // closes on the step that fills it.
+  static constexpr Sampling::Defaults sampling_defaults{
+      0, 0.01, "time between rows of the cumulative series"};
+  static OptionDocs options() {
+    OptionDocs o = ChamberFrame<D>::option_docs(true);
+    for (const auto& a : AreaSectors::option_docs()) o.push_back(a);
+    o.insert(o.end(),
+             {{"force_max", "N", "0.1", "upper edge of the force histograms"},
+              {"velocity_max", "m/s", "5", "upper edge of the velocity histograms"},
+              {"force_per_velocity", "N s/m", "0.02", "c of F_max = c dv (7.2)"},
+              {"bins", "-", "50", "bins per histogram (at most 100000)"},
+              {"contacts", "", "all", "'all', 'particle' or 'boundary': the contacts histogrammed"},
+              {"keep_collisions", "-", "0",
+               "host-host collisions kept for coating.minimum_time (arrays collision_*)"},
+              {"label", "", "contact_peaks", "group under /diagnostics"}});
+    Sampling::add_option_docs(o, sampling_defaults);
+    return o;
+  }
 
-  explicit ContactPeaksDiagnostic(DiagnosticOptions& o) {
+  explicit ContactPeaksDiagnostic(DiagnosticOptions& o) : Diagnostic<D>(name) {
     frame_.read(o, true);
     sectors_.read(o);
     force_max_ = o.number_in("force_max", 0.1, 0, 1e12, "N");
@@ -70,17 +87,13 @@ class ContactPeaksDiagnostic final : public Diagnostic<D> {
           "{}: 'contacts' must be 'all', 'particle' or 'boundary', got '{}'", o.context(), which));
     }
     keep_ = static_cast<std::size_t>(o.integer("keep_collisions", 0, 0));
-    window_ = o.number_in("window", 0.01, 0, 1e9, "s");
-    if (!(window_ > 0)) throw InputError(fmt::format("{}: window must be > 0 [s]", o.context()));
+    this->sampling_.read(o, sampling_defaults);
     label_ = o.string("label", "contact_peaks");
     for (auto* h : {&force_hist_, &velocity_hist_, &impact_hist_})
       for (auto& set : *h) set.assign(bins_, 0.0);
   }
 
   typename Diagnostic<D>::Needs needs() const override { return {false, true}; }
-  // Nothing to sample: everything arrives as events. A long period keeps observe() rare.
-  std::int64_t every() const override { return std::int64_t{1} << 40; }
-  void observe(const StepView<D>&) override {}
 
   void attach_output(OutputSink* sink) override {
     sink_ = sink;
@@ -90,9 +103,8 @@ class ContactPeaksDiagnostic final : public Diagnostic<D> {
   void on_events(const StepView<D>& v) override {
     frame_.resolve(v.walls, name);
     const auto& p = v.particles;
-    if (start_time_ < 0) {
+    if (start_time_ < 0) {  // the first step since attaching
       start_time_ = v.time;
-      window_start_ = v.time;
       for (std::size_t i = 0; i < p.size(); ++i)
         if (!p.fixed[i]) target_area_ += 4 * pi * p.radius[i] * p.radius[i];
     }
@@ -142,11 +154,6 @@ class ContactPeaksDiagnostic final : public Diagnostic<D> {
         if (dv > 1.0) ++above_10_[set];
       }
     }
-    if (v.time + 0.5 * v.dt >= window_start_ + window_) emit(v.time);
-  }
-
-  void flush() override {
-    if (start_time_ >= 0 && last_time_ > window_start_) emit(last_time_);
   }
 
   std::map<std::string, double> results() const override {
@@ -206,12 +213,10 @@ class ContactPeaksDiagnostic final : public Diagnostic<D> {
                        force_max_, velocity_max_, c_);
   }
 
-  void save_state(StateBlob& blob, const std::string& prefix) const override {
-    DiagnosticStateWriter w(blob, prefix);
-    w.fingerprint(fingerprint());
+  void save_own(DiagnosticStateWriter& w) const override {
     frame_.save(w);
     w.put_integers("counts", {host_collisions_});
-    w.put("times", {start_time_, window_start_, last_time_});
+    w.put("times", {start_time_, last_time_});
     w.put("areas", {target_area_});
     std::vector<double> hist;
     for (const auto* h : {&force_hist_, &velocity_hist_, &impact_hist_})
@@ -230,16 +235,14 @@ class ContactPeaksDiagnostic final : public Diagnostic<D> {
     w.put("collision_overlap", kept_overlap_);
     w.put("collision_radius", kept_radius_);
   }
-  void load_state(const StateBlob& blob, const std::string& prefix) override {
-    DiagnosticStateReader r(blob, prefix, name);
-    r.check_fingerprint(fingerprint());
+  void load_own(const DiagnosticStateReader& r) override {
     const auto counts = r.integers("counts", 1);
     if (counts[0] < 0) r.invalid("counts", "holds impossible counts");
     ContactPeaksDiagnostic next = *this;  // all or nothing: a refused load leaves this as it was
     next.frame_.load(r);
     next.host_collisions_ = counts[0];
-    const auto times = r.doubles("times", 3);
-    next.start_time_ = times[0], next.window_start_ = times[1], next.last_time_ = times[2];
+    const auto times = r.doubles("times", 2);
+    next.start_time_ = times[0], next.last_time_ = times[1];
     next.target_area_ = r.number("areas");
     const auto hist = r.doubles("histograms", 3 * sets * static_cast<std::size_t>(bins_));
     auto at = hist.begin();
@@ -278,14 +281,13 @@ class ContactPeaksDiagnostic final : public Diagnostic<D> {
 
  private:
   static std::string set_name(int s) { return s < A ? AreaSectors::names[s] : "all"; }
-  std::string fingerprint() const {
+  std::string fingerprint() const override {
     static const char* const contacts[] = {"all", "particle", "boundary"};
     return fmt::format(
         "{}; chamber {}; inner piece {}; sectors {:.17g}; force_max {:.17g}; velocity_max "
-        "{:.17g}; force_per_velocity {:.17g}; bins {}; contacts {}; keep_collisions {}; label {}; "
-        "window {:.17g}",
+        "{:.17g}; force_per_velocity {:.17g}; bins {}; contacts {}; keep_collisions {}; label {}",
         name, frame_.chamber_name, frame_.inner_name, fmt::join(sectors_.bounds(), " "), force_max_,
-        velocity_max_, c_, bins_, contacts[which_], keep_, label_, window_);
+        velocity_max_, c_, bins_, contacts[which_], keep_, label_);
   }
   std::vector<double> edges(double max) const {
     std::vector<double> e(bins_ + 1);
@@ -312,7 +314,7 @@ class ContactPeaksDiagnostic final : public Diagnostic<D> {
       for (const char* q :
            {"force_histogram_", "velocity_histogram_", "impact_velocity_histogram_"})
         sink_->declare_series(g + "/" + q + set_name(s), columns);
-    sink_->write_attribute(g, "window", window_);
+    sink_->write_attribute(g, "window", this->sampling_.window());
     sink_->write_attribute(g, "force_bin_edges", edges(force_max_));
     sink_->write_attribute(g, "velocity_bin_edges", edges(velocity_max_));
     sink_->write_attribute(g, "force_per_velocity", c_);
@@ -321,7 +323,7 @@ class ContactPeaksDiagnostic final : public Diagnostic<D> {
     sink_->write_attribute(g, "histograms", std::string("cumulative counts since attaching"));
   }
 
-  void emit(double time) {
+  void close_window(double time) override {
     if (sink_) {
       declare();
       const std::string g = "diagnostics/" + label_;
@@ -341,12 +343,11 @@ class ContactPeaksDiagnostic final : public Diagnostic<D> {
         write("impact_velocity_histogram_", impact_hist_[s]);
       }
     }
-    window_start_ = time;
   }
 
   ChamberFrame<D> frame_;
   AreaSectors sectors_;
-  double force_max_ = 0.1, velocity_max_ = 5, c_ = 0.02, window_ = 0.01;
+  double force_max_ = 0.1, velocity_max_ = 5, c_ = 0.02;
   int bins_ = 50, which_ = 0;
   std::size_t keep_ = 0;
   std::string label_;
@@ -355,7 +356,7 @@ class ContactPeaksDiagnostic final : public Diagnostic<D> {
   std::array<std::vector<double>, sets> force_hist_, velocity_hist_, impact_hist_;
   std::array<double, sets> sum_force_{};
   std::array<std::int64_t, sets> counted_{}, above_01_{}, above_02_{}, above_10_{};
-  double start_time_ = -1, window_start_ = 0, last_time_ = 0;
+  double start_time_ = -1, last_time_ = 0;  // s; start < 0: no step seen yet
   double target_area_ = 0;
   std::int64_t host_collisions_ = 0;
   std::array<double, conventions> covered_by_{}, coating_time_by_{};

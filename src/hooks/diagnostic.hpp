@@ -23,6 +23,7 @@
 #include "core/state.hpp"
 #include "geometry/walls.hpp"
 #include "hooks/contact_log.hpp"
+#include "hooks/sampling.hpp"
 
 namespace granule {
 
@@ -40,9 +41,24 @@ class OutputSink {
                                const std::vector<double>& value) = 0;
 };
 
+// One option of a diagnostic: what help() lists and what the option parsing
+// checks. A diagnostic's list of them is the one source of truth: a getter
+// asked for a key not in it, or with a default other than the listed one, is a
+// programming error (std::logic_error), and the scene's keys are checked
+// against it (nearest-key hints).
+struct OptionDoc {
+  std::string key;
+  std::string unit;      // SI unit; "-" dimensionless; "" not a physical quantity
+  std::string fallback;  // the default as the getter prints it ({a, b} for lists)
+  std::string doc;       // one line
+  bool required = false;
+};
+using OptionDocs = std::vector<OptionDoc>;
+
 // Options as the scene gave them: numbers, strings, lists of numbers and
 // booleans. Getters throw InputError naming the diagnostic and the key;
-// finish() refuses keys nobody read, suggesting the nearest known one.
+// finish() refuses keys the diagnostic does not declare (or, with no
+// declaration, keys nobody read), suggesting the nearest known one.
 class DiagnosticOptions {
  public:
   explicit DiagnosticOptions(std::string context = "diagnostic") : context_(std::move(context)) {}
@@ -52,6 +68,12 @@ class DiagnosticOptions {
 
   const std::string& context() const { return context_; }
   void set_context(std::string c) { context_ = std::move(c); }
+  // The options the diagnostic reads (its descriptors); from then on the
+  // getters and finish() check against them.
+  void declare(OptionDocs docs) { declared_ = std::move(docs); }
+  const OptionDocs& declared() const { return declared_; }
+  // The keys the getters were asked for, in order.
+  const std::vector<std::string>& read_keys() const { return used_; }
   bool has(const std::string& key) const;
   double number(const std::string& key);  // required
   double number(const std::string& key, double fallback);
@@ -66,8 +88,12 @@ class DiagnosticOptions {
 
  private:
   std::string context_;
+  OptionDocs declared_;
   mutable std::vector<std::string> used_;
-  void use(const std::string& key) const { used_.push_back(key); }
+  // Notes the key read; with descriptors, checks it is declared with this
+  // default (`fallback` as text; nullptr for a getter without one).
+  void use(const std::string& key, const std::string* fallback = nullptr) const;
+  double finite_number(const std::string& key) const;  // present, a finite number
 };
 
 // The state a diagnostic sees: positions x(n), velocities v(n-1/2) and the
@@ -176,47 +202,104 @@ class DiagnosticStateReader {
   std::string prefix_, who_;
 };
 
+// A diagnostic declares its stage (what the step hands it, needs()) and
+// reads its trigger and window through the shared Sampling (sampling.hpp);
+// the base runs them: the sample stage calls sample() on the trigger's steps
+// and close_window() when the window is full, so a diagnostic says only what
+// it measures and what a window's row holds. Both stages run after the
+// contact forces and before integration (StepView).
 template <int D>
 class Diagnostic {
  public:
   struct Needs {
-    bool contacts = false;  // the contact log on the steps observe() is called
+    bool contacts = false;  // the contact log on the steps it samples
     bool events = false;    // begin/end events every step (on_events)
   };
+  explicit Diagnostic(const char* name) : name_(name) {}
   virtual ~Diagnostic() = default;
   virtual Needs needs() const = 0;
-  // Steps between observe() calls (1 = every step).
-  virtual std::int64_t every() const = 0;
-  virtual void observe(const StepView<D>& view) = 0;
-  // Every step while needs().events: view.contacts.began / ended hold the step's events.
+
+  // For the engine: the steps this divides are candidates for a sample.
+  std::int64_t every() const { return sampling_.period(); }
+  // The sample stage, on the steps every() divides.
+  void observe(const StepView<D>& view) {
+    if (!sampling_.due(view.time, view.dt)) return;
+    sampling_.note(view.time);
+    sample(view);
+    if (sampling_.full(view.time, view.dt)) close(view.time);
+  }
+  // Closes a partly filled window (end of a run, or when the scene closes the output).
+  void flush() {
+    if (sampling_.open()) close(sampling_.last());
+  }
+  const Sampling& sampling() const { return sampling_; }
+
+  // The event stage, every step while needs().events: view.contacts.began /
+  // ended hold the step's events.
   virtual void on_events(const StepView<D>&) {}
   // The run output is attached (or replaced): declare series, write settings.
   virtual void attach_output(OutputSink*) {}
-  // Flushes a partly filled window (end of a run, or when the scene closes the output).
-  virtual void flush() {}
   // Scalars a scene can read back (sim:diagnostic_results) and that go to /results.
   virtual std::map<std::string, double> results() const { return {}; }
   // Arrays a scene can read back (profiles, histograms).
   virtual std::map<std::string, std::vector<double>> arrays() const { return {}; }
   // One line for the run header.
   virtual std::string describe() const = 0;
-  // Checkpoints: every accumulator (anything observe() or on_events() changes)
-  // under "<prefix><name>" through DiagnosticStateWriter, with a fingerprint of
-  // the options; load_state restores them exactly or throws InputError. Options
-  // are not saved: the restarted scene attaches the diagnostic again. Pure, so
-  // a new diagnostic cannot be checkpointed by silently saving nothing; a
-  // stateless one says so with empty bodies.
-  virtual void save_state(StateBlob& blob, const std::string& prefix) const = 0;
-  virtual void load_state(const StateBlob& blob, const std::string& prefix) = 0;
+
+  // Checkpoints: the window's state and every accumulator (anything sample()
+  // or on_events() changes) under "<prefix><name>", with a fingerprint of the
+  // options; load_state restores them exactly, or throws InputError and
+  // leaves the diagnostic as it was. Options are not saved: the restarted
+  // scene attaches the diagnostic again.
+  void save_state(StateBlob& blob, const std::string& prefix) const {
+    DiagnosticStateWriter w(blob, prefix);
+    w.fingerprint(fingerprint() + "; " + sampling_.fingerprint());
+    sampling_.save(w);
+    save_own(w);
+  }
+  void load_state(const StateBlob& blob, const std::string& prefix) {
+    DiagnosticStateReader r(blob, prefix, name_);
+    r.check_fingerprint(fingerprint() + "; " + sampling_.fingerprint());
+    Sampling s = sampling_;
+    s.load(r);
+    load_own(r);
+    sampling_ = s;
+  }
+
+ protected:
+  // One sample (the trigger is due); the window is open.
+  virtual void sample(const StepView<D>&) {}
+  // Writes the full window's row at `time` and empties the window's sums.
+  virtual void close_window(double time) = 0;
+  // The options other than the trigger and window, as one line.
+  virtual std::string fingerprint() const = 0;
+  // The accumulators. Pure, so a new diagnostic cannot be checkpointed by
+  // silently saving nothing; a stateless one says so with empty bodies.
+  // load_own is all or nothing.
+  virtual void save_own(DiagnosticStateWriter& w) const = 0;
+  virtual void load_own(const DiagnosticStateReader& r) = 0;
+  Sampling sampling_;
+
+ private:
+  void close(double time) {
+    close_window(time);
+    sampling_.close(time);
+  }
+  const char* name_;
 };
 
 struct DiagnosticInfo {
   std::string name;
   std::string doc;
+  OptionDocs options;
 };
 
 // The registry (registry.cpp): one line per diagnostic.
 std::vector<DiagnosticInfo> diagnostic_catalogue();
+// help("diagnostics") and help("<diagnostic name>"): the diagnostics' options
+// from their descriptors, for the terminal or (markdown) docs/lua_api.md; ""
+// when the topic is neither.
+std::string diagnostics_help(const std::string& topic, bool markdown);
 template <int D>
 std::unique_ptr<Diagnostic<D>> make_diagnostic(const std::string& name, DiagnosticOptions& options);
 

@@ -44,10 +44,21 @@ class GapProfileDiagnostic final : public Diagnostic<D> {
       "flow across the inner piece's gap (Eqs. 5.4, 5.6): per bin of the normalised distance "
       "from the chamber wall, mean radial and azimuthal velocity, granular temperature, solid "
       "fraction; the shear rate beside omega R / H; force per particle-particle contact in "
-      "the sector; options sector (deg), bins, depth (m, 3D), chamber, inner_piece, every "
-      "(steps), window (s), label";
+      "the sector";
+  static OptionDocs options() {
+    OptionDocs o = ChamberFrame<D>::option_docs(true);
+    o.insert(o.end(),
+             {{"sector", "deg", "10", "half-width of the sector about the inner piece, in (0, 90]"},
+              {"bins", "-", "8", "bins across the gap (at most 1000)"},
+              {"depth", "m", "0",
+               "the slab's length in 3D (required there); 0 in 2D: one "
+               "particle diameter"},
+              {"label", "", "gap_profile", "group under /diagnostics"}});
+    Sampling::add_option_docs(o, {10, 0.01});
+    return o;
+  }
 
-  explicit GapProfileDiagnostic(DiagnosticOptions& o) {
+  explicit GapProfileDiagnostic(DiagnosticOptions& o) : Diagnostic<D>(name) {
     frame_.read(o, true);
     sector_deg_ = o.number_in("sector", 10, 0, 90, "deg");
     if (!(sector_deg_ > 0))
@@ -55,28 +66,23 @@ class GapProfileDiagnostic final : public Diagnostic<D> {
     bins_ = static_cast<int>(o.integer("bins", 8, 1));
     if (bins_ > 1000) throw InputError(fmt::format("{}: 'bins' must be <= 1000", o.context()));
     depth_ = o.number_in("depth", 0, 0, 1e9, "m");
-    every_ = o.integer("every", 10, 1);
-    window_ = o.number_in("window", 0.01, 0, 1e9, "s");
-    if (!(window_ > 0)) throw InputError(fmt::format("{}: window must be > 0 [s]", o.context()));
+    this->sampling_.read(o, {10, 0.01});
     label_ = o.string("label", "gap_profile");
     total_.resize(bins_);
     in_window_.resize(bins_);
   }
 
   typename Diagnostic<D>::Needs needs() const override { return {true, false}; }
-  std::int64_t every() const override { return every_; }
 
   void attach_output(OutputSink* sink) override {
     sink_ = sink;
     declared_ = false;
   }
 
-  void observe(const StepView<D>& v) override {
+  void sample(const StepView<D>& v) override {
     resolve(v);
     declare();
     const auto& p = v.particles;
-    if (window_start_ < 0) window_start_ = v.time;
-    last_time_ = v.time;
     for (std::size_t i = 0; i < p.size(); ++i) {
       if (p.fixed[i]) continue;
       double xi = 0, y = 0, ur = 0, ut = 0;
@@ -102,11 +108,6 @@ class GapProfileDiagnostic final : public Diagnostic<D> {
             acc->contact_tangential += log.tangential[s].norm(), acc->contacts += 1;
     }
     ++total_.samples, ++in_window_.samples;
-    if (v.time + 0.5 * v.dt >= window_start_ + window_) emit(v.time);
-  }
-
-  void flush() override {
-    if (in_window_.samples > 0) emit(last_time_);
   }
 
   std::map<std::string, double> results() const override {
@@ -130,30 +131,25 @@ class GapProfileDiagnostic final : public Diagnostic<D> {
   }
 
   std::string describe() const override {
-    return fmt::format("gap profile +-{} deg about '{}', {} bins, every {} steps", sector_deg_,
-                       frame_.inner_name, bins_, every_);
+    return fmt::format("gap profile +-{} deg about '{}', {} bins, {}", sector_deg_,
+                       frame_.inner_name, bins_, this->sampling_.describe());
   }
 
-  void save_state(StateBlob& blob, const std::string& prefix) const override {
-    DiagnosticStateWriter w(blob, prefix);
-    w.fingerprint(fingerprint());
+  void save_own(DiagnosticStateWriter& w) const override {
     frame_.save(w);
     w.put_integers("counts", {total_.samples, in_window_.samples});
-    w.put("times", {window_start_, last_time_, diameter_});
+    w.put("diameter", diameter_);
     w.put("total", flat(total_));
     w.put("window_sums", flat(in_window_));
   }
-  void load_state(const StateBlob& blob, const std::string& prefix) override {
-    DiagnosticStateReader r(blob, prefix, name);
-    r.check_fingerprint(fingerprint());
+  void load_own(const DiagnosticStateReader& r) override {
     const auto counts = r.integers("counts", 2);
     if (counts[0] < 0 || counts[1] < 0 || counts[1] > counts[0])
       r.invalid("counts", "holds impossible counts");
     GapProfileDiagnostic next = *this;
     next.frame_.load(r);
     next.geometry_ready_ = false;
-    const auto times = r.doubles("times", 3);
-    next.window_start_ = times[0], next.last_time_ = times[1], next.diameter_ = times[2];
+    next.diameter_ = r.number("diameter");
     unflat(r.doubles("total", flat_size()), next.total_);
     unflat(r.doubles("window_sums", flat_size()), next.in_window_);
     next.total_.samples = counts[0], next.in_window_.samples = counts[1];
@@ -328,12 +324,11 @@ class GapProfileDiagnostic final : public Diagnostic<D> {
     return r;
   }
 
-  std::string fingerprint() const {
+  std::string fingerprint() const override {
     return fmt::format(
         "{}; chamber {}; inner piece {}; sector {:.17g}; bins {}; depth {:.17g}; "
-        "every {}; window {:.17g}; label {}",
-        name, frame_.chamber_name, frame_.inner_name, sector_deg_, bins_, depth_, every_, window_,
-        label_);
+        "label {}",
+        name, frame_.chamber_name, frame_.inner_name, sector_deg_, bins_, depth_, label_);
   }
   std::size_t flat_size() const { return 11 * static_cast<std::size_t>(bins_) + 5 + 3; }
   static std::vector<double> flat(const Accumulator& acc) {
@@ -365,8 +360,8 @@ class GapProfileDiagnostic final : public Diagnostic<D> {
     std::vector<std::string> columns{"time"};
     for (int k = 1; k <= bins_; ++k) columns.push_back(fmt::format("bin_{}", k));
     for (const char* q : profile_names) sink_->declare_series(g + "/" + q, columns);
-    sink_->write_attribute(g, "window", window_);
-    sink_->write_attribute(g, "every_steps", static_cast<double>(every_));
+    sink_->write_attribute(g, "window", this->sampling_.window());
+    sink_->write_attribute(g, "every_steps", static_cast<double>(this->sampling_.every_steps()));
     sink_->write_attribute(g, "sector_deg", sector_deg_);
     sink_->write_attribute(g, "narrowest_gap", narrowest_gap_);
     sink_->write_attribute(g, "bin_volume", bin_volume_);
@@ -374,7 +369,7 @@ class GapProfileDiagnostic final : public Diagnostic<D> {
         g, "bins", std::string("xi = (R - rho) / h(theta) in equal bins, 0 at the chamber wall"));
   }
 
-  void emit(double time) {
+  void close_window(double time) override {
     if (sink_ && in_window_.samples > 0) {
       declare();
       const std::string g = "diagnostics/" + label_;
@@ -390,22 +385,19 @@ class GapProfileDiagnostic final : public Diagnostic<D> {
         sink_->append_series(g + "/" + profile_names[q], row);
       }
     }
-    window_start_ = time;
     in_window_ = Accumulator{};
     in_window_.resize(bins_);
   }
 
   ChamberFrame<D> frame_;
-  double sector_deg_ = 10, depth_ = 0, window_ = 0.01;
+  double sector_deg_ = 10, depth_ = 0;
   int bins_ = 8;
-  std::int64_t every_ = 10;
   std::string label_;
   OutputSink* sink_ = nullptr;
   bool declared_ = false, geometry_ready_ = false;
   double inner_radius_ = 0, offset_ = 0, narrowest_gap_ = 0, mean_gap_ = 0, diameter_ = 0;
   std::vector<double> bin_volume_;
   Accumulator total_, in_window_;
-  double window_start_ = -1, last_time_ = 0;
 };
 
 }  // namespace granule

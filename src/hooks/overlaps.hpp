@@ -32,19 +32,21 @@ class OverlapsDiagnostic final : public Diagnostic<D> {
   static constexpr const char* doc =
       "largest overlap / radius of particle-particle, particle-fixed-particle and particle-wall "
       "contacts, per window and since attaching, with the deepest contact's time, place and "
-      "particle; options every (steps), window (s), label";
+      "particle";
+  static OptionDocs options() {
+    OptionDocs o{{"label", "", "overlaps", "group under /diagnostics"}};
+    Sampling::add_option_docs(o, {10, 0.01, "window of the series' maxima"});
+    return o;
+  }
   enum Kind { particle, fixed, wall, kinds };
   static constexpr std::array<const char*, kinds> kind_names = {"particle", "fixed", "wall"};
 
-  explicit OverlapsDiagnostic(DiagnosticOptions& o) {
-    every_ = o.integer("every", 10, 1);
-    window_ = o.number_in("window", 0.01, 0, 1e9, "s");
-    if (!(window_ > 0)) throw InputError(fmt::format("{}: window must be > 0 [s]", o.context()));
+  explicit OverlapsDiagnostic(DiagnosticOptions& o) : Diagnostic<D>(name) {
+    this->sampling_.read(o, {10, 0.01, "window of the series' maxima"});
     label_ = o.string("label", "overlaps");
   }
 
   typename Diagnostic<D>::Needs needs() const override { return {true, true}; }
-  std::int64_t every() const override { return every_; }
 
   void attach_output(OutputSink* sink) override {
     sink_ = sink;
@@ -62,23 +64,16 @@ class OverlapsDiagnostic final : public Diagnostic<D> {
   }
 
   // Contacts going on now, from the log.
-  void observe(const StepView<D>& v) override {
+  void sample(const StepView<D>& v) override {
     declare();
     const auto& p = v.particles;
     const auto& log = v.contacts;
-    if (window_start_ < 0) window_start_ = v.time;
-    last_time_ = v.time;
     for (std::size_t s = 0; s < log.size(); ++s) {
       if (!log.active[s]) continue;
       note(p, log.a[s], ContactLog<D>::is_wall(log.b[s]) ? -1 : log.b[s], log.overlap[s], v.time,
            log.point[s]);
     }
     ++samples_;
-    if (v.time + 0.5 * v.dt >= window_start_ + window_) emit(v.time);
-  }
-
-  void flush() override {
-    if (window_open_) emit(last_time_);
   }
 
   std::map<std::string, double> results() const override {
@@ -100,32 +95,25 @@ class OverlapsDiagnostic final : public Diagnostic<D> {
   }
 
   std::string describe() const override {
-    return fmt::format("deepest overlaps every {} steps, {} s windows", every_, window_);
+    return fmt::format("deepest overlaps {}", this->sampling_.describe());
   }
 
-  void save_state(StateBlob& blob, const std::string& prefix) const override {
-    DiagnosticStateWriter w(blob, prefix);
-    w.fingerprint(
-        fmt::format("{}; every {}; window {:.17g}; label {}", name, every_, window_, label_));
-    w.put_integers("counts", {samples_, worst_kind_, worst_id_, window_open_ ? 1 : 0});
-    w.put("times", {window_start_, last_time_, worst_time_, worst_ratio_});
+  void save_own(DiagnosticStateWriter& w) const override {
+    w.put_integers("counts", {samples_, worst_kind_, worst_id_});
+    w.put("times", {worst_time_, worst_ratio_});
     w.put("deepest", deepest_);
     w.put("in_window", in_window_);
     w.put("deepest_point", std::vector<double>(worst_point_.data(), worst_point_.data() + D));
   }
-  void load_state(const StateBlob& blob, const std::string& prefix) override {
-    DiagnosticStateReader r(blob, prefix, name);
-    r.check_fingerprint(
-        fmt::format("{}; every {}; window {:.17g}; label {}", name, every_, window_, label_));
-    const auto counts = r.integers("counts", 4);
-    if (counts[0] < 0 || counts[1] < -1 || counts[1] >= kinds || (counts[3] != 0 && counts[3] != 1))
+  void load_own(const DiagnosticStateReader& r) override {
+    const auto counts = r.integers("counts", 3);
+    if (counts[0] < 0 || counts[1] < -1 || counts[1] >= kinds)
       r.invalid("counts", "holds impossible counts");
     OverlapsDiagnostic next = *this;
     next.samples_ = counts[0], next.worst_kind_ = static_cast<int>(counts[1]);
-    next.worst_id_ = counts[2], next.window_open_ = counts[3] == 1;
-    const auto times = r.doubles("times", 4);
-    next.window_start_ = times[0], next.last_time_ = times[1];
-    next.worst_time_ = times[2], next.worst_ratio_ = times[3];
+    next.worst_id_ = counts[2];
+    const auto times = r.doubles("times", 2);
+    next.worst_time_ = times[0], next.worst_ratio_ = times[1];
     r.read("deepest", next.deepest_);
     r.read("in_window", next.in_window_);
     const auto point = r.doubles("deepest_point", D);
@@ -134,6 +122,7 @@ class OverlapsDiagnostic final : public Diagnostic<D> {
   }
 
  private:
+  std::string fingerprint() const override { return fmt::format("{}; label {}", name, label_); }
   // One contact of particle a with particle b (-1: a wall) at `overlap`.
   void note(const Particles<D>& p, int a, int b, double overlap, double time, const V& point) {
     Kind kind = wall;
@@ -162,37 +151,31 @@ class OverlapsDiagnostic final : public Diagnostic<D> {
   }
 
   void declare() {
-    window_open_ = true;
     if (declared_ || !sink_) return;
     declared_ = true;
     const std::string g = "diagnostics/" + label_;
     sink_->declare_series(g + "/max_overlap_ratio", {"time", "particle", "fixed", "wall"});
     sink_->write_attribute(g + "/max_overlap_ratio", "units",
                            std::string("overlap / radius, largest in the window"));
-    sink_->write_attribute(g, "window", window_);
-    sink_->write_attribute(g, "every_steps", static_cast<double>(every_));
+    sink_->write_attribute(g, "window", this->sampling_.window());
+    sink_->write_attribute(g, "every_steps", static_cast<double>(this->sampling_.every_steps()));
   }
 
-  void emit(double time) {
+  void close_window(double time) override {
     if (sink_)
       sink_->append_series("diagnostics/" + label_ + "/max_overlap_ratio",
                            {time, in_window_[particle], in_window_[fixed], in_window_[wall]});
-    window_start_ = time;
     in_window_ = {};
-    window_open_ = false;
   }
 
-  std::int64_t every_ = 10;
-  double window_ = 0.01;
   std::string label_;
   OutputSink* sink_ = nullptr;
-  bool declared_ = false, window_open_ = false;
+  bool declared_ = false;
   std::array<double, kinds> deepest_{}, in_window_{};
   double worst_ratio_ = 0, worst_time_ = 0;
   int worst_kind_ = -1;
   std::int64_t worst_id_ = -1, samples_ = 0;
   V worst_point_ = V::Zero();
-  double window_start_ = -1, last_time_ = 0;
 };
 
 }  // namespace granule

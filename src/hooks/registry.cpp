@@ -3,10 +3,11 @@
 // one line in Catalogue below, and one test.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <tuple>
 
-#include "contact/parameters.hpp"
 #include "core/errors.hpp"
+#include "core/names.hpp"
 #include "hooks/areas.hpp"
 #include "hooks/contact_peaks.hpp"
 #include "hooks/diagnostic.hpp"
@@ -29,7 +30,9 @@ std::unique_ptr<Diagnostic<D>> make_by_name(const std::string& name, DiagnosticO
   std::unique_ptr<Diagnostic<D>> made;
   auto try_one = [&](auto* tag) {
     using T = std::remove_pointer_t<decltype(tag)>;
-    if (!made && name == T::name) made = std::make_unique<T>(options);
+    if (made || name != T::name) return;
+    options.declare(T::options());
+    made = std::make_unique<T>(options);
   };
   (try_one(static_cast<std::tuple_element_t<I, Catalogue<D>>*>(nullptr)), ...);
   return made;
@@ -38,12 +41,56 @@ std::unique_ptr<Diagnostic<D>> make_by_name(const std::string& name, DiagnosticO
 
 template <std::size_t... I>
 std::vector<DiagnosticInfo> catalogue_of(std::index_sequence<I...>) {
-  return {
-      {std::tuple_element_t<I, Catalogue<2>>::name, std::tuple_element_t<I, Catalogue<2>>::doc}...};
+  return {{std::tuple_element_t<I, Catalogue<2>>::name, std::tuple_element_t<I, Catalogue<2>>::doc,
+           std::tuple_element_t<I, Catalogue<2>>::options()}...};
 }
 
 std::vector<DiagnosticInfo> diagnostic_catalogue() {
   return catalogue_of(std::make_index_sequence<std::tuple_size_v<Catalogue<2>>>{});
+}
+
+namespace {
+void option_lines(std::string& out, const DiagnosticInfo& d, bool markdown) {
+  if (markdown) {
+    out += fmt::format(
+        "\n### `{}`\n\n{}.\n\n| option | unit | default | meaning |\n"
+        "|---|---|---|---|\n",
+        d.name, d.doc);
+    for (const auto& o : d.options)
+      out += fmt::format("| `{}` | {} | {} | {} |\n", o.key, o.unit,
+                         o.required ? "required" : fmt::format("`{}`", o.fallback), o.doc);
+    return;
+  }
+  out += fmt::format("sim:diagnostic('{}', {{ ... }})\n  {}\n", d.name, d.doc);
+  std::size_t width = 0;
+  for (const auto& o : d.options) width = std::max(width, std::string(o.key).size());
+  for (const auto& o : d.options)
+    out += fmt::format("    {:<{}}  {:<8} {:<12} {}\n", o.key, width, o.unit,
+                       o.required ? "required" : fmt::format("'{}'", o.fallback), o.doc);
+}
+}  // namespace
+
+std::string diagnostics_help(const std::string& topic, bool markdown) {
+  const auto all = diagnostic_catalogue();
+  std::string out;
+  if (topic == "diagnostics") {
+    out = markdown ? "\n## Diagnostics\n\nAttached with `sim:diagnostic(name, { option = value, "
+                     "... })`; generated from the diagnostics' descriptors "
+                     "(`src/hooks/*.hpp`), which also check the options a scene gives.\n"
+                   : "diagnostics (sim:diagnostic(name, { option = value, ... })); help('<name>') "
+                     "for one:\n";
+    for (const auto& d : all) {
+      if (markdown) {
+        option_lines(out, d, true);
+      } else {
+        out += fmt::format("  {:<14} {}\n", d.name, d.doc);
+      }
+    }
+    return out;
+  }
+  for (const auto& d : all)
+    if (d.name == topic) option_lines(out, d, markdown);
+  return out;
 }
 
 template <int D>

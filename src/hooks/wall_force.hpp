@@ -22,19 +22,27 @@ class WallForceDiagnostic final : public Diagnostic<D> {
   static constexpr const char* name = "wall_force";
   static constexpr const char* doc =
       "normal and tangential contact force on a wall (4.4.1): window-averaged series and "
-      "long-time means; options wall (name), every (steps), window (s), label";
+      "long-time means";
+  static OptionDocs own_options() {
+    return {{"wall", "", "", "the wall's name", true},
+            {"label", "", "", "group under /diagnostics ('': wall_force_<wall>)"}};
+  }
+  static constexpr Sampling::Defaults sampling_defaults{1, 1e-3};
+  static OptionDocs options() {
+    OptionDocs o = own_options();
+    Sampling::add_option_docs(o, sampling_defaults);
+    return o;
+  }
 
-  explicit WallForceDiagnostic(DiagnosticOptions& o) {
+  explicit WallForceDiagnostic(DiagnosticOptions& o) : Diagnostic<D>(name) {
     wall_name_ = o.string("wall", "");
     if (wall_name_.empty()) throw InputError(fmt::format("{}: give wall = '<name>'", o.context()));
-    every_ = o.integer("every", 1, 1);
-    window_ = o.number_in("window", 1e-3, 0, 1e9, "s");
-    if (!(window_ > 0)) throw InputError(fmt::format("{}: window must be > 0 [s]", o.context()));
-    label_ = o.string("label", "wall_force_" + wall_name_);
+    this->sampling_.read(o, sampling_defaults);
+    label_ = o.string("label", "");
+    if (label_.empty()) label_ = "wall_force_" + wall_name_;
   }
 
   typename Diagnostic<D>::Needs needs() const override { return {true, false}; }
-  std::int64_t every() const override { return every_; }
 
   void attach_output(OutputSink* sink) override {
     sink_ = sink;
@@ -43,12 +51,13 @@ class WallForceDiagnostic final : public Diagnostic<D> {
     sink_->declare_series(group_, {"time", "normal_force", "tangential_force", "force_x", "force_y",
                                    "force_z", "samples"});
     sink_->write_attribute(group_, "wall", wall_name_);
-    sink_->write_attribute(group_, "window", window_);
-    sink_->write_attribute(group_, "every_steps", static_cast<double>(every_));
+    sink_->write_attribute(group_, "window", this->sampling_.window());
+    sink_->write_attribute(group_, "every_steps",
+                           static_cast<double>(this->sampling_.every_steps()));
     sink_->write_attribute(group_, "units", std::string("s, N, N, N, N, N, -"));
   }
 
-  void observe(const StepView<D>& v) override {
+  void sample(const StepView<D>& v) override {
     if (wall_ < 0 || wall_ >= static_cast<int>(v.walls.size())) wall_ = find_wall(v);
     const Wall<D>& w = v.walls[wall_];
     double normal = 0;
@@ -66,14 +75,7 @@ class WallForceDiagnostic final : public Diagnostic<D> {
     }
     const double tangential_value =
         w.type == WallType::cylinder ? tangential_signed : tangential.norm();
-    if (window_start_ < 0) window_start_ = v.time;
-    last_time_ = v.time;
     add(normal, tangential_value, total);
-    if (v.time + 0.5 * v.dt >= window_start_ + window_) emit(v.time);
-  }
-
-  void flush() override {
-    if (window_samples_ > 0) emit(last_time_);
   }
 
   std::map<std::string, double> results() const override {
@@ -84,37 +86,30 @@ class WallForceDiagnostic final : public Diagnostic<D> {
   }
 
   std::string describe() const override {
-    return fmt::format("force on wall '{}' every {} steps, {} s windows", wall_name_, every_,
-                       window_);
+    return fmt::format("force on wall '{}' {}", wall_name_, this->sampling_.describe());
   }
 
-  void save_state(StateBlob& blob, const std::string& prefix) const override {
-    DiagnosticStateWriter w(blob, prefix);
-    w.fingerprint(fingerprint());
+  void save_own(DiagnosticStateWriter& w) const override {
     w.put_integers("counts", {wall_, window_samples_, total_samples_});
-    std::vector<double> sums{window_start_,      last_time_,  window_normal_,
-                             window_tangential_, sum_normal_, sum_tangential_};
+    std::vector<double> sums{window_normal_, window_tangential_, sum_normal_, sum_tangential_};
     sums.insert(sums.end(), window_total_.data(), window_total_.data() + D);
     w.put("sums", std::move(sums));
   }
-  void load_state(const StateBlob& blob, const std::string& prefix) override {
-    DiagnosticStateReader r(blob, prefix, name);
-    r.check_fingerprint(fingerprint());
+  void load_own(const DiagnosticStateReader& r) override {
     const auto counts = r.integers("counts", 3);
     if (counts[0] < -1 || counts[1] < 0 || counts[2] < counts[1])
       r.invalid("counts", "holds impossible counts");
-    const auto sums = r.doubles("sums", 6 + D);
+    const auto sums = r.doubles("sums", 4 + D);
     wall_ = static_cast<int>(counts[0]);
     window_samples_ = counts[1], total_samples_ = counts[2];
-    window_start_ = sums[0], last_time_ = sums[1], window_normal_ = sums[2];
-    window_tangential_ = sums[3], sum_normal_ = sums[4], sum_tangential_ = sums[5];
-    for (int k = 0; k < D; ++k) window_total_[k] = sums[6 + k];
+    window_normal_ = sums[0], window_tangential_ = sums[1], sum_normal_ = sums[2];
+    sum_tangential_ = sums[3];
+    for (int k = 0; k < D; ++k) window_total_[k] = sums[4 + k];
   }
 
  private:
-  std::string fingerprint() const {
-    return fmt::format("{}; wall {}; label {}; every {}; window {:.17g}", name, wall_name_, label_,
-                       every_, window_);
+  std::string fingerprint() const override {
+    return fmt::format("{}; wall {}; label {}", name, wall_name_, label_);
   }
   int find_wall(const StepView<D>& v) const {
     for (std::size_t w = 0; w < v.walls.size(); ++w)
@@ -142,26 +137,21 @@ class WallForceDiagnostic final : public Diagnostic<D> {
     sum_tangential_ += tangential;
     ++total_samples_;
   }
-  void emit(double time) {
-    last_time_ = time;
+  void close_window(double time) override {
     if (sink_ && window_samples_ > 0) {
       const double n = window_samples_;
       const V mean = window_total_ / n;
       sink_->append_series(group_, {time, window_normal_ / n, window_tangential_ / n, mean[0],
                                     mean[1], D == 3 ? mean[D - 1] : 0.0, n});
     }
-    window_start_ = time;
     window_normal_ = window_tangential_ = 0;
     window_total_.setZero();
     window_samples_ = 0;
   }
 
   std::string wall_name_, label_, group_;
-  std::int64_t every_ = 1;
-  double window_ = 1e-3;
   int wall_ = -1;
   OutputSink* sink_ = nullptr;
-  double window_start_ = -1, last_time_ = 0;
   double window_normal_ = 0, window_tangential_ = 0;
   V window_total_ = V::Zero();
   std::int64_t window_samples_ = 0;

@@ -47,8 +47,20 @@ class ZonesDiagnostic final : public Diagnostic<D> {
   static constexpr const char* doc =
       "radial zones of equal volume (4.3-4.6): rotational KE less chamber spin (4.10), "
       "deviatoric KE (4.11, polar and Cartesian mean), pressure kinetic + virial (4.12), "
-      "collision work rate (4.13), solid fraction; options zones, chamber, depth (m), mean "
-      "(polar|cartesian, for the pressure), every (steps), window (s), label";
+      "collision work rate (4.13), solid fraction";
+  static OptionDocs options() {
+    OptionDocs o = ChamberFrame<D>::option_docs(false);
+    o.insert(o.end(), {{"zones", "-", "7", "number of zones of equal volume (at most 1000)"},
+                       {"depth", "m", "0",
+                        "zone depth: the slab's length in 3D (required there); 0 in 2D: "
+                        "one mean particle diameter (4.3.2)"},
+                       {"mean", "", "polar",
+                        "'polar' or 'cartesian': the mean velocity the pressure's "
+                        "kinetic part (4.12) is taken about"},
+                       {"label", "", "zones", "group under /diagnostics"}});
+    Sampling::add_option_docs(o, {10, 0.01});
+    return o;
+  }
 
   enum Quantity {
     rotational_ke,
@@ -74,7 +86,7 @@ class ZonesDiagnostic final : public Diagnostic<D> {
   static constexpr const char* quantity_units[quantity_count] = {
       "J/m^3", "J/m^3", "J/m^3", "Pa", "Pa", "Pa", "W/m^3", "-", "-"};
 
-  explicit ZonesDiagnostic(DiagnosticOptions& o) {
+  explicit ZonesDiagnostic(DiagnosticOptions& o) : Diagnostic<D>(name) {
     frame_.read(o, false);
     zones_ = static_cast<int>(o.integer("zones", 7, 1));
     if (zones_ > 1000) throw InputError(fmt::format("{}: 'zones' must be <= 1000", o.context()));
@@ -88,21 +100,18 @@ class ZonesDiagnostic final : public Diagnostic<D> {
       throw InputError(
           fmt::format("{}: 'mean' must be 'polar' or 'cartesian', got '{}'", o.context(), mean));
     polar_ = mean == "polar";
-    every_ = o.integer("every", 10, 1);
-    window_ = o.number_in("window", 0.01, 0, 1e9, "s");
-    if (!(window_ > 0)) throw InputError(fmt::format("{}: window must be > 0 [s]", o.context()));
+    this->sampling_.read(o, {10, 0.01});
     label_ = o.string("label", "zones");
   }
 
   typename Diagnostic<D>::Needs needs() const override { return {true, false}; }
-  std::int64_t every() const override { return every_; }
 
   void attach_output(OutputSink* sink) override {
     sink_ = sink;
     declared_ = false;
   }
 
-  void observe(const StepView<D>& v) override {
+  void sample(const StepView<D>& v) override {
     frame_.resolve(v.walls, name);
     const auto& p = v.particles;
     if (volume_.empty()) setup(p);
@@ -172,19 +181,12 @@ class ZonesDiagnostic final : public Diagnostic<D> {
       at(collision_work_rate, z) /= vk;  // Eq. 4.13 divided by the step
       at(solid_fraction, z) /= vk;
     }
-    if (window_start_ < 0) window_start_ = v.time;
-    last_time_ = v.time;
     for (std::size_t k = 0; k < sample.size(); ++k) {
       window_sum_[k] += sample[k];
       total_sum_[k] += sample[k];
     }
     ++window_samples_;
     ++total_samples_;
-    if (v.time + 0.5 * v.dt >= window_start_ + window_) emit(v.time);
-  }
-
-  void flush() override {
-    if (window_samples_ > 0) emit(last_time_);
   }
 
   std::map<std::string, double> results() const override {
@@ -217,26 +219,22 @@ class ZonesDiagnostic final : public Diagnostic<D> {
   }
 
   std::string describe() const override {
-    return fmt::format("{} radial zones of '{}' every {} steps, {} s windows, {} mean", zones_,
-                       frame_.chamber_name, every_, window_, polar_ ? "polar" : "cartesian");
+    return fmt::format("{} radial zones of '{}' {}, {} mean", zones_, frame_.chamber_name,
+                       this->sampling_.describe(), polar_ ? "polar" : "cartesian");
   }
 
   // The depth, radii and volumes are state too: in 2D the depth is the mean
   // diameter at the first observation, not an option.
-  void save_state(StateBlob& blob, const std::string& prefix) const override {
-    DiagnosticStateWriter w(blob, prefix);
-    w.fingerprint(fingerprint());
+  void save_own(DiagnosticStateWriter& w) const override {
     frame_.save(w);
     w.put_integers("counts", {volume_.empty() ? 0 : 1, window_samples_, total_samples_});
-    w.put("times", {window_start_, last_time_, depth_});
+    w.put("depth", depth_);
     w.put("zone_radii", radii_);
     w.put("zone_volume", volume_);
     w.put("window_sum", window_sum_);
     w.put("total_sum", total_sum_);
   }
-  void load_state(const StateBlob& blob, const std::string& prefix) override {
-    DiagnosticStateReader r(blob, prefix, name);
-    r.check_fingerprint(fingerprint());
+  void load_own(const DiagnosticStateReader& r) override {
     const auto counts = r.integers("counts", 3);
     if ((counts[0] != 0 && counts[0] != 1) || counts[1] < 0 || counts[2] < counts[1])
       r.invalid("counts", "holds impossible counts");
@@ -244,8 +242,7 @@ class ZonesDiagnostic final : public Diagnostic<D> {
     const std::size_t z = set_up ? zones_ : 0;
     ZonesDiagnostic next = *this;  // all or nothing: a refused load leaves this as it was
     next.frame_.load(r);
-    const auto times = r.doubles("times", 3);
-    next.window_start_ = times[0], next.last_time_ = times[1], next.depth_ = times[2];
+    next.depth_ = r.number("depth");
     next.radii_ = r.doubles("zone_radii", set_up ? z + 1 : 0);
     next.volume_ = r.doubles("zone_volume", z);
     next.window_sum_ = r.doubles("window_sum", quantity_count * z);
@@ -256,11 +253,10 @@ class ZonesDiagnostic final : public Diagnostic<D> {
 
  private:
   // The options as attached (depth 0: one mean diameter, found on the first observation).
-  std::string fingerprint() const {
-    return fmt::format(
-        "{}; chamber {}; zones {}; depth {:.17g}; mean {}; label {}; every {}; window {:.17g}",
-        name, frame_.chamber_name, zones_, depth_option_, polar_ ? "polar" : "cartesian", label_,
-        every_, window_);
+  std::string fingerprint() const override {
+    return fmt::format("{}; chamber {}; zones {}; depth {:.17g}; mean {}; label {}", name,
+                       frame_.chamber_name, zones_, depth_option_, polar_ ? "polar" : "cartesian",
+                       label_);
   }
   void setup(const Particles<D>& p) {
     if constexpr (D == 2) {
@@ -294,8 +290,8 @@ class ZonesDiagnostic final : public Diagnostic<D> {
       sink_->write_attribute(g, "units", std::string(quantity_units[q]));
     }
     const std::string g = "diagnostics/" + label_;
-    sink_->write_attribute(g, "window", window_);
-    sink_->write_attribute(g, "every_steps", static_cast<double>(every_));
+    sink_->write_attribute(g, "window", this->sampling_.window());
+    sink_->write_attribute(g, "every_steps", static_cast<double>(this->sampling_.every_steps()));
     sink_->write_attribute(g, "zone_radii", radii_);
     sink_->write_attribute(g, "zone_volume", volume_);
     sink_->write_attribute(g, "depth", depth_);
@@ -333,7 +329,7 @@ class ZonesDiagnostic final : public Diagnostic<D> {
     return u;
   }
 
-  void emit(double time) {
+  void close_window(double time) override {
     if (sink_ && window_samples_ > 0) {
       declare();
       for (int q = 0; q < quantity_count; ++q) {
@@ -343,7 +339,6 @@ class ZonesDiagnostic final : public Diagnostic<D> {
         sink_->append_series(group(q), row);
       }
     }
-    window_start_ = time;
     std::fill(window_sum_.begin(), window_sum_.end(), 0.0);
     window_samples_ = 0;
   }
@@ -352,13 +347,10 @@ class ZonesDiagnostic final : public Diagnostic<D> {
   int zones_ = 7;
   double depth_ = 0, depth_option_ = 0;
   bool polar_ = true;
-  std::int64_t every_ = 10;
-  double window_ = 0.01;
   std::string label_;
   OutputSink* sink_ = nullptr;
   bool declared_ = false;
   std::vector<double> radii_, volume_, window_sum_, total_sum_;
-  double window_start_ = -1, last_time_ = 0;
   std::int64_t window_samples_ = 0, total_samples_ = 0;
 };
 

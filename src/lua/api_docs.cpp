@@ -6,6 +6,7 @@
 
 #include "contact/model_docs.hpp"
 #include "contact/parameters.hpp"
+#include "hooks/diagnostic.hpp"
 #include "lua/lua_util.hpp"
 
 namespace granule::lua {
@@ -176,7 +177,7 @@ std::string api_markdown() {
     std::string example = call_line(d);
     if (!example.empty()) out += fmt::format("\nExample: `{}`\n", example);
   }
-  return out;
+  return out + diagnostics_help("diagnostics", true);  // src/hooks/registry.cpp
 }
 
 namespace {
@@ -270,20 +271,23 @@ int l_help(lua_State* L) {
     } else if (lua_type(L, 1) == LUA_TSTRING) {
       std::string name = lua_tostring(L, 1);
       const auto catalogue = contact_model_catalogue();
+      const std::string diagnostic = diagnostics_help(name, false);  // src/hooks/registry.cpp
       if (const FunctionDoc* d = find_doc(name)) {
-        text = format_help(*d);
+        text = format_help(*d) + diagnostic;
+      } else if (!diagnostic.empty()) {
+        text = diagnostic;
       } else if (name == "models") {
         text = format_models_help();
       } else if (const ContactModelInfo* m = find_model(catalogue, name)) {
         text = format_model_help(*m);
       } else {
-        std::vector<std::string> names{"models"};
+        std::vector<std::string> names{"models", "diagnostics"};
         if (std::string doc = nearest_doc_name(name); !doc.empty()) names.push_back(doc);
         for (const auto& c : catalogue) names.push_back(c.name);
         std::string hint = nearest_name(name, names);
         throw std::runtime_error(fmt::format(
             "help: nothing is called '{}'{}; help() lists every name, help('models') the contact "
-            "models",
+            "models, help('diagnostics') the diagnostics",
             name, hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint)));
       }
     } else if (luaL_testudata(L, 1, "granule.Simulation")) {

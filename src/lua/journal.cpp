@@ -512,6 +512,7 @@ Journal::Kind journal_kind(const std::string& method) {
                                 "central_field",
                                 "remove_central_field",
                                 "set_central_strength",
+                                "schedule",
                                 "every",
                                 "remove_hook",
                                 "set",

@@ -247,7 +247,7 @@ void open_simulation(lua_State* L) {
   lua_newtable(L);
   // Every method goes through the arity check of its documentation entry; a
   // method without an entry is still callable, and the docs test names it.
-  for (const luaL_Reg* table : {methods, diagnostic_methods, checkpoint_methods})
+  for (const luaL_Reg* table : {methods, diagnostic_methods, checkpoint_methods, schedule_methods})
     for (const luaL_Reg* m = table; m->name; ++m) {
       const FunctionDoc* doc = find_doc(std::string("sim:") + m->name);
       if (doc && std::string(doc->name) == std::string("sim:") + m->name)

@@ -91,5 +91,7 @@ int l_picture(lua_State* L);  // sim:picture { ... }, wrap_picture.cpp
 extern const luaL_Reg diagnostic_methods[];
 // Methods added by wrap_checkpoint.cpp.
 extern const luaL_Reg checkpoint_methods[];
+// Methods added by wrap_schedule.cpp.
+extern const luaL_Reg schedule_methods[];
 
 }  // namespace granule::lua

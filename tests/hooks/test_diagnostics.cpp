@@ -17,9 +17,9 @@ template <int D>
 struct EventRecorder final : Diagnostic<D> {
   std::vector<ContactEvent<D>> began, ended;
   double max_logged_normal = 0;
+  EventRecorder() : Diagnostic<D>("test recorder") {}
   typename Diagnostic<D>::Needs needs() const override { return {true, true}; }
-  std::int64_t every() const override { return 1; }
-  void observe(const StepView<D>& v) override {
+  void sample(const StepView<D>& v) override {
     for (std::size_t s = 0; s < v.contacts.size(); ++s)
       if (v.contacts.active[s])
         max_logged_normal = std::max(max_logged_normal, v.contacts.normal_force[s]);
@@ -29,11 +29,13 @@ struct EventRecorder final : Diagnostic<D> {
     ended.insert(ended.end(), v.contacts.ended.begin(), v.contacts.ended.end());
   }
   std::string describe() const override { return "test recorder"; }
+  void close_window(double) override {}
+  std::string fingerprint() const override { return "test recorder"; }
   // Never checkpointed by these tests; refuse rather than save nothing.
-  void save_state(StateBlob&, const std::string&) const override {
+  void save_own(DiagnosticStateWriter&) const override {
     throw InputError("test recorder: no checkpoint");
   }
-  void load_state(const StateBlob&, const std::string&) override {
+  void load_own(const DiagnosticStateReader&) override {
     throw InputError("test recorder: no checkpoint");
   }
 };

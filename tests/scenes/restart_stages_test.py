@@ -199,6 +199,12 @@ def main():
         "mechanofusion", mf, ["-D", "settle=0.002", "-D", "duration=0.006"],
         "mechanofusion.checkpoint.h5",
         [("measure", r"granule: time step", 2.0, lambda step: step > 0)])
+    # Schedules (sim:schedule): the drum's spin, the powder's friction and the central
+    # field ramp in C++ before every step; interrupted in the middle of the ramps.
+    ramps = os.path.join(SOURCE, "tests", "hooks", "schedule_restart.lua")
+    failures += check_case(
+        "schedules", ramps, ["-D", "steps=60000"], "schedules.chk.h5",
+        [("ramp", r"^schedules start", 0.3, lambda step: 0 < step < 60000)])
     print(f"restart stages: {'all passed' if failures == 0 else f'{failures} failed'}")
     sys.exit(1 if failures else 0)
 

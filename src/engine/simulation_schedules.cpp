@@ -1,0 +1,133 @@
+// SimulationBase's schedules (fields/schedule.hpp): values that follow
+// simulated time, set before every step to their value at that step's time.
+//
+// Each schedule sets its target only when its value changes, so a held value
+// costs one evaluation per step. A contact parameter that changes re-prepares
+// the simulation at once (prepare() re-checks the time step and whether spins
+// are integrated, e.g. friction switched on): at a fixed step, not at the
+// start of the next run chunk, whose place depends on the wall clock.
+//
+// The step applies them through a hook that fires after every step (its
+// time already advanced to the next step's), and add_schedule applies the
+// value at once, so step n always runs with the values at t_n.
+//
+// Checkpoint keys: "schedules" (one line per schedule, every number to 17
+// digits) and "schedules.applied" (the values last set). The restarted scene
+// declares its schedules again; a checkpoint whose list differs is refused.
+#include <fmt/format.h>
+
+#include <sstream>
+
+#include "core/errors.hpp"
+#include "core/names.hpp"
+#include "core/state.hpp"
+#include "engine/simulation_base.hpp"
+
+namespace granule {
+
+namespace {
+constexpr const char* hook_name = "schedules";
+
+bool is_wall_target(const std::string& t) {
+  return t == "wall_angular_velocity" || t == "wall_velocity";
+}
+
+std::string line_of(const ScheduleSpec& s) {
+  std::string out = fmt::format("{} '{}' '{}' ({:.17g} {:.17g} {:.17g}) {}", s.target, s.a, s.b,
+                                s.direction[0], s.direction[1], s.direction[2], s.schedule.form());
+  for (std::size_t k = 0; k < s.schedule.times().size(); ++k)
+    out += fmt::format(" {:.17g} {:.17g}", s.schedule.times()[k], s.schedule.values()[k]);
+  return out;
+}
+
+std::string lines_of(const std::vector<ScheduleSpec>& list) {
+  std::string out;
+  for (const auto& s : list) out += line_of(s) + "\n";
+  return out;
+}
+}  // namespace
+
+void SimulationBase::add_schedule(ScheduleSpec spec) {
+  const std::string what = fmt::format("schedule '{}'", spec.target);
+  if (spec.schedule.empty()) throw InputError(fmt::format("{}: no schedule given", what));
+  if (spec.target == "central_strength") {
+    // The field must exist: a strength without it would act on nothing.
+    if (!effects().central_field)
+      throw InputError(fmt::format(
+          "{}: the scene has no central field; declare it first (sim:central_field)", what));
+  } else if (is_wall_target(spec.target)) {
+    spec.wall = wall_id(spec.a);
+    if (spec.target == "wall_velocity") {
+      const auto& d = spec.direction;
+      const double n = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      if (!(n > 0) || !std::isfinite(n))
+        throw InputError(fmt::format("{}: 'direction' must be a non-zero finite vector", what));
+      for (double& c : spec.direction) c /= n;
+    }
+  } else {
+    if (spec.a.empty() || spec.b.empty())
+      throw InputError(fmt::format(
+          "{}: not a known target (central_strength, wall_angular_velocity, wall_velocity) "
+          "nor a contact parameter with the pair's materials (from =, to =)",
+          what));
+    material_id(spec.a);  // throws naming a material not declared
+    material_id(spec.b);
+  }
+  schedules_.push_back(std::move(spec));
+  try {
+    apply_schedules();  // the value now; a parameter the pair's model lacks is refused here
+  } catch (...) {
+    schedules_.pop_back();
+    throw;
+  }
+  if (schedules_.size() == 1) {
+    Hook h;
+    h.name = hook_name;
+    h.every_steps = 1;
+    h.fire = [this] { apply_schedules(); };
+    add_hook(std::move(h));
+  }
+}
+
+void SimulationBase::apply_schedules() {
+  for (auto& s : schedules_) {
+    const double v = s.schedule.at(time_);
+    if (v == s.applied) continue;
+    if (s.target == "central_strength") {
+      set_central_strength(v);
+    } else if (s.target == "wall_angular_velocity") {
+      set_wall_angular_velocity(s.wall, v);
+    } else if (s.target == "wall_velocity") {
+      set_wall_velocity(s.wall, {v * s.direction[0], v * s.direction[1], v * s.direction[2]});
+    } else {
+      const bool was_prepared = prepared_;
+      update_contact(s.a, s.b, {{s.target, v}});
+      if (was_prepared) prepare();
+    }
+    s.applied = v;
+  }
+}
+
+void SimulationBase::save_schedules(StateBlob& blob) const {
+  blob.texts["schedules"] = lines_of(schedules_);
+  std::vector<double> applied;
+  for (const auto& s : schedules_) applied.push_back(s.applied);
+  blob.doubles["schedules.applied"] = applied;
+}
+
+void SimulationBase::load_schedules(const StateBlob& blob) {
+  const std::string& saved = blob.t("schedules");  // refuses a checkpoint without the entry
+  const std::string now = lines_of(schedules_);
+  if (saved != now)
+    throw InputError(fmt::format(
+        "checkpoint's schedules differ from the scene's (checkpoint:\n{}scene:\n{}); declare the "
+        "same schedules, in the same order, as the run that wrote it",
+        saved.empty() ? "none\n" : saved, now.empty() ? "none\n" : now));
+  const auto& applied = blob.d("schedules.applied");
+  if (applied.size() != schedules_.size())
+    throw InputError(fmt::format("checkpoint: 'schedules.applied' has {} values for {} schedules",
+                                 applied.size(), schedules_.size()));
+  for (std::size_t k = 0; k < schedules_.size(); ++k) schedules_[k].applied = applied[k];
+}
+
+}  // namespace granule
