@@ -1,4 +1,4 @@
--- What accuracy costs in time (issue 7). For a chosen case, varies each knob that
+-- What accuracy costs in time. For a chosen case, varies each knob that
 -- trades accuracy for speed, one at a time from the default setting, and reports
 -- per setting the error of the quantities a user cares about against a fine
 -- reference run, and the wall time.

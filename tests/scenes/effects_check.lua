@@ -1,4 +1,4 @@
--- The run header says what a scene simulates (issue 7): adhesion only for adhesive
+-- The run header says what a scene simulates: adhesion only for adhesive
 -- pairs that can meet, rotation only with friction, moving walls, fields; an
 -- adhesive law declared for a material no particle has neither runs nor widens
 -- the skin. tests/scenes/effects_check.py then reads /scene/effects.

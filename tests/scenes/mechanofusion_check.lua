@@ -1,4 +1,4 @@
--- A short Mechanofusion base case for the test suite (issue 4): every
+-- A short Mechanofusion base case for the test suite: every
 -- diagnostic finite, the zones' volumes summing to the chamber's, the
 -- particle count conserved, no particle leaving the powder's space, and the
 -- scraper really thinning the outer zone (4.3: without it the powder packs
