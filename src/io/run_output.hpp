@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "engine/simulation_base.hpp"
 #include "core/state.hpp"
+#include "engine/simulation_base.hpp"
 #include "hooks/diagnostic.hpp"
 #include "io/h5_output.hpp"
 #include "io/xdmf.hpp"
