@@ -60,22 +60,29 @@ void carry_history(const Bucket& old, Bucket& fresh, std::int64_t max_id, bool t
     }
   }
 }
+// Empties `bucket` for a new list and returns the old one. The step lists'
+// storage only grows: the new bucket keeps it, emptied (it named the old
+// candidates).
+template <typename Bucket>
+Bucket renew(Bucket& bucket) {
+  Bucket old = std::move(bucket);
+  bucket = Bucket{};
+  bucket.touched = std::move(old.touched);
+  for (auto& list : bucket.touched) list.count = 0;
+  return old;
+}
 }  // namespace lists_detail
 
 // Replaces `bucket` (model `model` of the pair table) by the candidate pairs
-// of that model, histories carried over. The step lists' storage only grows:
-// the new bucket keeps it. Returns the old bucket's size.
+// of that model, histories carried over. Returns the old bucket's size.
 template <int D, typename M>
 std::size_t list_pairs(PairBucket<D, M>& bucket, int model, const Particles<D>& p,
                        const PairTable& pairs,
                        const std::vector<std::pair<std::uint32_t, std::uint32_t>>& candidates,
                        bool tracking) {
   using B = PairBucket<D, M>;
-  B old = std::move(bucket);
+  B old = lists_detail::renew(bucket);
   B& fresh = bucket;
-  fresh = B{};
-  fresh.touched = std::move(old.touched);
-  for (auto& list : fresh.touched) list.count = 0;  // they named the old candidates
   const std::size_t expect = old.size() + old.size() / 8;
   fresh.i.reserve(expect), fresh.j.reserve(expect), fresh.slot.reserve(expect);
   fresh.id_i.reserve(expect), fresh.id_j.reserve(expect);
@@ -104,11 +111,8 @@ void list_walls(WallBucket<D, M>& bucket, int model, const Particles<D>& p,
                 const std::vector<Wall<D>>& walls, const PairTable& pairs, double skin,
                 bool tracking) {
   using WB = WallBucket<D, M>;
-  WB old = std::move(bucket);
+  WB old = lists_detail::renew(bucket);
   WB& fresh = bucket;
-  fresh = WB{};
-  fresh.touched = std::move(old.touched);
-  for (auto& list : fresh.touched) list.count = 0;
   const std::size_t expect = old.size() + old.size() / 8;
   fresh.particle.reserve(expect), fresh.wall.reserve(expect), fresh.slot.reserve(expect);
   fresh.id.reserve(expect);
