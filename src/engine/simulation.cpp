@@ -55,7 +55,8 @@ void Simulation<D>::step() {
   // scene records contacts or an attached diagnostic needs them.
   bool observed = record_contacts_ || tracking_;
   for (const auto& d : diagnostics_)
-    if (d.needs.contacts && step_ % d.every == 0) observed = true;
+    if (d.needs.contacts && step_ % d.every == 0 && d.diagnostic->sampling().due(time_, dt_))
+      observed = true;
   if (observed) log_.resize(slot_count_);
   log_.filled = observed;
   // Every thread count adds the contacts to each particle in slot order (pairs
@@ -153,6 +154,8 @@ void Simulation<D>::step() {
   if (non_finite_index_ != SIZE_MAX) report_non_finite(non_finite_index_);
   time_ += dt_;
   ++step_;
+  // Schedules (ramps): their targets set to the values of the next step's time.
+  if (!schedules_.empty()) apply_schedules();
   auto t4 = Clock::now();
   stage_times_.integrate += std::chrono::duration<double>(t4 - t3).count();
 

@@ -7,8 +7,8 @@
 // are integrated, e.g. friction switched on): at a fixed step, not at the
 // start of the next run chunk, whose place depends on the wall clock.
 //
-// The step applies them through a hook that fires after every step (its
-// time already advanced to the next step's), and add_schedule applies the
+// step() applies them at the end of every step (its time already advanced
+// to the next step's), before the hooks fire, and add_schedule applies the
 // value at once, so step n always runs with the values at t_n.
 //
 // Checkpoint keys: "schedules" (one line per schedule, every number to 17
@@ -26,7 +26,6 @@
 namespace granule {
 
 namespace {
-constexpr const char* hook_name = "schedules";
 
 bool is_wall_target(const std::string& t) {
   return t == "wall_angular_velocity" || t == "wall_velocity";
@@ -79,13 +78,6 @@ void SimulationBase::add_schedule(ScheduleSpec spec) {
   } catch (...) {
     schedules_.pop_back();
     throw;
-  }
-  if (schedules_.size() == 1) {
-    Hook h;
-    h.name = hook_name;
-    h.every_steps = 1;
-    h.fire = [this] { apply_schedules(); };
-    add_hook(std::move(h));
   }
 }
 
