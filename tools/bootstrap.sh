@@ -14,7 +14,8 @@ fi
 packages=(cmake g++ make pkg-config liblua5.4-dev libeigen3-dev libhdf5-dev catch2 libfmt-dev
           libreadline-dev zlib1g-dev python3-h5py python3-matplotlib python3-numpy
           openmpi-bin libopenmpi-dev  # MPI: `granule sweep` under mpirun (optional at build time)
-          libassimp-dev)  # mesh walls: STL and OBJ files
+          libassimp-dev  # mesh walls: STL and OBJ files
+          paraview python3-paraview xvfb xauth)  # the tests that open our output in ParaView, headless
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

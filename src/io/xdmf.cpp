@@ -159,8 +159,16 @@ std::vector<XdmfShape> wall_shapes(const std::vector<WallSpec>& walls, int dimen
   return out;
 }
 
+std::string xdmf_walls_path_for(const std::string& h5_path) {
+  std::filesystem::path p(h5_path);
+  p.replace_extension();
+  return p.string() + "_walls.xmf";
+}
+
 XdmfIndex::XdmfIndex(std::string h5_path)
-    : h5_name_(std::filesystem::path(h5_path).filename().string()), path_(xdmf_path_for(h5_path)) {}
+    : h5_name_(std::filesystem::path(h5_path).filename().string()),
+      path_(xdmf_path_for(h5_path)),
+      walls_path_(xdmf_walls_path_for(h5_path)) {}
 
 void XdmfIndex::restore(std::vector<XdmfSnapshot> snapshots) {
   snapshots_.clear();
@@ -171,32 +179,45 @@ void XdmfIndex::restore(std::vector<XdmfSnapshot> snapshots) {
   add(std::move(last));
 }
 
-void XdmfIndex::add(XdmfSnapshot snapshot) {
-  snapshots_.push_back(std::move(snapshot));
-  // Write beside the target and rename: a reader never sees half a file.
-  const std::string tmp = path_ + ".tmp";
+namespace {
+
+// Writes beside the target and renames: a reader never sees half a file.
+void write_whole(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp";
   {
     errno = 0;
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out)
       throw std::runtime_error(
           fmt::format("cannot write XDMF file '{}': {}", tmp, std::strerror(errno)));
-    out << text();
+    out << text;
     out.close();
     if (!out) {
       // A full disk: the half-written index goes, the previous one stays in place.
       const std::string why = errno ? std::strerror(errno) : "write failed";
       std::remove(tmp.c_str());
-      const std::string full = disk_full_note(path_, why);
+      const std::string full = disk_full_note(path, why);
       throw std::runtime_error(
           fmt::format("writing XDMF file '{}' failed: {}; '{}' is kept as it was", tmp,
-                      full.empty() ? why : full, path_));
+                      full.empty() ? why : full, path));
     }
   }
-  if (std::rename(tmp.c_str(), path_.c_str()) != 0) {
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
     std::remove(tmp.c_str());
-    throw std::runtime_error(fmt::format("cannot replace XDMF file '{}'", path_));
+    throw std::runtime_error(fmt::format("cannot replace XDMF file '{}'", path));
   }
+}
+
+}  // namespace
+
+void XdmfIndex::add(XdmfSnapshot snapshot) {
+  snapshots_.push_back(std::move(snapshot));
+  write_whole(path_, text());
+  const std::string walls = walls_text();
+  if (!walls.empty())
+    write_whole(walls_path_, walls);
+  else
+    std::remove(walls_path_.c_str());  // not a previous run's walls beside these particles
 }
 
 std::string XdmfIndex::text() const {
@@ -204,8 +225,8 @@ std::string XdmfIndex::text() const {
       "<?xml version=\"1.0\" ?>\n"
       "<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
       "<!-- Written by granule beside the HDF5 file it describes; open this file in ParaView\n"
-      "     (Xdmf Reader) and use Glyph (Sphere, Scale Array = radius, scale factor 2) or\n"
-      "     Point Gaussian to see the particles. -->\n"
+      "     (Xdmf Reader) and use Glyph (Sphere, Scale Array = radius, Scale Factor 2) or\n"
+      "     Point Gaussian to see the particles; the walls are in <name>_walls.xmf. -->\n"
       "<Xdmf Version=\"2.0\">\n<Domain>\n"
       "<Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   const std::string h5 = xml_attr(h5_name_);
@@ -244,8 +265,22 @@ std::string XdmfIndex::text() const {
     x += " </Grid>\n";
   }
   x += "</Grid>\n";
+  x += "</Domain>\n</Xdmf>\n";
+  return x;
+}
 
-  // Walls: one grid each, without a time if it never changed (shown at every
+// The walls live in a file of their own so that a Glyph over the particles'
+// file sees only particles (wall vertices have no radius and would be glyphed
+// at the scale factor), and so that the Xdmf3 readers, which read the first
+// grid of a domain only, show them too.
+std::string XdmfIndex::walls_text() const {
+  std::string x =
+      "<?xml version=\"1.0\" ?>\n"
+      "<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
+      "<!-- Written by granule: the walls of the run whose particles are in the .xmf of\n"
+      "     the same name without _walls; show them as Surface (3D) or Wireframe (2D). -->\n"
+      "<Xdmf Version=\"2.0\">\n<Domain>\n";
+  // One grid each, without a time if it never changed (shown at every
   // time), else a temporal collection with its shape at each snapshot.
   auto shape_grid = [](const XdmfShape& w, const std::string& name, const double* time) {
     const std::size_t nodes = w.points.size() / 3;
@@ -270,24 +305,28 @@ std::string XdmfIndex::text() const {
   std::vector<const XdmfSnapshot*> with_walls;
   for (const auto& s : snapshots_)
     if (!s.walls.empty()) with_walls.push_back(&s);
-  if (!with_walls.empty()) {
-    const std::size_t wall_count = with_walls.front()->walls.size();
-    for (std::size_t k = 0; k < wall_count; ++k) {
-      const XdmfShape& first = with_walls.front()->walls[k];
-      bool fixed = true;
-      for (const auto* s : with_walls)
-        fixed = fixed && s->walls.size() == wall_count && s->walls[k] == first;
-      const std::string name = "wall_" + first.name;
-      if (fixed) {
-        x += shape_grid(first, name, nullptr);
-        continue;
-      }
-      x += fmt::format("<Grid Name=\"{}\" GridType=\"Collection\" CollectionType=\"Temporal\">\n",
-                       xml_attr(name));
-      for (const auto* s : with_walls)
-        if (s->walls.size() == wall_count) x += shape_grid(s->walls[k], name, &s->time);
-      x += "</Grid>\n";
-    }
+  if (with_walls.empty()) return {};
+  // One top-level grid (the Xdmf3 readers read no other): a spatial
+  // collection of the walls; if any of them moved, a temporal collection of
+  // such spatial collections, one per snapshot.
+  const auto& first = with_walls.front()->walls;
+  bool fixed = true;
+  for (const auto* s : with_walls) fixed = fixed && s->walls == first;
+  auto spatial = [&](const std::vector<XdmfShape>& walls, const double* time,
+                     const std::string& name) {
+    std::string g = fmt::format(
+        "<Grid Name=\"{}\" GridType=\"Collection\" CollectionType=\"Spatial\">\n", name);
+    if (time) g += fmt::format(" <Time Value=\"{:.17g}\"/>\n", *time);
+    for (const auto& w : walls) g += shape_grid(w, "wall_" + w.name, nullptr);
+    return g + "</Grid>\n";
+  };
+  if (fixed) {
+    x += spatial(first, nullptr, "walls");
+  } else {
+    x += "<Grid Name=\"walls\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+    for (const auto* s : with_walls)
+      x += spatial(s->walls, &s->time, s->group.substr(s->group.rfind('/') + 1));
+    x += "</Grid>\n";
   }
   x += "</Domain>\n</Xdmf>\n";
   return x;

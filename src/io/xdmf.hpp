@@ -1,11 +1,12 @@
 // An XDMF 2 descriptor beside the HDF5 output (out.h5 -> out.xmf), so that
 // ParaView (and VisIt) open the snapshots directly: a temporal collection of
 // Polyvertex grids whose geometry and attributes (radius, velocity, spin,
-// material, fixed, id) point into /snapshots/NNNNNN of the HDF5 file, plus the
-// walls as small inline geometries (2D: polylines in z = 0; 3D: a quadrilateral
-// for a plane, a tube for a cylinder), clipped to the region the particles
-// occupy. The small XML file is rewritten whole after every snapshot (through a
-// temporary file and a rename), so it always matches what the HDF5 holds.
+// material, fixed, id) point into /snapshots/NNNNNN of the HDF5 file; and
+// beside it out_walls.xmf with the walls as small inline geometries (2D:
+// polylines in z = 0; 3D: a quadrilateral for a plane, a tube for a
+// cylinder), clipped to the region the particles occupy. The small XML file is rewritten whole
+// after every snapshot (through a temporary file and a rename), so it always matches what the HDF5
+// holds.
 #pragma once
 
 #include <array>
@@ -40,6 +41,8 @@ struct XdmfSnapshot {
 
 // "out.h5" -> "out.xmf"; "out" -> "out.xmf".
 std::string xdmf_path_for(const std::string& h5_path);
+// "out.h5" -> "out_walls.xmf": the walls' grids, apart from the particles'.
+std::string xdmf_walls_path_for(const std::string& h5_path);
 
 // The walls as drawable shapes within `extent` (x0, x1, y0, y1, z0, z1 [m]).
 std::vector<XdmfShape> wall_shapes(const std::vector<WallSpec>& walls, int dimension,
@@ -49,9 +52,11 @@ class XdmfIndex {
  public:
   explicit XdmfIndex(std::string h5_path);
   const std::string& path() const { return path_; }
+  const std::string& walls_path() const { return walls_path_; }
   // Records a snapshot and rewrites the file; throws std::runtime_error if it cannot.
   void add(XdmfSnapshot snapshot);
-  std::string text() const;  // the XML as it would be written now
+  std::string text() const;        // the particles' XML as it would be written now
+  std::string walls_text() const;  // the walls' XML; empty when no snapshot has walls
   const std::vector<XdmfSnapshot>& snapshots() const { return snapshots_; }
   // Replaces the index by `snapshots` (a continued run) and rewrites the file.
   void restore(std::vector<XdmfSnapshot> snapshots);
@@ -59,6 +64,7 @@ class XdmfIndex {
  private:
   std::string h5_name_;  // as referenced from the XML: the file name, since both lie together
   std::string path_;
+  std::string walls_path_;
   std::vector<XdmfSnapshot> snapshots_;
 };
 

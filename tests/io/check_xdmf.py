@@ -1,13 +1,16 @@
 #!/usr/bin/python3
 """Checks an XDMF file that granule wrote beside its HDF5 output.
 
-usage: /usr/bin/python3 tests/io/check_xdmf.py out.xmf
+usage: /usr/bin/python3 tests/io/check_xdmf.py out.xmf [--walls]
 
+Checks out.xmf and, when it exists (it must with --walls), out_walls.xmf.
 The XML must parse; every HDF DataItem must name a dataset that exists with
 exactly the declared shape and a matching number type and precision; every
 inline (XML) DataItem must hold as many numbers as its Dimensions say;
-topologies must agree with their data; and the particle grids must be the
-file's snapshots, at their times, with their particle counts.
+topologies must agree with their data; the particle grids must be the
+file's snapshots, at their times, with their particle counts, and the only
+grids of out.xmf (a Glyph over it must see particles only); out_walls.xmf
+holds one collection 'walls' of grids named wall_<name>, and no particles.
 """
 import math
 import os
@@ -58,12 +61,8 @@ def check_item(item, base, files):
     fail(f"unknown DataItem format {item.get('Format')!r}")
 
 
-def main(path):
-    root = ET.parse(path).getroot()
-    if root.tag != "Xdmf":
-        fail("the root element is not Xdmf")
-    base = os.path.dirname(path)
-    files = {}
+def check_grids(root, base, files):
+    """Checks every Uniform grid; returns their count and the temporal collection 'particles'."""
     particles = None
     grids = 0
     for grid in root.iter("Grid"):
@@ -92,6 +91,41 @@ def main(path):
             values = check_item(attribute.find("DataItem"), base, files)
             if values.shape[0] != points.shape[0]:
                 fail(f"attribute {attribute.get('Name')}: {values.shape[0]} values, {points.shape[0]} points")
+    return grids, particles
+
+
+def check_walls(path, base, files):
+    root = ET.parse(path).getroot()
+    if root.tag != "Xdmf":
+        fail(f"{path}: the root element is not Xdmf")
+    grids, particles = check_grids(root, base, files)
+    if particles is not None:
+        fail(f"{path}: holds particles")
+    top = root.find("Domain").findall("Grid")
+    if [g.get("Name") for g in top] != ["walls"]:
+        fail(f"{path}: one top-level grid 'walls' expected, found {[g.get('Name') for g in top]}")
+    uniform = [g for g in top[0].iter("Grid") if g.get("GridType") == "Uniform"]
+    if not uniform or any(not g.get("Name", "").startswith("wall_") for g in uniform):
+        fail(f"{path}: its wall grids must be named wall_<name>")
+    return grids
+
+
+def main(path, walls_required=False):
+    root = ET.parse(path).getroot()
+    if root.tag != "Xdmf":
+        fail("the root element is not Xdmf")
+    base = os.path.dirname(path)
+    files = {}
+    grids, particles = check_grids(root, base, files)
+    top = root.find("Domain").findall("Grid")
+    if [g.get("Name") for g in top] != ["particles"]:
+        fail(f"{path}: grids other than the particles' ({[g.get('Name') for g in top]})")
+    walls_path = os.path.splitext(path)[0] + "_walls.xmf"
+    wall_grids = 0
+    if os.path.exists(walls_path):
+        wall_grids = check_walls(walls_path, base, files)
+    elif walls_required:
+        fail(f"{walls_path} does not exist")
     if particles is None:
         fail("no temporal collection named 'particles'")
     # The particle grids are the snapshots, in order, with their times.
@@ -109,10 +143,11 @@ def main(path):
                 fail(f"grid {child.get('Name')} at t = {t}, snapshot {s} at {f[s].attrs['time']}")
     for f in files.values():
         f.close()
-    print(f"{path}: ok, {grids} grids, {len(snaps)} snapshots")
+    print(f"{path}: ok, {grids} grids, {len(snaps)} snapshots; {wall_grids} wall grids")
 
 
 if __name__ == "__main__":
-    if len(sys.argv) != 2:
+    args = sys.argv[1:]
+    if len(args) not in (1, 2) or (len(args) == 2 and args[1] != "--walls"):
         sys.exit(__doc__)
-    main(sys.argv[1])
+    main(args[0], walls_required=len(args) == 2)

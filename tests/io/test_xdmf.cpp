@@ -15,6 +15,8 @@ TEST_CASE("xdmf: file name beside the HDF5 file", "[xdmf]") {
   CHECK(io::xdmf_path_for("out.h5") == "out.xmf");
   CHECK(io::xdmf_path_for("dir/run.1.h5") == "dir/run.1.xmf");
   CHECK(io::xdmf_path_for("plain") == "plain.xmf");
+  CHECK(io::xdmf_walls_path_for("out.h5") == "out_walls.xmf");
+  CHECK(io::xdmf_walls_path_for("dir/run.1.h5") == "dir/run.1_walls.xmf");
 }
 
 TEST_CASE("xdmf: a 2D drum is a closed polygon on its circle; a plane a segment on its line",
@@ -88,5 +90,43 @@ TEST_CASE("xdmf: snapshots become a temporal collection of Polyvertex grids", "[
   CHECK_THAT(x, Catch::Contains("GeometryType=\"XY\""));
   CHECK_THAT(x, Catch::Contains(">run.h5:/snapshots/000001/position<"));
   CHECK_THAT(x, !Catch::Contains("000002"));
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("xdmf: the walls go to a file of their own, the particles' file holds particles only",
+          "[xdmf]") {
+  auto dir = std::filesystem::temp_directory_path() / "granule_xdmf_walls_test";
+  std::filesystem::create_directories(dir);
+  io::XdmfIndex index((dir / "run.h5").string());
+  CHECK(index.walls_path() == (dir / "run_walls.xmf").string());
+  WallSpec floor;
+  floor.name = "floor";
+  floor.type = WallType::plane;
+  floor.point = {0, 0, 0};
+  floor.normal = {0, 0, 1};
+  io::XdmfSnapshot s;
+  s.group = "/snapshots/000000";
+  s.count = 3;
+  s.dimension = 3;
+  s.walls = io::wall_shapes({floor}, 3, {-0.01, 0.01, -0.01, 0.01, 0, 0.01});
+  index.add(s);
+  auto read = [](const std::filesystem::path& p) {
+    std::ifstream in(p);
+    std::stringstream text;
+    text << in.rdbuf();
+    return text.str();
+  };
+  const std::string particles = read(index.path());
+  const std::string walls = read(index.walls_path());
+  CHECK_THAT(particles, !Catch::Contains("wall_floor"));
+  CHECK_THAT(particles, !Catch::Contains("Quadrilateral"));
+  CHECK_THAT(walls, Catch::Contains("Grid Name=\"wall_floor\""));
+  CHECK_THAT(walls, Catch::Contains("Quadrilateral"));
+  CHECK_THAT(walls, !Catch::Contains("Polyvertex"));
+  // A later index of the same name without walls removes the stale walls file.
+  io::XdmfIndex bare((dir / "run.h5").string());
+  s.walls.clear();
+  bare.add(s);
+  CHECK(!std::filesystem::exists(index.walls_path()));
   std::filesystem::remove_all(dir);
 }
