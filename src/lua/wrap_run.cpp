@@ -253,7 +253,12 @@ int l_remove_hook(lua_State* L) {
     if (id < 1 || id > std::numeric_limits<int>::max() || !s.sim->has_hook(static_cast<int>(id)))
       throw std::runtime_error(fmt::format("remove_hook: no hook with id {}", id));
     s.sim->remove_hook(static_cast<int>(id));
-    s.lua_hooks.erase(static_cast<int>(id));
+    // The function goes from the registry too (a script adding and removing
+    // callbacks in a loop would otherwise keep every one alive).
+    if (auto hook = s.lua_hooks.find(static_cast<int>(id)); hook != s.lua_hooks.end()) {
+      luaL_unref(L, LUA_REGISTRYINDEX, hook->second.ref);
+      s.lua_hooks.erase(hook);
+    }
     return 0;
   });
 }

@@ -356,3 +356,24 @@ TEST_CASE("names: one nearest name for C++ and Lua, case-insensitive", "[lua][na
   expect_refused("local names = require 'granule.names'\nnames.nearest_name('a', { 'b', 3 })\n", 7,
                  "nearest_name: candidate 2 must be a string, got number");
 }
+
+TEST_CASE("lua: sim:remove_hook lets the callback go from the registry", "[lua]") {
+  // A script that adds and removes callbacks in a loop must not keep them all:
+  // the registry holds as many functions after 200 add/remove rounds as before.
+  auto r = run_scene(std::string(header) + R"(
+local function registry_functions()
+  local n = 0
+  for _, v in pairs(debug.getregistry()) do if type(v) == "function" then n = n + 1 end end
+  return n
+end
+local before = registry_functions()
+for k = 1, 200 do
+  local id = sim:every { steps = 5, function(s) end }
+  sim:remove_hook(id)
+end
+collectgarbage()
+local after = registry_functions()
+assert(after == before, "registry functions " .. before .. " -> " .. after)
+)");
+  CHECK(r.error == "");
+}
