@@ -1,0 +1,297 @@
+#include "parallel/exchange.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cstring>
+#include <limits>
+#include <numeric>
+#include <stdexcept>
+
+namespace granule::parallel {
+
+namespace {
+
+template <typename T>
+void put(std::string& bytes, const T& value) {
+  const auto* p = reinterpret_cast<const char*>(&value);
+  bytes.append(p, sizeof(T));
+}
+
+template <typename T>
+T take(const std::string& bytes, std::size_t& offset) {
+  if (offset + sizeof(T) > bytes.size())
+    throw std::runtime_error("parallel: a particle record is cut short");
+  T value;
+  std::memcpy(&value, bytes.data() + offset, sizeof(T));
+  offset += sizeof(T);
+  return value;
+}
+
+template <int D>
+void put_vec(std::string& bytes, const Vec<D>& v) {
+  for (int a = 0; a < D; ++a) put(bytes, v[a]);
+}
+
+template <int D>
+Vec<D> take_vec(const std::string& bytes, std::size_t& offset) {
+  Vec<D> v;
+  for (int a = 0; a < D; ++a) v[a] = take<double>(bytes, offset);
+  return v;
+}
+
+template <int D>
+void put_spin(std::string& bytes, const Spin<D>& w) {
+  if constexpr (D == 2)
+    put(bytes, w);
+  else
+    put_vec<3>(bytes, w);
+}
+
+template <int D>
+Spin<D> take_spin(const std::string& bytes, std::size_t& offset) {
+  if constexpr (D == 2)
+    return take<double>(bytes, offset);
+  else
+    return take_vec<3>(bytes, offset);
+}
+
+}  // namespace
+
+template <int D>
+void pack(const ParticleRecord<D>& r, std::string& bytes) {
+  put(bytes, r.id);
+  put_vec<D>(bytes, r.position);
+  put_vec<D>(bytes, r.velocity);
+  put_spin<D>(bytes, r.spin);
+  put(bytes, r.radius);
+  put(bytes, r.mass);
+  put(bytes, r.material);
+  put(bytes, r.image);
+  put(bytes, static_cast<std::uint64_t>(r.payload.size()));
+  bytes += r.payload;
+}
+
+template <int D>
+ParticleRecord<D> unpack(const std::string& bytes, std::size_t& offset) {
+  ParticleRecord<D> r;
+  r.id = take<std::int64_t>(bytes, offset);
+  r.position = take_vec<D>(bytes, offset);
+  r.velocity = take_vec<D>(bytes, offset);
+  r.spin = take_spin<D>(bytes, offset);
+  r.radius = take<double>(bytes, offset);
+  r.mass = take<double>(bytes, offset);
+  r.material = take<std::int32_t>(bytes, offset);
+  r.image = take<std::int32_t>(bytes, offset);
+  const auto length = take<std::uint64_t>(bytes, offset);
+  if (offset + length > bytes.size())
+    throw std::runtime_error("parallel: a particle's payload is cut short");
+  r.payload.assign(bytes, offset, length);
+  offset += length;
+  return r;
+}
+
+#ifdef GRANULE_HAVE_MPI
+
+namespace {
+
+void check(int code, const char* what) {
+  if (code == MPI_SUCCESS) return;
+  char text[MPI_MAX_ERROR_STRING];
+  int length = 0;
+  MPI_Error_string(code, text, &length);
+  throw std::runtime_error(fmt::format("parallel: {} failed: {}", what, std::string(text, length)));
+}
+
+int count_of(std::size_t n) {
+  if (n > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+    throw std::runtime_error(
+        fmt::format("parallel: {} bytes to send at once is more than MPI counts in an int", n));
+  return static_cast<int>(n);
+}
+
+}  // namespace
+
+std::vector<std::string> all_to_all(const std::vector<std::string>& to_rank, MPI_Comm comm) {
+  int size = 0;
+  MPI_Comm_size(comm, &size);
+  if (static_cast<int>(to_rank.size()) != size)
+    throw std::invalid_argument("parallel: one buffer per rank expected");
+  std::vector<int> send_counts(size), recv_counts(size), send_at(size), recv_at(size);
+  std::size_t total = 0;
+  for (int k = 0; k < size; ++k) {
+    send_counts[k] = count_of(to_rank[k].size());
+    send_at[k] = count_of(total);
+    total += to_rank[k].size();
+  }
+  check(MPI_Alltoall(send_counts.data(), 1, MPI_INT, recv_counts.data(), 1, MPI_INT, comm),
+        "MPI_Alltoall");
+  std::string send;
+  send.reserve(total);
+  for (const auto& b : to_rank) send += b;
+  std::size_t incoming = 0;
+  for (int k = 0; k < size; ++k) {
+    recv_at[k] = count_of(incoming);
+    incoming += static_cast<std::size_t>(recv_counts[k]);
+  }
+  std::string recv(incoming, '\0');
+  check(MPI_Alltoallv(send.data(), send_counts.data(), send_at.data(), MPI_CHAR, recv.data(),
+                      recv_counts.data(), recv_at.data(), MPI_CHAR, comm),
+        "MPI_Alltoallv");
+  std::vector<std::string> out(size);
+  for (int k = 0; k < size; ++k) out[k] = recv.substr(recv_at[k], recv_counts[k]);
+  return out;
+}
+
+template <int D>
+std::size_t migrate(const Decomposition<D>& d, std::vector<ParticleRecord<D>>& owned,
+                    MPI_Comm comm) {
+  int rank = 0, size = 0;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  if (size != d.ranks())
+    throw std::invalid_argument(
+        fmt::format("parallel: a decomposition into {} boxes on {} ranks", d.ranks(), size));
+  std::vector<std::string> out(static_cast<std::size_t>(size));
+  std::vector<ParticleRecord<D>> kept;
+  kept.reserve(owned.size());
+  std::size_t left = 0;
+  for (auto& r : owned) {
+    r.position = wrap(d, r.position);
+    const int to = d.owner(r.position);
+    if (to == rank) {
+      kept.push_back(std::move(r));
+    } else {
+      pack(r, out[static_cast<std::size_t>(to)]);
+      ++left;
+    }
+  }
+  const auto in = all_to_all(out, comm);
+  for (const auto& bytes : in)
+    for (std::size_t at = 0; at < bytes.size();) kept.push_back(unpack<D>(bytes, at));
+  std::sort(kept.begin(), kept.end(), [](const auto& a, const auto& b) { return a.id < b.id; });
+  owned = std::move(kept);
+  return left;
+}
+
+namespace {
+
+template <int D>
+void pack_state(const ParticleRecord<D>& r, const Vec<D>& shift, std::string& bytes) {
+  put_vec<D>(bytes, r.position + shift);
+  put_vec<D>(bytes, r.velocity);
+  put_spin<D>(bytes, r.spin);
+}
+
+}  // namespace
+
+template <int D>
+std::vector<ParticleRecord<D>> exchange_ghosts(const Decomposition<D>& d, double reach,
+                                               const std::vector<ParticleRecord<D>>& owned,
+                                               MPI_Comm comm, GhostPlan& plan) {
+  int rank = 0, size = 0;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  check_reach(d, reach);
+  const auto shifts = periodic_shifts(d);
+  plan.send.assign(static_cast<std::size_t>(size), {});
+  std::vector<GhostTarget<D>> targets;
+  for (std::size_t i = 0; i < owned.size(); ++i) {
+    targets.clear();
+    ghost_targets(d, shifts, owned[i].position, reach, rank, targets);
+    for (const auto& t : targets) {
+      std::int32_t image = 0;
+      while (shifts[static_cast<std::size_t>(image)] != t.shift) ++image;
+      plan.send[static_cast<std::size_t>(t.rank)].push_back({i, image});
+    }
+  }
+  std::vector<std::string> out(static_cast<std::size_t>(size));
+  for (int k = 0; k < size; ++k)
+    for (const auto& s : plan.send[static_cast<std::size_t>(k)]) {
+      ParticleRecord<D> g = owned[s.index];
+      g.position += shifts[static_cast<std::size_t>(s.image)];
+      g.image = s.image;
+      g.payload.clear();
+      pack(g, out[static_cast<std::size_t>(k)]);
+    }
+  const auto in = all_to_all(out, comm);
+  struct Arrival {
+    ParticleRecord<D> record;
+    int from;
+    std::size_t n;
+  };
+  std::vector<Arrival> arrivals;
+  for (int k = 0; k < size; ++k) {
+    std::size_t n = 0;
+    for (std::size_t at = 0; at < in[static_cast<std::size_t>(k)].size(); ++n)
+      arrivals.push_back({unpack<D>(in[static_cast<std::size_t>(k)], at), k, n});
+  }
+  std::sort(arrivals.begin(), arrivals.end(), [](const Arrival& a, const Arrival& b) {
+    if (a.record.id != b.record.id) return a.record.id < b.record.id;
+    return a.record.image < b.record.image;
+  });
+  plan.place.assign(static_cast<std::size_t>(size), {});
+  for (int k = 0; k < size; ++k)
+    plan.place[static_cast<std::size_t>(k)].resize(std::count_if(
+        arrivals.begin(), arrivals.end(), [k](const Arrival& a) { return a.from == k; }));
+  std::vector<ParticleRecord<D>> ghosts;
+  ghosts.reserve(arrivals.size());
+  for (std::size_t g = 0; g < arrivals.size(); ++g) {
+    plan.place[static_cast<std::size_t>(arrivals[g].from)][arrivals[g].n] = g;
+    ghosts.push_back(std::move(arrivals[g].record));
+  }
+  return ghosts;
+}
+
+template <int D>
+void forward_ghosts(const Decomposition<D>& d, const GhostPlan& plan,
+                    const std::vector<ParticleRecord<D>>& owned,
+                    std::vector<ParticleRecord<D>>& ghosts, MPI_Comm comm) {
+  int size = 0;
+  MPI_Comm_size(comm, &size);
+  const auto shifts = periodic_shifts(d);
+  std::vector<std::string> out(static_cast<std::size_t>(size));
+  for (int k = 0; k < size; ++k)
+    for (const auto& s : plan.send[static_cast<std::size_t>(k)])
+      pack_state(owned[s.index], shifts[static_cast<std::size_t>(s.image)],
+                 out[static_cast<std::size_t>(k)]);
+  const auto in = all_to_all(out, comm);
+  for (int k = 0; k < size; ++k) {
+    const auto& bytes = in[static_cast<std::size_t>(k)];
+    const auto& place = plan.place[static_cast<std::size_t>(k)];
+    std::size_t at = 0;
+    for (std::size_t n = 0; n < place.size(); ++n) {
+      auto& g = ghosts[place[n]];
+      g.position = take_vec<D>(bytes, at);
+      g.velocity = take_vec<D>(bytes, at);
+      g.spin = take_spin<D>(bytes, at);
+    }
+    if (at != bytes.size())
+      throw std::runtime_error(fmt::format(
+          "parallel: rank {} forwarded {} bytes, the plan expects {}", k, bytes.size(), at));
+  }
+}
+
+template std::size_t migrate<2>(const Decomposition<2>&, std::vector<ParticleRecord<2>>&, MPI_Comm);
+template std::size_t migrate<3>(const Decomposition<3>&, std::vector<ParticleRecord<3>>&, MPI_Comm);
+template std::vector<ParticleRecord<2>> exchange_ghosts<2>(const Decomposition<2>&, double,
+                                                           const std::vector<ParticleRecord<2>>&,
+                                                           MPI_Comm, GhostPlan&);
+template std::vector<ParticleRecord<3>> exchange_ghosts<3>(const Decomposition<3>&, double,
+                                                           const std::vector<ParticleRecord<3>>&,
+                                                           MPI_Comm, GhostPlan&);
+template void forward_ghosts<2>(const Decomposition<2>&, const GhostPlan&,
+                                const std::vector<ParticleRecord<2>>&,
+                                std::vector<ParticleRecord<2>>&, MPI_Comm);
+template void forward_ghosts<3>(const Decomposition<3>&, const GhostPlan&,
+                                const std::vector<ParticleRecord<3>>&,
+                                std::vector<ParticleRecord<3>>&, MPI_Comm);
+
+#endif  // GRANULE_HAVE_MPI
+
+template void pack<2>(const ParticleRecord<2>&, std::string&);
+template void pack<3>(const ParticleRecord<3>&, std::string&);
+template ParticleRecord<2> unpack<2>(const std::string&, std::size_t&);
+template ParticleRecord<3> unpack<3>(const std::string&, std::size_t&);
+
+}  // namespace granule::parallel

@@ -1,0 +1,89 @@
+// Moving particles between ranks on Open MPI: migration (a particle goes to the
+// rank whose box now holds it, with its contact histories as an opaque payload)
+// and the ghost exchange (copies of the particles within reach of another
+// rank's box, periodic images included). Both are one all-to-all of counts and
+// one of bytes, so a rank talks to every rank; what arrives is put in a
+// canonical order (by id, then by image) so that the receiving rank's state
+// does not depend on the order ranks answered in, nor on how many there are.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "parallel/decomposition.hpp"
+#include "parallel/ghosts.hpp"
+
+#ifdef GRANULE_HAVE_MPI
+#include <mpi.h>
+#endif
+
+namespace granule::parallel {
+
+template <int D>
+struct ParticleRecord {
+  std::int64_t id = 0;
+  Vec<D> position = Vec<D>::Zero();    // m
+  Vec<D> velocity = Vec<D>::Zero();    // m/s
+  Spin<D> spin = Dim<D>::zero_spin();  // rad/s
+  double radius = 0;                   // m
+  double mass = 0;                     // kg
+  std::int32_t material = 0;
+  std::int32_t image = 0;  // a ghost's index into periodic_shifts (0: not an image)
+  std::string payload;     // the histories that travel with a migrating particle
+
+  bool operator==(const ParticleRecord& o) const {
+    return id == o.id && position == o.position && velocity == o.velocity && spin == o.spin &&
+           radius == o.radius && mass == o.mass && material == o.material && image == o.image &&
+           payload == o.payload;
+  }
+};
+
+// Appends a record to / reads one from a byte buffer (bit-exact doubles).
+template <int D>
+void pack(const ParticleRecord<D>& r, std::string& bytes);
+template <int D>
+ParticleRecord<D> unpack(const std::string& bytes, std::size_t& offset);
+
+#ifdef GRANULE_HAVE_MPI
+// Sends buffer k to rank k; returns what each rank sent here, in rank order.
+std::vector<std::string> all_to_all(const std::vector<std::string>& to_rank, MPI_Comm comm);
+
+// Hands every record whose position the decomposition gives to another rank
+// over to it and takes the records that arrive; `owned` ends sorted by id.
+// Returns the number of records that left this rank.
+template <int D>
+std::size_t migrate(const Decomposition<D>& d, std::vector<ParticleRecord<D>>& owned,
+                    MPI_Comm comm);
+
+// Who sends which owned particle (and which image of it) to whom, fixed from
+// one list rebuild to the next, and where each arriving ghost goes in this
+// rank's canonical ghost order.
+struct GhostPlan {
+  struct Send {
+    std::size_t index;   // into the owned records
+    std::int32_t image;  // into periodic_shifts
+  };
+  std::vector<std::vector<Send>> send;  // per destination rank, in a fixed order
+  // place[k][n]: where the n-th ghost from rank k lands in the sorted ghosts.
+  std::vector<std::vector<std::size_t>> place;
+};
+
+// At a list rebuild: the ghosts this rank needs (copies, without payload, of
+// every other rank's particles within `reach` of this rank's box, and the
+// periodic images of its own, each at its shifted position), sorted by
+// (id, image); and the plan that refreshes them each step.
+template <int D>
+std::vector<ParticleRecord<D>> exchange_ghosts(const Decomposition<D>& d, double reach,
+                                               const std::vector<ParticleRecord<D>>& owned,
+                                               MPI_Comm comm, GhostPlan& plan);
+
+// Each step between rebuilds: the ghosts' positions, velocities and spins from
+// their owners (the same particles, the same places), nothing else.
+template <int D>
+void forward_ghosts(const Decomposition<D>& d, const GhostPlan& plan,
+                    const std::vector<ParticleRecord<D>>& owned,
+                    std::vector<ParticleRecord<D>>& ghosts, MPI_Comm comm);
+#endif
+
+}  // namespace granule::parallel
