@@ -108,10 +108,29 @@ PictureInfo write_picture(const SimulationBase& sim, const PictureOptions& o) {
     if (!(v[0] < v[1] && v[2] < v[3])) throw InputError("picture: view needs lo < hi in x and y");
   }
 
-  // ---- the particles and what colours them ----
   const int d = sim.dimension();
+  if (d == 2 && o.projection != Projection::xy)
+    throw InputError(fmt::format("picture: projection = '{}' needs a 3D scene (2D is x-y)",
+                                 projection_name(o.projection)));
+  const bool perspective = o.projection == Projection::perspective;
+  if (o.slab) {
+    const auto& b = *o.slab;
+    if (!(std::isfinite(b[0]) && std::isfinite(b[1]) && b[0] < b[1]))
+      throw InputError("picture: slab must be { lo, hi } with finite lo < hi [m]");
+    if (perspective) throw InputError("picture: slab is for the xy, xz and yz projections");
+  }
+  if ((o.eye || o.target) && !perspective)
+    throw InputError("picture: eye and target are for projection = 'perspective'");
+
+  // ---- the particles and what colours them ----
   const SimulationBase::FlatState s = sim.flat_state();
   const std::size_t n = s.id.size();
+  // Each particle in the picture's coordinates (picture_view.cpp).
+  const Projected view_of = project(s, d, o);
+  const std::vector<double>& pos = view_of.position;
+  const std::vector<double>& drawn_radius = view_of.radius;
+  const std::vector<double>& shade = view_of.shade;
+  const std::vector<char>& shown = view_of.shown;
   const int sc = d == 2 ? 1 : 3;
   std::vector<double> value(n, 0);
   for (std::size_t i = 0; i < n; ++i) {
@@ -172,9 +191,8 @@ PictureInfo write_picture(const SimulationBase& sim, const PictureOptions& o) {
   }
 
   // ---- the view ----
-  std::vector<WallSpec> walls;
-  if (o.walls)
-    for (int w = 0; w < sim.wall_count(); ++w) walls.push_back(sim.wall(w));
+  // Walls in the picture's coordinates; the perspective view draws none.
+  const std::vector<WallSpec> walls = walls_in_view(sim, o);
   std::array<double, 4> view{0, 0, 0, 0};
   if (o.view) {
     view = *o.view;
@@ -187,7 +205,8 @@ PictureInfo write_picture(const SimulationBase& sim, const PictureOptions& o) {
       any = true;
     };
     for (std::size_t i = 0; i < n; ++i) {
-      double x = s.position[i * d], y = s.position[i * d + 1], r = s.radius[i];
+      if (!shown[i]) continue;
+      double x = pos[3 * i], y = pos[3 * i + 1], r = drawn_radius[i];
       include(x - r, x + r, y - r, y + r);
     }
     for (const auto& w : walls)
@@ -251,19 +270,19 @@ PictureInfo write_picture(const SimulationBase& sim, const PictureOptions& o) {
       add(p, true);
     }
 
-  // Particles, lowest z first in 3D so that the nearest (highest) are on top.
+  // Particles, farthest first in 3D so that the nearest are on top.
   std::size_t drawn = 0;
   std::vector<std::size_t> order(n);
   std::iota(order.begin(), order.end(), 0);
   if (d == 3)
-    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-      return s.position[a * 3 + 2] < s.position[b * 3 + 2];
-    });
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return pos[a * 3 + 2] < pos[b * 3 + 2]; });
   for (std::size_t i : order) {
+    if (!shown[i]) continue;
     Prim p = primitive(Prim::disc);
-    p.x0 = px(s.position[i * d]);
-    p.y0 = py(s.position[i * d + 1]);
-    p.radius = s.radius[i] * scale;
+    p.x0 = px(pos[3 * i]);
+    p.y0 = py(pos[3 * i + 1]);
+    p.radius = drawn_radius[i] * scale;
     if (p.x0 + p.radius < 0 || p.x0 - p.radius > L.width || p.y0 + p.radius < 0 ||
         p.y0 - p.radius > plot_height)
       continue;
@@ -276,6 +295,7 @@ PictureInfo write_picture(const SimulationBase& sim, const PictureOptions& o) {
     } else {
       p.colour = viridis((value[i] - vmin) / (vmax - vmin));
     }
+    if (shade[i] < 1) p.colour = darker(p.colour, shade[i]);
     // A darker rim tells touching particles apart once they are a few pixels wide.
     if (p.radius > 2) {
       p.edge = darker(p.colour, 0.6);
@@ -349,6 +369,13 @@ PictureInfo write_picture(const SimulationBase& sim, const PictureOptions& o) {
     t.x0 = margin;
     t.y0 = line1;
     t.label = fmt::format("t = {:.6g} s   step {}   {} particles", sim.time(), sim.step_count(), n);
+    if (d == 3) {
+      static const char* axis_name = "xyz";
+      t.label += fmt::format("   view {}", projection_name(o.projection));
+      if (o.slab)
+        t.label += fmt::format(", {} {}..{} m", axis_name[viewing_axis(o.projection)],
+                               number((*o.slab)[0]), number((*o.slab)[1]));
+    }
     add(t, false);
     if (continuous) {
       const char* unit = o.color_by == ColorBy::speed    ? "m/s"

@@ -7,6 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "engine/simulation_base.hpp"
+#include "io/picture.hpp"
+
 namespace granule::io::picture_detail {
 
 struct Rgb {
@@ -60,6 +63,24 @@ struct Layout {
   double plot_x0 = 0, plot_y0 = 0, plot_x1 = 0, plot_y1 = 0;  // px
   std::vector<Prim> prims;
 };
+
+// ---- the view (picture_view.cpp) ----
+
+// Each particle in the picture's coordinates: right, up, towards the viewer
+// (m; for the perspective, metres at the target's distance), its drawn
+// radius, a shade (1 = full colour, less = farther) and whether it is shown
+// (in the slab, in front of the camera).
+struct Projected {
+  std::vector<double> position;  // 3 per particle
+  std::vector<double> radius, shade;
+  std::vector<char> shown;
+};
+Projected project(const SimulationBase::FlatState& s, int dimension, const PictureOptions& o);
+// The walls in the picture's coordinates (none in the perspective view).
+std::vector<WallSpec> walls_in_view(const SimulationBase& sim, const PictureOptions& o);
+const char* projection_name(Projection p);
+// The axis a projection looks along, for `slab`: 2 (z), 1 (y) or 0 (x).
+int viewing_axis(Projection p);
 
 // ---- the back ends ----
 

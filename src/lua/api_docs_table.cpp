@@ -289,8 +289,8 @@ return {
   {"particles", "list", "", false, "only these ids"}, {"material", "string", "", false, "or only this material"}},
  "{ factor = 1 }"},
 {"sim:picture", "simulation", T,
- "sim:picture { file =, width =, height =, color_by =, range = { min, max }, view = { lo =, hi = }, walls =, legend = } -> file",
- "Draws the particles (3D: projected on x-y) and walls to a PNG or SVG file, without Python.",
+ "sim:picture { file =, width =, height =, color_by =, range = { min, max }, view = { lo =, hi = }, walls =, legend =, projection =, slab = { lo, hi }, eye =, target = } -> file",
+ "Draws the particles and walls to a PNG or SVG file, without Python. 3D: projected on x-y (default), x-z or y-z, the nearest on top, or a slab of them; or a perspective view with depth shading (no walls).",
  {{"file", "string", "", true, "ends in .png or .svg"},
   {"width", "integer", "", false, "pixels, 16..8192; default 800"},
   {"height", "integer", "", false, "pixels; default from the view's aspect ratio"},
@@ -298,7 +298,11 @@ return {
   {"range", "list", "", false, "{ min, max } of the colour scale, in the unit of color_by"},
   {"view", "table", "m", false, "{ lo = { x, y }, hi = { x, y } }; default: particles and walls"},
   {"walls", "boolean", "", false, "draw the walls; default true"},
-  {"legend", "boolean", "", false, "draw time and colour scale; default true"}},
+  {"legend", "boolean", "", false, "draw time and colour scale; default true"},
+  {"projection", "string", "", false, "3D: xy (looking along -z; default) | xz (along +y) | yz (along -x) | perspective"},
+  {"slab", "list", "m", false, "{ lo, hi }: only the particles whose centre lies there along the viewing axis (z, y or x)"},
+  {"eye", "vector", "m", false, "perspective: the camera; default from the side and above at 2.5 times the particles' extent"},
+  {"target", "vector", "m", false, "perspective: the point looked at; default the particles' centre"}},
  "{ file = 'example_picture.svg', width = 200 }"},
 
 // ---- queries ----

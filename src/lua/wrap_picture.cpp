@@ -1,4 +1,5 @@
-// sim:picture { file =, width =, height =, color_by =, range =, view =, walls =, legend = }
+// sim:picture { file =, width =, height =, color_by =, range =, view =, walls =, legend =,
+//               projection =, slab =, eye =, target = }
 // Reads the options, hands them to io::write_picture (which knows nothing of Lua).
 #include <fmt/format.h>
 
@@ -41,6 +42,17 @@ int l_picture(lua_State* L) {
     }
     o.walls = t.boolean("walls", true);
     o.legend = t.boolean("legend", true);
+    o.projection = io::parse_projection(t.string("projection", "xy"));
+    if (t.has("slab")) {
+      std::vector<double> slab = t.numbers("slab");
+      if (slab.size() != 2) throw std::runtime_error("picture: slab must be { lo, hi } [m]");
+      o.slab = std::array<double, 2>{slab[0], slab[1]};
+    }
+    for (auto [key, where] : {std::pair{"eye", &o.eye}, std::pair{"target", &o.target}})
+      if (t.has(key)) {
+        auto v = t.vector(key, 3);
+        *where = std::array<double, 3>{v[0], v[1], v[2]};
+      }
     t.finish();
     io::write_picture(sim, o);
     lua_pushstring(L, o.path.c_str());

@@ -188,3 +188,136 @@ TEST_CASE("picture: SVG holds the same discs; bad options are refused", "[pictur
   CHECK_THROWS_AS(io::write_picture(*sim, bad), InputError);
   CHECK_THROWS_AS(io::parse_color_by("colour"), InputError);
 }
+
+namespace {
+
+// Particles of materials 0, 1, 2, ... at the given 3D positions, radius 1 mm.
+std::unique_ptr<SimulationBase> spheres(const std::vector<std::array<double, 3>>& at) {
+  auto sim = make_simulation(3);
+  for (std::size_t k = 0; k < at.size(); ++k) sim->add_material({"m" + std::to_string(k), 1000});
+  for (std::size_t k = 0; k < at.size(); ++k) {
+    ParticleSpec p;
+    p.position = at[k];
+    p.radius = 1e-3;
+    p.material = static_cast<int>(k);
+    sim->add_particle(p);
+  }
+  return sim;
+}
+
+const std::array<int, 3> colour0{31, 119, 180}, colour1{255, 127, 14}, colour2{44, 160, 44};
+
+}  // namespace
+
+TEST_CASE("picture: the x-z and y-z views put each axis where it belongs", "[picture]") {
+  // A on +x, B on +z, C on +y.
+  auto sim = spheres({{0.005, 0, 0}, {0, 0, 0.005}, {0, 0.005, 0}});
+  auto o = options(temp("xz.png"));
+  o.color_by = io::ColorBy::material;
+  o.projection = io::Projection::xz;  // x right, z up
+  io::write_picture(*sim, o);
+  Image img = read_png(o.path);
+  CHECK(near(img.at(150, 100), colour0));
+  CHECK(near(img.at(100, 50), colour1));
+  CHECK(near(img.at(100, 100), colour2));
+  o.projection = io::Projection::yz;  // y right, z up
+  io::write_picture(*sim, o);
+  img = read_png(o.path);
+  CHECK(near(img.at(100, 100), colour0));
+  CHECK(near(img.at(100, 50), colour1));
+  CHECK(near(img.at(150, 100), colour2));
+  std::filesystem::remove(o.path);
+}
+
+TEST_CASE("picture: in the side views the particle nearer the viewer is on top", "[picture]") {
+  auto o = options(temp("side_depth.png"));
+  o.color_by = io::ColorBy::material;
+  // x-z looks along +y: the smaller y is nearer. Added far first, then near.
+  auto along_y = spheres({{0, 0.001, 0}, {0, -0.001, 0}});
+  o.projection = io::Projection::xz;
+  io::write_picture(*along_y, o);
+  CHECK(near(read_png(o.path).at(100, 100), colour1));
+  // y-z looks along -x: the larger x is nearer. Added near first, then far.
+  auto along_x = spheres({{0.001, 0, 0}, {-0.001, 0, 0}});
+  o.projection = io::Projection::yz;
+  io::write_picture(*along_x, o);
+  CHECK(near(read_png(o.path).at(100, 100), colour0));
+  std::filesystem::remove(o.path);
+}
+
+TEST_CASE("picture: a slab draws only the particles whose centre lies in it", "[picture]") {
+  auto sim = spheres({{0, -0.004, 0}, {0, 0, 0}, {0, 0.004, 0}, {0.004, 0.0009, 0}});
+  auto o = options(temp("slab.png"));
+  o.projection = io::Projection::xz;
+  o.slab = std::array<double, 2>{-0.001, 0.001};
+  auto info = io::write_picture(*sim, o);
+  CHECK(info.particles == 2);
+  o.slab = std::array<double, 2>{0.003, 0.005};
+  CHECK(io::write_picture(*sim, o).particles == 1);
+  o.projection = io::Projection::xy;  // along z: all four centres at z = 0
+  o.slab = std::array<double, 2>{-0.0005, 0.0005};
+  CHECK(io::write_picture(*sim, o).particles == 4);
+  std::filesystem::remove(o.path);
+}
+
+TEST_CASE("picture: in perspective the nearer of two equal spheres is larger and brighter",
+          "[picture]") {
+  // The camera on -y looking at the origin; sphere 0 nearer (y = -0.02), sphere 1
+  // farther (y = +0.02), each off to one side.
+  auto sim = spheres({{-0.004, -0.02, 0}, {0.004, 0.02, 0}});
+  io::PictureOptions o;
+  o.path = temp("perspective.png");
+  o.width = 400;
+  o.legend = false;
+  o.color_by = io::ColorBy::material;
+  o.projection = io::Projection::perspective;
+  o.eye = std::array<double, 3>{0, -0.05, 0};
+  o.target = std::array<double, 3>{0, 0, 0};
+  auto info = io::write_picture(*sim, o);
+  CHECK(info.particles == 2);
+  Image img = read_png(o.path);
+  // Widths of the two discs along the middle row, and their centre colours.
+  const int row = img.height / 2;
+  int first = -1, last = -1, first2 = -1, last2 = -1;
+  std::array<int, 3> white_px{255, 255, 255};
+  for (int x = 0; x < img.width; ++x) {
+    const bool ink = !near(img.at(x, row), white_px, 30);
+    if (ink && x < img.width / 2) {
+      if (first < 0) first = x;
+      last = x;
+    }
+    if (ink && x >= img.width / 2) {
+      if (first2 < 0) first2 = x;
+      last2 = x;
+    }
+  }
+  REQUIRE(first >= 0);
+  REQUIRE(first2 >= 0);
+  const int near_width = last - first, far_width = last2 - first2;
+  // Pinhole: the drawn size goes as 1 / distance (0.03 m against 0.07 m).
+  CHECK(near_width == Approx(far_width * 0.07 / 0.03).epsilon(0.12));
+  auto near_colour = img.at((first + last) / 2, row), far_colour = img.at((first2 + last2) / 2, row);
+  CHECK(near(near_colour, colour0, 3));                    // nearest: full colour
+  CHECK(far_colour[0] + far_colour[1] + far_colour[2] <
+        0.7 * (colour1[0] + colour1[1] + colour1[2]));  // farthest: shaded to 55 %
+  std::filesystem::remove(o.path);
+}
+
+TEST_CASE("picture: projections that do not apply are refused with the reason", "[picture]") {
+  auto flat = scene(2);
+  auto o = options(temp("refused.png"));
+  o.projection = io::Projection::xz;
+  CHECK_THROWS_WITH(io::write_picture(*flat, o), Catch::Contains("needs a 3D scene"));
+  auto sim = spheres({{0, 0, 0}});
+  o.projection = io::Projection::perspective;
+  o.slab = std::array<double, 2>{0, 1};
+  CHECK_THROWS_WITH(io::write_picture(*sim, o), Catch::Contains("slab is for the xy"));
+  o.slab.reset();
+  o.projection = io::Projection::xy;
+  o.eye = std::array<double, 3>{0, 0, 1};
+  CHECK_THROWS_WITH(io::write_picture(*sim, o), Catch::Contains("eye and target are for"));
+  o.eye.reset();
+  o.slab = std::array<double, 2>{1, 0};
+  CHECK_THROWS_WITH(io::write_picture(*sim, o), Catch::Contains("finite lo < hi"));
+  CHECK_THROWS_WITH(io::parse_projection("side"), Catch::Contains("xy, xz, yz, perspective"));
+}
