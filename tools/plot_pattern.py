@@ -1,8 +1,9 @@
 #!/usr/bin/python3
-"""Draw the particles of a Granule snapshot in the x-y plane.
+"""Draw the particles of a Granule snapshot in the x-y plane (3D: or x-z, y-z, a slab).
 
-usage: /usr/bin/python3 tools/plot_pattern.py out.h5 [--index -1 | --all-every K]
-                                              [--color-by speed] [-o pattern.png]
+usage: /usr/bin/python3 tools/plot_pattern.py out.h5 [--index -1 | --all-every K [--gif movie.gif]]
+                                              [--color-by speed] [--view xy|xz|yz]
+                                              [--slab LO HI] [-o pattern.png]
 
 Particles are circles of their true radius, coloured by speed [m/s] (or, with
 --color-by, by radius [m], spin [rad/s], material or fixed, as sim:picture
@@ -11,12 +12,17 @@ does); fixed particles are dark grey in the continuous colourings. Walls describ
 an outline if the particles are inside it, filled grey if outside - and a plane
 (type="plane", point, normal) as the line where it cuts the x-y plane through
 its point, clipped to the particles' bounding box. In 3D the particles are
-projected onto x-y, the highest z drawn last.
+projected onto x-y (looking along -z), or with --view onto x-z (looking along
++y) or y-z (looking along -x), the nearest drawn last, as sim:picture does; a
+cylinder whose axis lies across the view is drawn as the band it projects to.
+--slab LO HI keeps the particles whose centre lies in [LO, HI] m along the
+viewing axis (z, y or x).
 
 --index I draws snapshot I (negative counts from the end; default -1, the last).
 --all-every K draws every K-th snapshot and the last, one PNG each, named
 <output stem>_NNNNNN.png, with one speed scale and one view for all, so that the
-frames can be put together into an animation.
+frames can be put together into an animation; --gif FILE puts them together
+into an animated GIF (10 frames per second).
 Writes PNGs (default: <file>_pattern.png next to the input) and prints their paths.
 """
 
@@ -38,6 +44,44 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import granule_h5 as g  # noqa: E402
 
 FIXED_COLOUR = "0.25"
+VIEWS = ("xy", "xz", "yz")
+# Rows: the picture's right, up and towards-the-viewer directions (as sim:picture).
+VIEW_MATRIX = {"xy": np.eye(3),
+               "xz": np.array([[1.0, 0, 0], [0, 0, 1], [0, -1, 0]]),
+               "yz": np.array([[0.0, 1, 0], [0, 0, 1], [1, 0, 0]])}
+VIEW_AXIS = {"xy": 2, "xz": 1, "yz": 0}  # the axis looked along, for --slab
+AXIS_LABELS = {"xy": ("x [m]", "y [m]"), "xz": ("x [m]", "z [m]"), "yz": ("y [m]", "z [m]")}
+
+
+def in_view(snap, walls, view, slab=None):
+    """The snapshot and walls in the view's coordinates (right, up, towards the viewer),
+    keeping the particles in the slab."""
+    pos = snap["position"]
+    if pos.shape[1] == 2:
+        if view != "xy" or slab is not None:
+            raise g.GranuleH5Error("--view and --slab are for 3D output")
+        return snap, walls
+    n = len(snap["radius"])
+    keep = np.ones(n, dtype=bool)
+    if slab is not None:
+        along = pos[:, VIEW_AXIS[view]]
+        keep = (along >= slab[0]) & (along <= slab[1])
+    m = VIEW_MATRIX[view]
+    out = dict(snap)
+    for key, value in snap.items():
+        if isinstance(value, np.ndarray) and value.ndim >= 1 and value.shape[0] == n:
+            out[key] = value[keep]
+    out["position"] = pos[keep] @ m.T
+    moved = {}
+    for name, w in walls.items():
+        w = dict(w)
+        for key in ("point", "normal", "center", "axis"):
+            if key in w:
+                w[key] = m @ np.asarray(w[key], dtype=float)
+        if w.get("type") == "cylinder" and "axis" not in w:
+            w["axis"] = m @ np.array([0.0, 0.0, 1.0])
+        moved[name] = w
+    return out, moved
 
 
 def _circles(ax, xy, radius, **kwargs):
@@ -92,6 +136,15 @@ def _draw_walls(ax, walls, particle_box):
             except KeyError as e:
                 print(f"note: wall '{name}' lacks {e}; not drawn", file=sys.stderr)
                 continue
+            a = np.asarray(w.get("axis", (0.0, 0.0, 1.0)), dtype=float)
+            if len(a) > 2 and math.hypot(a[0], a[1]) > 1e-9 * np.linalg.norm(a):
+                # The axis lies across the view: the band of half-width r about it.
+                u = a[:2] / math.hypot(a[0], a[1])
+                for side in (1, -1):
+                    seg = clip_line((c[0] - side * u[1] * r, c[1] + side * u[0] * r), u, particle_box)
+                    if seg is not None:
+                        ax.plot(seg[0], seg[1], color="k", lw=1.2, zorder=3)
+                continue
             inside = int(w.get("inside", 1))
             ax.add_patch(Circle((c[0], c[1]), r, fill=not inside, facecolor="0.85",
                                 edgecolor="k", lw=1.2, zorder=0 if not inside else 3))
@@ -121,7 +174,7 @@ def _particle_box(snaps):
 CATEGORY_COLOURS = plt.get_cmap("tab10").colors  # the same ten as sim:picture
 
 
-def _draw(snap, walls, view, particle_box, scale, path, output, color_by="speed"):
+def _draw(snap, walls, view, particle_box, scale, path, output, color_by="speed", axis_labels=AXIS_LABELS["xy"]):
     pos, radius = snap["position"], snap["radius"]
     order = np.argsort(pos[:, 2]) if pos.shape[1] > 2 else np.arange(len(radius))
     fixed = snap["fixed"][order]
@@ -159,8 +212,8 @@ def _draw(snap, walls, view, particle_box, scale, path, output, color_by="speed"
     ax.set_aspect("equal")
     ax.xaxis.set_major_locator(MaxNLocator(6))  # metre tick labels are long
     ax.yaxis.set_major_locator(MaxNLocator(6))
-    ax.set_xlabel("x [m]")
-    ax.set_ylabel("y [m]")
+    ax.set_xlabel(axis_labels[0])
+    ax.set_ylabel(axis_labels[1])
     ax.set_title(
         f"{os.path.basename(path)}  t = {snap['time']:.6g} s  (step {snap['step']}, "
         f"{len(radius)} particles, {int(fixed.sum())} fixed)",
@@ -174,9 +227,16 @@ def _draw(snap, walls, view, particle_box, scale, path, output, color_by="speed"
 COLOR_BY = ("speed", "radius", "spin", "material", "fixed")
 
 
-def plot_pattern(path, index=-1, every=None, output=None, color_by="speed"):
+def plot_pattern(path, index=-1, every=None, output=None, color_by="speed", view_name="xy", slab=None,
+                 gif=None):
     if color_by not in COLOR_BY:
         raise g.GranuleH5Error(f"--color-by must be one of {', '.join(COLOR_BY)}")
+    if view_name not in VIEWS:
+        raise g.GranuleH5Error(f"--view must be one of {', '.join(VIEWS)}")
+    if slab is not None and not (np.all(np.isfinite(slab)) and slab[0] < slab[1]):
+        raise g.GranuleH5Error(f"--slab needs LO < HI, got {slab[0]} {slab[1]}")
+    if gif is not None and every is None:
+        raise g.GranuleH5Error("--gif puts the frames of --all-every together: give --all-every K")
     with g.open_run(path) as f:
         names = g.snapshots(f)
         if not names:
@@ -191,6 +251,9 @@ def plot_pattern(path, index=-1, every=None, output=None, color_by="speed"):
             indices = [index]
         snaps = [g.snapshot(f, i) for i in indices]
         walls = g.walls(f)
+    viewed = [in_view(s, walls, view_name, slab) for s in snaps]
+    snaps = [v[0] for v in viewed]
+    walls = viewed[0][1] if viewed else walls
 
     drawable = [s for s in snaps if len(s["radius"])]
     if not drawable:
@@ -224,8 +287,13 @@ def plot_pattern(path, index=-1, every=None, output=None, color_by="speed"):
         out = base[0] + (base[1] or ".png")
         if every is not None:
             out = f"{base[0]}_{s['name'].rsplit('/', 1)[-1]}{base[1] or '.png'}"
-        _draw(s, walls, view, particle_box, scale, path, out, color_by)
+        _draw(s, walls, view, particle_box, scale, path, out, color_by, AXIS_LABELS[view_name])
         written.append(out)
+    if gif is not None and written:
+        from PIL import Image  # Debian: python3-pil, which python3-matplotlib brings
+        frames = [Image.open(p).convert("P", palette=Image.Palette.ADAPTIVE) for p in written]
+        frames[0].save(gif, save_all=True, append_images=frames[1:], duration=100, loop=0)
+        written.append(gif)
     return written
 
 
@@ -239,8 +307,14 @@ def main():
                        help="draw every K-th snapshot (and the last), one PNG each")
     parser.add_argument("--color-by", default="speed", choices=COLOR_BY,
                         help="what the colour shows (default speed)")
+    parser.add_argument("--view", default="xy", choices=VIEWS,
+                        help="3D: xy (along -z, default), xz (along +y) or yz (along -x)")
+    parser.add_argument("--slab", type=float, nargs=2, metavar=("LO", "HI"),
+                        help="3D: only particles whose centre lies in [LO, HI] m along the viewing axis")
+    parser.add_argument("--gif", help="with --all-every: also an animated GIF of the frames")
     parser.add_argument("-o", "--output", help="PNG to write (a stem for --all-every)")
-    g.run_tool(parser, lambda a: plot_pattern(a.file, a.index, a.all_every, a.output, a.color_by))
+    g.run_tool(parser, lambda a: plot_pattern(a.file, a.index, a.all_every, a.output, a.color_by, a.view,
+                                              a.slab, a.gif))
 
 
 if __name__ == "__main__":
