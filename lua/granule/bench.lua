@@ -136,7 +136,7 @@ end
 -- The order of the result line's fields (compare.py reads them by name).
 local line_fields = {
   "model", "particles", "steps", "wall_s", "particle_steps_per_s", "mean_contacts", "mean_pair_contacts",
-  "neighbour_s", "contacts_s", "walls_s", "sums_s", "diagnostics_s", "integrate_s", "hooks_s",
+  "mean_kinetic_energy", "neighbour_s", "contacts_s", "walls_s", "sums_s", "diagnostics_s", "integrate_s", "hooks_s",
   "pair_wait_s", "list_rebuilds", "thread_rebalances",
 }
 
