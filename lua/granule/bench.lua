@@ -24,10 +24,13 @@ local defaults = {
   frequency = 50,         -- Hz, of the floor
   time_step = 1.5e-6,     -- s
   gap = 0,                -- m, between neighbours on the starting lattice (0: touching)
+  model = "linear",       -- linear (k_normal) | hertz_mindlin (young, poisson; restitution calibrated)
+  young = 5e7,            -- Pa, hertz_mindlin: spheres and walls alike (a soft glass: dt as linear)
+  poisson = 0.25,
 }
 
 local units = { radius = "m", density = "kg/m^3", k_normal = "N/m", amplitude = "m",
-                frequency = "Hz", time_step = "s", gap = "m" }
+                frequency = "Hz", time_step = "s", gap = "m", young = "Pa" }
 
 -- The box's options as declarations for a scene's parameters{...} (the
 -- defaults and units above), with the scene's own `extra` ones added:
@@ -63,11 +66,21 @@ function bench.shaken_box(options)
   local p = with_defaults(options)
   local side = p.per_side * (2 * p.radius + p.gap)
   local sim = simulation { dimension = 3, time_step = p.time_step }
-  sim:material { name = "glass", density = p.density }
-  sim:material { name = "steel", density = 7800 }
+  local hertz = p.model == "hertz_mindlin"
+  if not hertz and p.model ~= "linear" then
+    error("granule.bench: model = '" .. tostring(p.model) .. "' is not linear or hertz_mindlin", 2)
+  end
+  -- Hertz: one E and nu for spheres and walls, as LAMMPS's granular walls assume.
+  local elastic = hertz and { young = p.young, poisson = p.poisson } or {}
+  sim:material { name = "glass", density = p.density, young = elastic.young, poisson = elastic.poisson }
+  sim:material { name = "steel", density = 7800, young = elastic.young, poisson = elastic.poisson }
   for _, other in ipairs { "glass", "steel" } do
-    sim:contact { "glass", other, model = "linear", k_normal = p.k_normal, restitution = p.restitution,
-                  friction = p.friction }
+    if hertz then
+      sim:contact { "glass", other, model = "hertz_mindlin", restitution = p.restitution, friction = p.friction }
+    else
+      sim:contact { "glass", other, model = "linear", k_normal = p.k_normal, restitution = p.restitution,
+                    friction = p.friction }
+    end
   end
   sim:wall_plane { name = "floor", point = { 0, 0, 0 }, normal = { 0, 0, 1 }, material = "steel" }
   sim:wall_plane { name = "x_low", point = { 0, 0, 0 }, normal = { 1, 0, 0 }, material = "steel" }

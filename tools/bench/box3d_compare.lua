@@ -2,7 +2,8 @@
 -- and LIGGGHTS (tools/bench/compare.py): `per_side`^2 x `layers` spheres of
 -- r = 1 mm start on a touching cubic lattice in a box with four side walls, fall
 -- onto a floor that shakes vertically (amplitude `amplitude`, frequency
--- `frequency`), Hooke contacts with friction. Without `state` the scene
+-- `frequency`), Hooke contacts with friction (`-D model=hertz_mindlin`: damped
+-- Hertz-Mindlin, E = `young`, nu = `poisson`). Without `state` the scene
 -- settles for `settle` s (rounded up to whole periods of the floor) and saves
 -- the state; with `state` it loads it and times `steps` steps.
 --   build/granule run tools/bench/box3d_compare.lua -D save=box_state.h5
@@ -41,10 +42,11 @@ if p.state == "" then
 end
 sim:load_particles { file = p.state }
 if not p.pruning then sim:set { pruning = false } end
-local contacts, pair_contacts, samples = 0, 0, 0
+local contacts, pair_contacts, energy, samples = 0, 0, 0, 0
 sim:every { steps = 100, function(s)
   local st = s:stats()
   contacts, pair_contacts = contacts + st.contacts_particle + st.contacts_wall, pair_contacts + st.contacts_particle
+  energy = energy + st.kinetic_energy_translational  -- as LAMMPS's `ke`, for checking the flows agree
   samples = samples + 1
 end }
 sim:run { steps = 1 }
@@ -66,9 +68,10 @@ io.stderr:write(string.format("pair loop: %.1f ns per pair contact and step\n",
 io.stderr:write(string.format("pruned pair lists: the last step looked at %d pair candidates (all candidates, walls too: %d); %d prunes, %d list rebuilds so far\n",
   st.pair_candidates_visited, st.candidate_pairs, st.pair_list_prunes, st.list_rebuilds))
 local line = {
-  model = "linear", particles = st.particles, steps = p.steps, wall_s = wall,
+  model = p.model, particles = st.particles, steps = p.steps, wall_s = wall,
   particle_steps_per_s = st.particles * p.steps / wall, mean_contacts = contacts / math.max(samples, 1),
   mean_pair_contacts = pair_contacts / math.max(samples, 1),
+  mean_kinetic_energy = energy / math.max(samples, 1),
   list_rebuilds = st.list_rebuilds - st0.list_rebuilds, thread_rebalances = st.thread_rebalances - st0.thread_rebalances,
 }
 for k, v in pairs(stage) do line[k] = v end
