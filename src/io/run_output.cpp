@@ -84,6 +84,13 @@ void RunOutput::finish() {
   file_->flush();
 }
 
+void RunOutput::flush() {
+  if (finished_ || !file_) return;
+  write_header();
+  write_new_walls();
+  file_->flush();
+}
+
 void RunOutput::write_header() {
   // Written lazily, at the first output of the run, so that it describes the
   // scene as it runs, whatever order the script declared things in.

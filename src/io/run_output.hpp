@@ -43,6 +43,7 @@ class RunOutput final : public OutputSink {
   void write_result(const std::string& name, double value);  // /results attributes
   void write_failure(const std::string& message);            // finite particles + message
   void finish();                                             // final snapshot + flush
+  void flush();  // everything written so far on disk; the file stays open for more
   const std::string& path() const { return settings_.path; }
 
   // Checkpoints: how far the file has got (flushed first), under "output.*" keys; and,

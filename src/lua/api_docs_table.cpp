@@ -181,8 +181,8 @@ return {
  {{"1", "integer", "", true, "particle id"}}, "3"},
 
 // ---- running ----
-{"sim:run", "simulation", T, "sim:run { duration = | steps =, stop_when =, check_every = } -> { steps =, time =, stopped = }",
- "Advances the simulation; shows a progress line on a terminal for long runs; Ctrl-C stops it at a step boundary.",
+{"sim:run", "simulation", T, "sim:run { duration = | steps =, stop_when =, check_every = } -> { steps =, time =, stopped =, interrupted = }",
+ "Advances the simulation; shows a progress line on a terminal for long runs; Ctrl-C stops it at a step boundary (an error in a scene; at the REPL's prompt the run returns, its state kept and checkpointed).",
  {{"duration", "number", "s", false, "simulated time to advance (give this or steps)"},
   {"steps", "integer", "", false, "or a number of steps"},
   {"stop_when", "function", "", false, "function(sim) -> true ends the run early"},
@@ -226,7 +226,7 @@ return {
  "'probe', { 0, 1 }"},
 {"sim:result", "simulation", T, "sim:result { name = value, ... }", "Records scalar results as attributes of /results; `granule sweep` gathers them into its summary table.",
  {{"<name>", "number", "", false, "a finite number"}}, "{ restitution = 0.85 }", true},
-{"sim:close", "simulation", P, "sim:close()", "Writes the final snapshot and closes the output file.", {}, ""},
+{"sim:close", "simulation", P, "sim:close()", "Writes the final snapshot and closes the output file (in the REPL: flushes it; the file stays open for the prompt until the session ends).", {}, ""},
 {"sim:checkpoint", "simulation", T, "sim:checkpoint { file =, every_steps =, every_seconds = }",
  "Writes checkpoints during runs (to a temporary file, then renamed); granule run SCENE --restart FILE continues bit-identically.",
  {{"file", "string", "", true, "checkpoint file (HDF5)"},

@@ -38,6 +38,9 @@ struct SceneContext {
   bool checkpoint_assigned = false;  // the first simulation has taken checkpoint_path
   bool interrupted = false;          // a run stopped on a signal (the program exits with 128 + it)
   bool progress = false;  // progress line for long runs (the CLI: stderr is a terminal, no --quiet)
+  // granule repl: the output stays open until the session ends (sim:close() only flushes)
+  // and Ctrl-C stops a run without an error, keeping its state for the prompt.
+  bool repl = false;
   std::vector<std::string> outputs_written;
   std::shared_ptr<Journal> journal;    // what the scene saw of the engine (journal.hpp)
   std::shared_ptr<Restart> restart;    // --restart: the checkpoint being continued

@@ -125,6 +125,12 @@ int l_result(lua_State* L) {
 int l_close(lua_State* L) {
   return protect(L, [](lua_State* L) {
     LuaSim& s = self(L);
+    // In the REPL what the user does at the prompt after the scene goes to the same
+    // file: it is finished when the session ends (the simulation is collected).
+    if (SceneContext* ctx = context(L); ctx && ctx->repl) {
+      if (s.output) s.output->flush();
+      return 0;
+    }
     if (s.output) s.output->finish();
     s.output.reset();
     return 0;
