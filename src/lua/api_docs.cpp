@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <lua.hpp>
 
 #include "contact/model_docs.hpp"
@@ -274,12 +275,22 @@ int l_help(lua_State* L) {
       const std::string diagnostic = diagnostics_help(name, false);  // src/hooks/registry.cpp
       if (const FunctionDoc* d = find_doc(name)) {
         text = format_help(*d) + diagnostic;
+        // A short name ("wall") is also a search: the other entries that mention it.
+        if (name != d->name) {
+          auto others = search_help(name);
+          others.erase(std::remove_if(others.begin(), others.end(),
+                                      [d](const HelpMatch& m) { return m.name == d->name; }),
+                       others.end());
+          if (!others.empty()) text += "\nalso: " + format_matches(name, others);
+        }
       } else if (!diagnostic.empty()) {
         text = diagnostic;
       } else if (name == "models") {
         text = format_models_help();
       } else if (const ContactModelInfo* m = find_model(catalogue, name)) {
         text = format_model_help(*m);
+      } else if (auto matches = search_help(name); !matches.empty()) {
+        text = format_matches(name, matches);
       } else {
         std::vector<std::string> names{"models", "diagnostics"};
         if (std::string doc = nearest_doc_name(name); !doc.empty()) names.push_back(doc);
@@ -319,8 +330,7 @@ int l_help(lua_State* L) {
             fmt::format("help: no documentation for this {} value; try help() or help('name')",
                         type_name(L, 1)));
     }
-    std::fputs(text.c_str(), stdout);
-    std::fflush(stdout);
+    show_help_text(text);
     return 0;
   });
 }
