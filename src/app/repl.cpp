@@ -14,6 +14,7 @@
 #include "app/interrupt.hpp"
 #include "core/names.hpp"
 #include "lua/completion.hpp"
+#include "lua/run_progress.hpp"
 
 #ifdef GRANULE_HAVE_READLINE
 #include <readline/history.h>
@@ -196,6 +197,7 @@ void report_undefined_globals(lua_State* L) {
 int run_repl(const std::string& scene, lua::SceneContext& ctx) {
   ctx.repl = true;
   lua_State* L = lua::new_state(&ctx);
+  lua::clear_progress_before_prints(L);
   const bool interactive = isatty(0);
   int failures = 0;
   if (luaL_loadstring(L, show_source) != LUA_OK || lua_pcall(L, 0, 1, 0) != LUA_OK)

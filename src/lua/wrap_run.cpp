@@ -148,7 +148,9 @@ int l_run(lua_State* L) {
       }
       progress.emplace(std::cerr, steps - done,
                        s.sim->time() + static_cast<double>(steps - done) * dt,
-                       stop_ref != LUA_NOREF, RunProgress::Clock{}, delay);
+                       stop_ref != LUA_NOREF, RunProgress::Clock{}, delay, 0.25,
+                       ctx->progress_log ? RunProgress::Style::log : RunProgress::Style::terminal,
+                       ctx->progress_every);
     }
     // The engine's runner takes the steps; the scene's criterion, its checkpoints and the
     // user's interrupt are served between its chunks.
