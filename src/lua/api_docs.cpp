@@ -289,17 +289,27 @@ int l_help(lua_State* L) {
         text = format_models_help();
       } else if (const ContactModelInfo* m = find_model(catalogue, name)) {
         text = format_model_help(*m);
-      } else if (auto matches = search_help(name); !matches.empty()) {
-        text = format_matches(name, matches);
       } else {
         std::vector<std::string> names{"models", "diagnostics"};
         if (std::string doc = nearest_doc_name(name); !doc.empty()) names.push_back(doc);
         for (const auto& c : catalogue) names.push_back(c.name);
-        std::string hint = nearest_name(name, names);
-        throw std::runtime_error(fmt::format(
-            "help: nothing is called '{}'{}; help() lists every name, help('models') the contact "
-            "models, help('diagnostics') the diagnostics",
-            name, hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint)));
+        const std::string hint = nearest_name(name, names);
+        const auto matches = search_help(name);
+        // A word near no name is a search ("wall", "restitution"); a near miss of a
+        // name is an error that names it, and the entries mentioning the word.
+        if (hint.empty() && !matches.empty()) {
+          text = format_matches(name, matches);
+        } else {
+          std::string mentions;
+          for (std::size_t k = 0; k < matches.size() && k < 8; ++k)
+            mentions += (k ? ", " : "") + matches[k].name;
+          if (matches.size() > 8) mentions += ", ...";
+          throw std::runtime_error(fmt::format(
+              "help: nothing is called '{}'{}{}; help() lists every name, help('models') the "
+              "contact models, help('diagnostics') the diagnostics",
+              name, hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint),
+              mentions.empty() ? "" : "; mentioned by " + mentions));
+        }
       }
     } else if (luaL_testudata(L, 1, "granule.Simulation")) {
       for (const auto& d : api_docs())
