@@ -53,6 +53,28 @@ local function centre_height(s)
 end
 sim:every { time = 1e-3, function(s) s:append("pile", { s:time(), centre_height(s) }) end }
 
+-- 8b. A velocity profile at array speed: the mean x-velocity in ten height bins, every 100 steps.
+local bins, profile_row, bin_sum, bin_count = 10, {}, {}, {}
+local profile_columns, profile_units = { "time" }, { "s" }
+for b = 1, bins do
+  profile_columns[b + 1], profile_units[b + 1] = "vx_" .. b, "m/s"
+end
+sim:series("profile", profile_columns, profile_units)
+sim:every { steps = 100, function(s)
+  local P = s:arrays()
+  local y, vx = P.y, P.vx
+  for b = 1, bins do bin_sum[b], bin_count[b] = 0, 0 end
+  for i = 1, #P do
+    local b = math.floor((y[i] + p.drum_radius) / (2 * p.drum_radius) * bins) + 1
+    if b >= 1 and b <= bins then
+      bin_sum[b], bin_count[b] = bin_sum[b] + vx[i], bin_count[b] + 1
+    end
+  end
+  profile_row[1] = s:time()
+  for b = 1, bins do profile_row[b + 1] = bin_count[b] > 0 and bin_sum[b] / bin_count[b] or 0 end
+  s:append("profile", profile_row)
+end }
+
 -- 9. Settle until the beads are nearly at rest, then turn the drum.
 granule.stage(sim, { name = "settle", duration = p.settle, check_every = 500,
                      stop_when = function(s) return s:stats().kinetic_energy < 1e-7 end })

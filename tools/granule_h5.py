@@ -78,9 +78,15 @@ def series_columns(f, group="/series"):
 
 
 def series_units(f, group="/series"):
-    """{column: unit} for the columns that carry a "unit" attribute."""
+    """{column: unit} for the columns that carry a "units" (or older "unit") attribute."""
     g = _require_group(f, group)
-    return {c: _text(g[c].attrs["unit"]) for c in series_columns(f, group) if "unit" in g[c].attrs}
+    out = {}
+    for c in series_columns(f, group):
+        a = g[c].attrs
+        unit = _text(a["units"]) if "units" in a else _text(a["unit"]) if "unit" in a else ""
+        if unit:
+            out[c] = unit
+    return out
 
 
 def series(f, group="/series"):

@@ -23,6 +23,7 @@
 #include "contact/models.hpp"
 #include "io/h5_output.hpp"
 #include "lua/api_docs.hpp"
+#include "lua/run_progress.hpp"
 #include "lua/scene.hpp"
 
 namespace {
@@ -31,6 +32,8 @@ const char* usage =
     "usage:\n"
     "  granule run SCENE.lua [-D name=value ...] [-o OUT.h5] [--quiet] [--threads N]\n"
     "              [--restart CHECKPOINT.h5] [--checkpoint FILE.h5] [--checkpoint-every SECONDS]\n"
+    "              [--progress SECONDS]\n"
+    "  granule run SCENE.lua --help   the scene's parameters: defaults, units, docs\n"
     "  granule repl [SCENE.lua] [-D name=value ...]\n"
     "  granule sweep SCENE.lua -D name=v1,v2,... [-D ...] [-o DIR] [--threads N] [-q]\n"
     "              [--case-timeout SECONDS] [--checkpoint-every SECONDS] [--list]\n"
@@ -41,6 +44,9 @@ const char* usage =
     "  -D name=value   override a parameter the scene declares (repeatable)\n"
     "  -o OUT.h5       output file (an OUT.xmf for ParaView is written beside it)\n"
     "  -q, --quiet     no run header, warnings or progress line\n"
+    "  --progress S    a progress line every S seconds of wall time, each a line of its own\n"
+    "                  (without it: on a terminal one line redrawn in place; otherwise a\n"
+    "                  line at every tenth of a run that lasts over 2 s)\n"
     "  --checkpoint FILE.h5      where the run's checkpoints go (periodic, and on a signal)\n"
     "  --checkpoint-every S      a checkpoint every S seconds of wall time\n";
 
@@ -66,6 +72,7 @@ std::string add_override(Options& o, const std::string& v) {
 
 int run_scene(Options& o) {
   lua_State* L = granule::lua::new_state(&o.ctx);
+  granule::lua::clear_progress_before_prints(L);
   granule::lua::make_globals_strict(L);
   std::string err;
   {
@@ -89,6 +96,46 @@ int run_scene(Options& o) {
       return 128 + granule::lua::interrupt_signal();
     }
     return 1;
+  }
+  return 0;
+}
+
+// granule run SCENE --help: the scene runs as far as its parameters{...} (as `granule
+// sweep` checks a case), which lists what -D can set.
+int scene_help(Options& o) {
+  o.ctx.parameters_only = true;
+  o.ctx.quiet = true;
+  lua_State* L = granule::lua::new_state(&o.ctx);
+  lua_pushcfunction(L, [](lua_State*) { return 0; });  // what it prints on the way: not help
+  lua_setglobal(L, "print");
+  granule::lua::make_globals_strict(L);
+  const std::string err = granule::lua::run_file(L, o.scene);
+  lua_close(L);
+  if (!o.ctx.stopped_after_parameters && !err.empty()) {
+    std::cerr << "error: " << err << "\n";
+    return 1;
+  }
+  auto docs = o.ctx.parameter_docs;
+  if (docs.empty()) {
+    std::cout << o.scene << " declares no parameters{...} (nothing to set with -D)\n";
+    return 0;
+  }
+  std::sort(docs.begin(), docs.end(), [](const auto& a, const auto& b) { return a.name < b.name; });
+  std::size_t name_w = 4, value_w = 7, unit_w = 4;
+  for (const auto& d : docs) {
+    name_w = std::max(name_w, d.name.size());
+    value_w = std::max(value_w, d.default_value.size());
+    unit_w = std::max(unit_w, d.unit.size() + 2);
+  }
+  std::cout << "parameters of " << o.scene << " (set with -D name=value):\n";
+  std::cout << fmt::format("  {:<{}}  {:<{}}  {:<{}}  {}\n", "name", name_w, "default", value_w,
+                           "unit", unit_w, "meaning");
+  for (const auto& d : docs) {
+    std::string line =
+        fmt::format("  {:<{}}  {:<{}}  {:<{}}  {}", d.name, name_w, d.default_value, value_w,
+                    d.unit.empty() ? "" : "[" + d.unit + "]", unit_w, d.doc);
+    line.erase(line.find_last_not_of(' ') + 1);
+    std::cout << line << "\n";
   }
   return 0;
 }
@@ -150,7 +197,8 @@ int run_command(const std::vector<std::string>& args) {
       o.command == "--version" || o.command == "--help" || o.command == "-h" || o.command == "help";
   if (bare && args.size() > 1) return fail_usage(o.command + " takes no arguments");
   if (o.command == "--version") {
-    std::cout << "granule " << GRANULE_VERSION << "\n";
+    // The commit is the source tree's at configure time (git describe --always --dirty).
+    std::cout << "granule " << GRANULE_VERSION << " (commit " << GRANULE_COMMIT << ")\n";
     return 0;
   }
   if (o.command == "--help" || o.command == "-h" || o.command == "help") {
@@ -165,6 +213,7 @@ int run_command(const std::vector<std::string>& args) {
   if (o.command == "sweep") return granule::app::run_sweep({args.begin() + 1, args.end()});
   if (o.command != "run" && o.command != "repl")
     return fail_usage("unknown command '" + o.command + "'");
+  bool scene_help_asked = false;
   for (std::size_t k = 1; k < args.size(); ++k) {
     const std::string& a = args[k];
     if (a == "-D" || a == "-o") {
@@ -196,6 +245,16 @@ int run_command(const std::vector<std::string>& args) {
       if (v.empty() || *end != 0 || !(t > 0) || !std::isfinite(t))
         return fail_usage("--checkpoint-every expects seconds of wall time > 0, got '" + v + "'");
       o.ctx.checkpoint_every_seconds = t;
+    } else if (a == "--help" || a == "-h") {
+      scene_help_asked = true;
+    } else if (a == "--progress") {
+      if (k + 1 >= args.size()) return fail_usage("--progress needs a value");
+      const std::string& v = args[++k];
+      char* end = nullptr;
+      const double t = std::strtod(v.c_str(), &end);
+      if (v.empty() || *end != 0 || !(t > 0) || !std::isfinite(t))
+        return fail_usage("--progress expects seconds of wall time > 0, got '" + v + "'");
+      o.ctx.progress_every = t;
     } else if (a == "--threads") {
       if (k + 1 >= args.size()) return fail_usage("--threads needs a value");
       const std::string& v = args[++k];
@@ -212,11 +271,15 @@ int run_command(const std::vector<std::string>& args) {
       return fail_usage("more than one scene file given ('" + o.scene + "', '" + a + "')");
     }
   }
+  if (scene_help_asked && o.command != "run") return fail_usage("--help goes with run SCENE.lua");
   o.ctx.scene_path = o.scene;
-  // The progress line rewrites itself with \r: only for a person watching a terminal.
-  o.ctx.progress = !o.ctx.quiet && isatty(2);
+  // On a terminal the progress line rewrites itself with \r; in a batch log (stderr a
+  // file or a pipe) it is a line every tenth of the run, or every --progress seconds.
+  o.ctx.progress = !o.ctx.quiet || o.ctx.progress_every > 0;
+  o.ctx.progress_log = !isatty(2) || o.ctx.progress_every > 0;
   if (o.command == "run") {
     if (o.scene.empty()) return fail_usage("run needs a scene file");
+    if (scene_help_asked) return scene_help(o);
     return run_scene(o);
   }
   return granule::app::run_repl(o.scene, o.ctx);

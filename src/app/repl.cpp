@@ -12,7 +12,9 @@
 #include <vector>
 
 #include "app/interrupt.hpp"
+#include "core/names.hpp"
 #include "lua/completion.hpp"
+#include "lua/run_progress.hpp"
 
 #ifdef GRANULE_HAVE_READLINE
 #include <readline/history.h>
@@ -162,12 +164,40 @@ void bind_sim(lua_State* L) {
   lua_pop(L, 1);
 }
 
+// _G's __index at the prompt: a misspelt name is an error that names it (and the
+// nearest global), where plain Lua would carry on with nil. Assigning a new global
+// stays allowed: the prompt has no other place to keep a value.
+int undefined_global(lua_State* L) {
+  const char* name = lua_tostring(L, 2);
+  if (!name) return 0;  // a non-string key (_G[1]) reads nil, as in plain Lua
+  std::vector<std::string> known;
+  lua_pushnil(L);
+  while (lua_next(L, 1) != 0) {
+    lua_pop(L, 1);
+    if (lua_type(L, -1) == LUA_TSTRING) known.emplace_back(lua_tostring(L, -1));
+  }
+  const std::string hint = nearest_name(name, known);
+  if (hint.empty()) return luaL_error(L, "%s is not defined", name);
+  return luaL_error(L, "%s is not defined (did you mean %s?)", name, hint.c_str());
+}
+
+void report_undefined_globals(lua_State* L) {
+  lua_pushglobaltable(L);
+  lua_newtable(L);
+  lua_pushcfunction(L, undefined_global);
+  lua_setfield(L, -2, "__index");
+  lua_setmetatable(L, -2);
+  lua_pop(L, 1);
+}
+
 }  // namespace
 
 // Follows lua.c: try "return <line>" first so expressions print; keep reading
 // while the chunk is incomplete ("<eof>" errors); errors never end the session.
 int run_repl(const std::string& scene, lua::SceneContext& ctx) {
+  ctx.repl = true;
   lua_State* L = lua::new_state(&ctx);
+  lua::clear_progress_before_prints(L);
   const bool interactive = isatty(0);
   int failures = 0;
   if (luaL_loadstring(L, show_source) != LUA_OK || lua_pcall(L, 0, 1, 0) != LUA_OK)
@@ -191,6 +221,7 @@ int run_repl(const std::string& scene, lua::SceneContext& ctx) {
     }
     bind_sim(L);
   }
+  report_undefined_globals(L);
 #ifdef GRANULE_HAVE_READLINE
   if (interactive) setup_readline(L);
 #endif

@@ -72,6 +72,11 @@ class Simulation final : public SimulationBase {
   void set_velocity(std::int64_t id, const Triple& v) override;
   void set_spin(std::int64_t id, const Triple& w) override;
   FlatState flat_state() const override;
+  void flat_forces(std::vector<double>& force, std::vector<double>& torque) const override;
+  BodyFields body_fields() const override {
+    return {to_triple(body_.gravity), body_.central_on, to_triple(body_.central_point),
+            body_.central_strength};
+  }
 
   void prepare() override;
   void advance(std::int64_t steps) override;

@@ -73,6 +73,23 @@ Triple Simulation<D>::force(std::int64_t id) const {
 }
 
 template <int D>
+void Simulation<D>::flat_forces(std::vector<double>& force, std::vector<double>& torque) const {
+  const std::size_t n = p_.size();
+  constexpr int sc = Dim<D>::spin_components;
+  force.resize(n * D);
+  torque.resize(n * sc);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& ft = p_.force_torque[i];
+    for (int k = 0; k < D; ++k) force[i * D + k] = ft.force[k];
+    if constexpr (D == 2) {
+      torque[i] = ft.torque;
+    } else {
+      for (int k = 0; k < 3; ++k) torque[i * 3 + k] = ft.torque[k];
+    }
+  }
+}
+
+template <int D>
 typename SimulationBase::FlatState Simulation<D>::flat_state() const {
   FlatState s;
   const std::size_t n = p_.size();

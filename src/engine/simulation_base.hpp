@@ -245,6 +245,17 @@ class SimulationBase {
     std::vector<std::uint8_t> fixed;
   };
   virtual FlatState flat_state() const = 0;
+  // The force [N] and torque [N m] on each particle in the last step, in flat_state()'s
+  // order: rows of dimension() and of 1 (2D, about z) or 3 components.
+  virtual void flat_forces(std::vector<double>& force, std::vector<double>& torque) const = 0;
+  // Gravity [m/s^2] and the central field (point [m], strength), as the output records them.
+  struct BodyFields {
+    Triple gravity{};
+    bool central_on = false;
+    Triple central_point{};
+    double central_strength = 0;
+  };
+  virtual BodyFields body_fields() const = 0;
 
   // ---- running ----
   // Validates the scene (contact laws for every pair in use, particles inside

@@ -16,6 +16,7 @@
 #include <utility>
 
 #include "io/h5_output_impl.hpp"
+#include "io/output_units.hpp"
 
 namespace granule::io {
 
@@ -211,6 +212,9 @@ void H5Output::series_declare(const std::string& group_path,
                                                  space.get(), lcpl.get(), dcpl.get(), H5P_DEFAULT),
                                       "create", full),
                               H5Dclose);
+      // "units" on every column (given, else the table's, else "": not known); "unit" as before.
+      const std::string unit = units.empty() ? unit_of(columns[c]) : units[c];
+      m.string_attribute(full, "units", unit);
       if (!units.empty()) m.string_attribute(full, "unit", units[c]);
     }
   }
@@ -218,6 +222,18 @@ void H5Output::series_declare(const std::string& group_path,
   m.string_array_attribute(p, "columns", columns);
   s.last_write = std::chrono::steady_clock::now();
   m.series.emplace(p, std::move(s));
+}
+
+bool H5Output::set_series_units(const std::string& group_path,
+                                const std::vector<std::string>& units) {
+  Impl& m = *impl_;
+  silence_hdf5();
+  const std::string p = m.normalise(group_path, "set series units");
+  auto it = m.series.find(p);
+  if (it == m.series.end() || it->second.columns.size() != units.size()) return false;
+  for (std::size_t c = 0; c < units.size(); ++c)
+    m.string_attribute(join_path(p, it->second.columns[c]), "units", units[c]);
+  return true;
 }
 
 void H5Output::series_append(const std::string& group_path, const std::vector<double>& row) {
@@ -284,6 +300,8 @@ std::string H5Output::write_snapshot(const SnapshotView& v) {
   check_rows(v.position, d, "position");
   check_rows(v.velocity, d, "velocity");
   check_rows(v.spin, sc, "spin");
+  if (v.force) check_rows(v.force, d, "force");
+  if (v.torque) check_rows(v.torque, sc, "torque");
   if (!v.material_names.empty())
     for (std::size_t i = 0; i < v.count; ++i)
       if (v.material[i] < 0 || static_cast<std::size_t>(v.material[i]) >= v.material_names.size())
@@ -292,7 +310,9 @@ std::string H5Output::write_snapshot(const SnapshotView& v) {
 
   // Room for the arrays (and the series rows written with them) before any is written.
   {
-    double bytes = double(v.count) * (8 + 8 + 8.0 * double(2 * d + sc) + 4 + 1);
+    double bytes = double(v.count) * (8 + 8 + 8.0 * double(2 * d + sc) + 4 + 1) +
+                   (v.force ? 8.0 * double(v.count) * double(d + sc) : 0) +
+                   8.0 * double(v.contacts) * double(4 + 2 * d);
     for (const auto& [name, series] : m.series) bytes += 8.0 * double(series.pending.size());
     m.ensure_space(bytes, "write snapshot", g);
   }
@@ -319,6 +339,31 @@ std::string H5Output::write_snapshot(const SnapshotView& v) {
       m.dataset(h, "spin", g + "/spin", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, {n, sc}, v.spin);
       m.dataset(h, "material", g + "/material", H5T_STD_I32LE, H5T_NATIVE_INT32, {n}, v.material);
       m.dataset(h, "fixed", g + "/fixed", H5T_STD_U8LE, H5T_NATIVE_UINT8, {n}, v.fixed);
+      if (v.force)
+        m.dataset(h, "force", g + "/force", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, {n, d}, v.force);
+      if (v.torque)
+        m.dataset(h, "torque", g + "/torque", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, {n, sc}, v.torque);
+    }
+    if (v.with_contacts) {
+      const std::string c = g + "/contacts";
+      Handle lcpl = m.link_create_plist(c);
+      Handle group(
+          m.check(H5Gcreate2(m.file.get(), c.c_str(), lcpl.get(), H5P_DEFAULT, H5P_DEFAULT),
+                  "create", c),
+          H5Gclose);
+      const hsize_t k = v.contacts;
+      const hid_t h = group.get();
+      m.dataset(h, "i", c + "/i", H5T_STD_I64LE, H5T_NATIVE_INT64, {k}, v.contact_i);
+      m.dataset(h, "j", c + "/j", H5T_STD_I64LE, H5T_NATIVE_INT64, {k}, v.contact_j);
+      m.dataset(h, "wall", c + "/wall", H5T_STD_I32LE, H5T_NATIVE_INT32, {k}, v.contact_wall);
+      m.dataset(h, "overlap", c + "/overlap", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, {k},
+                v.contact_overlap);
+      m.dataset(h, "normal_force", c + "/normal_force", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, {k},
+                v.contact_normal_force);
+      m.dataset(h, "tangential_force", c + "/tangential_force", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
+                {k, d}, v.contact_tangential_force);
+      m.dataset(h, "normal", c + "/normal", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, {k, d},
+                v.contact_normal);
     }
     const std::int64_t dimension = v.dimension;
     m.attribute(g, "step", H5T_STD_I64LE, H5T_NATIVE_INT64, {}, &v.step);

@@ -3,10 +3,14 @@
 // snapshots. Layout ("granule-1"):
 //   /                      attrs format="granule-1", created (ISO 8601, UTC), hdf5_version
 //   /<series group>        attr columns (string array, in declaration order);
-//                          one extendible float64 dataset per column, attr unit (optional)
+//                          one extendible float64 dataset per column, attr units (and
+//                          unit, when the declaration gave units)
 //   /snapshots             attr count (int64): number of complete snapshots
-//   /snapshots/NNNNNN      datasets id, radius, position, velocity, spin, material, fixed;
-//                          attrs step, time, dimension
+//   /snapshots/NNNNNN      datasets id, radius, position, velocity, spin, material, fixed,
+//                          optionally force, torque; attrs step, time, dimension
+//   /snapshots/NNNNNN/contacts  optional: datasets i, j (-1 for a wall), wall (-1 for a
+//                          pair), overlap, normal_force, tangential_force, normal
+//   every dataset carries attr units (io/output_units.hpp)
 //   /materials             attr names (string array): material index -> name
 // Every failure throws std::runtime_error naming the file and the object.
 #pragma once
@@ -33,6 +37,19 @@ struct SnapshotView {  // plain pointers into the engine's arrays; nothing owned
   const std::int32_t* material = nullptr;  // index into material_names
   const std::uint8_t* fixed = nullptr;     // 1 = immobile particle
   std::vector<std::string> material_names;
+  // Optional: the last step's force and torque (rows as velocity and spin), and the
+  // contact network (`contacts` rows; tangential_force and normal rows of `dimension`).
+  const double* force = nullptr;   // N
+  const double* torque = nullptr;  // N m
+  bool with_contacts = false;
+  std::size_t contacts = 0;
+  const std::int64_t* contact_i = nullptr;
+  const std::int64_t* contact_j = nullptr;           // -1: a wall contact
+  const std::int32_t* contact_wall = nullptr;        // wall index, -1: a pair
+  const double* contact_overlap = nullptr;           // m
+  const double* contact_normal_force = nullptr;      // N
+  const double* contact_tangential_force = nullptr;  // N, on i
+  const double* contact_normal = nullptr;            // unit vector from j (or the wall) to i
 };
 
 // After a failed write to `path`: "no space left on the disk holding <dir> (N KiB free)"
@@ -81,6 +98,9 @@ class H5Output {
   // each dataset.
   void series_declare(const std::string& group_path, const std::vector<std::string>& columns,
                       const std::vector<std::string>& units = {});
+  // Sets the "units" attribute of each column of a declared series; false (and nothing
+  // written) when `group_path` is no series or `units` has not one entry per column.
+  bool set_series_units(const std::string& group_path, const std::vector<std::string>& units);
   // Appends one row (row.size() must equal the column count). A non-finite value throws
   // naming the column, and the row is not appended.
   // Rows are buffered in memory and written when 1024 rows are pending or 0.5 s of wall
@@ -104,6 +124,8 @@ class H5Output {
   // ---- continuing a file (a restarted run) ----
   // Rows in each series (after flush()): group path -> rows.
   std::map<std::string, std::int64_t> series_rows() const;
+  // The columns of a declared series ("/series"), in declaration order; empty if none.
+  std::vector<std::string> series_columns(const std::string& group_path) const;
   // Names of the attributes on an existing group ("/results"); empty if it is absent.
   std::vector<std::string> attribute_names(const std::string& group_path) const;
   // Opens an existing file written by H5Output and cuts it back to a mark: the first

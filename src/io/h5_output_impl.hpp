@@ -18,6 +18,7 @@
 
 #include "io/h5_handle.hpp"
 #include "io/h5_output.hpp"
+#include "io/output_units.hpp"
 
 namespace granule::io {
 
@@ -238,6 +239,7 @@ struct H5Output::Impl {
     // An empty snapshot has no buffer to hand HDF5 (its vectors' data() may be null).
     if (total > 0)
       check(H5Dwrite(d.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "write", full);
+    string_attribute(full, "units", unit_of(name));
   }
 
   void write_series(const std::string& group_path, Series& s) {

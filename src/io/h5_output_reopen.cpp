@@ -17,6 +17,11 @@ std::map<std::string, std::int64_t> H5Output::series_rows() const {
   return out;
 }
 
+std::vector<std::string> H5Output::series_columns(const std::string& group_path) const {
+  auto it = impl_->series.find(group_path);
+  return it == impl_->series.end() ? std::vector<std::string>{} : it->second.columns;
+}
+
 namespace {
 herr_t collect_attribute_name(hid_t, const char* name, const H5A_info_t*, void* data) {
   static_cast<std::vector<std::string>*>(data)->emplace_back(name);

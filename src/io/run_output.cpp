@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "core/errors.hpp"
+#include "io/output_units.hpp"
 
 namespace granule::io {
 
@@ -22,8 +23,25 @@ const std::vector<std::string> series_columns = {"time",
                                                  "momentum_y",
                                                  "momentum_z",
                                                  "angular_momentum_z"};
-const std::vector<std::string> series_units = {"s", "-",      "J",      "J",      "-",       "-",
-                                               "-", "kg m/s", "kg m/s", "kg m/s", "kg m^2/s"};
+std::vector<std::string> units_of(const std::vector<std::string>& columns) {
+  std::vector<std::string> units;
+  for (const auto& c : columns) units.emplace_back(unit_of(c));  // io/output_units.hpp
+  return units;
+}
+
+std::vector<std::string> split_units(const std::string& text) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  for (;;) {
+    const std::size_t comma = text.find(',', start);
+    std::string part = text.substr(start, comma == std::string::npos ? comma : comma - start);
+    part.erase(0, part.find_first_not_of(' '));
+    part.erase(part.find_last_not_of(' ') + 1);
+    out.push_back(part);
+    if (comma == std::string::npos) return out;
+    start = comma + 1;
+  }
+}
 }  // namespace
 
 RunOutput::RunOutput(SimulationBase& sim, RunOutputSettings settings)
@@ -35,10 +53,14 @@ RunOutput::RunOutput(SimulationBase& sim, RunOutputSettings settings)
   if (settings_.series_every < 0 || !std::isfinite(settings_.series_every))
     throw InputError(
         fmt::format("output: series_every must be >= 0 [s], got {}", settings_.series_every));
+  if (settings_.contacts && !sim_.record_contacts())
+    throw InputError(
+        "output: contacts = true writes the contact network, which needs "
+        "simulation { record_contacts = true }");
   if (!settings_.muted) {
     file_ = std::make_unique<H5Output>(settings_.path);
     if (settings_.xdmf) xdmf_ = std::make_unique<XdmfIndex>(settings_.path);
-    file_->series_declare("/series", series_columns, series_units);
+    file_->series_declare("/series", series_columns, units_of(series_columns));
   }
   Hook series;
   series.name = "output.series";
@@ -84,74 +106,11 @@ void RunOutput::finish() {
   file_->flush();
 }
 
-void RunOutput::write_header() {
-  // Written lazily, at the first output of the run, so that it describes the
-  // scene as it runs, whatever order the script declared things in.
-  if (header_written_) return;
-  header_written_ = true;
-  H5Output& f = *file_;
-  f.write_attribute("/", "dimension", static_cast<std::int64_t>(sim_.dimension()));
-  f.write_attribute("/", "program", std::string("granule"));
-  if (!settings_.scene_source.empty()) f.write_text("/scene/source", settings_.scene_source);
-  if (!settings_.scene_path.empty()) f.write_attribute("/scene", "path", settings_.scene_path);
-  for (const auto& [name, value] : settings_.parameters) {
-    auto it = settings_.numeric_parameters.find(name);
-    if (it != settings_.numeric_parameters.end())
-      f.write_attribute("/scene/parameters", name, it->second);
-    else
-      f.write_attribute("/scene/parameters", name, value);
-  }
-  // Materials and contact laws with their resolved parameters (provenance).
-  const auto& mats = sim_.materials();
-  const PairTable& table = sim_.pair_table();
-  auto catalogue = contact_model_catalogue();
-  for (const auto& m : mats) {
-    std::string g = "/materials/" + m.name;
-    f.write_attribute(g, "density", m.density);
-    f.write_attribute(g, "young", m.young);
-    f.write_attribute(g, "poisson", m.poisson);
-    f.write_attribute(g, "surface_energy", m.surface_energy);
-  }
-  for (int a = 0; a < table.material_count(); ++a)
-    for (int b = a; b < table.material_count(); ++b) {
-      const auto& e = table.at(a, b);
-      if (e.model < 0) continue;
-      std::string g = fmt::format("/contacts/{}-{}", mats[a].name, mats[b].name);
-      f.write_attribute(g, "model", catalogue[e.model].name);
-      for (const auto& [k, v] : table.values(a, b)) f.write_attribute(g, k, v);
-    }
+void RunOutput::flush() {
+  if (finished_ || !file_) return;
+  write_header();
   write_new_walls();
-  // What is simulated, as attributes a script can test (1/0, and lists joined by ", ").
-  {
-    const ActiveEffects e = sim_.effects();
-    const std::string g = "/scene/effects";
-    auto flag = [&](const char* name, bool on) {
-      f.write_attribute(g, name, static_cast<std::int64_t>(on ? 1 : 0));
-    };
-    auto list = [&](const char* name, const std::vector<std::string>& items) {
-      std::string joined;
-      for (const auto& item : items) joined += (joined.empty() ? "" : ", ") + item;
-      f.write_attribute(g, name, joined);
-    };
-    f.write_attribute(g, "dimension", static_cast<std::int64_t>(e.dimension));
-    flag("periodic", e.periodic);
-    list("pairs", e.pairs);
-    flag("adhesion", e.adhesion);
-    list("adhesive_pairs", e.adhesive_pairs);
-    flag("friction", e.friction);
-    flag("rotation", e.rotation);
-    flag("gravity", e.gravity);
-    flag("central_field", e.central_field);
-    flag("moving_walls", !e.moving_walls.empty());
-    list("moving_wall_names", e.moving_walls);
-    list("diagnostics", e.diagnostics);
-    flag("contacts_recorded", e.contacts_recorded);
-    f.write_attribute(g, "threads", static_cast<std::int64_t>(e.threads));
-  }
-  std::string lines;
-  for (const auto& l : sim_.describe()) lines += l + "\n";
-  f.write_text("/scene/description", lines);
-  f.flush();
+  file_->flush();
 }
 
 SnapshotView RunOutput::view(const SimulationBase::FlatState& s,
@@ -202,13 +161,55 @@ void RunOutput::write_new_walls() {
 }
 
 void RunOutput::write_snapshot() {
+  write_snapshot(settings_.forces, settings_.contacts);
+}
+
+void RunOutput::write_snapshot(bool forces, bool contacts) {
   if (!file_) return;
+  if (contacts && !sim_.record_contacts())
+    throw InputError(
+        "snapshot: contacts = true writes the contact network, which needs "
+        "simulation { record_contacts = true }");
   write_header();
   write_new_walls();
   SimulationBase::FlatState s = sim_.flat_state();
   std::vector<std::string> names;
   for (const auto& m : sim_.materials()) names.push_back(m.name);
-  index_snapshot(file_->write_snapshot(view(s, names)), s);
+  SnapshotView v = view(s, names);
+  std::vector<double> force, torque;
+  if (forces) {
+    sim_.flat_forces(force, torque);
+    v.force = force.data();
+    v.torque = torque.data();
+  }
+  // The contact network of the last step, as the engine recorded it.
+  std::vector<std::int64_t> ci, cj;
+  std::vector<std::int32_t> cw;
+  std::vector<double> overlap, fn, ft, normal;
+  if (contacts) {
+    const int d = sim_.dimension();
+    for (const ContactRecord& c : sim_.contacts()) {
+      ci.push_back(c.id_a);
+      cj.push_back(c.wall >= 0 ? -1 : c.id_b);
+      cw.push_back(c.wall);
+      overlap.push_back(c.overlap);
+      fn.push_back(c.normal_force);
+      for (int k = 0; k < d; ++k) {
+        ft.push_back(c.tangential_force[k]);
+        normal.push_back(c.normal[k]);
+      }
+    }
+    v.with_contacts = true;
+    v.contacts = ci.size();
+    v.contact_i = ci.data();
+    v.contact_j = cj.data();
+    v.contact_wall = cw.data();
+    v.contact_overlap = overlap.data();
+    v.contact_normal_force = fn.data();
+    v.contact_tangential_force = ft.data();
+    v.contact_normal = normal.data();
+  }
+  index_snapshot(file_->write_snapshot(v), s);
   last_snapshot_step_ = sim_.step_count();
 }
 
@@ -268,6 +269,11 @@ void RunOutput::write_series_row() {
 }
 
 void RunOutput::declare_series(const std::string& name, const std::vector<std::string>& columns) {
+  declare_series(name, columns, {});
+}
+
+void RunOutput::declare_series(const std::string& name, const std::vector<std::string>& columns,
+                               const std::vector<std::string>& units) {
   // A scene's own series are plain words; diagnostics write under "diagnostics/<label>".
   static const char* reserved[] = {"series",   "snapshots", "scene",  "materials",
                                    "contacts", "walls",     "results"};
@@ -281,7 +287,10 @@ void RunOutput::declare_series(const std::string& name, const std::vector<std::s
         "series name '{}' must be a plain word (or 'diagnostics/<label>') other than series, "
         "snapshots, scene, materials, contacts, walls and results",
         name));
-  if (file_) file_->series_declare("/" + name, columns);
+  if (!units.empty() && units.size() != columns.size())
+    throw InputError(fmt::format("series '{}': {} units given for {} columns", name, units.size(),
+                                 columns.size()));
+  if (file_) file_->series_declare("/" + name, columns, units);
 }
 
 void RunOutput::write_attribute(const std::string& group, const std::string& name, double value) {
@@ -289,7 +298,10 @@ void RunOutput::write_attribute(const std::string& group, const std::string& nam
 }
 void RunOutput::write_attribute(const std::string& group, const std::string& name,
                                 const std::string& value) {
-  if (file_) file_->write_attribute("/" + group, name, value);
+  if (!file_) return;
+  file_->write_attribute("/" + group, name, value);
+  // A diagnostic's "units" (one per column, comma-separated) go on each column as well.
+  if (name == "units") file_->set_series_units("/" + group, split_units(value));
 }
 void RunOutput::write_attribute(const std::string& group, const std::string& name,
                                 const std::vector<double>& value) {

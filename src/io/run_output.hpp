@@ -27,8 +27,13 @@ struct RunOutputSettings {
   std::string scene_source;
   std::vector<std::pair<std::string, std::string>> parameters;  // name -> value as text
   std::map<std::string, double> numeric_parameters;
+  std::map<std::string, std::string> parameter_units;  // name -> unit as parameters{} declared it
   // Made but writing nothing until resume(): a restarted scene replaying its past.
   bool muted = false;
+  // Every snapshot with the last step's force and torque per particle, and the contact
+  // network (pairs, forces, normals; needs the simulation's record_contacts).
+  bool forces = false;
+  bool contacts = false;
 };
 
 class RunOutput final : public OutputSink {
@@ -38,12 +43,15 @@ class RunOutput final : public OutputSink {
   RunOutput(const RunOutput&) = delete;
   RunOutput& operator=(const RunOutput&) = delete;
 
-  void write_snapshot();
+  void write_snapshot();  // with the settings' forces and contacts
+  void write_snapshot(bool forces, bool contacts);
   void write_series_row();
   void write_result(const std::string& name, double value);  // /results attributes
   void write_failure(const std::string& message);            // finite particles + message
   void finish();                                             // final snapshot + flush
+  void flush();  // everything written so far on disk; the file stays open for more
   const std::string& path() const { return settings_.path; }
+  const RunOutputSettings& settings() const { return settings_; }
 
   // Checkpoints: how far the file has got (flushed first), under "output.*" keys; and,
   // for a muted output, the file of the run that wrote the checkpoint copied to this
@@ -53,6 +61,9 @@ class RunOutput final : public OutputSink {
 
   // OutputSink: where the scene's diagnostics write.
   void declare_series(const std::string& group, const std::vector<std::string>& columns) override;
+  // A scene's series with the unit of each column (empty: from io/output_units.hpp).
+  void declare_series(const std::string& group, const std::vector<std::string>& columns,
+                      const std::vector<std::string>& units);
   void append_series(const std::string& group, const std::vector<double>& row) override;
   void write_attribute(const std::string& group, const std::string& name, double value) override;
   void write_attribute(const std::string& group, const std::string& name,

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <lua.hpp>
 
 #include "contact/model_docs.hpp"
@@ -274,6 +275,14 @@ int l_help(lua_State* L) {
       const std::string diagnostic = diagnostics_help(name, false);  // src/hooks/registry.cpp
       if (const FunctionDoc* d = find_doc(name)) {
         text = format_help(*d) + diagnostic;
+        // A short name ("wall") is also a search: the other entries that mention it.
+        if (name != d->name) {
+          auto others = search_help(name);
+          others.erase(std::remove_if(others.begin(), others.end(),
+                                      [d](const HelpMatch& m) { return m.name == d->name; }),
+                       others.end());
+          if (!others.empty()) text += "\nalso: " + format_matches(name, others);
+        }
       } else if (!diagnostic.empty()) {
         text = diagnostic;
       } else if (name == "models") {
@@ -284,11 +293,23 @@ int l_help(lua_State* L) {
         std::vector<std::string> names{"models", "diagnostics"};
         if (std::string doc = nearest_doc_name(name); !doc.empty()) names.push_back(doc);
         for (const auto& c : catalogue) names.push_back(c.name);
-        std::string hint = nearest_name(name, names);
-        throw std::runtime_error(fmt::format(
-            "help: nothing is called '{}'{}; help() lists every name, help('models') the contact "
-            "models, help('diagnostics') the diagnostics",
-            name, hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint)));
+        const std::string hint = nearest_name(name, names);
+        const auto matches = search_help(name);
+        // A word near no name is a search ("wall", "restitution"); a near miss of a
+        // name is an error that names it, and the entries mentioning the word.
+        if (hint.empty() && !matches.empty()) {
+          text = format_matches(name, matches);
+        } else {
+          std::string mentions;
+          for (std::size_t k = 0; k < matches.size() && k < 8; ++k)
+            mentions += (k ? ", " : "") + matches[k].name;
+          if (matches.size() > 8) mentions += ", ...";
+          throw std::runtime_error(fmt::format(
+              "help: nothing is called '{}'{}{}; help() lists every name, help('models') the "
+              "contact models, help('diagnostics') the diagnostics",
+              name, hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint),
+              mentions.empty() ? "" : "; mentioned by " + mentions));
+        }
       }
     } else if (luaL_testudata(L, 1, "granule.Simulation")) {
       for (const auto& d : api_docs())
@@ -319,8 +340,7 @@ int l_help(lua_State* L) {
             fmt::format("help: no documentation for this {} value; try help() or help('name')",
                         type_name(L, 1)));
     }
-    std::fputs(text.c_str(), stdout);
-    std::fflush(stdout);
+    show_help_text(text);
     return 0;
   });
 }

@@ -48,6 +48,17 @@ std::string format_help(const FunctionDoc& doc);  // several lines, for the term
 std::string format_overview();                    // one line per entry
 std::string api_markdown();                       // docs/lua_api.md
 
+// help("word"): the entries (API, contact models, diagnostics) whose name or text
+// mentions the word, case-insensitively (api_docs_search.cpp).
+struct HelpMatch {
+  std::string name, doc;
+};
+std::vector<HelpMatch> search_help(const std::string& word);
+std::string format_matches(const std::string& word, const std::vector<HelpMatch>& matches);
+// Writes help text to stdout, through $PAGER (or less) when it is longer than the
+// terminal; never paged when stdout or stdin is not a terminal.
+void show_help_text(const std::string& text);
+
 // Pushes `f` wrapped so that a call with the wrong number of arguments (or a
 // method called with '.' instead of ':') is refused before `f` runs.
 void push_checked(lua_State* L, const FunctionDoc& doc, int (*f)(lua_State*));

@@ -1,9 +1,12 @@
 // The progress line of a long sim:run: simulated time, percent, steps/s and
-// the time left, rewritten in place on stderr. It appears only when a run has
-// lasted `delay` seconds (short runs stay silent) and is redrawn at most every
-// `interval` seconds, so it costs nothing measurable. The run loop advances the
-// engine in chunks and calls update() between them; the engine's step loop
-// never sees it.
+// the time left. On a terminal it is rewritten in place on stderr, at most every
+// `interval` seconds, and erased before the scene prints (print and io.write go
+// through clear_progress_line()), so it never shares a line with them. For a
+// batch log (stderr not a terminal) it is a line of its own, "progress: ...",
+// at every tenth of the run, or every `every_seconds` of wall time when that is
+// > 0. Either appears only when a run has lasted `delay` seconds (short runs stay
+// silent), so it costs nothing measurable. The run loop advances the engine in
+// chunks and calls update() between them; the engine's step loop never sees it.
 #pragma once
 
 #include <cstdint>
@@ -11,21 +14,30 @@
 #include <ostream>
 #include <string>
 
+struct lua_State;
+
 namespace granule::lua {
 
 class RunProgress {
  public:
   using Clock = std::function<double()>;  // monotonic seconds
+  enum class Style { terminal, log };
 
   // `total_steps` steps will take the run to simulated time `end_time` [s]; with
   // `open_ended` (a stop_when criterion) that is the most the run will take.
   RunProgress(std::ostream& out, std::int64_t total_steps, double end_time, bool open_ended,
-              Clock clock = {}, double delay = 2.0, double interval = 0.25);
+              Clock clock = {}, double delay = 2.0, double interval = 0.25,
+              Style style = Style::terminal, double every_seconds = 0);
   ~RunProgress();  // erases the line if one is shown
+  RunProgress(const RunProgress&) = delete;
+  RunProgress& operator=(const RunProgress&) = delete;
 
   void update(std::int64_t steps_done, double time);
   void finish();  // erases the line (once)
   bool shown() const { return shown_; }
+  // Erases the terminal line now (it is redrawn at the next update), so that what
+  // the scene prints starts on a line of its own.
+  void clear();
 
   // "t = 0.0123 s of 0.05 s  24.6%  1.83e+04 steps/s  ETA 0:42"
   static std::string format(double time, double end_time, double fraction, double steps_per_second,
@@ -40,8 +52,16 @@ class RunProgress {
   bool open_ended_;
   Clock clock_;
   double delay_, interval_;
+  Style style_;
+  double every_seconds_;
   double started_ = 0, last_drawn_ = -1e300;
+  int last_tenth_ = 0;  // log style: the last tenth of the run reported
   bool shown_ = false, finished_ = false;
 };
+
+// Erases the terminal progress line of the run going on, if one is shown.
+void clear_progress_line();
+// Makes the state's print and io.write call clear_progress_line() first.
+void clear_progress_before_prints(lua_State* L);
 
 }  // namespace granule::lua

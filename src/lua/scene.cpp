@@ -94,11 +94,12 @@ int l_parameters(lua_State* L) {
       std::string name = lua_tostring(L, -2);
       names.push_back(name);
       int spec = lua_gettop(L);
+      ParameterDoc described{name, "", "", ""};
       if (lua_istable(L, spec)) {
         // { default =, unit =, doc = }: a misspelt key would silently drop its value.
         TableReader r(L, spec, fmt::format("parameters: '{}'", name));
-        r.string("unit", "");
-        r.string("doc", "");
+        described.unit = r.string("unit", "");
+        described.doc = r.string("doc", "");
         r.mark("default");
         r.finish();
         lua_pushliteral(L, "default");
@@ -113,6 +114,10 @@ int l_parameters(lua_State* L) {
       if (t == LUA_TNUMBER && !std::isfinite(lua_tonumber(L, spec)))
         throw std::runtime_error(
             fmt::format("parameters: '{}' has a default that is not finite", name));
+      described.default_value = t == LUA_TBOOLEAN  ? (lua_toboolean(L, spec) ? "true" : "false")
+                                : t == LUA_TNUMBER ? fmt::format("{}", lua_tonumber(L, spec))
+                                                   : lua_tostring(L, spec);
+      ctx->parameter_docs.push_back(described);  // granule run SCENE --help
       auto ov = ctx->overrides.find(name);
       if (ov != ctx->overrides.end()) {
         ctx->consumed.insert(name);

@@ -18,6 +18,11 @@ namespace granule::lua {
 class Journal;
 struct Restart;
 
+// A parameter as parameters{...} declares it, for `granule run SCENE --help`.
+struct ParameterDoc {
+  std::string name, default_value, unit, doc;
+};
+
 struct SceneContext {
   std::string scene_path;
   std::string scene_source;
@@ -37,7 +42,12 @@ struct SceneContext {
   double checkpoint_every_seconds = 0;
   bool checkpoint_assigned = false;  // the first simulation has taken checkpoint_path
   bool interrupted = false;          // a run stopped on a signal (the program exits with 128 + it)
-  bool progress = false;  // progress line for long runs (the CLI: stderr is a terminal, no --quiet)
+  bool progress = false;             // progress line for long runs (the CLI: unless --quiet)
+  bool progress_log = false;  // as lines of their own (stderr is not a terminal, or --progress)
+  double progress_every = 0;  // --progress S: a line every S s of wall time; 0: every 10 %
+  // granule repl: the output stays open until the session ends (sim:close() only flushes)
+  // and Ctrl-C stops a run without an error, keeping its state for the prompt.
+  bool repl = false;
   std::vector<std::string> outputs_written;
   std::shared_ptr<Journal> journal;    // what the scene saw of the engine (journal.hpp)
   std::shared_ptr<Restart> restart;    // --restart: the checkpoint being continued
@@ -48,6 +58,7 @@ struct SceneContext {
   // declaring its parameters.
   bool parameters_only = false;
   std::vector<std::string> declared_parameters;
+  std::vector<ParameterDoc> parameter_docs;  // every parameters{...} entry, in declaration order
   bool stopped_after_parameters = false;
 };
 

@@ -62,11 +62,14 @@ int l_output(lua_State* L) {
     o.snapshot_every = t.number("snapshot_every", 0);
     o.series_every = t.number("series_every", 0);
     o.xdmf = t.boolean("xdmf", true);
+    o.forces = t.boolean("forces", false);
+    o.contacts = t.boolean("contacts", false);
     t.finish();
     o.scene_path = ctx->scene_path;
     o.scene_source = ctx->scene_source;
     o.parameters = ctx->parameter_values;
     o.numeric_parameters = ctx->numeric_parameters;
+    for (const auto& d : ctx->parameter_docs) o.parameter_units[d.name] = d.unit;
     // Replaying a restarted scene's past: the output is made (its hooks in their places)
     // but writes nothing; the checkpoint's output is continued when the journal ends.
     o.muted = ctx->journal && ctx->journal->replaying();
@@ -82,7 +85,17 @@ int l_output(lua_State* L) {
 int l_snapshot(lua_State* L) {
   return protect(L, [](lua_State* L) {
     LuaSim& s = self(L);
-    output_of(s).write_snapshot();
+    auto& out = output_of(s);
+    if (lua_isnoneornil(L, 2)) {
+      out.write_snapshot();
+      return 0;
+    }
+    // sim:snapshot { forces =, contacts = }: this snapshot only; the output's own by default.
+    TableReader t(L, 2, "snapshot");
+    const bool forces = t.boolean("forces", out.settings().forces);
+    const bool contacts = t.boolean("contacts", out.settings().contacts);
+    t.finish();
+    out.write_snapshot(forces, contacts);
     return 0;
   });
 }
@@ -91,7 +104,10 @@ int l_series(lua_State* L) {
   return protect(L, [](lua_State* L) {
     auto& out = output_of(self(L));
     std::string name = read_string(L, 2, "series name");
-    out.declare_series(name, read_string_list(L, 3, "series columns"));
+    auto columns = read_string_list(L, 3, "series columns");
+    std::vector<std::string> units;
+    if (!lua_isnoneornil(L, 4)) units = read_string_list(L, 4, "series units");
+    out.declare_series(name, columns, units);
     return 0;
   });
 }
@@ -125,6 +141,12 @@ int l_result(lua_State* L) {
 int l_close(lua_State* L) {
   return protect(L, [](lua_State* L) {
     LuaSim& s = self(L);
+    // In the REPL what the user does at the prompt after the scene goes to the same
+    // file: it is finished when the session ends (the simulation is collected).
+    if (SceneContext* ctx = context(L); ctx && ctx->repl) {
+      if (s.output) s.output->flush();
+      return 0;
+    }
     if (s.output) s.output->finish();
     s.output.reset();
     return 0;

@@ -148,7 +148,9 @@ int l_run(lua_State* L) {
       }
       progress.emplace(std::cerr, steps - done,
                        s.sim->time() + static_cast<double>(steps - done) * dt,
-                       stop_ref != LUA_NOREF, RunProgress::Clock{}, delay);
+                       stop_ref != LUA_NOREF, RunProgress::Clock{}, delay, 0.25,
+                       ctx->progress_log ? RunProgress::Style::log : RunProgress::Style::terminal,
+                       ctx->progress_every);
     }
     // The engine's runner takes the steps; the scene's criterion, its checkpoints and the
     // user's interrupt are served between its chunks.
@@ -164,6 +166,15 @@ int l_run(lua_State* L) {
     hooks.interrupt_pending = [] { return interrupt_pending(); };
     if (progress) hooks.progress = [&](std::int64_t n, double time) { progress->update(n, time); };
     std::string interrupt_path = s.checkpoint.path;
+    const bool at_prompt = ctx && ctx->repl;
+    if (interrupt_path.empty() && at_prompt) {
+      // At the REPL's prompt: beside the output the session writes (-o), where it is found.
+      const std::string out = s.output ? s.output->path() : ctx->output_path;
+      if (!out.empty()) {
+        const std::filesystem::path p(out);
+        interrupt_path = (p.parent_path() / (p.stem().string() + ".checkpoint.h5")).string();
+      }
+    }
     if (interrupt_path.empty())
       interrupt_path =
           (ctx && !ctx->scene_path.empty() ? std::filesystem::path(ctx->scene_path).stem().string()
@@ -187,12 +198,21 @@ int l_run(lua_State* L) {
       // Between two steps, with the checkpoint written: say where and how to go on.
       lua_sethook(L, nullptr, 0, 0);  // the hook the signal also set, to stop script loops
       clear_interrupt();
-      if (ctx) ctx->interrupted = true;
-      throw std::runtime_error(fmt::format(
-          "run interrupted ({}) after {} of {} steps, at t = {} s (step {}); checkpoint "
-          "written to {}; continue with: granule run {} --restart {}",
-          interrupt_cause(), done, steps, s.sim->time(), s.sim->step_count(), interrupt_path,
-          ctx ? ctx->scene_path : std::string("SCENE.lua"), interrupt_path));
+      if (progress) progress->finish();
+      if (at_prompt) {
+        // Not an error at the prompt: the user stopped to look, and goes on from here.
+        std::cerr << fmt::format(
+            "run interrupted at t = {} s (step {}, {} of {} steps), state kept; checkpoint "
+            "written to {}\n",
+            s.sim->time(), s.sim->step_count(), done, steps, interrupt_path);
+      } else {
+        if (ctx) ctx->interrupted = true;
+        throw std::runtime_error(fmt::format(
+            "run interrupted ({}) after {} of {} steps, at t = {} s (step {}); checkpoint "
+            "written to {}; continue with: granule run {} --restart {}",
+            interrupt_cause(), done, steps, s.sim->time(), s.sim->step_count(), interrupt_path,
+            ctx ? ctx->scene_path : std::string("SCENE.lua"), interrupt_path));
+      }
     }
     if (progress) progress->finish();
     lua_newtable(L);
@@ -202,6 +222,8 @@ int l_run(lua_State* L) {
     lua_setfield(L, -2, "time");
     lua_pushboolean(L, stopped);
     lua_setfield(L, -2, "stopped");
+    lua_pushboolean(L, outcome.interrupted);
+    lua_setfield(L, -2, "interrupted");
     return 1;
   });
 }

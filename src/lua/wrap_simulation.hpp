@@ -51,6 +51,14 @@ int l_append(lua_State* L);
 int l_result(lua_State* L);
 int l_close(lua_State* L);
 
+// wrap_views.cpp
+int l_arrays(lua_State* L);
+int l_contact_arrays(lua_State* L);
+
+// wrap_table_plot.cpp
+int l_table(lua_State* L);
+int l_plot(lua_State* L);
+
 // wrap_queries.cpp
 int l_wall(lua_State* L);
 int l_particle(lua_State* L);

@@ -23,7 +23,7 @@ do
 end
 -- Only these need the fixture's output file (creating one per call costs time).
 local needs_output = { ["sim:snapshot"] = true, ["sim:series"] = true, ["sim:append"] = true,
-                       ["sim:result"] = true, ["sim:close"] = true }
+                       ["sim:result"] = true, ["sim:close"] = true, ["sim:plot"] = true }
 local function fixture(with_output)
   local sim = simulation { dimension = 2, record_contacts = true }
   sim:material { name = "glass", density = 2500 }

@@ -40,6 +40,12 @@ refused "-o without a value" run "$scene" -o
 refused "-o empty" run "$scene" -o ""
 refused "-o twice" run "$scene" -o a.h5 -o b.h5
 refused "-o into a missing directory" run "$scene" -o no/such/dir/out.h5 --quiet
+refused "--progress without a value" run "$scene" --progress
+refused "--progress zero" run "$scene" --progress 0
+refused "--progress NaN" run "$scene" --progress nan
+refused "--progress text" run "$scene" --progress often
+refused "--help with repl" repl "$scene" --help
+refused "--help with -D unknown" run "$scene" --help -D velocty=1
 refused "-D without a value" run "$scene" -D
 refused "-D without =" run "$scene" -D velocity
 refused "-D with empty name" run "$scene" -D =1
