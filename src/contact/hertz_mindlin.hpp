@@ -116,6 +116,10 @@ struct HertzMindlin {
     return 0.2 * s.rayleigh_time * 40.0 / steps_per_contact;
   }
   static double stability_limit(const Params&, const PairScale& s) { return s.rayleigh_time; }
+  // dN/da of the elastic part, 2 E* sqrt(R* a), for the rolling stiffness (rolling.hpp).
+  static double normal_stiffness(const Params& p, double r_star, double overlap) {
+    return overlap > 0 ? 2 * p.young_eff * std::sqrt(r_star * overlap) : 0.0;
+  }
 
   template <int D>
   static ContactForce<D> force(const Params& p, History<D>& h, const ContactState<D>& c) {

@@ -95,6 +95,8 @@ struct LinearSpringDashpot {
   static double rule_time_step(const Params& p, const PairScale& s, double steps_per_contact) {
     return contact_duration(p, s.effective_mass) / steps_per_contact;
   }
+  // For the rolling stiffness (rolling.hpp).
+  static double normal_stiffness(const Params& p, double, double) { return p.k_normal; }
   static double stability_limit(const Params& p, const PairScale& s) {
     return 2.0 / std::sqrt(p.k_normal / s.effective_mass);
   }

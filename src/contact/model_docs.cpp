@@ -38,9 +38,25 @@ const char* const begin_suffix = " -->";
 
 const char* const table_end_marker = "<!-- END generated parameters -->";
 
+std::vector<ContactModelInfo> documented_models() {
+  std::vector<ContactModelInfo> out;
+  for (const auto& m : contact_model_catalogue())
+    if (!m.rolling) out.push_back(m);
+  ContactModelInfo rolling;
+  rolling.name = "rolling";
+  rolling.doc =
+      "rolling resistance, a term any model above carries when its contact gives "
+      "rolling_friction > 0 (with the model's own parameters)";
+  rolling.parameters = rolling_parameters();
+  rolling.rolling = true;
+  out.push_back(rolling);
+  return out;
+}
+
 std::string contact_model_names(const std::string& separator) {
   std::vector<std::string> names;
-  for (const auto& m : contact_model_catalogue()) names.push_back(m.name);
+  for (const auto& m : contact_model_catalogue())
+    if (!m.rolling) names.push_back(m.name);
   return join(names, separator);
 }
 
@@ -81,13 +97,13 @@ std::string format_model_help(const ContactModelInfo& m) {
 
 std::string format_models_help() {
   std::string out;
-  for (const auto& m : contact_model_catalogue()) out += format_model_help(m);
+  for (const auto& m : documented_models()) out += format_model_help(m);
   return out;
 }
 
 std::string models_markdown_list() {
   std::string out;
-  for (const auto& m : contact_model_catalogue()) {
+  for (const auto& m : documented_models()) {
     std::vector<std::string> params;
     for (const auto& p : m.parameters)
       params.push_back(fmt::format("`{}` [{}] {}", p.name, p.unit,
@@ -114,7 +130,7 @@ std::string table_begin_marker(const std::string& model) {
 }
 
 std::string regenerate_model_tables(const std::string& page, const std::string& source) {
-  const auto catalogue = contact_model_catalogue();
+  const auto catalogue = documented_models();
   const std::string prefix = begin_prefix, suffix = begin_suffix;
   std::istringstream in(page);
   std::string out, line;
@@ -142,8 +158,9 @@ std::string regenerate_model_tables(const std::string& page, const std::string& 
     auto model = std::find_if(catalogue.begin(), catalogue.end(),
                               [&](const ContactModelInfo& m) { return m.name == name; });
     if (model == catalogue.end())
-      throw InputError(fmt::format("{}:{}: table marker for unknown contact model '{}' (known: {})",
-                                   source, number, name, contact_model_names(", ")));
+      throw InputError(
+          fmt::format("{}:{}: table marker for unknown contact model '{}' (known: {}, rolling)",
+                      source, number, name, contact_model_names(", ")));
     if (!seen.insert(name).second)
       throw InputError(
           fmt::format("{}:{}: a second table for contact model '{}'", source, number, name));

@@ -5,12 +5,18 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "contact/models.hpp"
 
 namespace granule {
 
-// The registered model names in registry order, joined by `separator`.
+// What the documentation shows: the models a scene names (registry order,
+// without their rolling variants), then the rolling-resistance term as an
+// entry of its own, "rolling" (its parameters are accepted by every model).
+std::vector<ContactModelInfo> documented_models();
+
+// The model names a scene may give, in registry order, joined by `separator`.
 std::string contact_model_names(const std::string& separator);
 // The names of the models that offer a batched 3D kernel (contact_batch.hpp).
 std::string batched_model_names(const std::string& separator);

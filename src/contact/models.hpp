@@ -4,7 +4,9 @@
 // and a section with its table markers in docs/contact_models.md.
 // The engine keeps one pair bucket per model in this list, and loops over
 // each bucket with that model's kernel inlined: a scene whose pairs use one
-// model never runs another's code.
+// model never runs another's code. Each model is registered twice: as itself
+// and with the rolling-resistance term (rolling.hpp), the second chosen for a
+// pair that declares rolling_friction > 0 (choose_contact_model).
 #pragma once
 
 #include <string>
@@ -15,16 +17,34 @@
 #include "contact/hertz_mindlin.hpp"
 #include "contact/linear_spring_dashpot.hpp"
 #include "contact/parameters.hpp"
+#include "contact/rolling.hpp"
 #include "contact/thornton_elastic.hpp"
 #include "contact/thornton_jkr.hpp"
 #include "contact/walton_braun.hpp"
 
 namespace granule {
 
+// The names of the rolling variants (their checkpoint and effects labels).
+namespace rolling_names {
+inline constexpr char linear[] = "linear+rolling";
+inline constexpr char walton_braun[] = "walton_braun+rolling";
+inline constexpr char hertz_mindlin[] = "hertz_mindlin+rolling";
+inline constexpr char thornton_elastic[] = "thornton_elastic+rolling";
+inline constexpr char thornton_jkr[] = "thornton_jkr+rolling";
+}  // namespace rolling_names
+
+// The models as the user names them, then the same with rolling resistance,
+// in the same order: model b's rolling variant is b + base_contact_model_count.
 using ContactModels =
-    std::tuple<LinearSpringDashpot, WaltonBraun, HertzMindlin, ThorntonElastic, ThorntonJkr>;
+    std::tuple<LinearSpringDashpot, WaltonBraun, HertzMindlin, ThorntonElastic, ThorntonJkr,
+               WithRolling<LinearSpringDashpot, rolling_names::linear>,
+               WithRolling<WaltonBraun, rolling_names::walton_braun>,
+               WithRolling<HertzMindlin, rolling_names::hertz_mindlin>,
+               WithRolling<ThorntonElastic, rolling_names::thornton_elastic>,
+               WithRolling<ThorntonJkr, rolling_names::thornton_jkr>>;
 
 constexpr int contact_model_count = std::tuple_size_v<ContactModels>;
+constexpr int base_contact_model_count = contact_model_count / 2;
 
 struct ContactModelInfo {
   std::string name;
@@ -32,6 +52,7 @@ struct ContactModelInfo {
   std::vector<ParamSpec> parameters;
   bool adhesive = false;  // its contacts persist into negative overlap (M::reach)
   bool batched = false;   // it offers the batched 3D kernel (contact_batch.hpp)
+  bool rolling = false;   // the rolling variant of base_contact_model(id)
 };
 
 // All registered models, in registry order (index = model id).
@@ -39,6 +60,19 @@ std::vector<ContactModelInfo> contact_model_catalogue();
 
 // Model id for a name, or throws InputError listing the known names.
 int contact_model_id(const std::string& name);
+
+// The model a user named, and its rolling variant.
+inline int base_contact_model(int model) {
+  return model % base_contact_model_count;
+}
+inline int rolling_contact_model(int model) {
+  return base_contact_model(model) + base_contact_model_count;
+}
+// The model id that the parameters `given` for `model` choose: its rolling
+// variant when they give rolling_friction > 0 (or another rolling parameter
+// without rolling_friction, which the variant then asks for), the model
+// itself otherwise; rolling_friction = 0 drops the rolling parameters.
+int choose_contact_model(int model, ParamValues& given);
 
 // Calls f(std::integral_constant<int, I>{}) for each model index.
 template <typename F, std::size_t... I>

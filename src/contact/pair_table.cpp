@@ -36,6 +36,21 @@ void PairTable::update(int a, int b, const ParamValues& changes, const std::stri
   const Entry& e = at(a, b);
   if (e.model < 0)
     throw InputError(fmt::format("{}: no contact law declared for this pair", context));
+  // The rolling term is a bucket of its own (rolling.hpp), chosen once, when
+  // the law is declared: a run cannot move a pair's contacts to another.
+  const bool rolling = e.model >= base_contact_model_count;
+  for (const auto& [k, v] : changes) {
+    if (is_rolling_parameter(k) && !rolling)
+      throw InputError(fmt::format(
+          "{}: '{}' needs rolling resistance, which is chosen when the contact is declared: "
+          "give rolling_friction > 0 in sim:contact",
+          context, k));
+    if (k == "rolling_friction" && rolling && !(v > 0))
+      throw InputError(fmt::format(
+          "{}: rolling_friction = {} would remove the rolling term the contact was declared "
+          "with; it must stay > 0 during a run",
+          context, v));
+  }
   ParamValues merged = values_[key(a, b)];
   for (const auto& [k, v] : changes) merged[k] = v;
   auto catalogue = contact_model_catalogue();

@@ -55,10 +55,11 @@ int SimulationBase::material_id(const std::string& name) const {
 void SimulationBase::set_contact(const std::string& a, const std::string& b,
                                  const std::string& model, const ParamValues& given) {
   int ia = material_id(a), ib = material_id(b);
-  int m = contact_model_id(model);
+  ParamValues chosen = given;
+  const int m = choose_contact_model(contact_model_id(model), chosen);  // rolling.hpp
   std::string context = fmt::format("contact '{}'-'{}' ({})", a, b, model);
   ParamValues resolved =
-      resolve_parameters(contact_model_catalogue()[m].parameters, given, context);
+      resolve_parameters(contact_model_catalogue()[m].parameters, chosen, context);
   pairs_.set(ia, ib, m, resolved, {materials_[ia], materials_[ib]});
   prepared_ = false;
 }

@@ -49,7 +49,10 @@ ActiveEffects Simulation<D>::effects() const {
     if (mu == values.end() || mu->second != 0) e.friction = true;
   }
   e.adhesion = !e.adhesive_pairs.empty();
-  e.rotation = e.friction;
+  // A rolling torque turns the particles even without friction.
+  bool rolling = false;
+  for (auto [a, b] : pairs_in_use()) rolling |= pairs_.at(a, b).model >= base_contact_model_count;
+  e.rotation = e.friction || rolling;
   e.gravity = body_.gravity_on;
   e.central_field = body_.central_on && body_.central_strength != 0;
   for (const auto& w : walls_)

@@ -26,6 +26,7 @@
 
 #include "contact/contact_batch.hpp"
 #include "contact/contact_state.hpp"
+#include "contact/rolling.hpp"
 #include "core/particles.hpp"
 #include "hooks/contact_log.hpp"
 #include "kernel/buckets.hpp"
@@ -326,8 +327,17 @@ void PairKernel<D, M>::run(PairBucket<D, M>& b, const std::vector<typename M::Pa
         // on i and +(r_j - a/2) n on j (which feels -T). With these levers the pair
         // exerts no net torque, so angular momentum is conserved to round-off.
         const S n_cross_t = Dim<D>::torque(c.normal, f.tangential);
-        const S torque_i = -(radius[i] - 0.5 * overlap) * n_cross_t;
-        const S torque_j = -(radius[j] - 0.5 * overlap) * n_cross_t;
+        S torque_i = -(radius[i] - 0.5 * overlap) * n_cross_t;
+        S torque_j = -(radius[j] - 0.5 * overlap) * n_cross_t;
+        if constexpr (has_rolling<M>::value) {  // rolling resistance (rolling.hpp): M on i, -M on j
+          const double inertia =
+              rolling_inertia(rolling_compliance(inv_mass[i], p.inv_inertia[i], radius[i]),
+                              rolling_compliance(inv_mass[j], p.inv_inertia[j], radius[j]));
+          const S roll = M::rolling_torque(par, h, c, f.normal, S(w[i] - w[j]), inertia,
+                                           p.inv_inertia[i] + p.inv_inertia[j]);
+          torque_i += roll;
+          torque_j -= roll;
+        }
         add(i, j, total, torque_i, torque_j);
         // The largest overlap / smaller radius, without a division per contact.
         const double r_min = std::min(radius[i], radius[j]);

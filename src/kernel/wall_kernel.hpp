@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "contact/contact_state.hpp"
+#include "contact/rolling.hpp"
 #include "core/particles.hpp"
 #include "geometry/walls.hpp"
 #include "hooks/contact_log.hpp"
@@ -163,8 +164,26 @@ void WallKernel<D, M>::run(WallBucket<D, M>& b, const std::vector<typename M::Pa
       c.effective_radius = w.effective_radius(r);
       const ContactForce<D> f = M::force(par, h, c);
       const V total = f.normal * n + f.tangential;
-      const S torque_i = Dim<D>::torque(-(r - overlap) * n, f.tangential);  // at the wall surface
-      const double axial = w.axial_moment(lever, total);
+      S torque_i = Dim<D>::torque(-(r - overlap) * n, f.tangential);  // at the wall surface
+      double axial = w.axial_moment(lever, total);
+      if constexpr (has_rolling<M>::value) {
+        // Rolling resistance (rolling.hpp) against the wall's own spin: M on
+        // the particle, -M on the wall (its axial part joins the reaction).
+        S wall_spin;
+        if constexpr (D == 3)
+          wall_spin = w.axis * w.angular_velocity;
+        else
+          wall_spin = w.angular_velocity;
+        const double inertia =
+            rolling_inertia(rolling_compliance(inv_mass[i], p.inv_inertia[i], r), 0.0);
+        const S roll = M::rolling_torque(par, h, c, f.normal, S(w_spin[i] - wall_spin), inertia,
+                                         p.inv_inertia[i]);
+        torque_i += roll;
+        if constexpr (D == 3)
+          axial += w.axis.dot(roll);
+        else
+          axial += roll;
+      }
       load[i].force += total;
       load[i].torque += torque_i;
       if (fused) {

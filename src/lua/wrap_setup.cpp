@@ -2,6 +2,7 @@
 // one or by fill), body fields, and the run-time setters of walls and particles.
 #include <fmt/format.h>
 
+#include "contact/rolling.hpp"
 #include "core/errors.hpp"
 #include "core/names.hpp"
 #include "engine/simulation_base.hpp"
@@ -49,7 +50,10 @@ int l_contact(lua_State* L) {
     ParamValues values;
     for (const auto& key : t.keys()) {
       if (key == "model") continue;
-      values[key] = t.number(key.c_str());
+      if (key == "rolling_model")  // a name ("epsd", "constant"): rolling.hpp
+        values[key] = rolling_model_code(t.string("rolling_model"), t.context());
+      else
+        values[key] = t.number(key.c_str());
     }
     // The caller's file:line, for the message that a second declaration gets.
     push_script_where(L);  // "file:line: "
@@ -70,7 +74,10 @@ int l_set_contact(lua_State* L) {
     std::string b = read_string(L, 3, "set_contact: second material");
     TableReader t(L, 4, fmt::format("set_contact '{}'-'{}'", a, b));
     ParamValues values;
-    for (const auto& key : t.keys()) values[key] = t.number(key.c_str());
+    for (const auto& key : t.keys())
+      values[key] = key == "rolling_model"
+                        ? rolling_model_code(t.string("rolling_model"), t.context())
+                        : t.number(key.c_str());
     s.sim->update_contact(a, b, values);
     return 0;
   });

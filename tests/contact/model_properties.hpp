@@ -39,6 +39,16 @@ inline const std::map<std::string, SuiteParameters>& suite_parameters() {
 }
 
 constexpr double suite_friction = 0.3;
+constexpr double suite_rolling_friction = 0.2;
+
+// The name of the model M is, or carries rolling resistance for.
+template <typename M>
+std::string rolling_base_name() {
+  if constexpr (has_rolling<M>::value)
+    return M::Base::name;
+  else
+    return M::name;
+}
 constexpr const char* suite_table_place =
     "suite_parameters() in tests/contact/model_properties.hpp";
 
@@ -51,12 +61,22 @@ inline Material suite_material(const std::string& name) {
 template <typename M>
 ParamValues given_parameters(bool elastic) {
   const auto& table = suite_parameters();
-  const auto it = table.find(M::name);
+  // A rolling variant (rolling.hpp) takes its model's values and a rolling friction.
+  constexpr bool rolling = has_rolling<M>::value;
+  const auto it = table.find(rolling_base_name<M>());
   if (it == table.end())
     FAIL("add the required parameters of " << M::name << " to " << suite_table_place);
   ParamValues given = it->second.required;
   if (elastic)
     for (const auto& [key, value] : it->second.elastic) given[key] = value;
+  if (rolling) {
+    given["rolling_friction"] = suite_rolling_friction;
+    // Both forms of the term: the constant torque for the models Walton-Braun
+    // and Thornton's elastic one, the EPSD spring for the others.
+    const std::string base = rolling_base_name<M>();
+    if (base == "walton_braun" || base == "thornton_elastic")
+      given["rolling_model"] = rolling_model::constant;
+  }
   bool has_friction = false;
   for (const auto& p : M::parameters()) has_friction |= std::string(p.name) == "friction";
   if (!has_friction)

@@ -20,7 +20,8 @@ using namespace granule;
 
 namespace {
 // A rotating drum with a stationary post, Walton-Braun with friction and a
-// Thornton pair for a second material: histories of two models and walls.
+// Thornton pair for a second material: histories of two models and walls, two
+// of them with rolling resistance.
 template <int D>
 void scene(Simulation<D>& sim) {
   sim.set_warning_handler([](const std::string&) {});
@@ -29,9 +30,14 @@ void scene(Simulation<D>& sim) {
   sim.add_material({"steel", 7800, 200e6, 0.3, 0});
   ParamValues wb{{"k_load", 2e4}, {"restitution", 0.85}, {"friction", 0.4}};
   sim.set_contact("powder", "powder", "walton_braun", wb);
-  sim.set_contact("powder", "steel", "walton_braun", wb);
+  // Rolling resistance (contact/rolling.hpp) carries its own history: the
+  // constant torque against the walls, the EPSD spring between glass spheres.
+  ParamValues wb_rolling = wb;
+  wb_rolling["rolling_friction"] = 0.05, wb_rolling["rolling_model"] = 1;
+  sim.set_contact("powder", "steel", "walton_braun", wb_rolling);
   sim.set_contact("powder", "glass", "walton_braun", wb);
-  sim.set_contact("glass", "glass", "thornton_elastic", {{"friction", 0.3}});
+  sim.set_contact("glass", "glass", "thornton_elastic",
+                  {{"friction", 0.3}, {"rolling_friction", 0.1}, {"rolling_damping", 0.2}});
   sim.set_contact("glass", "steel", "thornton_elastic", {{"friction", 0.3}});
   WallSpec drum;
   drum.name = "drum", drum.type = WallType::cylinder, drum.material = 2, drum.radius = 6e-3;

@@ -71,6 +71,15 @@ local variants = {
     options = { record_contacts = true } },
   { name = "friction_off", doc = "friction 0 everywhere (no torques: spins not integrated)",
     friction = 0 },
+  { name = "rolling_pair_unused", doc = "a pair with rolling friction declared, no particle of it",
+    setup = function(sim)
+      sim:material { name = "grit", density = 1200, young = 3e9, poisson = 0.35 }
+      local g = law(0.4)
+      g[1], g[2], g.rolling_friction = "grit", "grit", 0.1
+      sim:contact(g)
+    end },
+  { name = "rolling_on", doc = "rolling_friction 0.1 (EPSD) on both pairs (a feature in use, for scale)",
+    rolling = 0.1 },
   { name = "gravity_on", doc = "gravity 9.81 m/s^2 (a feature in use, for scale)",
     setup = function(sim) sim:gravity { 0, -9.81 } end },
 }
@@ -90,6 +99,7 @@ local function build(v)
   sim:material { name = "steel", density = 7800, young = 2e11, poisson = 0.3 }
   local pp, pw = law(v.friction or 0.4), law(v.friction or 0.5)
   pp[1], pp[2], pw[1], pw[2] = "powder", "powder", "powder", "steel"
+  pp.rolling_friction, pw.rolling_friction = v.rolling, v.rolling
   sim:contact(pp)
   sim:contact(pw)
   sim:wall_cylinder { name = "chamber", center = { 0, 0 }, radius = 12.5e-3, angular_velocity = granule.rpm(2000),

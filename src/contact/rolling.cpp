@@ -1,0 +1,34 @@
+#include "contact/rolling.hpp"
+
+#include <fmt/format.h>
+
+#include "core/errors.hpp"
+
+namespace granule {
+
+double rolling_model_code(const std::string& name, const std::string& context) {
+  if (name == "epsd") return rolling_model::epsd;
+  if (name == "constant") return rolling_model::constant;
+  throw InputError(
+      fmt::format("{}: rolling_model '{}' is not known (known: epsd, constant)", context, name));
+}
+
+std::vector<ParamSpec> rolling_parameters() {
+  return {
+      {"rolling_friction", "-", required, 0, unbounded, false,
+       "rolling friction coefficient mu_r: the rolling torque is at most mu_r R* N"},
+      {"rolling_model", "-", rolling_model::epsd, 0, 1, true,
+       "\"epsd\" (0, default): elastic-plastic spring-dashpot, Ai et al. 2011 type C; "
+       "\"constant\" (1): constant torque mu_r R* N against the rolling"},
+      {"rolling_damping", "-", 0, 0, unbounded, true,
+       "viscous damping ratio eta_r of the epsd rolling dashpot (0: spring only)"},
+  };
+}
+
+bool is_rolling_parameter(const std::string& name) {
+  for (const ParamSpec& p : rolling_parameters())
+    if (name == p.name) return true;
+  return false;
+}
+
+}  // namespace granule

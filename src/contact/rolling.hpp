@@ -1,0 +1,191 @@
+// Rolling resistance, a term any contact model can carry: WithRolling<M> is
+// model M with a rolling torque added, registered beside M (models.hpp), so a
+// material pair that declares `rolling_friction > 0` has its contacts in
+// another bucket whose kernel computes the torque, and a scene without it runs
+// M's kernel unchanged (docs/features_cost.md).
+//
+// The relative rolling velocity is w_r = w_i - w_j without its component
+// along the normal (twisting is not resisted), Ai et al. 2011, Eq. 11; the
+// torque M acts on i and -M on j (against a wall, w_j is the wall's spin).
+// Two forms (rolling_model):
+//  - "epsd", the elastic-plastic spring-dashpot (type C of Ai, Chen, Rotter
+//    and Ooi 2011, Eqs. 12-15): a spring torque M_k, incremented by
+//    -k_r w_r dt and carried in the contact's history (turned with the contact
+//    as the tangential spring is), capped at M_m = mu_r R* N; below the cap a
+//    dashpot M_d = -C_r w_r with C_r = eta_r 2 sqrt(I_r k_r) acts too (eta_r =
+//    rolling_damping, 0 by default; at the cap no dashpot, Ai's f = 0).
+//    k_r = 2.25 k_n mu_r^2 R*^2 (Wensrich and Katterfeld 2012, the stiffness
+//    LIGGGHTS's epsd2 and MercuryDPM use), with k_n the normal law's stiffness
+//    at this overlap (the model's normal_stiffness, else the secant N / delta),
+//    and I_r = [1/(I_i + m_i r_i^2) + 1/(I_j + m_j r_j^2)]^-1 (Ai Eq. 13).
+//  - "constant" (type A of Ai et al.): M = -mu_r R* N w_r / |w_r|. So that it
+//    never reverses the relative rolling, its magnitude is at most
+//    |w_r| / ((1/I_i + 1/I_j) dt), the torque that by itself stops the relative
+//    spin in one step: below that rolling speed it brings w_r to zero rather
+//    than through it (the threshold below which it is held at zero, in the
+//    form that has no free constant).
+// N is the normal force kept >= 0 (an adhesive law's tensile force gives no
+// rolling resistance).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "contact/contact_state.hpp"
+#include "contact/parameters.hpp"
+
+namespace granule {
+
+namespace rolling_model {
+constexpr int epsd = 0;
+constexpr int constant = 1;
+}  // namespace rolling_model
+
+// "epsd" or "constant" as the code the parameter table holds; InputError
+// naming `context` and the known names otherwise.
+double rolling_model_code(const std::string& name, const std::string& context);
+// The rolling parameters every model carries when rolling_friction is given.
+std::vector<ParamSpec> rolling_parameters();
+// Whether a parameter name is one of them.
+bool is_rolling_parameter(const std::string& name);
+
+struct RollingParams {
+  double friction = 0;  // mu_r
+  int model = rolling_model::epsd;
+  double stiffness = 2.25;  // k_r / (k_n mu_r^2 R*^2)
+  double damping = 0;       // eta_r
+};
+
+// Whether model M states its normal stiffness at an overlap
+// (`static double normal_stiffness(const Params&, double r_star, double overlap)`).
+template <typename M, typename = void>
+struct has_normal_stiffness : std::false_type {};
+template <typename M>
+struct has_normal_stiffness<M, std::void_t<decltype(M::normal_stiffness(
+                                   std::declval<const typename M::Params&>(), 0.0, 0.0))>>
+    : std::true_type {};
+
+// Whether a model carries the rolling term (the kernels add its torque).
+template <typename M, typename = void>
+struct has_rolling : std::false_type {};
+template <typename M>
+struct has_rolling<M, std::enable_if_t<M::rolling>> : std::true_type {};
+
+// 1 / (I + m r^2) of one body from its inverses; 0 for a fixed one (or a wall).
+inline double rolling_compliance(double inv_mass, double inv_inertia, double radius) {
+  const double d = inv_mass + radius * radius * inv_inertia;
+  return d > 0 ? inv_mass * inv_inertia / d : 0.0;
+}
+// I_r of Ai Eq. 13 from the two compliances; 0 when neither body can move.
+inline double rolling_inertia(double compliance_i, double compliance_j) {
+  const double s = compliance_i + compliance_j;
+  return s > 0 ? 1.0 / s : 0.0;
+}
+
+template <typename M, const char* Name>
+struct WithRolling {
+  using Base = M;
+  static constexpr const char* name = Name;
+  static constexpr const char* doc = M::doc;
+  static constexpr bool adhesive = M::adhesive;
+  static constexpr bool rolling = true;
+  static constexpr bool uses_effective_mass = ::granule::uses_effective_mass<M>::value;
+  static constexpr bool uses_effective_radius = true;  // R* sets the rolling cap
+
+  static std::vector<ParamSpec> parameters() {
+    std::vector<ParamSpec> out = M::parameters();
+    for (const ParamSpec& p : rolling_parameters()) out.push_back(p);
+    return out;
+  }
+
+  struct Params {
+    typename M::Params base;
+    RollingParams roll;
+  };
+
+  static Params make(const ParamValues& v, const PairMaterials& m) {
+    Params p{M::make(v, m), {}};
+    p.roll.friction = v.at("rolling_friction");
+    p.roll.model = static_cast<int>(v.at("rolling_model"));
+    p.roll.damping = v.at("rolling_damping");
+    return p;
+  }
+
+  template <int D>
+  struct History {
+    typename M::template History<D> base{};
+    Spin<D> rolling = Dim<D>::zero_spin();  // N m, the EPSD spring torque on i
+  };
+
+  template <int D>
+  static bool touching(const Params& p, const History<D>& h, double overlap) {
+    return M::touching(p.base, h.base, overlap);
+  }
+  static double reach(const Params& p, double r_star) { return M::reach(p.base, r_star); }
+  static double rule_time_step(const Params& p, const PairScale& s, double steps_per_contact) {
+    return M::rule_time_step(p.base, s, steps_per_contact);
+  }
+  static double stability_limit(const Params& p, const PairScale& s) {
+    return M::stability_limit(p.base, s);
+  }
+
+  template <int D>
+  static ContactForce<D> force(const Params& p, History<D>& h, const ContactState<D>& c) {
+    return M::force(p.base, h.base, c);
+  }
+
+  // k_n of k_r = 2.25 k_n mu_r^2 R*^2.
+  static double normal_stiffness_of(const Params& p, double r_star, double overlap,
+                                    double normal_force) {
+    if constexpr (has_normal_stiffness<M>::value)
+      return M::normal_stiffness(p.base, r_star, overlap);
+    else
+      return overlap > 0 && normal_force > 0 ? normal_force / overlap : 0.0;
+  }
+
+  // The rolling torque on i (j feels minus it), after force() of the same
+  // step: `normal_force` is its N, `spin_difference` w_i - w_j, `inertia` I_r
+  // and `inv_inertia_sum` 1/I_i + 1/I_j (0 for a wall or fixed particle).
+  template <int D>
+  static Spin<D> rolling_torque(const Params& p, History<D>& h, const ContactState<D>& c,
+                                double normal_force, const Spin<D>& spin_difference, double inertia,
+                                double inv_inertia_sum) {
+    using S = Spin<D>;
+    const RollingParams& r = p.roll;
+    const double n_force = std::max(normal_force, 0.0);
+    const double cap = r.friction * c.effective_radius * n_force;  // M_m
+    S w_r = spin_difference;
+    if constexpr (D == 3) w_r -= c.normal * c.normal.dot(spin_difference);  // no twisting
+    if (r.model == rolling_model::constant) {
+      const double speed = std::sqrt(Dim<D>::spin_sq(w_r));
+      if (!(speed > 0)) return Dim<D>::zero_spin();
+      // A hair less than the whole spin, so that round-off in the integration
+      // cannot take it through zero (inf when nothing can turn).
+      const double stopping = (1 - 1e-12) * speed / (inv_inertia_sum * c.dt);
+      return S(w_r * (-std::min(cap, stopping) / speed));
+    }
+    const double k_n = normal_stiffness_of(p, c.effective_radius, c.overlap, n_force);
+    const double lever = r.friction * c.effective_radius;
+    const double k_r = r.stiffness * k_n * lever * lever;
+    S spring;
+    if constexpr (D == 3)
+      spring = rotate_onto_plane<3>(h.rolling, c.normal) - k_r * c.dt * w_r;
+    else
+      spring = h.rolling - k_r * c.dt * w_r;
+    const double spring_sq = Dim<D>::spin_sq(spring);
+    if (spring_sq > cap * cap) {  // fully mobilised: the spring slips at M_m, no dashpot
+      spring = spring * (cap / std::sqrt(spring_sq));
+      h.rolling = spring;
+      return spring;
+    }
+    h.rolling = spring;
+    if (r.damping == 0) return spring;
+    return S(spring - (2 * r.damping * std::sqrt(inertia * k_r)) * w_r);
+  }
+};
+
+}  // namespace granule
