@@ -13,12 +13,11 @@
 #include <string>
 #include <vector>
 
+#include "geometry/triangles.hpp"
+
 namespace granule::io {
 
-struct TriangleMesh {
-  std::vector<Eigen::Vector3d> vertices;                // m
-  std::vector<std::array<std::uint32_t, 3>> triangles;  // indices into vertices
-};
+using TriangleMesh = granule::Triangles;
 
 // x_scene = rotation * (scale * x_file) + translation.
 struct MeshTransform {

@@ -507,6 +507,7 @@ Journal::Kind journal_kind(const std::string& method) {
                                 "set_contact",
                                 "wall_plane",
                                 "wall_cylinder",
+                                "wall_mesh",
                                 "set_wall",
                                 "gravity",
                                 "central_field",
