@@ -128,11 +128,14 @@ void Simulation<D>::save_meshes(StateBlob& s) const {
 
 template <int D>
 void Simulation<D>::load_meshes(const StateBlob& s) {
-  const std::vector<double> none;
-  const auto& pose = s.has("meshes.pose") ? s.d("meshes.pose") : none;
+  const auto& pose = s.d("meshes.pose");
   if (pose.size() != 4 * meshes_.meshes.size())
-    throw InputError(fmt::format("checkpoint has {} mesh poses, the scene declares {} mesh walls",
-                                 pose.size() / 4, meshes_.meshes.size()));
+    throw InputError(fmt::format(
+        "checkpoint: 'meshes.pose' has {} values, expected 4 for each of the scene's {} mesh walls",
+        pose.size(), meshes_.meshes.size()));
+  for (double x : pose)
+    if (!std::isfinite(x))
+      throw InputError(fmt::format("checkpoint: 'meshes.pose' holds {}: not a pose", x));
   for (std::size_t k = 0; k < meshes_.meshes.size(); ++k) {
     MeshWall& m = meshes_.meshes[k];
     m.offset = Eigen::Vector3d(pose[4 * k], pose[4 * k + 1], pose[4 * k + 2]);

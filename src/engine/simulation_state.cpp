@@ -384,13 +384,8 @@ void Simulation<D>::load_state(const StateBlob& s) {
     wb.wall = from_i64<std::uint32_t>(s.i(wk + "wall"));
     wb.slot = from_i64<std::uint32_t>(s.i(wk + "slot"));
     wb.id = s.i(wk + "id");
-    if (s.has(wk + "part")) {
-      wb.part = from_i64<std::uint8_t>(s.i(wk + "part"));
-      unflatten(s.d(wk + "part_normal"), wb.part_normal, wb.part.size(), wk + "part_normal");
-    } else {  // analytic walls only
-      wb.part.assign(wb.particle.size(), 0);
-      wb.part_normal.assign(wb.particle.size(), V::Zero());
-    }
+    wb.part = from_i64<std::uint8_t>(s.i(wk + "part"));
+    unflatten(s.d(wk + "part_normal"), wb.part_normal, wb.part.size(), wk + "part_normal");
     wb.offset = static_cast<std::size_t>(wl[0]);
     from_raw_bytes(s.b(wk + "history"), wb.history, wk + "history");
     from_raw_bytes(s.b(wk + "track"), wb.track, wk + "track");

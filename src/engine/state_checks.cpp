@@ -268,13 +268,9 @@ void check_state(const StateBlob& s, std::size_t material_count, std::size_t wal
     all_below(wp, static_cast<std::int64_t>(n), wk + "particle", "particle index");
     all_below(ww, static_cast<std::int64_t>(wall_count), wk + "wall", "wall");
     // A mesh wall lists a particle once per part (kernel/mesh_contacts.hpp).
-    const bool parts = s.has(wk + "part");
-    const std::vector<std::int64_t> no_parts(nw, 0);
-    const auto& wpart = parts ? integers_of(s, wk + "part", nw, wk + "particle") : no_parts;
+    const auto& wpart = integers_of(s, wk + "part", nw, wk + "particle");
     all_below(wpart, std::int64_t{8}, wk + "part", "mesh contact part");
-    if (parts)
-      all_finite(doubles_of(s, wk + "part_normal", nw * D, wk + "particle"), wk + "part_normal",
-                 1.5);
+    all_finite(doubles_of(s, wk + "part_normal", nw * D, wk + "particle"), wk + "part_normal", 1.5);
     std::vector<std::array<std::int64_t, 3>> touching(nw);
     for (std::size_t k = 0; k < nw; ++k) {
       if (wid[k] != id[static_cast<std::size_t>(wp[k])])
