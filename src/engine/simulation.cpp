@@ -107,6 +107,7 @@ void Simulation<D>::step() {
   // The pairs' deepest overlap / smaller radius, before the walls add theirs.
   const double pair_overlap_ratio = pairs.max_ratio;
   const auto walls_start = Clock::now();
+  if (!meshes_.empty()) resolve_meshes();  // mesh walls' contacts, for the wall kernels
   WallTally wall_tally;
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
@@ -321,6 +322,7 @@ void Simulation<D>::integrate() {
       wall.moved_since_rebuild += wall.velocity * dt_;
     }
   }
+  meshes_.move(walls_, dt_);
 }
 
 template <int D>
@@ -361,6 +363,7 @@ void Simulation<D>::rebuild_lists() {
   any_fixed_ = std::any_of(p_.fixed.begin(), p_.fixed.end(), [](std::uint8_t f) { return f != 0; });
   candidates_.clear();
   grid_.build(p_, skin_, periodic_, candidates_);
+  prepare_meshes();
 
   // Pair slots first (all models), then wall slots.
   std::size_t slots = 0;
@@ -375,7 +378,7 @@ void Simulation<D>::rebuild_lists() {
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
     auto& bucket = std::get<I>(wall_buckets_);
-    list_walls(bucket, I, p_, walls_, pairs_, skin_, tracking_);
+    list_walls(bucket, I, p_, walls_, meshes_, pairs_, skin_, tracking_);
     bucket.offset = slots;
     slots += bucket.size();
   });

@@ -11,6 +11,7 @@
 #include "core/state.hpp"
 #include "engine/simulation_base.hpp"
 #include "fields/body_forces.hpp"
+#include "geometry/mesh_set.hpp"
 #include "geometry/walls.hpp"
 #include "hooks/contact_log.hpp"
 #include "hooks/diagnostic.hpp"
@@ -39,6 +40,10 @@ class Simulation final : public SimulationBase {
   int dimension() const override { return D; }
 
   int add_wall(const WallSpec& spec) override;
+  int add_mesh_wall(const MeshWallSpec& spec, Triangles mesh) override;
+  std::vector<MeshView> mesh_views() const override;
+  std::int64_t mesh_triangles_tested() const override { return mesh_tested_; }
+  const MeshSet<D>& meshes() const { return meshes_; }
   std::int64_t add_particle(const ParticleSpec& spec) override;
   std::vector<std::int64_t> fill(const FillSpec& spec) override;
   void remove_particle(std::int64_t id) override;
@@ -160,6 +165,14 @@ class Simulation final : public SimulationBase {
   };
   Particles<D> p_;
   std::vector<Wall<D>> walls_;
+  // Mesh walls (3D): their surfaces and poses (simulation_meshes.cpp).
+  MeshSet<D> meshes_;
+  double mesh_grid_reach_ = 0;  // the query reach the meshes' grids were built for
+  std::int64_t mesh_tested_ = 0;
+  void prepare_meshes();  // (re)builds the grids for the particles' reach
+  void resolve_meshes();  // this step's mesh contacts, before the wall kernels
+  void save_meshes(StateBlob& s) const;
+  void load_meshes(const StateBlob& s);
   BodyForces<D> body_;
   CellGrid<D> grid_;
   typename BucketsOf<D, ContactModels>::pairs pair_buckets_;

@@ -291,6 +291,10 @@ std::vector<std::string> Simulation<D>::describe() const {
     if (w.type == WallType::plane)
       lines.push_back(
           fmt::format("wall {}: plane, material {}", w.name, materials_[w.material].name));
+    else if (const MeshWall* m = meshes_.of_wall(static_cast<std::size_t>(&w - walls_.data())))
+      lines.push_back(fmt::format("wall {}: mesh of {} triangles from {}, {} rad/s, material {}",
+                                  w.name, m->surface->triangle_count(), m->file, w.angular_velocity,
+                                  materials_[w.material].name));
     else
       lines.push_back(fmt::format("wall {}: cylinder r={} m {}, {} rad/s, material {}", w.name,
                                   w.radius, w.inside ? "inside" : "outside", w.angular_velocity,

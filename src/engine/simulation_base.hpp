@@ -15,6 +15,7 @@
 #include "contact/pair_table.hpp"
 #include "core/material.hpp"
 #include "fields/schedule.hpp"
+#include "geometry/triangles.hpp"
 #include "geometry/walls.hpp"
 #include "neighbor/cell_grid.hpp"
 
@@ -44,6 +45,24 @@ struct WallSpec {
   double radius = 0;
   bool inside = true;
   double angular_velocity = 0;
+};
+
+// A triangle-mesh wall (3D): its triangles (placed in the scene: read by
+// io/mesh_file.hpp), and its rigid motion: translation at `velocity`, turning
+// at `angular_velocity` about `axis` through `axis_point`.
+struct MeshWallSpec {
+  std::string name, file;  // the file: where the triangles came from
+  int material = -1;
+  Triple velocity{}, axis_point{}, axis{0, 0, 1};
+  double angular_velocity = 0;
+  std::vector<std::string> warnings;  // the file's harmless defects, passed on to the scene
+};
+
+// A mesh wall's triangles where they are now (output, pictures).
+struct MeshView {
+  int wall = -1;
+  std::vector<Triple> vertices;
+  std::vector<std::array<std::uint32_t, 3>> triangles;
 };
 
 enum class RegionShape { ball, box, cylinder };
@@ -164,6 +183,11 @@ class SimulationBase {
   const PairTable& pair_table() const { return pairs_; }
 
   virtual int add_wall(const WallSpec& spec) = 0;
+  // 3D only; returns the wall's index (simulation_meshes.cpp).
+  virtual int add_mesh_wall(const MeshWallSpec& spec, Triangles mesh) = 0;
+  virtual std::vector<MeshView> mesh_views() const = 0;
+  // Triangles examined by the mesh contact searches so far (neighbour lists and steps).
+  virtual std::int64_t mesh_triangles_tested() const = 0;
   virtual std::int64_t add_particle(const ParticleSpec& spec) = 0;
   virtual std::vector<std::int64_t> fill(const FillSpec& spec) = 0;
   virtual void remove_particle(std::int64_t id) = 0;

@@ -134,11 +134,9 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
     for (int k = 0; k < D; ++k) x[k] = rng.uniform(lo[k], hi[k]);
     if (!inside_region(x, r)) continue;
     bool ok = true;
-    for (const auto& w : walls_)
-      if (w.clearance(x, r) < 0) {
-        ok = false;
-        break;
-      }
+    for (std::size_t w = 0; w < walls_.size() && ok; ++w)
+      ok = walls_[w].type == WallType::mesh ? !meshes_.near(w, x, r)
+                                            : !(walls_[w].clearance(x, r) < 0);
     if (!ok || overlaps_occupied(x, r)) continue;
     // Random direction, speed uniform in [0, max_speed].
     V v = V::Zero();

@@ -186,7 +186,7 @@ void Simulation<D>::set_central_strength(double strength) {
 template <int D>
 void Simulation<D>::set_wall_velocity(int w, const Triple& v) {
   if (!finite3(v)) throw InputError("wall velocity must be finite");
-  if (walls_.at(w).type != WallType::plane)
+  if (walls_.at(w).type == WallType::cylinder)
     throw InputError(
         fmt::format("wall '{}' is a cylinder: set its angular velocity", walls_[w].name));
   walls_[w].velocity = to_vec(v);
@@ -194,7 +194,7 @@ void Simulation<D>::set_wall_velocity(int w, const Triple& v) {
 template <int D>
 void Simulation<D>::set_wall_angular_velocity(int w, double omega) {
   if (!std::isfinite(omega)) throw InputError("wall angular velocity must be finite");
-  if (walls_.at(w).type != WallType::cylinder)
+  if (walls_.at(w).type == WallType::plane)
     throw InputError(fmt::format("wall '{}' is a plane: set its velocity", walls_[w].name));
   walls_[w].angular_velocity = omega;
 }

@@ -148,6 +148,7 @@ StateBlob Simulation<D>::save_state() const {
   }
   s.texts["walls"] = wall_names;
   s.doubles["walls"] = walls;
+  save_meshes(s);  // simulation_meshes.cpp
   // Body forces.
   {
     Triple g = to_triple(body_.gravity), c = to_triple(body_.central_point);
@@ -198,6 +199,8 @@ StateBlob Simulation<D>::save_state() const {
     s.integers[wk + "wall"] = to_i64(wb.wall);
     s.integers[wk + "slot"] = to_i64(wb.slot);
     s.integers[wk + "id"] = wb.id;
+    s.integers[wk + "part"] = to_i64(wb.part);
+    s.doubles[wk + "part_normal"] = flatten(wb.part_normal);
     s.integers[wk + "layout"] = {
         static_cast<std::int64_t>(wb.offset),
         static_cast<std::int64_t>(sizeof(typename M::template History<D>))};
@@ -381,13 +384,16 @@ void Simulation<D>::load_state(const StateBlob& s) {
     wb.wall = from_i64<std::uint32_t>(s.i(wk + "wall"));
     wb.slot = from_i64<std::uint32_t>(s.i(wk + "slot"));
     wb.id = s.i(wk + "id");
+    wb.part = from_i64<std::uint8_t>(s.i(wk + "part"));
+    unflatten(s.d(wk + "part_normal"), wb.part_normal, wb.part.size(), wk + "part_normal");
     wb.offset = static_cast<std::size_t>(wl[0]);
     from_raw_bytes(s.b(wk + "history"), wb.history, wk + "history");
     from_raw_bytes(s.b(wk + "track"), wb.track, wk + "track");
     const std::size_t np = pb.i.size(), nw = wb.particle.size();
     if (pb.j.size() != np || pb.slot.size() != np || pb.id_i.size() != np || pb.id_j.size() != np ||
         pb.history.size() != np || wb.wall.size() != nw || wb.slot.size() != nw ||
-        wb.id.size() != nw || wb.history.size() != nw)
+        wb.id.size() != nw || wb.history.size() != nw || wb.part.size() != nw ||
+        wb.part_normal.size() != nw)
       throw InputError(fmt::format("checkpoint: {} contact lists differ in length", M::name));
     // Parameter slots come from this scene's pair table (the laws were just restored),
     // and every listed contact must still be governed by this model.
@@ -411,6 +417,7 @@ void Simulation<D>::load_state(const StateBlob& s) {
     if (tracking_ && pb.track.size() != np) pb.track.assign(np, {});
     if (tracking_ && wb.track.size() != nw) wb.track.assign(nw, {});
   });
+  load_meshes(s);  // simulation_meshes.cpp
   build_slots();
 
   const auto hook_names = split_lines(s.t("hooks"));

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -266,11 +267,15 @@ void check_state(const StateBlob& s, std::size_t material_count, std::size_t wal
               "parameter slot");
     all_below(wp, static_cast<std::int64_t>(n), wk + "particle", "particle index");
     all_below(ww, static_cast<std::int64_t>(wall_count), wk + "wall", "wall");
-    std::vector<std::pair<std::int64_t, std::int64_t>> touching(nw);
+    // A mesh wall lists a particle once per part (kernel/mesh_contacts.hpp).
+    const auto& wpart = integers_of(s, wk + "part", nw, wk + "particle");
+    all_below(wpart, std::int64_t{8}, wk + "part", "mesh contact part");
+    all_finite(doubles_of(s, wk + "part_normal", nw * D, wk + "particle"), wk + "part_normal", 1.5);
+    std::vector<std::array<std::int64_t, 3>> touching(nw);
     for (std::size_t k = 0; k < nw; ++k) {
       if (wid[k] != id[static_cast<std::size_t>(wp[k])])
         refuse_entry(wk + "id", fmt::format("entry {} is not particle {}'s id", k, wp[k]));
-      touching[k] = {wid[k], ww[k]};
+      touching[k] = {wid[k], ww[k], wpart[k]};
     }
     std::sort(touching.begin(), touching.end());
     if (std::adjacent_find(touching.begin(), touching.end()) != touching.end())

@@ -6,13 +6,15 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "core/types.hpp"
 
 namespace granule {
 
-enum class WallType { plane, cylinder };
+// mesh: a triangle mesh (geometry/mesh_set.hpp measures its contacts)
+enum class WallType { plane, cylinder, mesh };
 
 template <int D>
 struct Wall {
@@ -37,6 +39,7 @@ struct Wall {
 
   // Signed clearance between the particle surface and the wall (negative: overlap).
   double clearance(const V& x, double r) const {
+    if (type == WallType::mesh) return std::numeric_limits<double>::infinity();
     if (type == WallType::plane) return (x - point).dot(normal) - r;
     double rho = radial(x).norm();
     return inside ? radius - rho - r : rho - radius - r;
@@ -90,7 +93,7 @@ struct Wall {
   // R* of a sphere of radius r touching this wall: r against a plane; against a
   // cylinder, the two curvatures combine (concave inside, convex outside).
   double effective_radius(double r) const {
-    if (type == WallType::plane) return r;
+    if (type != WallType::cylinder) return r;
     return inside ? r * radius / (radius - r) : r * radius / (radius + r);
   }
 

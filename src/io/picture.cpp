@@ -11,6 +11,7 @@
 #include <fstream>
 #include <map>
 #include <numeric>
+#include <set>
 
 #include "core/errors.hpp"
 #include "engine/simulation_base.hpp"
@@ -305,8 +306,24 @@ PictureInfo write_picture(const SimulationBase& sim, const PictureOptions& o) {
     ++drawn;
   }
 
-  // Walls on top.
+  // Walls on top: a mesh as its edges seen along z, each edge once.
+  for (const MeshView& m : mesh_views_in_view(sim, o)) {
+    std::set<std::pair<std::uint32_t, std::uint32_t>> edges;
+    for (const auto& t : m.triangles)
+      for (int k = 0; k < 3; ++k) edges.insert(std::minmax(t[k], t[(k + 1) % 3]));
+    for (const auto& [a, b] : edges) {
+      Prim p = primitive(Prim::line);
+      p.x0 = px(m.vertices[a][0]);
+      p.y0 = py(m.vertices[a][1]);
+      p.x1 = px(m.vertices[b][0]);
+      p.y1 = py(m.vertices[b][1]);
+      p.width = 0.5 * wall_width;
+      p.colour = wall_colour;
+      add(p, true);
+    }
+  }
   for (const auto& w : walls) {
+    if (w.type == WallType::mesh) continue;  // drawn above
     if (w.type == WallType::cylinder && axis_along_z(w, d)) {
       Prim p = primitive(Prim::ring);
       p.x0 = px(w.center[0]);

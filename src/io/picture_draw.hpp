@@ -78,6 +78,8 @@ struct Projected {
 Projected project(const SimulationBase::FlatState& s, int dimension, const PictureOptions& o);
 // The walls in the picture's coordinates (none in the perspective view).
 std::vector<WallSpec> walls_in_view(const SimulationBase& sim, const PictureOptions& o);
+// The mesh walls' triangles in the picture's coordinates (none in perspective).
+std::vector<MeshView> mesh_views_in_view(const SimulationBase& sim, const PictureOptions& o);
 const char* projection_name(Projection p);
 // The axis a projection looks along, for `slab`: 2 (z), 1 (y) or 0 (x).
 int viewing_axis(Projection p);

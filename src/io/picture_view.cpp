@@ -158,6 +158,15 @@ std::vector<WallSpec> walls_in_view(const SimulationBase& sim, const PictureOpti
   return walls;
 }
 
+std::vector<MeshView> mesh_views_in_view(const SimulationBase& sim, const PictureOptions& o) {
+  if (!o.walls || o.projection == Projection::perspective) return {};
+  std::vector<MeshView> meshes = sim.mesh_views();
+  const M3 m = view_matrix(o.projection);
+  for (auto& mesh : meshes)
+    for (auto& v : mesh.vertices) v = times(m, v);
+  return meshes;
+}
+
 }  // namespace picture_detail
 
 Projection parse_projection(const std::string& name) {

@@ -145,9 +145,14 @@ void RunOutput::write_new_walls() {
     std::vector<double> centre(s.center.begin(), s.center.begin() + sim_.dimension());
     std::vector<double> point(s.point.begin(), s.point.begin() + sim_.dimension());
     std::vector<double> normal(s.normal.begin(), s.normal.begin() + sim_.dimension());
-    f.write_attribute(g, "type", std::string(s.type == WallType::plane ? "plane" : "cylinder"));
+    f.write_attribute(g, "type",
+                      std::string(s.type == WallType::plane  ? "plane"
+                                  : s.type == WallType::mesh ? "mesh"
+                                                             : "cylinder"));
     f.write_attribute(g, "material", mats[s.material].name);
-    if (s.type == WallType::plane) {
+    if (s.type == WallType::mesh) {
+      f.write_attribute(g, "axis_point", centre);
+    } else if (s.type == WallType::plane) {
       f.write_attribute(g, "point", point);
       f.write_attribute(g, "normal", normal);
     } else {
@@ -254,6 +259,7 @@ void RunOutput::index_snapshot(const std::string& group, const SimulationBase::F
   x.count = s.id.size();
   x.dimension = d;
   x.walls = wall_shapes(walls, d, wall_extent_);
+  add_mesh_shapes(x.walls, sim_.mesh_views());
   xdmf_->add(std::move(x));
 }
 

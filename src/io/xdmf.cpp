@@ -115,6 +115,9 @@ std::vector<XdmfShape> wall_shapes(const std::vector<WallSpec>& walls, int dimen
         s.connectivity = {0, 1};
       }
       s.nodes_per_element = static_cast<int>(s.connectivity.size());
+    } else if (w.type == WallType::mesh) {
+      s.topology = "Triangle";  // its triangles: add_mesh_shapes()
+      s.nodes_per_element = 3;
     } else if (w.type == WallType::plane) {
       s.topology = "Quadrilateral";
       V3 foot = sub(centre, scale(normal, dot(sub(centre, w.point), normal)));
@@ -163,6 +166,18 @@ std::string xdmf_walls_path_for(const std::string& h5_path) {
   std::filesystem::path p(h5_path);
   p.replace_extension();
   return p.string() + "_walls.xmf";
+}
+
+void add_mesh_shapes(std::vector<XdmfShape>& shapes, const std::vector<MeshView>& meshes) {
+  for (const auto& m : meshes) {
+    if (m.wall < 0 || static_cast<std::size_t>(m.wall) >= shapes.size()) continue;
+    XdmfShape& s = shapes[m.wall];
+    s.points.clear();
+    s.connectivity.clear();
+    for (const auto& x : m.vertices) s.points.insert(s.points.end(), x.begin(), x.end());
+    for (const auto& t : m.triangles)
+      for (auto c : t) s.connectivity.push_back(static_cast<int>(c));
+  }
 }
 
 XdmfIndex::XdmfIndex(std::string h5_path)

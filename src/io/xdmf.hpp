@@ -4,9 +4,9 @@
 // material, fixed, id) point into /snapshots/NNNNNN of the HDF5 file; and
 // beside it out_walls.xmf with the walls as small inline geometries (2D:
 // polylines in z = 0; 3D: a quadrilateral for a plane, a tube for a
-// cylinder), clipped to the region the particles occupy. The small XML file is rewritten whole
-// after every snapshot (through a temporary file and a rename), so it always matches what the HDF5
-// holds.
+// cylinder, its triangles for a mesh), clipped to the region the particles
+// occupy. The small XML file is rewritten whole after every snapshot (through a
+// temporary file and a rename), so it always matches what the HDF5 holds.
 #pragma once
 
 #include <array>
@@ -47,6 +47,10 @@ std::string xdmf_walls_path_for(const std::string& h5_path);
 // The walls as drawable shapes within `extent` (x0, x1, y0, y1, z0, z1 [m]).
 std::vector<XdmfShape> wall_shapes(const std::vector<WallSpec>& walls, int dimension,
                                    const std::array<double, 6>& extent);
+
+// The mesh walls' triangles where they are now, into their walls' shapes
+// (wall_shapes() leaves those empty).
+void add_mesh_shapes(std::vector<XdmfShape>& shapes, const std::vector<MeshView>& meshes);
 
 class XdmfIndex {
  public:

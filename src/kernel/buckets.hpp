@@ -62,15 +62,30 @@ struct PairBucket {
   std::size_t size() const { return i.size(); }
 };
 
+// A mesh wall's contact found for this step (kernel/mesh_contacts.hpp): what
+// Wall::contact gives for an analytic wall.
+template <int D>
+struct WallTouch {
+  Vec<D> normal = Vec<D>::Zero();
+  Vec<D> surface_velocity = Vec<D>::Zero();
+  Vec<D> lever = Vec<D>::Zero();
+  double overlap = -1e300;  // none: the part is free
+};
+
 // Contacts between particles and walls handled by model M, particle-major
-// (each particle's wall contacts lie together, in memory order).
+// (each particle's wall contacts lie together, in memory order). A mesh wall
+// lists each particle near it several times, its parts 0, 1, ... in a row:
+// one per contact the particle can have with the mesh at once.
 template <int D, typename M>
 struct WallBucket {
   static constexpr bool is_pair = false;
   using History = typename M::template History<D>;
   std::vector<std::uint32_t> particle, wall, slot;
   std::vector<History> history;
-  std::vector<std::int64_t> id;  // cold
+  std::vector<std::int64_t> id;     // cold
+  std::vector<std::uint8_t> part;   // 0 for analytic walls
+  std::vector<Vec<D>> part_normal;  // a mesh part's last normal (zero: free)
+  std::vector<WallTouch<D>> touch;  // a mesh part's contact this step
   std::vector<ContactTrack<D>> track;
   std::size_t offset = 0;
   std::vector<StepList<D>> touched;  // as in PairBucket

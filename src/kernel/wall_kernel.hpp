@@ -92,6 +92,7 @@ void WallKernel<D, M>::run(WallBucket<D, M>& b, const std::vector<typename M::Pa
     const std::uint32_t* const bw = b.wall.data();
     const std::uint32_t* const bslot = b.slot.data();
     History* const hist = b.history.data();
+    const WallTouch<D>* const touch = b.touch.data();
     const typename M::Params* const par_of = params.data();
     const Wall<D>* const walls = step.walls.data();
     Wall<D>* const reacting_walls = step.walls.data();
@@ -139,7 +140,14 @@ void WallKernel<D, M>::run(WallBucket<D, M>& b, const std::vector<typename M::Pa
       const typename M::Params& par = par_of[bslot[k]];
       History& h = hist[k];
       V n, surface_velocity, lever;
-      const double overlap = w.contact(x[i], radius[i], n, surface_velocity, lever);
+      double overlap;
+      if (w.type == WallType::mesh) {  // found this step by resolve_mesh_contacts
+        const WallTouch<D>& t = touch[k];
+        n = t.normal, surface_velocity = t.surface_velocity, lever = t.lever;
+        overlap = t.overlap;
+      } else {
+        overlap = w.contact(x[i], radius[i], n, surface_velocity, lever);
+      }
       if (!M::touching(par, h, overlap)) {
         if (in_contact[k]) {
           h = History{};

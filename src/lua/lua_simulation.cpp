@@ -171,6 +171,7 @@ const luaL_Reg methods[] = {
     {"set_contact", l_set_contact},
     {"wall_plane", l_wall_plane},
     {"wall_cylinder", l_wall_cylinder},
+    {"wall_mesh", l_wall_mesh},
     {"set_wall", l_set_wall},
     {"wall", l_wall},
     {"add_particle", l_add_particle},

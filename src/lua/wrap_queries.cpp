@@ -21,7 +21,9 @@ int l_wall(lua_State* L) {
     lua_newtable(L);
     lua_pushstring(L, spec.name.c_str());
     lua_setfield(L, -2, "name");
-    lua_pushstring(L, spec.type == WallType::plane ? "plane" : "cylinder");
+    lua_pushstring(L, spec.type == WallType::plane  ? "plane"
+                      : spec.type == WallType::mesh ? "mesh"
+                                                    : "cylinder");
     lua_setfield(L, -2, "type");
     push_vector(L, s.sim->wall_force(w), d);
     lua_setfield(L, -2, "force");
@@ -32,6 +34,15 @@ int l_wall(lua_State* L) {
       lua_setfield(L, -2, "point");
       push_vector(L, spec.velocity, d);
       lua_setfield(L, -2, "velocity");
+    } else if (spec.type == WallType::mesh) {  // offset: how far it has moved
+      push_vector(L, spec.point, d);
+      lua_setfield(L, -2, "offset");
+      push_vector(L, spec.velocity, d);
+      lua_setfield(L, -2, "velocity");
+      push_vector(L, spec.center, d);
+      lua_setfield(L, -2, "axis_point");
+      lua_pushnumber(L, spec.angular_velocity);
+      lua_setfield(L, -2, "angular_velocity");
     } else {
       push_vector(L, spec.center, d);
       lua_setfield(L, -2, "center");

@@ -23,6 +23,7 @@ int l_contact(lua_State* L);
 int l_set_contact(lua_State* L);
 int l_wall_plane(lua_State* L);
 int l_wall_cylinder(lua_State* L);
+int l_wall_mesh(lua_State* L);  // wrap_mesh.cpp
 int l_add_particle(lua_State* L);
 int l_fill(lua_State* L);
 int l_gravity(lua_State* L);

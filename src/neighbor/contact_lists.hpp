@@ -14,6 +14,7 @@
 
 #include "contact/pair_table.hpp"
 #include "core/particles.hpp"
+#include "geometry/mesh_set.hpp"
 #include "geometry/walls.hpp"
 #include "kernel/buckets.hpp"
 
@@ -38,9 +39,12 @@ struct OwnerIndex {
 // Carries history (and tracking state) from `old` to `fresh` for every entry
 // whose owner id and partner match; `partner_old(o)` / `partner_new(k)` give
 // the second key (the other particle's id, or the wall index).
-template <typename Bucket, typename OwnerOf, typename PartnerOld, typename PartnerNew>
-void carry_history(const Bucket& old, Bucket& fresh, std::int64_t max_id, bool tracking,
-                   const OwnerOf& owner_ids, PartnerOld partner_old, PartnerNew partner_new) {
+// `also(k, o)` carries whatever else an entry keeps.
+template <typename Bucket, typename OwnerOf, typename PartnerOld, typename PartnerNew,
+          typename Also = void (*)(std::size_t, std::uint32_t)>
+void carry_history(
+    const Bucket& old, Bucket& fresh, std::int64_t max_id, bool tracking, const OwnerOf& owner_ids,
+    PartnerOld partner_old, PartnerNew partner_new, Also also = [](std::size_t, std::uint32_t) {}) {
   fresh.history.assign(fresh.size(), typename Bucket::History{});
   if (tracking) fresh.track.assign(fresh.size(), {});
   if (!old.size()) return;
@@ -55,6 +59,7 @@ void carry_history(const Bucket& old, Bucket& fresh, std::int64_t max_id, bool t
       if (partner_old(o) == partner_new(k)) {
         fresh.history[k] = old.history[o];
         if (carry_track) fresh.track[k] = old.track[o];
+        also(k, o);
         break;
       }
     }
@@ -106,10 +111,12 @@ std::size_t list_pairs(PairBucket<D, M>& bucket, int model, const Particles<D>& 
 // particle within `skin` of a wall. Particle by particle (then wall by wall):
 // the wall loop then walks the particles' data in memory order, and a
 // particle's wall contacts lie together, so threads can own whole particles.
+// A particle near a mesh wall is listed once per part (kernel/mesh_contacts.hpp);
+// a history is carried by particle, wall and part.
 template <int D, typename M>
 void list_walls(WallBucket<D, M>& bucket, int model, const Particles<D>& p,
-                const std::vector<Wall<D>>& walls, const PairTable& pairs, double skin,
-                bool tracking) {
+                const std::vector<Wall<D>>& walls, const MeshSet<D>& meshes, const PairTable& pairs,
+                double skin, bool tracking) {
   using WB = WallBucket<D, M>;
   WB old = lists_detail::renew(bucket);
   WB& fresh = bucket;
@@ -121,17 +128,31 @@ void list_walls(WallBucket<D, M>& bucket, int model, const Particles<D>& p,
     for (std::size_t w = 0; w < walls.size(); ++w) {
       const PairTable::Entry& e = pairs.at(p.material[i], walls[w].material);
       if (e.model != model) continue;
-      if (walls[w].clearance(p.position[i], p.radius[i]) >= skin) continue;
-      fresh.particle.push_back(static_cast<std::uint32_t>(i));
-      fresh.wall.push_back(static_cast<std::uint32_t>(w));
-      fresh.slot.push_back(static_cast<std::uint32_t>(e.slot));
-      fresh.id.push_back(p.id[i]);
+      int parts = 1;
+      if (walls[w].type == WallType::mesh) {
+        if (!meshes.near(w, p.position[i], p.radius[i] + skin)) continue;
+        parts = MeshSurface::max_hits;
+      } else if (walls[w].clearance(p.position[i], p.radius[i]) >= skin) {
+        continue;
+      }
+      for (int part = 0; part < parts; ++part) {
+        fresh.particle.push_back(static_cast<std::uint32_t>(i));
+        fresh.wall.push_back(static_cast<std::uint32_t>(w));
+        fresh.slot.push_back(static_cast<std::uint32_t>(e.slot));
+        fresh.id.push_back(p.id[i]);
+        fresh.part.push_back(static_cast<std::uint8_t>(part));
+      }
     }
   }
+  fresh.part_normal.assign(fresh.size(), Vec<D>::Zero());
+  constexpr std::int64_t K = MeshSurface::max_hits;
   lists_detail::carry_history(
       old, fresh, p.next_id, tracking, [](const WB& x) -> const auto& { return x.id; },
-      [&](std::uint32_t o) { return static_cast<std::int64_t>(old.wall[o]); },
-      [&](std::size_t k) { return static_cast<std::int64_t>(fresh.wall[k]); });
+      [&](std::uint32_t o) { return static_cast<std::int64_t>(old.wall[o]) * K + old.part[o]; },
+      [&](std::size_t k) { return static_cast<std::int64_t>(fresh.wall[k]) * K + fresh.part[k]; },
+      [&](std::size_t k, std::uint32_t o) {
+        if (o < old.part_normal.size()) fresh.part_normal[k] = old.part_normal[o];
+      });
 }
 
 // Reorders the particles' storage along a Morton (Z-order) curve of cells one

@@ -7,6 +7,9 @@
 #include <fstream>
 #include <sstream>
 
+#include "../geometry/mesh_helpers.hpp"
+#include "engine/simulation.hpp"
+#include "io/mesh_file.hpp"
 #include "io/xdmf.hpp"
 
 using namespace granule;
@@ -129,4 +132,49 @@ TEST_CASE("xdmf: the walls go to a file of their own, the particles' file holds 
   bare.add(s);
   CHECK(!std::filesystem::exists(index.walls_path()));
   std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("xdmf: a mesh wall is its triangles where the mesh is now", "[xdmf][mesh]") {
+  Simulation<3> sim;
+  sim.set_warning_handler([](const std::string&) {});
+  sim.add_material({"p", 2500, 0, 0, 0});
+  sim.add_material({"w", 0, 0, 0, 0});
+  sim.set_contact("p", "w", "linear",
+                  {{"k_normal", 1000}, {"restitution", 0.5}, {"friction", 0.3}});
+  sim.set_contact("p", "p", "linear",
+                  {{"k_normal", 1000}, {"restitution", 0.5}, {"friction", 0.3}});
+  MeshWallSpec m;
+  m.name = "fan";
+  m.material = 1;
+  m.angular_velocity = 2;  // about z through the origin
+  io::TriangleMesh fan = test::fan_disk(0.01, 12);
+  io::MeshFileReport report;
+  io::clean_mesh(fan, report);
+  sim.add_mesh_wall(m, fan);
+  ParticleSpec p;
+  p.position = {0, 0, 0.005};
+  p.radius = 1e-3;
+  p.material = 0;
+  sim.add_particle(p);
+  sim.prepare();
+  auto shapes_now = [&] {
+    std::vector<WallSpec> walls{sim.wall(0)};
+    auto shapes = io::wall_shapes(walls, 3, {-0.01, 0.01, -0.01, 0.01, -0.01, 0.01});
+    io::add_mesh_shapes(shapes, sim.mesh_views());
+    return shapes;
+  };
+  auto before = shapes_now();
+  REQUIRE(before.size() == 1);
+  CHECK(before[0].topology == "Triangle");
+  CHECK(before[0].nodes_per_element == 3);
+  CHECK(before[0].connectivity.size() == 3 * 12);
+  REQUIRE(before[0].points.size() == 3 * 13);
+  // Vertex 1 of the fan starts at (R, 0, 0) and turns with the mesh.
+  CHECK(before[0].points[3] == Approx(0.01));
+  sim.advance(1000);
+  const double angle = 2 * sim.time();
+  auto after = shapes_now();
+  CHECK(after[0].points[3] == Approx(0.01 * std::cos(angle)).margin(1e-12));
+  CHECK(after[0].points[4] == Approx(0.01 * std::sin(angle)).margin(1e-12));
+  CHECK(angle > 0.01);
 }

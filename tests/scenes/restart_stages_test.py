@@ -205,6 +205,22 @@ def main():
     failures += check_case(
         "schedules", ramps, ["-D", "steps=60000"], "schedules.chk.h5",
         [("ramp", r"^schedules start", 0.3, lambda step: 0 < step < 60000)])
+    # A mesh wall (the hopper from its STL): the mesh's contacts and their
+    # histories, across the gate's opening; interrupted while it discharges.
+    hopper = os.path.join(SOURCE, "scenarios", "hopper_mesh.lua")
+    with tempfile.TemporaryDirectory() as tools:
+        stl = os.path.join(tools, "hopper.stl")
+        subprocess.run(["/usr/bin/python3", os.path.join(SOURCE, "tools", "make_hopper_stl.py"),
+                        "-o", stl, "--segments", "24", "--bands", "4"], check=True,
+                       capture_output=True)
+        hopper_args = ["-D", f"file={stl}", "-D", "particles=150", "-D", "settle=0.08",
+                       "-D", "duration=0.15"]
+        with tempfile.TemporaryDirectory() as work:
+            _, _, err = run_whole(hopper, hopper_args, work)
+        settled = int(re.search(r"stage settle .* after (\d+) steps", err).group(1))
+        failures += check_case(
+            "hopper_mesh", hopper, hopper_args, "hopper_mesh.checkpoint.h5",
+            [("discharge", r"stage settle", 0.05, lambda step: step > settled)])
     print(f"restart stages: {'all passed' if failures == 0 else f'{failures} failed'}")
     sys.exit(1 if failures else 0)
 

@@ -1,0 +1,92 @@
+// The scene's mesh walls (3D): each a rigid MeshSurface with a pose. A mesh
+// moves as a rigid body: it translates at its wall's velocity and turns at its
+// angular velocity about an axis through a point that moves with it, so the
+// pose is an offset and an angle, integrated each step, and the surface's
+// velocity at a contact point q is v + omega axis x (q - axis point), the wall
+// velocity of Eq. 3.10's slip. Contacts are found in the mesh's own frame (the
+// particle brought into it), so the triangle grid is built once.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/types.hpp"
+#include "geometry/mesh_surface.hpp"
+#include "geometry/walls.hpp"
+
+namespace granule {
+
+struct MeshWall {
+  int wall = -1;  // its entry in the scene's walls (name, material, motion, reaction)
+  std::string file;
+  std::shared_ptr<const MeshSurface> surface;
+  Eigen::Vector3d axis_point = Eigen::Vector3d::Zero();  // in the mesh's frame
+  // The pose: x_scene = R(angle) (x_mesh - axis_point) + axis_point + offset.
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero();
+  double angle = 0;
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  double turn_reach = 0;  // the farthest vertex from the axis point (bounds a turn's travel)
+
+  void set_angle(double a, const Eigen::Vector3d& axis) {
+    angle = a;
+    rotation = Eigen::AngleAxisd(a, axis).toRotationMatrix();
+  }
+  // Unturned meshes skip the rotation, so a mesh at rest is exactly where its
+  // file put it.
+  Eigen::Vector3d to_mesh(const Eigen::Vector3d& x) const {
+    if (angle == 0) return x - offset;
+    return rotation.transpose() * (x - axis_point - offset) + axis_point;
+  }
+  Eigen::Vector3d to_scene(const Eigen::Vector3d& x) const {
+    if (angle == 0) return x + offset;
+    return rotation * (x - axis_point) + axis_point + offset;
+  }
+  Eigen::Vector3d direction_to_scene(const Eigen::Vector3d& n) const {
+    return angle == 0 ? n : Eigen::Vector3d(rotation * n);
+  }
+  Eigen::Vector3d axis_point_in_scene() const { return axis_point + offset; }
+};
+
+template <int D>
+struct MeshSet {
+  std::vector<MeshWall> meshes;
+  std::vector<int> mesh_of_wall;  // -1 for analytic walls
+
+  bool empty() const { return meshes.empty(); }
+  const MeshWall* of_wall(std::size_t w) const {
+    if (w >= mesh_of_wall.size() || mesh_of_wall[w] < 0) return nullptr;
+    return &meshes[mesh_of_wall[w]];
+  }
+  // Whether the particle at x lies within `within` of the mesh on wall w.
+  bool near(std::size_t w, const Vec<D>& x, double within) const {
+    if constexpr (D == 3) {
+      const MeshWall* m = of_wall(w);
+      return m && m->surface->near(m->to_mesh(x), within);
+    } else {
+      (void)w, (void)x, (void)within;
+      return false;
+    }
+  }
+  // One step of rigid motion for every mesh; returns nothing, adds a bound on
+  // any vertex's travel to its wall's moved_since_rebuild.
+  void move(std::vector<Wall<D>>& walls, double dt) {
+    if constexpr (D == 3) {
+      for (auto& m : meshes) {
+        Wall<D>& w = walls[m.wall];
+        if (w.velocity.isZero() && w.angular_velocity == 0) continue;
+        m.offset += w.velocity * dt;
+        if (w.angular_velocity != 0) m.set_angle(m.angle + w.angular_velocity * dt, w.axis);
+        w.center = m.axis_point_in_scene();
+        w.point = m.offset;
+        w.moved_since_rebuild[0] +=
+            (w.velocity * dt).norm() + std::abs(w.angular_velocity * dt) * m.turn_reach;
+      }
+    } else {
+      (void)walls, (void)dt;
+    }
+  }
+};
+
+}  // namespace granule

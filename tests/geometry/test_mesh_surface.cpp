@@ -1,0 +1,132 @@
+// The closest-feature contact of a sphere with a triangle mesh, checked
+// against distances worked out by hand, and the triangle grid's economy.
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "geometry/mesh_surface.hpp"
+#include "mesh_helpers.hpp"
+
+using namespace granule;
+using Eigen::Vector3d;
+
+TEST_CASE("mesh surface: closest point on a face, an edge and a corner", "[mesh]") {
+  Triangles one;
+  one.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  one.triangles = {{0, 1, 2}};
+  MeshSurface s(one);
+  MeshHit h = s.closest(0, {0.2, 0.3, 0.5});
+  CHECK(h.feature == MeshFeature::face);
+  CHECK(h.distance == 0.5);
+  CHECK(h.normal == Vector3d(0, 0, 1));
+  h = s.closest(0, {0.2, 0.3, -0.5});  // below: the normal points down, to the centre
+  CHECK(h.normal == Vector3d(0, 0, -1));
+  h = s.closest(0, {0.5, -0.3, 0.4});  // beyond the edge y = 0
+  CHECK(h.feature == MeshFeature::edge);
+  CHECK(h.distance == Approx(0.5).epsilon(1e-14));
+  CHECK((h.point - Vector3d(0.5, 0, 0)).norm() < 1e-15);
+  h = s.closest(0, {1.3, -0.4, 0});  // beyond the corner (1, 0, 0)
+  CHECK(h.feature == MeshFeature::vertex);
+  CHECK(h.point == Vector3d(1, 0, 0));
+  CHECK(h.distance == Approx(0.5).epsilon(1e-14));
+  h = s.closest(0, {0.6, 0.6, 0.1});  // beyond the hypotenuse
+  CHECK(h.feature == MeshFeature::edge);
+  CHECK(h.distance == Approx(std::sqrt(0.02 + 0.01)).epsilon(1e-14));
+}
+
+TEST_CASE("mesh surface: one contact on a flat patch, at a shared edge and a shared vertex",
+          "[mesh]") {
+  MeshSurface s(test::flat_grid(1.0, 4));  // vertices every 0.5, diagonals along x = y
+  s.build_grid(0.2);
+  const double r = 0.1;
+  MeshHit hits[MeshSurface::max_hits];
+  // Over a face, on a diagonal (edge of two triangles), on a grid line, on a
+  // vertex shared by six triangles, and beside each: one contact, straight down.
+  for (Vector3d x : {Vector3d(0.1, 0.3, 0.09), Vector3d(0.2, 0.2, 0.09), Vector3d(0.2, 0.0, 0.09),
+                     Vector3d(0.0, 0.0, 0.09), Vector3d(0.5, 0.5, 0.09),
+                     Vector3d(1e-13, -1e-13, 0.09), Vector3d(0.25 + 1e-15, 0.25, 0.09)}) {
+    INFO(x.transpose());
+    const int n = s.contacts(x, r, r, hits);
+    REQUIRE(n == 1);
+    CHECK(hits[0].distance == Approx(0.09).epsilon(1e-14));
+    // (at a vertex or edge the normal points from it to the centre: off the
+    // vertical by the centre's offset / distance)
+    CHECK((hits[0].normal - Vector3d(0, 0, 1)).norm() < 1e-11);
+  }
+  // Out of reach: none.
+  CHECK(s.contacts(Vector3d(0.1, 0.1, 0.2), r, r, hits) == 0);
+}
+
+TEST_CASE("mesh surface: a convex edge gives one contact whose normal turns continuously",
+          "[mesh]") {
+  const double slope = 0.5;
+  MeshSurface s(test::roof(1.0, slope));
+  s.build_grid(0.2);
+  const double r = 0.1;
+  MeshHit hits[MeshSurface::max_hits];
+  // A sphere carried across the ridge at constant height above it: the
+  // contact is on the left face, then on the ridge (normal from the ridge to
+  // the centre), then on the right face; one at every position, its normal
+  // changing by no more than the step allows.
+  // At this height the ridge is nearest for |x| < h slope, a face beyond.
+  Vector3d last_normal(0, 0, 0);
+  const double h = 0.07;
+  for (int k = -300; k <= 300; ++k) {
+    const Vector3d x(k * 2e-4, 0.1, h);
+    const int n = s.contacts(x, r, r, hits);
+    REQUIRE(n == 1);
+    if (!last_normal.isZero()) CHECK((hits[0].normal - last_normal).norm() < 0.02);
+    last_normal = hits[0].normal;
+    // The distance to the roof, by hand: to a face's plane where the foot of
+    // the perpendicular lies on that face, else to the ridge.
+    const Vector3d up_right = Vector3d(slope, 0, 1).normalized();
+    const Vector3d up_left = Vector3d(-slope, 0, 1).normalized();
+    const Vector3d rel(x.x(), 0, x.z());
+    const double d_right = rel.dot(up_right), d_left = rel.dot(up_left);
+    double expect = rel.norm();
+    if ((rel - d_right * up_right).x() >= 0) expect = d_right;
+    if ((rel - d_left * up_left).x() <= 0) expect = d_left;
+    CHECK(hits[0].distance == Approx(expect).epsilon(1e-12));
+  }
+}
+
+TEST_CASE("mesh surface: a concave edge gives one contact per face", "[mesh]") {
+  MeshSurface s(test::corner(1.0));
+  s.build_grid(0.2);
+  const double r = 0.1;
+  MeshHit hits[MeshSurface::max_hits];
+  // In the corner, pressed into both faces.
+  int n = s.contacts(Vector3d(0.09, 0.2, 0.08), r, r, hits);
+  REQUIRE(n == 2);
+  CHECK(hits[0].distance == Approx(0.08));
+  CHECK((hits[0].normal - Vector3d(0, 0, 1)).norm() < 1e-15);
+  CHECK(hits[1].distance == Approx(0.09));
+  CHECK((hits[1].normal - Vector3d(1, 0, 0)).norm() < 1e-15);
+  // Touching the floor only (the side is out of reach); the floor's other
+  // triangle finds its edge with this one, which is nearer: one contact.
+  n = s.contacts(Vector3d(0.15, 0.2, 0.08), r, r, hits);
+  REQUIRE(n == 1);
+  CHECK(hits[0].normal == Vector3d(0, 0, 1));
+}
+
+TEST_CASE("mesh surface: the grid examines a few triangles of a 10^5-triangle mesh", "[mesh]") {
+  const int cells = 224;  // 2 * 224^2 = 100352 triangles
+  MeshSurface s(test::flat_grid(1.0, cells));
+  REQUIRE(s.triangle_count() == 100352);
+  const double r = 2.0 / cells;  // spheres as large as a grid square
+  s.build_grid(1.5 * r);
+  MeshHit hits[MeshSurface::max_hits];
+  std::int64_t tested = 0;
+  int queries = 0;
+  for (int k = 0; k < 200; ++k) {
+    const Vector3d x(-0.9 + 0.009 * k, 0.3 - 0.004 * k, 0.9 * r);
+    REQUIRE(s.contacts(x, r, r, hits, &tested) == 1);
+    CHECK(hits[0].distance == Approx(0.9 * r).epsilon(1e-12));
+    ++queries;
+  }
+  const double per_query = static_cast<double>(tested) / queries;
+  INFO("triangles examined per sphere: " << per_query);
+  // A cell 3 r wide holds about 2 (3 r / (2/224))^2 = 18 triangles (listed
+  // in the cells they come near), and a sphere overlaps up to 4 cells.
+  CHECK(per_query < 400);
+  CHECK(per_query > 2);
+}
