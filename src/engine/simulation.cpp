@@ -358,7 +358,6 @@ void Simulation<D>::build_slots() {
 
 template <int D>
 void Simulation<D>::rebuild_lists() {
-  const std::size_t n = p_.size();
   prune_travel_ = std::numeric_limits<double>::infinity();  // new candidates: prune them all
   any_fixed_ = std::any_of(p_.fixed.begin(), p_.fixed.end(), [](std::uint8_t f) { return f != 0; });
   candidates_.clear();

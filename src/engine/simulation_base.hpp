@@ -5,6 +5,7 @@
 
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -26,6 +27,9 @@ struct StateBlob;
 class OutputSink;
 
 using Triple = std::array<double, 3>;  // a vector in 2D or 3D; z is ignored in 2D
+inline bool finite3(const Triple& t) {
+  return std::isfinite(t[0]) && std::isfinite(t[1]) && std::isfinite(t[2]);
+}
 
 struct ParticleSpec {
   Triple position{};

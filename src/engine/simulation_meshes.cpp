@@ -12,12 +12,6 @@
 
 namespace granule {
 
-namespace {
-bool finite3(const Triple& t) {
-  return std::isfinite(t[0]) && std::isfinite(t[1]) && std::isfinite(t[2]);
-}
-}  // namespace
-
 template <int D>
 int Simulation<D>::add_mesh_wall(const MeshWallSpec& s, Triangles mesh) {
   const std::string ctx = fmt::format("wall_mesh '{}'", s.name);

@@ -15,12 +15,6 @@
 
 namespace granule {
 
-namespace {
-bool finite3(const Triple& t) {
-  return std::isfinite(t[0]) && std::isfinite(t[1]) && std::isfinite(t[2]);
-}
-}  // namespace
-
 // ----------------------------------------------------------------------------
 // Set-up and validation
 // ----------------------------------------------------------------------------

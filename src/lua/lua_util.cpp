@@ -335,4 +335,21 @@ void push_vector(lua_State* L, const std::array<double, 3>& v, int dimension) {
   }
 }
 
+// A Lua list of strings (raw reads), each entry named in the error.
+std::vector<std::string> read_string_list(lua_State* L, int index, const std::string& what) {
+  if (!lua_istable(L, index)) throw std::runtime_error(what + " must be a list of names");
+  std::vector<std::string> out;
+  const auto n = static_cast<lua_Integer>(lua_rawlen(L, index));
+  for (lua_Integer k = 1; k <= n; ++k) {
+    lua_rawgeti(L, index, k);
+    if (lua_type(L, -1) != LUA_TSTRING) {
+      lua_pop(L, 1);
+      throw std::runtime_error(fmt::format("{}[{}] must be a string", what, k));
+    }
+    out.emplace_back(lua_tostring(L, -1));
+    lua_pop(L, 1);
+  }
+  return out;
+}
+
 }  // namespace granule::lua

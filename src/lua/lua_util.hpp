@@ -129,4 +129,7 @@ std::string read_string(lua_State* L, int index, const std::string& what);
 std::int64_t read_integer(lua_State* L, int index, const std::string& what);
 void push_vector(lua_State* L, const std::array<double, 3>& v, int dimension);
 
+// The strings of the list at `index`; throws naming `what`[k] if one is not a string.
+std::vector<std::string> read_string_list(lua_State* L, int index, const std::string& what);
+
 }  // namespace granule::lua

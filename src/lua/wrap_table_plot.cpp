@@ -42,21 +42,6 @@ double field_value(const SimulationBase& sim, std::int64_t id, const std::string
   return static_cast<double>(sim.material_of(id));  // "material"
 }
 
-std::vector<std::string> string_list(lua_State* L, int index, const char* what) {
-  std::vector<std::string> out;
-  const auto n = static_cast<lua_Integer>(lua_rawlen(L, index));
-  for (lua_Integer k = 1; k <= n; ++k) {
-    lua_rawgeti(L, index, k);
-    if (lua_type(L, -1) != LUA_TSTRING) {
-      lua_pop(L, 1);
-      throw std::runtime_error(fmt::format("{}[{}] must be a string", what, k));
-    }
-    out.emplace_back(lua_tostring(L, -1));
-    lua_pop(L, 1);
-  }
-  return out;
-}
-
 }  // namespace
 
 // sim:table { ids = { ... }, fields = { ... } } -> text (also printed)
@@ -82,7 +67,7 @@ int l_table(lua_State* L) {
     }
     std::vector<std::string> fields;
     if (t.push_table("fields")) {
-      fields = string_list(L, lua_gettop(L), "table: fields");
+      fields = read_string_list(L, lua_gettop(L), "table: fields");
       lua_pop(L, 1);
     } else {
       fields = sim.dimension() == 2

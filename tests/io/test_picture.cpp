@@ -296,8 +296,9 @@ TEST_CASE("picture: in perspective the nearer of two equal spheres is larger and
   const int near_width = last - first, far_width = last2 - first2;
   // Pinhole: the drawn size goes as 1 / distance (0.03 m against 0.07 m).
   CHECK(near_width == Approx(far_width * 0.07 / 0.03).epsilon(0.12));
-  auto near_colour = img.at((first + last) / 2, row), far_colour = img.at((first2 + last2) / 2, row);
-  CHECK(near(near_colour, colour0, 3));                    // nearest: full colour
+  auto near_colour = img.at((first + last) / 2, row),
+       far_colour = img.at((first2 + last2) / 2, row);
+  CHECK(near(near_colour, colour0, 3));  // nearest: full colour
   CHECK(far_colour[0] + far_colour[1] + far_colour[2] <
         0.7 * (colour1[0] + colour1[1] + colour1[2]));  // farthest: shaded to 55 %
   std::filesystem::remove(o.path);
