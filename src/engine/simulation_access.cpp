@@ -44,6 +44,15 @@ WallSpec Simulation<D>::wall(int w) const {
   s.radius = x.radius;
   s.inside = x.inside;
   s.angular_velocity = x.angular_velocity;
+  s.bounded = x.bounded;
+  if (x.finite()) {
+    s.axis = to_triple(x.axis);
+    s.side = to_triple(x.side);
+    s.size_a = 2 * x.half_a, s.size_b = 2 * x.half_b;
+    s.inner_radius = x.type == WallType::disk ? x.rho0 : 0;
+    s.z_lo = x.z0, s.z_hi = x.z1;
+    s.radius_lo = x.rho0, s.radius_hi = x.rho1;
+  }
   return s;
 }
 template <int D>

@@ -507,6 +507,8 @@ Journal::Kind journal_kind(const std::string& method) {
                                 "set_contact",
                                 "wall_plane",
                                 "wall_cylinder",
+                                "wall_disk",
+                                "wall_cone",
                                 "set_wall",
                                 "gravity",
                                 "central_field",
