@@ -193,7 +193,8 @@ void Simulation<D>::track_bucket(Bucket& b) {
     } else {
       e.id_a = b.id[k];
       e.wall = static_cast<int>(b.wall[k]);
-      e.effective_radius = walls_[b.wall[k]].effective_radius(p_.radius[b.particle[k]]);
+      e.effective_radius =
+          walls_[b.wall[k]].effective_radius(p_.position[b.particle[k]], p_.radius[b.particle[k]]);
     }
   };
   auto visit = [&](std::size_t k) {
@@ -317,8 +318,9 @@ void Simulation<D>::integrate() {
   if (bad != std::numeric_limits<std::int64_t>::max() && non_finite_index_ == SIZE_MAX)
     non_finite_index_ = static_cast<std::size_t>(bad);
   for (auto& wall : walls_) {
-    if (wall.type == WallType::plane && !wall.velocity.isZero()) {
+    if (!wall.velocity.isZero()) {  // planes and finite walls translate
       wall.point += wall.velocity * dt_;
+      wall.center += wall.velocity * dt_;
       wall.moved_since_rebuild += wall.velocity * dt_;
     }
   }

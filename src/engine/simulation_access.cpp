@@ -44,6 +44,15 @@ WallSpec Simulation<D>::wall(int w) const {
   s.radius = x.radius;
   s.inside = x.inside;
   s.angular_velocity = x.angular_velocity;
+  s.bounded = x.bounded;
+  if (x.finite()) {
+    s.axis = to_triple(x.axis);
+    s.side = to_triple(x.side);
+    s.size_a = 2 * x.half_a, s.size_b = 2 * x.half_b;
+    s.inner_radius = x.type == WallType::disk ? x.rho0 : 0;
+    s.z_lo = x.z0, s.z_hi = x.z1;
+    s.radius_lo = x.rho0, s.radius_hi = x.rho1;
+  }
   return s;
 }
 template <int D>
@@ -289,15 +298,23 @@ std::vector<std::string> Simulation<D>::describe() const {
     }
   for (const auto& w : walls_) {
     if (w.type == WallType::plane)
-      lines.push_back(
-          fmt::format("wall {}: plane, material {}", w.name, materials_[w.material].name));
+      lines.push_back(fmt::format("wall {}: {}plane, material {}", w.name,
+                                  w.bounded ? "bounded " : "", materials_[w.material].name));
+    else if (w.type == WallType::disk)
+      lines.push_back(fmt::format("wall {}: disk r={} m, hole {} m, {} rad/s, material {}", w.name,
+                                  w.rho1, w.rho0, w.angular_velocity, materials_[w.material].name));
+    else if (w.type == WallType::cone)
+      lines.push_back(fmt::format("wall {}: cone r={}-{} m over {} m, {} rad/s, material {}",
+                                  w.name, w.rho0, w.rho1, w.z1 - w.z0, w.angular_velocity,
+                                  materials_[w.material].name));
     else if (const MeshWall* m = meshes_.of_wall(static_cast<std::size_t>(&w - walls_.data())))
       lines.push_back(fmt::format("wall {}: mesh of {} triangles from {}, {} rad/s, material {}",
                                   w.name, m->surface->triangle_count(), m->file, w.angular_velocity,
                                   materials_[w.material].name));
     else
-      lines.push_back(fmt::format("wall {}: cylinder r={} m {}, {} rad/s, material {}", w.name,
-                                  w.radius, w.inside ? "inside" : "outside", w.angular_velocity,
+      lines.push_back(fmt::format("wall {}: {}cylinder r={} m {}, {} rad/s, material {}", w.name,
+                                  w.bounded ? "bounded " : "", w.radius,
+                                  w.inside ? "inside" : "outside", w.angular_velocity,
                                   materials_[w.material].name));
   }
   const ActiveEffects e = effects();

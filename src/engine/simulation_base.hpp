@@ -49,6 +49,13 @@ struct WallSpec {
   double radius = 0;
   bool inside = true;
   double angular_velocity = 0;
+  // Finite walls (geometry/finite_walls.hpp); a disk uses center, normal and radius.
+  bool bounded = false;                 // plane: a rectangle; cylinder: a tube
+  Triple side{};                        // rectangle (3D): first side's direction; zero: default
+  double size_a = 0, size_b = 0;        // rectangle's sides [m] (size_b: 3D)
+  double inner_radius = 0;              // disk: its hole's radius [m]
+  double z_lo = 0, z_hi = 0;            // tube, cone: the axial bounds from center [m]
+  double radius_lo = 0, radius_hi = 0;  // cone: its radii at z_lo and z_hi [m]
 };
 
 // A triangle-mesh wall (3D): its triangles (placed in the scene: read by

@@ -56,10 +56,7 @@ ActiveEffects Simulation<D>::effects() const {
   e.gravity = body_.gravity_on;
   e.central_field = body_.central_on && body_.central_strength != 0;
   for (const auto& w : walls_)
-    if ((w.type == WallType::plane && !w.velocity.isZero()) ||
-        (w.type == WallType::cylinder && w.angular_velocity != 0) ||
-        (w.type == WallType::mesh && (!w.velocity.isZero() || w.angular_velocity != 0)))
-      e.moving_walls.push_back(w.name);
+    if (!w.velocity.isZero() || w.angular_velocity != 0) e.moving_walls.push_back(w.name);
   for (const auto& d : diagnostics_) e.diagnostics.push_back(d.name);
   e.contacts_recorded = record_contacts_;
   e.hooks = static_cast<int>(hooks_.size());

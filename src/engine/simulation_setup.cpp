@@ -11,6 +11,7 @@
 
 #include "core/errors.hpp"
 #include "core/random.hpp"
+#include "engine/finite_wall_setup.hpp"
 #include "engine/simulation.hpp"
 
 namespace granule {
@@ -122,6 +123,12 @@ int Simulation<D>::add_wall(const WallSpec& s) {
     if (w.name == s.name) throw InputError(fmt::format("{} is declared twice", ctx));
   if (s.material < 0 || s.material >= static_cast<int>(materials_.size()))
     throw InputError(fmt::format("{}: unknown material", ctx));
+  if (is_finite_spec(s)) {
+    walls_.push_back(make_finite_wall<D>(s, ctx));
+    lists_valid_ = false;
+    prepared_ = false;
+    return static_cast<int>(walls_.size() - 1);
+  }
   Wall<D> w;
   w.name = s.name;
   w.type = s.type;
@@ -180,7 +187,7 @@ void Simulation<D>::set_central_strength(double strength) {
 template <int D>
 void Simulation<D>::set_wall_velocity(int w, const Triple& v) {
   if (!finite3(v)) throw InputError("wall velocity must be finite");
-  if (walls_.at(w).type == WallType::cylinder)
+  if (walls_.at(w).type == WallType::cylinder && !walls_[w].finite())
     throw InputError(
         fmt::format("wall '{}' is a cylinder: set its angular velocity", walls_[w].name));
   walls_[w].velocity = to_vec(v);
@@ -188,8 +195,12 @@ void Simulation<D>::set_wall_velocity(int w, const Triple& v) {
 template <int D>
 void Simulation<D>::set_wall_angular_velocity(int w, double omega) {
   if (!std::isfinite(omega)) throw InputError("wall angular velocity must be finite");
-  if (walls_.at(w).type == WallType::plane)
-    throw InputError(fmt::format("wall '{}' is a plane: set its velocity", walls_[w].name));
+  const Wall<D>& x = walls_.at(w);
+  if (x.type == WallType::plane)
+    throw InputError(fmt::format("wall '{}' is a plane: set its velocity", x.name));
+  if (D == 2 && x.finite() && omega != 0)
+    throw InputError(fmt::format(
+        "wall '{}' is a finite wall in 2D (its axis lies in the plane): it cannot turn", x.name));
   walls_[w].angular_velocity = omega;
 }
 template <int D>

@@ -307,6 +307,7 @@ void Simulation<D>::load_state(const StateBlob& s) {
     walls_[w].velocity = to_vec({x[3], x[4], x[5]});
     walls_[w].angular_velocity = x[6];
     walls_[w].moved_since_rebuild = to_vec({x[7], x[8], x[9]});
+    if (walls_[w].finite()) walls_[w].center = walls_[w].point;  // they move together
   }
   const auto& body = s.d("body");
   if (body.size() != 9) throw InputError("checkpoint: body forces");

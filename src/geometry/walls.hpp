@@ -10,11 +10,19 @@
 #include <string>
 
 #include "core/types.hpp"
+#include "geometry/finite_walls.hpp"
 
 namespace granule {
 
-// mesh: a triangle mesh (geometry/mesh_set.hpp measures its contacts)
-enum class WallType { plane, cylinder, mesh };
+// plane and cylinder are infinite unless `bounded`; disk and cone are finite;
+// mesh: a triangle mesh (geometry/mesh_set.hpp measures its contacts).
+enum class WallType { plane, cylinder, mesh, disk, cone };
+
+// The name a wall's type has in Lua (sim:wall) and in the output (/walls/<name>).
+inline const char* wall_type_name(WallType t) {
+  static const char* const names[] = {"plane", "cylinder", "mesh", "disk", "cone"};
+  return names[static_cast<int>(t)];
+}
 
 template <int D>
 struct Wall {
@@ -32,14 +40,34 @@ struct Wall {
   double radius = 0;
   bool inside = true;           // particles inside the cylinder (a chamber) or outside (a post)
   double angular_velocity = 0;  // rad/s about `axis`, right-handed
+  // Finite walls (finite_walls.hpp): thin two-sided surfaces, in contact at
+  // their closest point. `point` is their origin (it moves with `velocity`;
+  // `center` follows it) and `axis` their axis (a disk's and a rectangle's
+  // normal); they turn about the axis at `angular_velocity` (3D).
+  bool bounded = false;           // plane: a rectangle; cylinder: a tube between two bounds
+  V side = V::Zero();             // rectangle: unit direction of its first side
+  double half_a = 0, half_b = 0;  // rectangle: half the sides (half_b: 3D only)
+  // disk, cone, bounded cylinder: the meridian segment from (rho0, z0) to
+  // (rho1, z1), rho from the axis, z along it from `point`
+  double rho0 = 0, z0 = 0, rho1 = 0, z1 = 0;
   // reaction: force and axial torque exerted BY the particles ON the wall in the last step
   V force = V::Zero();
   double axial_torque = 0;  // N m about the cylinder axis (z for planes in 2D)
   V moved_since_rebuild = V::Zero();
 
+  bool finite() const { return bounded || type == WallType::disk || type == WallType::cone; }
+
+  // The closest point of a finite wall to x.
+  Nearest<D> nearest(const V& x) const {
+    if (type == WallType::plane)
+      return nearest_on_rectangle<D>(x, point, normal, side, half_a, half_b);
+    return nearest_on_revolved<D>(x, point, axis, rho0, z0, rho1, z1);
+  }
+
   // Signed clearance between the particle surface and the wall (negative: overlap).
   double clearance(const V& x, double r) const {
     if (type == WallType::mesh) return std::numeric_limits<double>::infinity();
+    if (finite()) return nearest(x).distance - r;
     if (type == WallType::plane) return (x - point).dot(normal) - r;
     double rho = radial(x).norm();
     return inside ? radius - rho - r : rho - radius - r;
@@ -57,6 +85,14 @@ struct Wall {
   // surface velocity at the contact point and the lever arm from the axis
   // (for the reaction torque).
   double contact(const V& x, double r, V& n, V& surface_velocity, V& lever) const {
+    if (finite()) {
+      const Nearest<D> c = nearest(x);
+      n = c.normal;
+      lever = c.point - point;
+      surface_velocity = velocity;
+      if constexpr (D == 3) surface_velocity += axis.cross(lever) * angular_velocity;
+      return r - c.distance;
+    }
     if (type == WallType::plane) {
       n = normal;
       surface_velocity = velocity;
@@ -90,9 +126,14 @@ struct Wall {
     return overlap;
   }
 
-  // R* of a sphere of radius r touching this wall: r against a plane; against a
-  // cylinder, the two curvatures combine (concave inside, convex outside).
-  double effective_radius(double r) const {
+  // R* of a sphere of radius r at x touching this wall: r against a plane; against a
+  // cylinder, the two curvatures combine (concave inside, convex outside); on a
+  // finite wall, those of the surface at the closest point (finite_walls.hpp).
+  double effective_radius(const V& x, double r) const {
+    if (finite()) {
+      const Nearest<D> c = nearest(x);
+      return effective_radius_against(r, c.curvature_radius, c.concave);
+    }
     if (type != WallType::cylinder) return r;
     return inside ? r * radius / (radius - r) : r * radius / (radius + r);
   }

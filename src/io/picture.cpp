@@ -15,6 +15,7 @@
 
 #include "core/errors.hpp"
 #include "engine/simulation_base.hpp"
+#include "io/finite_wall_outline.hpp"
 #include "io/picture_draw.hpp"
 
 namespace granule::io {
@@ -211,7 +212,11 @@ PictureInfo write_picture(const SimulationBase& sim, const PictureOptions& o) {
       include(x - r, x + r, y - r, y + r);
     }
     for (const auto& w : walls)
-      if (w.type == WallType::cylinder && axis_along_z(w, d))
+      if (is_finite_wall(w)) {
+        for (const auto& seg : finite_wall_outline(w, d))
+          include(std::min(seg[0], seg[2]), std::max(seg[0], seg[2]), std::min(seg[1], seg[3]),
+                  std::max(seg[1], seg[3]));
+      } else if (w.type == WallType::cylinder && axis_along_z(w, d))
         include(w.center[0] - w.radius, w.center[0] + w.radius, w.center[1] - w.radius,
                 w.center[1] + w.radius);
     if (!any) view = {-1e-3, 1e-3, -1e-3, 1e-3};
@@ -324,6 +329,16 @@ PictureInfo write_picture(const SimulationBase& sim, const PictureOptions& o) {
   }
   for (const auto& w : walls) {
     if (w.type == WallType::mesh) continue;  // drawn above
+    if (is_finite_wall(w)) {
+      for (const auto& seg : finite_wall_outline(w, d)) {
+        Prim p = primitive(Prim::line);
+        p.x0 = px(seg[0]), p.y0 = py(seg[1]), p.x1 = px(seg[2]), p.y1 = py(seg[3]);
+        p.width = wall_width;
+        p.colour = wall_colour;
+        add(p, true);
+      }
+      continue;
+    }
     if (w.type == WallType::cylinder && axis_along_z(w, d)) {
       Prim p = primitive(Prim::ring);
       p.x0 = px(w.center[0]);

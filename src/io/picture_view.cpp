@@ -153,6 +153,7 @@ std::vector<WallSpec> walls_in_view(const SimulationBase& sim, const PictureOpti
     WallSpec spec = sim.wall(w);
     spec.point = times(m, spec.point), spec.normal = times(m, spec.normal);
     spec.center = times(m, spec.center), spec.axis = times(m, spec.axis);
+    spec.side = times(m, spec.side);  // a rectangle's first side
     walls.push_back(spec);
   }
   return walls;

@@ -145,22 +145,38 @@ void RunOutput::write_new_walls() {
     std::vector<double> centre(s.center.begin(), s.center.begin() + sim_.dimension());
     std::vector<double> point(s.point.begin(), s.point.begin() + sim_.dimension());
     std::vector<double> normal(s.normal.begin(), s.normal.begin() + sim_.dimension());
-    f.write_attribute(g, "type",
-                      std::string(s.type == WallType::plane  ? "plane"
-                                  : s.type == WallType::mesh ? "mesh"
-                                                             : "cylinder"));
+    f.write_attribute(g, "type", std::string(wall_type_name(s.type)));
     f.write_attribute(g, "material", mats[s.material].name);
+    const bool finite = s.bounded || s.type == WallType::disk || s.type == WallType::cone;
+    auto vec = [&](const Triple& t) {
+      return std::vector<double>(t.begin(), t.begin() + sim_.dimension());
+    };
     if (s.type == WallType::mesh) {
       f.write_attribute(g, "axis_point", centre);
     } else if (s.type == WallType::plane) {
       f.write_attribute(g, "point", point);
       f.write_attribute(g, "normal", normal);
+      if (finite) {
+        f.write_attribute(g, "size", std::vector<double>{s.size_a, s.size_b});
+        f.write_attribute(g, "side", vec(s.side));
+      }
+    } else if (s.type == WallType::disk) {
+      f.write_attribute(g, "center", centre);
+      f.write_attribute(g, "normal", normal);
+      f.write_attribute(g, "radius", s.radius);
+      f.write_attribute(g, "inner_radius", s.inner_radius);
+    } else if (s.type == WallType::cone) {
+      f.write_attribute(g, "center", centre);
+      f.write_attribute(g, "axis", vec(s.axis));
+      f.write_attribute(g, "bounds", std::vector<double>{s.z_lo, s.z_hi});
+      f.write_attribute(g, "radii", std::vector<double>{s.radius_lo, s.radius_hi});
     } else {
       f.write_attribute(g, "center", centre);
       f.write_attribute(g, "radius", s.radius);
       f.write_attribute(g, "inside", static_cast<std::int64_t>(s.inside ? 1 : 0));
-      f.write_attribute(g, "angular_velocity", s.angular_velocity);
+      if (finite) f.write_attribute(g, "bounds", std::vector<double>{s.z_lo, s.z_hi});
     }
+    if (s.type != WallType::plane) f.write_attribute(g, "angular_velocity", s.angular_velocity);
   }
   walls_written_ = sim_.wall_count();
 }

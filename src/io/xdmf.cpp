@@ -72,6 +72,64 @@ void basis(const V3& n, V3& t1, V3& t2) {
   t2 = cross(n, t1);
 }
 
+// A finite wall's own shape (geometry/finite_walls.hpp), not clipped: a
+// rectangle's quadrilateral (2D: its segment); a disk's, tube's or cone's band
+// of quadrilaterals between its two rim circles (2D: its two mirrored segments).
+XdmfShape finite_wall_shape(const WallSpec& w, int dimension) {
+  XdmfShape s;
+  s.name = w.name;
+  const V3 origin = w.type == WallType::plane ? w.point : w.center;
+  auto push = [&](const V3& q) { s.points.insert(s.points.end(), q.begin(), q.end()); };
+  if (w.type == WallType::plane) {
+    const V3 n = unit(w.normal), u = unit(w.side);
+    if (dimension == 2) {
+      s.topology = "Polyline";
+      for (double a : {-0.5, 0.5}) push(add(origin, scale(u, a * w.size_a)));
+      s.connectivity = {0, 1};
+      s.nodes_per_element = 2;
+      return s;
+    }
+    const V3 v = cross(n, u);
+    s.topology = "Quadrilateral";
+    for (auto [a, b] : {std::pair{-0.5, -0.5}, {0.5, -0.5}, {0.5, 0.5}, {-0.5, 0.5}})
+      push(add(origin, add(scale(u, a * w.size_a), scale(v, b * w.size_b))));
+    s.connectivity = {0, 1, 2, 3};
+    s.nodes_per_element = 4;
+    return s;
+  }
+  // The meridian segment from (rho0, z0) to (rho1, z1) about the axis.
+  const V3 axis = unit(w.type == WallType::disk ? w.normal : w.axis);
+  const double rho[2] = {w.type == WallType::disk ? w.inner_radius : w.radius_lo,
+                         w.type == WallType::disk ? w.radius : w.radius_hi};
+  const double z[2] = {w.z_lo, w.z_hi};
+  if (dimension == 2) {
+    s.topology = "Polyline";
+    const V3 e{-axis[1], axis[0], 0};
+    for (double side : {-1.0, 1.0})
+      for (int end = 0; end < 2; ++end)
+        push(add(origin, add(scale(axis, z[end]), scale(e, side * rho[end]))));
+    s.connectivity = {0, 1, 2, 3};
+    s.nodes_per_element = 2;
+    return s;
+  }
+  s.topology = "Quadrilateral";
+  V3 t1, t2;
+  basis(axis, t1, t2);
+  const int m = circle_segments;
+  for (int end = 0; end < 2; ++end)
+    for (int k = 0; k < m; ++k) {
+      const double a = two_pi * k / m;
+      push(add(add(origin, scale(axis, z[end])),
+               add(scale(t1, rho[end] * std::cos(a)), scale(t2, rho[end] * std::sin(a)))));
+    }
+  for (int k = 0; k < m; ++k) {
+    const int next = (k + 1) % m;
+    s.connectivity.insert(s.connectivity.end(), {k, next, m + next, m + k});
+  }
+  s.nodes_per_element = 4;
+  return s;
+}
+
 }  // namespace
 
 std::string xdmf_path_for(const std::string& h5_path) {
@@ -88,6 +146,10 @@ std::vector<XdmfShape> wall_shapes(const std::vector<WallSpec>& walls, int dimen
                       (e[5] - e[4]) * (e[5] - e[4]));
   std::vector<XdmfShape> out;
   for (const auto& w : walls) {
+    if (w.bounded || w.type == WallType::disk || w.type == WallType::cone) {
+      out.push_back(finite_wall_shape(w, dimension));
+      continue;
+    }
     XdmfShape s;
     s.name = w.name;
     const V3 normal = unit(w.normal);

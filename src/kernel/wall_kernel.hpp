@@ -169,7 +169,7 @@ void WallKernel<D, M>::run(WallBucket<D, M>& b, const std::vector<typename M::Pa
       c.effective_mass = mass[i];
       c.inv_mass_sum = inv_mass[i];
       const double r = radius[i];
-      c.effective_radius = w.effective_radius(r);
+      c.effective_radius = w.effective_radius(x[i], r);
       const ContactForce<D> f = M::force(par, h, c);
       const V total = f.normal * n + f.tangential;
       S torque_i = Dim<D>::torque(-(r - overlap) * n, f.tangential);  // at the wall surface

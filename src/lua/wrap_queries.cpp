@@ -21,10 +21,10 @@ int l_wall(lua_State* L) {
     lua_newtable(L);
     lua_pushstring(L, spec.name.c_str());
     lua_setfield(L, -2, "name");
-    lua_pushstring(L, spec.type == WallType::plane  ? "plane"
-                      : spec.type == WallType::mesh ? "mesh"
-                                                    : "cylinder");
+    lua_pushstring(L, wall_type_name(spec.type));
     lua_setfield(L, -2, "type");
+    lua_pushboolean(L, spec.bounded || spec.type == WallType::disk || spec.type == WallType::cone);
+    lua_setfield(L, -2, "finite");
     push_vector(L, s.sim->wall_force(w), d);
     lua_setfield(L, -2, "force");
     lua_pushnumber(L, s.sim->wall_axial_torque(w));
@@ -50,6 +50,10 @@ int l_wall(lua_State* L) {
       lua_setfield(L, -2, "radius");
       lua_pushnumber(L, spec.angular_velocity);
       lua_setfield(L, -2, "angular_velocity");
+      if (spec.bounded || spec.type != WallType::cylinder) {  // finite walls also translate
+        push_vector(L, spec.velocity, d);
+        lua_setfield(L, -2, "velocity");
+      }
     }
     return 1;
   });

@@ -95,11 +95,49 @@ int l_wall_plane(lua_State* L) {
     w.point = t.vector("point", d);
     w.normal = t.vector("normal", d);
     w.velocity = t.vector("velocity", d, {0, 0, 0});
+    // A rectangle centred on `point` (a segment in 2D): size = length in 2D,
+    // { a, b } in 3D, the side of length a along `side`.
+    if (t.has("size")) {
+      w.bounded = true;
+      if (d == 2) {
+        w.size_a = t.number("size");
+      } else {
+        const std::vector<double> size = t.numbers("size");
+        if (size.size() != 2)
+          throw InputError(fmt::format(
+              "wall_plane: size must be {{a, b}} (the rectangle's sides, m) in 3D, got {} numbers",
+              size.size()));
+        w.size_a = size[0], w.size_b = size[1];
+        w.side = t.vector("side", 3, {0, 0, 0});
+      }
+    }
+    if (t.has("side") && !w.bounded) {
+      t.mark("side");
+      throw InputError("wall_plane: 'side' orients a bounded plane; give 'size' with it");
+    }
+    if (t.has("side") && d == 2) {
+      t.mark("side");
+      throw InputError(
+          "wall_plane: in 2D a bounded plane is a segment across its normal; leave "
+          "'side' out");
+    }
     t.finish();
     s.sim->add_wall(w);
     return 0;
   });
 }
+
+namespace {
+// bounds = { lo, hi }: the axial extent of a finite wall from its center [m].
+void read_bounds(TableReader& t, WallSpec& w, const char* fn) {
+  const std::vector<double> b = t.numbers("bounds");
+  if (b.size() != 2)
+    throw InputError(
+        fmt::format("{}: bounds must be {{lo, hi}} (m along the axis from center), got {} numbers",
+                    fn, b.size()));
+  w.z_lo = b[0], w.z_hi = b[1];
+}
+}  // namespace
 
 int l_wall_cylinder(lua_State* L) {
   return protect(L, [](lua_State* L) {
@@ -119,6 +157,69 @@ int l_wall_cylinder(lua_State* L) {
     }
     w.radius = t.number("radius");
     w.inside = t.boolean("inside", true);
+    w.angular_velocity = t.number("angular_velocity", 0);
+    if (t.has("bounds")) {
+      if (d == 2) {
+        t.mark("bounds");
+        throw InputError(
+            "wall_cylinder: in 2D a cylinder is a circle about z and has no "
+            "bounds; draw a channel with bounded planes");
+      }
+      w.bounded = true;
+      read_bounds(t, w, "wall_cylinder");
+      w.velocity = t.vector("velocity", d, {0, 0, 0});
+    } else if (t.has("velocity")) {
+      t.mark("velocity");
+      throw InputError(
+          "wall_cylinder: an infinite cylinder does not translate; give 'bounds' "
+          "for a finite one, which may");
+    }
+    t.finish();
+    s.sim->add_wall(w);
+    return 0;
+  });
+}
+
+int l_wall_disk(lua_State* L) {
+  return protect(L, [](lua_State* L) {
+    LuaSim& s = self(L);
+    int d = dim(L);
+    TableReader t(L, 2, "wall_disk");
+    WallSpec w;
+    w.type = WallType::disk;
+    w.name = t.string("name");
+    w.material = s.sim->material_id(t.string("material"));
+    w.center = t.vector("center", d);
+    w.normal = t.vector("normal", d);
+    w.radius = t.number("radius");
+    w.inner_radius = t.number("inner_radius", 0);
+    w.velocity = t.vector("velocity", d, {0, 0, 0});
+    w.angular_velocity = t.number("angular_velocity", 0);
+    t.finish();
+    s.sim->add_wall(w);
+    return 0;
+  });
+}
+
+int l_wall_cone(lua_State* L) {
+  return protect(L, [](lua_State* L) {
+    LuaSim& s = self(L);
+    int d = dim(L);
+    TableReader t(L, 2, "wall_cone");
+    WallSpec w;
+    w.type = WallType::cone;
+    w.name = t.string("name");
+    w.material = s.sim->material_id(t.string("material"));
+    w.center = t.vector("center", d);
+    w.axis = t.vector("axis", d);
+    read_bounds(t, w, "wall_cone");
+    const std::vector<double> radii = t.numbers("radii");
+    if (radii.size() != 2)
+      throw InputError(fmt::format(
+          "wall_cone: radii must be {{r_lo, r_hi}} (m, at the two bounds), got {} numbers",
+          radii.size()));
+    w.radius_lo = radii[0], w.radius_hi = radii[1];
+    w.velocity = t.vector("velocity", d, {0, 0, 0});
     w.angular_velocity = t.number("angular_velocity", 0);
     t.finish();
     s.sim->add_wall(w);

@@ -326,6 +326,27 @@ for name, text, expect in [
     ("plane_misspelled_normal", "point = { 0, 0, 0 }, norml = { 0, 0, 1 }", r"{at}.*unknown key 'norml'"),
 ]:
     case(name, "sim:wall_plane: " + text, expect, replace={"wall": wrong(PL % text)}, base=BASE3)
+# Finite walls (docs/walls.md), each bad in one parameter, added after the floor.
+FW = [
+    ("plane_size_one_number", 'sim:wall_plane { name = "plate", point = { 0, 0, 0.01 }, normal = { 0, 0, 1 }, size = { 0.1 }, material = "steel" }', r"{at}.*size"),
+    ("plane_size_negative", 'sim:wall_plane { name = "plate", point = { 0, 0, 0.01 }, normal = { 0, 0, 1 }, size = { 0.1, -1 }, material = "steel" }', r"{at}.*size\[2\] must be > 0"),
+    ("plane_side_along_normal", 'sim:wall_plane { name = "plate", point = { 0, 0, 0.01 }, normal = { 0, 0, 1 }, size = { 0.1, 0.1 }, side = { 0, 0, 3 }, material = "steel" }', r"{at}.*side must not be parallel"),
+    ("plane_side_without_size", 'sim:wall_plane { name = "plate", point = { 0, 0, 0.01 }, normal = { 0, 0, 1 }, side = { 1, 0, 0 }, material = "steel" }', r"{at}.*'side'.*size"),
+    ("disk_inner_above_outer", 'sim:wall_disk { name = "orifice", center = { 0, 0, 0.01 }, normal = { 0, 0, 1 }, radius = 0.01, inner_radius = 0.02, material = "steel" }', r"{at}.*inner_radius"),
+    ("disk_normal_zero", 'sim:wall_disk { name = "orifice", center = { 0, 0, 0.01 }, normal = { 0, 0, 0 }, radius = 0.01, material = "steel" }', r"{at}.*normal must be non-zero"),
+    ("disk_radius_nan", 'sim:wall_disk { name = "orifice", center = { 0, 0, 0.01 }, normal = { 0, 0, 1 }, radius = 0/0, material = "steel" }', r"{at}.*radius"),
+    ("cone_bounds_reversed", 'sim:wall_cone { name = "hopper", center = { 0, 0, 0.01 }, axis = { 0, 0, 1 }, bounds = { 0.1, 0 }, radii = { 0.01, 0.05 }, material = "steel" }', r"{at}.*bounds"),
+    ("cone_radii_zero", 'sim:wall_cone { name = "hopper", center = { 0, 0, 0.01 }, axis = { 0, 0, 1 }, bounds = { 0, 0.1 }, radii = { 0, 0 }, material = "steel" }', r"{at}.*radii must not both be 0"),
+    ("cone_radii_three", 'sim:wall_cone { name = "hopper", center = { 0, 0, 0.01 }, axis = { 0, 0, 1 }, bounds = { 0, 0.1 }, radii = { 0, 0.1, 0.2 }, material = "steel" }', r"{at}.*radii"),
+    ("tube_bounds_one", 'sim:wall_cylinder { name = "tube", center = { 0, 0, 0 }, radius = 0.01, bounds = { 0.1 }, material = "steel" }', r"{at}.*bounds"),
+    ("tube_velocity_unbounded", 'sim:wall_cylinder { name = "tube", center = { 0, 0, 0 }, radius = 0.01, velocity = { 0, 0, 1 }, material = "steel" }', r"{at}.*bounds"),
+]
+for name, line, expect in FW:
+    case(name, name.replace("_", " "), expect, after={"wall": [wrong(line)]}, base=BASE3)
+case("tube_bounds_in_2d", "a 2D cylinder with bounds",
+     r"{at}.*no bounds", replace={"wall": wrong('sim:wall_cylinder { name = "drum", center = { 0, 0 }, radius = 0.01, bounds = { 0, 1 }, material = "steel" }')})
+case("disk_turning_in_2d", "a 2D disk that turns",
+     r"{at}.*angular_velocity", after={"wall": [wrong('sim:wall_disk { name = "plate", center = { 0, 0 }, normal = { 0, 1 }, radius = 0.005, angular_velocity = 1, material = "steel" }')]})
 case("cylinder_axis_zero", "a 3D cylinder with a zero axis",
      r"{at}.*axis", replace={"wall": wrong('sim:wall_cylinder { name = "tube", center = { 0, 0, 0 }, axis = { 0, 0, 0 }, radius = 0.01, material = "steel" }')}, base=BASE3)
 case("wall_particle_outside", "a particle placed outside the drum",

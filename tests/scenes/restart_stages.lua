@@ -14,6 +14,10 @@ sim:material { name = "steel", density = 7800 }
 sim:contact { "powder", "powder", model = "walton_braun", k_load = 2e4, restitution = 0.85, friction = 0.1 }
 sim:contact { "powder", "steel", model = "walton_braun", k_load = 2e4, restitution = 0.85, friction = 0.5 }
 sim:wall_cylinder { name = "drum", center = { 0, 0 }, radius = 6e-3, angular_velocity = 150, material = "steel" }
+-- A finite wall that moves (a slotted plate rising through the bed): its position
+-- and velocity are state a restart must bring back.
+sim:wall_disk { name = "plate", center = { 0, -4e-3 }, normal = { 0, 1 }, radius = 2e-3,
+                inner_radius = 0.5e-3, velocity = { 0.01, 0.02 }, material = "steel" }
 sim:fill { region = { circle = { center = { 0, 0 }, radius = 6e-3 } }, count = 600, radius = 0.2e-3,
            material = "powder", seed = 3, max_speed = 0.05 }
 sim:gravity { 0, -9.81 }
@@ -49,12 +53,16 @@ local r2 = sim:run { steps = p.stage_steps, check_every = 700,
                      stop_when = function(s) return s:stats().kinetic_energy < 1e-15 end }
 print("run two", r2.steps, r2.time, r2.stopped, x0[1], x0[2])
 sim:set_wall("drum", { angular_velocity = -100 })
+sim:set_wall("plate", { velocity = { -0.01, -0.02 } })
 local late = 0
 sim:every { steps = 300, function(s) late = late + s:particle(1).velocity[1] end }
 mark("three")
 local r3 = sim:run { duration = p.stage_steps * sim:time_step() }
 mark("end")
 print("run three", r3.steps, r3.time, r3.stopped, string.format("late=%.17g", late))
+local plate = sim:wall("plate")
+print(string.format("plate at %.17g %.17g, force %.17g %.17g", plate.center[1], plate.center[2],
+  plate.force[1], plate.force[2]))
 sim:result { peak = peak, fired = fired, late = late }
 local means = sim:diagnostic_results(drum_force)
 local keys = {}

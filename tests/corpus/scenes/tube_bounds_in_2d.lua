@@ -1,0 +1,11 @@
+-- a 2D cylinder with bounds
+-- expect: tube_bounds_in_2d\.lua:8\b.*no bounds
+local sim = simulation { dimension = 2 }
+sim:material { name = "glass", density = 2500 }
+sim:material { name = "steel", density = 0 }
+sim:contact { "glass", "glass", model = "linear", k_normal = 1e4, restitution = 0.8, friction = 0.3 }
+sim:contact { "glass", "steel", model = "linear", k_normal = 1e4, restitution = 0.8, friction = 0.3 }
+sim:wall_cylinder { name = "drum", center = { 0, 0 }, radius = 0.01, bounds = { 0, 1 }, material = "steel" }  -- <- wrong
+sim:fill { region = { circle = { center = { 0, 0 }, radius = 0.008 } }, count = 5, radius = 3e-4, material = "glass", seed = 2 }
+sim:output {}
+sim:run { steps = 10 }
