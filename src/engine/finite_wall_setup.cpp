@@ -10,9 +10,6 @@
 namespace granule {
 
 namespace {
-bool finite3(const Triple& t) {
-  return std::isfinite(t[0]) && std::isfinite(t[1]) && std::isfinite(t[2]);
-}
 template <int D>
 Vec<D> vec(const Triple& t) {
   Vec<D> v;
