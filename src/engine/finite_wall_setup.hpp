@@ -9,11 +9,6 @@
 
 namespace granule {
 
-// Whether the specification asks for a finite wall.
-inline bool is_finite_spec(const WallSpec& s) {
-  return s.bounded || s.type == WallType::disk || s.type == WallType::cone;
-}
-
 // The finite wall of `s` (name, type and material already checked by add_wall);
 // `ctx` ("wall 'name'") starts every error message.
 template <int D>

@@ -56,6 +56,7 @@ struct WallSpec {
   double inner_radius = 0;              // disk: its hole's radius [m]
   double z_lo = 0, z_hi = 0;            // tube, cone: the axial bounds from center [m]
   double radius_lo = 0, radius_hi = 0;  // cone: its radii at z_lo and z_hi [m]
+  bool finite() const { return is_finite_wall(type, bounded); }
 };
 
 // A triangle-mesh wall (3D): its triangles (placed in the scene: read by

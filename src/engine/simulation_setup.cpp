@@ -123,7 +123,7 @@ int Simulation<D>::add_wall(const WallSpec& s) {
     if (w.name == s.name) throw InputError(fmt::format("{} is declared twice", ctx));
   if (s.material < 0 || s.material >= static_cast<int>(materials_.size()))
     throw InputError(fmt::format("{}: unknown material", ctx));
-  if (is_finite_spec(s)) {
+  if (s.finite()) {
     walls_.push_back(make_finite_wall<D>(s, ctx));
     lists_valid_ = false;
     prepared_ = false;

@@ -19,6 +19,12 @@ namespace granule {
 enum class WallType { plane, cylinder, mesh, disk, cone };
 
 // The name a wall's type has in Lua (sim:wall) and in the output (/walls/<name>).
+// Whether a wall of type t is finite: disks and cones always, planes and
+// cylinders when bounded.
+inline bool is_finite_wall(WallType t, bool bounded) {
+  return bounded || t == WallType::disk || t == WallType::cone;
+}
+
 inline const char* wall_type_name(WallType t) {
   static const char* const names[] = {"plane", "cylinder", "mesh", "disk", "cone"};
   return names[static_cast<int>(t)];
@@ -55,7 +61,7 @@ struct Wall {
   double axial_torque = 0;  // N m about the cylinder axis (z for planes in 2D)
   V moved_since_rebuild = V::Zero();
 
-  bool finite() const { return bounded || type == WallType::disk || type == WallType::cone; }
+  bool finite() const { return is_finite_wall(type, bounded); }
 
   // The closest point of a finite wall to x.
   Nearest<D> nearest(const V& x) const {
@@ -83,16 +89,21 @@ struct Wall {
   // Contact geometry for a particle at x with radius r. Returns the overlap;
   // fills the unit normal pointing from the wall to the particle, the wall's
   // surface velocity at the contact point and the lever arm from the axis
-  // (for the reaction torque).
-  double contact(const V& x, double r, V& n, V& surface_velocity, V& lever) const {
+  // (for the reaction torque); and R* (effective_radius below) where asked, from
+  // the same closest point on a finite wall.
+  double contact(const V& x, double r, V& n, V& surface_velocity, V& lever,
+                 double* effective_radius_out = nullptr) const {
     if (finite()) {
       const Nearest<D> c = nearest(x);
+      if (effective_radius_out)
+        *effective_radius_out = effective_radius_against(r, c.curvature_radius, c.concave);
       n = c.normal;
       lever = c.point - point;
       surface_velocity = velocity;
       if constexpr (D == 3) surface_velocity += axis.cross(lever) * angular_velocity;
       return r - c.distance;
     }
+    if (effective_radius_out) *effective_radius_out = effective_radius(x, r);
     if (type == WallType::plane) {
       n = normal;
       surface_velocity = velocity;

@@ -13,10 +13,6 @@
 
 namespace granule::io {
 
-inline bool is_finite_wall(const WallSpec& w) {
-  return w.bounded || w.type == WallType::disk || w.type == WallType::cone;
-}
-
 inline std::vector<std::array<double, 4>> finite_wall_outline(const WallSpec& w, int dimension) {
   using V3 = std::array<double, 3>;
   auto add = [](const V3& a, const V3& b, double s) {

@@ -212,7 +212,7 @@ PictureInfo write_picture(const SimulationBase& sim, const PictureOptions& o) {
       include(x - r, x + r, y - r, y + r);
     }
     for (const auto& w : walls)
-      if (is_finite_wall(w)) {
+      if (w.finite()) {
         for (const auto& seg : finite_wall_outline(w, d))
           include(std::min(seg[0], seg[2]), std::max(seg[0], seg[2]), std::min(seg[1], seg[3]),
                   std::max(seg[1], seg[3]));
@@ -329,7 +329,7 @@ PictureInfo write_picture(const SimulationBase& sim, const PictureOptions& o) {
   }
   for (const auto& w : walls) {
     if (w.type == WallType::mesh) continue;  // drawn above
-    if (is_finite_wall(w)) {
+    if (w.finite()) {
       for (const auto& seg : finite_wall_outline(w, d)) {
         Prim p = primitive(Prim::line);
         p.x0 = px(seg[0]), p.y0 = py(seg[1]), p.x1 = px(seg[2]), p.y1 = py(seg[3]);

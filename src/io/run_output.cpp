@@ -147,7 +147,7 @@ void RunOutput::write_new_walls() {
     std::vector<double> normal(s.normal.begin(), s.normal.begin() + sim_.dimension());
     f.write_attribute(g, "type", std::string(wall_type_name(s.type)));
     f.write_attribute(g, "material", mats[s.material].name);
-    const bool finite = s.bounded || s.type == WallType::disk || s.type == WallType::cone;
+    const bool finite = s.finite();
     auto vec = [&](const Triple& t) {
       return std::vector<double>(t.begin(), t.begin() + sim_.dimension());
     };

@@ -146,7 +146,7 @@ std::vector<XdmfShape> wall_shapes(const std::vector<WallSpec>& walls, int dimen
                       (e[5] - e[4]) * (e[5] - e[4]));
   std::vector<XdmfShape> out;
   for (const auto& w : walls) {
-    if (w.bounded || w.type == WallType::disk || w.type == WallType::cone) {
+    if (w.finite()) {
       out.push_back(finite_wall_shape(w, dimension));
       continue;
     }

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "contact/contact_state.hpp"
@@ -141,12 +142,17 @@ void WallKernel<D, M>::run(WallBucket<D, M>& b, const std::vector<typename M::Pa
       History& h = hist[k];
       V n, surface_velocity, lever;
       double overlap;
+      // R* only for a law that reads it (contact_state.hpp), from the contact's own
+      // closest point; a mesh's faces count as flat.
+      double r_star = std::numeric_limits<double>::quiet_NaN();
       if (w.type == WallType::mesh) {  // found this step by resolve_mesh_contacts
         const WallTouch<D>& t = touch[k];
         n = t.normal, surface_velocity = t.surface_velocity, lever = t.lever;
         overlap = t.overlap;
+        r_star = radius[i];
       } else {
-        overlap = w.contact(x[i], radius[i], n, surface_velocity, lever);
+        overlap = w.contact(x[i], radius[i], n, surface_velocity, lever,
+                            uses_effective_radius<M>::value ? &r_star : nullptr);
       }
       if (!M::touching(par, h, overlap)) {
         if (in_contact[k]) {
@@ -169,7 +175,7 @@ void WallKernel<D, M>::run(WallBucket<D, M>& b, const std::vector<typename M::Pa
       c.effective_mass = mass[i];
       c.inv_mass_sum = inv_mass[i];
       const double r = radius[i];
-      c.effective_radius = w.effective_radius(x[i], r);
+      c.effective_radius = r_star;
       const ContactForce<D> f = M::force(par, h, c);
       const V total = f.normal * n + f.tangential;
       S torque_i = Dim<D>::torque(-(r - overlap) * n, f.tangential);  // at the wall surface

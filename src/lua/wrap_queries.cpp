@@ -23,7 +23,7 @@ int l_wall(lua_State* L) {
     lua_setfield(L, -2, "name");
     lua_pushstring(L, wall_type_name(spec.type));
     lua_setfield(L, -2, "type");
-    lua_pushboolean(L, spec.bounded || spec.type == WallType::disk || spec.type == WallType::cone);
+    lua_pushboolean(L, spec.finite());
     lua_setfield(L, -2, "finite");
     push_vector(L, s.sim->wall_force(w), d);
     lua_setfield(L, -2, "force");
