@@ -34,21 +34,9 @@ if p.drum == "analytic" then
 elseif p.drum == "mesh" then
   -- The shell as `facets` flat quads (two triangles each) whose corners lie on the
   -- circle: a polygon inscribed in it, reaching a bead radius past both end plates so
-  -- that no bead meets the shell's open rims. Written as an OBJ beside the output.
-  assert(math.type(p.facets) == "integer" and p.facets >= 6, "facets must be an integer >= 6")
-  local path = os.tmpname() .. "_drum.obj"
-  local f = assert(io.open(path, "w"))
-  local z0, z1 = -p.radius, p.length + p.radius
-  for k = 0, p.facets - 1 do
-    local a = 2 * math.pi * k / p.facets
-    local x, y = p.drum_radius * math.cos(a), p.drum_radius * math.sin(a)
-    f:write(string.format("v %.17g %.17g %.17g\nv %.17g %.17g %.17g\n", x, y, z0, x, y, z1))
-  end
-  for k = 0, p.facets - 1 do
-    local a0, a1 = 2 * k + 1, 2 * ((k + 1) % p.facets) + 1  -- OBJ indices from 1
-    f:write(string.format("f %d %d %d\nf %d %d %d\n", a0, a1, a1 + 1, a0, a1 + 1, a0 + 1))
-  end
-  f:close()
+  -- that no bead meets the shell's open rims (granule.mesh_shapes writes it as an OBJ).
+  local path = require("granule.mesh_shapes").prism {
+    center = { 0, 0 }, radius = p.drum_radius, facets = p.facets, z_min = -p.radius, z_max = p.length + p.radius }
   sim:wall_mesh { name = "drum", file = path, material = "steel", axis = { 0, 0, 1 }, axis_point = { 0, 0, 0 },
                   flat_angle = p.flat_angle }
   os.remove(path)
