@@ -290,6 +290,10 @@ int l_help(lua_State* L) {
         text = format_models_help();
       } else if (const ContactModelInfo* m = find_model(catalogue, name)) {
         text = format_model_help(*m);
+      } else if (const auto registry = contact_model_catalogue();
+                 const ContactModelInfo* r = find_model(registry, name)) {
+        // A registry name ("linear+rolling", as sim:contact_parameters reports it).
+        text = format_model_help(*r);
       } else {
         std::vector<std::string> names{"models", "diagnostics"};
         if (std::string doc = nearest_doc_name(name); !doc.empty()) names.push_back(doc);
