@@ -48,7 +48,7 @@ sim:wall_plane { name = "floor", point = { 0, 0 }, normal = { 0, 1 }, material =
 sim:wall_plane { name = "left", point = { -0.004, 0 }, normal = { 1, 0 }, material = "steel" }
 sim:wall_plane { name = "right", point = { 0.004, 0 }, normal = { -1, 0 }, material = "steel" }
 sim:gravity { 0, -9.81 }
-sim:fill { region = { box = { lo = { -0.0035, 0.0005 }, hi = { 0.0035, 0.008 } } }, count = 40,
+sim:fill { region = { box = { lo = { -0.0035, 0.0005 }, hi = { 0.0035, 0.014 } } }, count = 30,
            radius = 5e-4, material = "glass", seed = 3, overlap = false }
 sim:run { duration = 0.15 }
 -- The touching pairs, from the positions.
