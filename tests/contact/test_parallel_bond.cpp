@@ -381,3 +381,20 @@ TEMPLATE_TEST_CASE_SIG("bond: a run continued from a checkpoint is bit-identical
   bad.doubles.at("bonds.properties").pop_back();
   CHECK_THROWS_WITH(target.load_state(bad), Catch::Contains("'bonds.properties'"));
 }
+
+TEMPLATE_TEST_CASE_SIG("bond: the bonds' loads are summed in bond order whatever the threads",
+                       "[bond][parallel]", ((int D), D), 2, 3) {
+  Simulation<D> one, two;
+  bonded_block(one);
+  bonded_block(two);
+  two.set_threads(2);
+  two.set_parallel_thresholds(1, 1);  // every loop parallel, even for this small block
+  one.advance(2000);
+  two.advance(2000);
+  const auto x = one.flat_state(), y = two.flat_state();
+  CHECK(x.position == y.position);
+  CHECK(x.velocity == y.velocity);
+  CHECK(x.spin == y.spin);
+  CHECK(one.bonds().broken == two.bonds().broken);
+  CHECK(one.bond_counts().broken > 0);
+}
