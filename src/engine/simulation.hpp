@@ -104,6 +104,7 @@ class Simulation final : public SimulationBase {
   BondCounts bond_counts() const override {
     return {bonds_.intact, static_cast<std::int64_t>(bonds_.size()) - bonds_.intact};
   }
+  std::vector<BondRecord> bond_records() const override;
   const ParallelBonds<D>& bonds() const { return bonds_; }
 
   // The complete state, for checkpoints (simulation_state.cpp). load_state()

@@ -326,6 +326,12 @@ class SimulationBase {
     std::int64_t intact = 0, broken = 0;
   };
   virtual BondCounts bond_counts() const = 0;
+  // Every bond in the order made: the ids it joins (a < b) and whether it has broken.
+  struct BondRecord {
+    std::int64_t id_a = -1, id_b = -1;
+    bool broken = false;
+  };
+  virtual std::vector<BondRecord> bond_records() const = 0;
 
   // ---- checkpoints ----
   virtual StateBlob save_state() const = 0;

@@ -40,8 +40,9 @@ std::int64_t Simulation<D>::create_bonds(const BondSpec& spec) {
   if (p_.size() < 2) return 0;
   ensure_prepared();  // the time step, against which the bonds' stiffness is checked
 
-  // The pairs whose surfaces are at most `gap` apart: the cell lists with a
-  // skin a hair beyond it (a touching pair's gap may round to +1e-19 m).
+  // The pairs whose surfaces are at most `gap` apart. The cell lists give the
+  // pairs strictly closer than r_i + r_j + skin: with a skin a hair beyond
+  // `gap`, the test below decides the pairs exactly `gap` apart.
   double r_max = 0;
   for (double r : p_.radius) r_max = std::max(r_max, r);
   if (spec.gap > r_max)
@@ -112,6 +113,14 @@ std::int64_t Simulation<D>::create_bonds(const BondSpec& spec) {
   for (std::size_t k = 0; k < fresh.size(); ++k)
     bonds_.add(fresh[k].first, fresh[k].second, made[k]);
   return static_cast<std::int64_t>(fresh.size());
+}
+
+template <int D>
+std::vector<SimulationBase::BondRecord> Simulation<D>::bond_records() const {
+  std::vector<BondRecord> out(bonds_.size());
+  for (std::size_t k = 0; k < bonds_.size(); ++k)
+    out[k] = {bonds_.id_a[k], bonds_.id_b[k], bonds_.broken[k] != 0};
+  return out;
 }
 
 template <int D>

@@ -20,6 +20,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <utility>
 
 #include "core/errors.hpp"
 #include "engine/simulation.hpp"
@@ -397,4 +398,15 @@ TEMPLATE_TEST_CASE_SIG("bond: the bonds' loads are summed in bond order whatever
   CHECK(x.spin == y.spin);
   CHECK(one.bonds().broken == two.bonds().broken);
   CHECK(one.bond_counts().broken > 0);
+  // The records say the same as the counts, in id order.
+  const auto records = one.bond_records();
+  std::int64_t broken = 0;
+  for (std::size_t k = 0; k < records.size(); ++k) {
+    broken += records[k].broken;
+    CHECK(records[k].id_a < records[k].id_b);
+    if (k)
+      CHECK(std::make_pair(records[k - 1].id_a, records[k - 1].id_b) <
+            std::make_pair(records[k].id_a, records[k].id_b));
+  }
+  CHECK(broken == one.bond_counts().broken);
 }
