@@ -133,7 +133,10 @@ void Simulation<D>::step() {
     scatter_forces();
     stage_times_.scatter += std::chrono::duration<double>(Clock::now() - scatter_start).count();
   }
-  if (observed) list_logged_slots();  // simulation_log.cpp
+  // Parallel bonds (contact/parallel_bond.hpp) act beside the contact laws:
+  // their loads added after the contacts' in bond order, on one thread.
+  if (bonds_.intact > 0) apply_bonds();  // simulation_bonds.cpp
+  if (observed) list_logged_slots();     // simulation_log.cpp
   // One comparison a step; the contacts are looked at only when it fails.
   if (pair_overlap_ratio > overlap_warning_)
     check_overlaps(pair_overlap_ratio);
@@ -302,9 +305,10 @@ template <int D>
 void Simulation<D>::integrate() {
   const ThreadPolicy policy = thread_policy();
   const std::int64_t n = static_cast<std::int64_t>(p_.size());
-  // Spins only when a pair in use has friction; a law changed since prepare()
-  // (a friction ramp in a hook) counts as frictional until the next prepare().
-  const bool spins = rotation_ || !prepared_;
+  // Spins only when a pair in use has friction or a bond is intact; a law changed
+  // since prepare() (a friction ramp in a hook) counts as frictional until the next prepare().
+  // Bonds carry moments whatever the contact laws are.
+  const bool spins = rotation_ || !prepared_ || bonds_.intact > 0;
   const LeapfrogStep<D> at{
       p_,         position_at_rebuild_,         body_,         periodic_, dt_, spins,
       any_fixed_, policy.particles_parallel(n), policy.threads};

@@ -100,6 +100,13 @@ class Simulation final : public SimulationBase {
   void set_output_sink(OutputSink* sink) override;
   void flush_diagnostics() override;
 
+  std::int64_t create_bonds(const BondSpec& spec) override;
+  BondCounts bond_counts() const override {
+    return {bonds_.intact, static_cast<std::int64_t>(bonds_.size()) - bonds_.intact};
+  }
+  std::vector<BondRecord> bond_records() const override;
+  const ParallelBonds<D>& bonds() const { return bonds_; }
+
   // The complete state, for checkpoints (simulation_state.cpp). load_state()
   // needs the scene to have declared the same materials and walls.
   StateBlob save_state() const override;
@@ -148,6 +155,11 @@ class Simulation final : public SimulationBase {
   void scatter_forces();
   void list_logged_slots();  // the contact log's active slots, from the kernels' lists
   void integrate();
+  // The parallel bonds' loads onto their particles, in bond order (simulation_bonds.cpp).
+  void apply_bonds();
+  void save_bonds(StateBlob& s) const;
+  // The checkpoint's bonds, checked (InputError naming the entry); none in one without them.
+  ParallelBonds<D> read_bonds(const StateBlob& s) const;
   void report_non_finite(std::size_t index);
   void refuse_beyond_memory(std::int64_t particles, const char* what) const;
   void check_escapes();  // at each list rebuild: stops the run if a centre passed a wall
@@ -174,6 +186,7 @@ class Simulation final : public SimulationBase {
   void save_meshes(StateBlob& s) const;
   void load_meshes(const StateBlob& s);
   BodyForces<D> body_;
+  ParallelBonds<D> bonds_;
   CellGrid<D> grid_;
   typename BucketsOf<D, ContactModels>::pairs pair_buckets_;
   typename BucketsOf<D, ContactModels>::walls wall_buckets_;

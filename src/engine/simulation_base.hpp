@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "contact/pair_table.hpp"
+#include "contact/parallel_bond.hpp"
 #include "core/material.hpp"
 #include "fields/schedule.hpp"
 #include "geometry/triangles.hpp"
@@ -315,6 +316,22 @@ class SimulationBase {
   virtual std::vector<std::string> describe() const = 0;
   // What the scene simulates (see ActiveEffects); valid before and after prepare().
   virtual ActiveEffects effects() const = 0;
+
+  // ---- parallel bonds (contact/parallel_bond.hpp; simulation_bonds.cpp) ----
+  // Bonds every pair that matches `spec` and has none yet (prepares the scene
+  // first); returns how many were made. InputError naming the parameter for
+  // bad values, or a time step the bonds' stiffness makes unstable.
+  virtual std::int64_t create_bonds(const BondSpec& spec) = 0;
+  struct BondCounts {
+    std::int64_t intact = 0, broken = 0;
+  };
+  virtual BondCounts bond_counts() const = 0;
+  // Every bond in the order made: the ids it joins (a < b) and whether it has broken.
+  struct BondRecord {
+    std::int64_t id_a = -1, id_b = -1;
+    bool broken = false;
+  };
+  virtual std::vector<BondRecord> bond_records() const = 0;
 
   // ---- checkpoints ----
   virtual StateBlob save_state() const = 0;

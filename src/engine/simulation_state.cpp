@@ -149,6 +149,7 @@ StateBlob Simulation<D>::save_state() const {
   s.texts["walls"] = wall_names;
   s.doubles["walls"] = walls;
   save_meshes(s);  // simulation_meshes.cpp
+  save_bonds(s);   // simulation_bonds.cpp
   // Body forces.
   {
     Triple g = to_triple(body_.gravity), c = to_triple(body_.central_point);
@@ -257,6 +258,7 @@ void Simulation<D>::load_state(const StateBlob& s) {
                                    wall_names[w], walls_[w].name));
 
   check_state<D>(s, materials_.size(), walls_.size());
+  ParallelBonds<D> bonds = read_bonds(s);  // simulation_bonds.cpp
   const auto& md = s.d("meta");
   time_ = md[0], dt_ = md[1], dt_fixed_ = md[2], steps_per_contact_ = md[3];
   skin_ = md[4], skin_set_ = md[5], max_displacement_sq_ = md[6];
@@ -419,6 +421,7 @@ void Simulation<D>::load_state(const StateBlob& s) {
     if (tracking_ && wb.track.size() != nw) wb.track.assign(nw, {});
   });
   load_meshes(s);  // simulation_meshes.cpp
+  bonds_ = std::move(bonds);
   build_slots();
 
   const auto hook_names = split_lines(s.t("hooks"));

@@ -312,7 +312,7 @@ std::string H5Output::write_snapshot(const SnapshotView& v) {
   {
     double bytes = double(v.count) * (8 + 8 + 8.0 * double(2 * d + sc) + 4 + 1) +
                    (v.force ? 8.0 * double(v.count) * double(d + sc) : 0) +
-                   8.0 * double(v.contacts) * double(4 + 2 * d);
+                   8.0 * double(v.contacts) * double(4 + 2 * d) + 17.0 * double(v.bonds);
     for (const auto& [name, series] : m.series) bytes += 8.0 * double(series.pending.size());
     m.ensure_space(bytes, "write snapshot", g);
   }
@@ -364,6 +364,19 @@ std::string H5Output::write_snapshot(const SnapshotView& v) {
                 {k, d}, v.contact_tangential_force);
       m.dataset(h, "normal", c + "/normal", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, {k, d},
                 v.contact_normal);
+    }
+    if (v.bond_a) {
+      const std::string b = g + "/bonds";
+      Handle lcpl = m.link_create_plist(b);
+      Handle group(
+          m.check(H5Gcreate2(m.file.get(), b.c_str(), lcpl.get(), H5P_DEFAULT, H5P_DEFAULT),
+                  "create", b),
+          H5Gclose);
+      const hsize_t k = v.bonds;
+      const hid_t h = group.get();
+      m.dataset(h, "a", b + "/a", H5T_STD_I64LE, H5T_NATIVE_INT64, {k}, v.bond_a);
+      m.dataset(h, "b", b + "/b", H5T_STD_I64LE, H5T_NATIVE_INT64, {k}, v.bond_b);
+      m.dataset(h, "broken", b + "/broken", H5T_STD_U8LE, H5T_NATIVE_UINT8, {k}, v.bond_broken);
     }
     const std::int64_t dimension = v.dimension;
     m.attribute(g, "step", H5T_STD_I64LE, H5T_NATIVE_INT64, {}, &v.step);

@@ -50,6 +50,11 @@ struct SnapshotView {  // plain pointers into the engine's arrays; nothing owned
   const double* contact_normal_force = nullptr;      // N
   const double* contact_tangential_force = nullptr;  // N, on i
   const double* contact_normal = nullptr;            // unit vector from j (or the wall) to i
+  // Optional: the parallel bonds (contact/parallel_bond.hpp), `bonds` rows in the order made.
+  std::size_t bonds = 0;
+  const std::int64_t* bond_a = nullptr;  // ids, a < b; nullptr: the scene has no bonds
+  const std::int64_t* bond_b = nullptr;
+  const std::uint8_t* bond_broken = nullptr;  // 1: broken
 };
 
 // After a failed write to `path`: "no space left on the disk holding <dir> (N KiB free)"

@@ -230,6 +230,20 @@ void RunOutput::write_snapshot(bool forces, bool contacts) {
     v.contact_tangential_force = ft.data();
     v.contact_normal = normal.data();
   }
+  // The parallel bonds, once a scene has made any (intact and broken: the damage).
+  std::vector<std::int64_t> bond_a, bond_b;
+  std::vector<std::uint8_t> bond_broken;
+  for (const SimulationBase::BondRecord& r : sim_.bond_records()) {
+    bond_a.push_back(r.id_a);
+    bond_b.push_back(r.id_b);
+    bond_broken.push_back(r.broken ? 1 : 0);
+  }
+  if (!bond_a.empty()) {
+    v.bonds = bond_a.size();
+    v.bond_a = bond_a.data();
+    v.bond_b = bond_b.data();
+    v.bond_broken = bond_broken.data();
+  }
   index_snapshot(file_->write_snapshot(v), s);
   last_snapshot_step_ = sim_.step_count();
 }

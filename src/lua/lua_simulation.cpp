@@ -217,6 +217,8 @@ const luaL_Reg methods[] = {
     {"load_particles", bound<load_particles>},
     {"save_contact_histories", bound<save_contact_histories>},
     {"bonds", bound<bonds>},
+    {"bond", l_bond},
+    {"bond_counts", l_bond_counts},
     {"fragments", bound<fragments>},
     {"breakage", bound<breakage>},
     {"scale_velocities", bound<scale_velocities>},

@@ -79,4 +79,8 @@ int l_contact_parameters(lua_State* L);
 int l_materials(lua_State* L);
 int l_walls(lua_State* L);
 
+// wrap_bonds.cpp
+int l_bond(lua_State* L);
+int l_bond_counts(lua_State* L);
+
 }  // namespace granule::lua

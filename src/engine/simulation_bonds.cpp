@@ -1,0 +1,267 @@
+// Parallel bonds in the engine (contact/parallel_bond.hpp): making them
+// between the pairs a script names, adding their loads each step after the
+// contacts', and their state in checkpoints.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+#include "core/errors.hpp"
+#include "core/state.hpp"
+#include "engine/simulation.hpp"
+#include "engine/state_checks.hpp"
+
+namespace granule {
+
+namespace {
+
+void require_positive(double v, const char* name, const char* unit) {
+  if (!(std::isfinite(v) && v > 0))
+    throw InputError(
+        fmt::format("bond: '{}' must be positive and finite ({}), got {}", name, unit, v));
+}
+
+}  // namespace
+
+template <int D>
+std::int64_t Simulation<D>::create_bonds(const BondSpec& spec) {
+  require_positive(spec.normal_stiffness, "normal_stiffness", "Pa/m");
+  require_positive(spec.shear_stiffness, "shear_stiffness", "Pa/m");
+  require_positive(spec.tensile_strength, "tensile_strength", "Pa");
+  require_positive(spec.shear_strength, "shear_strength", "Pa");
+  require_positive(spec.radius_multiplier, "radius_multiplier", "-");
+  if (!(std::isfinite(spec.gap) && spec.gap >= 0))
+    throw InputError(fmt::format("bond: 'gap' must be finite and >= 0 (m), got {}", spec.gap));
+  const int nm = static_cast<int>(materials_.size());
+  for (int m : {spec.material_a, spec.material_b})
+    if (m < -1 || m >= nm) throw InputError(fmt::format("bond: unknown material index {}", m));
+  if (p_.size() < 2) return 0;
+  ensure_prepared();  // the time step, against which the bonds' stiffness is checked
+
+  // The pairs whose surfaces are at most `gap` apart. The cell lists give the
+  // pairs strictly closer than r_i + r_j + skin: with a skin a hair beyond
+  // `gap`, the test below decides the pairs exactly `gap` apart.
+  double r_max = 0;
+  for (double r : p_.radius) r_max = std::max(r_max, r);
+  if (spec.gap > r_max)
+    throw InputError(fmt::format(
+        "bond: 'gap' = {:.4g} m exceeds the largest particle radius {:.4g} m: a bond spans a "
+        "narrow gap between neighbours, not the space between non-neighbours",
+        spec.gap, r_max));
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> near;
+  CellGrid<D> grid;
+  grid.build(p_, spec.gap + 1e-9 * r_max, periodic_, near);
+  auto wanted = [&](int ma, int mb) {
+    if (spec.material_a < 0) return true;
+    return (ma == spec.material_a && mb == spec.material_b) ||
+           (ma == spec.material_b && mb == spec.material_a);
+  };
+  std::vector<std::pair<std::int64_t, std::int64_t>> existing;
+  existing.reserve(bonds_.size());
+  for (std::size_t k = 0; k < bonds_.size(); ++k)
+    existing.emplace_back(bonds_.id_a[k], bonds_.id_b[k]);
+  std::sort(existing.begin(), existing.end());
+  std::vector<std::pair<std::int64_t, std::int64_t>> fresh;
+  for (const auto& [i, j] : near) {
+    const V d = separation(p_.position[i], p_.position[j]);
+    if (!(d.norm() - p_.radius[i] - p_.radius[j] <= spec.gap)) continue;
+    if (!wanted(p_.material[i], p_.material[j])) continue;
+    std::pair<std::int64_t, std::int64_t> ids{std::min(p_.id[i], p_.id[j]),
+                                              std::max(p_.id[i], p_.id[j])};
+    if (std::binary_search(existing.begin(), existing.end(), ids)) continue;
+    fresh.push_back(ids);
+  }
+  // In id order, so that the bonds' sums do not depend on the storage order.
+  std::sort(fresh.begin(), fresh.end());
+  fresh.erase(std::unique(fresh.begin(), fresh.end()), fresh.end());
+
+  // Each bond is a spring between two bodies: the step must resolve its
+  // fastest mode as prepare() demands of a contact (dt < 1/omega, half of
+  // leap-frog's 2/omega). Per bond; a particle with many bonds is stiffer.
+  double omega_sq = 0;
+  std::vector<BondProperties> made;
+  made.reserve(fresh.size());
+  for (const auto& [a, b] : fresh) {
+    const int i = p_.index(a), j = p_.index(b);
+    const BondProperties bp =
+        bond_properties(spec.radius_multiplier * std::min(p_.radius[i], p_.radius[j]), spec);
+    for (double v : {bp.area, bp.inertia, bp.polar})
+      if (!(std::isfinite(v) && v > 0))
+        throw InputError(fmt::format(
+            "bond: 'radius_multiplier' = {:.4g} gives a bond radius of {:.4g} m, whose section "
+            "(area, moments) is not a positive finite number",
+            spec.radius_multiplier, bp.radius));
+    const double inv_m = p_.inv_mass[i] + p_.inv_mass[j];
+    const double inv_i = p_.inv_inertia[i] + p_.inv_inertia[j];
+    const double ri = p_.radius[i], rj = p_.radius[j];
+    const double shear_compliance =
+        inv_m + ri * ri * p_.inv_inertia[i] + rj * rj * p_.inv_inertia[j];
+    omega_sq =
+        std::max({omega_sq, bp.normal_stiffness * bp.area * inv_m,
+                  bp.shear_stiffness * bp.area * shear_compliance,
+                  bp.normal_stiffness * bp.inertia * inv_i, bp.shear_stiffness * bp.polar * inv_i});
+    made.push_back(bp);
+  }
+  if (omega_sq > 0 && !(dt_ * std::sqrt(omega_sq) < 1))
+    throw InputError(fmt::format(
+        "bond: normal_stiffness = {:.4g} Pa/m and shear_stiffness = {:.4g} Pa/m make the bonds' "
+        "stability limit 1/omega = {:.4g} s shorter than the time step {:.4g} s: soften the bonds "
+        "or set a time_step below the limit",
+        spec.normal_stiffness, spec.shear_stiffness, 1 / std::sqrt(omega_sq), dt_));
+  for (std::size_t k = 0; k < fresh.size(); ++k)
+    bonds_.add(fresh[k].first, fresh[k].second, made[k]);
+  return static_cast<std::int64_t>(fresh.size());
+}
+
+template <int D>
+std::vector<SimulationBase::BondRecord> Simulation<D>::bond_records() const {
+  std::vector<BondRecord> out(bonds_.size());
+  for (std::size_t k = 0; k < bonds_.size(); ++k)
+    out[k] = {bonds_.id_a[k], bonds_.id_b[k], bonds_.broken[k] != 0};
+  return out;
+}
+
+template <int D>
+void Simulation<D>::apply_bonds() {
+  ForceTorque<D>* const load = p_.force_torque.data();
+  for (std::size_t k = 0; k < bonds_.size(); ++k) {
+    if (bonds_.broken[k]) continue;
+    const int i = p_.index(bonds_.id_a[k]), j = p_.index(bonds_.id_b[k]);
+    if (i < 0 || j < 0) {  // a bonded particle was removed: nothing holds the other
+      bonds_.break_bond(k);
+      continue;
+    }
+    const V d = separation(p_.position[i], p_.position[j]);
+    const double dist = d.norm();
+    BondMotion<D> m;
+    m.normal = dist > 0 ? V(d / dist) : V(V::UnitX());
+    // The bond's centre lies midway in the gap (or overlap), at lever L_i from
+    // i's centre and L_j from j's: L_i + L_j = |d|, so a pair moving as a rigid
+    // body loads its bond not at all, and the loads exert no net torque
+    // (angular momentum is conserved to round-off, as with the contacts).
+    const double overlap = p_.radius[i] + p_.radius[j] - dist;
+    const double lever_i = p_.radius[i] - 0.5 * overlap, lever_j = p_.radius[j] - 0.5 * overlap;
+    const V v_rel = p_.velocity[j] - p_.velocity[i] +
+                    Dim<D>::spin_cross(S(lever_i * p_.spin[i] + lever_j * p_.spin[j]), m.normal);
+    m.normal_velocity = v_rel.dot(m.normal);
+    m.shear_velocity = v_rel - m.normal * m.normal_velocity;
+    m.relative_spin = p_.spin[j] - p_.spin[i];
+    m.dt = dt_;
+    BondLoad<D>& f = bonds_.load[k];
+    if (advance_bond<D>(bonds_.properties[k], f, m)) {
+      bonds_.break_bond(k);  // from this step on only the pair's contact law acts
+      continue;
+    }
+    const V force = f.normal * m.normal + f.shear;
+    const S n_cross_shear = Dim<D>::torque(m.normal, f.shear);
+    S moment = f.bending;
+    if constexpr (D == 3) moment += f.twist * m.normal;
+    load[i].force += force;
+    load[j].force -= force;
+    load[i].torque += S(moment - lever_i * n_cross_shear);
+    load[j].torque -= S(moment + lever_j * n_cross_shear);
+  }
+}
+
+// ----------------------------------------------------------------------------
+// Checkpoints: every bond's ids, broken flag, properties and loads, exactly.
+// A checkpoint written before bonds existed has none of the entries: no bonds.
+// ----------------------------------------------------------------------------
+namespace {
+const char* const bond_keys[] = {"bonds.ids", "bonds.broken", "bonds.properties", "bonds.load"};
+}
+
+template <int D>
+void Simulation<D>::save_bonds(StateBlob& s) const {
+  const std::size_t n = bonds_.size();
+  std::vector<std::int64_t> ids(2 * n), broken(n);
+  std::vector<double> props, loads;
+  props.reserve(BondProperties::doubles * n);
+  loads.reserve(BondLoad<D>::doubles * n);
+  for (std::size_t k = 0; k < n; ++k) {
+    ids[2 * k] = bonds_.id_a[k], ids[2 * k + 1] = bonds_.id_b[k];
+    broken[k] = bonds_.broken[k];
+    const BondProperties& b = bonds_.properties[k];
+    props.insert(props.end(), {b.radius, b.area, b.inertia, b.polar, b.normal_stiffness,
+                               b.shear_stiffness, b.tensile_strength, b.shear_strength});
+    const BondLoad<D>& f = bonds_.load[k];
+    loads.push_back(f.normal);
+    for (int a = 0; a < D; ++a) loads.push_back(f.shear[a]);
+    loads.push_back(f.twist);
+    if constexpr (D == 3)
+      for (int a = 0; a < 3; ++a) loads.push_back(f.bending[a]);
+    else
+      loads.push_back(f.bending);
+  }
+  s.integers["bonds.ids"] = std::move(ids);
+  s.integers["bonds.broken"] = std::move(broken);
+  s.doubles["bonds.properties"] = std::move(props);
+  s.doubles["bonds.load"] = std::move(loads);
+}
+
+template <int D>
+ParallelBonds<D> Simulation<D>::read_bonds(const StateBlob& s) const {
+  bool any = false;
+  for (const char* key : bond_keys) any = any || s.has(key);
+  if (!any) return {};
+  const std::int64_t next_id = s.i("meta").at(3);  // checked by check_state
+  const auto& ids = s.i("bonds.ids");
+  const auto& broken = s.i("bonds.broken");
+  const auto& props = s.d("bonds.properties");
+  const auto& loads = s.d("bonds.load");
+  if (ids.size() % 2)
+    refuse_entry("bonds.ids", fmt::format("has {} values, not pairs", ids.size()));
+  const std::size_t n = ids.size() / 2;
+  auto sized = [&](const char* key, std::size_t size, std::size_t per) {
+    if (size != n * per)
+      refuse_entry(key,
+                   fmt::format("has {} values, expected {} (from 'bonds.ids')", size, n * per));
+  };
+  sized("bonds.broken", broken.size(), 1);
+  sized("bonds.properties", props.size(), BondProperties::doubles);
+  sized("bonds.load", loads.size(), BondLoad<D>::doubles);
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::int64_t a = ids[2 * k], b = ids[2 * k + 1];
+    if (a < 0 || b < 0 || a >= next_id || b >= next_id || !(a < b))
+      refuse_entry("bonds.ids",
+                   fmt::format("bond {} joins ids {} and {}: each must be a particle id below {}, "
+                               "the first the smaller",
+                               k, a, b, next_id));
+    if (broken[k] != 0 && broken[k] != 1)
+      refuse_entry("bonds.broken", fmt::format("value {} is {}: must be 0 or 1", k, broken[k]));
+  }
+  for (std::size_t e = 0; e < props.size(); ++e)
+    if (!(std::isfinite(props[e]) && props[e] > 0))
+      refuse_entry("bonds.properties",
+                   fmt::format("value {} is {}: must be positive and finite", e, props[e]));
+  for (std::size_t e = 0; e < loads.size(); ++e)
+    if (!std::isfinite(loads[e]))
+      refuse_entry("bonds.load", fmt::format("value {} is {}: must be finite", e, loads[e]));
+  ParallelBonds<D> out;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double* q = &props[BondProperties::doubles * k];
+    BondProperties b;
+    b.radius = q[0], b.area = q[1], b.inertia = q[2], b.polar = q[3];
+    b.normal_stiffness = q[4], b.shear_stiffness = q[5];
+    b.tensile_strength = q[6], b.shear_strength = q[7];
+    out.add(ids[2 * k], ids[2 * k + 1], b);
+    const double* f = &loads[BondLoad<D>::doubles * k];
+    BondLoad<D>& l = out.load.back();
+    l.normal = f[0];
+    for (int a = 0; a < D; ++a) l.shear[a] = f[1 + a];
+    l.twist = f[1 + D];
+    if constexpr (D == 3)
+      for (int a = 0; a < 3; ++a) l.bending[a] = f[2 + D + a];
+    else
+      l.bending = f[2 + D];
+    if (broken[k]) out.break_bond(k);
+  }
+  return out;
+}
+
+template class Simulation<2>;
+template class Simulation<3>;
+
+}  // namespace granule
