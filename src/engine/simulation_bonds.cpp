@@ -77,10 +77,18 @@ std::int64_t Simulation<D>::create_bonds(const BondSpec& spec) {
   std::sort(fresh.begin(), fresh.end());
   fresh.erase(std::unique(fresh.begin(), fresh.end()), fresh.end());
 
-  // Each bond is a spring between two bodies: the step must resolve its
-  // fastest mode as prepare() demands of a contact (dt < 1/omega, half of
-  // leap-frog's 2/omega). Per bond; a particle with many bonds is stiffer.
-  double omega_sq = 0;
+  // The bonds are springs that load each particle from every side at once: the
+  // fastest mode of a bonded cluster is faster than any one bond's. By
+  // Gershgorin's theorem every eigenvalue of the (mass-scaled) stiffness is at
+  // most the largest row sum, which for particle i is bounded by
+  // 2 sum_bonds k_b / m_i (the diagonal and as much again off it, for equal
+  // neighbours); the same for the shear (whose end moves by the particle's
+  // translation and its turn: 1/m_i + r_i^2/I_i), bending and twisting modes.
+  // The step must resolve that bound as prepare() demands of a contact,
+  // dt < 1/omega (half of leap-frog's 2/omega). For one bond between equal
+  // free particles it is that bond's own frequency, sqrt(k (1/m_i + 1/m_j)).
+  // Counted over the intact bonds already made as well as these: a particle
+  // with many bonds needs softer ones (12 bonds: sqrt(12) times less stiff).
   std::vector<BondProperties> made;
   made.reserve(fresh.size());
   for (const auto& [a, b] : fresh) {
@@ -93,23 +101,40 @@ std::int64_t Simulation<D>::create_bonds(const BondSpec& spec) {
             "bond: 'radius_multiplier' = {:.4g} gives a bond radius of {:.4g} m, whose section "
             "(area, moments) is not a positive finite number",
             spec.radius_multiplier, bp.radius));
-    const double inv_m = p_.inv_mass[i] + p_.inv_mass[j];
-    const double inv_i = p_.inv_inertia[i] + p_.inv_inertia[j];
-    const double ri = p_.radius[i], rj = p_.radius[j];
-    const double shear_compliance =
-        inv_m + ri * ri * p_.inv_inertia[i] + rj * rj * p_.inv_inertia[j];
-    omega_sq =
-        std::max({omega_sq, bp.normal_stiffness * bp.area * inv_m,
-                  bp.shear_stiffness * bp.area * shear_compliance,
-                  bp.normal_stiffness * bp.inertia * inv_i, bp.shear_stiffness * bp.polar * inv_i});
     made.push_back(bp);
   }
+  std::vector<double> row_sum(p_.size(), 0.0);
+  std::vector<int> bonds_of(p_.size(), 0);
+  auto load_ends = [&](int i, int j, const BondProperties& bp) {
+    for (const int k : {i, j}) {
+      const double r = p_.radius[k];
+      const double mode =
+          std::max({bp.normal_stiffness * bp.area * p_.inv_mass[k],
+                    bp.shear_stiffness * bp.area * (p_.inv_mass[k] + r * r * p_.inv_inertia[k]),
+                    bp.normal_stiffness * bp.inertia * p_.inv_inertia[k],
+                    bp.shear_stiffness * bp.polar * p_.inv_inertia[k]});
+      row_sum[static_cast<std::size_t>(k)] += 2 * mode;
+      ++bonds_of[static_cast<std::size_t>(k)];
+    }
+  };
+  for (std::size_t k = 0; k < bonds_.size(); ++k) {
+    if (bonds_.broken[k]) continue;
+    const int i = p_.index(bonds_.id_a[k]), j = p_.index(bonds_.id_b[k]);
+    if (i >= 0 && j >= 0) load_ends(i, j, bonds_.properties[k]);
+  }
+  for (std::size_t k = 0; k < fresh.size(); ++k)
+    load_ends(p_.index(fresh[k].first), p_.index(fresh[k].second), made[k]);
+  std::size_t stiffest = 0;
+  for (std::size_t k = 1; k < row_sum.size(); ++k)
+    if (row_sum[k] > row_sum[stiffest]) stiffest = k;
+  const double omega_sq = row_sum.empty() ? 0.0 : row_sum[stiffest];
   if (omega_sq > 0 && !(dt_ * std::sqrt(omega_sq) < 1))
     throw InputError(fmt::format(
         "bond: normal_stiffness = {:.4g} Pa/m and shear_stiffness = {:.4g} Pa/m make the bonds' "
-        "stability limit 1/omega = {:.4g} s shorter than the time step {:.4g} s: soften the bonds "
-        "or set a time_step below the limit",
-        spec.normal_stiffness, spec.shear_stiffness, 1 / std::sqrt(omega_sq), dt_));
+        "stability limit 1/omega = {:.4g} s shorter than the time step {:.4g} s (particle {} "
+        "with {} bonds is the stiffest): soften the bonds or set a time_step below the limit",
+        spec.normal_stiffness, spec.shear_stiffness, 1 / std::sqrt(omega_sq), dt_, p_.id[stiffest],
+        bonds_of[stiffest]));
   for (std::size_t k = 0; k < fresh.size(); ++k)
     bonds_.add(fresh[k].first, fresh[k].second, made[k]);
   return static_cast<std::int64_t>(fresh.size());
