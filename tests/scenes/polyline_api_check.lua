@@ -67,6 +67,18 @@ box:picture { file = svg, legend = false, walls = false }
 local without = lines_in(svg)
 os.remove(svg_base)
 assert(with_walls - without == 4, string.format("%d lines with walls, %d without", with_walls, without))
+-- Arcs are drawn in pieces of at most 5 degrees: a circle of four quarter
+-- arcs is 4 x 18 lines.
+local ring = scene()
+local R = 0.01
+ring:wall_polyline { name = "ring", material = "steel", closed = true,
+                     points = { { R, 0 }, { 0, R }, { -R, 0 }, { 0, -R } },
+                     arcs = { { segment = 1, radius = -R }, { segment = 2, radius = -R },
+                              { segment = 3, radius = -R }, { segment = 4, radius = -R } } }
+ring:add_particle { position = { 0, 0 }, radius = r, material = "glass" }
+ring:picture { file = svg, legend = false }
+with_walls = lines_in(svg)
+assert(with_walls - without == 72, string.format("%d lines with the ring, %d without", with_walls, without))
 
 -- The XDMF walls file holds the outline as a polyline.
 local base = os.tmpname()
