@@ -137,6 +137,17 @@ TEST_CASE("polyline surface: closest points on a line, an arc and a joint", "[po
   h = s.closest(1, {3, 1});  // the side the arc does not reach: its ends are nearest
   CHECK(h.feature == MeshFeature::vertex);
   CHECK(h.distance == Approx(std::sqrt(2.0)).epsilon(1e-15));
+  // The outline for drawing: the line's two points, then the half circle in
+  // 36 pieces of 5 degrees, every point on it, bulging to -x.
+  const auto outline = s.outline(5);
+  REQUIRE(outline.size() == 2 + 36);
+  CHECK(outline[0] == Vector2d(0, 0));
+  CHECK(outline.back() == Vector2d(2, 2));
+  for (std::size_t k = 2; k < outline.size(); ++k) {
+    CHECK((outline[k] - Vector2d(2, 1)).norm() == Approx(1).epsilon(1e-14));
+    CHECK(outline[k].x() <= 2 + 1e-15);
+  }
+  CHECK(s.reach_from({2, 1}) == Approx(std::sqrt(5.0)));
 }
 
 TEST_CASE("polyline surface: one contact on a straight or convex chain, two in a concave corner",
