@@ -198,7 +198,7 @@ function M.build(p)
       points[k] = { c[1] + ri * math.cos(a), c[2] + ri * math.sin(a) }
       arcs[k] = { segment = k, radius = -ri }
     end
-    sim:wall_polyline { name = "inner_piece", points = points, closed = true, arcs = arcs,
+    sim:wall_polyline { name = "inner_piece", points = points, closed = true, solid = true, arcs = arcs,
                         axis_point = c, material = "steel" }
   else
     sim:wall_cylinder { name = "inner_piece", center = at(g.inner_center, 0), radius = g.inner_radius,
@@ -221,27 +221,6 @@ function M.build(p)
     end
     g.particle_ids = sim:fill { region = region, count = g.particles, radius = v.radius, material = "powder",
                                 seed = v.seed, max_speed = v.max_speed }
-    if v.inner_shape == "polyline" then
-      -- fill{} keeps particles off a polyline, not out of a closed one (which
-      -- may be a container): those drawn inside the inner piece are drawn again.
-      local function inside(id)
-        local x = sim:particle(id).position
-        local dx, dy = x[1] - g.inner_center[1], x[2] - g.inner_center[2]
-        return dx * dx + dy * dy < g.inner_radius ^ 2
-      end
-      for round = 1, 50 do
-        local kept, missing = {}, 0
-        for _, id in ipairs(g.particle_ids) do
-          if inside(id) then sim:remove_particle(id); missing = missing + 1 else kept[#kept + 1] = id end
-        end
-        g.particle_ids = kept
-        if missing == 0 then break end
-        for _, id in ipairs(sim:fill { region = region, count = missing, radius = v.radius, material = "powder",
-                                       seed = v.seed + round, max_speed = v.max_speed }) do
-          g.particle_ids[#g.particle_ids + 1] = id
-        end
-      end
-    end
   else
     g.particle_ids = {}
   end

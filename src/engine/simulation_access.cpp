@@ -318,8 +318,12 @@ std::vector<std::string> Simulation<D>::describe() const {
           arcs += m->surface->arc_radius(k) != 0;
         lines.push_back(fmt::format(
             "wall {}: {} polyline of {} points, {} segments ({} arcs), {} rad/s, material {}",
-            w.name, m->surface->closed() ? "closed" : "open", m->surface->point_count(),
-            m->surface->segment_count(), arcs, w.angular_velocity, materials_[w.material].name));
+            w.name,
+            m->solid               ? "solid"
+            : m->surface->closed() ? "closed"
+                                   : "open",
+            m->surface->point_count(), m->surface->segment_count(), arcs, w.angular_velocity,
+            materials_[w.material].name));
       }
     } else
       lines.push_back(fmt::format("wall {}: {}cylinder r={} m {}, {} rad/s, material {}", w.name,

@@ -84,6 +84,7 @@ struct PolylineWallSpec {
   int material = -1;
   std::vector<std::array<double, 2>> points;
   bool closed = false;
+  bool solid = false;  // closed only: its inside is a body (fill{} places no particle there)
   std::vector<Arc> arcs;
   Triple velocity{}, axis_point{};
   double angular_velocity = 0;

@@ -135,7 +135,7 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
     if (!inside_region(x, r)) continue;
     bool ok = true;
     for (std::size_t w = 0; w < walls_.size() && ok; ++w)
-      ok = is_surface_wall(walls_[w].type) ? !meshes_.near(w, x, r)
+      ok = is_surface_wall(walls_[w].type) ? !meshes_.near(w, x, r) && !meshes_.inside_solid(w, x)
                                            : !(walls_[w].clearance(x, r) < 0);
     if (!ok || overlaps_occupied(x, r)) continue;
     // Random direction, speed uniform in [0, max_speed].

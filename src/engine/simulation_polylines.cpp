@@ -29,6 +29,9 @@ int Simulation<D>::add_polyline_wall(const PolylineWallSpec& s) {
     if (!std::isfinite(s.angular_velocity))
       throw InputError(fmt::format("{}: angular_velocity must be finite", ctx));
     if (!finite3(s.axis_point)) throw InputError(fmt::format("{}: axis_point must be finite", ctx));
+    if (s.solid && !s.closed)
+      throw InputError(fmt::format(
+          "{}: solid = true needs closed = true (only a closed polyline encloses a body)", ctx));
     Polyline line;
     line.closed = s.closed;
     for (const auto& x : s.points) line.points.emplace_back(x[0], x[1]);
@@ -62,6 +65,7 @@ int Simulation<D>::add_polyline_wall(const PolylineWallSpec& s) {
     m.wall = static_cast<int>(walls_.size());
     m.axis_point = to_vec(s.axis_point);
     m.turn_reach = surface->reach_from(m.axis_point);
+    m.solid = s.solid;
     m.surface = std::move(surface);
     Wall<D> w;
     w.name = s.name;
@@ -94,6 +98,7 @@ PolylineWallSpec Simulation<D>::polyline_wall(int w) const {
     const PolylineWall& m = *meshes_.of_wall(static_cast<std::size_t>(w));
     s.axis_point = to_triple(m.axis_point);
     s.closed = m.surface->closed();
+    s.solid = m.solid;
     for (const auto& p : m.surface->points()) s.points.push_back({p.x(), p.y()});
     for (std::size_t k = 0; k < m.surface->segment_count(); ++k)
       if (m.surface->arc_radius(k) != 0)

@@ -64,6 +64,7 @@ struct PolylineWall {
   double angle = 0;
   Eigen::Matrix2d rotation = Eigen::Matrix2d::Identity();
   double turn_reach = 0;
+  bool solid = false;  // a closed polyline whose inside is a body: fill{} places nothing there
 
   void set_angle(double a, const Eigen::Vector2d& /*axis: always z*/) {
     angle = a;
@@ -98,6 +99,17 @@ struct MeshSet {
   bool near(std::size_t w, const Vec<D>& x, double within) const {
     const Shape* m = of_wall(w);
     return m && m->surface->near(m->to_mesh(x), within);
+  }
+  // Whether x lies inside the solid body of wall w (a 2D polyline declared
+  // solid); always false in 3D.
+  bool inside_solid(std::size_t w, const Vec<D>& x) const {
+    if constexpr (D == 2) {
+      const Shape* m = of_wall(w);
+      return m && m->solid && m->surface->encloses(m->to_mesh(x));
+    } else {
+      (void)w, (void)x;
+      return false;
+    }
   }
   // One step of rigid motion for every mesh; returns nothing, adds a bound on
   // any vertex's travel to its wall's moved_since_rebuild.

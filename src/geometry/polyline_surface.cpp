@@ -159,6 +159,27 @@ PolylineHit PolylineSurface::closest(std::uint32_t s, const Eigen::Vector2d& x) 
   return h;
 }
 
+bool PolylineSurface::encloses(const Eigen::Vector2d& x) const {
+  if (!closed_) return false;
+  bool inside = false;
+  for (std::size_t s = 0; s < seg_.size(); ++s) {
+    const Eigen::Vector2d &a = x_[seg_[s][0]], &b = x_[seg_[s][1]];
+    // The chord crosses the ray from x along +x (half-open in y, so a vertex
+    // on the ray's height is counted once).
+    if ((a.y() > x.y()) != (b.y() > x.y())) {
+      const double at = a.x() + (x.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y());
+      if (at > x.x()) inside = !inside;
+    }
+    if (radius_[s] != 0) {
+      const Eigen::Vector2d d = b - a;
+      const double side = d.x() * (x.y() - a.y()) - d.y() * (x.x() - a.x());
+      const bool on_bulge_side = radius_[s] > 0 ? side > 0 : side < 0;
+      if (on_bulge_side && (x - center_[s]).norm() < std::abs(radius_[s])) inside = !inside;
+    }
+  }
+  return inside;
+}
+
 bool PolylineSurface::near(const Eigen::Vector2d& x, double within) const {
   for (std::uint32_t s = 0; s < seg_.size(); ++s)
     if ((x - middle_[s]).norm() < within + half_chord_[s] && closest(s, x).distance < within)

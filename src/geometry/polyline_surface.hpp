@@ -76,6 +76,11 @@ class PolylineSurface {
   // included, the first point repeated at the end of a closed chain.
   std::vector<Eigen::Vector2d> outline(double degrees = 5) const;
 
+  // Whether x lies inside a closed chain (false for an open one): inside the
+  // polygon of its chords, changed wherever an arc's bulge (the part of its
+  // disk between chord and arc) covers x.
+  bool encloses(const Eigen::Vector2d& x) const;
+
   // The closest point of segment s to x.
   PolylineHit closest(std::uint32_t s, const Eigen::Vector2d& x) const;
   // Whether any segment lies within `within` of x (neighbour lists).

@@ -164,6 +164,7 @@ void RunOutput::write_new_walls() {
       for (const auto& a : line.arcs) radius[static_cast<std::size_t>(a.segment - 1)] = a.radius;
       f.write_attribute(g, "points", points);
       f.write_attribute(g, "closed", static_cast<std::int64_t>(line.closed ? 1 : 0));
+      f.write_attribute(g, "solid", static_cast<std::int64_t>(line.solid ? 1 : 0));
       f.write_attribute(g, "arc_radius", radius);
     } else if (s.type == WallType::plane) {
       f.write_attribute(g, "point", point);

@@ -42,6 +42,7 @@ int l_wall_polyline(lua_State* L) {
     }
     lua_pop(L, 1);
     w.closed = t.boolean("closed", false);
+    w.solid = t.boolean("solid", false);
     if (t.push_table("arcs")) {
       const auto count = static_cast<lua_Integer>(lua_rawlen(L, -1));
       for (lua_Integer k = 1; k <= count; ++k) {

@@ -189,6 +189,56 @@ TEST_CASE("polyline surface: one contact on a straight or convex chain, two in a
   CHECK(hit[0].triangle != hit[1].triangle);
 }
 
+TEST_CASE("polyline surface: what a closed chain encloses, arcs bulging out and in", "[polyline]") {
+  // A unit square whose bottom side bulges out (down) and whose top side
+  // bulges in (down too), both half circles of radius 1/2.
+  Polyline sq;
+  sq.points = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  sq.radius = {-0.5, 0, 0.5, 0};  // counter-clockwise: right of the bottom is down
+  sq.closed = true;
+  PolylineSurface s(sq);
+  CHECK(s.encloses({0.5, 0.05}));
+  CHECK(s.encloses({0.5, -0.4}));   // in the bottom's outward bulge
+  CHECK(!s.encloses({0.5, -0.6}));  // below it
+  CHECK(!s.encloses({0.5, 0.6}));   // in the top's inward bulge: outside
+  CHECK(s.encloses({0.02, 0.5}));   // beside that bulge, still inside
+  CHECK(!s.encloses({1.2, 0.5}));
+  CHECK(!s.encloses({-0.2, 0.0}));
+  Polyline open = sq;
+  open.closed = false;
+  open.radius = {-0.5, 0, 0.5};
+  CHECK(!PolylineSurface(open).encloses({0.5, 0.05}));
+}
+
+TEST_CASE(
+    "polyline walls: fill places no particle inside a solid polyline, and does inside a "
+    "closed one",
+    "[polyline]") {
+  for (bool solid : {true, false}) {
+    auto sim = scene();
+    PolylineWallSpec ring = circle_of_arcs(0.004);
+    ring.solid = solid;
+    sim->add_polyline_wall(ring);
+    FillSpec f;
+    f.shape = RegionShape::ball;
+    f.radius = 0.01;
+    f.count = 200;
+    f.radius_min = f.radius_max = 2e-4;
+    f.material = 0;
+    const auto ids = sim->fill(f);
+    int inside = 0;
+    for (auto id : ids) {
+      const Triple x = sim->position(id);
+      const double rho = std::hypot(x[0], x[1]);
+      CHECK(std::abs(rho - 0.004) >= 2e-4);  // never on the line
+      inside += rho < 0.004;
+    }
+    INFO("solid " << solid << ": " << inside << " of 200 inside");
+    if (solid) CHECK(inside == 0);
+    if (!solid) CHECK(inside > 10);  // about (4/10)^2 of them
+  }
+}
+
 TEST_CASE("polyline walls: a disk on a one-segment floor is the disk on the plane", "[polyline]") {
   for (const std::string model : {"linear", "hertz_mindlin"}) {
     INFO(model);
@@ -421,6 +471,9 @@ TEST_CASE("polyline walls: bad input is refused naming the parameter", "[polylin
   CHECK_THROWS_WITH(sim->add_polyline_wall(polyline({{0, 0}, {0, 0}})),
                     Contains("segment 1") && Contains("zero length"));
   PolylineWallSpec moving = polyline({{0, 0}, {1, 0}});
+  PolylineWallSpec open_solid = polyline({{0, 0}, {1, 0}, {1, 1}});
+  open_solid.solid = true;
+  CHECK_THROWS_WITH(sim->add_polyline_wall(open_solid), Contains("solid") && Contains("closed"));
   moving.angular_velocity = INFINITY;
   CHECK_THROWS_WITH(sim->add_polyline_wall(moving), Contains("angular_velocity"));
   CHECK(sim->wall_count() == 0);

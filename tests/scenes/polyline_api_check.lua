@@ -114,5 +114,7 @@ refused(function() scene():wall_polyline { name = "l", material = "steel", point
 refused(function() scene():wall_polyline { name = "l", material = "steel", points = two, close = true } end,
         "did you mean 'closed'")
 refused(function() scene():wall_polyline { name = "l", material = "steel" } end, "points")
+refused(function() scene():wall_polyline { name = "l", material = "steel", points = two, solid = true } end,
+        "solid = true needs closed = true")
 refused(function() scene(3):wall_polyline { name = "l", material = "steel", points = two } end, "wall_mesh")
 print("polyline api check ok")
