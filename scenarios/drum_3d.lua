@@ -6,16 +6,21 @@
 -- the bed's mean kinetic energy.
 --   build/granule run scenarios/drum_3d.lua
 --   build/granule run scenarios/drum_3d.lua -D rpm=20 -D friction=0.5 -o drum.h5
+--   build/granule run scenarios/drum_3d.lua -D drum=mesh -D facets=96   # the shell as a mesh
 local granule = require "granule"
 local p = parameters {
   rpm = { default = 30, unit = "1/min", doc = "drum speed" },
-  particles = { default = 600, doc = "number of beads" },
+  particles = { default = 400, doc = "number of beads (the random fill places up to about 30 % of the drum's volume)" },
   radius = { default = 1e-3, unit = "m", doc = "bead radius" },
   drum_radius = { default = 15e-3, unit = "m" },
   length = { default = 8e-3, unit = "m", doc = "drum length along its axis" },
   friction = { default = 0.4, doc = "bead-bead and bead-wall friction" },
   settle = { default = 0.5, unit = "s", doc = "longest time allowed to settle" },
   duration = { default = 1.0, unit = "s", doc = "time the drum turns" },
+  drum = { default = "analytic", doc = "analytic (sim:wall_cylinder) | mesh (the shell as a triangle mesh)" },
+  facets = { default = 96, doc = "mesh drum: flat facets around the shell" },
+  flat_angle = { default = 20, unit = "deg", doc = "mesh drum: contacts closer in normal than this are one (sim:wall_mesh)" },
+  seed = { default = 1, doc = "seed of the random fill" },
 }
 local sim = simulation { dimension = 3 }
 sim:material { name = "glass", density = 2500, young = 5e7, poisson = 0.25 }
@@ -23,12 +28,25 @@ sim:material { name = "steel", density = 7800, young = 5e7, poisson = 0.3 }
 for _, pair in ipairs { { "glass", "glass" }, { "glass", "steel" } } do
   sim:contact { pair[1], pair[2], model = "hertz_mindlin", restitution = 0.5, friction = p.friction }
 end
-sim:wall_cylinder { name = "drum", center = { 0, 0, 0 }, axis = { 0, 0, 1 }, radius = p.drum_radius,
-                    inside = true, material = "steel" }
+if p.drum == "analytic" then
+  sim:wall_cylinder { name = "drum", center = { 0, 0, 0 }, axis = { 0, 0, 1 }, radius = p.drum_radius,
+                      inside = true, material = "steel" }
+elseif p.drum == "mesh" then
+  -- The shell as `facets` flat quads (two triangles each) whose corners lie on the
+  -- circle: a polygon inscribed in it, reaching a bead radius past both end plates so
+  -- that no bead meets the shell's open rims (granule.mesh_shapes writes it as an OBJ).
+  local path = require("granule.mesh_shapes").prism {
+    center = { 0, 0 }, radius = p.drum_radius, facets = p.facets, z_min = -p.radius, z_max = p.length + p.radius }
+  sim:wall_mesh { name = "drum", file = path, material = "steel", axis = { 0, 0, 1 }, axis_point = { 0, 0, 0 },
+                  flat_angle = p.flat_angle }
+  os.remove(path)
+else
+  error("drum must be 'analytic' or 'mesh', got '" .. tostring(p.drum) .. "'")
+end
 sim:wall_plane { name = "back", point = { 0, 0, 0 }, normal = { 0, 0, 1 }, material = "steel" }
 sim:wall_plane { name = "front", point = { 0, 0, p.length }, normal = { 0, 0, -1 }, material = "steel" }
 sim:fill { region = { cylinder = { center = { 0, 0, 0 }, radius = p.drum_radius, z_min = 0, z_max = p.length } },
-           count = p.particles, radius = p.radius, material = "glass", seed = 1, overlap = false }
+           count = p.particles, radius = p.radius, material = "glass", seed = p.seed, overlap = false }
 sim:gravity { 0, -9.81, 0 }
 local file = sim:output { snapshot_every = 0.05 }
 granule.stage(sim, { name = "settle", duration = p.settle, check_every = 1000,

@@ -6,6 +6,7 @@
 --   build/granule run tools/accuracy.lua -D case=impact [-D knob=steps_per_contact] [-D values=10,20,40]
 --   build/granule run tools/accuracy.lua -D case=mechanofusion -D knob=stiffness
 --   build/granule run tools/accuracy.lua -D case=agglomerate -D file=agglomerate_test.h5
+--   build/granule run tools/accuracy.lua -D case=rolling
 --   /usr/bin/python3 tools/plot_accuracy.py accuracy_impact.csv     # error vs wall time, one curve per knob
 --
 -- Cases and what they measure:
@@ -22,6 +23,9 @@
 --   agglomerate    wall impact of a prepared agglomerate (7.6; file from
 --                  scenarios/agglomerate_prepare.lua or the ctest fixture): damage
 --                  and debris ratios (7.4), largest fragment, peak wall force, impact duration
+--   rolling        a sphere rolling to rest against rolling friction (mu_r = 0.1, v0 = 0.1 m/s),
+--                  constant-torque and EPSD models: stopping distance, and its error
+--                  against the closed form 0.7 v0^2 / (mu_r g) (EPSD: with its wind-up)
 -- Knobs (each case lists those that apply):
 --   steps_per_contact  n of Eq. 4.1 (dt = t_c / n)
 --   stiffness          K scaled down as section 5.4 allows; forces are compared after
@@ -42,7 +46,7 @@ local granule = require "granule"
 local kinetic = require "granule.kinetic"
 
 local p = parameters {
-  case = { default = "impact", doc = "impact | mechanofusion | agglomerate" },
+  case = { default = "impact", doc = "impact | mechanofusion | agglomerate | rolling" },
   knob = { default = "all", doc = "steps_per_contact | stiffness | skin | dimension | all" },
   values = { default = "", doc = "comma-separated settings of the knob (default: the case's list)" },
   reference = { default = 0, doc = "the knob's reference setting (0: the case's finest)" },
@@ -58,7 +62,8 @@ local p = parameters {
   velocity = { default = 1.0, unit = "m/s", doc = "agglomerate: impact velocity" },
   quiet = { default = false, doc = "print only the tables" },
   check = { default = false, doc = "impact: fail unless the errors of the largest force and of the "
-    .. "elastic energy fall as steps_per_contact grows (the smoke test)" },
+    .. "elastic energy fall as steps_per_contact grows (the smoke test); rolling: fail unless the "
+    .. "constant torque and EPSD stop within 2 % of their closed forms" },
 }
 
 local function list(text)
@@ -252,9 +257,83 @@ function cases.agglomerate.run(setting)
            peak_force = r.peak_force, impact_duration = r.impact_duration }, steps
 end
 
+-- Rolling resistance (contact/rolling.hpp): a sphere rolling without slip on a
+-- plane under gravity, from v0 to rest, with each rolling model. The constant
+-- torque M = mu_r R N stops it after d = 0.7 v0^2 / (mu_r g) (a solid sphere:
+-- 1 + I / (m r^2) = 7/5). The EPSD spring-dashpot (type C) reaches the same
+-- limiting torque once its spring has wound up through theta_m = M / k_r; while it
+-- winds, its dashpot c = 2 eta_r sqrt(I_r k_r) acts too, and takes the spin down by
+-- c theta_m / I_r = 2 eta_r M / sqrt(I_r k_r) (I_r = I + m r^2; the spring's own
+-- spring's own share is smaller by theta_m w0 / (c / I_r)), so it stops after
+-- 0.7 (v0 - r dw)^2 / (mu_r g): 0.7 % shorter at these parameters, and more as K
+-- falls (dw goes as K^-1/2). A time step longer than the wind-up (about
+-- theta_m / w0) skips the dashpot's share: that is EPSD's time-step error here.
+cases.rolling = {
+  doc = "a sphere rolling to rest against rolling friction (0.7 v0^2 / (mu_r g))",
+  knobs = {
+    steps_per_contact = { values = { 10, 20, 40, 80 }, reference = 320, default = 40 },
+    stiffness = { values = { 1 / 4, 1 / 16, 1 / 64 }, reference = 1, default = 1 },
+    dimension = { values = { 2 }, reference = 3, default = 3 },
+  },
+  quantities = {
+    { "stop_distance_constant", "none" }, { "stop_distance_epsd", "none" },
+    -- |d / d_closed - 1|: against the closed forms above, not the reference run
+    { "closed_form_error_constant", "absolute" }, { "closed_form_error_epsd", "absolute" },
+  },
+}
+
+local ROLL_R, ROLL_RHO, ROLL_K, ROLL_V0, ROLL_MU_R, G = 1e-3, 2500, 1e3, 0.1, 0.1, 9.81
+
+local function roll_to_rest(setting, rolling_model)
+  local d = setting.dimension
+  local sim = simulation { dimension = d, steps_per_contact = setting.steps_per_contact }
+  sim:material { name = "ball", density = ROLL_RHO }
+  sim:material { name = "floor", density = 0 }
+  local k = ROLL_K * setting.stiffness
+  for _, other in ipairs { "ball", "floor" } do
+    sim:contact { "ball", other, model = "linear", k_normal = k, restitution = 0.5, friction = 0.9,
+                  rolling_friction = ROLL_MU_R, rolling_model = rolling_model,
+                  rolling_damping = rolling_model == "epsd" and 0.3 or nil }
+  end
+  local function v(x, y) if d == 3 then return { x, y, 0 } end return { x, y } end
+  sim:wall_plane { name = "floor", point = v(0, 0), normal = v(0, 1), material = "floor" }
+  sim:gravity(v(0, -G))
+  local m = granule.sphere_mass(ROLL_R, ROLL_RHO)
+  local w = -ROLL_V0 / ROLL_R
+  local id = sim:add_particle { position = v(0, ROLL_R - m * G / k), velocity = v(ROLL_V0, 0),
+                                spin = d == 3 and { 0, 0, w } or w, radius = ROLL_R, material = "ball" }
+  -- Where it rests: the run lasts 1.4 times the closed form's stopping time 2 d / v0, and
+  -- then ten e-folding times of the EPSD rocking (damping ratio 0.3 at the rolling
+  -- frequency sqrt(k_r / (I + m r^2)) = mu_r sqrt(2.25 k / (1.4 m))). The first zero of the
+  -- speed is no measure: the contact's springs rock the sphere about its resting point.
+  local closed = 0.7 * ROLL_V0 ^ 2 / (ROLL_MU_R * G)
+  local rocking = ROLL_MU_R * math.sqrt(2.25 * k / (1.4 * m))
+  sim:run { duration = 1.4 * 2 * closed / ROLL_V0 + 10 / (0.3 * rocking) }
+  local rest = sim:particle(id)
+  assert(math.abs(rest.velocity[1]) < 1e-3 * ROLL_V0, string.format(
+    "rolling (%s, %s): still moving at %.3g m/s after %.3g s", rolling_model, setting.steps_per_contact,
+    rest.velocity[1], sim:time()))
+  local x = rest.position[1]
+  if rolling_model == "epsd" then
+    local cap = ROLL_MU_R * ROLL_R * m * G
+    local k_r = 2.25 * k * (ROLL_MU_R * ROLL_R) ^ 2
+    local i_r = 1.4 * m * ROLL_R ^ 2
+    local dw = 2 * 0.3 * cap / math.sqrt(i_r * k_r)
+    closed = 0.7 * (ROLL_V0 - ROLL_R * dw) ^ 2 / (ROLL_MU_R * G)
+  end
+  return x, math.abs(x / closed - 1), sim:step_count()
+end
+
+function cases.rolling.run(setting)
+  local dc, ec, nc = roll_to_rest(setting, "constant")
+  local de, ee, ne = roll_to_rest(setting, "epsd")
+  return { stop_distance_constant = dc, stop_distance_epsd = de, closed_form_error_constant = ec,
+           closed_form_error_epsd = ee }, nc + ne
+end
+
 -- ---------------------------------------------------------------------------
 local case = cases[p.case]
-if not case then error("case must be impact, mechanofusion or agglomerate, got '" .. tostring(p.case) .. "'") end
+if not case then error("case must be impact, mechanofusion, agglomerate or rolling, got '" .. tostring(p.case) .. "'") end
 local knobs = {}
 if p.knob == "all" then
   for _, name in ipairs { "steps_per_contact", "stiffness", "skin", "dimension", "perturbation" } do
@@ -365,6 +444,21 @@ if p.check and p.case == "impact" then
     end
   end
   print("accuracy: check passed (errors fall as steps_per_contact grows)")
+end
+
+-- The rolling smoke test's check: each model stops the sphere within 2 % of its
+-- closed form at every setting.
+if p.check and p.case == "rolling" then
+  for _, row in ipairs(rows) do
+    local q = row.quantities
+    assert(row.errors.closed_form_error_constant < 0.02, string.format(
+      "check: %s = %s: constant-torque distance %.4g m is %.2g off 0.7 v0^2/(mu_r g)", row.knob, row.value,
+      q.stop_distance_constant, row.errors.closed_form_error_constant))
+    assert(row.errors.closed_form_error_epsd < 0.02, string.format(
+      "check: %s = %s: EPSD distance %.4g m is %.2g off its closed form with the wind-up", row.knob, row.value,
+      q.stop_distance_epsd, row.errors.closed_form_error_epsd))
+  end
+  print("accuracy: check passed (rolling distances against 0.7 v0^2 / (mu_r g))")
 end
 
 -- Outputs.

@@ -46,7 +46,12 @@ std::vector<ContactModelInfo> documented_models() {
   rolling.name = "rolling";
   rolling.doc =
       "rolling resistance, a term any model above carries when its contact gives "
-      "rolling_friction > 0 (with the model's own parameters)";
+      "rolling_friction > 0 (with the model's own parameters):\n"
+      "  epsd (default; Ai et al. 2011, type C): a spring k_r = 2.25 k_n mu_r^2 R*^2 on the\n"
+      "  relative rolling, its torque capped at M_m = mu_r R* N (then it slips), and while\n"
+      "  below the cap a dashpot 2 eta_r sqrt(I_r k_r), I_r = 1 / (1/(I_i + m_i r_i^2) +\n"
+      "  1/(I_j + m_j r_j^2)). constant: M = mu_r R* N against the relative rolling, never\n"
+      "  more than stops it within the step (docs/contact_models.md has the equations)";
   rolling.parameters = rolling_parameters();
   rolling.rolling = true;
   out.push_back(rolling);
@@ -110,7 +115,17 @@ std::string models_markdown_list() {
                                    std::isnan(p.default_value)
                                        ? std::string("required")
                                        : fmt::format("= {}", parameter_default(p))));
-    out += fmt::format("- `{}`: {}. Parameters: {}.\n", m.name, m.doc, join(params, ", "));
+    // A doc's further lines (the terminal's layout) join the first in one bullet.
+    std::string doc;
+    for (std::size_t k = 0; k < m.doc.size(); ++k) {
+      if (m.doc[k] != '\n') {
+        doc += m.doc[k];
+        continue;
+      }
+      while (k + 1 < m.doc.size() && m.doc[k + 1] == ' ') ++k;
+      doc += ' ';
+    }
+    out += fmt::format("- `{}`: {}. Parameters: {}.\n", m.name, doc, join(params, ", "));
   }
   return out;
 }

@@ -13,6 +13,10 @@ double rolling_model_code(const std::string& name, const std::string& context) {
       fmt::format("{}: rolling_model '{}' is not known (known: epsd, constant)", context, name));
 }
 
+const char* rolling_model_name(double code) {
+  return code == rolling_model::constant ? "constant" : "epsd";
+}
+
 std::vector<ParamSpec> rolling_parameters() {
   return {
       {"rolling_friction", "-", required, 0, unbounded, false,

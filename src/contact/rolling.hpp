@@ -48,6 +48,9 @@ constexpr int constant = 1;
 // "epsd" or "constant" as the code the parameter table holds; InputError
 // naming `context` and the known names otherwise.
 double rolling_model_code(const std::string& name, const std::string& context);
+// The name of a code the parameter table holds ("epsd", "constant"), for
+// every place that shows a pair's parameters to a person or a reader of the output.
+const char* rolling_model_name(double code);
 // The rolling parameters every model carries when rolling_friction is given.
 std::vector<ParamSpec> rolling_parameters();
 // Whether a parameter name is one of them.

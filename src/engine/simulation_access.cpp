@@ -8,6 +8,7 @@
 #include <numeric>
 #include <unordered_map>
 
+#include "contact/rolling.hpp"
 #include "core/errors.hpp"
 #include "core/random.hpp"
 #include "engine/simulation.hpp"
@@ -292,7 +293,9 @@ std::vector<std::string> Simulation<D>::describe() const {
       const auto& e = pairs_.at(a, b);
       if (e.model < 0) continue;
       std::vector<std::string> kv;
-      for (const auto& [k, v] : pairs_.values(a, b)) kv.push_back(fmt::format("{}={}", k, v));
+      for (const auto& [k, v] : pairs_.values(a, b))
+        kv.push_back(k == "rolling_model" ? fmt::format("{}={}", k, rolling_model_name(v))
+                                          : fmt::format("{}={}", k, v));
       lines.push_back(fmt::format("contact {}-{}: {} ({})", materials_[a].name, materials_[b].name,
                                   catalogue[e.model].name, fmt::join(kv, ", ")));
     }

@@ -173,9 +173,18 @@ void SimulationBase::remove_hook(int id) {
     }
 }
 
+// Hooks are kept in the order they were added, which is the order of their ids.
+// After a hook fires, the loop goes on from the first hook added after it, found
+// by id: a hook may remove itself or others, or add new ones (which fire in the
+// same step when due), and no hook is skipped or fired twice.
+static std::size_t next_after(const std::vector<Hook>& hooks, int id) {
+  std::size_t k = 0;
+  while (k < hooks.size() && hooks[k].id <= id) ++k;
+  return k;
+}
+
 void SimulationBase::fire_hooks() {
-  // Index loop: a hook may add or remove hooks.
-  for (std::size_t k = 0; k < hooks_.size(); ++k) {
+  for (std::size_t k = 0; k < hooks_.size();) {
     Hook& h = hooks_[k];
     bool due = false;
     if (h.every_steps > 0) {
@@ -186,22 +195,29 @@ void SimulationBase::fire_hooks() {
       h.next_time +=
           h.every_time * std::max(1.0, std::floor((time_ - h.next_time) / h.every_time) + 1);
     }
-    if (due) {
-      int id = h.id;
-      auto fn = h.fire;  // copy: the hook may remove itself
-      fn();
-      (void)id;
+    if (!due) {
+      ++k;
+      continue;
     }
+    const int id = h.id;
+    auto fn = h.fire;  // copy: the hook may remove itself
+    fn();
+    k = next_after(hooks_, id);
   }
 }
 
 void SimulationBase::fire_start_hooks() {
   if (step_ != 0) return;  // a continued run has had its start
-  for (std::size_t k = 0; k < hooks_.size(); ++k) {
-    if (!hooks_[k].at_start) continue;
+  for (std::size_t k = 0; k < hooks_.size();) {
+    if (!hooks_[k].at_start) {
+      ++k;
+      continue;
+    }
     hooks_[k].at_start = false;  // once
+    const int id = hooks_[k].id;
     auto fn = hooks_[k].fire;
     fn();
+    k = next_after(hooks_, id);
   }
 }
 

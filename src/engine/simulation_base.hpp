@@ -67,6 +67,7 @@ struct MeshWallSpec {
   int material = -1;
   Triple velocity{}, axis_point{}, axis{0, 0, 1};
   double angular_velocity = 0;
+  double flat_angle = 20;             // degrees: MeshSurface::set_flat_angle
   std::vector<std::string> warnings;  // the file's harmless defects, passed on to the scene
 };
 

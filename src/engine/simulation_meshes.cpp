@@ -48,6 +48,11 @@ int Simulation<D>::add_mesh_wall(const MeshWallSpec& s, Triangles mesh) {
     m.file = s.file;
     m.axis_point = to_vec(s.axis_point);
     auto surface = std::make_shared<MeshSurface>(std::move(mesh));
+    try {
+      surface->set_flat_angle(s.flat_angle);
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("{}: {}", ctx, e.what()));
+    }
     m.turn_reach = surface->reach_from(m.axis_point);
     m.surface = std::move(surface);
     Wall<D> w;

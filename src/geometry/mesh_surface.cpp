@@ -1,5 +1,7 @@
 #include "geometry/mesh_surface.hpp"
 
+#include <fmt/format.h>
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -26,6 +28,7 @@ void compress(std::size_t n, const std::vector<std::pair<std::uint32_t, std::uin
 MeshSurface::MeshSurface(Triangles mesh)
     : x_(std::move(mesh.vertices)), tri_(std::move(mesh.triangles)) {
   if (tri_.empty()) throw InputError("a mesh wall needs at least one triangle");
+  set_flat_angle(default_flat_angle);
   normal_.resize(tri_.size());
   std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> edge_of;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> edge_tri, vertex_tri;
@@ -118,6 +121,13 @@ MeshHit MeshSurface::closest(std::uint32_t t, const Eigen::Vector3d& x) const {
     h.normal = normal_[t];
   }
   return h;
+}
+
+void MeshSurface::set_flat_angle(double degrees) {
+  if (!(degrees >= 0 && degrees < 90))
+    throw InputError(fmt::format("flat_angle must be in [0, 90) degrees, got {}", degrees));
+  flat_angle_ = degrees;
+  flat_cos_ = degrees > 0 ? std::cos(degrees * M_PI / 180) : 2.0;
 }
 
 void MeshSurface::build_grid(double reach) {
@@ -242,8 +252,11 @@ int MeshSurface::contacts(const Eigen::Vector3d& x, double radius, double within
       }
       if (owned) continue;
     }
+    // A point already found (two triangles of a flat patch), or the farther
+    // contact of a shallow concave fold: the nearer one stands for both.
     bool repeated = false;
-    for (int k = 0; k < count && !repeated; ++k) repeated = (out[k].point - h.point).norm() <= same;
+    for (int k = 0; k < count && !repeated; ++k)
+      repeated = (out[k].point - h.point).norm() <= same || out[k].normal.dot(h.normal) > flat_cos_;
     if (repeated) continue;
     out[count++] = h;
     if (count == max_hits) break;

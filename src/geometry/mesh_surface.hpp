@@ -78,6 +78,15 @@ class MeshSurface {
   MeshHit closest(std::uint32_t t, const Eigen::Vector3d& x) const;
   // Whether any triangle lies within `within` of x (neighbour lists).
   bool near(const Eigen::Vector3d& x, double within) const;
+  // Two contacts of one sphere whose normals are less than this far apart
+  // (degrees, in [0, 90); 0: none) are one, the nearer: the facets of a
+  // surface meshed from a smooth concave curve (a drum, a cone, a bowl) meet
+  // at shallow folds, where a sphere would otherwise press on both faces with
+  // two springs in parallel.
+  void set_flat_angle(double degrees);
+  double flat_angle() const { return flat_angle_; }
+  static constexpr double default_flat_angle = 20;
+
   // The contacts of a sphere (centre x) with the surface: every closest point
   // nearer than `within`, after elimination, nearest first (at most max_hits).
   // Returns their number; `tested` (if given) gets the triangles examined.
@@ -97,6 +106,8 @@ class MeshSurface {
   std::vector<std::uint32_t> vertex_start_, vertex_tris_;  // triangles around each vertex
   Eigen::Vector3d lo_, hi_;
   TriangleGrid grid_;
+  double flat_angle_ = default_flat_angle;
+  double flat_cos_ = 0;  // cos(flat_angle_); above 1 when no two contacts are merged
 };
 
 }  // namespace granule

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include "contact/models.hpp"
+#include "contact/rolling.hpp"
 #include "io/run_output.hpp"
 
 namespace granule::io {
@@ -62,7 +63,12 @@ void RunOutput::write_header() {
       if (e.model < 0) continue;
       std::string g = fmt::format("/contacts/{}-{}", mats[a].name, mats[b].name);
       f.write_attribute(g, "model", catalogue[e.model].name);
-      for (const auto& [k, v] : table.values(a, b)) f.write_attribute(g, k, v);
+      for (const auto& [k, v] : table.values(a, b)) {
+        if (k == "rolling_model")
+          f.write_attribute(g, k, std::string(rolling_model_name(v)));
+        else
+          f.write_attribute(g, k, v);
+      }
     }
   write_new_walls();
   // What is simulated, as attributes a script can test (1/0, and lists joined by ", ").

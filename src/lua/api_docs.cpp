@@ -271,7 +271,8 @@ int l_help(lua_State* L) {
       text = format_overview();
     } else if (lua_type(L, 1) == LUA_TSTRING) {
       std::string name = lua_tostring(L, 1);
-      const auto catalogue = contact_model_catalogue();
+      // The models as a scene names them, and the rolling term as an entry of its own.
+      const auto catalogue = documented_models();
       const std::string diagnostic = diagnostics_help(name, false);  // src/hooks/registry.cpp
       if (const FunctionDoc* d = find_doc(name)) {
         text = format_help(*d) + diagnostic;

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "contact/model_docs.hpp"
 #include "contact/models.hpp"
 #include "hooks/diagnostic.hpp"
 #include "lua/api_docs.hpp"
@@ -44,7 +45,7 @@ std::vector<HelpMatch> search_help(const std::string& word) {
     for (const auto& a : d.args) hit = hit || mentions(a.name, w) || mentions(a.doc, w);
     if (hit) out.push_back({d.name, summary(d.doc)});
   }
-  for (const auto& m : contact_model_catalogue()) {
+  for (const auto& m : documented_models()) {
     bool hit = mentions(m.name, w) || mentions(m.doc, w);
     for (const auto& p : m.parameters) hit = hit || mentions(p.name, w) || mentions(p.doc, w);
     if (hit) out.push_back({m.name + " (contact model)", summary(m.doc)});

@@ -5,6 +5,7 @@
 
 #include "core/errors.hpp"
 #include "engine/simulation_base.hpp"
+#include "geometry/mesh_surface.hpp"
 #include "io/mesh_file.hpp"
 #include "lua/lua_util.hpp"
 #include "lua/wrap_simulation.hpp"
@@ -61,6 +62,7 @@ int l_wall_mesh(lua_State* L) {
     w.angular_velocity = t.number("angular_velocity", 0);
     w.axis = t.vector("axis", 3, {0, 0, 1});
     w.axis_point = t.vector("axis_point", 3, {0, 0, 0});
+    w.flat_angle = t.number("flat_angle", MeshSurface::default_flat_angle);
     t.finish();
     io::MeshFileReport report;
     Triangles mesh = io::read_mesh_file(w.file, place, report);

@@ -5,6 +5,7 @@
 
 #include "contact/models.hpp"
 #include "contact/pair_table.hpp"
+#include "contact/rolling.hpp"
 #include "core/errors.hpp"
 #include "engine/simulation_base.hpp"
 #include "lua/lua_util.hpp"
@@ -260,7 +261,10 @@ int l_contact_parameters(lua_State* L) {
     lua_pushstring(L, contact_model_catalogue()[e.model].name.c_str());
     lua_setfield(L, -2, "model");
     for (const auto& [name, value] : table.values(ia, ib)) {
-      lua_pushnumber(L, value);
+      if (name == "rolling_model")
+        lua_pushstring(L, rolling_model_name(value));
+      else
+        lua_pushnumber(L, value);
       lua_setfield(L, -2, name.c_str());
     }
     return 1;

@@ -130,3 +130,48 @@ TEST_CASE("mesh surface: the grid examines a few triangles of a 10^5-triangle me
   CHECK(per_query < 400);
   CHECK(per_query > 2);
 }
+
+TEST_CASE("mesh surface: a shallow concave fold gives one contact, the nearer; a steep one two",
+          "[mesh]") {
+  // Two faces meeting along the y axis, each tilted up by `tilt` from the floor z = 0
+  // (a V of 180 - 2 tilt degrees), and a sphere pressed into the fold, a little to the
+  // right: its normals to the two faces differ by 2 tilt.
+  auto fold = [](double tilt_degrees) {
+    const double t = tilt_degrees * M_PI / 180, w = 1.0;
+    Triangles m;
+    m.vertices = {{-w * std::cos(t), -1, w * std::sin(t)},
+                  {-w * std::cos(t), 1, w * std::sin(t)},
+                  {0, -1, 0},
+                  {0, 1, 0},
+                  {w * std::cos(t), -1, w * std::sin(t)},
+                  {w * std::cos(t), 1, w * std::sin(t)}};
+    m.triangles = {{0, 2, 3}, {0, 3, 1}, {2, 4, 5}, {2, 5, 3}};
+    return MeshSurface(m);
+  };
+  const double r = 0.1;
+  const Vector3d x(0.001, 0.2, 0.09);
+  MeshHit hits[MeshSurface::max_hits];
+  for (const double tilt : {2.0, 5.0, 9.9}) {  // folds of 4, 10 and 19.8 degrees: below 20
+    MeshSurface s = fold(tilt);
+    s.build_grid(0.2);
+    INFO("tilt " << tilt);
+    REQUIRE(s.contacts(x, r, r, hits) == 1);
+    // The nearer face is the right one (the centre sits right of the fold).
+    const double t = tilt * M_PI / 180;
+    const Vector3d right_normal(-std::sin(t), 0, std::cos(t));
+    CHECK((hits[0].normal - right_normal).norm() < 1e-12);
+    CHECK(hits[0].distance == Approx(x.dot(right_normal)).epsilon(1e-12));
+    // With merging off, both faces hold a contact.
+    s.set_flat_angle(0);
+    CHECK(s.contacts(x, r, r, hits) == 2);
+  }
+  for (const double tilt : {10.1, 30.0}) {  // folds of 20.2 and 60 degrees: two contacts
+    MeshSurface s = fold(tilt);
+    s.build_grid(0.2);
+    INFO("tilt " << tilt);
+    CHECK(s.contacts(x, r, r, hits) == 2);
+  }
+  MeshSurface s = fold(5);
+  CHECK_THROWS_WITH(s.set_flat_angle(90), Catch::Contains("flat_angle must be in [0, 90)"));
+  CHECK_THROWS_WITH(s.set_flat_angle(-1), Catch::Contains("flat_angle"));
+}

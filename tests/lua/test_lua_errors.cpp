@@ -377,3 +377,34 @@ assert(after == before, "registry functions " .. before .. " -> " .. after)
 )");
   CHECK(r.error == "");
 }
+
+TEST_CASE("lua: a hook that removes itself or another leaves every other hook firing", "[lua]") {
+  // Three hooks every step; the first removes itself at step 2, and at step 4 the
+  // second removes the third and adds a fourth. Every hook fires exactly when it is
+  // there: none is skipped after a removal, none fires twice.
+  auto r = run_scene(std::string(header) + R"(
+sim:add_particle { position = { 0, 0 }, radius = 1e-3, material = "glass" }
+local count = { a = 0, b = 0, c = 0, d = 0 }
+local ids = {}
+ids.a = sim:every { steps = 1, function(s)
+  count.a = count.a + 1
+  if s:step_count() == 2 then s:remove_hook(ids.a) end
+end }
+ids.b = sim:every { steps = 1, function(s)
+  count.b = count.b + 1
+  if s:step_count() == 4 then
+    s:remove_hook(ids.c)
+    ids.d = s:every { steps = 1, function() count.d = count.d + 1 end }
+  end
+end }
+ids.c = sim:every { steps = 1, function() count.c = count.c + 1 end }
+sim:run { steps = 6 }
+-- steps 1..6: a fires at 1, 2; b at all six; c at 1..3 (removed at 4 before it fires);
+-- d from step 4 (added at step 4 by b, after b: due the same step) to 6
+assert(count.a == 2, "a fired " .. count.a)
+assert(count.b == 6, "b fired " .. count.b)
+assert(count.c == 3, "c fired " .. count.c)
+assert(count.d == 3, "d fired " .. count.d)
+)");
+  CHECK(r.error == "");
+}

@@ -78,4 +78,24 @@ sim:snapshot()  -- the header (and /walls) is in the file now
 sim:wall_plane { name = "lid", point = { 0, 5e-3 }, normal = { 0, -1 }, material = "steel" }
 sim:run { steps = 1 }
 sim:close()
+
+-- A pair's rolling model reads back by name wherever a person or a reader sees it:
+-- sim:contact_parameters, describe() and /contacts/<pair> in the output.
+do
+  local r = simulation { dimension = 2 }
+  r:material { name = "m", density = 1200 }
+  r:contact { "m", "m", model = "linear", k_normal = 2e4, restitution = 0.9, friction = 0.3,
+              rolling_friction = 0.1, rolling_model = "constant" }
+  local got = r:contact_parameters("m", "m")
+  assert(tostring(got.model):match("^linear"), "contact_parameters model: " .. tostring(got.model))
+  assert(got.rolling_model == "constant", "contact_parameters rolling_model: " .. tostring(got.rolling_model))
+  assert(got.rolling_friction == 0.1, "contact_parameters rolling_friction: " .. tostring(got.rolling_friction))
+  has(r:describe(), "rolling_model=constant", "rolling pair")
+  r:set_contact("m", "m", { rolling_model = "epsd" })
+  assert(r:contact_parameters("m", "m").rolling_model == "epsd", "set_contact did not change the rolling model")
+  r:add_particle { position = { 0, 0 }, radius = 0.2e-3, material = "m" }
+  r:output { file = p.out:gsub("%.h5$", "") .. "_rolling.h5" }
+  r:run { steps = 1 }
+  r:close()
+end
 print("effects_check ok")

@@ -25,4 +25,10 @@ with h5py.File(sys.argv[1], "r") as f:
     lid = f["/walls/lid"].attrs
     if list(lid["point"]) != [0.0, 5e-3] or list(lid["normal"]) != [0.0, -1.0]:
         sys.exit(f"/walls/lid: point {list(lid['point'])}, normal {list(lid['normal'])}")
+rolling = sys.argv[1][: -len(".h5")] + "_rolling.h5"
+with h5py.File(rolling, "r") as f:
+    model = f["/contacts/m-m"].attrs["rolling_model"]
+    model = model.decode() if isinstance(model, bytes) else model
+    if model != "epsd":
+        sys.exit(f"{rolling}: /contacts/m-m rolling_model {model!r}, expected 'epsd'")
 print("effects attributes ok")
