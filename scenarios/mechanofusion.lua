@@ -56,10 +56,14 @@ end
 print(string.format("overlaps max_overlap_ratio particle=%.4g fixed=%.4g wall=%.4g deepest_at=(%.4g,%.4g) m t=%.4g s",
   s.max_overlap_ratio_particle, s.max_overlap_ratio_fixed, s.max_overlap_ratio_wall, s.deepest_x or 0,
   s.deepest_y or 0, s.deepest_time or 0))
-print(string.format("gap sector=+-%g deg shear_rate=%.4g 1/s nominal_shear_rate=%.4g 1/s granular_temperature=%.4g m^2/s^2 "
-  .. "solid_fraction=%.4g particles=%.4g normal_per_contact=%.4g N", p.gap_sector, s.gap_shear_rate,
-  s.gap_nominal_shear_rate, s.gap_mean_granular_temperature, s.gap_mean_solid_fraction, s.gap_particles,
-  s.gap_normal_force_per_contact))
+if s.gap_shear_rate then
+  print(string.format("gap sector=+-%g deg shear_rate=%.4g 1/s nominal_shear_rate=%.4g 1/s granular_temperature=%.4g m^2/s^2 "
+    .. "solid_fraction=%.4g particles=%.4g normal_per_contact=%.4g N", p.gap_sector, s.gap_shear_rate,
+    s.gap_nominal_shear_rate, s.gap_mean_granular_temperature, s.gap_mean_solid_fraction, s.gap_particles,
+    s.gap_normal_force_per_contact))
+else
+  print("gap: not measured (the gap_profile diagnostic needs a cylinder inner piece)")
+end
 local function list(values) local t = {} for k, v in ipairs(values) do t[k] = string.format("%.4g", v) end return table.concat(t, ",") end
 for _, q in ipairs { "solid_fraction", "rotational_ke", "deviatoric_ke", "pressure", "collision_work_rate" } do
   print(string.format("zones %s=%s", q, list(s.profiles[q])))

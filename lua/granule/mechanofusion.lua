@@ -36,6 +36,7 @@ M.defaults = {
   inner_radius = { default = 5e-3, unit = "m", doc = "inner piece radius (10 mm diameter)" },
   gap = { default = 1.6e-3, unit = "m", doc = "narrowest gap H between inner piece and chamber" },
   inner_angle = { default = 0, unit = "deg", doc = "direction of the inner piece's centre" },
+  inner_shape = { default = "cylinder", doc = "the inner piece as 'cylinder' (an analytic wall) or, in 2D, 'polyline' (the same circle drawn as four arcs: sim:wall_polyline, where a real profile can go)" },
   rpm = { default = 2000, unit = "1/min", doc = "chamber speed (counter-clockwise)" },
   k_load = { default = 20000, unit = "N/m", doc = "Walton-Braun loading stiffness K1" },
   restitution = { default = 0.85, unit = "-", doc = "coefficient of restitution e" },
@@ -93,6 +94,9 @@ local function complete(p)
   if v.particles ~= math.floor(v.particles) then checks.fail(where, "particles", "a whole number", v.particles) end
   if v.slab_layers ~= math.floor(v.slab_layers) then checks.fail(where, "slab_layers", "a whole number", v.slab_layers) end
   if type(v.scraper) ~= "boolean" then checks.fail(where, "scraper", "true or false", v.scraper) end
+  if v.inner_shape ~= "cylinder" and not (v.inner_shape == "polyline" and v.dimension == 2) then
+    checks.fail(where, "inner_shape", "'cylinder', or 'polyline' in 2D", v.inner_shape)
+  end
   local s = v.size_scale
   if v.inner_radius * s + v.gap * s >= v.chamber_radius * s then
     checks.raise(string.format("%s: inner_radius + gap (%g m) must be below chamber_radius (%g m)",
@@ -185,8 +189,21 @@ function M.build(p)
   local function at(xy, z) if g.dimension == 3 then return { xy[1], xy[2], z } end return xy end
   sim:wall_cylinder { name = "chamber", center = at({ 0, 0 }, 0), radius = g.chamber_radius, inside = true,
                       angular_velocity = g.omega, material = "steel" }
-  sim:wall_cylinder { name = "inner_piece", center = at(g.inner_center, 0), radius = g.inner_radius,
-                      inside = false, material = "steel" }
+  if v.inner_shape == "polyline" then
+    -- Counter-clockwise through four points on the circle, each quarter an
+    -- arc bulging outwards (to the right of its direction: radius < 0).
+    local c, ri, points, arcs = g.inner_center, g.inner_radius, {}, {}
+    for k = 1, 4 do
+      local a = (k - 1) * math.pi / 2
+      points[k] = { c[1] + ri * math.cos(a), c[2] + ri * math.sin(a) }
+      arcs[k] = { segment = k, radius = -ri }
+    end
+    sim:wall_polyline { name = "inner_piece", points = points, closed = true, solid = true, arcs = arcs,
+                        axis_point = c, material = "steel" }
+  else
+    sim:wall_cylinder { name = "inner_piece", center = at(g.inner_center, 0), radius = g.inner_radius,
+                        inside = false, material = "steel" }
+  end
   g.scraper_ids = {}
   for layer = 1, g.layers do
     local z = (2 * layer - 1) * v.radius
@@ -237,7 +254,7 @@ function M.attach_diagnostics(sim, g, opts)
     for k, b in pairs(areas) do o[k] = b end
     ids.areas = sim:diagnostic("areas", o)
   end
-  if wanted("gap") then
+  if wanted("gap") and v.inner_shape ~= "polyline" then  -- its bins need the circle
     ids.gap = sim:diagnostic("gap_profile", { sector = v.gap_sector, bins = v.gap_bins, window = window,
                                                every = every, depth = g.dimension == 3 and g.depth or nil })
   end

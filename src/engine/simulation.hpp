@@ -41,6 +41,8 @@ class Simulation final : public SimulationBase {
 
   int add_wall(const WallSpec& spec) override;
   int add_mesh_wall(const MeshWallSpec& spec, Triangles mesh) override;
+  int add_polyline_wall(const PolylineWallSpec& spec) override;
+  PolylineWallSpec polyline_wall(int w) const override;
   std::vector<MeshView> mesh_views() const override;
   std::int64_t mesh_triangles_tested() const override { return mesh_tested_; }
   const MeshSet<D>& meshes() const { return meshes_; }
@@ -177,7 +179,8 @@ class Simulation final : public SimulationBase {
   };
   Particles<D> p_;
   std::vector<Wall<D>> walls_;
-  // Mesh walls (3D): their surfaces and poses (simulation_meshes.cpp).
+  // Mesh walls (3D) and polyline walls (2D): their surfaces and poses
+  // (simulation_meshes.cpp, simulation_polylines.cpp).
   MeshSet<D> meshes_;
   double mesh_grid_reach_ = 0;  // the query reach the meshes' grids were built for
   std::int64_t mesh_tested_ = 0;

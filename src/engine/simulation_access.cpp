@@ -310,11 +310,25 @@ std::vector<std::string> Simulation<D>::describe() const {
       lines.push_back(fmt::format("wall {}: cone r={}-{} m over {} m, {} rad/s, material {}",
                                   w.name, w.rho0, w.rho1, w.z1 - w.z0, w.angular_velocity,
                                   materials_[w.material].name));
-    else if (const MeshWall* m = meshes_.of_wall(static_cast<std::size_t>(&w - walls_.data())))
-      lines.push_back(fmt::format("wall {}: mesh of {} triangles from {}, {} rad/s, material {}",
-                                  w.name, m->surface->triangle_count(), m->file, w.angular_velocity,
-                                  materials_[w.material].name));
-    else
+    else if (const auto* m = meshes_.of_wall(static_cast<std::size_t>(&w - walls_.data()))) {
+      if constexpr (D == 3) {
+        lines.push_back(fmt::format("wall {}: mesh of {} triangles from {}, {} rad/s, material {}",
+                                    w.name, m->surface->triangle_count(), m->file,
+                                    w.angular_velocity, materials_[w.material].name));
+      } else {
+        std::size_t arcs = 0;
+        for (std::size_t k = 0; k < m->surface->segment_count(); ++k)
+          arcs += m->surface->arc_radius(k) != 0;
+        lines.push_back(fmt::format(
+            "wall {}: {} polyline of {} points, {} segments ({} arcs), {} rad/s, material {}",
+            w.name,
+            m->solid               ? "solid"
+            : m->surface->closed() ? "closed"
+                                   : "open",
+            m->surface->point_count(), m->surface->segment_count(), arcs, w.angular_velocity,
+            materials_[w.material].name));
+      }
+    } else
       lines.push_back(fmt::format("wall {}: {}cylinder r={} m {}, {} rad/s, material {}", w.name,
                                   w.bounded ? "bounded " : "", w.radius,
                                   w.inside ? "inside" : "outside", w.angular_velocity,

@@ -72,11 +72,33 @@ struct MeshWallSpec {
   std::vector<std::string> warnings;  // the file's harmless defects, passed on to the scene
 };
 
-// A mesh wall's triangles where they are now (output, pictures).
+// A polyline wall (2D): its points (x, y) in the scene, joined in order
+// (and the last to the first when closed); an arc on segment k (from point
+// k to point k + 1, counted from 1) of signed radius R, positive bulging to
+// the left of the segment's direction; the same rigid motion as a mesh's,
+// turning about z through `axis_point`.
+struct PolylineWallSpec {
+  struct Arc {
+    std::int64_t segment = 0;  // from 1
+    double radius = 0;         // m, signed
+  };
+  std::string name;
+  int material = -1;
+  std::vector<std::array<double, 2>> points;
+  bool closed = false;
+  bool solid = false;  // closed only: its inside is a body (fill{} places no particle there)
+  std::vector<Arc> arcs;
+  Triple velocity{}, axis_point{};
+  double angular_velocity = 0;
+};
+
+// A mesh wall's triangles where they are now (output, pictures); a polyline's
+// outline (its arcs in short pieces) as the vertices, the pieces as `lines`.
 struct MeshView {
   int wall = -1;
   std::vector<Triple> vertices;
   std::vector<std::array<std::uint32_t, 3>> triangles;
+  std::vector<std::array<std::uint32_t, 2>> lines;
 };
 
 enum class RegionShape { ball, box, cylinder };
@@ -199,6 +221,10 @@ class SimulationBase {
   virtual int add_wall(const WallSpec& spec) = 0;
   // 3D only; returns the wall's index (simulation_meshes.cpp).
   virtual int add_mesh_wall(const MeshWallSpec& spec, Triangles mesh) = 0;
+  // 2D only; returns the wall's index (simulation_polylines.cpp).
+  virtual int add_polyline_wall(const PolylineWallSpec& spec) = 0;
+  // Polyline wall w as declared (its own frame); refused for other walls.
+  virtual PolylineWallSpec polyline_wall(int w) const = 0;
   virtual std::vector<MeshView> mesh_views() const = 0;
   // Triangles examined by the mesh contact searches so far (neighbour lists and steps).
   virtual std::int64_t mesh_triangles_tested() const = 0;

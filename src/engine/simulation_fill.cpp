@@ -135,8 +135,8 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
     if (!inside_region(x, r)) continue;
     bool ok = true;
     for (std::size_t w = 0; w < walls_.size() && ok; ++w)
-      ok = walls_[w].type == WallType::mesh ? !meshes_.near(w, x, r)
-                                            : !(walls_[w].clearance(x, r) < 0);
+      ok = is_surface_wall(walls_[w].type) ? !meshes_.near(w, x, r) && !meshes_.inside_solid(w, x)
+                                           : !(walls_[w].clearance(x, r) < 0);
     if (!ok || overlaps_occupied(x, r)) continue;
     // Random direction, speed uniform in [0, max_speed].
     V v = V::Zero();

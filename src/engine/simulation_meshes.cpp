@@ -1,6 +1,8 @@
 // Mesh walls in the engine: declaring one from its file, the grids their
 // contact searches use, this step's contacts (before the wall kernels), their
 // poses in checkpoints, and their triangles where they are now for output.
+// A 2D scene's polyline walls (declared in simulation_polylines.cpp) share
+// all but the grids.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -75,14 +77,17 @@ int Simulation<D>::add_mesh_wall(const MeshWallSpec& s, Triangles mesh) {
 template <int D>
 std::vector<MeshView> Simulation<D>::mesh_views() const {
   std::vector<MeshView> out;
-  if constexpr (D == 3) {
-    for (const auto& m : meshes_.meshes) {
-      MeshView v;
-      v.wall = m.wall;
+  for (const auto& m : meshes_.meshes) {
+    MeshView v;
+    v.wall = m.wall;
+    if constexpr (D == 3) {
       for (const auto& x : m.surface->vertices()) v.vertices.push_back(to_triple(m.to_scene(x)));
       v.triangles = m.surface->triangles();
-      out.push_back(std::move(v));
+    } else {  // the outline, its arcs in pieces of at most 5 degrees
+      for (const auto& x : m.surface->outline()) v.vertices.push_back(to_triple(m.to_scene(x)));
+      for (std::uint32_t k = 0; k + 1 < v.vertices.size(); ++k) v.lines.push_back({k, k + 1});
     }
+    out.push_back(std::move(v));
   }
   return out;
 }
@@ -99,10 +104,13 @@ void Simulation<D>::prepare_meshes() {
   if (mesh_grid_reach_ > 0 && reach <= 2 * mesh_grid_reach_ && reach >= 0.25 * mesh_grid_reach_)
     return;
   if (!(r_max > 0) && mesh_grid_reach_ > 0) return;
-  for (auto& m : meshes_.meshes) {
-    auto surface = std::make_shared<MeshSurface>(*m.surface);
-    surface->build_grid(r_max > 0 ? reach : 1.0);
-    m.surface = std::move(surface);
+  // Polylines need no grid: a disk tests each segment's bounding circle.
+  if constexpr (D == 3) {
+    for (auto& m : meshes_.meshes) {
+      auto surface = std::make_shared<MeshSurface>(*m.surface);
+      surface->build_grid(r_max > 0 ? reach : 1.0);
+      m.surface = std::move(surface);
+    }
   }
   mesh_grid_reach_ = r_max > 0 ? reach : 0;
 }
@@ -121,7 +129,7 @@ template <int D>
 void Simulation<D>::save_meshes(StateBlob& s) const {
   std::vector<double> pose;
   for (const auto& m : meshes_.meshes)
-    pose.insert(pose.end(), {m.offset.x(), m.offset.y(), m.offset.z(), m.angle});
+    pose.insert(pose.end(), {m.offset.x(), m.offset.y(), D == 3 ? m.offset[D - 1] : 0.0, m.angle});
   s.doubles["meshes.pose"] = pose;
 }
 
@@ -136,12 +144,11 @@ void Simulation<D>::load_meshes(const StateBlob& s) {
     if (!std::isfinite(x))
       throw InputError(fmt::format("checkpoint: 'meshes.pose' holds {}: not a pose", x));
   for (std::size_t k = 0; k < meshes_.meshes.size(); ++k) {
-    MeshWall& m = meshes_.meshes[k];
-    m.offset = Eigen::Vector3d(pose[4 * k], pose[4 * k + 1], pose[4 * k + 2]);
-    if constexpr (D == 3) {
-      m.set_angle(pose[4 * k + 3], walls_[m.wall].axis);
-      walls_[m.wall].center = m.axis_point_in_scene();
-    }
+    auto& m = meshes_.meshes[k];
+    for (int d = 0; d < D; ++d) m.offset[d] = pose[4 * k + d];
+    m.set_angle(pose[4 * k + 3], walls_[m.wall].axis);
+    walls_[m.wall].center = m.axis_point_in_scene();
+    walls_[m.wall].point = m.offset;
   }
   prepare_meshes();
 }

@@ -1,24 +1,29 @@
-// The scene's mesh walls (3D): each a rigid MeshSurface with a pose. A mesh
+// The scene's surface walls: in 3D triangle meshes (each a rigid MeshSurface
+// with a pose), in 2D polylines (each a rigid PolylineSurface with a pose). A mesh
 // moves as a rigid body: it translates at its wall's velocity and turns at its
 // angular velocity about an axis through a point that moves with it, so the
 // pose is an offset and an angle, integrated each step, and the surface's
 // velocity at a contact point q is v + omega axis x (q - axis point), the wall
 // velocity of Eq. 3.10's slip. Contacts are found in the mesh's own frame (the
-// particle brought into it), so the triangle grid is built once.
+// particle brought into it), so the triangle grid is built once. The two
+// dimensions share everything but the surface and the rotation's form.
 #pragma once
 
 #include <Eigen/Geometry>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "core/types.hpp"
 #include "geometry/mesh_surface.hpp"
+#include "geometry/polyline_surface.hpp"
 #include "geometry/walls.hpp"
 
 namespace granule {
 
 struct MeshWall {
+  static constexpr int max_hits = MeshSurface::max_hits;
   int wall = -1;  // its entry in the scene's walls (name, material, motion, reaction)
   std::string file;
   std::shared_ptr<const MeshSurface> surface;
@@ -49,42 +54,75 @@ struct MeshWall {
   Eigen::Vector3d axis_point_in_scene() const { return axis_point + offset; }
 };
 
+// A polyline wall (2D): the same pose, turning about z.
+struct PolylineWall {
+  static constexpr int max_hits = PolylineSurface::max_hits;
+  int wall = -1;
+  std::shared_ptr<const PolylineSurface> surface;
+  Eigen::Vector2d axis_point = Eigen::Vector2d::Zero();  // in the polyline's frame
+  Eigen::Vector2d offset = Eigen::Vector2d::Zero();
+  double angle = 0;
+  Eigen::Matrix2d rotation = Eigen::Matrix2d::Identity();
+  double turn_reach = 0;
+  bool solid = false;  // a closed polyline whose inside is a body: fill{} places nothing there
+
+  void set_angle(double a, const Eigen::Vector2d& /*axis: always z*/) {
+    angle = a;
+    rotation = Eigen::Rotation2Dd(a).toRotationMatrix();
+  }
+  Eigen::Vector2d to_mesh(const Eigen::Vector2d& x) const {
+    if (angle == 0) return x - offset;
+    return rotation.transpose() * (x - axis_point - offset) + axis_point;
+  }
+  Eigen::Vector2d to_scene(const Eigen::Vector2d& x) const {
+    if (angle == 0) return x + offset;
+    return rotation * (x - axis_point) + axis_point + offset;
+  }
+  Eigen::Vector2d direction_to_scene(const Eigen::Vector2d& n) const {
+    return angle == 0 ? n : Eigen::Vector2d(rotation * n);
+  }
+  Eigen::Vector2d axis_point_in_scene() const { return axis_point + offset; }
+};
+
 template <int D>
 struct MeshSet {
-  std::vector<MeshWall> meshes;
+  using Shape = std::conditional_t<D == 3, MeshWall, PolylineWall>;
+  std::vector<Shape> meshes;
   std::vector<int> mesh_of_wall;  // -1 for analytic walls
 
   bool empty() const { return meshes.empty(); }
-  const MeshWall* of_wall(std::size_t w) const {
+  const Shape* of_wall(std::size_t w) const {
     if (w >= mesh_of_wall.size() || mesh_of_wall[w] < 0) return nullptr;
     return &meshes[mesh_of_wall[w]];
   }
   // Whether the particle at x lies within `within` of the mesh on wall w.
   bool near(std::size_t w, const Vec<D>& x, double within) const {
-    if constexpr (D == 3) {
-      const MeshWall* m = of_wall(w);
-      return m && m->surface->near(m->to_mesh(x), within);
+    const Shape* m = of_wall(w);
+    return m && m->surface->near(m->to_mesh(x), within);
+  }
+  // Whether x lies inside the solid body of wall w (a 2D polyline declared
+  // solid); always false in 3D.
+  bool inside_solid(std::size_t w, const Vec<D>& x) const {
+    if constexpr (D == 2) {
+      const Shape* m = of_wall(w);
+      return m && m->solid && m->surface->encloses(m->to_mesh(x));
     } else {
-      (void)w, (void)x, (void)within;
+      (void)w, (void)x;
       return false;
     }
   }
   // One step of rigid motion for every mesh; returns nothing, adds a bound on
   // any vertex's travel to its wall's moved_since_rebuild.
   void move(std::vector<Wall<D>>& walls, double dt) {
-    if constexpr (D == 3) {
-      for (auto& m : meshes) {
-        Wall<D>& w = walls[m.wall];
-        if (w.velocity.isZero() && w.angular_velocity == 0) continue;
-        m.offset += w.velocity * dt;
-        if (w.angular_velocity != 0) m.set_angle(m.angle + w.angular_velocity * dt, w.axis);
-        w.center = m.axis_point_in_scene();
-        w.point = m.offset;
-        w.moved_since_rebuild[0] +=
-            (w.velocity * dt).norm() + std::abs(w.angular_velocity * dt) * m.turn_reach;
-      }
-    } else {
-      (void)walls, (void)dt;
+    for (auto& m : meshes) {
+      Wall<D>& w = walls[m.wall];
+      if (w.velocity.isZero() && w.angular_velocity == 0) continue;
+      m.offset += w.velocity * dt;
+      if (w.angular_velocity != 0) m.set_angle(m.angle + w.angular_velocity * dt, w.axis);
+      w.center = m.axis_point_in_scene();
+      w.point = m.offset;
+      w.moved_since_rebuild[0] +=
+          (w.velocity * dt).norm() + std::abs(w.angular_velocity * dt) * m.turn_reach;
     }
   }
 };

@@ -15,8 +15,15 @@
 namespace granule {
 
 // plane and cylinder are infinite unless `bounded`; disk and cone are finite;
-// mesh: a triangle mesh (geometry/mesh_set.hpp measures its contacts).
-enum class WallType { plane, cylinder, mesh, disk, cone };
+// mesh: a triangle mesh (3D), polyline: a chain of segments and arcs (2D);
+// geometry/mesh_set.hpp and kernel/mesh_contacts.hpp measure their contacts.
+enum class WallType { plane, cylinder, mesh, disk, cone, polyline };
+
+// Whether a wall's contacts are found by the surface search (mesh_contacts.hpp)
+// rather than by Wall::contact.
+inline bool is_surface_wall(WallType t) {
+  return t == WallType::mesh || t == WallType::polyline;
+}
 
 // The name a wall's type has in Lua (sim:wall) and in the output (/walls/<name>).
 // Whether a wall of type t is finite: disks and cones always, planes and
@@ -26,7 +33,7 @@ inline bool is_finite_wall(WallType t, bool bounded) {
 }
 
 inline const char* wall_type_name(WallType t) {
-  static const char* const names[] = {"plane", "cylinder", "mesh", "disk", "cone"};
+  static const char* const names[] = {"plane", "cylinder", "mesh", "disk", "cone", "polyline"};
   return names[static_cast<int>(t)];
 }
 
@@ -72,7 +79,7 @@ struct Wall {
 
   // Signed clearance between the particle surface and the wall (negative: overlap).
   double clearance(const V& x, double r) const {
-    if (type == WallType::mesh) return std::numeric_limits<double>::infinity();
+    if (is_surface_wall(type)) return std::numeric_limits<double>::infinity();
     if (finite()) return nearest(x).distance - r;
     if (type == WallType::plane) return (x - point).dot(normal) - r;
     double rho = radial(x).norm();

@@ -62,10 +62,11 @@ struct ChamberFrame {
       radius = c.radius;
       if (!inner_name.empty()) {
         const Wall<D>& in = walls[find(walls, inner_name, who)];
-        if (in.type != WallType::cylinder)
+        // A polyline inner piece's direction is its axis point's (its centre).
+        if (in.type != WallType::cylinder && in.type != WallType::polyline)
           throw InputError(
-              fmt::format("diagnostic '{}': wall '{}' must be a cylinder (the inner "
-                          "piece)",
+              fmt::format("diagnostic '{}': wall '{}' must be a cylinder or a polyline (the "
+                          "inner piece)",
                           who, inner_name));
         const V d = in.center - center;
         if (d.x() * d.x() + d.y() * d.y() > 0) reference = std::atan2(d.y(), d.x());

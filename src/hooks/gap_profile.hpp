@@ -201,6 +201,11 @@ class GapProfileDiagnostic final : public Diagnostic<D> {
       if (w.name == frame_.inner_name) inner = &w;
     if (!inner)
       throw InputError(fmt::format("diagnostic '{}': no wall named '{}'", name, frame_.inner_name));
+    if (inner->type != WallType::cylinder)
+      throw InputError(fmt::format(
+          "diagnostic '{}': the inner piece '{}' must be a cylinder (the gap's bins are cut "
+          "between two circles)",
+          name, frame_.inner_name));
     inner_radius_ = inner->radius;
     const double dx = inner->center.x() - frame_.center.x(),
                  dy = inner->center.y() - frame_.center.y();

@@ -1,7 +1,8 @@
 // Force on a wall (dissertation 4.4.1, the force on the inner piece): the sum
 // of the contact normal forces N and of the tangential forces along the
-// wall's direction of positive rotation (for a cylinder; the magnitude of the
-// summed tangential vector for a plane), their time series averaged over
+// wall's direction of positive rotation (for a cylinder, and for a 2D
+// polyline about its axis point; the magnitude of the summed tangential
+// vector for a plane and the other walls), their time series averaged over
 // windows, and long-time means since the diagnostic was attached.
 #pragma once
 
@@ -70,11 +71,9 @@ class WallForceDiagnostic final : public Diagnostic<D> {
       const V t_on_wall = -log.tangential[s];
       tangential += t_on_wall;
       total -= log.normal_force[s] * log.normal[s] + log.tangential[s];
-      if (w.type == WallType::cylinder)
-        tangential_signed += t_on_wall.dot(rotation_sense(w, log, s));
+      if (signed_tangential(w)) tangential_signed += t_on_wall.dot(rotation_sense(w, log, s));
     }
-    const double tangential_value =
-        w.type == WallType::cylinder ? tangential_signed : tangential.norm();
+    const double tangential_value = signed_tangential(w) ? tangential_signed : tangential.norm();
     add(normal, tangential_value, total);
   }
 
@@ -115,6 +114,11 @@ class WallForceDiagnostic final : public Diagnostic<D> {
     for (std::size_t w = 0; w < v.walls.size(); ++w)
       if (v.walls[w].name == wall_name_) return static_cast<int>(w);
     throw InputError(fmt::format("diagnostic 'wall_force': no wall named '{}'", wall_name_));
+  }
+  // Walls that turn about a centre in the plane of the contacts (a polyline's
+  // centre is its axis point): their tangential force is read along the turn.
+  static bool signed_tangential(const Wall<D>& w) {
+    return w.type == WallType::cylinder || (D == 2 && w.type == WallType::polyline);
   }
   // Unit tangent of a cylinder's positive rotation at the contact point.
   static V rotation_sense(const Wall<D>& w, const ContactLog<D>& log, std::size_t s) {

@@ -311,11 +311,13 @@ PictureInfo write_picture(const SimulationBase& sim, const PictureOptions& o) {
     ++drawn;
   }
 
-  // Walls on top: a mesh as its edges seen along z, each edge once.
+  // Walls on top: a mesh as its edges seen along z, each edge once; a
+  // polyline as its outline (arcs in short pieces).
   for (const MeshView& m : mesh_views_in_view(sim, o)) {
     std::set<std::pair<std::uint32_t, std::uint32_t>> edges;
     for (const auto& t : m.triangles)
       for (int k = 0; k < 3; ++k) edges.insert(std::minmax(t[k], t[(k + 1) % 3]));
+    for (const auto& l : m.lines) edges.insert(std::minmax(l[0], l[1]));
     for (const auto& [a, b] : edges) {
       Prim p = primitive(Prim::line);
       p.x0 = px(m.vertices[a][0]);
@@ -328,7 +330,7 @@ PictureInfo write_picture(const SimulationBase& sim, const PictureOptions& o) {
     }
   }
   for (const auto& w : walls) {
-    if (w.type == WallType::mesh) continue;  // drawn above
+    if (is_surface_wall(w.type)) continue;  // drawn above
     if (w.finite()) {
       for (const auto& seg : finite_wall_outline(w, d)) {
         Prim p = primitive(Prim::line);

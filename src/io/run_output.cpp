@@ -153,6 +153,19 @@ void RunOutput::write_new_walls() {
     };
     if (s.type == WallType::mesh) {
       f.write_attribute(g, "axis_point", centre);
+    } else if (s.type == WallType::polyline) {
+      f.write_attribute(g, "axis_point", centre);
+      // As declared, in the polyline's own frame: points (x1, y1, x2, ...),
+      // closed, and each segment's signed arc radius (0: straight).
+      const PolylineWallSpec line = sim_.polyline_wall(w);
+      std::vector<double> points;
+      for (const auto& x : line.points) points.insert(points.end(), {x[0], x[1]});
+      std::vector<double> radius(line.closed ? line.points.size() : line.points.size() - 1, 0.0);
+      for (const auto& a : line.arcs) radius[static_cast<std::size_t>(a.segment - 1)] = a.radius;
+      f.write_attribute(g, "points", points);
+      f.write_attribute(g, "closed", static_cast<std::int64_t>(line.closed ? 1 : 0));
+      f.write_attribute(g, "solid", static_cast<std::int64_t>(line.solid ? 1 : 0));
+      f.write_attribute(g, "arc_radius", radius);
     } else if (s.type == WallType::plane) {
       f.write_attribute(g, "point", point);
       f.write_attribute(g, "normal", normal);

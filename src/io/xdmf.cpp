@@ -155,7 +155,9 @@ std::vector<XdmfShape> wall_shapes(const std::vector<WallSpec>& walls, int dimen
     const V3 normal = unit(w.normal);
     if (dimension == 2) {
       s.topology = "Polyline";
-      if (w.type == WallType::cylinder) {
+      if (w.type == WallType::polyline) {
+        // its outline: add_mesh_shapes()
+      } else if (w.type == WallType::cylinder) {
         for (int k = 0; k < circle_segments; ++k) {
           double a = two_pi * k / circle_segments;
           s.points.insert(s.points.end(), {w.center[0] + w.radius * std::cos(a),
@@ -239,6 +241,11 @@ void add_mesh_shapes(std::vector<XdmfShape>& shapes, const std::vector<MeshView>
     for (const auto& x : m.vertices) s.points.insert(s.points.end(), x.begin(), x.end());
     for (const auto& t : m.triangles)
       for (auto c : t) s.connectivity.push_back(static_cast<int>(c));
+    if (!m.lines.empty()) {  // a polyline's outline, drawn in order: one element
+      s.connectivity.push_back(static_cast<int>(m.lines.front()[0]));
+      for (const auto& l : m.lines) s.connectivity.push_back(static_cast<int>(l[1]));
+      s.nodes_per_element = static_cast<int>(s.connectivity.size());
+    }
   }
 }
 

@@ -69,7 +69,8 @@ struct WallTouch {
   Vec<D> normal = Vec<D>::Zero();
   Vec<D> surface_velocity = Vec<D>::Zero();
   Vec<D> lever = Vec<D>::Zero();
-  double overlap = -1e300;  // none: the part is free
+  double overlap = -1e300;      // none: the part is free
+  double effective_radius = 0;  // R* (a mesh's flat faces: the particle's radius)
 };
 
 // Contacts between particles and walls handled by model M, particle-major

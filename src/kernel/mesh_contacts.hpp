@@ -6,13 +6,15 @@
 // while its normal turns continuously (it rolls from face to edge to the next
 // triangle): the part whose last normal is closest to the new one takes it,
 // so the tangential history follows the particle, not the triangle. A contact
-// no part was following starts a fresh history.
+// no part was following starts a fresh history. The same for a 2D scene's
+// polylines (PolylineSurface), whose arcs also give the contact's R*.
 #pragma once
 
 #include <cstdint>
 #include <vector>
 
 #include "core/particles.hpp"
+#include "geometry/finite_walls.hpp"
 #include "geometry/mesh_set.hpp"
 #include "kernel/buckets.hpp"
 
@@ -26,62 +28,66 @@ template <int D, typename M>
 void resolve_mesh_contacts(WallBucket<D, M>& b, const Particles<D>& p,
                            const std::vector<Wall<D>>& walls, const MeshSet<D>& meshes,
                            double reach, int threads, std::int64_t* tested_out = nullptr) {
-  if constexpr (D == 3) {
-    constexpr int K = MeshSurface::max_hits;
-    const std::int64_t n = static_cast<std::int64_t>(b.size());
-    b.touch.resize(b.size());
-    std::int64_t tested = 0;
+  using Shape = typename MeshSet<D>::Shape;
+  using Hit = std::conditional_t<D == 3, MeshHit, PolylineHit>;
+  constexpr int K = Shape::max_hits;
+  const std::int64_t n = static_cast<std::int64_t>(b.size());
+  b.touch.resize(b.size());
+  std::int64_t tested = 0;
 #pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1) \
     reduction(+ : tested)
-    for (std::int64_t k0 = 0; k0 < n; ++k0) {
-      if (b.part[k0] != 0) continue;  // a group starts at its part 0
-      const MeshWall* m = meshes.of_wall(b.wall[k0]);
-      if (!m) continue;
-      const std::uint32_t i = b.particle[k0];
-      const double r = p.radius[i];
-      MeshHit hit[K];
-      const int found = m->surface->contacts(m->to_mesh(p.position[i]), r, r + reach, hit, &tested);
-      const Wall<D>& w = walls[b.wall[k0]];
-      bool taken[K] = {};
-      int part_of[K];
-      for (int h = 0; h < found; ++h) {
-        hit[h].normal = m->direction_to_scene(hit[h].normal);
-        int best = -1;
-        double best_cos = mesh_follow_cosine;
-        for (int j = 0; j < K; ++j) {
-          if (taken[j]) continue;
-          const double c = b.part_normal[k0 + j].dot(hit[h].normal);
-          if (c > best_cos) best = j, best_cos = c;
-        }
-        if (best < 0) {  // a new contact: the first part not following one
-          for (int j = 0; j < K && best < 0; ++j)
-            if (!taken[j] && b.part_normal[k0 + j].isZero()) best = j;
-          for (int j = 0; j < K && best < 0; ++j)
-            if (!taken[j]) best = j;
-          b.history[k0 + best] = typename WallBucket<D, M>::History{};
-        }
-        taken[best] = true;
-        part_of[h] = best;
-      }
+  for (std::int64_t k0 = 0; k0 < n; ++k0) {
+    if (b.part[k0] != 0) continue;  // a group starts at its part 0
+    const Shape* m = meshes.of_wall(b.wall[k0]);
+    if (!m) continue;
+    const std::uint32_t i = b.particle[k0];
+    const double r = p.radius[i];
+    Hit hit[K];
+    const int found = m->surface->contacts(m->to_mesh(p.position[i]), r, r + reach, hit, &tested);
+    const Wall<D>& w = walls[b.wall[k0]];
+    bool taken[K] = {};
+    int part_of[K];
+    for (int h = 0; h < found; ++h) {
+      hit[h].normal = m->direction_to_scene(hit[h].normal);
+      int best = -1;
+      double best_cos = mesh_follow_cosine;
       for (int j = 0; j < K; ++j) {
-        b.touch[k0 + j] = WallTouch<D>{};
-        if (!taken[j]) b.part_normal[k0 + j].setZero();
+        if (taken[j]) continue;
+        const double c = b.part_normal[k0 + j].dot(hit[h].normal);
+        if (c > best_cos) best = j, best_cos = c;
       }
-      for (int h = 0; h < found; ++h) {
-        const std::size_t k = k0 + part_of[h];
-        WallTouch<D>& t = b.touch[k];
-        const Eigen::Vector3d q = m->to_scene(hit[h].point);
-        t.normal = hit[h].normal;
-        t.overlap = r - hit[h].distance;
-        t.lever = q - m->axis_point_in_scene();
-        t.surface_velocity = w.velocity + w.angular_velocity * w.axis.cross(t.lever);
-        b.part_normal[k] = t.normal;
+      if (best < 0) {  // a new contact: the first part not following one
+        for (int j = 0; j < K && best < 0; ++j)
+          if (!taken[j] && b.part_normal[k0 + j].isZero()) best = j;
+        for (int j = 0; j < K && best < 0; ++j)
+          if (!taken[j]) best = j;
+        b.history[k0 + best] = typename WallBucket<D, M>::History{};
       }
+      taken[best] = true;
+      part_of[h] = best;
     }
-    if (tested_out) *tested_out += tested;
-  } else {
-    (void)b, (void)p, (void)walls, (void)meshes, (void)reach, (void)threads, (void)tested_out;
+    for (int j = 0; j < K; ++j) {
+      b.touch[k0 + j] = WallTouch<D>{};
+      if (!taken[j]) b.part_normal[k0 + j].setZero();
+    }
+    for (int h = 0; h < found; ++h) {
+      const std::size_t k = k0 + part_of[h];
+      WallTouch<D>& t = b.touch[k];
+      const Vec<D> q = m->to_scene(hit[h].point);
+      t.normal = hit[h].normal;
+      t.overlap = r - hit[h].distance;
+      t.lever = q - m->axis_point_in_scene();
+      if constexpr (D == 3) {
+        t.surface_velocity = w.velocity + w.angular_velocity * w.axis.cross(t.lever);
+        t.effective_radius = r;  // flat faces; edges and corners as faces
+      } else {
+        t.surface_velocity = w.velocity + w.angular_velocity * Vec<D>(-t.lever.y(), t.lever.x());
+        t.effective_radius = effective_radius_against(r, hit[h].curvature_radius, hit[h].concave);
+      }
+      b.part_normal[k] = t.normal;
+    }
   }
+  if (tested_out) *tested_out += tested;
 }
 
 }  // namespace granule

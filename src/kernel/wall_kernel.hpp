@@ -143,13 +143,13 @@ void WallKernel<D, M>::run(WallBucket<D, M>& b, const std::vector<typename M::Pa
       V n, surface_velocity, lever;
       double overlap;
       // R* only for a law that reads it (contact_state.hpp), from the contact's own
-      // closest point; a mesh's faces count as flat.
+      // closest point (a mesh's faces count as flat, a polyline's arcs as circles).
       double r_star = std::numeric_limits<double>::quiet_NaN();
-      if (w.type == WallType::mesh) {  // found this step by resolve_mesh_contacts
+      if (is_surface_wall(w.type)) {  // found this step by resolve_mesh_contacts
         const WallTouch<D>& t = touch[k];
         n = t.normal, surface_velocity = t.surface_velocity, lever = t.lever;
         overlap = t.overlap;
-        r_star = radius[i];
+        r_star = t.effective_radius;
       } else {
         overlap = w.contact(x[i], radius[i], n, surface_velocity, lever,
                             uses_effective_radius<M>::value ? &r_star : nullptr);

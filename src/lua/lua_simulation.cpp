@@ -172,6 +172,7 @@ const luaL_Reg methods[] = {
     {"wall_plane", l_wall_plane},
     {"wall_cylinder", l_wall_cylinder},
     {"wall_mesh", l_wall_mesh},
+    {"wall_polyline", l_wall_polyline},
     {"wall_disk", l_wall_disk},
     {"wall_cone", l_wall_cone},
     {"set_wall", l_set_wall},

@@ -35,7 +35,7 @@ int l_wall(lua_State* L) {
       lua_setfield(L, -2, "point");
       push_vector(L, spec.velocity, d);
       lua_setfield(L, -2, "velocity");
-    } else if (spec.type == WallType::mesh) {  // offset: how far it has moved
+    } else if (is_surface_wall(spec.type)) {  // offset: how far it has moved
       push_vector(L, spec.point, d);
       lua_setfield(L, -2, "offset");
       push_vector(L, spec.velocity, d);

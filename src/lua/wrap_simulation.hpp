@@ -23,7 +23,8 @@ int l_contact(lua_State* L);
 int l_set_contact(lua_State* L);
 int l_wall_plane(lua_State* L);
 int l_wall_cylinder(lua_State* L);
-int l_wall_mesh(lua_State* L);  // wrap_mesh.cpp
+int l_wall_mesh(lua_State* L);      // wrap_mesh.cpp
+int l_wall_polyline(lua_State* L);  // wrap_polyline.cpp
 int l_wall_disk(lua_State* L);
 int l_wall_cone(lua_State* L);
 int l_add_particle(lua_State* L);

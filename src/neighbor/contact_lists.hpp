@@ -129,9 +129,9 @@ void list_walls(WallBucket<D, M>& bucket, int model, const Particles<D>& p,
       const PairTable::Entry& e = pairs.at(p.material[i], walls[w].material);
       if (e.model != model) continue;
       int parts = 1;
-      if (walls[w].type == WallType::mesh) {
+      if (is_surface_wall(walls[w].type)) {
         if (!meshes.near(w, p.position[i], p.radius[i] + skin)) continue;
-        parts = MeshSurface::max_hits;
+        parts = MeshSet<D>::Shape::max_hits;
       } else if (walls[w].clearance(p.position[i], p.radius[i]) >= skin) {
         continue;
       }
@@ -145,7 +145,7 @@ void list_walls(WallBucket<D, M>& bucket, int model, const Particles<D>& p,
     }
   }
   fresh.part_normal.assign(fresh.size(), Vec<D>::Zero());
-  constexpr std::int64_t K = MeshSurface::max_hits;
+  constexpr std::int64_t K = MeshSet<D>::Shape::max_hits;
   lists_detail::carry_history(
       old, fresh, p.next_id, tracking, [](const WB& x) -> const auto& { return x.id; },
       [&](std::uint32_t o) { return static_cast<std::int64_t>(old.wall[o]) * K + old.part[o]; },
