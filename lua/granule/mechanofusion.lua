@@ -36,7 +36,9 @@ M.defaults = {
   inner_radius = { default = 5e-3, unit = "m", doc = "inner piece radius (10 mm diameter)" },
   gap = { default = 1.6e-3, unit = "m", doc = "narrowest gap H between inner piece and chamber" },
   inner_angle = { default = 0, unit = "deg", doc = "direction of the inner piece's centre" },
-  inner_shape = { default = "cylinder", doc = "the inner piece as 'cylinder' (an analytic wall) or, in 2D, 'polyline' (the same circle drawn as four arcs: sim:wall_polyline, where a real profile can go)" },
+  inner_shape = { default = "cylinder", doc = "the inner piece as 'cylinder' (an analytic wall); in 2D 'polyline' (the same circle drawn as four arcs: sim:wall_polyline, where a real profile can go); in 3D 'mesh' (a prism of inner_facets faces: sim:wall_mesh, where a CAD file can go)" },
+  inner_facets = { default = 180, unit = "-", doc = "inner_shape = 'mesh': flat faces around the inner piece" },
+  scraper_shape = { default = "particles", doc = "the scraper as 'particles' (a row of fixed particles, 4.2.1) or, in 3D, 'mesh' (a blade one particle diameter thick over the same row: sim:wall_mesh)" },
   rpm = { default = 2000, unit = "1/min", doc = "chamber speed (counter-clockwise)" },
   k_load = { default = 20000, unit = "N/m", doc = "Walton-Braun loading stiffness K1" },
   restitution = { default = 0.85, unit = "-", doc = "coefficient of restitution e" },
@@ -94,8 +96,15 @@ local function complete(p)
   if v.particles ~= math.floor(v.particles) then checks.fail(where, "particles", "a whole number", v.particles) end
   if v.slab_layers ~= math.floor(v.slab_layers) then checks.fail(where, "slab_layers", "a whole number", v.slab_layers) end
   if type(v.scraper) ~= "boolean" then checks.fail(where, "scraper", "true or false", v.scraper) end
-  if v.inner_shape ~= "cylinder" and not (v.inner_shape == "polyline" and v.dimension == 2) then
-    checks.fail(where, "inner_shape", "'cylinder', or 'polyline' in 2D", v.inner_shape)
+  if v.inner_shape ~= "cylinder" and not (v.inner_shape == "polyline" and v.dimension == 2)
+      and not (v.inner_shape == "mesh" and v.dimension == 3) then
+    checks.fail(where, "inner_shape", "'cylinder', 'polyline' in 2D or 'mesh' in 3D", v.inner_shape)
+  end
+  if v.scraper_shape ~= "particles" and not (v.scraper_shape == "mesh" and v.dimension == 3) then
+    checks.fail(where, "scraper_shape", "'particles', or 'mesh' in 3D", v.scraper_shape)
+  end
+  if v.inner_facets ~= math.floor(v.inner_facets) or v.inner_facets < 12 then
+    checks.fail(where, "inner_facets", "a whole number >= 12", v.inner_facets)
   end
   local s = v.size_scale
   if v.inner_radius * s + v.gap * s >= v.chamber_radius * s then
@@ -152,6 +161,7 @@ function M.geometry(p)
                                       granule.vec.scale(tangent, -math.cos(tilt)))
     local count = math.max(1, math.floor(v.scraper_length * s / (2 * v.radius) + 0.5))
     g.scraper_positions = granule.particle_row(first, direction, count, v.radius)
+    g.scraper_first, g.scraper_direction, g.scraper_count = first, direction, count
   end
   g.areas = {
     area_inner_piece = { v.area_inner_from, v.area_scraper_from },
@@ -200,12 +210,37 @@ function M.build(p)
     end
     sim:wall_polyline { name = "inner_piece", points = points, closed = true, solid = true, arcs = arcs,
                         axis_point = c, material = "steel" }
+  elseif v.inner_shape == "mesh" then
+    -- A prism inscribed in the circle (R (1 - cos(pi/N)) inside it at each face's middle:
+    -- 0.8 um for N = 180), reaching two radii past the periodic slab at both ends, so no
+    -- particle meets its open rims.
+    local shapes = require "granule.mesh_shapes"
+    local path = shapes.prism { center = g.inner_center, radius = g.inner_radius, facets = v.inner_facets,
+                                z_min = -2 * v.radius, z_max = g.depth + 2 * v.radius }
+    sim:wall_mesh { name = "inner_piece", file = path, material = "steel",
+                    axis_point = at(g.inner_center, 0) }
+    os.remove(path)
   else
     sim:wall_cylinder { name = "inner_piece", center = at(g.inner_center, 0), radius = g.inner_radius,
                         inside = false, material = "steel" }
   end
   g.scraper_ids = {}
-  for layer = 1, g.layers do
+  if v.scraper and v.scraper_shape == "mesh" then
+    -- The blade the particle row stands for: one diameter thick, from the first
+    -- particle's back to the last one's front, across the slab and two radii past it.
+    local shapes = require "granule.mesh_shapes"
+    local d, r = g.scraper_direction, v.radius
+    local across = { -d[2], d[1] }
+    local corner = granule.vec.sub(g.scraper_first, granule.vec.add(granule.vec.scale(d, r),
+                                                                     granule.vec.scale(across, r)))
+    local length = 2 * r * g.scraper_count
+    local path = shapes.box { corner = { corner[1], corner[2], -2 * r },
+                              edges = { { d[1] * length, d[2] * length, 0 }, { across[1] * 2 * r, across[2] * 2 * r, 0 },
+                                        { 0, 0, g.depth + 4 * r } } }
+    sim:wall_mesh { name = "scraper", file = path, material = "steel" }
+    os.remove(path)
+  end
+  for layer = 1, v.scraper_shape == "mesh" and 0 or g.layers do
     local z = (2 * layer - 1) * v.radius
     for _, x in ipairs(g.scraper_positions) do
       g.scraper_ids[#g.scraper_ids + 1] =
@@ -221,6 +256,27 @@ function M.build(p)
     end
     g.particle_ids = sim:fill { region = region, count = g.particles, radius = v.radius, material = "powder",
                                 seed = v.seed, max_speed = v.max_speed }
+    if v.inner_shape == "mesh" then
+      -- fill{} keeps particles off a mesh's faces, not out of what they enclose:
+      -- those drawn inside the inner piece are drawn again elsewhere.
+      local function inside(id)
+        local x = sim:particle(id).position
+        local dx, dy = x[1] - g.inner_center[1], x[2] - g.inner_center[2]
+        return dx * dx + dy * dy < g.inner_radius ^ 2
+      end
+      for round = 1, 50 do
+        local kept, missing = {}, 0
+        for _, id in ipairs(g.particle_ids) do
+          if inside(id) then sim:remove_particle(id) missing = missing + 1 else kept[#kept + 1] = id end
+        end
+        g.particle_ids = kept
+        if missing == 0 then break end
+        for _, id in ipairs(sim:fill { region = region, count = missing, radius = v.radius, material = "powder",
+                                       seed = v.seed + round, max_speed = v.max_speed }) do
+          g.particle_ids[#g.particle_ids + 1] = id
+        end
+      end
+    end
   else
     g.particle_ids = {}
   end
@@ -254,7 +310,7 @@ function M.attach_diagnostics(sim, g, opts)
     for k, b in pairs(areas) do o[k] = b end
     ids.areas = sim:diagnostic("areas", o)
   end
-  if wanted("gap") and v.inner_shape ~= "polyline" then  -- its bins need the circle
+  if wanted("gap") and v.inner_shape == "cylinder" then  -- its bins need the circle
     ids.gap = sim:diagnostic("gap_profile", { sector = v.gap_sector, bins = v.gap_bins, window = window,
                                                every = every, depth = g.dimension == 3 and g.depth or nil })
   end

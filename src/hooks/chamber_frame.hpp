@@ -62,11 +62,12 @@ struct ChamberFrame {
       radius = c.radius;
       if (!inner_name.empty()) {
         const Wall<D>& in = walls[find(walls, inner_name, who)];
-        // A polyline inner piece's direction is its axis point's (its centre).
-        if (in.type != WallType::cylinder && in.type != WallType::polyline)
+        // A polyline's or a mesh's direction is its axis point's (the inner piece's centre).
+        if (in.type != WallType::cylinder && in.type != WallType::polyline &&
+            in.type != WallType::mesh)
           throw InputError(
-              fmt::format("diagnostic '{}': wall '{}' must be a cylinder or a polyline (the "
-                          "inner piece)",
+              fmt::format("diagnostic '{}': wall '{}' must be a cylinder, a polyline or a mesh "
+                          "(the inner piece)",
                           who, inner_name));
         const V d = in.center - center;
         if (d.x() * d.x() + d.y() * d.y() > 0) reference = std::atan2(d.y(), d.x());
