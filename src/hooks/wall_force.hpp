@@ -1,8 +1,8 @@
 // Force on a wall (dissertation 4.4.1, the force on the inner piece): the sum
 // of the contact normal forces N and of the tangential forces along the
-// wall's direction of positive rotation (for a cylinder, and for a 2D
-// polyline about its axis point; the magnitude of the summed tangential
-// vector for a plane and the other walls), their time series averaged over
+// wall's direction of positive rotation (for a cylinder, a 2D polyline and a
+// 3D mesh, about their axis; the magnitude of the summed tangential vector for
+// a plane and the other walls), their time series averaged over
 // windows, and long-time means since the diagnostic was attached.
 #pragma once
 
@@ -115,10 +115,12 @@ class WallForceDiagnostic final : public Diagnostic<D> {
       if (v.walls[w].name == wall_name_) return static_cast<int>(w);
     throw InputError(fmt::format("diagnostic 'wall_force': no wall named '{}'", wall_name_));
   }
-  // Walls that turn about a centre in the plane of the contacts (a polyline's
-  // centre is its axis point): their tangential force is read along the turn.
+  // Walls that turn about an axis (a polyline's and a mesh's through their axis
+  // point): their tangential force is read along the turn, so that a mesh or a
+  // polyline drawn in place of a cylinder reads as the cylinder does.
   static bool signed_tangential(const Wall<D>& w) {
-    return w.type == WallType::cylinder || (D == 2 && w.type == WallType::polyline);
+    return w.type == WallType::cylinder || (D == 2 && w.type == WallType::polyline) ||
+           (D == 3 && w.type == WallType::mesh);
   }
   // Unit tangent of a cylinder's positive rotation at the contact point.
   static V rotation_sense(const Wall<D>& w, const ContactLog<D>& log, std::size_t s) {
