@@ -38,7 +38,7 @@ M.defaults = {
   inner_angle = { default = 0, unit = "deg", doc = "direction of the inner piece's centre" },
   inner_shape = { default = "cylinder", doc = "the inner piece as 'cylinder' (an analytic wall); in 2D 'polyline' (the same circle drawn as four arcs: sim:wall_polyline, where a real profile can go); in 3D 'mesh' (a prism of inner_facets faces: sim:wall_mesh, where a CAD file can go)" },
   inner_facets = { default = 180, unit = "-", doc = "inner_shape = 'mesh': flat faces around the inner piece" },
-  scraper_shape = { default = "particles", doc = "the scraper as 'particles' (a row of fixed particles, 4.2.1) or, in 3D, 'mesh' (a blade one particle diameter thick over the same row: sim:wall_mesh)" },
+  scraper_shape = { default = "particles", doc = "the scraper as 'particles' (a row of fixed particles, 4.2.1) or a blade one particle diameter thick over the same row, its tip rounded: in 2D 'polyline' (sim:wall_polyline), in 3D 'mesh' (sim:wall_mesh, square-ended)" },
   rpm = { default = 2000, unit = "1/min", doc = "chamber speed (counter-clockwise)" },
   k_load = { default = 20000, unit = "N/m", doc = "Walton-Braun loading stiffness K1" },
   restitution = { default = 0.85, unit = "-", doc = "coefficient of restitution e" },
@@ -100,8 +100,9 @@ local function complete(p)
       and not (v.inner_shape == "mesh" and v.dimension == 3) then
     checks.fail(where, "inner_shape", "'cylinder', 'polyline' in 2D or 'mesh' in 3D", v.inner_shape)
   end
-  if v.scraper_shape ~= "particles" and not (v.scraper_shape == "mesh" and v.dimension == 3) then
-    checks.fail(where, "scraper_shape", "'particles', or 'mesh' in 3D", v.scraper_shape)
+  if v.scraper_shape ~= "particles" and not (v.scraper_shape == "mesh" and v.dimension == 3)
+      and not (v.scraper_shape == "polyline" and v.dimension == 2) then
+    checks.fail(where, "scraper_shape", "'particles', 'polyline' in 2D or 'mesh' in 3D", v.scraper_shape)
   end
   if v.inner_facets ~= math.floor(v.inner_facets) or v.inner_facets < 12 then
     checks.fail(where, "inner_facets", "a whole number >= 12", v.inner_facets)
@@ -240,7 +241,22 @@ function M.build(p)
     sim:wall_mesh { name = "scraper", file = path, material = "steel" }
     os.remove(path)
   end
-  for layer = 1, v.scraper_shape == "mesh" and 0 or g.layers do
+  if v.scraper and v.scraper_shape == "polyline" then
+    -- The row's outline: from the first particle's centre to the last one's, one
+    -- diameter wide, both ends half circles of the particles' radius (so a particle
+    -- meets the tip as it meets the row's last particle). Closed and solid.
+    local d, r = g.scraper_direction, v.radius
+    local across = { -d[2], d[1] }
+    local first = g.scraper_first
+    local last = granule.vec.add(first, granule.vec.scale(d, 2 * r * (g.scraper_count - 1)))
+    local function off(x, k) return granule.vec.add(x, granule.vec.scale(across, k * r)) end
+    local points = { off(first, -1), off(last, -1), off(last, 1), off(first, 1) }
+    -- Segments 2 and 4 are the ends, half circles bulging outwards (to the right of
+    -- their direction as the outline runs counter-clockwise: radius < 0).
+    sim:wall_polyline { name = "scraper", points = points, closed = true, solid = true,
+                        arcs = { { segment = 2, radius = -r }, { segment = 4, radius = -r } }, material = "steel" }
+  end
+  for layer = 1, v.scraper_shape == "particles" and g.layers or 0 do
     local z = (2 * layer - 1) * v.radius
     for _, x in ipairs(g.scraper_positions) do
       g.scraper_ids[#g.scraper_ids + 1] =
