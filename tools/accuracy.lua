@@ -7,6 +7,7 @@
 --   build/granule run tools/accuracy.lua -D case=mechanofusion -D knob=stiffness
 --   build/granule run tools/accuracy.lua -D case=agglomerate -D file=agglomerate_test.h5
 --   build/granule run tools/accuracy.lua -D case=rolling
+--   build/granule run tools/accuracy.lua -D case=bond
 --   /usr/bin/python3 tools/plot_accuracy.py accuracy_impact.csv     # error vs wall time, one curve per knob
 --
 -- Cases and what they measure:
@@ -26,6 +27,8 @@
 --   rolling        a sphere rolling to rest against rolling friction (mu_r = 0.1, v0 = 0.1 m/s),
 --                  constant-torque and EPSD models: stopping distance, and its error
 --                  against the closed form 0.7 v0^2 / (mu_r g) (EPSD: with its wind-up)
+--   bond           a parallel-bonded pair's stretching and twisting periods against their
+--                  closed forms (steps_per_contact: steps per axial period)
 -- Knobs (each case lists those that apply):
 --   steps_per_contact  n of Eq. 4.1 (dt = t_c / n)
 --   stiffness          K scaled down as section 5.4 allows; forces are compared after
@@ -46,7 +49,7 @@ local granule = require "granule"
 local kinetic = require "granule.kinetic"
 
 local p = parameters {
-  case = { default = "impact", doc = "impact | mechanofusion | agglomerate | rolling" },
+  case = { default = "impact", doc = "impact | mechanofusion | agglomerate | rolling | bond" },
   knob = { default = "all", doc = "steps_per_contact | stiffness | skin | dimension | all" },
   values = { default = "", doc = "comma-separated settings of the knob (default: the case's list)" },
   reference = { default = 0, doc = "the knob's reference setting (0: the case's finest)" },
@@ -331,9 +334,70 @@ function cases.rolling.run(setting)
            closed_form_error_epsd = ee }, nc + ne
 end
 
+-- A parallel bond (contact/parallel_bond.hpp) between two free spheres, in its
+-- stretching and twisting modes, against their closed-form periods: axial
+-- T = 2 pi sqrt(m / (2 k_n A)), twist T = 2 pi sqrt(I / (2 k_s J)) (two equal spheres:
+-- the reduced mass m / 2 and inertia I / 2). The knob steps_per_contact is here the
+-- steps per axial period (the time step is set from it); leap-frog's period error is
+-- (omega dt)^2 / 24 to leading order.
+cases.bond = {
+  doc = "a bonded pair's stretching and twisting periods against their closed forms",
+  knobs = {
+    steps_per_contact = { values = { 10, 20, 40, 80 }, reference = 320, default = 40 },
+  },
+  quantities = {
+    { "axial_period", "none" }, { "twist_period", "none" },
+    { "axial_period_error", "absolute" }, { "twist_period_error", "absolute" },
+  },
+}
+
+function cases.bond.run(setting)
+  local r, rho, kn, ks = 1e-3, 2500, 1e12, 4e11
+  local m = granule.sphere_mass(r, rho)
+  local inertia = 0.4 * m * r * r
+  local area, polar = math.pi * r * r, 0.5 * math.pi * r ^ 4
+  local axial = 2 * math.pi * math.sqrt(m / (2 * kn * area))
+  local twist = 2 * math.pi * math.sqrt(inertia / (2 * ks * polar))
+  local sim = simulation { dimension = 3, time_step = axial / setting.steps_per_contact }
+  sim:material { name = "ball", density = rho }
+  sim:contact { "ball", "ball", model = "linear", k_normal = 1e3, restitution = 1 }
+  local gap = 1e-6  -- the spheres never touch: only the bond acts
+  local a = sim:add_particle { position = { -r - gap / 2, 0, 0 }, radius = r, material = "ball" }
+  local b = sim:add_particle { position = { r + gap / 2, 0, 0 }, radius = r, material = "ball" }
+  sim:bond { gap = 2 * gap, normal_stiffness = kn, shear_stiffness = ks, tensile_strength = 1e15, shear_strength = 1e15 }
+  -- Stretching: the spheres part at +-v (amplitude v / omega, 1e-8 m, well inside the gap);
+  -- twisting: spun about the bond's axis at +-w.
+  sim:set_velocity(a, { -0.01, 0, 0 }) sim:set_velocity(b, { 0.01, 0, 0 })
+  sim:set_spin(a, { 10, 0, 0 }) sim:set_spin(b, { -10, 0, 0 })
+  -- Periods from the upward zero crossings of the relative velocity and spin (linear
+  -- interpolation between steps) over 10 axial periods.
+  local last = {}
+  local crossings = { axial = {}, twist = {} }
+  sim:every { steps = 1, function(q)
+    local pa, pb = q:particle(a), q:particle(b)
+    local now = { axial = pb.velocity[1] - pa.velocity[1], twist = pb.spin[1] - pa.spin[1] }
+    for k, v in pairs(now) do
+      local before = last[k]
+      if before and before < 0 and v >= 0 then
+        local t = q:time() - q:time_step() * v / (v - before)
+        table.insert(crossings[k], t)
+      end
+      last[k] = v
+    end
+  end }
+  sim:run { duration = 10.5 * math.max(axial, twist) }
+  local function period(list)
+    assert(#list >= 3, "bond: too few periods seen")
+    return (list[#list] - list[1]) / (#list - 1)
+  end
+  local ta, tt = period(crossings.axial), period(crossings.twist)
+  return { axial_period = ta, twist_period = tt, axial_period_error = math.abs(ta / axial - 1),
+           twist_period_error = math.abs(tt / twist - 1) }, sim:step_count()
+end
+
 -- ---------------------------------------------------------------------------
 local case = cases[p.case]
-if not case then error("case must be impact, mechanofusion, agglomerate or rolling, got '" .. tostring(p.case) .. "'") end
+if not case then error("case must be impact, mechanofusion, agglomerate, rolling or bond, got '" .. tostring(p.case) .. "'") end
 local knobs = {}
 if p.knob == "all" then
   for _, name in ipairs { "steps_per_contact", "stiffness", "skin", "dimension", "perturbation" } do
@@ -459,6 +523,18 @@ if p.check and p.case == "rolling" then
       q.stop_distance_epsd, row.errors.closed_form_error_epsd))
   end
   print("accuracy: check passed (rolling distances against 0.7 v0^2 / (mu_r g))")
+end
+
+-- The bond smoke test's check: the stretching period's error is leap-frog's own,
+-- (omega dt)^2 / 24 with omega dt = 2 pi / n, within 30 %.
+if p.check and p.case == "bond" then
+  for _, row in ipairs(rows) do
+    local expected = (2 * math.pi / row.value) ^ 2 / 24
+    assert(math.abs(row.errors.axial_period_error / expected - 1) < 0.3, string.format(
+      "check: n = %s: axial period error %.3g, leap-frog's (omega dt)^2/24 is %.3g", row.value,
+      row.errors.axial_period_error, expected))
+  end
+  print("accuracy: check passed (bond periods: leap-frog's error only)")
 end
 
 -- Outputs.
