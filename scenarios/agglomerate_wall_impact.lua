@@ -30,9 +30,11 @@ local p = parameters {
   bond_tensile_strength = { default = 0, unit = "Pa", doc = "0: bond force = JKR pull-off of surface_energy" },
   bond_shear_strength = { default = 0, unit = "Pa", doc = "0: the tensile strength" },
   bond_radius_multiplier = { default = 1, doc = "bond radius / smaller primary radius" },
+  time_step = { default = 0, unit = "s", doc = "0: automatic; stiffer bonds may need a smaller one" },
 }
 
-local sim = simulation { dimension = p.dimension, record_contacts = true }
+local sim = simulation { dimension = p.dimension, record_contacts = true,
+                         time_step = p.time_step > 0 and p.time_step or nil }
 local out = sim:output {}
 local result = tests.run(sim, "wall", {
   file = p.file, velocity = p.velocity, surface_energy = p.surface_energy,
