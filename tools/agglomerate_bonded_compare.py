@@ -4,6 +4,7 @@
 usage: /usr/bin/python3 tools/agglomerate_bonded_compare.py
            --jkr docs/data/agglomerate_wall_2d.csv --bonded docs/data/agglomerate_bonded_wall_2d.csv
            [--jkr docs/data/agglomerate_wall_3d.csv --bonded docs/data/agglomerate_bonded_wall_3d.csv]
+           [--variant 1:LABEL:docs/data/agglomerate_bonded_strong_wall_2d.csv]
            -o docs/figures/agglomerate_bonded_wall.png
 
 Reads the summary tables of tools/agglomerate_study.py (means and standard errors over the
@@ -11,7 +12,8 @@ seeds), one column of panels per (--jkr, --bonded) pair in the order given. Dama
 over initial bonds (JKR: contacts lost; bonded: parallel bonds broken). Debris: mass in fragments
 below 2.5 % of the agglomerate's, fragments being the clusters of the initial bonds that survive
 (JKR: the surviving-bond graph, debris_ratio_bonds; bonded: the intact parallel bonds), and for
-JKR also of the contact graph (7.4, dashed).
+JKR also of the contact graph (7.4, dashed). --variant COLUMN:LABEL:CSV adds another bonded
+table to panel column COLUMN (1 = the first pair).
 """
 
 import argparse
@@ -41,6 +43,8 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--jkr", action="append", required=True, help="summary CSV of the JKR wall impacts")
     parser.add_argument("--bonded", action="append", required=True, help="summary CSV of the bonded ones")
+    parser.add_argument("--variant", action="append", default=[], metavar="COLUMN:LABEL:CSV",
+                        help="another bonded summary CSV for panel column COLUMN (repeatable)")
     parser.add_argument("--titles", help="comma-separated panel titles (default: 2D, 3D)")
     parser.add_argument("-o", "--output", required=True)
     args = parser.parse_args(argv)
@@ -48,6 +52,12 @@ def main(argv=None):
         sys.exit("give as many --bonded tables as --jkr tables")
     titles = args.titles.split(",") if args.titles else ["2D", "3D"][: len(args.jkr)]
     columns = len(args.jkr)
+    variants = []
+    for v in args.variant:
+        parts = v.split(":", 2)
+        if len(parts) != 3 or not parts[0].isdigit() or not 1 <= int(parts[0]) <= len(args.jkr):
+            sys.exit(f"--variant {v}: give COLUMN:LABEL:CSV with COLUMN in 1..{len(args.jkr)}")
+        variants.append((int(parts[0]) - 1, parts[1], read_summary(parts[2])))
     fig, axes = plt.subplots(2, columns, figsize=(4.6 * columns, 6.4), squeeze=False, sharex="col")
     for c, (jkr_path, bonded_path) in enumerate(zip(args.jkr, args.bonded)):
         jkr, bonded = read_summary(jkr_path), read_summary(bonded_path)
@@ -58,6 +68,11 @@ def main(argv=None):
         bars(bottom, jkr, "debris_ratio_bonds", "JKR, surviving bonds", "o-", "C0")
         bars(bottom, jkr, "debris_ratio", "JKR, contact graph", "o--", "C0")
         bars(bottom, bonded, "debris_ratio", "parallel bonds, intact bonds", "s-", "C3")
+        for k, (column, label, rows) in enumerate(variants):
+            if column == c:
+                n_v = int(min(r["n"] for r in rows))
+                bars(top, rows, "damage_ratio", f"{label} ({n_v} seeds)", "^-", f"C{k + 4}")
+                bars(bottom, rows, "debris_ratio", label, "^-", f"C{k + 4}")
         top.set_title(f"{titles[c] if c < len(titles) else ''} wall impact")
         top.set_ylabel("damage ratio")
         bottom.set_ylabel("debris ratio")
