@@ -145,7 +145,7 @@ end
 -- on the overlapped packing would carry, once the adhesion is off, the elastic
 -- repulsion of every JKR contact at its equilibrium overlap (Hertz at
 -- delta_0 = a_0^2 / (3 R*): 0.77 of the pull-off force) from the start; the
--- dilation (a strain of delta_0 / (2 r), 1e-4 for 5 um alumina) leaves every
+-- dilation (a strain of about delta_0 / (2 r), 2e-4 for 5 um alumina) leaves every
 -- pair force-free.
 local function dilate_apart(sim, ids, center)
   local p = {}
