@@ -25,6 +25,16 @@
 -- `steady_time` before, or at `max_duration` (the result says which); (5) writes the final fragment labels to the series
 -- /clusters (id, label, fragment mass fraction; label 1 = the largest
 -- fragment) and the numbers to /results.
+--
+-- Bonded (option `bonds`, a table of parallel-bond parameters, {} for the
+-- defaults of tests.bond_parameters): the primaries' law has no adhesion
+-- (surface_energy 0), the agglomerate is loaded without contact histories,
+-- dilated about its centre until no two primaries overlap (below) and every
+-- pair that touched is bonded (sim:bond, Potyondy and Cundall 2004), so only
+-- the bonds hold it. Damage is then the broken parallel bonds over those made
+-- and fragments are the clusters of the intact ones (both graphs of /breakage);
+-- /breakage and the results also give parallel_bonds_broken and
+-- parallel_damage_ratio.
 local granule = require "granule"
 local agglomerate = require "granule.agglomerate"
 
@@ -67,6 +77,7 @@ tests.defaults = {
   debris = 0.025,
   fines = 0.002,
   quiet = false,
+  bonds = false,                    -- false: JKR; a table: bonded (tests.bond_parameters)
 }
 
 local rules = {
@@ -83,6 +94,85 @@ local rules = {
   wall_surface_energy = { "non_negative", "J/m^2" }, strain = { "positive" }, large = { "positive" },
   debris = { "positive" }, fines = { "positive" },
 }
+
+-- The parallel bonds that stand for the JKR contacts of an agglomerate with
+-- surface energy Gamma between primaries of mean radius r (R* = r / 2, E* =
+-- E / (2 (1 - nu^2)), bond radius R_b = lambda r), for any parameter left 0:
+--   tensile_strength: the bond's tensile force pi R_b^2 sigma_c equals the JKR
+--     pull-off force 1.5 pi Gamma R* (Johnson, Kendall and Roberts 1971), so a
+--     pair parts under the same pull in both agglomerates;
+--   normal_stiffness: k_n pi R_b^2 equals the JKR contact's stiffness at its
+--     zero-load equilibrium, dF/d(delta) = 1.2 E* a_0 with
+--     a_0 = (9 pi Gamma R*^2 / (2 E*))^(1/3) (from F(a), delta(a) of JKR), so
+--     the agglomerate rings at about the same frequency;
+--   shear_stiffness: k_n 2 (1 - nu) / (2 - nu), Mindlin's ratio of the
+--     tangential to the normal stiffness of an elastic contact;
+--   shear_strength: the tensile strength (Potyondy and Cundall's usual choice);
+--   radius_multiplier lambda = 1: the cement disk spans the smaller primary (their
+--     Table 1 value).
+tests.bond_defaults = { normal_stiffness = 0, shear_stiffness = 0, tensile_strength = 0, shear_strength = 0,
+                        radius_multiplier = 1 }
+
+--- The parallel-bond parameters for primaries of mean radius `radius` with
+--- young, poisson and surface_energy; `given` overrides (0 = derived).
+function tests.bond_parameters(given, radius, young, poisson, surface_energy, context)
+  local b = agglomerate.options(given, tests.bond_defaults, context .. ": bonds")
+  agglomerate.check(b, { normal_stiffness = { "non_negative", "Pa/m" }, shear_stiffness = { "non_negative", "Pa/m" },
+    tensile_strength = { "non_negative", "Pa" }, shear_strength = { "non_negative", "Pa" },
+    radius_multiplier = { "positive" } }, context .. ": bonds")
+  local e_star = young / (2 * (1 - poisson ^ 2))
+  local r_star = radius / 2
+  local area = math.pi * (b.radius_multiplier * radius) ^ 2
+  if b.tensile_strength == 0 then
+    if surface_energy <= 0 then
+      error(context .. ": bonds.tensile_strength is needed when surface_energy is 0 (it derives from it)", 3)
+    end
+    b.tensile_strength = 1.5 * math.pi * surface_energy * r_star / area
+  end
+  if b.normal_stiffness == 0 then
+    local a0 = (9 * math.pi * surface_energy * r_star ^ 2 / (2 * e_star)) ^ (1 / 3)
+    if a0 <= 0 then error(context .. ": bonds.normal_stiffness is needed when surface_energy is 0", 3) end
+    b.normal_stiffness = 1.2 * e_star * a0 / area
+  end
+  if b.shear_stiffness == 0 then b.shear_stiffness = b.normal_stiffness * 2 * (1 - poisson) / (2 - poisson) end
+  if b.shear_strength == 0 then b.shear_strength = b.tensile_strength end
+  return b
+end
+
+-- Moves the particles `ids` away from their centre of mass by one factor, the
+-- smallest that leaves no two of them overlapping, and returns the pairs that
+-- overlapped and the largest gap between two of them afterwards. Bonds made
+-- on the overlapped packing would carry, once the adhesion is off, the elastic
+-- repulsion of every JKR contact at its equilibrium overlap (Hertz at
+-- delta_0 = a_0^2 / (3 R*): 0.77 of the pull-off force) from the start; the
+-- dilation (a strain of about delta_0 / (2 r), 2e-4 for 5 um alumina) leaves every
+-- pair force-free.
+local function dilate_apart(sim, ids, center)
+  local p = {}
+  for k, id in ipairs(ids) do p[k] = sim:particle(id) end
+  local d = #p[1].position
+  local pairs_touching, factor = {}, 1
+  for a = 1, #p do
+    for b = a + 1, #p do
+      local s = 0
+      for k = 1, d do s = s + (p[a].position[k] - p[b].position[k]) ^ 2 end
+      local distance, contact = math.sqrt(s), p[a].radius + p[b].radius
+      if distance < contact then
+        pairs_touching[#pairs_touching + 1] = { a, b, distance, contact }
+        factor = math.max(factor, contact / distance)
+      end
+    end
+  end
+  factor = factor * (1 + 1e-9)
+  for k, id in ipairs(ids) do
+    local x = {}
+    for j = 1, d do x[j] = center[j] + factor * (p[k].position[j] - center[j]) end
+    sim:set_position(id, x)
+  end
+  local widest = 0
+  for _, t in ipairs(pairs_touching) do widest = math.max(widest, factor * t[3] - t[4]) end
+  return #pairs_touching, widest, factor
+end
 
 tests.kinds = { host = "normal impact with a host particle (7.5)", wall = "normal impact on a wall (7.6)",
                 compression = "diametrical compression (7.7)" }
@@ -128,6 +218,10 @@ function tests.run(sim, kind, given)
     error(context .. ": 'settle' must be \"auto\", \"always\" or \"never\", got " .. tostring(o.settle), 2)
   end
   if #sim:particles() > 0 then error(context .. ": the simulation must hold no particles yet", 2) end
+  if o.bonds ~= false and type(o.bonds) ~= "table" then
+    error(context .. ": 'bonds' must be false or a table of parallel-bond parameters, got " .. tostring(o.bonds), 2)
+  end
+  local bonded = type(o.bonds) == "table"
   local d = sim:dimension()
   local clock = os.clock()
   local up = function(s) return agglomerate.axis_vector(d, 2, s) end
@@ -136,13 +230,30 @@ function tests.run(sim, kind, given)
   -- damping where the file has none.
   sim:material { name = o.material, density = o.density, young = o.young, poisson = o.poisson }
   sim:contact { o.material, o.material, model = "thornton_jkr", friction = o.friction,
-                surface_energy = o.surface_energy }
-  local ids, restored = sim:load_particles { file = o.file, snapshot = o.snapshot }
+                surface_energy = bonded and 0 or o.surface_energy }
+  -- Bonded, the JKR histories are not wanted (the law has no adhesion and the
+  -- dilation below parts every contact); otherwise used where the file has them.
+  local load = { file = o.file, snapshot = o.snapshot }
+  if bonded then load.histories = false end
+  local ids, restored = sim:load_particles(load)
   local mass = agglomerate.total_mass(sim, ids)
+  local bond = nil
+  if bonded then
+    local radius = 0
+    for _, id in ipairs(ids) do radius = radius + sim:particle(id).radius / #ids end
+    bond = tests.bond_parameters(o.bonds, radius, o.young, o.poisson, o.surface_energy, context)
+    local touching, widest, factor = dilate_apart(sim, ids, agglomerate.geometry(sim, ids).center)
+    bond.pairs_touching, bond.dilation = touching, factor - 1
+    bond.made = sim:bond { materials = { o.material }, gap = widest + 1e-9 * radius,
+                           radius_multiplier = bond.radius_multiplier, normal_stiffness = bond.normal_stiffness,
+                           shear_stiffness = bond.shear_stiffness, tensile_strength = bond.tensile_strength,
+                           shear_strength = bond.shear_strength }
+  end
   sim:run { steps = 1 }
   local bonds_loaded = #sim:bonds { material = o.material }
   local settle = { duration = 0, ended_by = "criterion" }
-  if o.settle == "always" or (o.settle == "auto" and restored == 0) then
+  -- Bonded, the dilated packing is force-free: nothing to settle.
+  if not bonded and (o.settle == "always" or (o.settle == "auto" and restored == 0)) then
     local damping = agglomerate.start_damping(sim, o.material, o.settle_damping_rate, o.damping_every)
     settle = agglomerate.run_stage(sim, "settle after loading", o.settle_max_duration, o.sample_every,
       agglomerate.at_rest(mass, o.settle_rest_speed, o.settle_steady_time), o.quiet)
@@ -224,12 +335,21 @@ function tests.run(sim, kind, given)
     if target.host then e = e - particle_kinetic_energy(s:particle(target.host)) end
     return e
   end
-  sim:series("breakage", tests.series_columns)
+  local columns = {}
+  for k, c in ipairs(tests.series_columns) do columns[k] = c end
+  if bonded then
+    columns[#columns + 1] = "parallel_bonds_broken"
+    columns[#columns + 1] = "parallel_damage_ratio"
+  end
+  sim:series("breakage", columns)
   local history = {}
   local function measure(s, graph, labels)
-    return s:breakage { initial_bonds = initial_bonds, material = o.material, initial_mass = mass, graph = graph,
+    if bonded then graph = "parallel_bonds" end
+    local b = s:breakage { initial_bonds = initial_bonds, material = o.material, initial_mass = mass, graph = graph,
                         labels = labels, large = classes.large, debris = classes.debris, fines = classes.fines,
                         initial_count = #ids }
+    if bonded then b.damage_ratio, b.broken_bonds = b.parallel_damage_ratio, b.parallel_bonds_broken end
+    return b
   end
   -- The speed at which agglomerate and target close (> 0) or part (< 0) along
   -- y: from the momentum of the agglomerate's centre of mass (the total less
@@ -247,11 +367,16 @@ function tests.run(sim, kind, given)
     local b, kept = measure(s, "contacts"), measure(s, "surviving_bonds")
     local row = { time = s:time() - t0, broken = b.broken_bonds, kinetic_energy = agglomerate_kinetic_energy(s) }
     history[#history + 1] = row
-    s:append("breakage", { row.time, b.damage_ratio, b.debris_ratio, b.fines_ratio, b.largest_fraction, b.fragments,
+    local values = { row.time, b.damage_ratio, b.debris_ratio, b.fines_ratio, b.largest_fraction, b.fragments,
                            b.large, b.medium, b.small, b.broken_bonds, kept.debris_ratio, kept.largest_fraction,
                            kept.fragments, row.kinetic_energy, target.force(s), contact.now and 1 or 0,
                            wall_travel(s), b.debris_ratio_by_size, b.singles_ratio, b.bonded_debris_ratio,
-                           kept.debris_ratio_by_size, kept.bonded_debris_ratio, approach_speed(s) })
+                           kept.debris_ratio_by_size, kept.bonded_debris_ratio, approach_speed(s) }
+    if bonded then
+      values[#values + 1] = b.parallel_bonds_broken
+      values[#values + 1] = b.parallel_damage_ratio
+    end
+    s:append("breakage", values)
   end
   sample(sim)
   local sampler = sim:every { steps = o.sample_every, name = "breakage sample", sample }
@@ -316,8 +441,18 @@ function tests.run(sim, kind, given)
     last_contact = contact.last and contact.last - t0 or -1, contact_episodes = contact.episodes,
     peak_force = contact.peak_force, strained_at = strained_at and strained_at - t0 or -1,
     test_duration = sim:time() - t0, steps = r.steps, ended_by_criterion = r.stopped and 1 or 0,
-    cpu_time = os.clock() - clock,
+    cpu_time = os.clock() - clock, bonded = bonded and 1 or 0,
   }
+  if bonded then
+    result.initial_bonds = b.parallel_bonds
+    result.parallel_bonds = b.parallel_bonds
+    result.parallel_bonds_broken = b.parallel_bonds_broken
+    result.parallel_damage_ratio = b.parallel_damage_ratio
+    result.pairs_touching, result.dilation = bond.pairs_touching, bond.dilation
+    result.bond_normal_stiffness, result.bond_shear_stiffness = bond.normal_stiffness, bond.shear_stiffness
+    result.bond_tensile_strength, result.bond_shear_strength = bond.tensile_strength, bond.shear_strength
+    result.bond_radius_multiplier = bond.radius_multiplier
+  end
   -- Where the walls are at the end (the output's /walls header is written before
   -- the test adds them), for the pictures.
   if kind ~= "host" then result.wall_bottom_y = sim:wall("bottom").point[2] end
@@ -332,7 +467,7 @@ end
 --- One line "key=value ..." of a test result, for logs, tests and studies.
 function tests.summary_line(result)
   return granule.summary_line(result, { "kind", "dimension", "velocity", "surface_energy", "primaries",
-    "initial_bonds", "damage_ratio", "debris_ratio", "largest_fraction", "fragments", "large", "medium", "small",
+    "bonded", "initial_bonds", "damage_ratio", "debris_ratio", "largest_fraction", "fragments", "large", "medium", "small",
     "fines", "debris_ratio_bonds", "largest_fraction_bonds", "impact_duration", "contact_episodes", "peak_force",
     "test_duration", "ended_by", "cpu_time" })
 end

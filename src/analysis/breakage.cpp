@@ -8,6 +8,7 @@
 #include <numeric>
 #include <stdexcept>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace granule::analysis {
 
@@ -183,6 +184,27 @@ BreakageSummary summarize_breakage(const std::vector<Bond>& initial_bonds,
   s.debris_ratio = s.debris_mass / initial_mass;
   s.fines_ratio = fines_mass / initial_mass;
   s.largest_fraction = fragments.count() ? fragments.mass[0] / initial_mass : 0.0;
+  return s;
+}
+
+ParallelBondState parallel_bond_state(const std::vector<std::int64_t>& ids,
+                                      const std::vector<ParallelBondRecord>& records) {
+  const std::unordered_set<std::int64_t> listed(ids.begin(), ids.end());
+  ParallelBondState s;
+  std::vector<Bond> intact;
+  for (const ParallelBondRecord& r : records) {
+    if (r.a < 0 || r.b < 0 || r.a == r.b)
+      throw std::invalid_argument(
+          fmt::format("parallel bond ({}, {}): ids must be >= 0 and differ", r.a, r.b));
+    if (!listed.count(r.a) || !listed.count(r.b)) continue;
+    ++s.made;
+    if (r.broken)
+      ++s.broken;
+    else
+      intact.push_back({r.a, r.b});
+  }
+  s.damage_ratio = s.made > 0 ? static_cast<double>(s.broken) / s.made : 0.0;
+  s.intact = normalized_bonds(std::move(intact));
   return s;
 }
 

@@ -105,4 +105,27 @@ BreakageSummary summarize_breakage(const std::vector<Bond>& initial_bonds,
                                    double initial_mass, const FragmentClasses& classes = {},
                                    std::int64_t initial_count = 0);
 
+// Parallel bonds (contact/parallel_bond.hpp) as the breakage analysis counts
+// them: a bonded agglomerate's damage is the share of its parallel bonds that
+// have broken (Potyondy and Cundall 2004, 2.2: a broken bond never heals), and
+// its fragments are the clusters of the intact ones. Plain records, as
+// SimulationBase::bond_records() gives them, so that this file needs no engine.
+struct ParallelBondRecord {
+  std::int64_t a = -1, b = -1;
+  bool broken = false;
+};
+
+struct ParallelBondState {
+  std::int64_t made = 0;     // parallel bonds between two of the particles analysed
+  std::int64_t broken = 0;   // ... of them broken
+  double damage_ratio = 0;   // broken / made (0 without bonds)
+  std::vector<Bond> intact;  // the intact ones, normalised: the fragments' graph
+};
+
+// The records between two of `ids` (a bond to a particle not listed, a host or
+// another agglomerate, is left out). Throws std::invalid_argument for a record
+// naming a particle bonded to itself or a negative id.
+ParallelBondState parallel_bond_state(const std::vector<std::int64_t>& ids,
+                                      const std::vector<ParallelBondRecord>& records);
+
 }  // namespace granule::analysis

@@ -338,18 +338,38 @@ int breakage(lua_State* L, SimulationBase& sim) {
   const std::string graph = t.string("graph", "contacts");
   const double initial_count = t.number("initial_count", static_cast<double>(ids.size()));
   t.finish();
-  if (graph != "contacts" && graph != "surviving_bonds")
+  if (graph != "contacts" && graph != "surviving_bonds" && graph != "parallel_bonds")
     throw InputError(fmt::format(
-        "breakage: 'graph' must be \"contacts\" (fragments = clusters of the contact graph, 7.4) "
-        "or \"surviving_bonds\" (of the initial bonds still in contact), got \"{}\"",
+        "breakage: 'graph' must be \"contacts\" (fragments = clusters of the contact graph, 7.4), "
+        "\"surviving_bonds\" (of the initial bonds still in contact) or \"parallel_bonds\" (of "
+        "the intact parallel bonds, sim:bond), got \"{}\"",
         graph));
   if (!(initial_mass > 0))
     throw InputError(
         fmt::format("breakage: 'initial_mass' must be > 0 [kg] (got {}; no particles selected?)",
                     initial_mass));
   const std::vector<Bond> now = current_bonds(sim, ids);
+  // The parallel bonds are read here, in C++, not through a Lua list: a scene
+  // samples the breakage every few hundred steps, and the records of a few
+  // thousand bonds would otherwise cross into Lua and back at each sample.
+  std::vector<analysis::ParallelBondRecord> records;
+  for (const SimulationBase::BondRecord& r : sim.bond_records())
+    records.push_back({r.id_a, r.id_b, r.broken});
+  analysis::ParallelBondState parallel;
+  try {
+    parallel = analysis::parallel_bond_state(ids, records);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(e.what());
+  }
+  if (graph == "parallel_bonds" && parallel.made == 0)
+    throw InputError(
+        "breakage: graph = \"parallel_bonds\" but the particles selected have no parallel bonds "
+        "(make them with sim:bond)");
   const analysis::Fragments f = analysis::find_fragments(
-      ids, masses, graph == "contacts" ? now : analysis::surviving_bonds(initial, now));
+      ids, masses,
+      graph == "contacts"         ? now
+      : graph == "parallel_bonds" ? parallel.intact
+                                  : analysis::surviving_bonds(initial, now));
   analysis::BreakageSummary s;
   try {
     s = analysis::summarize_breakage(initial, now, f, initial_mass, classes,
@@ -381,6 +401,11 @@ int breakage(lua_State* L, SimulationBase& sim) {
   set_number(L, "debris_ratio_by_size", s.debris_ratio_by_size);
   set_number(L, "singles_ratio", s.singles_ratio);
   set_number(L, "bonded_debris_ratio", s.bonded_debris_ratio);
+  if (!records.empty()) {
+    set_integer(L, "parallel_bonds", parallel.made);
+    set_integer(L, "parallel_bonds_broken", parallel.broken);
+    set_number(L, "parallel_damage_ratio", parallel.damage_ratio);
+  }
   if (labels) {
     push_labels(L, f);
     lua_setfield(L, -2, "labels");

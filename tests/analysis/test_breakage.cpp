@@ -6,6 +6,7 @@
 #include <map>
 #include <random>
 #include <set>
+#include <stdexcept>
 #include <vector>
 
 #include "analysis/breakage.hpp"
@@ -234,4 +235,28 @@ TEST_CASE("bad input is refused with a message naming it", "[breakage]") {
   FragmentClasses bad;
   bad.fines = 0.05;  // above debris
   CHECK_THROWS_WITH(summarize_breakage({}, {}, f, 1, bad), Catch::Contains("fines <= debris"));
+}
+
+TEST_CASE("parallel bonds: damage is broken over made, fragments the intact bonds' clusters",
+          "[breakage][bond]") {
+  // A chain 1-2-3-4 and a pair 5-6, all bonded; 2-3 and 5-6 broken; a bond to
+  // particle 9 (not analysed, a host) is left out.
+  const std::vector<std::int64_t> ids = {1, 2, 3, 4, 5, 6};
+  const std::vector<ParallelBondRecord> records = {
+      {2, 1, false}, {2, 3, true}, {4, 3, false}, {5, 6, true}, {6, 9, false}};
+  const ParallelBondState s = parallel_bond_state(ids, records);
+  CHECK(s.made == 4);
+  CHECK(s.broken == 2);
+  CHECK(s.damage_ratio == 0.5);
+  REQUIRE(s.intact.size() == 2);
+  CHECK(s.intact[0] == Bond{1, 2});
+  CHECK(s.intact[1] == Bond{3, 4});
+  const Fragments f = find_fragments(ids, std::vector<double>(6, 1.0), s.intact);
+  CHECK(f.count() == 4);  // {1,2}, {3,4}, {5}, {6}
+  CHECK(f.label[0] == f.label[1]);
+  CHECK(f.label[2] == f.label[3]);
+  CHECK(f.label[0] != f.label[2]);
+  CHECK(f.label[4] != f.label[5]);
+  CHECK(parallel_bond_state(ids, {}).damage_ratio == 0);
+  CHECK_THROWS_AS(parallel_bond_state(ids, {{3, 3, false}}), std::invalid_argument);
 }

@@ -84,6 +84,8 @@ refused("holds a 2D snapshot, this scene is 3D", function()
   s3:load_particles { file = "agglomerate_api_check.h5" }
 end)
 refused("'graph' must be", function() sim:breakage { initial_bonds = bonds, graph = "bonds" } end)
+refused("have no parallel bonds", function() sim:breakage { initial_bonds = bonds, graph = "parallel_bonds" } end)
+assert(sim:breakage { initial_bonds = bonds }.parallel_damage_ratio == nil, "parallel bond counts without parallel bonds")
 refused("'initial_bonds' is required", function() sim:breakage {} end)
 refused("must be a pair", function() sim:breakage { initial_bonds = { { 1 } } } end)
 refused("bonded to itself", function() sim:breakage { initial_bonds = { { 2, 2 } } } end)
