@@ -285,7 +285,7 @@ cases.rolling = {
   },
 }
 
-local ROLL_R, ROLL_RHO, ROLL_K, ROLL_V0, ROLL_MU_R, G = 1e-3, 2500, 1e3, 0.1, 0.1, 9.81
+local ROLL_R, ROLL_RHO, ROLL_K, ROLL_V0, ROLL_MU_R, ROLL_ETA, G = 1e-3, 2500, 1e3, 0.1, 0.1, 0.3, 9.81
 
 local function roll_to_rest(setting, rolling_model)
   local d = setting.dimension
@@ -296,7 +296,7 @@ local function roll_to_rest(setting, rolling_model)
   for _, other in ipairs { "ball", "floor" } do
     sim:contact { "ball", other, model = "linear", k_normal = k, restitution = 0.5, friction = 0.9,
                   rolling_friction = ROLL_MU_R, rolling_model = rolling_model,
-                  rolling_damping = rolling_model == "epsd" and 0.3 or nil }
+                  rolling_damping = rolling_model == "epsd" and ROLL_ETA or nil }
   end
   local function v(x, y) if d == 3 then return { x, y, 0 } end return { x, y } end
   sim:wall_plane { name = "floor", point = v(0, 0), normal = v(0, 1), material = "floor" }
@@ -311,7 +311,7 @@ local function roll_to_rest(setting, rolling_model)
   -- speed is no measure: the contact's springs rock the sphere about its resting point.
   local closed = 0.7 * ROLL_V0 ^ 2 / (ROLL_MU_R * G)
   local rocking = ROLL_MU_R * math.sqrt(2.25 * k / (1.4 * m))
-  sim:run { duration = 1.4 * 2 * closed / ROLL_V0 + 10 / (0.3 * rocking) }
+  sim:run { duration = 1.4 * 2 * closed / ROLL_V0 + 10 / (ROLL_ETA * rocking) }
   local rest = sim:particle(id)
   assert(math.abs(rest.velocity[1]) < 1e-3 * ROLL_V0, string.format(
     "rolling (%s, %s): still moving at %.3g m/s after %.3g s", rolling_model, setting.steps_per_contact,
@@ -321,7 +321,7 @@ local function roll_to_rest(setting, rolling_model)
     local cap = ROLL_MU_R * ROLL_R * m * G
     local k_r = 2.25 * k * (ROLL_MU_R * ROLL_R) ^ 2
     local i_r = 1.4 * m * ROLL_R ^ 2
-    local dw = 2 * 0.3 * cap / math.sqrt(i_r * k_r)
+    local dw = 2 * ROLL_ETA * cap / math.sqrt(i_r * k_r)
     closed = 0.7 * (ROLL_V0 - ROLL_R * dw) ^ 2 / (ROLL_MU_R * G)
   end
   return x, math.abs(x / closed - 1), sim:step_count()

@@ -346,11 +346,7 @@ std::string H5Output::write_snapshot(const SnapshotView& v) {
     }
     if (v.with_contacts) {
       const std::string c = g + "/contacts";
-      Handle lcpl = m.link_create_plist(c);
-      Handle group(
-          m.check(H5Gcreate2(m.file.get(), c.c_str(), lcpl.get(), H5P_DEFAULT, H5P_DEFAULT),
-                  "create", c),
-          H5Gclose);
+      Handle group = m.group(c);
       const hsize_t k = v.contacts;
       const hid_t h = group.get();
       m.dataset(h, "i", c + "/i", H5T_STD_I64LE, H5T_NATIVE_INT64, {k}, v.contact_i);
@@ -367,11 +363,7 @@ std::string H5Output::write_snapshot(const SnapshotView& v) {
     }
     if (v.bond_a) {
       const std::string b = g + "/bonds";
-      Handle lcpl = m.link_create_plist(b);
-      Handle group(
-          m.check(H5Gcreate2(m.file.get(), b.c_str(), lcpl.get(), H5P_DEFAULT, H5P_DEFAULT),
-                  "create", b),
-          H5Gclose);
+      Handle group = m.group(b);
       const hsize_t k = v.bonds;
       const hid_t h = group.get();
       m.dataset(h, "a", b + "/a", H5T_STD_I64LE, H5T_NATIVE_INT64, {k}, v.bond_a);

@@ -9,8 +9,8 @@
 -- margin); and a lone sphere under the constant torque never spins backwards
 -- once it rolls (the torque opposes the rolling, and is capped so that it
 -- cannot reverse it within a step). At the stop the tangential spring, loaded
--- by the deceleration, unloads and rocks the sphere back by about 1e-5 of the
--- start's spin (a spring contact's own vibration, in any code with one); a
+-- by the deceleration, unloads and rocks the sphere back by a small fraction of
+-- the start's spin (a spring contact's own vibration, in any code with one); a
 -- rolling torque that reversed the spin would drive it on, past the tolerance
 -- of 1e-4 of the start's spin. tests/contact/test_rolling.cpp checks the torque
 -- itself step by step. The run must end at rest.

@@ -4,8 +4,8 @@
 -- which must be refused naming the stiffness and the limit; then 0.99 of the
 -- limit it named. The bond's limit bounds the fastest mode of the whole
 -- cluster (Gershgorin: each particle's bonds summed, src/engine/simulation_bonds.cpp),
--- so a dense cluster needs softer bonds than a pair; a limit from one bond alone
--- accepted bonds that then blew this cluster apart in 5e4 steps. The cluster is
+-- so a dense cluster needs softer bonds than a pair (its collective mode is up to
+-- sqrt(bonds a particle) times faster than one bond's). The cluster is
 -- kicked and run 2e4 steps: every state finite, no bond broken (the strengths are
 -- far above any load), and the kinetic energy never above its start (the bonds'
 -- springs store what they take, the contacts only dissipate).
