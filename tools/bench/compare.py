@@ -124,6 +124,15 @@ def peers_available(threads):
     return have
 
 
+def lammps_builds(args):
+    """The LAMMPS binaries to time, each with the label suffix its rows get: Debian's `lmp`
+    and, with --lammps-native, a build of the same source for this CPU."""
+    builds = [("lmp", "")]
+    if args.lammps_native:
+        builds.append((args.lammps_native, " (native build)"))
+    return builds
+
+
 def peer_procs(args):
     """The rank counts the peers can run with (more than one needs mpirun)."""
     return [p for p in args.threads if p == 1 or args.peers["mpirun"]]
@@ -170,12 +179,13 @@ def mechanofusion2d(args, work):
         # as a zcylinder wall with a moving surface, LAMMPS's cheaper idiom, which
         # this LAMMPS computes wrongly (mechanofusion_2d_shear.lmp says how): run to
         # show it (its kinetic energy), left out of the ratios.
-        for deck, label in (("mechanofusion_2d.lmp", "lammps gran/hooke/history"),
-                            ("mechanofusion_2d_shear.lmp", UNFAITHFUL + " zcylinder shear")):
-            for procs in peer_procs(args):
-                out, _ = run(mpi_prefix(procs) + ["lmp", "-in", os.path.join(BENCH, deck), "-log", "none"]
-                             + lmp_vars, work)
-                rows.append(peer_row(label, procs, out))
+        for binary, build in lammps_builds(args):
+            for deck, label in (("mechanofusion_2d.lmp", "lammps gran/hooke/history"),
+                                ("mechanofusion_2d_shear.lmp", UNFAITHFUL + " zcylinder shear")):
+                for procs in peer_procs(args):
+                    out, _ = run(mpi_prefix(procs) + [binary, "-in", os.path.join(BENCH, deck), "-log", "none"]
+                                 + lmp_vars, work)
+                    rows.append(peer_row(label + build, procs, out))
     return f"2D Mechanofusion base case, {n} particles, dt = {dt:g} s, {steps} steps", os.path.basename(state), rows
 
 
@@ -240,13 +250,12 @@ def box3d(args, work):
         deck, label = "box_3d.lmp", "lammps gran/hooke/history"
     lmp_vars = sum((["-var", k, str(v)] for k, v in variables.items()), [])
     if args.peers["lmp"]:
-        for procs in peer_procs(args):
-            out, _ = run(mpi_prefix(procs) + ["lmp", "-in", os.path.join(BENCH, deck), "-log", "none"]
-                         + lmp_vars, work)
-            rows.append(peer_row(label, procs, out))
-    if args.peers["liggghts"] and hertz:
-        print("note: no LIGGGHTS deck for the Hertz box yet; LIGGGHTS left out", file=sys.stderr)
-    elif args.peers["liggghts"]:
+        for binary, build in lammps_builds(args):
+            for procs in peer_procs(args):
+                out, _ = run(mpi_prefix(procs) + [binary, "-in", os.path.join(BENCH, deck), "-log", "none"]
+                             + lmp_vars, work)
+                rows.append(peer_row(label + build, procs, out))
+    if args.peers["liggghts"]:
         ldata = os.path.join(work, f"box_state_liggghts{tag}.data")
         write_lammps_data(s, ldata, [(-r, side + r), (-r, side + r), (-r, top)], 3, density=rho, types=2)
         mesh = os.path.join(work, "floor.stl")
@@ -259,15 +268,20 @@ def box3d(args, work):
                     f.write(f"   vertex {x:.17g} {y:.17g} 0\n")
                 f.write("  endloop\n endfacet\n")
             f.write("endsolid floor\n")
-        gpp, gpw = gn, 2 * zeta * math.sqrt(kn / mass)  # per unit effective mass (m/2, m)
-        lvars = dict(data=ldata, mesh=mesh, steps=steps, dt=dt, kn=kn, kt=kn * 2 / 7, gpp=gpp, gpw=gpw,
-                     gtpp=gpp / 2, gtpw=gpw / 2, mu=mu, side=side, amplitude=amplitude, phase=math.pi,
-                     period=1 / frequency, skin=0.5 * r)
+        common = dict(data=ldata, mesh=mesh, steps=steps, dt=dt, mu=mu, side=side, amplitude=amplitude,
+                      phase=math.pi, period=1 / frequency, skin=0.5 * r)
+        if hertz:
+            lvars = dict(common, young=young, poisson=poisson, restitution=e)
+            ldeck, llabel = "box_3d_hertz.liggghts", "liggghts hertz"
+        else:
+            gpp, gpw = gn, 2 * zeta * math.sqrt(kn / mass)  # per unit effective mass (m/2, m)
+            lvars = dict(common, kn=kn, kt=kn * 2 / 7, gpp=gpp, gpw=gpw, gtpp=gpp / 2, gtpw=gpw / 2)
+            ldeck, llabel = "box_3d.liggghts", "liggghts hooke/stiffness"
         largs = sum((["-var", k, str(v)] for k, v in lvars.items()), [])
         for procs in peer_procs(args):
-            out, _ = run(mpi_prefix(procs) + ["liggghts", "-in", os.path.join(BENCH, "box_3d.liggghts"),
+            out, _ = run(mpi_prefix(procs) + ["liggghts", "-in", os.path.join(BENCH, ldeck),
                                               "-log", "none"] + largs, work)
-            rows.append(peer_row("liggghts hooke/stiffness", procs, out))
+            rows.append(peer_row(llabel, procs, out))
     kind = "disordered packing" if packed else "touching lattice"
     return (f"3D dense shaken box ({kind}, {args.box_model}, floor {amplitude * 1e3:g} mm at {frequency:g} Hz), {n} spheres, "
             f"dt = {dt:g} s, {steps} steps"), os.path.basename(state), rows
@@ -367,6 +381,9 @@ def main():
     ap.add_argument("--box-amplitude", type=float, default=0.1e-3, help="3D box: floor amplitude, m")
     ap.add_argument("--box-model", default="linear", choices=["linear", "hertz_mindlin"],
                     help="3D box: the contact law (hertz_mindlin: against LAMMPS's granular hertz/material)")
+    ap.add_argument("--lammps-native", default=None,
+                    help="also time this LAMMPS binary (Debian's LAMMPS source built for this CPU: "
+                         "docs/performance.md says how); the ratios are to the fastest LAMMPS row")
     ap.add_argument("--repeat", type=int, default=1,
                     help="run every program this many times, alternating, and keep each one's best "
                          "(the machine is shared: the best run is the least disturbed)")
@@ -386,6 +403,10 @@ def main():
     if not (os.path.isfile(args.granule) and os.access(args.granule, os.X_OK)):
         sys.exit(f"{args.granule}: no Granule binary there (build it: cmake --build build), or give --granule")
     args.granule = os.path.abspath(args.granule)
+    if args.lammps_native:
+        if not (os.path.isfile(args.lammps_native) and os.access(args.lammps_native, os.X_OK)):
+            sys.exit(f"--lammps-native: no executable at {args.lammps_native}")
+        args.lammps_native = os.path.abspath(args.lammps_native)
     args.peers = peers_available(args.threads)
     missing = []
     if not args.peers["lmp"]:
