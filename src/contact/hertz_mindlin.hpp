@@ -20,6 +20,7 @@
 #include <cmath>
 #include <vector>
 
+#include "contact/contact_batch.hpp"
 #include "contact/contact_state.hpp"
 #include "contact/parameters.hpp"
 #include "core/errors.hpp"
@@ -153,6 +154,30 @@ struct HertzMindlin {
     out.tangential = t;
     return out;
   }
+
+  // force() for batches of contacts (contact_batch.hpp; hertz_mindlin_batch.hpp).
+  struct BatchHistory3 {
+    static constexpr int lanes = batch_lanes;
+    alignas(64) double sx[lanes], sy[lanes], sz[lanes];  // slip, m
+    void load(int l, const History<3>& h) {
+      sx[l] = h.slip.x(), sy[l] = h.slip.y(), sz[l] = h.slip.z();
+    }
+    void store(int l, History<3>& h) const { h.slip = Vec<3>(sx[l], sy[l], sz[l]); }
+    void pad(int l) { sx[l] = sy[l] = sz[l] = 0; }
+  };
+  struct BatchHistory2 {
+    static constexpr int lanes = batch_lanes;
+    alignas(64) double sx[lanes], sy[lanes];  // slip, m (a vector, as History<2> keeps it)
+    void load(int l, const History<2>& h) { sx[l] = h.slip.x(), sy[l] = h.slip.y(); }
+    void store(int l, History<2>& h) const { h.slip = Vec<2>(sx[l], sy[l]); }
+    void pad(int l) { sx[l] = sy[l] = 0; }
+  };
+  template <bool Uniform>
+  struct LaneParams;
+  static void force_batch(const Params* const lane[], BatchHistory3& h, ContactBatch<3>& c);
+  static void force_batch(const Params* const lane[], BatchHistory2& h, ContactBatch<2>& c);
 };
 
 }  // namespace granule
+
+#include "contact/hertz_mindlin_batch.hpp"

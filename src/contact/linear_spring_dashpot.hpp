@@ -146,10 +146,9 @@ struct LinearSpringDashpot {
 
   // force() for a batch of 3D contacts (contact_batch.hpp), the same formulas
   // lane by lane, written without branches: the sliding cap and the tension
-  // clamp as selects. Turning the spring onto the new tangent plane takes the
-  // series of rotate_onto_plane() in every lane; a lane that turned further
-  // (x >= 1e-4, rare) is redone with the exact rescale afterwards.
-  struct BatchHistory {
+  // clamp as selects, the spring turned onto the new tangent plane by
+  // rotate_lanes_onto_plane().
+  struct BatchHistory3 {
     static constexpr int lanes = batch_lanes;
     alignas(64) double sx[lanes], sy[lanes], sz[lanes];  // slip, m
     alignas(64) double sqrt_mass[lanes];
@@ -174,16 +173,54 @@ struct LinearSpringDashpot {
   template <bool Uniform>
   struct LaneParams;
 
-  static void force_batch(const Params* const lane[], BatchHistory& h, ContactBatch<3>& c);
+  static void force_batch(const Params* const lane[], BatchHistory3& h, ContactBatch<3>& c);
   // sqrt(m*) is taken once per contact, on its first step (contact_batch.hpp).
-  static bool batch_needs_mass(const History3& h) { return h.sqrt_mass < 0; }
+  template <typename H>
+  static bool batch_needs_mass(const H& h) {
+    return h.sqrt_mass < 0;
+  }
+
+  // 2D: force() along t lane by lane, the same formulas in the same order.
+  struct BatchHistory2 {
+    static constexpr int lanes = batch_lanes;
+    alignas(64) double slip[lanes];  // m, along t
+    alignas(64) double sqrt_mass[lanes];
+    void load(int l, const History2& h) { slip[l] = h.slip, sqrt_mass[l] = h.sqrt_mass; }
+    void store(int l, History2& h) const { h.slip = slip[l], h.sqrt_mass = sqrt_mass[l]; }
+    void pad(int l) { slip[l] = 0, sqrt_mass[l] = 1; }
+  };
+  static void force_batch(const Params* const lane[], BatchHistory2& h, ContactBatch<2>& c);
+  template <typename P>
+  static void force_lanes(P q, BatchHistory2& h, ContactBatch<2>& c) {
+    const double dt = c.dt;
+    for (int l = 0; l < batch_lanes; ++l) {
+      const double first_sm = 1.0 / std::sqrt(c.inv_mass_sum[l]);
+      const double sm = h.sqrt_mass[l] < 0 ? first_sm : h.sqrt_mass[l];
+      h.sqrt_mass[l] = sm;
+      const double c_n = q.damping(l) * sm;
+      const double raw = q.kn(l) * c.overlap[l] + c_n * c.normal_velocity[l];
+      const double normal = q.clamp(l) != 0 && raw < 0 ? 0.0 : raw;
+      c.normal_force[l] = normal;
+      const double c_t = q.ratio_t(l) * c_n;
+      const double v_t = c.tangential_velocity[l];
+      const double slip = h.slip[l] + v_t * dt;
+      const double kt = q.kt(l);
+      const double t = kt * slip + c_t * v_t;
+      const double limit = q.mu(l) * std::abs(normal);
+      const bool sliding = std::abs(t) > limit;
+      const double capped = t > 0 ? limit : -limit;
+      const double capped_slip = kt > 0 ? (capped - c_t * v_t) / kt : 0.0;
+      const bool on = q.tangential(l) != 0;
+      h.slip[l] = !on ? h.slip[l] : sliding ? capped_slip : slip;
+      c.tangential_force[l] = !on ? 0.0 : sliding ? capped : t;
+    }
+  }
 
   template <typename P>
-  static void force_lanes(P q, BatchHistory& h, ContactBatch<3>& c) {  // q by value: no alias
+  static void force_lanes(P q, BatchHistory3& h, ContactBatch<3>& c) {  // q by value: no alias
     constexpr int L = batch_lanes;
     const double dt = c.dt;
-    alignas(64) double c_n[L], rx[L], ry[L], rz[L];  // rz...: the spring on the new plane
-    alignas(64) double turn[L];  // x of rotate_onto_plane: the series holds below 1e-4
+    alignas(64) double c_n[L], rx[L], ry[L], rz[L];  // rx...: the spring on the new plane
     // Every value computed in every lane and then chosen: a division or root
     // under a condition would keep the loop from vectorising.
     for (int l = 0; l < L; ++l) {
@@ -196,25 +233,7 @@ struct LinearSpringDashpot {
       c.normal_force[l] = q.clamp(l) != 0 ? clamped : normal;
     }
     // Two loops: in one, GCC 12 does not vectorise them.
-    for (int l = 0; l < L; ++l) {
-      // rotate_onto_plane's series (contact_state.hpp), Eqs. 3.7-3.8.
-      const double ox = h.sx[l], oy = h.sy[l], oz = h.sz[l];
-      const double old_sq = ox * ox + oy * oy + oz * oz;
-      const double along = c.nx[l] * ox + c.ny[l] * oy + c.nz[l] * oz;
-      const double turned_sq = along * along / old_sq;
-      const double x = old_sq > 0 ? turned_sq : 0.0;
-      turn[l] = x;
-      const double grow = 1.0 + x * (0.5 + x * (0.375 + x * 0.3125));
-      rx[l] = (ox - c.nx[l] * along) * grow;
-      ry[l] = (oy - c.ny[l] * along) * grow;
-      rz[l] = (oz - c.nz[l] * along) * grow;
-    }
-    for (int l = 0; l < L; ++l)
-      if (!(turn[l] < 1e-4)) {  // turned further (or not finite): the exact rescale
-        const Vec<3> turned = rotate_onto_plane<3>(Vec<3>(h.sx[l], h.sy[l], h.sz[l]),
-                                                   Vec<3>(c.nx[l], c.ny[l], c.nz[l]));
-        rx[l] = turned.x(), ry[l] = turned.y(), rz[l] = turned.z();
-      }
+    rotate_lanes_onto_plane(c, h.sx, h.sy, h.sz, rx, ry, rz);
     for (int l = 0; l < L; ++l) {
       const double c_t = q.ratio_t(l) * c_n[l];
       const double vx = c.vtx[l], vy = c.vty[l], vz = c.vtz[l];
@@ -292,8 +311,18 @@ struct LinearSpringDashpot::LaneParams<false> {
   double tangential(int l) const { return tangential_[l]; }
 };
 
-inline void LinearSpringDashpot::force_batch(const Params* const lane[], BatchHistory& h,
+inline void LinearSpringDashpot::force_batch(const Params* const lane[], BatchHistory3& h,
                                              ContactBatch<3>& c) {
+  bool one_law = true;
+  for (int l = 1; l < batch_lanes; ++l) one_law &= lane[l] == lane[0];
+  if (one_law)
+    force_lanes(LaneParams<true>(lane), h, c);
+  else
+    force_lanes(LaneParams<false>(lane), h, c);
+}
+
+inline void LinearSpringDashpot::force_batch(const Params* const lane[], BatchHistory2& h,
+                                             ContactBatch<2>& c) {
   bool one_law = true;
   for (int l = 1; l < batch_lanes; ++l) one_law &= lane[l] == lane[0];
   if (one_law)

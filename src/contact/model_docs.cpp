@@ -65,10 +65,10 @@ std::string contact_model_names(const std::string& separator) {
   return join(names, separator);
 }
 
-std::string batched_model_names(const std::string& separator) {
+std::string batched_model_names(const std::string& separator, int dimension) {
   std::vector<std::string> names;
   for (const auto& m : contact_model_catalogue())
-    if (m.batched) names.push_back(m.name);
+    if (dimension == 3 ? m.batched_3d : m.batched_2d) names.push_back(m.name);
   return join(names, separator);
 }
 

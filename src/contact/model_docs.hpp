@@ -18,8 +18,8 @@ std::vector<ContactModelInfo> documented_models();
 
 // The model names a scene may give, in registry order, joined by `separator`.
 std::string contact_model_names(const std::string& separator);
-// The names of the models that offer a batched 3D kernel (contact_batch.hpp).
-std::string batched_model_names(const std::string& separator);
+// The names of the models that offer a batched kernel in `dimension` (contact_batch.hpp).
+std::string batched_model_names(const std::string& separator, int dimension);
 
 // A parameter's valid range as an interval, e.g. "(0, 1]" or "[0, inf)".
 std::string parameter_range(const ParamSpec& p);

@@ -10,7 +10,8 @@ std::vector<ContactModelInfo> contact_model_catalogue() {
   std::vector<ContactModelInfo> out;
   for_each_model([&](auto index) {
     using M = ContactModelAt<decltype(index)::value>;
-    out.push_back({M::name, M::doc, M::parameters(), M::adhesive, has_force_batch<M>::value,
+    out.push_back({M::name, M::doc, M::parameters(), M::adhesive, has_force_batch<M, 3>::value,
+                   has_force_batch<M, 2>::value,
                    has_rolling<M>::value});
   });
   return out;

@@ -18,6 +18,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "contact/contact_batch.hpp"
 #include "contact/contact_state.hpp"
 #include "contact/parameters.hpp"
 
@@ -232,6 +233,59 @@ struct WaltonBraun {
     h.previous_normal = normal;
     out.tangential = t_new * t_axis;
   }
+
+  // force() for batches of contacts (contact_batch.hpp; walton_braun_batch.hpp).
+  struct BatchHistory2 {
+    static constexpr int lanes = batch_lanes;
+    alignas(64) double tangential[lanes], reversal[lanes], load_direction[lanes];
+    alignas(64) double previous_normal[lanes], max_overlap[lanes];
+    void load(int l, const History2& h) {
+      tangential[l] = h.tangential, reversal[l] = h.reversal;
+      load_direction[l] = h.load_direction, previous_normal[l] = h.previous_normal;
+      max_overlap[l] = h.max_overlap;
+    }
+    void store(int l, History2& h) const {
+      h.tangential = tangential[l], h.reversal = reversal[l];
+      h.load_direction = load_direction[l], h.previous_normal = previous_normal[l];
+      h.max_overlap = max_overlap[l];
+    }
+    void pad(int l) {
+      tangential[l] = reversal[l] = load_direction[l] = previous_normal[l] = max_overlap[l] = 0;
+    }
+  };
+  struct BatchHistory3 {
+    static constexpr int lanes = batch_lanes;
+    alignas(64) double tx[lanes], ty[lanes], tz[lanes];  // T
+    alignas(64) double rx[lanes], ry[lanes], rz[lanes];  // T*
+    alignas(64) double ux[lanes], uy[lanes], uz[lanes];  // u
+    alignas(64) double previous_normal[lanes], max_overlap[lanes];
+    void load(int l, const History3& h) {
+      tx[l] = h.tangential.x(), ty[l] = h.tangential.y(), tz[l] = h.tangential.z();
+      rx[l] = h.reversal.x(), ry[l] = h.reversal.y(), rz[l] = h.reversal.z();
+      ux[l] = h.load_direction.x(), uy[l] = h.load_direction.y(), uz[l] = h.load_direction.z();
+      previous_normal[l] = h.previous_normal, max_overlap[l] = h.max_overlap;
+    }
+    void store(int l, History3& h) const {
+      h.tangential = Vec<3>(tx[l], ty[l], tz[l]);
+      h.reversal = Vec<3>(rx[l], ry[l], rz[l]);
+      h.load_direction = Vec<3>(ux[l], uy[l], uz[l]);
+      h.previous_normal = previous_normal[l], h.max_overlap = max_overlap[l];
+    }
+    void pad(int l) {
+      tx[l] = ty[l] = tz[l] = rx[l] = ry[l] = rz[l] = ux[l] = uy[l] = uz[l] = 0;
+      previous_normal[l] = max_overlap[l] = 0;
+    }
+  };
+  template <bool Uniform>
+  struct LaneParams;
+  static void force_batch(const Params* const lane[], BatchHistory2& h, ContactBatch<2>& c);
+  static void force_batch(const Params* const lane[], BatchHistory3& h, ContactBatch<3>& c);
+  template <typename P>
+  static void force_lanes(const P& q, BatchHistory2& h, ContactBatch<2>& c);
+  template <typename P>
+  static void force_lanes(const P& q, BatchHistory3& h, ContactBatch<3>& c);
 };
 
 }  // namespace granule
+
+#include "contact/walton_braun_batch.hpp"

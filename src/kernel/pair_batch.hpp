@@ -1,4 +1,5 @@
-// The engine's side of a batch of 3D particle-pair contacts (contact_batch.hpp):
+// The engine's side of a batch of 3D particle-pair contacts (contact_batch.hpp;
+// 2D: pair_batch_2d.hpp):
 // what the pair loop gathers per contact (in slot order), the geometry and
 // the totals computed lane by lane (vector instructions), and the contacts'
 // identities for adding the results back in slot order. Knows no contact law:
@@ -25,17 +26,20 @@
 namespace granule {
 
 // Does a model's batch history say its History is one row of four doubles
-// (BatchHistory::four_doubles, with column(q) its lane arrays)?
+// (BatchHistory3::four_doubles, with column(q) its lane arrays)?
 template <typename H, typename = void>
 struct history_is_row : std::false_type {};
 template <typename H>
 struct history_is_row<H, std::enable_if_t<H::four_doubles>> : std::true_type {};
 
+template <int D, typename M>
+struct PairBatch;
+
 template <typename M>
-struct PairBatch {
+struct PairBatch<3, M> {
   static constexpr int lanes = batch_lanes;
   ContactBatch<3> c;
-  typename M::BatchHistory history;
+  typename M::BatchHistory3 history;
   int count = 0;  // lanes holding a contact; the rest are padding
   std::uint32_t k[lanes], i[lanes], j[lanes];
   const typename M::Params* params[lanes];  // each lane's law
@@ -52,7 +56,7 @@ struct PairBatch {
   // The history: as one row of four doubles where the model's is
   // (history_is_row and this build's rows), else through the model's load/store.
 #if GRANULE_BATCH_RECORDS
-  static constexpr bool history_row = history_is_row<typename M::BatchHistory>::value;
+  static constexpr bool history_row = history_is_row<typename M::BatchHistory3>::value;
 #else
   static constexpr bool history_row = false;
 #endif
@@ -183,6 +187,13 @@ struct PairBatch {
     return Vec<3>(tjx[l], tjy[l], tjz[l]);
   }
 #endif
+  // For the contact log.
+  Vec<3> normal(int l) const {
+    return Vec<3>(c.nx[l], c.ny[l], c.nz[l]);
+  }
+  Vec<3> tangential_force(int l) const {
+    return Vec<3>(c.ftx[l], c.fty[l], c.ftz[l]);
+  }
 
   // A harmless contact in the unused lanes (separated by half a metre, at
   // rest), so that every batch runs the same full-width loops.
@@ -213,6 +224,8 @@ struct PairBatch {
       const double nz = apart ? dz[l] * inv_dist : 0.0;
       c.nx[l] = nx, c.ny[l] = ny, c.nz[l] = nz;
       c.overlap[l] = (r_i[l] + r_j[l]) - dist;
+      if constexpr (uses_effective_radius<M>::value)
+        c.effective_radius[l] = r_i[l] * r_j[l] / (r_i[l] + r_j[l]);
       const double vn = vx[l] * nx + vy[l] * ny + vz[l] * nz;
       c.normal_velocity[l] = vn;
       c.vtx[l] = (vx[l] - nx * vn) + (wy[l] * nz - wz[l] * ny);

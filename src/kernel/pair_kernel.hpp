@@ -9,8 +9,8 @@
 //  - thread ranges (thread_ranges.hpp): contiguous ranges of candidates per
 //    thread, the particles two ranges share deferred and summed after a
 //    barrier in slot order, the ranges moved when one thread is busier;
-//  - in 3D, for a model with force_batch (contact_batch.hpp), the force pass
-//    in batches of lanes (kernel/pair_batch.hpp).
+//  - for a model with force_batch in this dimension (contact_batch.hpp), the
+//    force pass in batches of lanes (kernel/pair_batch.hpp, pair_batch_2d.hpp).
 // Observed = true also writes the contact log. Each contact k writes only its
 // own history, flag and log slot, and every particle's sum is made in slot
 // order, so the results are bit-identical whatever the team.
@@ -31,6 +31,7 @@
 #include "hooks/contact_log.hpp"
 #include "kernel/buckets.hpp"
 #include "kernel/pair_batch.hpp"
+#include "kernel/pair_batch_2d.hpp"
 #include "kernel/pruned_lists.hpp"
 #include "kernel/team.hpp"
 #include "kernel/thread_ranges.hpp"
@@ -47,7 +48,7 @@ struct PairStep {
   std::uint8_t* in_contact;  // the bucket's per-slot flags (0: history cleared)
   ContactLog<D>* log;        // written when Observed
   int team;                  // threads (ThreadPolicy::pair_team)
-  bool batched;              // the batched force pass where the model has one (3D)
+  bool batched;              // the batched force pass where the model has one
   bool pruning;              // pruned lists on
   bool prune_due;            // particles may have closed the prune distance: note afresh
   double prune_distance;     // m
@@ -111,8 +112,8 @@ void PairKernel<D, M>::run(PairBucket<D, M>& b, const std::vector<typename M::Pa
   double max_ratio = 0;
   const int team = step.team;
   b.touched.resize(team);
-  // 3D pairs of a model with a batched kernel (contact_batch.hpp) take it.
-  constexpr bool batchable = D == 3 && has_force_batch<M>::value;
+  // Pairs of a model with a batched kernel in this dimension (contact_batch.hpp) take it.
+  constexpr bool batchable = has_force_batch<M, D>::value;
   const bool batched = batchable && step.batched;
   if (b.law == -2) {  // once per list: do all candidates share one law (no index to load)?
     b.law = count ? static_cast<std::int64_t>(b.slot[0]) : -1;
@@ -377,7 +378,7 @@ void PairKernel<D, M>::run(PairBucket<D, M>& b, const std::vector<typename M::Pa
       // lane by lane, the results added in slot order.
       if (batched) {
         by_batch = true;
-        PairBatch<M> batch;
+        PairBatch<D, M> batch;
         batch.c.dt = dt;
         auto flush = [&]() {
           batch.lanes_in();
@@ -411,10 +412,10 @@ void PairKernel<D, M>::run(PairBucket<D, M>& b, const std::vector<typename M::Pa
             const double r_min = std::min(batch.r_i[l], batch.r_j[l]);
             if (overlap > worst * r_min) worst = overlap / r_min;
             if constexpr (Observed) {
-              const V normal(batch.c.nx[l], batch.c.ny[l], batch.c.nz[l]);
+              const V normal = batch.normal(l);
               log->record(offset + k, static_cast<std::int32_t>(i), static_cast<std::int32_t>(j),
                           overlap, batch.c.normal_force[l], batch.c.normal_velocity[l], normal,
-                          V(batch.c.ftx[l], batch.c.fty[l], batch.c.ftz[l]),
+                          batch.tangential_force(l),
                           x[i] - (batch.r_i[l] - 0.5 * overlap) * normal);
             }
           }

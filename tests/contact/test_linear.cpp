@@ -113,7 +113,7 @@ TEST_CASE("linear: the batched 3D kernel gives force()'s forces and springs, lan
     }
     const LinearSpringDashpot::Params* lane_law[L];
     for (int l = 0; l < L; ++l) lane_law[l] = &laws[(l + round) % 3];
-    LinearSpringDashpot::BatchHistory hb;
+    LinearSpringDashpot::BatchHistory3 hb;
     ContactBatch<3> cb;
     cb.dt = 1e-6;
     ContactState<3> states[L];

@@ -1,0 +1,145 @@
+// Damped Hertz-Mindlin's force() (hertz_mindlin.hpp) for a batch of contacts
+// (contact_batch.hpp): the same formulas in the same order, lane by lane,
+// the tension clamp and the sliding cap as selects. In 2D the slip is kept
+// as the vector History<2> holds, read along t = (-n_y, n_x).
+#pragma once
+
+#include <cmath>
+#include <type_traits>
+
+#include "contact/contact_batch.hpp"
+#include "contact/hertz_mindlin.hpp"
+
+namespace granule {
+
+template <>
+struct HertzMindlin::LaneParams<true> {
+  double young_, shear_, damp_, mu_;
+  explicit LaneParams(const Params* const lane[]) {
+    const Params& p = *lane[0];
+    young_ = p.young_eff, shear_ = p.shear_eff, mu_ = p.friction;
+    damp_ = 2 * std::sqrt(5.0 / 6.0) * p.damping;
+  }
+  double young(int) const { return young_; }
+  double shear(int) const { return shear_; }
+  double damp(int) const { return damp_; }
+  double mu(int) const { return mu_; }
+};
+
+template <>
+struct HertzMindlin::LaneParams<false> {
+  static constexpr int L = batch_lanes;
+  alignas(64) double young_[L], shear_[L], damp_[L], mu_[L];
+  explicit LaneParams(const Params* const lane[]) {
+    for (int l = 0; l < L; ++l) {
+      const Params& p = *lane[l];
+      young_[l] = p.young_eff, shear_[l] = p.shear_eff, mu_[l] = p.friction;
+      damp_[l] = 2 * std::sqrt(5.0 / 6.0) * p.damping;
+    }
+  }
+  double young(int l) const { return young_[l]; }
+  double shear(int l) const { return shear_[l]; }
+  double damp(int l) const { return damp_[l]; }
+  double mu(int l) const { return mu_[l]; }
+};
+
+namespace hertz_mindlin_lanes {
+
+// The normal force of lane l (the dashpot at the step's own time, as force()
+// solves it) and the tangential stiffness S_t and damping c_t.
+template <typename P, typename Batch>
+inline double normal_force(const P& q, const Batch& c, int l, double& s_t, double& c_t) {
+  const double effective_mass = 1.0 / c.inv_mass_sum[l];
+  const double root = std::sqrt(c.effective_radius[l] * c.overlap[l]);  // contact radius a
+  const double s_n = 2 * q.young(l) * root;
+  const double damp = q.damp(l);
+  const double c_n = damp * std::sqrt(s_n * effective_mass);
+  const double normal = ((2.0 / 3.0) * s_n * c.overlap[l] + c_n * c.normal_velocity[l]) /
+                        (1 + 0.5 * c_n * c.dt / effective_mass);
+  s_t = 8 * q.shear(l) * root;
+  c_t = damp * std::sqrt(s_t * effective_mass);
+  return normal < 0 ? 0.0 : normal;
+}
+
+template <typename P>
+inline void lanes_3d(const P& q, HertzMindlin::BatchHistory3& h, ContactBatch<3>& c) {
+  constexpr int L = batch_lanes;
+  const double dt = c.dt;
+  alignas(64) double rx[L], ry[L], rz[L];  // the slip on the new tangent plane
+  rotate_lanes_onto_plane(c, h.sx, h.sy, h.sz, rx, ry, rz);
+  for (int l = 0; l < L; ++l) {
+    double s_t, c_t;
+    const double normal = normal_force(q, c, l, s_t, c_t);
+    c.normal_force[l] = normal;
+    const double vx = c.vtx[l], vy = c.vty[l], vz = c.vtz[l];
+    double sx = rx[l] + vx * dt, sy = ry[l] + vy * dt, sz = rz[l] + vz * dt;
+    double tx = s_t * sx + c_t * vx, ty = s_t * sy + c_t * vy, tz = s_t * sz + c_t * vz;
+    const double limit = q.mu(l) * normal;
+    const double t_sq = tx * tx + ty * ty + tz * tz;
+    const bool sliding = t_sq > limit * limit;  // then t_sq > 0
+    const double scale = limit / std::sqrt(t_sq);
+    tx = sliding ? tx * scale : tx, ty = sliding ? ty * scale : ty, tz = sliding ? tz * scale : tz;
+    // The spring shortened to store exactly the capped force.
+    const bool stiff = s_t > 0;
+    sx = sliding ? (stiff ? (tx - c_t * vx) / s_t : 0.0) : sx;
+    sy = sliding ? (stiff ? (ty - c_t * vy) / s_t : 0.0) : sy;
+    sz = sliding ? (stiff ? (tz - c_t * vz) / s_t : 0.0) : sz;
+    h.sx[l] = sx, h.sy[l] = sy, h.sz[l] = sz;
+    c.ftx[l] = tx, c.fty[l] = ty, c.ftz[l] = tz;
+  }
+}
+
+template <typename P>
+inline void lanes_2d(const P& q, HertzMindlin::BatchHistory2& h, ContactBatch<2>& c) {
+  const double dt = c.dt;
+  for (int l = 0; l < batch_lanes; ++l) {
+    double s_t, c_t;
+    const double normal = normal_force(q, c, l, s_t, c_t);
+    c.normal_force[l] = normal;
+    // rotate_onto_plane<2>: |old| along +t or -t, the side old projects to.
+    const double nx = c.nx[l], ny = c.ny[l];
+    const double old_sq = h.sx[l] * h.sx[l] + h.sy[l] * h.sy[l];
+    const double along = h.sx[l] * -ny + h.sy[l] * nx;
+    const double magnitude = std::sqrt(old_sq);
+    const bool kept = old_sq > 0 && !(along * along <= 1e-30 * old_sq);
+    const double turned = kept ? (along > 0 ? magnitude : -magnitude) : 0.0;
+    const double v_t = c.tangential_velocity[l];
+    double slip = turned + v_t * dt;
+    double t = s_t * slip + c_t * v_t;
+    const double limit = q.mu(l) * normal;
+    const bool sliding = t * t > limit * limit;
+    t = sliding ? (t > 0 ? limit : -limit) : t;
+    slip = sliding ? (s_t > 0 ? (t - c_t * v_t) / s_t : 0.0) : slip;
+    h.sx[l] = slip * -ny, h.sy[l] = slip * nx;
+    c.tangential_force[l] = t;
+  }
+}
+
+template <typename History, typename Batch>
+inline void dispatch(const HertzMindlin::Params* const lane[], History& h, Batch& c) {
+  bool one_law = true;
+  for (int l = 1; l < batch_lanes; ++l) one_law &= lane[l] == lane[0];
+  auto run = [&](const auto& q) {
+    if constexpr (std::is_same_v<Batch, ContactBatch<2>>)
+      lanes_2d(q, h, c);
+    else
+      lanes_3d(q, h, c);
+  };
+  if (one_law)
+    run(HertzMindlin::LaneParams<true>(lane));
+  else
+    run(HertzMindlin::LaneParams<false>(lane));
+}
+
+}  // namespace hertz_mindlin_lanes
+
+inline void HertzMindlin::force_batch(const Params* const lane[], BatchHistory3& h,
+                                      ContactBatch<3>& c) {
+  hertz_mindlin_lanes::dispatch(lane, h, c);
+}
+inline void HertzMindlin::force_batch(const Params* const lane[], BatchHistory2& h,
+                                      ContactBatch<2>& c) {
+  hertz_mindlin_lanes::dispatch(lane, h, c);
+}
+
+}  // namespace granule
