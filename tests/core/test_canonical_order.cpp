@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "../geometry/mesh_helpers.hpp"
 #include "box_walls.hpp"
 #include "core/errors.hpp"
 #include "core/random.hpp"
@@ -199,6 +200,49 @@ TEST_CASE("canonical: a JKR agglomerate (adhesive) is bit-identical in any stora
         }
   };
   check_canonical<3>(build, 600, 200, 0);
+}
+
+TEST_CASE("canonical: a 3D pile on a turning mesh floor is bit-identical in any storage order",
+          "[canonical][mesh]") {
+  // Mesh-wall contacts take the wall lists' path (one candidate per part):
+  // a pile in a square of planes, on a triangulated floor that turns about z.
+  const std::function<void(Simulation<3>&)> build = [](Simulation<3>& sim) {
+    sim.add_material({"p", 2500, 0, 0, 0});
+    sim.add_material({"w", 0, 0, 0, 0});
+    const ParamValues law{{"k_normal", 1e3}, {"restitution", 0.5}, {"friction", 0.4}};
+    sim.set_contact("p", "p", "linear", law);
+    sim.set_contact("p", "w", "linear", law);
+    const double half = 0.004;
+    for (int axis = 0; axis < 2; ++axis)
+      for (const double sign : {1.0, -1.0}) {
+        WallSpec w;
+        w.name = "side" + std::to_string(axis) + (sign > 0 ? "lo" : "hi");
+        w.material = 1;
+        w.normal[axis] = sign;
+        w.point[axis] = -sign * half;
+        sim.add_wall(w);
+      }
+    io::TriangleMesh floor = test::flat_grid(2 * half, 6);
+    io::MeshFileReport report;
+    io::clean_mesh(floor, report);
+    MeshWallSpec spec;
+    spec.name = "floor";
+    spec.file = "(memory)";
+    spec.material = 1;
+    spec.angular_velocity = 20;  // rad/s about z through the origin
+    sim.add_mesh_wall(spec, std::move(floor));
+    FillSpec pile;
+    pile.shape = RegionShape::box;
+    pile.lo = {-half, -half, 0}, pile.hi = {half, half, 0.004};
+    pile.count = 400;
+    pile.radius_min = 0.3e-3, pile.radius_max = 0.4e-3;
+    pile.material = 0;
+    pile.seed = 9;
+    pile.allow_overlap = true;
+    sim.fill(pile);
+    sim.set_gravity({0, 0, -9.81});
+  };
+  check_canonical<3>(build, 400, 60, 30);
 }
 
 TEST_CASE("canonical: a 2D Walton-Braun pile is bit-identical in any storage order",
