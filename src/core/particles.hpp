@@ -75,6 +75,16 @@ struct Particles {
     if (pid < 0 || pid >= static_cast<std::int64_t>(index_of_id.size())) return -1;
     return index_of_id[pid];
   }
+
+  // The live particles' storage indices in increasing id: an order no re-sort
+  // of the storage changes (the canonical order, SimulationBase::set_canonical_order).
+  std::vector<std::uint32_t> in_id_order() const {
+    std::vector<std::uint32_t> order;
+    order.reserve(size());
+    for (const std::int32_t k : index_of_id)
+      if (k >= 0) order.push_back(static_cast<std::uint32_t>(k));
+    return order;
+  }
 };
 
 }  // namespace granule

@@ -370,12 +370,16 @@ void Simulation<D>::rebuild_lists() {
   grid_.build(p_, skin_, periodic_, candidates_);
   prepare_meshes();
 
-  // Pair slots first (all models), then wall slots.
+  // Pair slots first (all models), then wall slots; in canonical order the
+  // candidates by particle id (contact_lists.hpp).
+  const std::vector<std::uint32_t> id_order =
+      canonical_order_ ? p_.in_id_order() : std::vector<std::uint32_t>{};
   std::size_t slots = 0;
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
     auto& bucket = std::get<I>(pair_buckets_);
-    const std::size_t old = list_pairs(bucket, I, p_, pairs_, candidates_, tracking_);
+    const std::size_t old =
+        list_pairs(bucket, I, p_, pairs_, candidates_, tracking_, canonical_order_);
     std::get<I>(pair_kernels_).on_new_list(old, bucket.size());
     bucket.offset = slots;
     slots += bucket.size();
@@ -383,7 +387,7 @@ void Simulation<D>::rebuild_lists() {
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
     auto& bucket = std::get<I>(wall_buckets_);
-    list_walls(bucket, I, p_, walls_, meshes_, pairs_, skin_, tracking_);
+    list_walls(bucket, I, p_, walls_, meshes_, pairs_, skin_, tracking_, id_order);
     bucket.offset = slots;
     slots += bucket.size();
   });

@@ -122,6 +122,10 @@ class Simulation final : public SimulationBase {
   void step();
   // Re-sorts particle storage along cells (locality); histories follow by id.
   void sort_particles();
+  // Stores the particles in the order of `ids` (every live id once; InputError
+  // naming `ids` otherwise), the lists rebuilt if built: for tests that run one
+  // scene in several storage orders (simulation_setup.cpp).
+  void reorder_storage(const std::vector<std::int64_t>& ids);
 
   // Direct access for C++ tests and diagnostics.
   const Particles<D>& particles() const { return p_; }

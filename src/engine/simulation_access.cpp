@@ -131,7 +131,12 @@ GlobalStats Simulation<D>::stats() const {
   g.step = step_;
   g.particles = static_cast<std::int64_t>(p_.size());
   V momentum = V::Zero();
-  for (std::size_t i = 0; i < p_.size(); ++i) {
+  // In canonical order the totals are summed in id order: the same bits
+  // whatever order the particles are stored in.
+  const std::vector<std::uint32_t> id_order =
+      canonical_order_ ? p_.in_id_order() : std::vector<std::uint32_t>{};
+  for (std::size_t k = 0; k < p_.size(); ++k) {
+    const std::size_t i = canonical_order_ ? id_order[k] : k;
     if (p_.fixed[i]) continue;
     const double m = p_.mass[i];
     g.kinetic_translational += 0.5 * m * p_.velocity[i].squaredNorm();
@@ -357,6 +362,8 @@ std::vector<std::string> Simulation<D>::describe() const {
       lines.push_back(fmt::format("diagnostic {}: {}", d.name, d.diagnostic->describe()));
   }
   lines.push_back(fmt::format("hooks: {}", hooks_.size()));
+  if (canonical_order_)
+    lines.push_back("canonical order: on (contacts and totals summed in particle-id order)");
   lines.push_back(
       fmt::format("threads: {}{}", thread_count(),
                   threads_ > 0 ? "" : " (OMP_NUM_THREADS, else 1; set with --threads N)"));

@@ -194,6 +194,7 @@ struct ActiveEffects {
   std::vector<std::string> moving_walls;  // planes with a velocity, cylinders that turn
   std::vector<std::string> diagnostics;
   bool contacts_recorded = false;
+  bool canonical_order = false;  // sums in particle-id order (SimulationBase::set_canonical_order)
   int hooks = 0;
   int threads = 1;
 };
@@ -266,6 +267,18 @@ class SimulationBase {
   // touching (or in contact) when last pruned, and no particle can have closed
   // that gap since. The results are the same bit for bit either way.
   void set_pruning(bool on) { pruning_ = on; }
+  // Canonical order (default off): at each neighbour-list rebuild the pair
+  // candidates are sorted by (lower id, higher id) and the wall candidates by
+  // particle id, and stats() sums over the particles in id order, so every
+  // particle's force and torque sums, and so the whole run, are the same bit
+  // for bit whatever order the particles are stored in (and whatever the
+  // threads). Costs a sort per rebuild and the caches' Morton-order locality
+  // (docs/parallel.md, "Canonical order"). Takes effect at the next prepare().
+  void set_canonical_order(bool on) {
+    if (on != canonical_order_) prepared_ = false;  // the lists are rebuilt in the new order
+    canonical_order_ = on;
+  }
+  bool canonical_order() const { return canonical_order_; }
   bool record_contacts() const { return record_contacts_; }
   void set_warning_handler(std::function<void(const std::string&)> f) { warn_ = std::move(f); }
 
@@ -442,6 +455,7 @@ class SimulationBase {
   std::int64_t parallel_min_candidates_ = 32768, parallel_min_particles_ = 16384;
   bool batched_contacts_ = true;
   bool pruning_ = true;
+  bool canonical_order_ = false;
   bool prepared_ = false;
   double time_ = 0;
   std::int64_t step_ = 0;

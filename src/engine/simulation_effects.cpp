@@ -59,6 +59,7 @@ ActiveEffects Simulation<D>::effects() const {
     if (!w.velocity.isZero() || w.angular_velocity != 0) e.moving_walls.push_back(w.name);
   for (const auto& d : diagnostics_) e.diagnostics.push_back(d.name);
   e.contacts_recorded = record_contacts_;
+  e.canonical_order = canonical_order_;
   e.hooks = static_cast<int>(hooks_.size());
   e.threads = thread_count();
   return e;

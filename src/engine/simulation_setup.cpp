@@ -13,6 +13,7 @@
 #include "core/random.hpp"
 #include "engine/finite_wall_setup.hpp"
 #include "engine/simulation.hpp"
+#include "neighbor/contact_lists.hpp"
 
 namespace granule {
 
@@ -113,6 +114,26 @@ void Simulation<D>::remove_particle(std::int64_t id) {
   p_.index_of_id[id] = -1;
   if (i != last) p_.index_of_id[p_.id[i]] = static_cast<std::int32_t>(i);
   lists_valid_ = false;
+}
+
+template <int D>
+void Simulation<D>::reorder_storage(const std::vector<std::int64_t>& ids) {
+  if (ids.size() != p_.size())
+    throw InputError(fmt::format("reorder_storage: 'ids' names {} particles, the scene has {}",
+                                 ids.size(), p_.size()));
+  std::vector<std::uint32_t> order(ids.size());
+  std::vector<std::uint8_t> named(p_.size(), 0);
+  for (std::size_t k = 0; k < ids.size(); ++k) {
+    const int i = p_.index(ids[k]);
+    if (i < 0) throw InputError(fmt::format("reorder_storage: 'ids' names no particle {}", ids[k]));
+    if (named[i]++)
+      throw InputError(fmt::format("reorder_storage: 'ids' names particle {} twice", ids[k]));
+    order[k] = static_cast<std::uint32_t>(i);
+  }
+  reorder_particles(p_, order);  // neighbor/contact_lists.hpp
+  if (position_at_rebuild_.size() == order.size()) gather(position_at_rebuild_, order);
+  // The lists name storage indices: rebuilt now, histories carried by id.
+  if (lists_valid_) rebuild_lists();
 }
 
 template <int D>

@@ -223,6 +223,8 @@ StateBlob Simulation<D>::save_state() const {
   // and the pair that set the automatic time step, for the run's description.
   s.integers["guards"] = {scene_overlaps_ ? 1 : 0, overlap_warned_ ? 1 : 0};
   s.texts["time_step.governing_pair"] = dt_governing_pair_;
+  // The lists above are in this order: a restart must keep it to sum the same way.
+  s.integers["canonical_order"] = {canonical_order_ ? 1 : 0};
   return s;
 }
 
@@ -434,6 +436,8 @@ void Simulation<D>::load_state(const StateBlob& s) {
   scene_overlaps_ = s.i("guards")[0] != 0;
   overlap_warned_ = s.i("guards")[1] != 0;
   dt_governing_pair_ = s.t("time_step.governing_pair");
+  const auto canonical = s.integers.find("canonical_order");  // checked by check_state
+  canonical_order_ = canonical != s.integers.end() && canonical->second[0] == 1;
   // The same limit prepare() holds a run to before its first step, for the laws
   // and particles just loaded (prepare() itself would rebuild the lists and so
   // change the order of the force sums).

@@ -309,6 +309,15 @@ void check_state(const StateBlob& s, std::size_t material_count, std::size_t wal
     if (guards[k] != 0 && guards[k] != 1)
       refuse_entry("guards", fmt::format("value {} is {}, not 0 or 1", k, guards[k]));
   (void)s.t("time_step.governing_pair");
+  // Absent in checkpoints written before the setting existed: those ran without it.
+  if (s.integers.count("canonical_order")) {
+    const auto& canonical = s.i("canonical_order");
+    if (canonical.size() != 1 || (canonical[0] != 0 && canonical[0] != 1))
+      refuse_entry("canonical_order",
+                   fmt::format("must be one value, 0 or 1 (has {} values{})", canonical.size(),
+                               canonical.empty() ? std::string()
+                                                 : fmt::format(", the first {}", canonical[0])));
+  }
 }
 template void check_state<2>(const StateBlob&, std::size_t, std::size_t);
 template void check_state<3>(const StateBlob&, std::size_t, std::size_t);

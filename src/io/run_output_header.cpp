@@ -96,6 +96,7 @@ void RunOutput::write_header() {
     list("moving_wall_names", e.moving_walls);
     list("diagnostics", e.diagnostics);
     flag("contacts_recorded", e.contacts_recorded);
+    flag("canonical_order", e.canonical_order);
     f.write_attribute(g, "threads", static_cast<std::int64_t>(e.threads));
   }
   std::string lines;

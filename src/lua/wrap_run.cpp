@@ -285,8 +285,9 @@ int l_remove_hook(lua_State* L) {
   });
 }
 
-// sim:set { skin =, time_step =, steps_per_contact =, threads =, pruning = }: change numerical
-// settings between runs (the next run re-checks the scene and rebuilds its lists).
+// sim:set { skin =, time_step =, steps_per_contact =, threads =, pruning =, canonical_order = }:
+// change numerical settings between runs (the next run re-checks the scene and rebuilds its
+// lists).
 int l_set(lua_State* L) {
   return protect(L, [](lua_State* L) {
     LuaSim& s = self(L);
@@ -297,6 +298,7 @@ int l_set(lua_State* L) {
     if (t.has("steps_per_contact")) s.sim->set_steps_per_contact(t.number("steps_per_contact"));
     if (t.has("threads")) s.sim->set_threads(static_cast<int>(t.integer("threads")));
     if (t.has("pruning")) s.sim->set_pruning(t.boolean("pruning", true));
+    if (t.has("canonical_order")) s.sim->set_canonical_order(t.boolean("canonical_order", false));
     t.finish();
     return 0;
   });

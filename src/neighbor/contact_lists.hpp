@@ -3,7 +3,8 @@
 // pair table says which model a material pair uses), with each contact's
 // history (and event tracking) carried over from the old lists by persistent
 // id, so a rebuild or a re-sort changes nothing a contact remembers. Also the
-// space-filling-curve order large scenes are kept in.
+// space-filling-curve order large scenes are kept in, and the canonical order
+// (order_by_ids) that makes every particle's sums independent of storage.
 #pragma once
 
 #include <algorithm>
@@ -19,6 +20,14 @@
 #include "kernel/buckets.hpp"
 
 namespace granule {
+
+// Reorders `v` so that entry k is the old entry order[k]: the one permutation
+// step of every re-sort here (particle storage, a bucket's candidates).
+template <typename Array, typename Index>
+void gather(Array& v, const std::vector<Index>& order) {
+  const Array old = v;
+  for (std::size_t k = 0; k < order.size(); ++k) v[k] = old[order[k]];
+}
 
 namespace lists_detail {
 // Compressed rows of old entries by owner id, so each new contact finds its
@@ -78,13 +87,38 @@ Bucket renew(Bucket& bucket) {
 }
 }  // namespace lists_detail
 
+// The canonical order of a bucket's candidates: by (id_i, id_j), id_i < id_j.
+// Particle p's contacts are then added to it in the order of their lower and
+// higher ids whatever the storage order, so its sums are too (and a rank that
+// stores the particles its own way can reproduce them). Counting by id_i, each
+// particle's few partners then sorted by id_j: linear in the candidates and ids.
+template <int D, typename M>
+void order_by_ids(PairBucket<D, M>& b, std::int64_t id_count) {
+  const std::size_t count = b.size();
+  std::vector<std::uint32_t> start(static_cast<std::size_t>(id_count) + 1, 0);
+  for (const std::int64_t a : b.id_i) ++start[static_cast<std::size_t>(a) + 1];
+  for (std::size_t a = 1; a < start.size(); ++a) start[a] += start[a - 1];
+  std::vector<std::uint32_t> order(count);
+  {
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t k = 0; k < count; ++k)
+      order[fill[static_cast<std::size_t>(b.id_i[k])]++] = static_cast<std::uint32_t>(k);
+  }
+  for (std::size_t a = 0; a + 1 < start.size(); ++a)
+    std::sort(order.begin() + start[a], order.begin() + start[a + 1],
+              [&](std::uint32_t x, std::uint32_t y) { return b.id_j[x] < b.id_j[y]; });
+  gather(b.i, order), gather(b.j, order), gather(b.slot, order);
+  gather(b.id_i, order), gather(b.id_j, order);
+}
+
 // Replaces `bucket` (model `model` of the pair table) by the candidate pairs
-// of that model, histories carried over. Returns the old bucket's size.
+// of that model, histories carried over; `canonical`: in order_by_ids's order.
+// Returns the old bucket's size.
 template <int D, typename M>
 std::size_t list_pairs(PairBucket<D, M>& bucket, int model, const Particles<D>& p,
                        const PairTable& pairs,
                        const std::vector<std::pair<std::uint32_t, std::uint32_t>>& candidates,
-                       bool tracking) {
+                       bool tracking, bool canonical) {
   using B = PairBucket<D, M>;
   B old = lists_detail::renew(bucket);
   B& fresh = bucket;
@@ -101,6 +135,8 @@ std::size_t list_pairs(PairBucket<D, M>& bucket, int model, const Particles<D>& 
     fresh.id_i.push_back(p.id[a]);
     fresh.id_j.push_back(p.id[b]);
   }
+  // Before the histories are carried: they follow by id into the sorted places.
+  if (canonical) order_by_ids(fresh, p.next_id);
   lists_detail::carry_history(
       old, fresh, p.next_id, tracking, [](const B& x) -> const auto& { return x.id_i; },
       [&](std::uint32_t o) { return old.id_j[o]; }, [&](std::size_t k) { return fresh.id_j[k]; });
@@ -112,18 +148,22 @@ std::size_t list_pairs(PairBucket<D, M>& bucket, int model, const Particles<D>& 
 // the wall loop then walks the particles' data in memory order, and a
 // particle's wall contacts lie together, so threads can own whole particles.
 // A particle near a mesh wall is listed once per part (kernel/mesh_contacts.hpp);
-// a history is carried by particle, wall and part.
+// a history is carried by particle, wall and part. `id_order` (the canonical
+// order; empty: memory order) lists the particles in increasing id instead, so
+// that the reactions on the walls are summed in an order storage cannot change.
 template <int D, typename M>
 void list_walls(WallBucket<D, M>& bucket, int model, const Particles<D>& p,
                 const std::vector<Wall<D>>& walls, const MeshSet<D>& meshes, const PairTable& pairs,
-                double skin, bool tracking) {
+                double skin, bool tracking, const std::vector<std::uint32_t>& id_order) {
   using WB = WallBucket<D, M>;
   WB old = lists_detail::renew(bucket);
   WB& fresh = bucket;
   const std::size_t expect = old.size() + old.size() / 8;
   fresh.particle.reserve(expect), fresh.wall.reserve(expect), fresh.slot.reserve(expect);
   fresh.id.reserve(expect);
-  for (std::size_t i = 0; i < p.size(); ++i) {
+  const bool by_id = !id_order.empty();
+  for (std::size_t k = 0; k < p.size(); ++k) {
+    const std::size_t i = by_id ? id_order[k] : k;
     if (p.fixed[i]) continue;
     for (std::size_t w = 0; w < walls.size(); ++w) {
       const PairTable::Entry& e = pairs.at(p.material[i], walls[w].material);
@@ -155,6 +195,18 @@ void list_walls(WallBucket<D, M>& bucket, int model, const Particles<D>& p,
       });
 }
 
+// Moves the particle at storage index order[k] to k, every per-particle array
+// and the id index with it. Whatever names particles by storage index (the
+// lists) must be rebuilt afterwards.
+template <int D>
+void reorder_particles(Particles<D>& p, const std::vector<std::uint32_t>& order) {
+  gather(p.position, order), gather(p.velocity, order), gather(p.force_torque, order);
+  gather(p.spin, order), gather(p.radius, order), gather(p.inv_mass, order);
+  gather(p.inv_inertia, order), gather(p.mass, order), gather(p.id, order);
+  gather(p.material, order), gather(p.fixed, order);
+  for (std::size_t k = 0; k < p.size(); ++k) p.index_of_id[p.id[k]] = static_cast<std::int32_t>(k);
+}
+
 // Reorders the particles' storage along a Morton (Z-order) curve of cells one
 // median diameter wide: particles close in space end up close in memory, so
 // the contact loop reads neighbours from cache. The lists must be rebuilt
@@ -181,17 +233,10 @@ void sort_along_curve(Particles<D>& p) {
       for (int d = 0; d < D; ++d) k = k << 1 | ((c[d] >> b) & 1u);
     key[i] = k;
   }
-  std::vector<std::size_t> perm(n);
-  std::iota(perm.begin(), perm.end(), 0);
+  std::vector<std::uint32_t> perm(n);
+  std::iota(perm.begin(), perm.end(), 0u);
   std::stable_sort(perm.begin(), perm.end(), [&](auto a, auto b) { return key[a] < key[b]; });
-  auto apply = [&](auto& v) {
-    auto copy = v;
-    for (std::size_t k = 0; k < n; ++k) v[k] = copy[perm[k]];
-  };
-  apply(p.position), apply(p.velocity), apply(p.force_torque), apply(p.spin);
-  apply(p.radius), apply(p.inv_mass), apply(p.inv_inertia), apply(p.mass), apply(p.id);
-  apply(p.material), apply(p.fixed);
-  for (std::size_t k = 0; k < n; ++k) p.index_of_id[p.id[k]] = static_cast<std::int32_t>(k);
+  reorder_particles(p, perm);
 }
 
 }  // namespace granule

@@ -94,6 +94,10 @@ do
   r:set_contact("m", "m", { rolling_model = "epsd" })
   assert(r:contact_parameters("m", "m").rolling_model == "epsd", "set_contact did not change the rolling model")
   r:add_particle { position = { 0, 0 }, radius = 0.2e-3, material = "m" }
+  -- and the canonical order is said in the header and /scene/effects (effects_check.py)
+  r:set { canonical_order = true }
+  has(r:describe(), "canonical order: on", "canonical order")
+  assert(not plain:find("canonical order", 1, true), "canonical order said when off:\n" .. plain)
   r:output { file = p.out:gsub("%.h5$", "") .. "_rolling.h5" }
   r:run { steps = 1 }
   r:close()

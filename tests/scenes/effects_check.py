@@ -2,7 +2,8 @@
 """Reads /scene/effects written by tests/scenes/effects_check.lua: a 2D scene
 with linear pairs (friction 0.4), an adhesive law declared for a material no
 particle has, a moving floor, gravity declared zero, no diagnostics; and
-/walls, which must also hold the lid the scene adds after the header."""
+/walls, which must also hold the lid the scene adds after the header; the
+rolling scene's file, its rolling model by name and canonical_order = 1."""
 import sys
 
 import h5py
@@ -11,7 +12,8 @@ with h5py.File(sys.argv[1], "r") as f:
     e = dict(f["/scene/effects"].attrs)
 text = {k: (v.decode() if isinstance(v, bytes) else v) for k, v in e.items()}
 expected = {"dimension": 2, "adhesion": 0, "friction": 1, "rotation": 1, "gravity": 0, "central_field": 0,
-            "moving_walls": 1, "moving_wall_names": "floor", "periodic": 0, "diagnostics": ""}
+            "moving_walls": 1, "moving_wall_names": "floor", "periodic": 0, "diagnostics": "",
+            "canonical_order": 0}
 wrong = {k: (text.get(k), v) for k, v in expected.items() if text.get(k) != v}
 if wrong:
     sys.exit(f"/scene/effects: (got, expected) {wrong}")
@@ -31,4 +33,7 @@ with h5py.File(rolling, "r") as f:
     model = model.decode() if isinstance(model, bytes) else model
     if model != "epsd":
         sys.exit(f"{rolling}: /contacts/m-m rolling_model {model!r}, expected 'epsd'")
+    canonical = f["/scene/effects"].attrs["canonical_order"]
+    if canonical != 1:
+        sys.exit(f"{rolling}: /scene/effects canonical_order {canonical}, expected 1 (sim:set)")
 print("effects attributes ok")
