@@ -334,9 +334,15 @@ function M.attach_diagnostics(sim, g, opts)
     ids.overlaps = sim:diagnostic("overlaps", { window = window, every = every })
   end
   if wanted("peaks") then
+    -- Eq. 7.2's c = F_max / dv of this scene's loading spring, sqrt(m* K1) for
+    -- two powder particles (m* = m/2; particles are spheres of mass 4/3 pi r^3 rho
+    -- in 2D as in 3D): 0.020 N s/m for Table 4.1, and other values when K1,
+    -- the radius or the density are changed, which a fixed 0.02 would misread.
+    local mass = 4 / 3 * math.pi * v.radius ^ 3 * v.density
     local o = { window = window, keep_collisions = opts.keep_collisions or 0,
                 force_max = opts.force_max or 0.1, velocity_max = opts.velocity_max or 5,
-                bins = opts.bins or 200 }
+                bins = opts.bins or 200,
+                force_per_velocity = opts.force_per_velocity or math.sqrt(mass / 2 * v.k_load) }
     for k, b in pairs(areas) do o[k] = b end
     ids.peaks = sim:diagnostic("contact_peaks", o)
   end

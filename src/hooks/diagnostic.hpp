@@ -154,6 +154,10 @@ class DiagnosticStateReader {
     return it->second;
   }
   double number(const std::string& key) const { return doubles(key, 1)[0]; }
+  // Whether an entry is present (for entries that older checkpoints lack).
+  bool has(const std::string& key) const {
+    return blob_.doubles.count(prefix_ + key) > 0 || blob_.integers.count(prefix_ + key) > 0;
+  }
   template <std::size_t N>
   void read(const std::string& key, std::array<double, N>& out) const {
     const auto v = doubles(key, N);

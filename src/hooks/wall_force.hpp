@@ -3,7 +3,10 @@
 // wall's direction of positive rotation (for a cylinder, a 2D polyline and a
 // 3D mesh, about their axis; the magnitude of the summed tangential vector for
 // a plane and the other walls), their time series averaged over
-// windows, and long-time means since the diagnostic was attached.
+// windows, and long-time means since the diagnostic was attached. The summed
+// force vector on the wall is kept too: a plane's tangential magnitude has no
+// sign, so balances of forces (a bed's weight shared by floor and side walls,
+// whose friction may push either way) are made with the vector.
 #pragma once
 
 #include <fmt/format.h>
@@ -79,9 +82,13 @@ class WallForceDiagnostic final : public Diagnostic<D> {
 
   std::map<std::string, double> results() const override {
     const double n = total_samples_ > 0 ? total_samples_ : 1;
-    return {{"mean_normal_force", sum_normal_ / n},
-            {"mean_tangential_force", sum_tangential_ / n},
-            {"samples", static_cast<double>(total_samples_)}};
+    std::map<std::string, double> out{{"mean_normal_force", sum_normal_ / n},
+                                      {"mean_tangential_force", sum_tangential_ / n},
+                                      {"samples", static_cast<double>(total_samples_)}};
+    static constexpr const char* axis_names[] = {"mean_force_x", "mean_force_y", "mean_force_z"};
+    const double nv = vector_samples_ > 0 ? vector_samples_ : 1;
+    for (int k = 0; k < D; ++k) out[axis_names[k]] = sum_total_[k] / nv;
+    return out;
   }
 
   std::string describe() const override {
@@ -93,6 +100,9 @@ class WallForceDiagnostic final : public Diagnostic<D> {
     std::vector<double> sums{window_normal_, window_tangential_, sum_normal_, sum_tangential_};
     sums.insert(sums.end(), window_total_.data(), window_total_.data() + D);
     w.put("sums", std::move(sums));
+    std::vector<double> total(sum_total_.data(), sum_total_.data() + D);
+    total.push_back(static_cast<double>(vector_samples_));
+    w.put("sum_total", std::move(total));
   }
   void load_own(const DiagnosticStateReader& r) override {
     const auto counts = r.integers("counts", 3);
@@ -104,6 +114,15 @@ class WallForceDiagnostic final : public Diagnostic<D> {
     window_normal_ = sums[0], window_tangential_ = sums[1], sum_normal_ = sums[2];
     sum_tangential_ = sums[3];
     for (int k = 0; k < D; ++k) window_total_[k] = sums[4 + k];
+    // Checkpoints written before the long-time vector was kept have no entry:
+    // its mean then counts from the restart (its own sample count).
+    sum_total_.setZero();
+    vector_samples_ = 0;
+    if (r.has("sum_total")) {
+      const auto total = r.doubles("sum_total", D + 1);
+      for (int k = 0; k < D; ++k) sum_total_[k] = total[k];
+      vector_samples_ = static_cast<std::int64_t>(total[D]);
+    }
   }
 
  private:
@@ -142,6 +161,8 @@ class WallForceDiagnostic final : public Diagnostic<D> {
     sum_normal_ += normal;
     sum_tangential_ += tangential;
     ++total_samples_;
+    sum_total_ += total;
+    ++vector_samples_;
   }
   void close_window(double time) override {
     if (sink_ && window_samples_ > 0) {
@@ -163,6 +184,8 @@ class WallForceDiagnostic final : public Diagnostic<D> {
   std::int64_t window_samples_ = 0;
   double sum_normal_ = 0, sum_tangential_ = 0;
   std::int64_t total_samples_ = 0;
+  V sum_total_ = V::Zero();  // the force vector on the wall, summed over samples
+  std::int64_t vector_samples_ = 0;
 };
 
 }  // namespace granule

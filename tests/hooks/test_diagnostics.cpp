@@ -126,9 +126,10 @@ TEST_CASE("diagnostics: the wall_force diagnostic carries the weight of a settle
   const double dt = sim.time_step();
   sim.advance(static_cast<std::int64_t>(0.4 / dt));  // settle 0.4 s
   sim.detach_diagnostic(id);
-  // The floor carries the weight, less what friction on the side walls holds up
-  // (the bed leans on them, as in a silo): in the mean, the floor's normal force
-  // plus the side walls' tangential forces balance the weight.
+  // The walls carry the weight: in the mean, the vertical forces the bed puts
+  // on the floor and on the side walls (friction there may push either way,
+  // as the bed's history left its latched springs) add up to the weight,
+  // downward. Horizontally the side walls' pushes balance.
   auto attach = [&](const char* wall) {
     DiagnosticOptions w;
     w.strings["wall"] = wall;
@@ -139,14 +140,23 @@ TEST_CASE("diagnostics: the wall_force diagnostic carries the weight of a settle
   double weight = 0;
   for (auto pid : sim.particle_ids()) weight += sim.mass(pid) * 9.81;
   auto r = sim.diagnostic_results(floor_id);
-  const double held_by_sides = sim.diagnostic_results(left_id).at("mean_tangential_force") +
-                               sim.diagnostic_results(right_id).at("mean_tangential_force");
-  INFO("kinetic energy " << sim.stats().kinetic_translational << ", held by the sides "
-                         << held_by_sides);
+  const auto left = sim.diagnostic_results(left_id), right = sim.diagnostic_results(right_id);
+  const double vertical = r.at("mean_force_y") + left.at("mean_force_y") + right.at("mean_force_y");
+  INFO("kinetic energy " << sim.stats().kinetic_translational << ", on the floor "
+                         << r.at("mean_force_y") << ", on the sides "
+                         << left.at("mean_force_y") + right.at("mean_force_y"));
   // 0.5%: the bed is not perfectly still.
-  CHECK(r.at("mean_normal_force") + held_by_sides == Approx(weight).epsilon(0.005));
+  CHECK(-vertical == Approx(weight).epsilon(0.005));
+  // The floor's normal force is its vertical force; the side walls' pushes cancel.
+  CHECK(r.at("mean_normal_force") == Approx(-r.at("mean_force_y")).epsilon(1e-9));
+  CHECK(r.at("mean_force_x") == Approx(0).margin(0.3 * r.at("mean_normal_force")));
+  // Horizontally the side walls' pushes and the floor's friction balance.
+  CHECK(r.at("mean_force_x") + left.at("mean_force_x") + right.at("mean_force_x") ==
+        Approx(0).margin(0.005 * weight));
+  CHECK(left.at("mean_force_x") < 0);  // the bed pushes the left wall to -x
   // Coulomb holds for the sum as for each contact (wall friction 0.3).
   CHECK(std::abs(r.at("mean_tangential_force")) <= 0.3 * r.at("mean_normal_force"));
+  CHECK(std::abs(left.at("mean_force_y")) <= 0.3 * std::abs(left.at("mean_force_x")) + 1e-12);
   CHECK(r.at("samples") > 0);
 }
 
