@@ -17,7 +17,11 @@ tables: reads the finished case files under WORK/<study>/ for every study that
 tools/mechanofusion_long.sh ran (a sweep over scenarios/mechanofusion.lua with
 seeds; a study still running gives the cases finished so far) and writes
 docs/data/mechanofusion_<study>.csv (one row per case: its parameters, its
-wall time and every result the scene recorded).
+wall time and every result the scene recorded). Cases already in that table
+and not under WORK are kept (a study's seeds may run in different sessions;
+--replace drops them); a study that shares cases with another (loading's
+1500 particles are the rpm study's) borrows them from its table, marked in
+the column borrowed_from.
 figures: reads those tables only, so the figures and fits are made again from
 what is committed. Per value of a study's parameter: the mean over the seeds
 and its standard error (sample standard deviation / sqrt(seeds)); per
@@ -63,13 +67,17 @@ STUDIES = {
     "stiffness": {"x": "k_load", "claims": [(f"normal_force_per_contact_{a}", 0.5, "Figs. 5.9-5.10")
                                             for a in AREAS]},
     "loading": {"x": "particles", "by": "rpm", "claims": [("inner_normal_force", None, "Fig. 4.17"),
-                                                          ("inner_tangential_force", None, "Fig. 4.18")]},
+                                                          ("inner_tangential_force", None, "Fig. 4.18")],
+                # The base loading (1500 particles) at 1000, 2000 and 4000 rpm is the rpm
+                # study's own cases (the same scene, seeds, settling and length): taken
+                # from its table rather than run twice.
+                "borrow": ("rpm", "rpm", ("1000", "2000", "4000"))},
     "coating": {"x": "rpm", "claims": []},
     "scraper": {"x": "scraper", "claims": []},
     "double": {"x": "size_scale", "claims": []},
     "slab": {"x": "dimension", "claims": []},
 }
-NOT_RESULTS = {"case", "status", "rank", "wall_s", "file", "error"}
+NOT_RESULTS = {"case", "status", "rank", "wall_s", "file", "error", "borrowed_from"}
 
 
 def read_csv(path):
@@ -143,6 +151,32 @@ def finished_cases(directory):
     return rows
 
 
+def borrowed_rows(data, study, rows):
+    """Rows of another study's table that this study shares (STUDIES[study]["borrow"]:
+    the other study, the column to match and its values), marked `borrowed_from`,
+    unless this study ran the same case itself."""
+    source, column, values = STUDIES[study]["borrow"]
+    path = os.path.join(data, f"mechanofusion_{source}.csv")
+    if not os.path.exists(path):
+        print(f"{study}: {path} not there; nothing borrowed")
+        return []
+    spec = STUDIES[study]
+    def key(r):
+        return tuple(number(r.get(c)) for c in ("seed", spec["x"], spec.get("by") or spec["x"]))
+    have = {key(r) for r in rows}
+    out = []
+    for r in read_csv(path):
+        if str(r.get(column)).strip() not in values and f"{number(r.get(column)):g}" not in values:
+            continue
+        if key(r) in have:
+            continue
+        r = dict(r)
+        r["borrowed_from"] = source
+        out.append(r)
+    print(f"{study}: {len(out)} cases borrowed from {path}")
+    return out
+
+
 def tables(args):
     os.makedirs(args.data, exist_ok=True)
     written = 0
@@ -156,8 +190,19 @@ def tables(args):
             continue
         for r in rows:
             derive(r)
-        columns = sorted({c for r in rows for c in r}, key=lambda c: (c != "case", c))
         out = os.path.join(args.data, f"mechanofusion_{study}.csv")
+        if os.path.exists(out) and not args.replace:
+            # A table gathers its cases over sessions and machines: the cases in
+            # the table that this WORK did not run (or not yet finish) are kept.
+            ran = {r["case"] for r in rows}
+            kept = [r for r in read_csv(out) if r.get("case") not in ran and not r.get("borrowed_from")]
+            if kept:
+                print(f"{study}: {len(kept)} cases kept from {out}")
+            rows += kept
+        if "borrow" in STUDIES[study]:
+            rows += borrowed_rows(args.data, study, rows)
+        rows.sort(key=lambda r: r["case"])
+        columns = sorted({c for r in rows for c in r}, key=lambda c: (c != "case", c))
         with open(out, "w", newline="") as f:
             w = csv.writer(f)
             w.writerow(columns)
@@ -450,6 +495,8 @@ def main(argv=None):
     t = sub.add_parser("tables")
     t.add_argument("work")
     t.add_argument("--data", default=os.path.join(ROOT, "docs", "data"))
+    t.add_argument("--replace", action="store_true",
+                   help="write each table from WORK alone (default: keep the table's other cases)")
     f = sub.add_parser("figures")
     f.add_argument("--data", default=os.path.join(ROOT, "docs", "data"))
     f.add_argument("-o", "--output", default=os.path.join(ROOT, "docs", "figures"))

@@ -49,7 +49,8 @@ for study in $studies; do
     scraper) axes="-D scraper=true,false" ;;
     gap) axes="-D gap=1.0e-3,1.6e-3,2.4e-3,3.2e-3" ;;
     stiffness) axes="-D k_load=2000,5000,20000,50000" ;;
-    loading) axes="-D rpm=1000,2000,4000 -D particles=500,1000,1500,2000" ;;
+    # 1500 particles at these speeds are the rpm study's cases (mechanofusion_ensembles.py borrows them).
+    loading) axes="-D rpm=1000,2000,4000 -D particles=500,1000,2000" ;;
     double) axes="-D size_scale=1,2" ;;
     slab) axes="-D dimension=2,3" ;;
     *) echo "unknown study '$study' (rpm coating gap stiffness scraper loading double slab)" >&2; exit 2 ;;
