@@ -31,6 +31,7 @@
 #include <cmath>
 #include <vector>
 
+#include "contact/contact_batch.hpp"
 #include "contact/contact_state.hpp"
 #include "contact/parameters.hpp"
 #include "core/errors.hpp"
@@ -231,6 +232,70 @@ struct ThorntonElastic {
         mindlin_deresiewicz<D>(h, c, 8 * p.g_star * a, mu * normal, mu * dn, mu * normal);
     return out;
   }
+
+  // force() for batches of contacts (contact_batch.hpp; thornton_elastic_batch.hpp).
+  // History<D> as arrays; the branch as a double (0, 1, 2), so that the lanes'
+  // selects on it stay in vector registers beside the forces.
+  struct BatchHistory3 {
+    static constexpr int lanes = batch_lanes;
+    alignas(64) double tx[lanes], ty[lanes], tz[lanes];  // T
+    alignas(64) double rx[lanes], ry[lanes], rz[lanes];  // T*
+    alignas(64) double qx[lanes], qy[lanes], qz[lanes];  // T**
+    alignas(64) double ux[lanes], uy[lanes], uz[lanes];  // u
+    alignas(64) double branch[lanes], previous_normal[lanes];
+    void load(int l, const History<3>& h) {
+      tx[l] = h.tangential.x(), ty[l] = h.tangential.y(), tz[l] = h.tangential.z();
+      rx[l] = h.reversal.x(), ry[l] = h.reversal.y(), rz[l] = h.reversal.z();
+      qx[l] = h.reversal2.x(), qy[l] = h.reversal2.y(), qz[l] = h.reversal2.z();
+      ux[l] = h.load_direction.x(), uy[l] = h.load_direction.y(), uz[l] = h.load_direction.z();
+      branch[l] = h.branch, previous_normal[l] = h.previous_normal;
+    }
+    void store(int l, History<3>& h) const {
+      h.tangential = Vec<3>(tx[l], ty[l], tz[l]);
+      h.reversal = Vec<3>(rx[l], ry[l], rz[l]);
+      h.reversal2 = Vec<3>(qx[l], qy[l], qz[l]);
+      h.load_direction = Vec<3>(ux[l], uy[l], uz[l]);
+      h.branch = static_cast<int>(branch[l]), h.previous_normal = previous_normal[l];
+    }
+    void pad(int l) {
+      tx[l] = ty[l] = tz[l] = rx[l] = ry[l] = rz[l] = 0;
+      qx[l] = qy[l] = qz[l] = ux[l] = uy[l] = uz[l] = 0;
+      branch[l] = loading, previous_normal[l] = 0;
+    }
+  };
+  // 2D: the vectors as History<2> keeps them (the batch reads them along t).
+  struct BatchHistory2 {
+    static constexpr int lanes = batch_lanes;
+    alignas(64) double tx[lanes], ty[lanes];  // T
+    alignas(64) double rx[lanes], ry[lanes];  // T*
+    alignas(64) double qx[lanes], qy[lanes];  // T**
+    alignas(64) double ux[lanes], uy[lanes];  // u
+    alignas(64) double branch[lanes], previous_normal[lanes];
+    void load(int l, const History<2>& h) {
+      tx[l] = h.tangential.x(), ty[l] = h.tangential.y();
+      rx[l] = h.reversal.x(), ry[l] = h.reversal.y();
+      qx[l] = h.reversal2.x(), qy[l] = h.reversal2.y();
+      ux[l] = h.load_direction.x(), uy[l] = h.load_direction.y();
+      branch[l] = h.branch, previous_normal[l] = h.previous_normal;
+    }
+    void store(int l, History<2>& h) const {
+      h.tangential = Vec<2>(tx[l], ty[l]);
+      h.reversal = Vec<2>(rx[l], ry[l]);
+      h.reversal2 = Vec<2>(qx[l], qy[l]);
+      h.load_direction = Vec<2>(ux[l], uy[l]);
+      h.branch = static_cast<int>(branch[l]), h.previous_normal = previous_normal[l];
+    }
+    void pad(int l) {
+      tx[l] = ty[l] = rx[l] = ry[l] = qx[l] = qy[l] = ux[l] = uy[l] = 0;
+      branch[l] = loading, previous_normal[l] = 0;
+    }
+  };
+  template <bool Uniform>
+  struct LaneParams;
+  static void force_batch(const Params* const lane[], BatchHistory3& h, ContactBatch<3>& c);
+  static void force_batch(const Params* const lane[], BatchHistory2& h, ContactBatch<2>& c);
 };
 
 }  // namespace granule
+
+#include "contact/thornton_elastic_batch.hpp"
