@@ -2,8 +2,10 @@
 // per-contact force(), lane by lane, over random contacts that cover the
 // law's paths, in 2D and 3D, with the lanes of one batch under different
 // laws. The two agree to round-off (the compiler may fuse multiply-adds
-// differently in the two): 1e-12 of the lane's force scale. The 3D linear
-// law has its own such test (test_linear.cpp).
+// differently in the two): 1e-12 of the lane's force scale, and for
+// Thornton's elastic law what its cube root and its ties make of round-off
+// (check_thornton_elastic_lanes). The 3D linear law has its own such test
+// (test_linear.cpp).
 #include <Eigen/Dense>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -13,6 +15,7 @@
 
 #include "contact/hertz_mindlin.hpp"
 #include "contact/linear_spring_dashpot.hpp"
+#include "contact/thornton_elastic.hpp"
 #include "contact/walton_braun.hpp"
 
 using namespace granule;
@@ -402,4 +405,306 @@ TEST_CASE("hertz-mindlin: the batched kernels give force()'s forces and slips, l
           "[hertz_mindlin][batch]") {
   check_hertz_mindlin_lanes<2>();
   check_hertz_mindlin_lanes<3>();
+}
+
+namespace {
+// What Thornton-elastic's lanes went through, over all rounds and steps (each
+// counted from force()'s histories before and after the step).
+struct ThorntonCoverage {
+  int fresh = 0, no_friction = 0, apart = 0, padded = 0;
+  int to_unloading = 0, to_reloading = 0, unloading = 0, reloading = 0;
+  int masing_return = 0, no_slip = 0, partial_slip = 0, capped = 0, reversal_capped = 0;
+  int standing_on_u = 0, u_across = 0, turned_far = 0, checked = 0;
+  int round_off = 0, ties = 0;  // lanes within 1e-12 of force(); force()'s own ties
+};
+
+// One lane's contact over a round: its normal turning a little each step (and
+// in some lanes sometimes far), its overlap growing or shrinking (N loading or
+// unloading), and its slip along a tangent direction whose sense flips at
+// random (Eqs. 6.8-6.10's reversals), at one of four speeds: none, slow enough
+// for dT < mu dN (theta = 1), partial slip, sliding; in 3D some lanes also slip
+// across T's line.
+template <int D>
+struct ThorntonLane {
+  Vec<D> normal, along;
+  double overlap, rate, radius, speed, across;
+};
+
+template <int D>
+Vec<D> random_direction(Random& u) {
+  if constexpr (D == 2)
+    return u.direction_2d();
+  else
+    return u.direction();
+}
+
+// The unit tangent nearest `guess` (in 2D: +t or -t, t = (-n_y, n_x)).
+template <int D>
+Vec<D> thornton_tangent(const Vec<D>& normal, const Vec<D>& guess) {
+  if constexpr (D == 2) {
+    const Vec<2> t(-normal.y(), normal.x());
+    return guess.dot(t) < 0 ? Vec<2>(-t) : t;
+  } else {
+    return (guess - normal * normal.dot(guess)).normalized();
+  }
+}
+
+// Thornton-elastic's lanes against force(), step after step: each step the
+// batch is loaded from force()'s history of the step before, so that every
+// lane is checked from the states a contact really reaches (reversal points,
+// branches) without the two paths' round-off adding up over a round.
+template <int D>
+void check_thornton_elastic_lanes() {
+  using TE = ThorntonElastic;
+  using History = TE::History<D>;
+  Random u;
+  ThorntonCoverage seen;
+  const Material soft{"soft", 1000, 1e7, 0.3, 0}, hard{"hard", 2500, 2e8, 0.25, 0};
+  const Material* pairs[3][2] = {{&soft, &soft}, {&soft, &hard}, {&hard, &hard}};
+  constexpr int rounds = 100, steps = 16;
+  for (int round = 0; round < rounds; ++round) {
+    std::vector<TE::Params> laws;
+    for (int law = 0; law < 3; ++law) {
+      const double mu = round % 5 == 4 && law == 2 ? 0.0 : 0.1 + 0.2 * (u() + 1);
+      laws.push_back(TE::make({{"friction", mu}}, {*pairs[law][0], *pairs[law][1]}));
+    }
+    // Some rounds all lanes under one law (LaneParams<true>), the others mixed.
+    const TE::Params* lane_law[L];
+    for (int l = 0; l < L; ++l) lane_law[l] = &laws[round % 3 == 0 ? 0 : (l + round) % 3];
+    // Some rounds with the last lanes padded, as the engine pads a batch it could not fill.
+    const int used = round % 4 == 1 ? L - 5 : L;
+    ThorntonLane<D> lanes[L];
+    History histories[L];
+    for (int l = 0; l < L; ++l) {
+      ThorntonLane<D>& s = lanes[l];
+      s.normal = random_direction<D>(u);
+      s.along = thornton_tangent<D>(s.normal, random_direction<D>(u));
+      s.overlap = 1e-6 * (u() + 1.2);
+      s.rate = 0.04 * s.overlap * u();
+      s.radius = 1e-4 * (u() + 1.5);
+      const int kind = l % 4;
+      s.speed = kind == 0 ? (l % 8 == 0 ? 0.0 : 1e-5) : kind == 1 ? 0.02 : kind == 2 ? 0.1 : 0.5;
+      s.across = D == 3 && l % 3 == 0 ? 0.3 * u() : 0.0;
+      // A quarter of the lanes start on a branch with reversal values (some
+      // with T = 0 and a sense u, the line force() then reads u along).
+      if (l % 4 == 3 || l % 8 == 4) {
+        History& h = histories[l];
+        const TE::Params& p = *lane_law[l];
+        const double a = std::sqrt(s.overlap * s.radius);
+        const double cap = p.friction * 4.0 / 3.0 * p.e_star * a * s.overlap;
+        h.previous_normal = cap > 0 ? cap / p.friction * (1 + 0.05 * u()) : 0.0;
+        h.branch = static_cast<int>(3 * (u() + 1) / 2) % 3;
+        h.tangential = l % 8 == 4 ? Vec<D>(Vec<D>::Zero()) : Vec<D>(0.9 * cap * u() * s.along);
+        h.reversal = 0.9 * cap * u() * s.along;
+        h.reversal2 = 0.9 * cap * u() * s.along;
+        h.load_direction = (u() < 0 ? -1.0 : 1.0) * s.along;
+        // Some with u across the tangent plane (along the normal): rotated,
+        // it vanishes; force() then takes the next increment as the first, and
+        // keeps the old u where there is none.
+        if (l % 16 == 11 || l % 16 == 12) h.load_direction = (u() < 0 ? -1.0 : 1.0) * s.normal;
+        if (l % 8 == 4) s.speed = 0.0;
+      }
+    }
+    for (int step = 0; step < steps; ++step) {
+      std::conditional_t<D == 2, TE::BatchHistory2, TE::BatchHistory3> hb;
+      ContactBatch<D> cb;
+      cb.dt = 1e-7;
+      ContactState<D> states[L];
+      bool turned_far[L] = {};
+      for (int l = 0; l < L; ++l) {
+        ThorntonLane<D>& s = lanes[l];
+        // The contact moves on: the normal turns (far, x > 1e-4, in some lanes
+        // now and then), the overlap changes (in some lanes across zero), the
+        // slip's sense flips at random.
+        if (step > 0) {
+          turned_far[l] = l % 8 == 7 && u() > 0.5;
+          const Vec<D> kick = random_direction<D>(u);
+          s.normal = (s.normal + (turned_far[l] ? 0.05 : 1e-3) * kick).normalized();
+          s.along = thornton_tangent<D>(s.normal, s.along);
+          if (u() > 0.6) s.rate = -s.rate;
+          s.overlap += s.rate;
+          if (l % 16 == 15 && u() > 0.8) s.overlap = -0.2e-6 * (u() + 1.01);
+          if (s.overlap <= 0 && u() > 0.5) s.overlap = 1e-6 * (u() + 1.2);  // touching again
+          if (u() > 0.5) s.speed = -s.speed;
+        }
+        ContactState<D>& c = states[l];
+        c.dt = cb.dt;
+        c.normal = s.normal;
+        c.overlap = s.overlap;
+        c.normal_velocity = -s.rate / cb.dt;
+        c.inv_mass_sum = 1e5;
+        c.effective_mass = 1e-5;
+        c.effective_radius = s.radius;
+        Vec<D> v = s.speed * s.along;
+        if constexpr (D == 3) {
+          const Vec<3> side = s.normal.cross(s.along);
+          v += s.across * std::abs(s.speed) * side;
+        }
+        c.tangential_velocity = v;
+        if (l >= used) {  // a padded lane, as PairBatch::pad() leaves it
+          c.normal = Vec<D>::Unit(0);
+          c.overlap = -0.5, c.normal_velocity = 0, c.effective_radius = 0.125;
+          c.tangential_velocity.setZero();
+          c.inv_mass_sum = 1;
+        }
+        cb.nx[l] = c.normal.x(), cb.ny[l] = c.normal.y();
+        cb.overlap[l] = c.overlap, cb.normal_velocity[l] = c.normal_velocity;
+        cb.inv_mass_sum[l] = c.inv_mass_sum;
+        cb.effective_radius[l] = c.effective_radius;
+        if constexpr (D == 2) {
+          cb.tangential_velocity[l] =
+              c.tangential_velocity.dot(Vec<2>(-c.normal.y(), c.normal.x()));
+        } else {
+          cb.nz[l] = c.normal.z();
+          cb.vtx[l] = c.tangential_velocity.x(), cb.vty[l] = c.tangential_velocity.y();
+          cb.vtz[l] = c.tangential_velocity.z();
+        }
+        if (l < used)
+          hb.load(l, histories[l]);
+        else
+          hb.pad(l);
+      }
+      TE::force_batch(lane_law, hb, cb);
+      for (int l = 0; l < L; ++l) {
+        History got;
+        hb.store(l, got);
+        Vec<D> t;
+        if constexpr (D == 2)
+          t = cb.tangential_force[l] * Vec<2>(-cb.ny[l], cb.nx[l]);
+        else
+          t = Vec<3>(cb.ftx[l], cb.fty[l], cb.ftz[l]);
+        if (l >= used) {  // padding: no force, and nothing kept
+          REQUIRE(cb.normal_force[l] == 0);
+          REQUIRE(t.squaredNorm() == 0);
+          REQUIRE(got.tangential.squaredNorm() + got.reversal.squaredNorm() +
+                      got.reversal2.squaredNorm() + got.load_direction.squaredNorm() ==
+                  0);
+          REQUIRE(got.previous_normal == 0);
+          ++seen.padded;
+          continue;
+        }
+        const History before = histories[l];
+        History& h = histories[l];
+        const TE::Params& p = *lane_law[l];
+        const ContactState<D>& c = states[l];
+        const ContactForce<D> f = TE::force<D>(p, h, c);
+        const double scale = std::abs(f.normal) + f.tangential.norm() + before.tangential.norm() +
+                             before.reversal.norm() + before.reversal2.norm() + 1e-20;
+        INFO(D << "D, round " << round << " step " << step << " lane " << l << ": branch "
+               << before.branch << " -> " << h.branch << " vs " << got.branch << "; N " << f.normal
+               << " vs " << cb.normal_force[l] << ", T " << f.tangential.transpose() << " vs "
+               << t.transpose() << ", T* " << h.reversal.transpose() << " vs "
+               << got.reversal.transpose() << ", T** " << h.reversal2.transpose() << " vs "
+               << got.reversal2.transpose());
+        REQUIRE(std::abs(cb.normal_force[l] - f.normal) <= 1e-12 * scale);
+        REQUIRE(got.previous_normal == Approx(h.previous_normal).epsilon(1e-14));
+        // Round-off of the lane's forces, and what Eq. 6.7's cube root makes of
+        // it where theta^3 is round-off away from 0 (a contact sliding on, T at
+        // mu N of the step before: T + mu dN is mu N): a round-off e there is
+        // e^(1/3) ~ 1e-5 in theta, times the step's increment k0 |d delta| + mu |dN|.
+        const bool touching = c.overlap > 0;
+        const double k0 = touching ? 8 * p.g_star * std::sqrt(c.overlap * c.effective_radius) : 0.0;
+        const double slip_mag = c.tangential_velocity.norm() * c.dt;
+        const double mu_dn = p.friction * (f.normal - before.previous_normal);
+        const double tolerance = 1e-12 * scale + 1e-5 * (k0 * slip_mag + std::abs(mu_dn));
+        auto agrees = [&](const History& want, const Vec<D>& want_t, double tol) {
+          return got.branch == want.branch && (t - want_t).norm() <= tol &&
+                 (got.tangential - want.tangential).norm() <= tol &&
+                 (got.reversal - want.reversal).norm() <= tol &&
+                 (got.reversal2 - want.reversal2).norm() <= tol &&
+                 (got.load_direction - want.load_direction).norm() <= 1e-12;
+        };
+        bool same = agrees(h, f.tangential, tolerance);
+        seen.round_off += agrees(h, f.tangential, 1e-12 * scale);
+        if (!same) {
+          // A tie in force() itself: its Masing returns compare T with +-T*
+          // (or T**), and where both were capped at the same mu N the two are
+          // equal but for round-off, which the two paths' arithmetic (fused
+          // multiply-adds) may break either way. The lane must then be force()
+          // on inputs a few ulp away.
+          const double ulps[3] = {1 - 2e-15, 1.0, 1 + 2e-15};
+          for (double ft : ulps)
+            for (double fr : ulps)
+              for (double fq : ulps) {
+                History moved = before;
+                moved.tangential *= ft, moved.reversal *= fr, moved.reversal2 *= fq;
+                const ContactForce<D> fm = TE::force<D>(p, moved, c);
+                same = same || agrees(moved, fm.tangential, tolerance);
+              }
+          seen.ties += same;
+        }
+        REQUIRE(same);
+        ++seen.checked;
+        // What this step went through (force()'s view).
+        const double limit = p.friction * f.normal;
+        if (!(c.overlap > 0)) {
+          ++seen.apart;
+          continue;
+        }
+        seen.fresh += before.previous_normal == 0;
+        if (!(limit > 0)) {
+          ++seen.no_friction;
+          continue;
+        }
+        if (slip_mag > 0) (k0 * slip_mag < mu_dn ? seen.no_slip : seen.partial_slip)++;
+        seen.to_unloading += h.branch == TE::unloading && before.branch != TE::unloading;
+        seen.to_reloading += h.branch == TE::reloading && before.branch != TE::reloading;
+        seen.unloading += h.branch == TE::unloading;
+        seen.reloading += h.branch == TE::reloading;
+        // Masing: a reversed branch that got back to the curve it left. Counted
+        // where the step began off loading and moved, and ended on loading.
+        seen.masing_return += before.branch != TE::loading && h.branch == TE::loading &&
+                              before.load_direction.squaredNorm() > 0;
+        seen.capped += f.tangential.norm() >= limit * (1 - 1e-12);
+        seen.reversal_capped +=
+            h.reversal.norm() >= limit * (1 - 1e-12) || h.reversal2.norm() >= limit * (1 - 1e-12);
+        seen.standing_on_u += before.tangential.squaredNorm() == 0 && slip_mag == 0 &&
+                              before.load_direction.squaredNorm() > 0;
+        seen.turned_far += turned_far[l] && before.tangential.squaredNorm() > 0;
+        seen.u_across += std::abs(before.load_direction.dot(c.normal)) > 0.999;
+      }
+    }
+  }
+  INFO(D << "D: checked " << seen.checked << ", fresh " << seen.fresh << ", no friction "
+         << seen.no_friction << ", apart " << seen.apart << ", padded " << seen.padded
+         << ", to unloading " << seen.to_unloading << ", to reloading " << seen.to_reloading
+         << ", unloading " << seen.unloading << ", reloading " << seen.reloading
+         << ", Masing returns " << seen.masing_return << ", no slip " << seen.no_slip
+         << ", partial slip " << seen.partial_slip << ", capped " << seen.capped
+         << ", reversal capped " << seen.reversal_capped << ", standing on u " << seen.standing_on_u
+         << ", u across " << seen.u_across << ", turned far " << seen.turned_far
+         << "; to round-off " << seen.round_off << ", ties " << seen.ties);
+  CHECK(seen.checked > 10000);
+  // Nearly all lanes within round-off; ties and amplified round-off are rare.
+  CHECK(seen.round_off > 0.99 * seen.checked);
+  CHECK(seen.ties < 0.001 * seen.checked);
+  CHECK(seen.fresh > 100);
+  CHECK(seen.no_friction > 100);
+  CHECK(seen.apart > 10);
+  CHECK(seen.padded > 1000);
+  CHECK(seen.to_unloading > 100);
+  CHECK(seen.to_reloading > 100);
+  CHECK(seen.unloading > 500);
+  CHECK(seen.reloading > 500);
+  CHECK(seen.masing_return > 50);
+  CHECK(seen.no_slip > 100);
+  CHECK(seen.partial_slip > 1000);
+  CHECK(seen.capped > 100);
+  CHECK(seen.reversal_capped > 100);
+  CHECK(seen.standing_on_u > 10);
+  CHECK(seen.u_across > 50);
+  if (D == 3) CHECK(seen.turned_far > 100);
+}
+}  // namespace
+
+TEST_CASE(
+    "thornton-elastic: the batched 2D kernel gives force()'s forces and history, lane by lane",
+    "[thornton][batch]") {
+  check_thornton_elastic_lanes<2>();
+}
+
+TEST_CASE(
+    "thornton-elastic: the batched 3D kernel gives force()'s forces and history, lane by lane",
+    "[thornton][batch]") {
+  check_thornton_elastic_lanes<3>();
 }
