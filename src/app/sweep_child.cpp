@@ -102,7 +102,11 @@ RunningCase::RunningCase(const Settings& s, const Case& c, int threads, int rank
     signal(SIGINT, SIG_DFL);
     signal(SIGTERM, SIG_DFL);
     signal(SIGHUP, SIG_DFL);
-    execve(argv[0], argv.data(), env.data());
+    // The sweep's own program, through /proc/self/exe rather than its path: a
+    // rebuild that replaces the file while a study runs (its path then reads
+    // "... (deleted)") must neither fail the cases still to start nor run them
+    // on another build than the cases before them.
+    execve("/proc/self/exe", argv.data(), env.data());
     ssize_t ignored = write(2, exec_error.data(), exec_error.size());
     (void)ignored;
     _exit(127);

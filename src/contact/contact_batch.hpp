@@ -28,6 +28,7 @@
 #pragma once
 
 #include <type_traits>
+#include <utility>
 
 #include "contact/contact_state.hpp"
 
@@ -71,15 +72,19 @@ struct ContactBatch<2> {
   alignas(64) double tangential_force[lanes];     // along t, on i, N
 };
 
-template <typename M, typename = void>
+// Detected by calling it on the history (a law may write it as a template
+// over the history type, whose address cannot be taken without arguments).
+template <typename M, typename H, typename = void>
 struct has_batch_needs_mass : std::false_type {};
-template <typename M>
-struct has_batch_needs_mass<M, std::void_t<decltype(&M::batch_needs_mass)>> : std::true_type {};
+template <typename M, typename H>
+struct has_batch_needs_mass<M, H,
+                            std::void_t<decltype(M::batch_needs_mass(std::declval<const H&>()))>>
+    : std::true_type {};
 
 // Does this contact's lane need inv_mass_sum this step?
 template <typename M, typename H>
 inline bool batch_needs_mass(const H& h) {
-  if constexpr (has_batch_needs_mass<M>::value)
+  if constexpr (has_batch_needs_mass<M, H>::value)
     return M::batch_needs_mass(h);
   else
     return true;

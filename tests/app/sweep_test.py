@@ -16,6 +16,8 @@ resume: a sweep killed outright (SIGKILL, as a lost node) mid-case, its case hav
 written a periodic checkpoint, is rerun: the case continues from the checkpoint (less
 wall time, its log appended) and its results are the uninterrupted sweep's, bit for bit;
 the finished case's checkpoint is removed.
+rebuilt: the program file replaced while the sweep runs; the cases still to start
+run on the sweep's own program.
 Prints "sweep_test <mode> ok" at the end; any failed check raises.
 """
 import csv
@@ -255,12 +257,47 @@ def resume():
     check("granule: particles:" in head and rest, "the continued case's log is appended, not replaced", log)
 
 
+def rebuilt():
+    """The program replaced while a sweep runs (a rebuild during a long study): the
+    cases still to start run on the sweep's own program, not the new file."""
+    directory = os.path.join(WORK, "sweep_rebuilt")
+    shutil.rmtree(directory, ignore_errors=True)
+    os.makedirs(directory)
+    program = os.path.join(directory, "granule")
+    shutil.copy2(GRANULE, program)
+    drum = os.path.join(SOURCE, "scenarios", "tutorial_drum.lua")
+    out_dir = os.path.join(directory, "out")
+    p = subprocess.Popen([program, "sweep", drum, "-D", "duration=0.3,0.31,0.32", "-o", out_dir,
+                          "--threads", "1"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    first_log = os.path.join(out_dir, "tutorial_drum_duration=0.3.log")
+    deadline = time.time() + 60
+    while not os.path.exists(first_log) and p.poll() is None and time.time() < deadline:
+        time.sleep(0.02)
+    check(p.poll() is None, "the sweep is still running its first case when the program is replaced")
+    # What a rebuild does: the old file removed, another program at its path.
+    os.remove(program)
+    with open(program, "w") as f:
+        f.write("#!/bin/sh\necho 'not the sweep program' >&2\nexit 3\n")
+    os.chmod(program, 0o755)
+    out = p.communicate(timeout=120)[0]
+    check(p.returncode == 0, f"the sweep finishes every case, got exit {p.returncode}", out)
+    rows = table(out_dir, "tutorial_drum")
+    check(len(rows) == 3 and all(r["status"] == "ok" for r in rows),
+          f"all three cases finished: {[r.get('status') for r in rows]}", out)
+    for r in rows:
+        with open(os.path.join(out_dir, r["file"].replace(".h5", ".log"))) as f:
+            log = f.read()
+        check("not the sweep program" not in log, f"case {r['file']} ran the replacing file", log)
+
+
 if MODE == "serial":
     serial()
 elif MODE == "resume":
     resume()
 elif MODE == "mpi":
     mpi(sys.argv[5])
+elif MODE == "rebuilt":
+    rebuilt()
 else:
     sys.exit(f"unknown mode {MODE}")
 print(f"sweep_test {MODE} ok")
