@@ -389,6 +389,51 @@ def cost_figure(path, fits, out_dir):
     save(fig, os.path.join(out_dir, "mechanofusion_cost.png"))
 
 
+def ratio_figure(study, rows, spec, out_dir):
+    """Two-valued studies (double: size_scale 2 against 1; slab: 3D against 2D): per
+    seed the ratio of each force quantity, bars of the mean over the seeds +- its
+    standard error, beside the 1 that the similarity argument (5.3.2, app. A) expects."""
+    x = spec["x"]
+    values = sorted({number(r[x]) for r in rows})
+    if len(values) != 2:
+        return
+    low, high = values
+    quantities = ([(f"normal_force_per_contact_{a}", f"per contact, {AREA_LABEL.get(a, a)}") for a in AREAS]
+                  + [(f"normal_force_per_particle_{a}", f"per particle, {AREA_LABEL.get(a, a)}") for a in AREAS]
+                  + [("gap_normal_force_per_contact", "per contact, gap sector"),
+                     ("gap_shear_rate", "shear rate in the gap"),
+                     ("inner_normal_force", "normal force on the inner piece")])
+    by_seed = {}
+    for r in rows:
+        by_seed.setdefault(number(r.get("seed", 1)), {})[number(r[x])] = r
+    labels, means, errors = [], [], []
+    for q, label in quantities:
+        ratios = [number(pair[high].get(q)) / number(pair[low].get(q)) for pair in by_seed.values()
+                  if low in pair and high in pair and number(pair[low].get(q)) not in (0.0,)]
+        ratios = [v for v in ratios if math.isfinite(v)]
+        if not ratios:
+            continue
+        m = float(np.mean(ratios))
+        e = float(np.std(ratios, ddof=1) / math.sqrt(len(ratios))) if len(ratios) > 1 else 0.0
+        labels.append(label)
+        means.append(m)
+        errors.append(e)
+        print(f"ratio study={study} {q} {x}={high:g}/{low:g} ratio={m:.3f} +- {e:.3f} seeds={len(ratios)}")
+    if not labels:
+        return
+    fig, ax = plt.subplots(figsize=(8, 4.2))
+    ax.barh(range(len(labels)), means, xerr=errors, color="tab:blue", alpha=0.7, capsize=3)
+    ax.axvline(1, color="k", lw=0.8, ls="--")
+    ax.set_yticks(range(len(labels)))
+    ax.set_yticklabels(labels, fontsize=7)
+    ax.invert_yaxis()
+    ax.set_xscale("log")
+    ax.set_xlabel(f"{x} = {high:g} over {x} = {low:g} (mean over seeds +- standard error)")
+    ax.set_title(f"{study} study: forces against the original", fontsize=9)
+    ax.grid(True, axis="x", which="both", alpha=0.3)
+    save(fig, os.path.join(out_dir, f"mechanofusion_{study}_ratios.png"))
+
+
 def figures(args):
     os.makedirs(args.output, exist_ok=True)
     fits = []
@@ -420,6 +465,8 @@ def figures(args):
                        "gap_temperature_over_eq_5_4", "gap_shear_rate_over_nominal", "gap_mean_solid_fraction"]
                     + [f"coating_time_{c}" for c in ("one_patch_rstar", "two_patches_rstar", "one_patch_r",
                                                      "two_patches_r")])
+        if study in ("double", "slab"):
+            ratio_figure(study, rows, spec, args.output)
         if study in ("scraper", "slab"):
             profile_figure(study, rows, spec, args.output, "zone",
                            ["rotational_ke", "deviatoric_ke", "pressure", "collision_work_rate", "solid_fraction"],
