@@ -243,8 +243,10 @@ def grouped(rows, x, quantity, by=None):
 
 
 def exponent(xs, means, seeds):
-    """Mean +- standard error over the seeds' own fits; one seed: the fit's error."""
-    per_seed = [power_fit(sx, sy)[0] for sx, sy in seeds.values() if len(sx) >= 2]
+    """Mean +- standard error over the seeds' own fits; one seed: the fit's error.
+    Only seeds that have every value of the study are fitted: a seed still running
+    (a study gathered over sessions) would fit a narrower range."""
+    per_seed = [power_fit(sx, sy)[0] for sx, sy in seeds.values() if len(sx) >= 2 and len(sx) == len(xs)]
     per_seed = [b for b in per_seed if math.isfinite(b)]
     if len(per_seed) >= 2:
         return float(np.mean(per_seed)), float(np.std(per_seed, ddof=1) / math.sqrt(len(per_seed))), len(per_seed)
