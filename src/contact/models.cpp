@@ -11,8 +11,7 @@ std::vector<ContactModelInfo> contact_model_catalogue() {
   for_each_model([&](auto index) {
     using M = ContactModelAt<decltype(index)::value>;
     out.push_back({M::name, M::doc, M::parameters(), M::adhesive, has_force_batch<M, 3>::value,
-                   has_force_batch<M, 2>::value,
-                   has_rolling<M>::value});
+                   has_force_batch<M, 2>::value, has_rolling<M>::value});
   });
   return out;
 }

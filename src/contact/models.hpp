@@ -50,10 +50,10 @@ struct ContactModelInfo {
   std::string name;
   std::string doc;
   std::vector<ParamSpec> parameters;
-  bool adhesive = false;  // its contacts persist into negative overlap (M::reach)
+  bool adhesive = false;    // its contacts persist into negative overlap (M::reach)
   bool batched_3d = false;  // it offers the batched kernel in 3D (contact_batch.hpp)
   bool batched_2d = false;  // and in 2D
-  bool rolling = false;   // the rolling variant of base_contact_model(id)
+  bool rolling = false;     // the rolling variant of base_contact_model(id)
 };
 
 // All registered models, in registry order (index = model id).

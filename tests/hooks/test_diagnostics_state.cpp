@@ -310,9 +310,10 @@ TEST_CASE("diagnostics' state: other diagnostics, other options or an older chec
   }
 }
 
-TEST_CASE("diagnostics' state: a wall_force checkpoint without the force vector loads, the "
-          "vector's mean counting from the restart",
-          "[diagnostics][checkpoint]") {
+TEST_CASE(
+    "diagnostics' state: a wall_force checkpoint without the force vector loads, the "
+    "vector's mean counting from the restart",
+    "[diagnostics][checkpoint]") {
   Run b({"wall_force"}, window());
   StateBlob blob = checkpoint_after(b, n1);
   REQUIRE(blob.doubles.count("diagnostics.0.sum_total") == 1);
