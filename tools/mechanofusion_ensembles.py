@@ -75,7 +75,9 @@ STUDIES = {
     "coating": {"x": "rpm", "claims": []},
     "scraper": {"x": "scraper", "claims": []},
     "double": {"x": "size_scale", "claims": []},
-    "slab": {"x": "dimension", "claims": []},
+    # The 2D section at the base speed is the rpm study's 2000 rpm case (dimension
+    # 2 is the scene's default): borrowed, marked dimension = 2, not run twice.
+    "slab": {"x": "dimension", "claims": [], "borrow": ("rpm", "rpm", ("2000",), {"dimension": "2"})},
 }
 NOT_RESULTS = {"case", "status", "rank", "wall_s", "file", "error", "borrowed_from"}
 
@@ -153,9 +155,11 @@ def finished_cases(directory):
 
 def borrowed_rows(data, study, rows):
     """Rows of another study's table that this study shares (STUDIES[study]["borrow"]:
-    the other study, the column to match and its values), marked `borrowed_from`,
-    unless this study ran the same case itself."""
-    source, column, values = STUDIES[study]["borrow"]
+    the other study, the column to match, its values and optionally the columns to
+    set on a borrowed row, such as the scene default that the other study did not
+    vary), marked `borrowed_from`, unless this study ran the same case itself."""
+    source, column, values = STUDIES[study]["borrow"][:3]
+    fixed = STUDIES[study]["borrow"][3] if len(STUDIES[study]["borrow"]) > 3 else {}
     path = os.path.join(data, f"mechanofusion_{source}.csv")
     if not os.path.exists(path):
         print(f"{study}: {path} not there; nothing borrowed")
@@ -168,9 +172,9 @@ def borrowed_rows(data, study, rows):
     for r in read_csv(path):
         if str(r.get(column)).strip() not in values and f"{number(r.get(column)):g}" not in values:
             continue
+        r = dict(r, **fixed)
         if key(r) in have:
             continue
-        r = dict(r)
         r["borrowed_from"] = source
         out.append(r)
     print(f"{study}: {len(out)} cases borrowed from {path}")

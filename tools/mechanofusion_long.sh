@@ -52,7 +52,8 @@ for study in $studies; do
     # 1500 particles at these speeds are the rpm study's cases (mechanofusion_ensembles.py borrows them).
     loading) axes="-D rpm=1000,2000,4000 -D particles=500,1000,2000" ;;
     double) axes="-D size_scale=1,2" ;;
-    slab) axes="-D dimension=2,3" ;;
+    # The 2D cases are the rpm study's 2000 rpm ones (mechanofusion_ensembles.py borrows them).
+    slab) axes="-D dimension=3" ;;
     *) echo "unknown study '$study' (rpm coating gap stiffness scraper loading double slab)" >&2; exit 2 ;;
   esac
   echo "== $study" >&2

@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """tools/mechanofusion_ensembles.py's bookkeeping on made-up tables: a table keeps
 the cases it holds that WORK lacks, a study borrows another's shared cases once
-(never a case it ran itself), and exponents are fitted only to seeds that have
+(never a case it ran itself; the slab study borrows the 2D cases with the
+column it varies set), and exponents are fitted only to seeds that have
 every value of the study. Prints "ensembles check ok"; any failed check exits 1.
 usage: check_ensembles.py SOURCE_DIR WORK_DIR"""
 import csv
@@ -62,6 +63,19 @@ if len(me.read_csv(os.path.join(data, "mechanofusion_loading.csv"))) != 9:
 me.tables(types.SimpleNamespace(work=os.path.join(work, "ensembles_work"), data=data, replace=True))
 if len(me.read_csv(os.path.join(data, "mechanofusion_loading.csv"))) != 2 + 6:
     fail("--replace kept the earlier session's case")
+# The slab study runs only the 3D slab; its 2D cases are the rpm study's 2000 rpm
+# ones, marked dimension = 2 (the scene's default, which the rpm study did not vary).
+os.makedirs(os.path.join(work, "ensembles_work", "slab"), exist_ok=True)
+slab_ran = [{"case": f"mechanofusion_seed={s}.h5", "seed": str(s), "dimension": "3",
+             "inner_normal_force": "3e-4"} for s in (1, 2)]
+me.finished_cases = lambda directory: [dict(r) for r in slab_ran] if directory.endswith("slab") else []
+me.tables(types.SimpleNamespace(work=os.path.join(work, "ensembles_work"), data=data, replace=False))
+slab = me.read_csv(os.path.join(data, "mechanofusion_slab.csv"))
+pairs = sorted((r["seed"], r["dimension"], r.get("borrowed_from", "")) for r in slab)
+if pairs != [("1", "2", "rpm"), ("1", "3", ""), ("2", "2", "rpm"), ("2", "3", "")]:
+    fail(f"slab rows {pairs}: not seeds 1-2 in 3D run and in 2D borrowed at 2000 rpm")
+if any(r["rpm"] != "2000" for r in slab if r.get("borrowed_from")):
+    fail("the slab borrowed a case at another speed than 2000 rpm")
 # Exponents: a seed with only part of the values is left out of the mean.
 import numpy as np  # noqa: E402
 xs = np.array([1.0, 2.0, 4.0])
