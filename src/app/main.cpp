@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <iostream>
 #include <lua.hpp>
@@ -213,6 +214,18 @@ int run_command(const std::vector<std::string>& args) {
   if (o.command == "sweep") return granule::app::run_sweep({args.begin() + 1, args.end()});
   if (o.command != "run" && o.command != "repl")
     return fail_usage("unknown command '" + o.command + "'");
+  // Started by mpirun as one of several ranks, every rank would run the whole
+  // scene and write the same files: refused (granule sweep's cases are started
+  // without the launcher's variables, so they are not).
+  for (const char* variable : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE"})
+    if (const char* value = std::getenv(variable); value && std::atoi(value) > 1) {
+      std::cerr << "granule: error: " << o.command << " started as one of " << value
+                << " MPI ranks (" << variable
+                << "): a Lua scene runs on one process; one scene over ranks runs from C++ so far "
+                   "(docs/parallel.md); for many cases over ranks use `granule sweep` under "
+                   "mpirun\n";
+      return 2;
+    }
   bool scene_help_asked = false;
   for (std::size_t k = 1; k < args.size(); ++k) {
     const std::string& a = args[k];

@@ -41,7 +41,7 @@ void Simulation<D>::step() {
   auto t0 = Clock::now();
   // 1. Neighbour lists: rebuilt only when something moved more than half the skin.
   // Large scenes are re-sorted along a space-filling curve every 32nd rebuild.
-  if (!lists_valid_ || lists_stale()) {
+  if (!external_rebuilds_ && (!lists_valid_ || lists_stale())) {
     if (p_.size() >= sort_min_particles && rebuilds_ % 32 == 0)
       sort_particles();
     else

@@ -127,6 +127,28 @@ class Simulation final : public SimulationBase {
   // scene in several storage orders (simulation_setup.cpp).
   void reorder_storage(const std::vector<std::int64_t>& ids);
 
+  // One scene over MPI ranks (parallel/distributed_run.hpp, simulation_share.cpp).
+  // A rank's share is its owned particles followed by its ghosts: copies of
+  // other ranks' particles within reach, marked by `ghost_flag` in `fixed`
+  // (bit 0 stays "immobile"), which the step neither moves nor lists against
+  // walls or against each other. The run, not the step, decides when the lists
+  // are rebuilt, from every rank's displacements.
+  static constexpr std::uint8_t ghost_flag = 2;
+  void set_external_rebuilds(bool on) { external_rebuilds_ = on; }
+  // The lists need rebuilding before the next step (on this rank's share).
+  bool lists_due() const { return !lists_valid_ || lists_stale(); }
+  // The farthest centre distance at which two particles can interact before
+  // the next rebuild: twice the largest radius, the skin and the adhesive reach.
+  double interaction_reach() const;
+  Particles<D>& share() { return p_; }
+  // Per storage index, the pair and wall histories of the contacts an owned
+  // particle had at the last step, packed to travel with it.
+  std::vector<std::string> pack_histories() const;
+  // Stores `share` (owned particles, then ghosts) in place of the particles and
+  // rebuilds the lists, each contact's history taken from the packed lists
+  // (every rank's packing of the same contact is the same bytes).
+  void install_share(Particles<D> share, const std::vector<std::string>& histories);
+
   // Direct access for C++ tests and diagnostics.
   const Particles<D>& particles() const { return p_; }
   const std::vector<Wall<D>>& walls() const { return walls_; }
@@ -231,8 +253,9 @@ class Simulation final : public SimulationBase {
   std::int64_t candidates_visited_ = 0;  // by the pair loops' listing passes
   double max_overlap_ratio_ = 0;
   std::size_t non_finite_index_ = SIZE_MAX;
-  std::string dt_governing_pair_;  // the pair whose rule sets the automatic time step
-  double contact_reach_ = 0;       // m, how far apart adhesive contacts persist (<= skin)
+  std::string dt_governing_pair_;   // the pair whose rule sets the automatic time step
+  double contact_reach_ = 0;        // m, how far apart adhesive contacts persist (<= skin)
+  bool external_rebuilds_ = false;  // a distributed run rebuilds the lists (install_share)
   bool rotation_ = true;  // integrate spins: false when no pair in use has friction (prepare())
 };
 

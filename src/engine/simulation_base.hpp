@@ -241,6 +241,7 @@ class SimulationBase {
   void set_overlap_warning(double fraction);
   double overlap_warning() const { return overlap_warning_; }
   void set_periodic(int axis, double origin, double length);
+  bool is_periodic() const { return periodic_.on(); }
   void set_record_contacts(bool on) { record_contacts_ = on; }
   // Threads for the contact and integration loops. The results do not depend
   // on it: each contact force is computed once and the forces on a particle are

@@ -110,7 +110,9 @@ void CellGrid<D>::build(const Particles<D>& p, double skin, const Periodicity& p
   }
 
   auto consider = [&](std::uint32_t i, std::uint32_t j) {
-    if (p.fixed[i] && p.fixed[j]) return;
+    // Two immobile particles, or two ghosts of a distributed run (bit 1), meet
+    // nothing that moves here; an immobile particle and a ghost still do.
+    if (p.fixed[i] & p.fixed[j]) return;
     const double reach = p.radius[i] + p.radius[j] + skin;
     if (separation<D>(p.position[i], p.position[j], per).squaredNorm() < reach * reach)
       pairs.emplace_back(i, j);

@@ -66,7 +66,10 @@ void pack(const ParticleRecord<D>& r, std::string& bytes) {
   put_spin<D>(bytes, r.spin);
   put(bytes, r.radius);
   put(bytes, r.mass);
+  put(bytes, r.inv_mass);
+  put(bytes, r.inv_inertia);
   put(bytes, r.material);
+  put(bytes, r.fixed);
   put(bytes, r.image);
   put(bytes, static_cast<std::uint64_t>(r.payload.size()));
   bytes += r.payload;
@@ -81,7 +84,10 @@ ParticleRecord<D> unpack(const std::string& bytes, std::size_t& offset) {
   r.spin = take_spin<D>(bytes, offset);
   r.radius = take<double>(bytes, offset);
   r.mass = take<double>(bytes, offset);
+  r.inv_mass = take<double>(bytes, offset);
+  r.inv_inertia = take<double>(bytes, offset);
   r.material = take<std::int32_t>(bytes, offset);
+  r.fixed = take<std::uint8_t>(bytes, offset);
   r.image = take<std::int32_t>(bytes, offset);
   const auto length = take<std::uint64_t>(bytes, offset);
   if (offset + length > bytes.size())

@@ -183,6 +183,9 @@ TEST_CASE("parallel: a particle record packs and unpacks bit for bit", "[paralle
   r.spin = Vec<3>(1, 2, 3);
   r.radius = 4.5e-5;
   r.mass = 1.234e-12;
+  r.inv_mass = 1 / r.mass;
+  r.inv_inertia = 3.0e20;
+  r.fixed = 3;
   r.material = 3;
   r.image = 2;
   r.payload = std::string("\0history\xff", 10);

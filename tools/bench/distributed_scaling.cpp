@@ -1,0 +1,131 @@
+// Strong and weak scaling of the distributed step (src/parallel/distributed_run.hpp):
+// a 3D lattice box of spheres (linear law with friction, gravity, touching from
+// the first step, jostled by random velocities so that particles cross the
+// ranks' boxes) stepped over the ranks of mpirun. Prints one line from rank 0:
+// ranks, spheres, spheres per rank, steps, seconds, particle-steps/s, the
+// slowest rank's time split into compute, exchange and waiting, the ghosts per
+// owned particle, the migrations and re-cuts; with one rank also the same
+// scene stepped without the run (the cost of the distributed machinery).
+//
+//   cmake --build build --target distributed_scaling
+//   mpirun --allow-run-as-root --oversubscribe -np N build/distributed_scaling MODE PER_SIDE STEPS
+// MODE strong: a PER_SIDE^3 lattice whatever N; weak: PER_SIDE^3 spheres per
+// rank (the box N times longer along x). tools/bench/distributed_scaling.sh runs
+// both over 1, 2 and 4 ranks and writes the table.
+#include <mpi.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include "core/random.hpp"
+#include "engine/simulation.hpp"
+#include "parallel/distributed_run.hpp"
+
+using namespace granule;
+
+namespace {
+
+void lattice(Simulation<3>& sim, int nx, int ny, int nz) {
+  sim.set_warning_handler([](const std::string&) {});
+  sim.add_material({"p", 2500, 0, 0, 0});
+  sim.add_material({"w", 0, 0, 0, 0});
+  const ParamValues law{{"k_normal", 2e3}, {"restitution", 0.5}, {"friction", 0.4}};
+  sim.set_contact("p", "p", "linear", law);
+  sim.set_contact("p", "w", "linear", law);
+  const double r = 0.5e-3, spacing = 1.98 * r;
+  const double extent[3] = {nx * spacing, ny * spacing, 2 * nz * spacing};
+  for (int axis = 0; axis < 3; ++axis) {
+    WallSpec lo, hi;
+    lo.name = "lo" + std::to_string(axis), hi.name = "hi" + std::to_string(axis);
+    lo.material = hi.material = 1;
+    lo.normal = hi.normal = {0, 0, 0};
+    lo.normal[axis] = 1, hi.normal[axis] = -1;
+    lo.point = {-r, -r, -r};
+    hi.point = {0, 0, 0};
+    hi.point[axis] = extent[axis];
+    sim.add_wall(lo), sim.add_wall(hi);
+  }
+  Random rng(7);
+  for (int a = 0; a < nx; ++a)
+    for (int b = 0; b < ny; ++b)
+      for (int c = 0; c < nz; ++c) {
+        ParticleSpec s;
+        s.position = {a * spacing, b * spacing, c * spacing};
+        s.radius = r;
+        s.material = 0;
+        for (int d = 0; d < 3; ++d) s.velocity[d] = rng.uniform(-0.05, 0.05);
+        sim.add_particle(s);
+      }
+  sim.set_gravity({0, 0, -9.81});
+  sim.set_threads(1);
+}
+
+double now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  MPI_Init(&argc, &argv);
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  if (argc < 4) {
+    if (rank == 0) std::fprintf(stderr, "usage: distributed_scaling strong|weak PER_SIDE STEPS\n");
+    MPI_Finalize();
+    return 2;
+  }
+  const std::string mode = argv[1];
+  const int side = std::atoi(argv[2]);
+  const long steps = std::atol(argv[3]);
+  const int nx = mode == "weak" ? side * size : side;
+  Simulation<3> sim;
+  lattice(sim, nx, side, side);
+  parallel::DistributedRun<3> run(sim, MPI_COMM_WORLD);
+  run.advance(10);  // the first rebuilds and the caches warm
+  MPI_Barrier(MPI_COMM_WORLD);
+  const auto before = run.times();
+  const double t0 = now();
+  run.advance(steps);
+  MPI_Barrier(MPI_COMM_WORLD);
+  const double seconds = now() - t0;
+  const auto after = run.times();
+  double mine[3] = {after.compute - before.compute, after.exchange - before.exchange,
+                    after.waiting - before.waiting};
+  double most[3];
+  MPI_Reduce(mine, most, 3, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
+  double ghosts = static_cast<double>(run.ghosts()), owned = static_cast<double>(run.owned());
+  double sums[2] = {ghosts, owned}, total[2];
+  MPI_Reduce(sums, total, 2, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
+  long long migrated = run.migrated(), migrated_all = 0;
+  MPI_Reduce(&migrated, &migrated_all, 1, MPI_LONG_LONG, MPI_SUM, 0, MPI_COMM_WORLD);
+  const long long n = run.global_particles();
+  // One rank: the same scene stepped by the plain engine, for the run's overhead.
+  double plain = 0;
+  if (size == 1) {
+    Simulation<3> alone;
+    lattice(alone, nx, side, side);
+    alone.set_canonical_order(true);
+    alone.advance(10);
+    const double t1 = now();
+    alone.advance(steps);
+    plain = now() - t1;
+  }
+  if (rank == 0) {
+    std::printf(
+        "mode %s ranks %d spheres %lld per_rank %.0f steps %ld seconds %.4f "
+        "particle_steps_per_s %.4g compute_s %.4f exchange_s %.4f waiting_s %.4f "
+        "ghosts_per_owned %.4f migrations %lld recuts %lld",
+        mode.c_str(), size, n, static_cast<double>(n) / size, steps, seconds,
+        static_cast<double>(n) * static_cast<double>(steps) / seconds, most[0], most[1], most[2],
+        total[0] / std::max(1.0, total[1]), migrated_all, static_cast<long long>(run.recuts()));
+    if (size == 1) std::printf(" plain_seconds %.4f overhead %.4f", plain, seconds / plain - 1);
+    std::printf("\n");
+  }
+  MPI_Finalize();
+  return 0;
+}
