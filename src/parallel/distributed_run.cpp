@@ -95,7 +95,7 @@ DistributedRun<D>::DistributedRun(Simulation<D>& sim, MPI_Comm comm, double reba
   const auto t0 = Clock::now();
   ghosts_ = exchange_ghosts(d_, reach_, owned_, comm_, plan_);
   install();
-  times_.exchange += since(t0);
+  times_.rebuild += since(t0);
 }
 
 template <int D>
@@ -209,10 +209,13 @@ void DistributedRun<D>::install() {
 template <int D>
 void DistributedRun<D>::forward() {
   Particles<D>& p = sim_.share();
-  for (std::size_t k = 0; k < owned_.size(); ++k) {
-    ParticleRecord<D>& r = owned_[k];
-    r.position = p.position[k], r.velocity = p.velocity[k], r.spin = p.spin[k];
-  }
+  // Only the records some rank holds a ghost of are read by the forward.
+  for (const auto& to_rank : plan_.send)
+    for (const auto& send : to_rank) {
+      ParticleRecord<D>& r = owned_[send.index];
+      r.position = p.position[send.index], r.velocity = p.velocity[send.index];
+      r.spin = p.spin[send.index];
+    }
   forward_ghosts(d_, plan_, owned_, ghosts_, comm_);
   const std::size_t first = owned_.size();
   for (std::size_t g = 0; g < ghosts_.size(); ++g) {
@@ -234,12 +237,14 @@ void DistributedRun<D>::advance(std::int64_t steps) {
     MPI_Allreduce(&due, &any, 1, MPI_INT, MPI_MAX, comm_);
     auto t1 = Clock::now();
     times_.waiting += std::chrono::duration<double>(t1 - t0).count();
-    if (any)
+    if (any) {
       redistribute();
-    else
+      ++times_.rebuilds;
+    } else {
       forward();
+    }
     auto t2 = Clock::now();
-    times_.exchange += std::chrono::duration<double>(t2 - t1).count();
+    (any ? times_.rebuild : times_.exchange) += std::chrono::duration<double>(t2 - t1).count();
     sim_.step();
     times_.compute += since(t2);
   }

@@ -46,8 +46,10 @@ struct GatheredParticle {
 
 struct DistributedTimes {
   double compute = 0;   // s: this rank's steps (contacts, integration)
-  double exchange = 0;  // s: packing, forwarding and migrating particles, installing shares
-  double waiting = 0;   // s: the collective that decides a rebuild (waits for the slowest rank)
+  double exchange = 0;  // s: forwarding the ghosts' states each step
+  double rebuild = 0;   // s: at rebuilds, packing histories, migrating, new ghosts and lists
+  std::int64_t rebuilds = 0;
+  double waiting = 0;  // s: the collective that decides a rebuild (waits for the slowest rank)
 };
 
 template <int D>

@@ -3,7 +3,8 @@
 // the first step, jostled by random velocities so that particles cross the
 // ranks' boxes) stepped over the ranks of mpirun. Prints one line from rank 0:
 // ranks, spheres, spheres per rank, steps, seconds, particle-steps/s, the
-// slowest rank's time split into compute, exchange and waiting, the ghosts per
+// slowest rank's time split into compute, ghost forwarding, waiting and rebuilds
+// (migration, new ghosts and lists), the ghosts per
 // owned particle, the migrations and re-cuts; with one rank also the same
 // scene stepped without the run (the cost of the distributed machinery).
 //
@@ -94,10 +95,11 @@ int main(int argc, char** argv) {
   MPI_Barrier(MPI_COMM_WORLD);
   const double seconds = now() - t0;
   const auto after = run.times();
-  double mine[3] = {after.compute - before.compute, after.exchange - before.exchange,
-                    after.waiting - before.waiting};
-  double most[3];
-  MPI_Reduce(mine, most, 3, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
+  double mine[4] = {after.compute - before.compute, after.exchange - before.exchange,
+                    after.waiting - before.waiting, after.rebuild - before.rebuild};
+  double most[4];
+  MPI_Reduce(mine, most, 4, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
+  const long long rebuilds = after.rebuilds - before.rebuilds;
   double ghosts = static_cast<double>(run.ghosts()), owned = static_cast<double>(run.owned());
   double sums[2] = {ghosts, owned}, total[2];
   MPI_Reduce(sums, total, 2, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
@@ -119,10 +121,11 @@ int main(int argc, char** argv) {
     std::printf(
         "mode %s ranks %d spheres %lld per_rank %.0f steps %ld seconds %.4f "
         "particle_steps_per_s %.4g compute_s %.4f exchange_s %.4f waiting_s %.4f "
-        "ghosts_per_owned %.4f migrations %lld recuts %lld",
+        "ghosts_per_owned %.4f migrations %lld recuts %lld rebuild_s %.4f rebuilds %lld",
         mode.c_str(), size, n, static_cast<double>(n) / size, steps, seconds,
         static_cast<double>(n) * static_cast<double>(steps) / seconds, most[0], most[1], most[2],
-        total[0] / std::max(1.0, total[1]), migrated_all, static_cast<long long>(run.recuts()));
+        total[0] / std::max(1.0, total[1]), migrated_all, static_cast<long long>(run.recuts()),
+        most[3], rebuilds);
     if (size == 1) std::printf(" plain_seconds %.4f overhead %.4f", plain, seconds / plain - 1);
     std::printf("\n");
   }
