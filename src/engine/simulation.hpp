@@ -148,6 +148,9 @@ class Simulation final : public SimulationBase {
   // rebuilds the lists, each contact's history taken from the packed lists
   // (every rank's packing of the same contact is the same bytes).
   void install_share(Particles<D> share, const std::vector<std::string>& histories);
+  // Rebuilds the lists of the share in place (a run on one rank: nothing moves
+  // between ranks, and the histories stay where they are).
+  void rebuild_share_lists() { rebuild_lists(); }
 
   // Direct access for C++ tests and diagnostics.
   const Particles<D>& particles() const { return p_; }

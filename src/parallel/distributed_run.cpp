@@ -156,6 +156,12 @@ void DistributedRun<D>::take_records() {
 
 template <int D>
 void DistributedRun<D>::redistribute() {
+  if (size_ == 1) {
+    // One rank: no ghosts (no periodic images: refused), no migration, the
+    // boxes never re-cut; the lists as the plain step rebuilds them.
+    sim_.rebuild_share_lists();
+    return;
+  }
   take_records();
   // Re-cut when the largest share has grown past the threshold over the mean.
   std::int64_t mine = static_cast<std::int64_t>(owned_.size()), most = 0, total = 0;
