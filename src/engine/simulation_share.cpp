@@ -4,9 +4,9 @@
 // contact, keyed by particle ids and wall indices, so a contact two ranks both
 // compute (a pair straddling their boxes) arrives twice as the same bytes, and
 // either copy is the history.
-#include <cstring>
 #include <type_traits>
 
+#include "core/bytes.hpp"
 #include "core/errors.hpp"
 #include "engine/simulation.hpp"
 #include "neighbor/contact_lists.hpp"
@@ -17,21 +17,11 @@ namespace {
 
 enum : std::uint8_t { pair_entry = 0, wall_entry = 1 };
 
-// Histories are structs of doubles, ints and fixed-size Eigen vectors: plain
-// memory, copied exactly (as the checkpoints copy them).
-template <typename T>
-void put(std::string& bytes, const T& value) {
-  bytes.append(reinterpret_cast<const char*>(&value), sizeof(T));
-}
+using bytes::put;
 
 template <typename T>
-T take(const std::string& bytes, std::size_t& at) {
-  if (at + sizeof(T) > bytes.size())
-    throw RunError("distributed run: a packed contact history is cut short");
-  T value;
-  std::memcpy(static_cast<void*>(&value), bytes.data() + at, sizeof(T));
-  at += sizeof(T);
-  return value;
+T take(const std::string& packed, std::size_t& at) {
+  return bytes::take<T>(packed, at, "distributed run: a packed contact history");
 }
 
 }  // namespace

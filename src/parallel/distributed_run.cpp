@@ -6,9 +6,9 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstring>
 #include <limits>
 
+#include "core/bytes.hpp"
 #include "core/errors.hpp"
 
 namespace granule::parallel {
@@ -19,16 +19,11 @@ double since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
+using bytes::put;
+
 template <typename T>
-void put(std::string& bytes, const T& value) {
-  bytes.append(reinterpret_cast<const char*>(&value), sizeof(T));
-}
-template <typename T>
-T take(const std::string& bytes, std::size_t& at) {
-  T value;
-  std::memcpy(static_cast<void*>(&value), bytes.data() + at, sizeof(T));
-  at += sizeof(T);
-  return value;
+T take(const std::string& in, std::size_t& at) {
+  return bytes::take<T>(in, at, "distributed run: a gathered record");
 }
 
 // Every rank's bytes, in rank order, on every rank.

@@ -3,10 +3,11 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cstring>
 #include <limits>
 #include <numeric>
 #include <stdexcept>
+
+#include "core/bytes.hpp"
 
 namespace granule::parallel {
 
@@ -14,18 +15,12 @@ namespace {
 
 template <typename T>
 void put(std::string& bytes, const T& value) {
-  const auto* p = reinterpret_cast<const char*>(&value);
-  bytes.append(p, sizeof(T));
+  granule::bytes::put(bytes, value);
 }
 
 template <typename T>
 T take(const std::string& bytes, std::size_t& offset) {
-  if (offset + sizeof(T) > bytes.size())
-    throw std::runtime_error("parallel: a particle record is cut short");
-  T value;
-  std::memcpy(&value, bytes.data() + offset, sizeof(T));
-  offset += sizeof(T);
-  return value;
+  return granule::bytes::take<T>(bytes, offset, "parallel: a particle record");
 }
 
 template <int D>

@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "../core/bit_identity_scenes.hpp"
 #include "../core/box_walls.hpp"
 #include "core/errors.hpp"
 #include "core/random.hpp"
@@ -30,6 +31,9 @@
 
 using namespace granule;
 using namespace granule::parallel;
+using granule::test::dense_pile;
+using granule::test::jkr_agglomerate;
+using granule::test::walton_braun_pile;
 
 namespace {
 
@@ -119,26 +123,6 @@ void check_scene(const char* name, const std::function<void(Simulation<D>&)>& bu
                 static_cast<long long>(total_left), run.ghosts(), run.describe().c_str());
 }
 
-void dense_pile(Simulation<3>& sim) {
-  sim.add_material({"p", 2500, 0, 0, 0});
-  sim.add_material({"w", 0, 0, 0, 0});
-  const ParamValues law{{"k_normal", 1e3}, {"restitution", 0.5}, {"friction", 0.4}};
-  sim.set_contact("p", "p", "linear", law);
-  sim.set_contact("p", "w", "linear", law);
-  const double side = 0.008, r = 0.4e-3;
-  test::add_box_walls(sim, side, 0.02, 1);
-  FillSpec pile;
-  pile.shape = RegionShape::box;
-  pile.lo = {0, 0, 0}, pile.hi = {side, side, 0.006};
-  pile.count = 700;
-  pile.radius_min = 0.8 * r, pile.radius_max = r;
-  pile.material = 0;
-  pile.seed = 5;
-  pile.allow_overlap = true;
-  sim.fill(pile);
-  sim.set_gravity({0, 0, -9.81});
-}
-
 void fast_gas(Simulation<3>& sim) {
   sim.add_material({"p", 2500, 5e6, 0.3, 0});
   sim.add_material({"w", 0, 5e6, 0.3, 0});
@@ -161,23 +145,6 @@ void fast_gas(Simulation<3>& sim) {
         sim.add_particle(s);
       }
   sim.set_steps_per_contact(30);
-}
-
-void jkr_agglomerate(Simulation<3>& sim) {
-  sim.add_material({"gel", 1200, 1e7, 0.3, 0.5});
-  sim.set_contact("gel", "gel", "thornton_jkr", {{"friction", 0.3}});
-  Random rng(8);
-  const double r = 0.1e-3;
-  for (int a = 0; a < 6; ++a)
-    for (int b = 0; b < 6; ++b)
-      for (int c = 0; c < 6; ++c) {
-        ParticleSpec s;
-        s.position = {a * 1.98 * r, b * 1.98 * r, c * 1.98 * r};
-        s.radius = r * rng.uniform(0.95, 1.0);
-        s.material = 0;
-        for (int d = 0; d < 3; ++d) s.velocity[d] = rng.uniform(-0.05, 0.05);
-        sim.add_particle(s);
-      }
 }
 
 void drum(Simulation<3>& sim) {
@@ -212,25 +179,6 @@ void drum(Simulation<3>& sim) {
   f.radius_min = 0.25e-3, f.radius_max = 0.3e-3;
   f.material = 0;
   f.seed = 2;
-  f.allow_overlap = true;
-  sim.fill(f);
-  sim.set_gravity({0, -9.81, 0});
-}
-
-void walton_braun_pile(Simulation<2>& sim) {
-  sim.add_material({"powder", 1200, 0, 0, 0});
-  sim.add_material({"steel", 7800, 0, 0, 0});
-  const ParamValues wb{{"k_load", 2e4}, {"restitution", 0.8}, {"friction", 0.4}};
-  sim.set_contact("powder", "powder", "walton_braun", wb);
-  sim.set_contact("powder", "steel", "walton_braun", wb);
-  test::add_box_walls(sim, 0.01, 0.02, 1);
-  FillSpec f;
-  f.shape = RegionShape::box;
-  f.lo = {0, 0, 0}, f.hi = {0.01, 0.008, 0};
-  f.count = 500;
-  f.radius_min = 0.12e-3, f.radius_max = 0.16e-3;
-  f.material = 0;
-  f.seed = 4;
   f.allow_overlap = true;
   sim.fill(f);
   sim.set_gravity({0, -9.81, 0});
