@@ -23,9 +23,18 @@
 #include "contact/model_docs.hpp"
 #include "contact/models.hpp"
 #include "io/h5_output.hpp"
+#include "io/rank_files.hpp"
 #include "lua/api_docs.hpp"
 #include "lua/run_progress.hpp"
 #include "lua/scene.hpp"
+
+#ifdef GRANULE_HAVE_MPI
+#include <mpi.h>
+
+#include <filesystem>
+
+#include "parallel/scene_over_ranks.hpp"
+#endif
 
 namespace {
 
@@ -71,9 +80,53 @@ std::string add_override(Options& o, const std::string& v) {
   return "";
 }
 
+// On ranks other than 0 a scene's own files (io.open for writing, os.remove,
+// os.rename) go to the rank's scratch folder, as the engine's do (io/rank_files.hpp),
+// and print() prints nothing: rank 0 writes and prints for all.
+int rank_path_call(lua_State* L) {
+  const int n = lua_gettop(L);
+  const bool is_open = lua_toboolean(L, lua_upvalueindex(2));
+  const char* mode = n >= 2 && lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : "r";
+  // io.open(path, mode) writing: its path; os.remove(path), os.rename(from, to): every path.
+  const int paths = is_open ? (std::strpbrk(mode, "wa+") ? 1 : 0) : n;
+  for (int k = 1; k <= paths; ++k)
+    if (lua_type(L, k) == LUA_TSTRING) {
+      const std::string mapped = granule::io::writable_path(lua_tostring(L, k));
+      lua_pushstring(L, mapped.c_str());
+      lua_replace(L, k);
+    }
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_insert(L, 1);
+  lua_call(L, n, LUA_MULTRET);
+  return lua_gettop(L);
+}
+
+void keep_files_on_rank(lua_State* L) {
+  lua_pushcfunction(L, [](lua_State*) { return 0; });
+  lua_setglobal(L, "print");
+  struct Wrapped {
+    const char *library, *name;
+    bool open;  // io.open: only the first argument, and only when writing
+  };
+  for (const Wrapped w : {Wrapped{"io", "open", true}, Wrapped{"os", "remove", false},
+                          Wrapped{"os", "rename", false}}) {
+    lua_getglobal(L, w.library);
+    if (!lua_istable(L, -1)) {
+      lua_pop(L, 1);
+      continue;
+    }
+    lua_getfield(L, -1, w.name);
+    lua_pushboolean(L, w.open);
+    lua_pushcclosure(L, rank_path_call, 2);
+    lua_setfield(L, -2, w.name);
+    lua_pop(L, 1);
+  }
+}
+
 int run_scene(Options& o) {
   lua_State* L = granule::lua::new_state(&o.ctx);
   granule::lua::clear_progress_before_prints(L);
+  if (o.ctx.rank > 0) keep_files_on_rank(L);
   granule::lua::make_globals_strict(L);
   std::string err;
   {
@@ -82,6 +135,8 @@ int run_scene(Options& o) {
   }
   lua_close(L);  // closes output files (their final snapshot) even after an error
   if (!err.empty()) {
+    if (o.ctx.ranks > 1)
+      std::cerr << fmt::format("granule: rank {} of {}: ", o.ctx.rank, o.ctx.ranks);
     std::cerr << "error: " << err << "\n";
     std::vector<std::string> shown;  // a scene may reopen one file many times
     for (const auto& f : o.ctx.outputs_written)
@@ -174,6 +229,33 @@ int api(const std::vector<std::string>& args) {
 
 int run_command(const std::vector<std::string>& args);
 
+#ifdef GRANULE_HAVE_MPI
+// mpirun -np N granule run SCENE.lua: every rank runs the script; each run's
+// steps are spread over the ranks (parallel/scene_over_ranks.hpp). Rank 0
+// prints, and writes the files; the others write into scratch folders of their own.
+int run_scene_over_ranks(Options& o) {
+  int provided = 0;
+  MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
+  MPI_Comm_rank(MPI_COMM_WORLD, &o.ctx.rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &o.ctx.ranks);
+  o.ctx.spread = granule::parallel::spread_over(MPI_COMM_WORLD);
+  if (o.ctx.rank > 0) {
+    o.ctx.quiet = true;
+    o.ctx.progress = false;
+    granule::io::write_files_into(
+        (std::filesystem::temp_directory_path() /
+         fmt::format("granule-rank{}-{}", o.ctx.rank, static_cast<long>(getpid())))
+            .string());
+  }
+  const int status = run_scene(o);
+  granule::io::remove_scratch();
+  // A rank that failed alone (the others still step) ends them all, with its status.
+  if (status != 0 && !o.ctx.interrupted) MPI_Abort(MPI_COMM_WORLD, status);
+  MPI_Finalize();
+  return status;
+}
+#endif
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -214,18 +296,32 @@ int run_command(const std::vector<std::string>& args) {
   if (o.command == "sweep") return granule::app::run_sweep({args.begin() + 1, args.end()});
   if (o.command != "run" && o.command != "repl")
     return fail_usage("unknown command '" + o.command + "'");
-  // Started by mpirun as one of several ranks, every rank would run the whole
-  // scene and write the same files: refused (granule sweep's cases are started
-  // without the launcher's variables, so they are not).
+  // Started by mpirun (granule sweep's cases are started without the
+  // launcher's variables, so they are not): the scene is spread over the ranks.
+  int launched_ranks = 0;
+  const char* launcher_variable = nullptr;
   for (const char* variable : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE"})
-    if (const char* value = std::getenv(variable); value && std::atoi(value) > 1) {
-      std::cerr << "granule: error: " << o.command << " started as one of " << value
-                << " MPI ranks (" << variable
-                << "): a Lua scene runs on one process; one scene over ranks runs from C++ so far "
-                   "(docs/parallel.md); for many cases over ranks use `granule sweep` under "
-                   "mpirun\n";
-      return 2;
+    if (const char* value = std::getenv(variable); value && std::atoi(value) > 0) {
+      launched_ranks = std::atoi(value);
+      launcher_variable = variable;
+      break;
     }
+  if (launched_ranks > 1 && o.command == "repl") {
+    std::cerr << "granule: error: repl started as one of " << launched_ranks << " MPI ranks ("
+              << launcher_variable
+              << "): the REPL runs on one process; spread a scene over ranks with mpirun -np N "
+                 "granule run SCENE.lua\n";
+    return 2;
+  }
+#ifndef GRANULE_HAVE_MPI
+  if (launched_ranks > 1) {
+    std::cerr << "granule: error: " << o.command << " started as one of " << launched_ranks
+              << " MPI ranks (" << launcher_variable
+              << "), but this build has no MPI: every rank would run the whole scene and write "
+                 "the same files (install libopenmpi-dev and build again)\n";
+    return 2;
+  }
+#endif
   bool scene_help_asked = false;
   for (std::size_t k = 1; k < args.size(); ++k) {
     const std::string& a = args[k];
@@ -293,6 +389,9 @@ int run_command(const std::vector<std::string>& args) {
   if (o.command == "run") {
     if (o.scene.empty()) return fail_usage("run needs a scene file");
     if (scene_help_asked) return scene_help(o);
+#ifdef GRANULE_HAVE_MPI
+    if (launched_ranks > 0) return run_scene_over_ranks(o);
+#endif
     return run_scene(o);
   }
   return granule::app::run_repl(o.scene, o.ctx);

@@ -16,8 +16,9 @@ RunOutcome run_in_chunks(SimulationBase& sim, const RunPlan& plan, CheckpointPla
     checkpoints.last_step = sim.step_count();
     checkpoints.last_wall = std::chrono::steady_clock::now();
   };
+  auto any = [&](bool mine) { return hooks.any ? hooks.any(mine) : mine; };
   while (out.done < steps) {
-    if (hooks.interrupt_pending && hooks.interrupt_pending()) {
+    if (any(hooks.interrupt_pending && hooks.interrupt_pending())) {
       checkpoint(interrupt_path);
       out.interrupted = true;
       return out;
@@ -27,7 +28,10 @@ RunOutcome run_in_chunks(SimulationBase& sim, const RunPlan& plan, CheckpointPla
     if (checkpoints.every_steps > 0)
       n = std::min(n, checkpoints.every_steps - sim.step_count() % checkpoints.every_steps);
     const auto t0 = std::chrono::steady_clock::now();
-    sim.advance(n);
+    if (hooks.advance)
+      hooks.advance(n);
+    else
+      sim.advance(n);
     out.done += n;
     const double wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -35,6 +39,7 @@ RunOutcome run_in_chunks(SimulationBase& sim, const RunPlan& plan, CheckpointPla
       chunk *= 2;
     else if (wall > 0.2 && chunk > 1)
       chunk /= 2;
+    if (hooks.agreed) chunk = hooks.agreed(chunk);
     if (hooks.progress) hooks.progress(out.done - plan.done, sim.time());
     if (check_every > 0 && (out.done % check_every == 0 || out.done == steps) &&
         hooks.stop_when()) {
@@ -44,10 +49,10 @@ RunOutcome run_in_chunks(SimulationBase& sim, const RunPlan& plan, CheckpointPla
     if (!checkpoints.path.empty() && out.done < steps) {
       const bool by_steps =
           checkpoints.every_steps > 0 && sim.step_count() % checkpoints.every_steps == 0;
-      const bool by_time =
+      const bool by_time = any(
           checkpoints.every_seconds > 0 &&
           std::chrono::duration<double>(std::chrono::steady_clock::now() - checkpoints.last_wall)
-                  .count() >= checkpoints.every_seconds;
+                  .count() >= checkpoints.every_seconds);
       if (by_steps || by_time) checkpoint(checkpoints.path);
     }
   }

@@ -35,6 +35,13 @@ struct RunHooks {
   std::function<void(const std::string& path)> write_checkpoint;
   std::function<bool()> interrupt_pending;  // the user asked to stop (a signal)
   std::function<void(std::int64_t done, double time)> progress;
+  // A run spread over MPI ranks (engine/spread_run.hpp): the steps, and the
+  // decisions every rank must take alike although each takes them from its own
+  // clock or signals: "any rank says yes", and rank 0's chunk length. Empty:
+  // sim.advance(), and this process's own decisions.
+  std::function<void(std::int64_t steps)> advance;
+  std::function<bool(bool mine)> any;
+  std::function<std::int64_t(std::int64_t mine)> agreed;
 };
 
 struct RunOutcome {

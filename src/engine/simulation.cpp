@@ -69,7 +69,7 @@ void Simulation<D>::step() {
   // whose candidates are all below the parallel threshold runs every contact
   // loop on one thread.
   const ThreadPolicy policy = thread_policy();
-  fused_ = policy.fused(static_cast<std::int64_t>(slot_count_));
+  fused_ = !keep_wall_reactions_ && policy.fused(static_cast<std::int64_t>(slot_count_));
   zero_forces();
   for (auto& w : walls_) w.force.setZero(), w.axial_torque = 0;
   // Pruned pair lists are noted afresh once two particles may have closed the

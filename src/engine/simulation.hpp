@@ -3,6 +3,7 @@
 // contacts per model, integration, hooks.
 #pragma once
 
+#include <optional>
 #include <tuple>
 #include <vector>
 
@@ -151,6 +152,40 @@ class Simulation final : public SimulationBase {
   // Rebuilds the lists of the share in place (a run on one rank: nothing moves
   // between ranks, and the histories stay where they are).
   void rebuild_share_lists() { rebuild_lists(); }
+  // The next step is one an attached diagnostic looks at (a sample due, or
+  // contact events, which it follows every step): a distributed run takes it
+  // on the whole scene.
+  bool whole_step_due() const;
+  // The pair contacts of the last step that this rank leads: those whose
+  // lower-id particle it owns (every pair is led by one rank).
+  std::int64_t led_pair_contacts() const;
+  // The last step's tallies and the walls' reactions, as reduced over the
+  // ranks, in place of this rank's (a scene gathered from its ranks).
+  void set_step_tallies(std::int64_t pair_contacts, std::int64_t wall_contacts,
+                        double max_overlap_ratio);
+  void set_wall_reactions(const std::vector<Vec<D>>& force,
+                          const std::vector<double>& axial_torque);
+  // Every wall contact leaves its reaction in its list (the kernels' unfused
+  // path, also on one thread), and pack_wall_reactions() gives the last
+  // step's, in slot order: model, particle id, wall, force on the particle,
+  // axial torque on the wall. Summed over the ranks in (model, id) order they
+  // are the one-process sums bit for bit (canonical order lists each
+  // particle's wall contacts in id order).
+  void set_keep_wall_reactions(bool on) { keep_wall_reactions_ = on; }
+  // Particle i's terms of stats()' totals, rounded as stats() adds them (a
+  // call the compiler does not inline, so that no sum fuses with a product
+  // differently here and in a reduction over ranks that adds the same terms).
+  struct StatTerms {
+    double kinetic_translational = 0, kinetic_rotational = 0;
+    Vec<D> momentum = Vec<D>::Zero();
+    double angular_momentum_z = 0;
+  };
+  StatTerms stat_terms(std::size_t i) const;
+  // stats() gives `totals` (reduced over the ranks) until reset.
+  void set_stats_override(std::optional<GlobalStats> totals) {
+    stats_override_ = std::move(totals);
+  }
+  std::string pack_wall_reactions() const;
 
   // Direct access for C++ tests and diagnostics.
   const Particles<D>& particles() const { return p_; }
@@ -256,9 +291,11 @@ class Simulation final : public SimulationBase {
   std::int64_t candidates_visited_ = 0;  // by the pair loops' listing passes
   double max_overlap_ratio_ = 0;
   std::size_t non_finite_index_ = SIZE_MAX;
-  std::string dt_governing_pair_;   // the pair whose rule sets the automatic time step
-  double contact_reach_ = 0;        // m, how far apart adhesive contacts persist (<= skin)
-  bool external_rebuilds_ = false;  // a distributed run rebuilds the lists (install_share)
+  std::string dt_governing_pair_;     // the pair whose rule sets the automatic time step
+  double contact_reach_ = 0;          // m, how far apart adhesive contacts persist (<= skin)
+  bool external_rebuilds_ = false;    // a distributed run rebuilds the lists (install_share)
+  bool keep_wall_reactions_ = false;  // set_keep_wall_reactions
+  std::optional<GlobalStats> stats_override_;  // set_stats_override
   bool rotation_ = true;  // integrate spins: false when no pair in use has friction (prepare())
 };
 

@@ -125,7 +125,28 @@ typename SimulationBase::FlatState Simulation<D>::flat_state() const {
 }
 
 template <int D>
+__attribute__((noinline)) typename Simulation<D>::StatTerms Simulation<D>::stat_terms(
+    std::size_t i) const {
+  StatTerms t;
+  const double m = p_.mass[i];
+  const V& x = p_.position[i];
+  const V& v = p_.velocity[i];
+  t.kinetic_translational = 0.5 * m * v.squaredNorm();
+  t.kinetic_rotational = 0.5 * sphere_inertia(m, p_.radius[i]) * Dim<D>::spin_sq(p_.spin[i]);
+  t.momentum = m * v;
+  double spin_z;
+  if constexpr (D == 2) {
+    spin_z = p_.spin[i];
+  } else {
+    spin_z = p_.spin[i][2];
+  }
+  t.angular_momentum_z = m * (x[0] * v[1] - x[1] * v[0]) + sphere_inertia(m, p_.radius[i]) * spin_z;
+  return t;
+}
+
+template <int D>
 GlobalStats Simulation<D>::stats() const {
+  if (stats_override_) return *stats_override_;
   GlobalStats g;
   g.time = time_;
   g.step = step_;
@@ -138,20 +159,11 @@ GlobalStats Simulation<D>::stats() const {
   for (std::size_t k = 0; k < p_.size(); ++k) {
     const std::size_t i = canonical_order_ ? id_order[k] : k;
     if (p_.fixed[i]) continue;
-    const double m = p_.mass[i];
-    g.kinetic_translational += 0.5 * m * p_.velocity[i].squaredNorm();
-    g.kinetic_rotational += 0.5 * sphere_inertia(m, p_.radius[i]) * Dim<D>::spin_sq(p_.spin[i]);
-    momentum += m * p_.velocity[i];
-    const V& x = p_.position[i];
-    const V& v = p_.velocity[i];
-    double spin_z;
-    if constexpr (D == 2) {
-      spin_z = p_.spin[i];
-    } else {
-      spin_z = p_.spin[i][2];
-    }
-    g.angular_momentum_z +=
-        m * (x[0] * v[1] - x[1] * v[0]) + sphere_inertia(m, p_.radius[i]) * spin_z;
+    const StatTerms t = stat_terms(i);
+    g.kinetic_translational += t.kinetic_translational;
+    g.kinetic_rotational += t.kinetic_rotational;
+    momentum += t.momentum;
+    g.angular_momentum_z += t.angular_momentum_z;
   }
   g.momentum = to_triple(momentum);
   g.contacts_particle = contacts_particle_;
@@ -172,6 +184,11 @@ std::vector<ContactRecord> Simulation<D>::contacts() const {
     throw InputError(
         "contact forces are not recorded in this scene: set record_contacts = true in "
         "simulation { ... } (it costs a few stores per contact)");
+  if (!spread_how_.empty())
+    throw InputError(fmt::format(
+        "the last step's contacts are not gathered across the {} MPI ranks this scene is spread "
+        "over: run it on one process to list them (docs/parallel.md)",
+        spread_ranks_));
   std::vector<ContactRecord> out;
   if (!log_.filled) return out;  // no step taken yet
   // Model names by slot range.
@@ -364,6 +381,7 @@ std::vector<std::string> Simulation<D>::describe() const {
   lines.push_back(fmt::format("hooks: {}", hooks_.size()));
   if (canonical_order_)
     lines.push_back("canonical order: on (contacts and totals summed in particle-id order)");
+  if (spread_ranks_ > 1) lines.push_back(spread_how_);
   lines.push_back(
       fmt::format("threads: {}{}", thread_count(),
                   threads_ > 0 ? "" : " (OMP_NUM_THREADS, else 1; set with --threads N)"));

@@ -201,7 +201,10 @@ void SimulationBase::fire_hooks() {
     }
     const int id = h.id;
     auto fn = h.fire;  // copy: the hook may remove itself
-    fn();
+    if (hook_wrapper_)
+      hook_wrapper_(h.totals_only && h.totals_only(), fn);
+    else
+      fn();
     k = next_after(hooks_, id);
   }
 }
@@ -216,7 +219,10 @@ void SimulationBase::fire_start_hooks() {
     hooks_[k].at_start = false;  // once
     const int id = hooks_[k].id;
     auto fn = hooks_[k].fire;
-    fn();
+    if (hook_wrapper_)
+      hook_wrapper_(false, fn);
+    else
+      fn();
     k = next_after(hooks_, id);
   }
 }

@@ -168,6 +168,10 @@ struct Hook {
   bool at_start = false;
   std::function<void()> fire;
   int id = 0;
+  // True when the firing reads nothing but stats() (the output's series row):
+  // a run spread over MPI ranks then reduces the totals over the ranks
+  // instead of gathering the whole scene. Empty: the hook may read anything.
+  std::function<bool()> totals_only;
 };
 
 struct TimeStepReport {
@@ -197,6 +201,8 @@ struct ActiveEffects {
   bool canonical_order = false;  // sums in particle-id order (SimulationBase::set_canonical_order)
   int hooks = 0;
   int threads = 1;
+  int ranks = 1;              // MPI ranks the scene is spread over (SimulationBase::set_spread)
+  std::string decomposition;  // how space is split among them ("" on one process)
 };
 
 class SimulationBase {
@@ -411,6 +417,23 @@ class SimulationBase {
       if (h.id == id) return true;
     return false;
   }
+  // A run spread over MPI ranks (engine/spread_run.hpp) fires the hooks on the
+  // whole scene: `wrapper` is called with each firing (it gathers the scene,
+  // then calls the firing). An empty function fires them directly again.
+  using HookWrapper = std::function<void(bool totals_only, const std::function<void()>& fire)>;
+  void set_hook_wrapper(HookWrapper wrapper) { hook_wrapper_ = std::move(wrapper); }
+  bool hooks_wrapped() const { return static_cast<bool>(hook_wrapper_); }
+  // The at_start hooks, before step 0 (advance() fires them itself).
+  void fire_start_hooks();
+  // The scene is spread over `ranks` MPI ranks, space split as `how`: the run
+  // header and /scene/effects say so. The last step's contacts are then
+  // refused (contacts()): they are not gathered across ranks.
+  void set_spread(int ranks, std::string how) {
+    spread_ranks_ = ranks;
+    spread_how_ = std::move(how);
+  }
+  int spread_ranks() const { return spread_ranks_; }
+
   // Called when a run fails (NaN, escape) just before the error propagates.
   void set_failure_handler(std::function<void(const std::string&)> f) {
     on_failure_ = std::move(f);
@@ -433,7 +456,6 @@ class SimulationBase {
  protected:
   void warn(const std::string& message) const;
   void fire_hooks();
-  void fire_start_hooks();                // the at_start hooks, before step 0
   void fail(const std::string& message);  // calls the failure handler, throws RunError
 
   std::vector<Material> materials_;
@@ -463,6 +485,9 @@ class SimulationBase {
   std::vector<Hook> hooks_;
   std::vector<ScheduleSpec> schedules_;
   int next_hook_id_ = 1;
+  HookWrapper hook_wrapper_;
+  int spread_ranks_ = 1;
+  std::string spread_how_;
   std::function<void(const std::string&)> warn_;
   std::function<void(const std::string&)> on_failure_;
   StageTimes stage_times_;

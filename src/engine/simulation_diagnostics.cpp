@@ -126,6 +126,18 @@ void Simulation<D>::load_diagnostics(const StateBlob& s) {
     diagnostics_[k].diagnostic->load_state(s, prefix_of(k));
 }
 
+template <int D>
+bool Simulation<D>::whole_step_due() const {
+  if (tracking_) return true;
+  for (const auto& d : diagnostics_) {
+    if (d.needs.events) return true;
+    // As step() decides (its observe() and the samplings' own check): the
+    // step count before the step, the time at its start.
+    if (step_ % d.every == 0 && d.diagnostic->sampling().due(time_, dt_)) return true;
+  }
+  return false;
+}
+
 template class Simulation<2>;
 template class Simulation<3>;
 

@@ -62,6 +62,8 @@ ActiveEffects Simulation<D>::effects() const {
   e.canonical_order = canonical_order_;
   e.hooks = static_cast<int>(hooks_.size());
   e.threads = thread_count();
+  e.ranks = spread_ranks_;
+  e.decomposition = spread_how_;
   return e;
 }
 

@@ -72,8 +72,68 @@ std::vector<std::string> Simulation<D>::pack_histories() const {
 }
 
 template <int D>
+std::int64_t Simulation<D>::led_pair_contacts() const {
+  std::int64_t led = 0;
+  const bool any_slots = slot_in_contact_.size() == slot_count_;
+  for_each_model([&](auto index) {
+    constexpr int I = decltype(index)::value;
+    const auto& b = std::get<I>(pair_buckets_);
+    if (!any_slots) return;
+    for (std::size_t k = 0; k < b.size(); ++k) {
+      if (!slot_in_contact_[b.offset + k]) continue;
+      // The pair is oriented id_i < id_j (buckets.hpp).
+      const std::uint32_t lower = b.id_i[k] < b.id_j[k] ? b.i[k] : b.j[k];
+      if (!(p_.fixed[lower] & ghost_flag)) ++led;
+    }
+  });
+  return led;
+}
+
+template <int D>
+void Simulation<D>::set_step_tallies(std::int64_t pair_contacts, std::int64_t wall_contacts,
+                                     double max_overlap_ratio) {
+  contacts_particle_ = pair_contacts;
+  contacts_wall_ = wall_contacts;
+  max_overlap_ratio_ = max_overlap_ratio;
+}
+
+template <int D>
+void Simulation<D>::set_wall_reactions(const std::vector<Vec<D>>& force,
+                                       const std::vector<double>& axial_torque) {
+  if (force.size() != walls_.size() || axial_torque.size() != walls_.size())
+    throw RunError(fmt::format("distributed run: reactions for {} walls, the scene has {}",
+                               force.size(), walls_.size()));
+  for (std::size_t w = 0; w < walls_.size(); ++w)
+    walls_[w].force = force[w], walls_[w].axial_torque = axial_torque[w];
+}
+
+template <int D>
+std::string Simulation<D>::pack_wall_reactions() const {
+  std::string out;
+  for_each_model([&](auto index) {
+    constexpr int I = decltype(index)::value;
+    const auto& b = std::get<I>(wall_buckets_);
+    if (!b.size()) return;
+    for (const auto& list : b.touched) {
+      if (list.count > 0 && list.force.size() < list.count)
+        throw RunError("distributed run: the walls' reactions were not kept (a fused step)");
+      for (std::size_t e = 0; e < list.count; ++e) {
+        const std::uint32_t k = list.entries[e] >> 1;
+        put(out, std::int32_t{I});
+        put(out, p_.id[b.particle[k]]);
+        put(out, list.b[e]);
+        put(out, list.force[e]);
+        put(out, list.axial[e]);
+      }
+    }
+  });
+  return out;
+}
+
+template <int D>
 void Simulation<D>::install_share(Particles<D> share, const std::vector<std::string>& histories) {
   p_ = std::move(share);
+  log_.filled = false;  // its entries name storage indices of the particles replaced
   // The arrived histories become the "old" lists that rebuild_lists() carries
   // from, by id (contact_lists.hpp); the storage indices there are not read.
   for_each_model([&](auto index) {

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "io/h5_handle.hpp"
+#include "io/rank_files.hpp"
 
 namespace granule::io {
 
@@ -35,8 +36,9 @@ hid_t open_file(const std::string& path, unsigned flags, bool create = false) {
 #ifdef GRANULE_HAVE_FILE_LOCKING_PLIST
   H5Pset_file_locking(fapl.get(), 0, 1);
 #endif
-  return create ? H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get())
-                : H5Fopen(path.c_str(), flags, fapl.get());
+  if (create) return H5Fcreate(writable_path(path).c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get());
+  if (flags & H5F_ACC_RDWR) return H5Fopen(writable_path(path, true).c_str(), flags, fapl.get());
+  return H5Fopen(path.c_str(), flags, fapl.get());
 }
 
 std::optional<double> read_number(hid_t object, const std::string& name) {

@@ -11,6 +11,7 @@
 
 #include "io/h5_handle.hpp"
 #include "io/h5_output.hpp"
+#include "io/rank_files.hpp"
 
 namespace granule::io {
 
@@ -208,9 +209,10 @@ void write_file(const std::string& path, const std::string& tmp, const StateBlob
 }
 }  // namespace
 
-void write_checkpoint(const std::string& path, const StateBlob& s,
+void write_checkpoint(const std::string& named, const StateBlob& s,
                       const std::map<std::string, std::string>& attributes) {
   silence_hdf5();
+  const std::string path = writable_path(named);
   const std::string tmp = path + ".tmp";
   std::error_code ec;
   try {
@@ -263,7 +265,7 @@ StateBlob read_checkpoint(const std::string& path, std::map<std::string, std::st
 
 void add_state_group(const std::string& path, const std::string& group, const StateBlob& s) {
   silence_hdf5();
-  Handle file(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
+  Handle file(H5Fopen(writable_path(path, true).c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
   if (file.get() < 0)
     fail_h5(path, "cannot open for writing (not an HDF5 file, or still open by its run?)");
   if (H5Lexists(file.get(), group.c_str(), H5P_DEFAULT) > 0) fail(path, group + " exists already");

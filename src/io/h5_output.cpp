@@ -17,6 +17,7 @@
 
 #include "io/h5_output_impl.hpp"
 #include "io/output_units.hpp"
+#include "io/rank_files.hpp"
 
 namespace granule::io {
 
@@ -53,7 +54,7 @@ H5Output::H5Output(const std::string& path) : impl_(std::make_unique<Impl>()) {
     throw std::runtime_error(
         fmt::format("cannot create HDF5 file {}: {}", path, h5_error_detail()));
 #endif
-  hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get());
+  hid_t f = H5Fcreate(writable_path(path).c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get());
   if (f < 0)
     throw std::runtime_error(
         fmt::format("cannot create HDF5 file {}: {}", path, h5_error_detail()));

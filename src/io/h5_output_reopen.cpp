@@ -5,6 +5,7 @@
 
 #include "io/h5_output.hpp"
 #include "io/h5_output_impl.hpp"
+#include "io/rank_files.hpp"
 
 namespace granule::io {
 
@@ -58,7 +59,7 @@ std::unique_ptr<H5Output> H5Output::reopen(const std::string& path, std::size_t 
 #ifdef GRANULE_HAVE_FILE_LOCKING_PLIST
   if (fapl.get() >= 0) H5Pset_file_locking(fapl.get(), 0, 1);
 #endif
-  hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDWR, fapl.get());
+  hid_t f = H5Fopen(writable_path(path, true).c_str(), H5F_ACC_RDWR, fapl.get());
   if (f < 0)
     throw std::runtime_error(
         fmt::format("cannot open {} to continue it: {}", path, h5_error_detail()));

@@ -17,6 +17,7 @@
 #include "engine/simulation_base.hpp"
 #include "io/finite_wall_outline.hpp"
 #include "io/picture_draw.hpp"
+#include "io/rank_files.hpp"
 
 namespace granule::io {
 
@@ -468,7 +469,7 @@ PictureInfo write_picture(const SimulationBase& sim, const PictureOptions& o) {
   }
 
   // ---- write ----
-  std::ofstream file(o.path, std::ios::binary | std::ios::trunc);
+  std::ofstream file(writable_path(o.path), std::ios::binary | std::ios::trunc);
   if (!file) throw std::runtime_error(fmt::format("picture: cannot write '{}'", o.path));
   if (png) {
     std::vector<std::uint8_t> bytes = encode_png(L.width, L.height, rasterise(L));

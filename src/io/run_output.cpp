@@ -8,6 +8,7 @@
 
 #include "core/errors.hpp"
 #include "io/output_units.hpp"
+#include "io/rank_files.hpp"
 
 namespace granule::io {
 
@@ -69,6 +70,9 @@ RunOutput::RunOutput(SimulationBase& sim, RunOutputSettings settings)
   else
     series.every_steps = 100;
   series.fire = [this] { write_series_row(); };
+  // Once the header is written the row reads stats() alone (a run spread over
+  // MPI ranks then reduces the totals rather than gathering the scene).
+  series.totals_only = [this] { return header_written_; };
   hook_ids_.push_back(sim_.add_hook(series));
   // Snapshots: the initial state (t = 0, before the first step), then every
   // snapshot_every seconds, or (0) only the last besides.
@@ -548,9 +552,11 @@ void RunOutput::resume(const StateBlob& state) {
         "restart: the output {} of the run that wrote the checkpoint is missing; a restart "
         "continues that file",
         original));
-  if (!std::filesystem::equivalent(original, settings_.path, ec)) {
-    std::filesystem::copy_file(original, settings_.path,
-                               std::filesystem::copy_options::overwrite_existing, ec);
+  // (Under mpirun a rank other than 0 copies it into its scratch folder: io/rank_files.hpp.)
+  const std::string here = writable_path(settings_.path);
+  if (!std::filesystem::equivalent(original, here, ec)) {
+    std::filesystem::copy_file(original, here, std::filesystem::copy_options::overwrite_existing,
+                               ec);
     if (ec)
       throw std::runtime_error(
           fmt::format("restart: cannot copy {} to {}: {}", original, settings_.path, ec.message()));

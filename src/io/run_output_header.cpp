@@ -98,6 +98,8 @@ void RunOutput::write_header() {
     flag("contacts_recorded", e.contacts_recorded);
     flag("canonical_order", e.canonical_order);
     f.write_attribute(g, "threads", static_cast<std::int64_t>(e.threads));
+    f.write_attribute(g, "ranks", static_cast<std::int64_t>(e.ranks));
+    f.write_attribute(g, "decomposition", e.decomposition);
   }
   std::string lines;
   for (const auto& l : sim_.describe()) lines += l + "\n";

@@ -11,6 +11,7 @@
 #include <fstream>
 
 #include "io/h5_output.hpp"
+#include "io/rank_files.hpp"
 
 namespace granule::io {
 
@@ -266,7 +267,8 @@ void XdmfIndex::restore(std::vector<XdmfSnapshot> snapshots) {
 namespace {
 
 // Writes beside the target and renames: a reader never sees half a file.
-void write_whole(const std::string& path, const std::string& text) {
+void write_whole(const std::string& named, const std::string& text) {
+  const std::string path = writable_path(named);
   const std::string tmp = path + ".tmp";
   {
     errno = 0;

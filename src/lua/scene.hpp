@@ -11,6 +11,8 @@
 #include <utility>
 #include <vector>
 
+#include "engine/spread_run.hpp"
+
 struct lua_State;
 
 namespace granule::lua {
@@ -60,6 +62,10 @@ struct SceneContext {
   std::vector<std::string> declared_parameters;
   std::vector<ParameterDoc> parameter_docs;  // every parameters{...} entry, in declaration order
   bool stopped_after_parameters = false;
+  // Under mpirun: this process's rank among `ranks`, and the maker of the runs
+  // that spread the scene over them (app/main.cpp; empty on one process).
+  int rank = 0, ranks = 1;
+  SpreadRunMaker spread;
 };
 
 // The message parameters{...} stops a scene with when SceneContext::parameters_only is set.

@@ -14,6 +14,7 @@
 #include "core/errors.hpp"
 #include "engine/run_loop.hpp"
 #include "engine/simulation_base.hpp"
+#include "io/run_output.hpp"
 #include "lua/journal.hpp"
 #include "lua/lua_util.hpp"
 #include "lua/run_progress.hpp"
@@ -110,11 +111,27 @@ int l_run(lua_State* L) {
     }
 
     const bool first_run = s.sim->step_count() == 0 && !s.header_printed;
+    // Under mpirun each particle's sums are taken in id order, whichever rank holds it.
+    if (ctx && ctx->spread) s.sim->set_canonical_order(true);
     s.sim->ensure_prepared();
     // The run's header: what this scene simulates (and so what it pays for).
     if (first_run && !(ctx && ctx->quiet)) {
       for (const auto& line : s.sim->describe()) std::cerr << "granule: " << line << "\n";
       s.header_printed = true;
+    }
+    // Under mpirun the steps are spread over the ranks (engine/spread_run.hpp);
+    // the scene is whole again on every rank when a callback, a stop check or
+    // a checkpoint looks at it, and when the run ends.
+    std::unique_ptr<SpreadRun> spread;
+    if (ctx && ctx->spread) {
+      spread = ctx->spread(*s.sim);
+      const ActiveEffects e = s.sim->effects();
+      if (first_run && !ctx->quiet) std::cerr << "granule: " << e.decomposition << "\n";
+      // The ranks of this run (a restart may continue a file other ranks began).
+      if (s.output) {
+        s.output->file().write_attribute("/scene/effects", "ranks", std::int64_t{e.ranks});
+        s.output->file().write_attribute("/scene/effects", "decomposition", e.decomposition);
+      }
     }
     const double dt = s.sim->time_step();
     if (resuming) {
@@ -156,13 +173,22 @@ int l_run(lua_State* L) {
     // user's interrupt are served between its chunks.
     RunHooks hooks;
     hooks.stop_when = [&] {
+      if (spread) spread->gather();
       if (journal) journal->record_callback(-1);
       call_lua(L, stop_ref, s.self_ref, 1, "the run's stop_when");
       const bool stop = lua_toboolean(L, -1);
       lua_pop(L, 1);
       return stop;
     };
-    hooks.write_checkpoint = [&](const std::string& path) { write_checkpoint_now(s, path, true); };
+    hooks.write_checkpoint = [&](const std::string& path) {
+      if (spread) spread->gather();
+      write_checkpoint_now(s, path, true);
+    };
+    if (spread) {
+      hooks.advance = [&](std::int64_t n) { spread->advance(n); };
+      hooks.any = [&](bool mine) { return spread->any(mine); };
+      hooks.agreed = [&](std::int64_t mine) { return spread->agreed(mine); };
+    }
     hooks.interrupt_pending = [] { return interrupt_pending(); };
     if (progress) hooks.progress = [&](std::int64_t n, double time) { progress->update(n, time); };
     std::string interrupt_path = s.checkpoint.path;
@@ -191,6 +217,12 @@ int l_run(lua_State* L) {
         ~Active() { set_run_active(false); }
       } active;
       outcome = run_in_chunks(*s.sim, plan, s.checkpoint, interrupt_path, hooks);
+    }
+    if (spread) {
+      spread->gather();
+      if (ctx && !ctx->quiet && ctx->rank == 0)
+        std::cerr << "granule: " << spread->timing() << "\n";
+      spread.reset();
     }
     done = outcome.done;
     const bool stopped = outcome.stopped;

@@ -60,14 +60,20 @@ DistributedRun<D>::DistributedRun(Simulation<D>& sim, MPI_Comm comm, double reba
     throw InputError("distributed run: periodic scenes are not distributed yet");
   if (sim_.bond_counts().intact > 0)
     throw InputError("distributed run: parallel bonds are not distributed yet");
-  if (!sim_.effects().diagnostics.empty() || sim_.hook_count() > 0)
+  if (!sim_.effects().diagnostics.empty() && !sim_.hooks_wrapped())
     throw InputError(
-        "distributed run: diagnostics and hooks are not distributed yet (their sums cross ranks)");
+        "distributed run: diagnostics would see only this rank's share; take the steps they "
+        "observe on the whole scene (Simulation::whole_step_due, parallel/scene_over_ranks.hpp)");
+  if (sim_.hook_count() > 0 && !sim_.hooks_wrapped())
+    throw InputError(
+        "distributed run: hooks would see only this rank's share; fire them on the gathered "
+        "scene (Simulation::set_hook_wrapper, parallel/scene_over_ranks.hpp)");
   // Canonical order makes each owned particle's sums independent of what else
   // its rank stores; prepare() (time step, skin, lists) sees the whole scene.
   sim_.set_canonical_order(true);
   sim_.ensure_prepared();
   sim_.set_external_rebuilds(true);
+  sim_.set_keep_wall_reactions(true);
   reach_ = sim_.interaction_reach();
   // Every rank holds the whole scene now: the cut needs no communication, and
   // each keeps what its box holds.
@@ -205,6 +211,7 @@ void DistributedRun<D>::install() {
   }
   for (const auto& g : ghosts_) add(g, true);
   sim_.install_share(std::move(share), histories);
+  steps_since_install_ = 0;
 }
 
 template <int D>
@@ -230,6 +237,7 @@ template <int D>
 void DistributedRun<D>::advance(std::int64_t steps) {
   if (steps < 0)
     throw InputError(fmt::format("cannot advance a negative number of steps ({})", steps));
+  if (dissolved_) throw RunError("distributed run: a step after the scene was gathered");
   for (std::int64_t s = 0; s < steps; ++s) {
     auto t0 = Clock::now();
     // One rank's rule, over every rank: rebuild when any particle anywhere moved
@@ -246,9 +254,191 @@ void DistributedRun<D>::advance(std::int64_t steps) {
     }
     auto t2 = Clock::now();
     (any ? times_.rebuild : times_.exchange) += std::chrono::duration<double>(t2 - t1).count();
+    // Counted before the step: its hooks fire inside it, after its contacts.
+    ++steps_since_install_;
     sim_.step();
     times_.compute += since(t2);
   }
+}
+
+template <int D>
+void DistributedRun<D>::dissolve() {
+  if (dissolved_) return;
+  dissolved_ = true;
+  const auto t0 = Clock::now();
+  take_records();
+  const Particles<D>& p = sim_.share();
+  std::string mine;
+  for (std::size_t k = 0; k < owned_.size(); ++k) {
+    pack(owned_[k], mine);
+    put(mine, p.force_torque[k].force);
+    put(mine, p.force_torque[k].torque);
+  }
+  // The last step's tallies and wall reactions (unless no step was taken on
+  // the shares: the scene's are then still the whole scene's).
+  std::string tallies, reactions;
+  if (steps_since_install_ > 0) {
+    const GlobalStats here = sim_.stats();
+    put(tallies, sim_.led_pair_contacts());
+    put(tallies, here.contacts_wall);
+    put(tallies, here.max_overlap_ratio);
+    reactions = sim_.pack_wall_reactions();
+  }
+  const std::string all_tallies = all_gather(tallies, comm_);
+  const std::string all_reactions = all_gather(reactions, comm_);
+  const std::string all = all_gather(mine, comm_);
+
+  std::vector<ParticleRecord<D>> records;
+  std::vector<ForceTorque<D>> loads;
+  for (std::size_t at = 0; at < all.size();) {
+    records.push_back(unpack<D>(all, at));
+    ForceTorque<D> ft;
+    ft.force = take<Vec<D>>(all, at);
+    ft.torque = take<Spin<D>>(all, at);
+    loads.push_back(ft);
+  }
+  std::vector<std::size_t> order(records.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return records[a].id < records[b].id; });
+  Particles<D> whole;
+  whole.next_id = p.next_id;
+  whole.index_of_id.assign(static_cast<std::size_t>(whole.next_id), -1);
+  std::vector<std::string> histories;
+  histories.reserve(records.size());
+  for (const std::size_t k : order) {
+    ParticleRecord<D>& r = records[k];
+    if (r.id < 0 || r.id >= whole.next_id || whole.index_of_id[r.id] >= 0)
+      throw RunError(fmt::format("distributed run: particle {} gathered twice", r.id));
+    whole.index_of_id[r.id] = static_cast<std::int32_t>(whole.size());
+    whole.position.push_back(r.position);
+    whole.velocity.push_back(r.velocity);
+    whole.spin.push_back(r.spin);
+    whole.force_torque.push_back(loads[k]);
+    whole.radius.push_back(r.radius);
+    whole.mass.push_back(r.mass);
+    whole.inv_mass.push_back(r.inv_mass);
+    whole.inv_inertia.push_back(r.inv_inertia);
+    whole.id.push_back(r.id);
+    whole.material.push_back(r.material);
+    whole.fixed.push_back(static_cast<std::uint8_t>(r.fixed & ~Simulation<D>::ghost_flag));
+    histories.push_back(std::move(r.payload));
+  }
+
+  // Each wall's reaction as one process sums it: from zero, minus each
+  // contact's force on its particle, model by model and particle by particle
+  // in id order (a particle's wall contacts are all on its owner's rank, in
+  // the order one process lists them).
+  struct Reaction {
+    std::int32_t model = 0;
+    std::int64_t id = 0;
+    std::uint32_t wall = 0;
+    Vec<D> force = Vec<D>::Zero();
+    double axial = 0;
+  };
+  std::vector<Reaction> each;
+  for (std::size_t at = 0; at < all_reactions.size();) {
+    Reaction r;
+    r.model = take<std::int32_t>(all_reactions, at);
+    r.id = take<std::int64_t>(all_reactions, at);
+    r.wall = take<std::uint32_t>(all_reactions, at);
+    r.force = take<Vec<D>>(all_reactions, at);
+    r.axial = take<double>(all_reactions, at);
+    each.push_back(r);
+  }
+  std::stable_sort(each.begin(), each.end(), [](const Reaction& a, const Reaction& b) {
+    return a.model != b.model ? a.model < b.model : a.id < b.id;
+  });
+  const std::size_t walls = static_cast<std::size_t>(sim_.wall_count());
+  std::vector<Vec<D>> force(walls, Vec<D>::Zero());
+  std::vector<double> axial(walls, 0.0);
+  for (const Reaction& r : each) {
+    if (r.wall >= walls)
+      throw RunError(fmt::format("distributed run: a reaction on wall {} of {}", r.wall, walls));
+    force[r.wall] -= r.force;
+    axial[r.wall] -= r.axial;
+  }
+  std::int64_t pair_contacts = 0, wall_contacts = 0;
+  double max_ratio = 0;
+  for (std::size_t at = 0; at < all_tallies.size();) {
+    pair_contacts += take<std::int64_t>(all_tallies, at);
+    wall_contacts += take<std::int64_t>(all_tallies, at);
+    max_ratio = std::max(max_ratio, take<double>(all_tallies, at));
+  }
+  sim_.set_external_rebuilds(false);
+  sim_.set_keep_wall_reactions(false);
+  sim_.install_share(std::move(whole), histories);
+  if (!all_tallies.empty()) {
+    sim_.set_wall_reactions(force, axial);
+    sim_.set_step_tallies(pair_contacts, wall_contacts, max_ratio);
+  }
+  owned_.clear();
+  ghosts_.clear();
+  times_.rebuild += since(t0);
+}
+
+template <int D>
+GlobalStats DistributedRun<D>::totals() const {
+  GlobalStats g = sim_.stats();  // time, step, this rank's counters
+  // Each owned particle's terms, as Simulation::stats() forms them.
+  const Particles<D>& p = sim_.share();
+  std::string mine;
+  for (std::size_t i = 0; i < owned_.size(); ++i) {
+    if (p.fixed[i]) continue;
+    const auto t = sim_.stat_terms(i);
+    put(mine, p.id[i]);
+    put(mine, t.kinetic_translational);
+    put(mine, t.kinetic_rotational);
+    put(mine, t.momentum);
+    put(mine, t.angular_momentum_z);
+  }
+  std::string tallies;
+  put(tallies, static_cast<std::int64_t>(owned_.size()));
+  // No step since the shares were made: the scene's tallies are still the
+  // whole scene's, on every rank (counted once, from rank 0).
+  const bool stepped = steps_since_install_ > 0;
+  put(tallies, stepped ? sim_.led_pair_contacts() : rank_ == 0 ? g.contacts_particle : 0);
+  put(tallies, stepped || rank_ == 0 ? g.contacts_wall : std::int64_t{0});
+  put(tallies, g.max_overlap_ratio);
+  const std::string all = all_gather(mine, comm_);
+  const std::string all_tallies = all_gather(tallies, comm_);
+  struct Terms {
+    std::int64_t id;
+    double kt, kr;
+    Vec<D> momentum;
+    double lz;
+  };
+  std::vector<Terms> terms;
+  for (std::size_t at = 0; at < all.size();) {
+    Terms t;
+    t.id = take<std::int64_t>(all, at);
+    t.kt = take<double>(all, at);
+    t.kr = take<double>(all, at);
+    t.momentum = take<Vec<D>>(all, at);
+    t.lz = take<double>(all, at);
+    terms.push_back(t);
+  }
+  std::sort(terms.begin(), terms.end(), [](const Terms& a, const Terms& b) { return a.id < b.id; });
+  g.kinetic_translational = g.kinetic_rotational = g.angular_momentum_z = 0;
+  Vec<D> momentum = Vec<D>::Zero();
+  for (const Terms& t : terms) {
+    g.kinetic_translational += t.kt;
+    g.kinetic_rotational += t.kr;
+    momentum += t.momentum;
+    g.angular_momentum_z += t.lz;
+  }
+  g.momentum = Triple{};
+  for (int a = 0; a < D; ++a) g.momentum[static_cast<std::size_t>(a)] = momentum[a];
+  g.particles = g.contacts_particle = g.contacts_wall = 0;
+  double max_ratio = 0;
+  for (std::size_t at = 0; at < all_tallies.size();) {
+    g.particles += take<std::int64_t>(all_tallies, at);
+    g.contacts_particle += take<std::int64_t>(all_tallies, at);
+    g.contacts_wall += take<std::int64_t>(all_tallies, at);
+    max_ratio = std::max(max_ratio, take<double>(all_tallies, at));
+  }
+  g.max_overlap_ratio = max_ratio;
+  return g;
 }
 
 template <int D>

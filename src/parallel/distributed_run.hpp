@@ -15,9 +15,9 @@
 //
 // Built so far: pair and wall contacts of the dissertation's and the common
 // laws, gravity and central fields, moving walls and meshes (on every rank),
-// re-cutting from measured imbalance, the gathered state. Not yet: periodic
-// scenes, parallel bonds, diagnostics and hooks (their sums cross ranks), the
-// Lua run under mpirun and its output.
+// re-cutting from measured imbalance, the gathered state, hooks (fired on the
+// whole scene gathered by the caller's hook wrapper: parallel/scene_over_ranks.hpp).
+// Not yet: periodic scenes, parallel bonds, diagnostics (their sums cross ranks).
 #pragma once
 
 #ifdef GRANULE_HAVE_MPI
@@ -63,6 +63,17 @@ class DistributedRun {
 
   void advance(std::int64_t steps);
 
+  // Ends the run: every rank's simulation holds the whole scene again, every
+  // particle (in id order) with its last force and torque and its contacts'
+  // histories, the walls' reactions and the step's contact tallies summed over
+  // the ranks. A collective; the run takes no more steps after it.
+  void dissolve();
+  bool dissolved() const { return dissolved_; }
+  // What stats() gives on the whole scene, bit for bit (the sums in id order),
+  // on every rank; a collective. The engine's own counters (candidates,
+  // rebuilds, prunes) are this rank's.
+  GlobalStats totals() const;
+
   // Every particle, in id order, on every rank.
   std::vector<GatheredParticle<D>> gather() const;
   std::int64_t global_particles() const;
@@ -95,6 +106,8 @@ class DistributedRun {
   std::vector<ParticleRecord<D>> owned_, ghosts_;
   std::int64_t migrated_ = 0, recuts_ = 0;
   DistributedTimes times_;
+  bool dissolved_ = false;
+  std::int64_t steps_since_install_ = 0;
 };
 
 }  // namespace granule::parallel

@@ -1,0 +1,39 @@
+// A run whose steps are spread over MPI ranks, as the scene's run loop sees it
+// (the Lua layer knows nothing of MPI: parallel/scene_over_ranks.hpp makes
+// one). Between runs, and whenever a hook fires or the loop serves a stop
+// check or a checkpoint, every rank holds the whole scene, the same bits on
+// each, so that whatever a script asks or sets is the same everywhere; during
+// the steps each rank holds its share.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "engine/simulation_base.hpp"
+
+namespace granule {
+
+class SpreadRun {
+ public:
+  virtual ~SpreadRun() = default;
+  // `steps` steps, hooks fired on the gathered scene. An error in a step ends
+  // every rank (it may have happened on one only).
+  virtual void advance(std::int64_t steps) = 0;
+  // Every rank holds the whole scene again.
+  virtual void gather() = 0;
+  // True on every rank when it is true on any (a signal, a clock).
+  virtual bool any(bool mine) = 0;
+  // Rank 0's value, on every rank (a chunk length chosen from a clock).
+  virtual std::int64_t agreed(std::int64_t mine) = 0;
+  // Ends every rank after an error that may have reached only this one.
+  [[noreturn]] virtual void abandon(const std::string& message) = 0;
+  // Time per step split into compute, exchange and waiting, for the log.
+  virtual std::string timing() const = 0;
+};
+
+// Makes the spread run of a scene (prepared, whole on every rank).
+using SpreadRunMaker = std::function<std::unique_ptr<SpreadRun>(SimulationBase&)>;
+
+}  // namespace granule

@@ -1,0 +1,22 @@
+// Under mpirun every rank runs the scene script, so every rank's writers would
+// write the same files. Rank 0 writes them where the script says; each other
+// rank writes into a scratch folder of its own, removed when it exits. The
+// writers' code stays the same on every rank (the same calls, the same
+// errors), and no two processes ever write one file.
+#pragma once
+
+#include <string>
+
+namespace granule::io {
+
+// From now on this process writes its files into `folder` (created; removed by
+// remove_scratch()). An empty folder: the files go where they are named.
+void write_files_into(const std::string& folder);
+void remove_scratch();
+
+// Where this process writes the file named `path`: `path` itself, or its
+// scratch copy; with `keep_content`, a file that exists is copied there first
+// (a file opened to be continued).
+std::string writable_path(const std::string& path, bool keep_content = false);
+
+}  // namespace granule::io

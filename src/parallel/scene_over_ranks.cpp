@@ -1,0 +1,149 @@
+#include "parallel/scene_over_ranks.hpp"
+
+#ifdef GRANULE_HAVE_MPI
+
+#include <fmt/format.h>
+
+#include <iostream>
+#include <memory>
+
+#include "core/errors.hpp"
+#include "parallel/distributed_run.hpp"
+
+namespace granule::parallel {
+
+namespace {
+
+template <int D>
+class SceneOverRanks final : public SpreadRun {
+ public:
+  SceneOverRanks(Simulation<D>& sim, MPI_Comm comm, double threshold)
+      : sim_(sim), comm_(comm), threshold_(threshold) {
+    MPI_Comm_rank(comm_, &rank_);
+    MPI_Comm_size(comm_, &size_);
+    // Canonical order: each particle's sums do not depend on which rank holds
+    // it (docs/parallel.md); a plain run with canonical_order = true gives the
+    // same bits.
+    sim_.set_canonical_order(true);
+    sim_.ensure_prepared();
+    sim_.set_hook_wrapper([this](bool totals_only, const std::function<void()>& fire) {
+      // A hook that reads only the totals (the output's series row) gets them
+      // reduced over the ranks, the shares kept; any other, the whole scene.
+      const bool reduce = totals_only && run_ && !run_->dissolved();
+      if (reduce)
+        sim_.set_stats_override(run_->totals());
+      else
+        gather();
+      // What a hook raises (a script's error) it raises on every rank alike,
+      // from the same scene: it ends the run as on one process.
+      try {
+        fire();
+      } catch (...) {
+        hook_failed_ = true;
+        sim_.set_stats_override(std::nullopt);
+        throw;
+      }
+      sim_.set_stats_override(std::nullopt);
+    });
+    share();
+    sim_.set_spread(size_, run_->describe());
+  }
+
+  ~SceneOverRanks() override {
+    // Every rank gets here together: from the end of a run, or from an error
+    // every rank raised (a script's); an error on one rank ends them all first.
+    try {
+      gather();
+    } catch (const std::exception& e) {
+      abandon(e.what());
+    }
+    sim_.set_hook_wrapper({});
+  }
+
+  void advance(std::int64_t steps) override {
+    try {
+      if (steps > 0 && sim_.step_count() == 0) sim_.fire_start_hooks();
+      for (std::int64_t s = 0; s < steps; ++s) {
+        if (sim_.whole_step_due()) {
+          // A step a diagnostic looks at: taken whole on every rank (the same
+          // bits as the share's would give, each rank doing all the work).
+          gather();
+          sim_.step();
+          ++whole_steps_;
+          continue;
+        }
+        if (!run_ || run_->dissolved()) share();
+        run_->advance(1);
+      }
+    } catch (const std::exception& e) {
+      if (hook_failed_) throw;
+      abandon(e.what());  // a step's error (NaN, an escape) may be this rank's alone
+    }
+  }
+
+  void gather() override {
+    if (run_ && !run_->dissolved()) {
+      run_->dissolve();
+      add(total_, run_->times());
+    }
+  }
+
+  bool any(bool mine) override {
+    int in = mine ? 1 : 0, out = 0;
+    MPI_Allreduce(&in, &out, 1, MPI_INT, MPI_MAX, comm_);
+    return out != 0;
+  }
+
+  std::int64_t agreed(std::int64_t mine) override {
+    MPI_Bcast(&mine, 1, MPI_INT64_T, 0, comm_);
+    return mine;
+  }
+
+  [[noreturn]] void abandon(const std::string& message) override {
+    std::cerr << fmt::format("granule: rank {} of {}: error: {}\n", rank_, size_, message);
+    std::cerr.flush();
+    MPI_Abort(comm_, 1);
+    std::abort();  // MPI_Abort does not return
+  }
+
+  std::string timing() const override {
+    DistributedTimes t = total_;
+    if (run_ && !run_->dissolved()) add(t, run_->times());
+    return fmt::format(
+        "rank {}: compute {:.3g} s, ghost exchange {:.3g} s, waiting {:.3g} s, rebuilds {} "
+        "({:.3g} s), steps taken whole for the diagnostics {}",
+        rank_, t.compute, t.exchange, t.waiting, t.rebuilds, t.rebuild, whole_steps_);
+  }
+
+ private:
+  void share() { run_ = std::make_unique<DistributedRun<D>>(sim_, comm_, threshold_); }
+  static void add(DistributedTimes& to, const DistributedTimes& t) {
+    to.compute += t.compute, to.exchange += t.exchange, to.waiting += t.waiting;
+    to.rebuild += t.rebuild, to.rebuilds += t.rebuilds;
+  }
+
+  Simulation<D>& sim_;
+  MPI_Comm comm_;
+  double threshold_;
+  int rank_ = 0, size_ = 1;
+  std::unique_ptr<DistributedRun<D>> run_;
+  DistributedTimes total_;
+  bool hook_failed_ = false;
+  std::int64_t whole_steps_ = 0;
+};
+
+}  // namespace
+
+SpreadRunMaker spread_over(MPI_Comm comm, double rebalance_threshold) {
+  return [comm, rebalance_threshold](SimulationBase& sim) -> std::unique_ptr<SpreadRun> {
+    if (auto* s2 = dynamic_cast<Simulation<2>*>(&sim))
+      return std::make_unique<SceneOverRanks<2>>(*s2, comm, rebalance_threshold);
+    if (auto* s3 = dynamic_cast<Simulation<3>*>(&sim))
+      return std::make_unique<SceneOverRanks<3>>(*s3, comm, rebalance_threshold);
+    throw InputError("a scene of neither 2 nor 3 dimensions cannot be spread over ranks");
+  };
+}
+
+}  // namespace granule::parallel
+
+#endif  // GRANULE_HAVE_MPI

@@ -1,0 +1,109 @@
+#!/bin/sh
+# `mpirun -np N granule run SCENE.lua`: one scene spread over N ranks gives the
+# one-process run's state bit for bit. Usage:
+#   lua_over_ranks_test.sh GRANULE SOURCE_DIR MPIRUN
+# - four scenes (3D dense box with Hertz-Mindlin, 3D drum with a turning
+#   cylinder, 3D JKR cloud, 2D Walton-Braun drum), each with callbacks that
+#   query the whole scene and set a particle's velocity, time-triggered
+#   snapshots, checkpoints and a stop check, on 1-4 ranks against a plain run
+#   in canonical order: every particle's state, the stats, the callbacks'
+#   readings and the walls' forces equal bit for bit;
+# - a checkpoint written on 2 ranks continued on 3 ends in the same state;
+# - the 2D Mechanofusion base case with its diagnostics (steps they look at
+#   taken whole) on 3 ranks: the same /results and final snapshot as on 1;
+# - ranks other than 0 write nothing where the scene says (their scratch
+#   folders are removed), and the REPL is refused under mpirun.
+set -eu
+granule=$1
+src=$2
+mpirun="$3 --allow-run-as-root --oversubscribe"
+scene=$src/tests/parallel/scenes/over_ranks.lua
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+cd "$work"
+mkdir scratch
+export TMPDIR="$work/scratch" OMP_NUM_THREADS=1
+same() {  # every line bit for bit: particles, stats, the callbacks' readings, the walls' forces
+  /usr/bin/python3 - "$1" "$2" <<'PY'
+import sys
+a, b = (open(p).read().split("\n") for p in sys.argv[1:3])
+assert len(a) == len(b), f"{sys.argv[1]}: {len(a)} lines, {sys.argv[2]}: {len(b)}"
+assert sum(l.startswith("state") for l in a) > 100, "too few particles printed"
+for x, y in zip(a, b):
+    assert x == y, f"{sys.argv[1]} / {sys.argv[2]} differ:\n{x[:200]}\n{y[:200]}"
+PY
+}
+for case in box drum jkr wb; do
+  "$granule" run "$scene" -D case=$case -D canonical=1 -D checkpoint=plain_$case.chk.h5 \
+    -o plain_$case.h5 --quiet > plain_$case.txt
+  for n in 1 2 3 4; do
+    $mpirun -np $n "$granule" run "$scene" -D case=$case -D checkpoint=np${n}_$case.chk.h5 \
+      -o np${n}_$case.h5 --quiet > np${n}_$case.txt
+    same plain_$case.txt np${n}_$case.txt
+  done
+  echo "$case: 1-4 ranks bit-identical to the plain run"
+done
+# The output records the ranks; its series (every 100 steps: totals reduced
+# over the ranks, the shares kept) and snapshots are the plain run's bits.
+/usr/bin/python3 - <<'PY'
+import h5py
+e = h5py.File("np3_box.h5", "r")["scene/effects"].attrs
+assert e["ranks"] == 3 and "rcb" in str(e["decomposition"]), dict(e)
+assert h5py.File("plain_box.h5", "r")["scene/effects"].attrs["ranks"] == 1
+for case in ("box", "wb"):
+    a, b = h5py.File(f"plain_{case}.h5", "r"), h5py.File(f"np3_{case}.h5", "r")
+    names = list(a["series"].keys())
+    assert len(names) > 5 and len(a["series/time"]) > 20, names
+    for n in names:
+        assert a["series"][n][:].tobytes() == b["series"][n][:].tobytes(), (case, n)
+    count = a["snapshots"].attrs["count"]
+    assert count == b["snapshots"].attrs["count"] and count > 5
+    for k in range(count):
+        for q in ("id", "position", "velocity", "spin"):
+            assert a["snapshots/%06d/%s" % (k, q)][:].tobytes() == b["snapshots/%06d/%s" % (k, q)][:].tobytes()
+print("series and snapshots bit-identical")
+PY
+# A checkpoint from 2 ranks, continued on 3 (and on 1).
+for case in box wb; do
+  $mpirun -np 3 "$granule" run "$scene" -D case=$case -D checkpoint=np2_$case.chk.h5 \
+    --restart np2_$case.chk.h5 -o restarted3_$case.h5 --quiet > restarted3_$case.txt
+  same plain_$case.txt restarted3_$case.txt
+  "$granule" run "$scene" -D case=$case -D checkpoint=np2_$case.chk.h5 \
+    --restart np2_$case.chk.h5 -o restarted1_$case.h5 --quiet > restarted1_$case.txt
+  same plain_$case.txt restarted1_$case.txt
+done
+echo "restart: 2 ranks' checkpoints continued on 3 ranks and on one process"
+# The 2D Mechanofusion base case with its diagnostics.
+mf=$src/scenarios/mechanofusion.lua
+$mpirun -np 1 "$granule" run "$mf" -D duration=0.002 -o mf1.h5 --quiet > mf1.txt
+$mpirun -np 3 "$granule" run "$mf" -D duration=0.002 -o mf3.h5 --quiet | sed s/mf3.h5/mf.h5/ > mf3.txt
+sed s/mf1.h5/mf.h5/ mf1.txt | cmp - mf3.txt
+/usr/bin/python3 - <<'PY'
+import h5py
+a, b = h5py.File("mf1.h5", "r"), h5py.File("mf3.h5", "r")
+ra, rb = dict(a["results"].attrs), dict(b["results"].attrs)
+assert ra.keys() == rb.keys() and len(ra) > 5, (ra.keys(), rb.keys())
+for k in ra:
+    assert (ra[k] == rb[k]).all() if hasattr(ra[k], "all") else ra[k] == rb[k], k
+def last(f):
+    g = f["snapshots/%06d" % (f["snapshots"].attrs["count"] - 1)]
+    return {k: g[k][:].tobytes() for k in ("id", "position", "velocity", "spin")}
+assert last(a) == last(b)
+series = []
+a["diagnostics"].visit(lambda n: series.append(n) if isinstance(a["diagnostics"][n], h5py.Dataset) else None)
+assert series, "no diagnostics written"
+for n in series:
+    assert a["diagnostics"][n][:].tobytes() == b["diagnostics"][n][:].tobytes(), n
+print(f"mechanofusion: {len(ra)} results and {len(series)} diagnostic columns bit-identical on 1 and 3 ranks")
+PY
+# Nothing but rank 0's files where the scene writes; no scratch folder left.
+test -z "$(ls scratch)" || { echo "scratch left behind: $(ls scratch)"; exit 1; }
+for f in *.h5; do
+  case $f in plain_*|np?_*|restarted?_*|mf?.h5) ;; *) echo "unexpected file $f"; exit 1 ;; esac
+done
+# The REPL runs on one process.
+if $mpirun -np 2 "$granule" repl < /dev/null > repl.txt 2>&1; then
+  echo "the REPL was started on 2 ranks"; exit 1
+fi
+grep -q "the REPL runs on one process" repl.txt || { cat repl.txt; exit 1; }
+echo "lua_over_ranks ok"

@@ -1,0 +1,100 @@
+-- One scene for the tests of `mpirun -np N granule run` (lua_over_ranks_test.sh):
+-- each case runs two stages with callbacks that query the whole scene and set
+-- a particle's velocity, snapshots and checkpoints, then prints every
+-- particle's state and the walls' forces and torques in hex floats, all
+-- bit-identical for any rank count. canonical = 1 asks a plain run for the
+-- order every spread run uses (docs/parallel.md), so that its lines are the
+-- same bits too.
+local p = parameters {
+  case = { default = "box", doc = "box (3D dense, Hertz-Mindlin) | drum (3D, turning cylinder, linear) | jkr (3D agglomerate) | wb (2D Walton-Braun drum)" },
+  canonical = { default = 0 },
+  checkpoint = { default = "over_ranks.chk.h5" },
+  steps = { default = 0, doc = "steps of each of the two stages (0: the case's own)" },
+  snapshots = { default = 6, doc = "snapshots in each stage (by simulated time)" },
+}
+local sim
+if p.case == "wb" then
+  sim = simulation { dimension = 2 }
+  sim:material { name = "powder", density = 1200 }
+  sim:material { name = "steel", density = 7800 }
+  sim:contact { "powder", "powder", model = "walton_braun", k_load = 2e4, restitution = 0.85, friction = 0.1 }
+  sim:contact { "powder", "steel", model = "walton_braun", k_load = 2e4, restitution = 0.85, friction = 0.5 }
+  sim:wall_cylinder { name = "drum", center = { 0, 0 }, radius = 6e-3, angular_velocity = 150, material = "steel" }
+  sim:fill { region = { circle = { center = { 0, 0 }, radius = 6e-3 } }, count = 350, radius = 0.2e-3,
+             material = "powder", seed = 3, max_speed = 2, overlap = false }
+  sim:gravity { 0, -9.81 }
+else
+  sim = simulation { dimension = 3 }
+  sim:material { name = "glass", density = 2500, young = 5e7, poisson = 0.3, surface_energy = 0.05 }
+  sim:material { name = "steel", density = 7800, young = 2e8, poisson = 0.3 }
+  if p.case == "box" then
+    sim:contact { "glass", "glass", model = "hertz_mindlin", restitution = 0.6, friction = 0.4 }
+    sim:contact { "glass", "steel", model = "hertz_mindlin", restitution = 0.6, friction = 0.4 }
+    local w = 3e-3
+    for _, plane in ipairs {
+      { "floor", { 0, -w, 0 }, { 0, 1, 0 } }, { "left", { -w, 0, 0 }, { 1, 0, 0 } },
+      { "right", { w, 0, 0 }, { -1, 0, 0 } }, { "back", { 0, 0, -w }, { 0, 0, 1 } },
+      { "front", { 0, 0, w }, { 0, 0, -1 } } } do
+      sim:wall_plane { name = plane[1], point = plane[2], normal = plane[3], material = "steel" }
+    end
+    sim:fill { region = { box = { lo = { -w, -w, -w }, hi = { w, w, w } } }, count = 900, radius = 0.25e-3,
+               material = "glass", seed = 5, max_speed = 0.2, overlap = false }
+    sim:gravity { 0, -9.81, 0 }
+  elseif p.case == "drum" then
+    sim:contact { "glass", "glass", model = "linear", k_normal = 2e3, restitution = 0.7, friction = 0.3 }
+    sim:contact { "glass", "steel", model = "linear", k_normal = 2e3, restitution = 0.7, friction = 0.5 }
+    sim:wall_cylinder { name = "drum", center = { 0, 0, 0 }, axis = { 0, 0, 1 }, radius = 4e-3,
+                        angular_velocity = 60, material = "steel" }
+    sim:wall_plane { name = "back", point = { 0, 0, -1.5e-3 }, normal = { 0, 0, 1 }, material = "steel" }
+    sim:wall_plane { name = "front", point = { 0, 0, 1.5e-3 }, normal = { 0, 0, -1 }, material = "steel" }
+    sim:fill { region = { cylinder = { center = { 0, 0, 0 }, radius = 4e-3, z_min = -1.5e-3, z_max = 1.5e-3 } },
+               count = 500, radius = 0.2e-3, material = "glass", seed = 7, max_speed = 1, overlap = false }
+    sim:gravity { 0, -9.81, 0 }
+  elseif p.case == "jkr" then
+    sim:contact { "glass", "glass", model = "thornton_jkr", friction = 0.3 }
+    -- a cloud pulled together by a central field: JKR necks form and hold
+    sim:fill { region = { sphere = { center = { 0, 0, 0 }, radius = 1.5e-3 } }, count = 300, radius = 0.1e-3,
+               material = "glass", seed = 11, max_speed = 0.05, overlap = false }
+    sim:central_field { point = { 0, 0, 0 }, strength = 20 }
+  else
+    error("case: box, drum, jkr or wb, not '" .. p.case .. "'")
+  end
+end
+local steps = p.steps > 0 and p.steps or ({ box = 8000, drum = 8000, jkr = 4000, wb = 10000 })[p.case]
+if p.canonical == 1 then sim:set { canonical_order = true } end
+sim:output { snapshot_every = steps * sim:time_step() / p.snapshots }
+sim:checkpoint { file = p.checkpoint, every_steps = 1000 }
+-- A callback that reads the whole scene and sets state wherever the particle lives.
+local energies = {}
+sim:every { steps = 250, function(s)
+  local st = s:stats()
+  energies[#energies + 1] = st.kinetic_energy
+  local ids = s:particles()
+  local id = ids[(#energies * 37) % #ids + 1]
+  local v = s:particle(id).velocity
+  v[1] = v[1] + 1e-3
+  s:set_velocity(id, v)
+end }
+sim:run { steps = steps }
+if p.case == "jkr" then sim:set_central_strength(0) end
+sim:run { steps = steps, check_every = 500, stop_when = function(s) return s:stats().kinetic_energy < 0 end }
+local st = sim:stats()
+print(string.format("stats %d %d %a %d %d", sim:step_count(), st.particles, st.kinetic_energy,
+  st.contacts_particle, st.contacts_wall))
+for k, e in ipairs(energies) do print(string.format("energy %d %a", k, e)) end
+for _, id in ipairs(sim:particles()) do
+  local q = sim:particle(id)
+  local line = { "state", tostring(id) }
+  for _, vec in ipairs { q.position, q.velocity, q.spin, q.force } do
+    if type(vec) == "number" then vec = { vec } end  -- a 2D spin
+    for _, c in ipairs(vec) do line[#line + 1] = string.format("%a", c) end
+  end
+  print(table.concat(line, " "))
+end
+local walls = ({ box = { "floor", "left", "right", "back", "front" }, drum = { "drum", "back", "front" },
+                jkr = {}, wb = { "drum" } })[p.case]
+for _, name in ipairs(walls) do
+  local wall = sim:wall(name)
+  print(string.format("wall %s %a %a %a %a", name, wall.force[1], wall.force[2],
+    wall.force[3] or 0, wall.torque or 0))
+end
