@@ -65,7 +65,10 @@ class Simulation final : public SimulationBase {
   Triple wall_force(int w) const override;
   double wall_axial_torque(int w) const override;
 
-  std::int64_t particle_count() const override { return static_cast<std::int64_t>(p_.size()); }
+  std::int64_t particle_count() const override {
+    return static_cast<std::int64_t>(state_override_ ? state_override_->state.id.size()
+                                                     : p_.size());
+  }
   std::vector<std::int64_t> particle_ids() const override { return p_.id; }
   bool has_particle(std::int64_t id) const override { return p_.index(id) >= 0; }
   Triple position(std::int64_t id) const override;
@@ -181,6 +184,15 @@ class Simulation final : public SimulationBase {
     double angular_momentum_z = 0;
   };
   StatTerms stat_terms(std::size_t i) const;
+  // flat_state(), flat_forces() and particle_count() give `state` (every
+  // particle, gathered from the ranks in id order) until reset.
+  struct StateOverride {
+    FlatState state;
+    std::vector<double> force, torque;
+  };
+  void set_state_override(std::optional<StateOverride> state) {
+    state_override_ = std::move(state);
+  }
   // stats() gives `totals` (reduced over the ranks) until reset.
   void set_stats_override(std::optional<GlobalStats> totals) {
     stats_override_ = std::move(totals);
@@ -295,7 +307,8 @@ class Simulation final : public SimulationBase {
   double contact_reach_ = 0;          // m, how far apart adhesive contacts persist (<= skin)
   bool external_rebuilds_ = false;    // a distributed run rebuilds the lists (install_share)
   bool keep_wall_reactions_ = false;  // set_keep_wall_reactions
-  std::optional<GlobalStats> stats_override_;  // set_stats_override
+  std::optional<GlobalStats> stats_override_;    // set_stats_override
+  std::optional<StateOverride> state_override_;  // set_state_override
   bool rotation_ = true;  // integrate spins: false when no pair in use has friction (prepare())
 };
 

@@ -84,6 +84,10 @@ Triple Simulation<D>::force(std::int64_t id) const {
 
 template <int D>
 void Simulation<D>::flat_forces(std::vector<double>& force, std::vector<double>& torque) const {
+  if (state_override_) {
+    force = state_override_->force, torque = state_override_->torque;
+    return;
+  }
   const std::size_t n = p_.size();
   constexpr int sc = Dim<D>::spin_components;
   force.resize(n * D);
@@ -101,6 +105,7 @@ void Simulation<D>::flat_forces(std::vector<double>& force, std::vector<double>&
 
 template <int D>
 typename SimulationBase::FlatState Simulation<D>::flat_state() const {
+  if (state_override_) return state_override_->state;
   FlatState s;
   const std::size_t n = p_.size();
   s.id = p_.id;

@@ -202,7 +202,10 @@ void SimulationBase::fire_hooks() {
     const int id = h.id;
     auto fn = h.fire;  // copy: the hook may remove itself
     if (hook_wrapper_)
-      hook_wrapper_(h.totals_only && h.totals_only(), fn);
+      hook_wrapper_(h.totals_only && h.totals_only() ? HookReads::totals
+                    : h.state_only && h.state_only() ? HookReads::state
+                                                     : HookReads::scene,
+                    fn);
     else
       fn();
     k = next_after(hooks_, id);
@@ -220,7 +223,7 @@ void SimulationBase::fire_start_hooks() {
     const int id = hooks_[k].id;
     auto fn = hooks_[k].fire;
     if (hook_wrapper_)
-      hook_wrapper_(false, fn);
+      hook_wrapper_(HookReads::scene, fn);
     else
       fn();
     k = next_after(hooks_, id);

@@ -172,7 +172,15 @@ struct Hook {
   // a run spread over MPI ranks then reduces the totals over the ranks
   // instead of gathering the whole scene. Empty: the hook may read anything.
   std::function<bool()> totals_only;
+  // True when the firing only reads the particles (flat_state, flat_forces,
+  // particle_count), stats() and the scene's declarations, and changes
+  // nothing (the output's snapshots): a spread run then gathers those
+  // alone and keeps the ranks' shares.
+  std::function<bool()> state_only;
 };
+
+// What a firing hook reads (Hook::totals_only, Hook::state_only).
+enum class HookReads { scene, totals, state };
 
 struct TimeStepReport {
   double rule = 0;             // Eq. 4.1 (or the model's analogue) over the pairs in use, s
@@ -420,7 +428,7 @@ class SimulationBase {
   // A run spread over MPI ranks (engine/spread_run.hpp) fires the hooks on the
   // whole scene: `wrapper` is called with each firing (it gathers the scene,
   // then calls the firing). An empty function fires them directly again.
-  using HookWrapper = std::function<void(bool totals_only, const std::function<void()>& fire)>;
+  using HookWrapper = std::function<void(HookReads reads, const std::function<void()>& fire)>;
   void set_hook_wrapper(HookWrapper wrapper) { hook_wrapper_ = std::move(wrapper); }
   bool hooks_wrapped() const { return static_cast<bool>(hook_wrapper_); }
   // The at_start hooks, before step 0 (advance() fires them itself).

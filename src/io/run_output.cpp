@@ -84,6 +84,10 @@ RunOutput::RunOutput(SimulationBase& sim, RunOutputSettings settings)
   snap.fire = [this] {
     if (sim_.particle_count() > 0) write_snapshot();
   };
+  // Once the header is written a snapshot reads only the particles (a run
+  // spread over MPI ranks then gathers them alone); the contact network is the
+  // scene's (and refused on ranks).
+  snap.state_only = [this] { return header_written_ && !settings_.contacts; };
   hook_ids_.push_back(sim_.add_hook(snap));
   sim_.set_failure_handler([this](const std::string& m) { write_failure(m); });
   sim_.set_output_sink(this);

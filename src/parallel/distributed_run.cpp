@@ -442,6 +442,70 @@ GlobalStats DistributedRun<D>::totals() const {
 }
 
 template <int D>
+typename Simulation<D>::StateOverride DistributedRun<D>::gathered_state() const {
+  constexpr int sc = Dim<D>::spin_components;
+  const Particles<D>& p = sim_.share();
+  std::string mine;
+  for (std::size_t k = 0; k < owned_.size(); ++k) {
+    put(mine, p.id[k]);
+    put(mine, p.radius[k]);
+    put(mine, p.material[k]);
+    put(mine, static_cast<std::uint8_t>(p.fixed[k] & ~Simulation<D>::ghost_flag));
+    put(mine, p.position[k]);
+    put(mine, p.velocity[k]);
+    put(mine, p.spin[k]);
+    put(mine, p.force_torque[k].force);
+    put(mine, p.force_torque[k].torque);
+  }
+  const std::string all = all_gather(mine, comm_);
+  struct Row {
+    std::int64_t id;
+    double radius;
+    std::int32_t material;
+    std::uint8_t fixed;
+    Vec<D> x, v;
+    Spin<D> w;
+    Vec<D> f;
+    Spin<D> t;
+  };
+  std::vector<Row> rows;
+  for (std::size_t at = 0; at < all.size();) {
+    Row r;
+    r.id = take<std::int64_t>(all, at);
+    r.radius = take<double>(all, at);
+    r.material = take<std::int32_t>(all, at);
+    r.fixed = take<std::uint8_t>(all, at);
+    r.x = take<Vec<D>>(all, at);
+    r.v = take<Vec<D>>(all, at);
+    r.w = take<Spin<D>>(all, at);
+    r.f = take<Vec<D>>(all, at);
+    r.t = take<Spin<D>>(all, at);
+    rows.push_back(r);
+  }
+  std::sort(rows.begin(), rows.end(), [](const Row& a, const Row& b) { return a.id < b.id; });
+  typename Simulation<D>::StateOverride out;
+  auto& s = out.state;
+  for (const Row& r : rows) {
+    s.id.push_back(r.id);
+    s.radius.push_back(r.radius);
+    s.material.push_back(r.material);
+    s.fixed.push_back(r.fixed);
+    for (int a = 0; a < D; ++a) {
+      s.position.push_back(r.x[a]);
+      s.velocity.push_back(r.v[a]);
+      out.force.push_back(r.f[a]);
+    }
+    if constexpr (sc == 1) {
+      s.spin.push_back(r.w);
+      out.torque.push_back(r.t);
+    } else {
+      for (int a = 0; a < sc; ++a) s.spin.push_back(r.w[a]), out.torque.push_back(r.t[a]);
+    }
+  }
+  return out;
+}
+
+template <int D>
 std::vector<GatheredParticle<D>> DistributedRun<D>::gather() const {
   const Particles<D>& p = sim_.share();
   std::string mine;

@@ -73,6 +73,10 @@ class DistributedRun {
   // on every rank; a collective. The engine's own counters (candidates,
   // rebuilds, prunes) are this rank's.
   GlobalStats totals() const;
+  // Every particle's flat state and last force and torque, in id order, on
+  // every rank (what flat_state() and flat_forces() give on the whole scene);
+  // a collective.
+  typename Simulation<D>::StateOverride gathered_state() const;
 
   // Every particle, in id order, on every rank.
   std::vector<GatheredParticle<D>> gather() const;

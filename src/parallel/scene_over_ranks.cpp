@@ -26,14 +26,18 @@ class SceneOverRanks final : public SpreadRun {
     // same bits.
     sim_.set_canonical_order(true);
     sim_.ensure_prepared();
-    sim_.set_hook_wrapper([this](bool totals_only, const std::function<void()>& fire) {
+    sim_.set_hook_wrapper([this](HookReads reads, const std::function<void()>& fire) {
       // A hook that reads only the totals (the output's series row) gets them
-      // reduced over the ranks, the shares kept; any other, the whole scene.
-      const bool reduce = totals_only && run_ && !run_->dissolved();
-      if (reduce)
+      // reduced over the ranks, one that reads only the particles (the
+      // output's snapshots) gets them gathered, the shares kept; any other
+      // gets the whole scene.
+      const bool shared = run_ && !run_->dissolved();
+      if (shared && reads != HookReads::scene) {
         sim_.set_stats_override(run_->totals());
-      else
+        if (reads == HookReads::state) sim_.set_state_override(run_->gathered_state());
+      } else {
         gather();
+      }
       // What a hook raises (a script's error) it raises on every rank alike,
       // from the same scene: it ends the run as on one process.
       try {
@@ -41,9 +45,11 @@ class SceneOverRanks final : public SpreadRun {
       } catch (...) {
         hook_failed_ = true;
         sim_.set_stats_override(std::nullopt);
+        sim_.set_state_override(std::nullopt);
         throw;
       }
       sim_.set_stats_override(std::nullopt);
+      sim_.set_state_override(std::nullopt);
     });
     share();
     sim_.set_spread(size_, run_->describe());
