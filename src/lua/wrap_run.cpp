@@ -181,8 +181,24 @@ int l_run(lua_State* L) {
       return stop;
     };
     hooks.write_checkpoint = [&](const std::string& path) {
-      if (spread) spread->gather();
-      write_checkpoint_now(s, path, true);
+      if (!spread) {
+        write_checkpoint_now(s, path, true);
+        return;
+      }
+      // Every rank writes (rank 0 where named, the others into scratch): one
+      // that fails alone (a full disk) ends them all, lest the others wait.
+      spread->gather();
+      std::string failure;
+      try {
+        write_checkpoint_now(s, path, true);
+      } catch (const std::exception& e) {
+        failure = e.what();
+      }
+      const bool somewhere = spread->any(!failure.empty());
+      const bool everywhere = !spread->any(failure.empty());
+      if (somewhere && !everywhere)
+        spread->abandon(failure.empty() ? "a checkpoint failed on another rank" : failure);
+      if (!failure.empty()) throw std::runtime_error(failure);
     };
     if (spread) {
       hooks.advance = [&](std::int64_t n) { spread->advance(n); };

@@ -4,15 +4,28 @@
 
 #include <fmt/format.h>
 
+#include <exception>
 #include <iostream>
 #include <memory>
 
 #include "core/errors.hpp"
+#include "io/rank_files.hpp"
 #include "parallel/distributed_run.hpp"
 
 namespace granule::parallel {
 
 namespace {
+
+std::string message_of(const std::exception_ptr& error) {
+  if (!error) return "a hook failed on another rank";
+  try {
+    std::rethrow_exception(error);
+  } catch (const std::exception& e) {
+    return e.what();
+  } catch (...) {
+  }
+  return "a hook failed with an exception that is not a std::exception";
+}
 
 template <int D>
 class SceneOverRanks final : public SpreadRun {
@@ -38,18 +51,26 @@ class SceneOverRanks final : public SpreadRun {
       } else {
         gather();
       }
-      // What a hook raises (a script's error) it raises on every rank alike,
-      // from the same scene: it ends the run as on one process.
+      // A script's error is raised on every rank alike, from the same scene,
+      // and ends the run as on one process; an error on some ranks only (a
+      // file rank 0 could not write) ends every rank, lest the others wait.
+      std::exception_ptr error;
       try {
         fire();
       } catch (...) {
-        hook_failed_ = true;
-        sim_.set_stats_override(std::nullopt);
-        sim_.set_state_override(std::nullopt);
-        throw;
+        error = std::current_exception();
       }
       sim_.set_stats_override(std::nullopt);
       sim_.set_state_override(std::nullopt);
+      const int failed = error ? 1 : 0;
+      int failed_somewhere = 0, failed_everywhere = 0;
+      MPI_Allreduce(&failed, &failed_somewhere, 1, MPI_INT, MPI_MAX, comm_);
+      MPI_Allreduce(&failed, &failed_everywhere, 1, MPI_INT, MPI_MIN, comm_);
+      if (failed_somewhere && !failed_everywhere) abandon(message_of(error));
+      if (error) {
+        hook_failed_ = true;
+        std::rethrow_exception(error);
+      }
     });
     share();
     sim_.set_spread(size_, run_->describe());
@@ -108,6 +129,7 @@ class SceneOverRanks final : public SpreadRun {
   [[noreturn]] void abandon(const std::string& message) override {
     std::cerr << fmt::format("granule: rank {} of {}: error: {}\n", rank_, size_, message);
     std::cerr.flush();
+    io::remove_scratch();  // MPI_Abort ends the process without its exit's clean-up
     MPI_Abort(comm_, 1);
     std::abort();  // MPI_Abort does not return
   }

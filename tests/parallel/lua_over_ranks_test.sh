@@ -96,6 +96,15 @@ for n in series:
     assert a["diagnostics"][n][:].tobytes() == b["diagnostics"][n][:].tobytes(), n
 print(f"mechanofusion: {len(ra)} results and {len(series)} diagnostic columns bit-identical on 1 and 3 ranks")
 PY
+# A checkpoint rank 0 cannot write (its folder is missing; the other ranks
+# write theirs into scratch) ends every rank with rank 0's reason, no hang.
+if timeout 120 $mpirun -np 2 "$granule" run "$scene" -D case=wb -D checkpoint=missing/x.chk.h5 \
+     -o failing.h5 --quiet > failing.txt 2> failing.err; then
+  echo "a checkpoint into a missing folder did not fail"; exit 1
+fi
+grep -q "rank 0 of 2: error: checkpoint missing/x.chk.h5: cannot create" failing.err || { cat failing.err; exit 1; }
+rm -f failing.h5 failing.xmf failing_walls.xmf
+echo "a failure on one rank ends them all"
 # Nothing but rank 0's files where the scene writes; no scratch folder left.
 test -z "$(ls scratch)" || { echo "scratch left behind: $(ls scratch)"; exit 1; }
 for f in *.h5; do
