@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <exception>
 #include <functional>
 #include <memory>
 #include <string>
@@ -29,6 +30,11 @@ class SpreadRun {
   virtual std::int64_t agreed(std::int64_t mine) = 0;
   // Ends every rank after an error that may have reached only this one.
   [[noreturn]] virtual void abandon(const std::string& message) = 0;
+  // After what every rank did alike (a hook, a checkpoint), with what it
+  // raised here (null: nothing): raised on every rank, it is rethrown (an
+  // ordinary error, the same everywhere); on some only (a file rank 0 could
+  // not write), every rank ends, lest the others wait; nowhere, returns.
+  virtual void settle(const std::exception_ptr& error) = 0;
   // Time per step split into compute, exchange and waiting, for the log.
   virtual std::string timing() const = 0;
 };

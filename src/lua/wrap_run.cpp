@@ -186,19 +186,15 @@ int l_run(lua_State* L) {
         return;
       }
       // Every rank writes (rank 0 where named, the others into scratch): one
-      // that fails alone (a full disk) ends them all, lest the others wait.
+      // that fails alone (a full disk) ends them all (settle).
       spread->gather();
-      std::string failure;
+      std::exception_ptr error;
       try {
         write_checkpoint_now(s, path, true);
-      } catch (const std::exception& e) {
-        failure = e.what();
+      } catch (...) {
+        error = std::current_exception();
       }
-      const bool somewhere = spread->any(!failure.empty());
-      const bool everywhere = !spread->any(failure.empty());
-      if (somewhere && !everywhere)
-        spread->abandon(failure.empty() ? "a checkpoint failed on another rank" : failure);
-      if (!failure.empty()) throw std::runtime_error(failure);
+      spread->settle(error);
     };
     if (spread) {
       hooks.advance = [&](std::int64_t n) { spread->advance(n); };

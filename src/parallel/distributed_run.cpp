@@ -26,6 +26,44 @@ T take(const std::string& in, std::size_t& at) {
   return bytes::take<T>(in, at, "distributed run: a gathered record");
 }
 
+// Appends record r to `to` with the given `fixed` flags and load; refuses an id
+// that is out of range or already there (`what` names the occasion).
+template <int D>
+void append(Particles<D>& to, const ParticleRecord<D>& r, std::uint8_t fixed,
+            const ForceTorque<D>& load, const char* what) {
+  if (r.id < 0 || r.id >= to.next_id || to.index_of_id[r.id] >= 0)
+    throw RunError(fmt::format("distributed run: {} particle {} twice", what, r.id));
+  to.index_of_id[r.id] = static_cast<std::int32_t>(to.size());
+  to.position.push_back(r.position);
+  to.velocity.push_back(r.velocity);
+  to.spin.push_back(r.spin);
+  to.force_torque.push_back(load);
+  to.radius.push_back(r.radius);
+  to.mass.push_back(r.mass);
+  to.inv_mass.push_back(r.inv_mass);
+  to.inv_inertia.push_back(r.inv_inertia);
+  to.id.push_back(r.id);
+  to.material.push_back(r.material);
+  to.fixed.push_back(fixed);
+}
+
+// The step's tallies over the ranks (DistributedRun::tallies).
+struct Tallies {
+  std::int64_t particles = 0, pair_contacts = 0, wall_contacts = 0;
+  double max_overlap_ratio = 0;
+};
+
+Tallies sum_tallies(const std::string& all) {
+  Tallies sum;
+  for (std::size_t at = 0; at < all.size();) {
+    sum.particles += take<std::int64_t>(all, at);
+    sum.pair_contacts += take<std::int64_t>(all, at);
+    sum.wall_contacts += take<std::int64_t>(all, at);
+    sum.max_overlap_ratio = std::max(sum.max_overlap_ratio, take<double>(all, at));
+  }
+  return sum;
+}
+
 // Every rank's bytes, in rank order, on every rank.
 std::string all_gather(const std::string& mine, MPI_Comm comm) {
   int size = 0;
@@ -186,23 +224,11 @@ void DistributedRun<D>::install() {
   share.index_of_id.assign(static_cast<std::size_t>(old.next_id), -1);
   std::vector<std::string> histories;
   histories.reserve(owned_.size());
+  const std::string what = fmt::format("rank {} received", rank_);
   auto add = [&](const ParticleRecord<D>& r, bool ghost) {
-    if (r.id < 0 || r.id >= share.next_id || share.index_of_id[r.id] >= 0)
-      throw RunError(
-          fmt::format("distributed run: rank {} received particle {} twice", rank_, r.id));
-    share.index_of_id[r.id] = static_cast<std::int32_t>(share.size());
-    share.position.push_back(r.position);
-    share.velocity.push_back(r.velocity);
-    share.spin.push_back(r.spin);
-    share.force_torque.push_back({});
-    share.radius.push_back(r.radius);
-    share.mass.push_back(r.mass);
-    share.inv_mass.push_back(r.inv_mass);
-    share.inv_inertia.push_back(r.inv_inertia);
-    share.id.push_back(r.id);
-    share.material.push_back(r.material);
-    share.fixed.push_back(static_cast<std::uint8_t>(ghost ? r.fixed | Simulation<D>::ghost_flag
-                                                          : r.fixed & ~Simulation<D>::ghost_flag));
+    const std::uint8_t flags =
+        ghost ? r.fixed | Simulation<D>::ghost_flag : r.fixed & ~Simulation<D>::ghost_flag;
+    append(share, r, flags, ForceTorque<D>{}, what.c_str());
   };
   for (auto& r : owned_) {
     add(r, false);
@@ -275,17 +301,12 @@ void DistributedRun<D>::dissolve() {
     put(mine, p.force_torque[k].torque);
   }
   // The last step's tallies and wall reactions (unless no step was taken on
-  // the shares: the scene's are then still the whole scene's).
-  std::string tallies, reactions;
-  if (steps_since_install_ > 0) {
-    const GlobalStats here = sim_.stats();
-    put(tallies, sim_.led_pair_contacts());
-    put(tallies, here.contacts_wall);
-    put(tallies, here.max_overlap_ratio);
-    reactions = sim_.pack_wall_reactions();
-  }
-  const std::string all_tallies = all_gather(tallies, comm_);
-  const std::string all_reactions = all_gather(reactions, comm_);
+  // the shares: the walls' are then still the whole scene's). Every rank has
+  // taken the same steps.
+  const bool stepped = steps_since_install_ > 0;
+  const Tallies sum = sum_tallies(all_gather(tallies(sim_.stats()), comm_));
+  const std::string all_reactions =
+      all_gather(stepped ? sim_.pack_wall_reactions() : std::string(), comm_);
   const std::string all = all_gather(mine, comm_);
 
   std::vector<ParticleRecord<D>> records;
@@ -308,20 +329,8 @@ void DistributedRun<D>::dissolve() {
   histories.reserve(records.size());
   for (const std::size_t k : order) {
     ParticleRecord<D>& r = records[k];
-    if (r.id < 0 || r.id >= whole.next_id || whole.index_of_id[r.id] >= 0)
-      throw RunError(fmt::format("distributed run: particle {} gathered twice", r.id));
-    whole.index_of_id[r.id] = static_cast<std::int32_t>(whole.size());
-    whole.position.push_back(r.position);
-    whole.velocity.push_back(r.velocity);
-    whole.spin.push_back(r.spin);
-    whole.force_torque.push_back(loads[k]);
-    whole.radius.push_back(r.radius);
-    whole.mass.push_back(r.mass);
-    whole.inv_mass.push_back(r.inv_mass);
-    whole.inv_inertia.push_back(r.inv_inertia);
-    whole.id.push_back(r.id);
-    whole.material.push_back(r.material);
-    whole.fixed.push_back(static_cast<std::uint8_t>(r.fixed & ~Simulation<D>::ghost_flag));
+    append(whole, r, static_cast<std::uint8_t>(r.fixed & ~Simulation<D>::ghost_flag), loads[k],
+           "gathered");
     histories.push_back(std::move(r.payload));
   }
 
@@ -358,23 +367,27 @@ void DistributedRun<D>::dissolve() {
     force[r.wall] -= r.force;
     axial[r.wall] -= r.axial;
   }
-  std::int64_t pair_contacts = 0, wall_contacts = 0;
-  double max_ratio = 0;
-  for (std::size_t at = 0; at < all_tallies.size();) {
-    pair_contacts += take<std::int64_t>(all_tallies, at);
-    wall_contacts += take<std::int64_t>(all_tallies, at);
-    max_ratio = std::max(max_ratio, take<double>(all_tallies, at));
-  }
   sim_.set_external_rebuilds(false);
   sim_.set_keep_wall_reactions(false);
   sim_.install_share(std::move(whole), histories);
-  if (!all_tallies.empty()) {
-    sim_.set_wall_reactions(force, axial);
-    sim_.set_step_tallies(pair_contacts, wall_contacts, max_ratio);
-  }
+  sim_.set_step_tallies(sum.pair_contacts, sum.wall_contacts, sum.max_overlap_ratio);
+  if (stepped) sim_.set_wall_reactions(force, axial);
   owned_.clear();
   ghosts_.clear();
   times_.rebuild += since(t0);
+}
+
+template <int D>
+std::string DistributedRun<D>::tallies(const GlobalStats& here) const {
+  // No step since the shares were made: the scene's tallies are still the
+  // whole scene's, on every rank (counted once, from rank 0).
+  const bool stepped = steps_since_install_ > 0;
+  std::string out;
+  put(out, static_cast<std::int64_t>(owned_.size()));
+  put(out, stepped ? sim_.led_pair_contacts() : rank_ == 0 ? here.contacts_particle : 0);
+  put(out, stepped || rank_ == 0 ? here.contacts_wall : std::int64_t{0});
+  put(out, here.max_overlap_ratio);
+  return out;
 }
 
 template <int D>
@@ -392,16 +405,8 @@ GlobalStats DistributedRun<D>::totals() const {
     put(mine, t.momentum);
     put(mine, t.angular_momentum_z);
   }
-  std::string tallies;
-  put(tallies, static_cast<std::int64_t>(owned_.size()));
-  // No step since the shares were made: the scene's tallies are still the
-  // whole scene's, on every rank (counted once, from rank 0).
-  const bool stepped = steps_since_install_ > 0;
-  put(tallies, stepped ? sim_.led_pair_contacts() : rank_ == 0 ? g.contacts_particle : 0);
-  put(tallies, stepped || rank_ == 0 ? g.contacts_wall : std::int64_t{0});
-  put(tallies, g.max_overlap_ratio);
   const std::string all = all_gather(mine, comm_);
-  const std::string all_tallies = all_gather(tallies, comm_);
+  const Tallies sum = sum_tallies(all_gather(tallies(g), comm_));
   struct Terms {
     std::int64_t id;
     double kt, kr;
@@ -429,77 +434,33 @@ GlobalStats DistributedRun<D>::totals() const {
   }
   g.momentum = Triple{};
   for (int a = 0; a < D; ++a) g.momentum[static_cast<std::size_t>(a)] = momentum[a];
-  g.particles = g.contacts_particle = g.contacts_wall = 0;
-  double max_ratio = 0;
-  for (std::size_t at = 0; at < all_tallies.size();) {
-    g.particles += take<std::int64_t>(all_tallies, at);
-    g.contacts_particle += take<std::int64_t>(all_tallies, at);
-    g.contacts_wall += take<std::int64_t>(all_tallies, at);
-    max_ratio = std::max(max_ratio, take<double>(all_tallies, at));
-  }
-  g.max_overlap_ratio = max_ratio;
+  g.particles = sum.particles;
+  g.contacts_particle = sum.pair_contacts;
+  g.contacts_wall = sum.wall_contacts;
+  g.max_overlap_ratio = sum.max_overlap_ratio;
   return g;
 }
 
 template <int D>
 typename Simulation<D>::StateOverride DistributedRun<D>::gathered_state() const {
   constexpr int sc = Dim<D>::spin_components;
-  const Particles<D>& p = sim_.share();
-  std::string mine;
-  for (std::size_t k = 0; k < owned_.size(); ++k) {
-    put(mine, p.id[k]);
-    put(mine, p.radius[k]);
-    put(mine, p.material[k]);
-    put(mine, static_cast<std::uint8_t>(p.fixed[k] & ~Simulation<D>::ghost_flag));
-    put(mine, p.position[k]);
-    put(mine, p.velocity[k]);
-    put(mine, p.spin[k]);
-    put(mine, p.force_torque[k].force);
-    put(mine, p.force_torque[k].torque);
-  }
-  const std::string all = all_gather(mine, comm_);
-  struct Row {
-    std::int64_t id;
-    double radius;
-    std::int32_t material;
-    std::uint8_t fixed;
-    Vec<D> x, v;
-    Spin<D> w;
-    Vec<D> f;
-    Spin<D> t;
-  };
-  std::vector<Row> rows;
-  for (std::size_t at = 0; at < all.size();) {
-    Row r;
-    r.id = take<std::int64_t>(all, at);
-    r.radius = take<double>(all, at);
-    r.material = take<std::int32_t>(all, at);
-    r.fixed = take<std::uint8_t>(all, at);
-    r.x = take<Vec<D>>(all, at);
-    r.v = take<Vec<D>>(all, at);
-    r.w = take<Spin<D>>(all, at);
-    r.f = take<Vec<D>>(all, at);
-    r.t = take<Spin<D>>(all, at);
-    rows.push_back(r);
-  }
-  std::sort(rows.begin(), rows.end(), [](const Row& a, const Row& b) { return a.id < b.id; });
   typename Simulation<D>::StateOverride out;
   auto& s = out.state;
-  for (const Row& r : rows) {
-    s.id.push_back(r.id);
-    s.radius.push_back(r.radius);
-    s.material.push_back(r.material);
-    s.fixed.push_back(r.fixed);
+  for (const GatheredParticle<D>& g : gather()) {
+    s.id.push_back(g.id);
+    s.radius.push_back(g.radius);
+    s.material.push_back(g.material);
+    s.fixed.push_back(g.fixed);
     for (int a = 0; a < D; ++a) {
-      s.position.push_back(r.x[a]);
-      s.velocity.push_back(r.v[a]);
-      out.force.push_back(r.f[a]);
+      s.position.push_back(g.position[a]);
+      s.velocity.push_back(g.velocity[a]);
+      out.force.push_back(g.force[a]);
     }
     if constexpr (sc == 1) {
-      s.spin.push_back(r.w);
-      out.torque.push_back(r.t);
+      s.spin.push_back(g.spin);
+      out.torque.push_back(g.torque);
     } else {
-      for (int a = 0; a < sc; ++a) s.spin.push_back(r.w[a]), out.torque.push_back(r.t[a]);
+      for (int a = 0; a < sc; ++a) s.spin.push_back(g.spin[a]), out.torque.push_back(g.torque[a]);
     }
   }
   return out;
@@ -516,6 +477,9 @@ std::vector<GatheredParticle<D>> DistributedRun<D>::gather() const {
     put(mine, p.spin[k]);
     put(mine, p.force_torque[k].force);
     put(mine, p.force_torque[k].torque);
+    put(mine, p.radius[k]);
+    put(mine, p.material[k]);
+    put(mine, static_cast<std::uint8_t>(p.fixed[k] & ~Simulation<D>::ghost_flag));
   }
   const std::string all = all_gather(mine, comm_);
   std::vector<GatheredParticle<D>> out;
@@ -527,6 +491,9 @@ std::vector<GatheredParticle<D>> DistributedRun<D>::gather() const {
     g.spin = take<Spin<D>>(all, at);
     g.force = take<Vec<D>>(all, at);
     g.torque = take<Spin<D>>(all, at);
+    g.radius = take<double>(all, at);
+    g.material = take<std::int32_t>(all, at);
+    g.fixed = take<std::uint8_t>(all, at);
     out.push_back(g);
   }
   std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.id < b.id; });

@@ -42,6 +42,9 @@ struct GatheredParticle {
   Spin<D> spin = Dim<D>::zero_spin();
   Vec<D> force = Vec<D>::Zero();
   Spin<D> torque = Dim<D>::zero_spin();
+  double radius = 0;
+  std::int32_t material = 0;
+  std::uint8_t fixed = 0;  // bit 0: immobile
 };
 
 struct DistributedTimes {
@@ -96,6 +99,9 @@ class DistributedRun {
   // this rank holds the whole scene).
   void cut(bool whole_scene_here);
   void take_records();  // owned_ from the share, with the histories as payloads
+  // This rank's part of the step's tallies (particles, pair and wall
+  // contacts, deepest overlap), packed for sum_tallies.
+  std::string tallies(const GlobalStats& here) const;
   void redistribute();  // migrate, ghosts, install
   void install();       // owned_ and ghosts_ as the simulation's share
   void forward();       // the ghosts' state from their owners

@@ -17,7 +17,7 @@ namespace granule::parallel {
 namespace {
 
 std::string message_of(const std::exception_ptr& error) {
-  if (!error) return "a hook failed on another rank";
+  if (!error) return "it failed on another rank";
   try {
     std::rethrow_exception(error);
   } catch (const std::exception& e) {
@@ -52,8 +52,7 @@ class SceneOverRanks final : public SpreadRun {
         gather();
       }
       // A script's error is raised on every rank alike, from the same scene,
-      // and ends the run as on one process; an error on some ranks only (a
-      // file rank 0 could not write) ends every rank, lest the others wait.
+      // and ends the run as on one process (settle).
       std::exception_ptr error;
       try {
         fire();
@@ -62,15 +61,8 @@ class SceneOverRanks final : public SpreadRun {
       }
       sim_.set_stats_override(std::nullopt);
       sim_.set_state_override(std::nullopt);
-      const int failed = error ? 1 : 0;
-      int failed_somewhere = 0, failed_everywhere = 0;
-      MPI_Allreduce(&failed, &failed_somewhere, 1, MPI_INT, MPI_MAX, comm_);
-      MPI_Allreduce(&failed, &failed_everywhere, 1, MPI_INT, MPI_MIN, comm_);
-      if (failed_somewhere && !failed_everywhere) abandon(message_of(error));
-      if (error) {
-        hook_failed_ = true;
-        std::rethrow_exception(error);
-      }
+      hook_failed_ = error != nullptr;
+      settle(error);
     });
     share();
     sim_.set_spread(size_, run_->describe());
@@ -132,6 +124,15 @@ class SceneOverRanks final : public SpreadRun {
     io::remove_scratch();  // MPI_Abort ends the process without its exit's clean-up
     MPI_Abort(comm_, 1);
     std::abort();  // MPI_Abort does not return
+  }
+
+  void settle(const std::exception_ptr& error) override {
+    const int failed = error ? 1 : 0;
+    int somewhere = 0, everywhere = 0;
+    MPI_Allreduce(&failed, &somewhere, 1, MPI_INT, MPI_MAX, comm_);
+    MPI_Allreduce(&failed, &everywhere, 1, MPI_INT, MPI_MIN, comm_);
+    if (somewhere && !everywhere) abandon(message_of(error));
+    if (error) std::rethrow_exception(error);
   }
 
   std::string timing() const override {
