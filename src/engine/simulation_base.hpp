@@ -256,6 +256,7 @@ class SimulationBase {
   double overlap_warning() const { return overlap_warning_; }
   void set_periodic(int axis, double origin, double length);
   bool is_periodic() const { return periodic_.on(); }
+  const Periodicity& periodicity() const { return periodic_; }
   void set_record_contacts(bool on) { record_contacts_ = on; }
   // Threads for the contact and integration loops. The results do not depend
   // on it: each contact force is computed once and the forces on a particle are

@@ -94,8 +94,6 @@ DistributedRun<D>::DistributedRun(Simulation<D>& sim, MPI_Comm comm, double reba
     throw InputError(fmt::format(
         "distributed run: rebalance threshold {} (the largest share over the mean, 1 or more)",
         threshold_));
-  if (sim_.is_periodic())
-    throw InputError("distributed run: periodic scenes are not distributed yet");
   if (sim_.bond_counts().intact > 0)
     throw InputError("distributed run: parallel bonds are not distributed yet");
   if (!sim_.effects().diagnostics.empty() && !sim_.hooks_wrapped())
@@ -113,6 +111,16 @@ DistributedRun<D>::DistributedRun(Simulation<D>& sim, MPI_Comm comm, double reba
   sim_.set_external_rebuilds(true);
   sim_.set_keep_wall_reactions(true);
   reach_ = sim_.interaction_reach();
+  // Each rank's scene wraps the periodic axis itself (minimum images): a
+  // ghost is needed once per rank, and only while the reach is under half
+  // the period (beyond it a particle would meet two images of another).
+  const Periodicity& periodic = sim_.periodicity();
+  if (periodic.on() && !(2 * reach_ < periodic.length))
+    throw InputError(fmt::format(
+        "distributed run: the periodic length {} m along axis {} is not more than twice the "
+        "interaction reach ({} m: the largest diameter, the skin and any adhesive reach); "
+        "lengthen the period or run on one process",
+        periodic.length, "xyz"[periodic.axis], reach_));
   // Every rank holds the whole scene now: the cut needs no communication, and
   // each keeps what its box holds.
   const std::vector<std::string> histories = sim_.pack_histories();
@@ -132,7 +140,7 @@ DistributedRun<D>::DistributedRun(Simulation<D>& sim, MPI_Comm comm, double reba
   }
   std::sort(owned_.begin(), owned_.end(), [](const auto& a, const auto& b) { return a.id < b.id; });
   const auto t0 = Clock::now();
-  ghosts_ = exchange_ghosts(d_, reach_, owned_, comm_, plan_);
+  ghosts_ = exchange_ghosts(d_, reach_, owned_, comm_, plan_, Images::wrapped);
   install();
   times_.rebuild += since(t0);
 }
@@ -169,7 +177,15 @@ void DistributedRun<D>::cut(bool whole_scene_here) {
   }
   // Half the reach beyond the outermost centres: a box's edge never sits on one.
   for (int a = 0; a < D; ++a) domain.lo[a] -= 0.5 * reach_, domain.hi[a] += 0.5 * reach_;
-  d_ = bisect<D>(domain, {}, size_, points, {}, ids);
+  // A periodic axis: the domain is the period, where the scene keeps every centre.
+  const Periodicity& periodic = sim_.periodicity();
+  std::array<bool, D> wraps{};
+  if (periodic.on()) {
+    wraps[periodic.axis] = true;
+    domain.lo[periodic.axis] = periodic.origin;
+    domain.hi[periodic.axis] = periodic.origin + periodic.length;
+  }
+  d_ = bisect<D>(domain, wraps, size_, points, {}, ids);
   // Particles leave the box the cut was made in (a drum's charge spreads, a
   // jet flies off): the outer faces reach to infinity, so that the ghosts a
   // rank gets are those within reach of all the space it owns, which is what
@@ -177,6 +193,7 @@ void DistributedRun<D>::cut(bool whole_scene_here) {
   const double infinity = std::numeric_limits<double>::infinity();
   for (auto& box : d_.boxes)
     for (int a = 0; a < D; ++a) {
+      if (wraps[a]) continue;
       if (box.lo[a] == domain.lo[a]) box.lo[a] = -infinity;
       if (box.hi[a] == domain.hi[a]) box.hi[a] = infinity;
     }
@@ -196,7 +213,7 @@ void DistributedRun<D>::take_records() {
 template <int D>
 void DistributedRun<D>::redistribute() {
   if (size_ == 1) {
-    // One rank: no ghosts (no periodic images: refused), no migration, the
+    // One rank: no ghosts (the scene wraps its periodic axis), no migration, the
     // boxes never re-cut; the lists as the plain step rebuilds them.
     sim_.rebuild_share_lists();
     return;
@@ -212,7 +229,7 @@ void DistributedRun<D>::redistribute() {
     ++recuts_;
   }
   migrated_ += static_cast<std::int64_t>(migrate(d_, owned_, comm_));
-  ghosts_ = exchange_ghosts(d_, reach_, owned_, comm_, plan_);
+  ghosts_ = exchange_ghosts(d_, reach_, owned_, comm_, plan_, Images::wrapped);
   install();
 }
 

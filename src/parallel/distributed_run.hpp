@@ -16,8 +16,11 @@
 // Built so far: pair and wall contacts of the dissertation's and the common
 // laws, gravity and central fields, moving walls and meshes (on every rank),
 // re-cutting from measured imbalance, the gathered state, hooks (fired on the
-// whole scene gathered by the caller's hook wrapper: parallel/scene_over_ranks.hpp).
-// Not yet: periodic scenes, parallel bonds, diagnostics (their sums cross ranks).
+// whole scene gathered by the caller's hook wrapper: parallel/scene_over_ranks.hpp),
+// periodic scenes (each rank's scene wraps the periodic axis as one process
+// does, so a ghost is the owner's particle where it is, sent once per rank
+// that needs it: Images::wrapped).
+// Not yet: parallel bonds, diagnostics on the shares (their sums cross ranks).
 #pragma once
 
 #ifdef GRANULE_HAVE_MPI

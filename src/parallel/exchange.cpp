@@ -189,7 +189,7 @@ void pack_state(const ParticleRecord<D>& r, const Vec<D>& shift, std::string& by
 template <int D>
 std::vector<ParticleRecord<D>> exchange_ghosts(const Decomposition<D>& d, double reach,
                                                const std::vector<ParticleRecord<D>>& owned,
-                                               MPI_Comm comm, GhostPlan& plan) {
+                                               MPI_Comm comm, GhostPlan& plan, Images images) {
   int rank = 0, size = 0;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
@@ -200,6 +200,17 @@ std::vector<ParticleRecord<D>> exchange_ghosts(const Decomposition<D>& d, double
   for (std::size_t i = 0; i < owned.size(); ++i) {
     targets.clear();
     ghost_targets(d, shifts, owned[i].position, reach, rank, targets);
+    if (images == Images::wrapped) {
+      // Each other rank once, unshifted (targets come by shift, then rank).
+      std::vector<bool> sent(static_cast<std::size_t>(size), false);
+      sent[static_cast<std::size_t>(rank)] = true;
+      for (const auto& t : targets)
+        if (!sent[static_cast<std::size_t>(t.rank)]) {
+          sent[static_cast<std::size_t>(t.rank)] = true;
+          plan.send[static_cast<std::size_t>(t.rank)].push_back({i, 0});
+        }
+      continue;
+    }
     for (const auto& t : targets) {
       std::int32_t image = 0;
       while (shifts[static_cast<std::size_t>(image)] != t.shift) ++image;
@@ -277,10 +288,10 @@ template std::size_t migrate<2>(const Decomposition<2>&, std::vector<ParticleRec
 template std::size_t migrate<3>(const Decomposition<3>&, std::vector<ParticleRecord<3>>&, MPI_Comm);
 template std::vector<ParticleRecord<2>> exchange_ghosts<2>(const Decomposition<2>&, double,
                                                            const std::vector<ParticleRecord<2>>&,
-                                                           MPI_Comm, GhostPlan&);
+                                                           MPI_Comm, GhostPlan&, Images);
 template std::vector<ParticleRecord<3>> exchange_ghosts<3>(const Decomposition<3>&, double,
                                                            const std::vector<ParticleRecord<3>>&,
-                                                           MPI_Comm, GhostPlan&);
+                                                           MPI_Comm, GhostPlan&, Images);
 template void forward_ghosts<2>(const Decomposition<2>&, const GhostPlan&,
                                 const std::vector<ParticleRecord<2>>&,
                                 std::vector<ParticleRecord<2>>&, MPI_Comm);

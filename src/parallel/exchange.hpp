@@ -73,14 +73,23 @@ struct GhostPlan {
   std::vector<std::vector<std::size_t>> place;
 };
 
+// How periodic images reach a rank. `shifted`: each image is a ghost of its
+// own, at its shifted position (its own rank's particles too), for a receiver
+// that knows nothing of the period. `wrapped`: the receiver wraps separations
+// along the periodic axes itself (a periodic Simulation: minimum images in its
+// cell grid and pair loop), so it gets each particle it needs once, at the
+// owner's position, and never one of its own.
+enum class Images { shifted, wrapped };
+
 // At a list rebuild: the ghosts this rank needs (copies, without payload, of
 // every other rank's particles within `reach` of this rank's box, and the
-// periodic images of its own, each at its shifted position), sorted by
-// (id, image); and the plan that refreshes them each step.
+// periodic images as `images` says), sorted by (id, image); and the plan that
+// refreshes them each step.
 template <int D>
 std::vector<ParticleRecord<D>> exchange_ghosts(const Decomposition<D>& d, double reach,
                                                const std::vector<ParticleRecord<D>>& owned,
-                                               MPI_Comm comm, GhostPlan& plan);
+                                               MPI_Comm comm, GhostPlan& plan,
+                                               Images images = Images::shifted);
 
 // Each step between rebuilds: the ghosts' positions, velocities and spins from
 // their owners (the same particles, the same places), nothing else.

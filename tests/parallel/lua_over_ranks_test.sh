@@ -2,13 +2,15 @@
 # `mpirun -np N granule run SCENE.lua`: one scene spread over N ranks gives the
 # one-process run's state bit for bit. Usage:
 #   lua_over_ranks_test.sh GRANULE SOURCE_DIR MPIRUN
-# - four scenes (3D dense box with Hertz-Mindlin, 3D drum with a turning
-#   cylinder, 3D JKR cloud, 2D Walton-Braun drum), each with callbacks that
+# - five scenes (3D dense box with Hertz-Mindlin, 3D drum with a turning
+#   cylinder, 3D JKR cloud, 2D Walton-Braun drum, 3D shear cell periodic
+#   along x, its ghosts across the period), each with callbacks that
 #   query the whole scene and set a particle's velocity, time-triggered
 #   snapshots, checkpoints and a stop check, on 1-4 ranks against a plain run
 #   in canonical order: every particle's state, the stats, the callbacks'
 #   readings and the walls' forces equal bit for bit;
-# - a checkpoint written on 2 ranks continued on 3 ends in the same state;
+# - a checkpoint written on 2 ranks continued on 3 ends in the same state
+#   (the box, the 2D drum and the periodic shear cell);
 # - the 2D Mechanofusion base case with its diagnostics (steps they look at
 #   taken whole) on 3 ranks: the same /results and final snapshot as on 1;
 # - ranks other than 0 write nothing where the scene says (their scratch
@@ -33,7 +35,7 @@ for x, y in zip(a, b):
     assert x == y, f"{sys.argv[1]} / {sys.argv[2]} differ:\n{x[:200]}\n{y[:200]}"
 PY
 }
-for case in box drum jkr wb; do
+for case in box drum jkr wb shear; do
   "$granule" run "$scene" -D case=$case -D canonical=1 -D checkpoint=plain_$case.chk.h5 \
     -o plain_$case.h5 --quiet > plain_$case.txt
   for n in 1 2 3 4; do
@@ -64,7 +66,7 @@ for case in ("box", "wb"):
 print("series and snapshots bit-identical")
 PY
 # A checkpoint from 2 ranks, continued on 3 (and on 1).
-for case in box wb; do
+for case in box wb shear; do
   $mpirun -np 3 "$granule" run "$scene" -D case=$case -D checkpoint=np2_$case.chk.h5 \
     --restart np2_$case.chk.h5 -o restarted3_$case.h5 --quiet > restarted3_$case.txt
   same plain_$case.txt restarted3_$case.txt

@@ -11,7 +11,10 @@
 //   - a JKR agglomerate (adhesive contacts that persist past touching);
 //   - a 3D pile in a drum whose cylinder wall turns (moving walls);
 //   - a 2D Walton-Braun pile (the dissertation's law, latching histories).
-// Then a periodic scene is refused by name. Prints "mpi_distributed ok on N
+//   - the gas again, periodic along x (walls on y and z only): particles cross
+//     the period and the ranks' boxes, ghosts across the period.
+// Then a period too short for the interaction reach is refused by name.
+// Prints "mpi_distributed ok on N
 // ranks" from rank 0 when every check passed on every rank; exits 1 otherwise.
 #include <mpi.h>
 
@@ -123,14 +126,29 @@ void check_scene(const char* name, const std::function<void(Simulation<D>&)>& bu
                 static_cast<long long>(total_left), run.ghosts(), run.describe().c_str());
 }
 
-void fast_gas(Simulation<3>& sim) {
+void gas(Simulation<3>& sim, bool periodic_x) {
   sim.add_material({"p", 2500, 5e6, 0.3, 0});
   sim.add_material({"w", 0, 5e6, 0.3, 0});
   const ParamValues law{{"restitution", 0.7}, {"friction", 0.4}};
   sim.set_contact("p", "p", "hertz_mindlin", law);
   sim.set_contact("p", "w", "hertz_mindlin", law);
   const double side = 0.01;
-  test::add_box_walls(sim, side, side, 1);
+  if (periodic_x) {
+    sim.set_periodic(0, 0, side);
+    for (int axis = 1; axis < 3; ++axis)
+      for (const double sign : {1.0, -1.0}) {
+        WallSpec plane;
+        plane.name = std::string(sign > 0 ? "lo" : "hi") + "xyz"[axis];
+        plane.material = 1;
+        plane.normal = {0, 0, 0};
+        plane.normal[axis] = sign;
+        plane.point = {0, 0, 0};
+        plane.point[axis] = sign > 0 ? 0.0 : side;
+        sim.add_wall(plane);
+      }
+  } else {
+    test::add_box_walls(sim, side, side, 1);
+  }
   Random rng(3);
   const int per_row = 8;
   const double spacing = side / per_row;
@@ -145,6 +163,14 @@ void fast_gas(Simulation<3>& sim) {
         sim.add_particle(s);
       }
   sim.set_steps_per_contact(30);
+}
+void fast_gas(Simulation<3>& sim) {
+  gas(sim, false);
+}
+
+// The gas with x periodic over [0, 0.01) m: its two x walls become the period.
+void periodic_gas(Simulation<3>& sim) {
+  gas(sim, true);
 }
 
 void drum(Simulation<3>& sim) {
@@ -213,19 +239,21 @@ int main(int argc, char** argv) {
   guarded("jkr", [] { check_scene<3>("JKR agglomerate", jkr_agglomerate, 600, 0); });
   guarded("drum", [] { check_scene<3>("turning drum (Hertz-Mindlin)", drum, 1500, 1); });
   guarded("wb", [] { check_scene<2>("2D pile (Walton-Braun)", walton_braun_pile, 800, 1); });
-  // A periodic scene is refused by name, not run wrongly.
+  guarded("periodic gas", [] { check_scene<3>("periodic gas (x)", periodic_gas, 1500, 50); });
+  // A period under twice the reach (2 mm against spheres up to 1 mm across
+  // and the skin) is refused by name, not run wrongly.
   {
     Simulation<3> sim;
     sim.set_warning_handler([](const std::string&) {});
-    fast_gas(sim);
-    sim.set_periodic(0, 0, 0.01);
+    periodic_gas(sim);
+    sim.set_periodic(0, 0, 0.002);
     bool refused = false;
     try {
       DistributedRun<3> run(sim, MPI_COMM_WORLD);
     } catch (const InputError& e) {
-      refused = std::string(e.what()).find("periodic") != std::string::npos;
+      refused = std::string(e.what()).find("periodic length") != std::string::npos;
     }
-    expect(refused, "a periodic scene is refused");
+    expect(refused, "a period under twice the reach is refused");
   }
   int mine = failures, all = 0;
   MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);

@@ -6,7 +6,7 @@
 -- order every spread run uses (docs/parallel.md), so that its lines are the
 -- same bits too.
 local p = parameters {
-  case = { default = "box", doc = "box (3D dense, Hertz-Mindlin) | drum (3D, turning cylinder, linear) | jkr (3D agglomerate) | wb (2D Walton-Braun drum)" },
+  case = { default = "box", doc = "box (3D dense, Hertz-Mindlin) | drum (3D, turning cylinder, linear) | jkr (3D agglomerate) | wb (2D Walton-Braun drum) | shear (3D shear cell, periodic along x)" },
   canonical = { default = 0 },
   checkpoint = { default = "over_ranks.chk.h5" },
   steps = { default = 0, doc = "steps of each of the two stages (0: the case's own)" },
@@ -24,7 +24,9 @@ if p.case == "wb" then
              material = "powder", seed = 3, max_speed = 2, overlap = false }
   sim:gravity { 0, -9.81 }
 else
-  sim = simulation { dimension = 3 }
+  -- The shear cell: periodic along x, so its ghosts cross the period.
+  local period = 6e-3
+  sim = simulation { dimension = 3, periodic = p.case == "shear" and { axis = "x", origin = 0, length = period } or nil }
   sim:material { name = "glass", density = 2500, young = 5e7, poisson = 0.3, surface_energy = 0.05 }
   sim:material { name = "steel", density = 7800, young = 2e8, poisson = 0.3 }
   if p.case == "box" then
@@ -50,6 +52,21 @@ else
     sim:fill { region = { cylinder = { center = { 0, 0, 0 }, radius = 4e-3, z_min = -1.5e-3, z_max = 1.5e-3 } },
                count = 500, radius = 0.2e-3, material = "glass", seed = 7, max_speed = 1, overlap = false }
     sim:gravity { 0, -9.81, 0 }
+  elseif p.case == "shear" then
+    -- Beads between a floor and a lid sliding apart along x (the lid also
+    -- closing in), smooth side walls in z.
+    sim:contact { "glass", "glass", model = "hertz_mindlin", restitution = 0.5, friction = 0.4 }
+    sim:contact { "glass", "steel", model = "hertz_mindlin", restitution = 0.5, friction = 0.8 }
+    local height, width = 4e-3, 3e-3
+    sim:wall_plane { name = "floor", point = { 0, 0, 0 }, normal = { 0, 1, 0 }, material = "steel" }
+    sim:wall_plane { name = "lid", point = { 0, height, 0 }, normal = { 0, -1, 0 }, material = "steel" }
+    sim:wall_plane { name = "back", point = { 0, 0, 0 }, normal = { 0, 0, 1 }, material = "steel" }
+    sim:wall_plane { name = "front", point = { 0, 0, width }, normal = { 0, 0, -1 }, material = "steel" }
+    sim:set_wall("floor", { velocity = { -0.1, 0, 0 } })
+    sim:set_wall("lid", { velocity = { 0.1, -0.07, 0 } })
+    sim:fill { region = { box = { lo = { 0, 0, 0 }, hi = { period, height, width } } }, count = 300, radius = 0.25e-3,
+               material = "glass", seed = 13, max_speed = 0.2, overlap = false }
+    sim:gravity { 0, -9.81, 0 }
   elseif p.case == "jkr" then
     sim:contact { "glass", "glass", model = "thornton_jkr", friction = 0.3 }
     -- a cloud pulled together by a central field: JKR necks form and hold
@@ -57,10 +74,10 @@ else
                material = "glass", seed = 11, max_speed = 0.05, overlap = false }
     sim:central_field { point = { 0, 0, 0 }, strength = 20 }
   else
-    error("case: box, drum, jkr or wb, not '" .. p.case .. "'")
+    error("case: box, drum, jkr, wb or shear, not '" .. p.case .. "'")
   end
 end
-local steps = p.steps > 0 and p.steps or ({ box = 8000, drum = 8000, jkr = 4000, wb = 10000 })[p.case]
+local steps = p.steps > 0 and p.steps or ({ box = 8000, drum = 8000, jkr = 4000, wb = 10000, shear = 8000 })[p.case]
 if p.canonical == 1 then sim:set { canonical_order = true } end
 sim:output { snapshot_every = steps * sim:time_step() / p.snapshots }
 sim:checkpoint { file = p.checkpoint, every_steps = 1000 }
@@ -92,7 +109,7 @@ for _, id in ipairs(sim:particles()) do
   print(table.concat(line, " "))
 end
 local walls = ({ box = { "floor", "left", "right", "back", "front" }, drum = { "drum", "back", "front" },
-                jkr = {}, wb = { "drum" } })[p.case]
+                jkr = {}, wb = { "drum" }, shear = { "floor", "lid", "back", "front" } })[p.case]
 for _, name in ipairs(walls) do
   local wall = sim:wall(name)
   print(string.format("wall %s %a %a %a %a", name, wall.force[1], wall.force[2],
