@@ -10,10 +10,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <iostream>
 #include <lua.hpp>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -233,7 +236,9 @@ int run_command(const std::vector<std::string>& args);
 // mpirun -np N granule run SCENE.lua: every rank runs the script; each run's
 // steps are spread over the ranks (parallel/scene_over_ranks.hpp). Rank 0
 // prints, and writes the files; the others write into scratch folders of their own.
-int run_scene_over_ranks(Options& o) {
+// This process as one of the ranks a scene is spread over: rank 0 writes the
+// files and prints; the others write into a scratch folder of their own.
+void join_ranks(Options& o) {
   int provided = 0;
   MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
   MPI_Comm_rank(MPI_COMM_WORLD, &o.ctx.rank);
@@ -247,10 +252,45 @@ int run_scene_over_ranks(Options& o) {
          fmt::format("granule-rank{}-{}", o.ctx.rank, static_cast<long>(getpid())))
             .string());
   }
+}
+
+int run_scene_over_ranks(Options& o) {
+  join_ranks(o);
   const int status = run_scene(o);
   granule::io::remove_scratch();
   // A rank that failed alone (the others still step) ends them all, with its status.
   if (status != 0 && !o.ctx.interrupted) MPI_Abort(MPI_COMM_WORLD, status);
+  MPI_Finalize();
+  return status;
+}
+
+// The REPL over the ranks: rank 0 reads each line (standard input, which
+// mpirun gives rank 0) and hands it to every rank, so every rank runs the same
+// chunks and the scene's runs spread as under `granule run`. What the prompt
+// prints (values, a chunk's error) is printed by rank 0; the others' standard
+// output goes nowhere. A chunk's error is every rank's alike and ends nothing;
+// an error on some ranks only ends every rank (the spread run's abandon).
+int repl_over_ranks(Options& o) {
+  join_ranks(o);
+  const bool root = o.ctx.rank == 0;
+  if (!root && !std::freopen("/dev/null", "w", stdout))
+    throw std::runtime_error("repl: rank's standard output cannot be closed");
+  granule::app::ReplInput input = granule::app::terminal_input();
+  int interactive = root && input.interactive ? 1 : 0;
+  MPI_Bcast(&interactive, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  input.interactive = interactive != 0;
+  input.read = [root](const char* prompt, std::string& line) {
+    std::int64_t size = -1;  // -1: end of input
+    if (root && granule::app::read_terminal_line(prompt, line))
+      size = static_cast<std::int64_t>(line.size());
+    MPI_Bcast(&size, 1, MPI_INT64_T, 0, MPI_COMM_WORLD);
+    if (size < 0) return false;
+    line.resize(static_cast<std::size_t>(size));
+    MPI_Bcast(line.data(), static_cast<int>(size), MPI_CHAR, 0, MPI_COMM_WORLD);
+    return true;
+  };
+  const int status = granule::app::run_repl(o.scene, o.ctx, input);
+  granule::io::remove_scratch();
   MPI_Finalize();
   return status;
 }
@@ -306,14 +346,9 @@ int run_command(const std::vector<std::string>& args) {
       launcher_variable = variable;
       break;
     }
-  if (launched_ranks > 1 && o.command == "repl") {
-    std::cerr << "granule: error: repl started as one of " << launched_ranks << " MPI ranks ("
-              << launcher_variable
-              << "): the REPL runs on one process; spread a scene over ranks with mpirun -np N "
-                 "granule run SCENE.lua\n";
-    return 2;
-  }
-#ifndef GRANULE_HAVE_MPI
+#ifdef GRANULE_HAVE_MPI
+  (void)launcher_variable;
+#else
   if (launched_ranks > 1) {
     std::cerr << "granule: error: " << o.command << " started as one of " << launched_ranks
               << " MPI ranks (" << launcher_variable
@@ -394,6 +429,9 @@ int run_command(const std::vector<std::string>& args) {
 #endif
     return run_scene(o);
   }
+#ifdef GRANULE_HAVE_MPI
+  if (launched_ranks > 0) return repl_over_ranks(o);
+#endif
   return granule::app::run_repl(o.scene, o.ctx);
 }
 

@@ -68,7 +68,9 @@ void setup_readline(lua_State* L) {
 }
 #endif
 
-bool read_line(const char* prompt, std::string& line) {
+}  // namespace
+
+bool read_terminal_line(const char* prompt, std::string& line) {
 #ifdef GRANULE_HAVE_READLINE
   if (isatty(0)) {
     char* s = readline(prompt);
@@ -86,6 +88,12 @@ bool read_line(const char* prompt, std::string& line) {
   if (isatty(0)) std::cout << prompt << std::flush;
   return static_cast<bool>(std::getline(std::cin, line));
 }
+
+ReplInput terminal_input() {
+  return {read_terminal_line, isatty(0) != 0};
+}
+
+namespace {
 
 // The message of the error object on the stack top.
 std::string error_text(lua_State* L) {
@@ -143,7 +151,7 @@ int print_values(lua_State* L) {
 
 // After a scene has run: its simulation is a local of the scene, so give the
 // last one a global name the user can type.
-void bind_sim(lua_State* L) {
+void bind_sim(lua_State* L, bool tell) {
   lua_getglobal(L, "sim");
   bool taken = !lua_isnil(L, -1);
   lua_pop(L, 1);
@@ -156,8 +164,8 @@ void bind_sim(lua_State* L) {
   lua_Integer n = static_cast<lua_Integer>(lua_rawlen(L, -1));
   if (n > 0) {
     lua_rawgeti(L, -1, n);
-    std::cerr << "granule: the scene's simulation is `sim`: " << luaL_tolstring(L, -1, nullptr)
-              << "\n";
+    const char* name = luaL_tolstring(L, -1, nullptr);
+    if (tell) std::cerr << "granule: the scene's simulation is `sim`: " << name << "\n";
     lua_pop(L, 1);
     lua_setglobal(L, "sim");
   }
@@ -194,11 +202,12 @@ void report_undefined_globals(lua_State* L) {
 
 // Follows lua.c: try "return <line>" first so expressions print; keep reading
 // while the chunk is incomplete ("<eof>" errors); errors never end the session.
-int run_repl(const std::string& scene, lua::SceneContext& ctx) {
+int run_repl(const std::string& scene, lua::SceneContext& ctx, const ReplInput& input) {
   ctx.repl = true;
   lua_State* L = lua::new_state(&ctx);
   lua::clear_progress_before_prints(L);
-  const bool interactive = isatty(0);
+  const bool interactive = input.interactive;
+  const auto& read_line = input.read;
   int failures = 0;
   if (luaL_loadstring(L, show_source) != LUA_OK || lua_pcall(L, 0, 1, 0) != LUA_OK)
     throw std::runtime_error("REPL: cannot load the value printer");
@@ -219,7 +228,7 @@ int run_repl(const std::string& scene, lua::SceneContext& ctx) {
       std::cerr << "error: " << err << "\n";
       ++failures;
     }
-    bind_sim(L);
+    bind_sim(L, ctx.rank == 0);
   }
   report_undefined_globals(L);
 #ifdef GRANULE_HAVE_READLINE

@@ -59,6 +59,7 @@ void Simulation<D>::step() {
       observed = true;
   if (observed) log_.resize(slot_count_);
   log_.filled = observed;
+  gathered_contacts_.reset();
   // Every thread count adds the contacts to each particle in slot order (pairs
   // model by model, then walls), so the result is bit-identical whatever the
   // number of threads. Pair contacts add their forces at once (PairKernel

@@ -198,6 +198,20 @@ class Simulation final : public SimulationBase {
     stats_override_ = std::move(totals);
   }
   std::string pack_wall_reactions() const;
+  // The last step's contacts (contacts()) that this rank leads: pairs whose
+  // lower-id particle it owns, and its owned particles' wall contacts, each
+  // with its model and its place in the canonical slot order. Empty unless
+  // the scene records contacts and a step was logged.
+  std::string pack_led_contacts() const;
+  // contacts() gives the records every rank packed (`all`, pack_led_contacts()
+  // concatenated in any order), in the canonical slot order, until the next
+  // step or share: a scene gathered from its ranks lists the contacts as one
+  // process in canonical order does.
+  void set_gathered_contacts(const std::string& all);
+  // The gathered list while it stands in for the log, else null (sim:contact_arrays()).
+  const std::vector<ContactRecord>* gathered_contacts() const {
+    return gathered_contacts_ ? &*gathered_contacts_ : nullptr;
+  }
 
   // Direct access for C++ tests and diagnostics.
   const Particles<D>& particles() const { return p_; }
@@ -307,8 +321,9 @@ class Simulation final : public SimulationBase {
   double contact_reach_ = 0;          // m, how far apart adhesive contacts persist (<= skin)
   bool external_rebuilds_ = false;    // a distributed run rebuilds the lists (install_share)
   bool keep_wall_reactions_ = false;  // set_keep_wall_reactions
-  std::optional<GlobalStats> stats_override_;    // set_stats_override
-  std::optional<StateOverride> state_override_;  // set_state_override
+  std::optional<GlobalStats> stats_override_;                    // set_stats_override
+  std::optional<StateOverride> state_override_;                  // set_state_override
+  std::optional<std::vector<ContactRecord>> gathered_contacts_;  // set_gathered_contacts
   bool rotation_ = true;  // integrate spins: false when no pair in use has friction (prepare())
 };
 

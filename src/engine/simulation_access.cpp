@@ -189,11 +189,12 @@ std::vector<ContactRecord> Simulation<D>::contacts() const {
     throw InputError(
         "contact forces are not recorded in this scene: set record_contacts = true in "
         "simulation { ... } (it costs a few stores per contact)");
-  if (!spread_how_.empty())
-    throw InputError(fmt::format(
-        "the last step's contacts are not gathered across the {} MPI ranks this scene is spread "
-        "over: run it on one process to list them (docs/parallel.md)",
-        spread_ranks_));
+  if (gathered_contacts_) return *gathered_contacts_;
+  // A rank's share between gathers: its log names only its part of the scene.
+  if (external_rebuilds_)
+    throw RunError(
+        "the last step's contacts were asked of one MPI rank's share of the scene: they are "
+        "listed once the scene is gathered (parallel/distributed_run.hpp)");
   std::vector<ContactRecord> out;
   if (!log_.filled) return out;  // no step taken yet
   // Model names by slot range.

@@ -435,8 +435,7 @@ class SimulationBase {
   // The at_start hooks, before step 0 (advance() fires them itself).
   void fire_start_hooks();
   // The scene is spread over `ranks` MPI ranks, space split as `how`: the run
-  // header and /scene/effects say so. The last step's contacts are then
-  // refused (contacts()): they are not gathered across ranks.
+  // header and /scene/effects say so.
   void set_spread(int ranks, std::string how) {
     spread_ranks_ = ranks;
     spread_how_ = std::move(how);

@@ -4,6 +4,10 @@
 // contact, keyed by particle ids and wall indices, so a contact two ranks both
 // compute (a pair straddling their boxes) arrives twice as the same bytes, and
 // either copy is the history.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <tuple>
 #include <type_traits>
 
 #include "core/bytes.hpp"
@@ -72,6 +76,81 @@ std::vector<std::string> Simulation<D>::pack_histories() const {
 }
 
 template <int D>
+std::string Simulation<D>::pack_led_contacts() const {
+  std::string out;
+  if (!record_contacts_ || !log_.filled) return out;
+  auto put_record = [&](std::uint8_t kind, std::int32_t model, std::int64_t id_a, std::int64_t b,
+                        std::uint8_t part, std::size_t s) {
+    put(out, kind), put(out, model), put(out, id_a), put(out, b), put(out, part);
+    put(out, log_.overlap[s]), put(out, log_.normal_force[s]);
+    put(out, to_triple(log_.tangential[s])), put(out, to_triple(log_.normal[s]));
+  };
+  for_each_model([&](auto index) {
+    constexpr int I = decltype(index)::value;
+    const auto& b = std::get<I>(pair_buckets_);
+    for (std::size_t k = 0; k < b.size(); ++k) {
+      const std::size_t s = b.offset + k;
+      // Oriented id_i < id_j (contact_lists.hpp): i leads.
+      if (!log_.active[s] || (p_.fixed[b.i[k]] & ghost_flag)) continue;
+      put_record(pair_entry, I, b.id_i[k], b.id_j[k], 0, s);
+    }
+    const auto& w = std::get<I>(wall_buckets_);
+    for (std::size_t k = 0; k < w.size(); ++k) {
+      const std::size_t s = w.offset + k;
+      if (log_.active[s]) put_record(wall_entry, I, w.id[k], w.wall[k], w.part[k], s);
+    }
+  });
+  return out;
+}
+
+template <int D>
+void Simulation<D>::set_gathered_contacts(const std::string& all) {
+  struct Entry {
+    std::uint8_t kind;
+    std::int32_t model;
+    std::int64_t id_a, b;
+    std::uint8_t part;
+    ContactRecord record;
+  };
+  std::vector<const char*> names;
+  for_each_model(
+      [&](auto index) { names.push_back(ContactModelAt<decltype(index)::value>::name); });
+  std::vector<Entry> entries;
+  for (std::size_t at = 0; at < all.size();) {
+    Entry e;
+    e.kind = take<std::uint8_t>(all, at);
+    e.model = take<std::int32_t>(all, at);
+    e.id_a = take<std::int64_t>(all, at);
+    e.b = take<std::int64_t>(all, at);
+    e.part = take<std::uint8_t>(all, at);
+    if (e.model < 0 || static_cast<std::size_t>(e.model) >= names.size())
+      throw RunError(fmt::format("distributed run: a gathered contact of model {}", e.model));
+    ContactRecord& r = e.record;
+    r.id_a = e.id_a;
+    if (e.kind == wall_entry)
+      r.wall = static_cast<int>(e.b);
+    else
+      r.id_b = e.b;
+    r.model = names[static_cast<std::size_t>(e.model)];
+    r.overlap = take<double>(all, at);
+    r.normal_force = take<double>(all, at);
+    r.tangential_force = take<Triple>(all, at);
+    r.normal = take<Triple>(all, at);
+    entries.push_back(std::move(e));
+  }
+  // The canonical slot order (Simulation::rebuild_lists): every model's pairs
+  // by (id_i, id_j), then every model's wall contacts by (particle id, wall, part).
+  std::sort(entries.begin(), entries.end(), [](const Entry& x, const Entry& y) {
+    return std::tie(x.kind, x.model, x.id_a, x.b, x.part) <
+           std::tie(y.kind, y.model, y.id_a, y.b, y.part);
+  });
+  std::vector<ContactRecord> records;
+  records.reserve(entries.size());
+  for (Entry& e : entries) records.push_back(std::move(e.record));
+  gathered_contacts_ = std::move(records);
+}
+
+template <int D>
 std::int64_t Simulation<D>::led_pair_contacts() const {
   std::int64_t led = 0;
   const bool any_slots = slot_in_contact_.size() == slot_count_;
@@ -134,6 +213,7 @@ template <int D>
 void Simulation<D>::install_share(Particles<D> share, const std::vector<std::string>& histories) {
   p_ = std::move(share);
   log_.filled = false;  // its entries name storage indices of the particles replaced
+  gathered_contacts_.reset();
   // The arrived histories become the "old" lists that rebuild_lists() carries
   // from, by id (contact_lists.hpp); the storage indices there are not read.
   for_each_model([&](auto index) {

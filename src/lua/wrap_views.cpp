@@ -56,8 +56,11 @@ std::size_t particle_rows(const LuaSim& s) {
   return static_cast<std::size_t>(s.sim->particle_count());
 }
 
+// A scene gathered from MPI ranks lists its contacts from the gathered records
+// (Simulation::gathered_contacts), in the order one process's log has them.
 template <int D>
 std::size_t contact_rows_d(const LuaSim& s) {
+  if (const auto* gathered = engine<D>(s).gathered_contacts()) return gathered->size();
   const auto& log = engine<D>(s).contact_log();
   return log.filled ? log.slots.size() : 0;
 }
@@ -104,8 +107,31 @@ double particle_value(const LuaSim& s, int field, std::size_t i) {
 }
 
 template <int D>
+double gathered_value(const ContactRecord& r, int field) {
+  switch (field) {
+    case 0:
+      return static_cast<double>(r.id_a);
+    case 1:
+      return r.wall >= 0 ? -1.0 : static_cast<double>(r.id_b);
+    case 2:
+      return static_cast<double>(r.wall);
+    case 3:
+      return r.overlap;
+    case 4:
+      return r.normal_force;
+    case 5:
+    case 6:
+    case 7:
+      return component<D>(r.tangential_force, field - 5);
+    default:
+      return component<D>(r.normal, field - 8);
+  }
+}
+
+template <int D>
 double contact_value(const LuaSim& s, int field, std::size_t k) {
   const Simulation<D>& e = engine<D>(s);
+  if (const auto* gathered = e.gathered_contacts()) return gathered_value<D>((*gathered)[k], field);
   const auto& log = e.contact_log();
   const std::size_t slot = log.slots[k];
   const std::int32_t b = log.b[slot];

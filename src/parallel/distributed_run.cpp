@@ -122,8 +122,10 @@ DistributedRun<D>::DistributedRun(Simulation<D>& sim, MPI_Comm comm, double reba
         "lengthen the period or run on one process",
         periodic.length, "xyz"[periodic.axis], reach_));
   // Every rank holds the whole scene now: the cut needs no communication, and
-  // each keeps what its box holds.
+  // each keeps what its box holds. The last step's contacts are kept for a
+  // gather before any step on the shares.
   const std::vector<std::string> histories = sim_.pack_histories();
+  whole_contacts_ = sim_.pack_led_contacts();
   cut(true);
   Particles<D>& p = sim_.share();
   owned_.clear();
@@ -325,6 +327,10 @@ void DistributedRun<D>::dissolve() {
   const std::string all_reactions =
       all_gather(stepped ? sim_.pack_wall_reactions() : std::string(), comm_);
   const std::string all = all_gather(mine, comm_);
+  // The last step's contacts (only where the scene records them: the same on every rank).
+  const std::string all_contacts = !sim_.record_contacts() ? std::string()
+                                   : stepped ? all_gather(sim_.pack_led_contacts(), comm_)
+                                             : whole_contacts_;
 
   std::vector<ParticleRecord<D>> records;
   std::vector<ForceTorque<D>> loads;
@@ -389,6 +395,7 @@ void DistributedRun<D>::dissolve() {
   sim_.install_share(std::move(whole), histories);
   sim_.set_step_tallies(sum.pair_contacts, sum.wall_contacts, sum.max_overlap_ratio);
   if (stepped) sim_.set_wall_reactions(force, axial);
+  if (sim_.record_contacts()) sim_.set_gathered_contacts(all_contacts);
   owned_.clear();
   ghosts_.clear();
   times_.rebuild += since(t0);

@@ -72,7 +72,8 @@ class DistributedRun {
   // Ends the run: every rank's simulation holds the whole scene again, every
   // particle (in id order) with its last force and torque and its contacts'
   // histories, the walls' reactions and the step's contact tallies summed over
-  // the ranks. A collective; the run takes no more steps after it.
+  // the ranks, and (where the scene records them) the last step's contacts in
+  // the canonical slot order. A collective; the run takes no more steps after it.
   void dissolve();
   bool dissolved() const { return dissolved_; }
   // What stats() gives on the whole scene, bit for bit (the sums in id order),
@@ -121,6 +122,7 @@ class DistributedRun {
   DistributedTimes times_;
   bool dissolved_ = false;
   std::int64_t steps_since_install_ = 0;
+  std::string whole_contacts_;  // the whole scene's last contacts, at the start (packed)
 };
 
 }  // namespace granule::parallel

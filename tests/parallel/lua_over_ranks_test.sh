@@ -8,13 +8,17 @@
 #   query the whole scene and set a particle's velocity, time-triggered
 #   snapshots, checkpoints and a stop check, on 1-4 ranks against a plain run
 #   in canonical order: every particle's state, the stats, the callbacks'
-#   readings and the walls' forces equal bit for bit;
+#   readings (with the last step's contacts from sim:contacts() and
+#   sim:contact_arrays(), in order), the final contact list and the walls'
+#   forces equal bit for bit;
 # - a checkpoint written on 2 ranks continued on 3 ends in the same state
 #   (the box, the 2D drum and the periodic shear cell);
 # - the 2D Mechanofusion base case with its diagnostics (steps they look at
 #   taken whole) on 3 ranks: the same /results and final snapshot as on 1;
 # - ranks other than 0 write nothing where the scene says (their scratch
-#   folders are removed), and the REPL is refused under mpirun.
+#   folders are removed);
+# - the REPL under mpirun (rank 0 reads, every rank runs each line) prints
+#   what the plain REPL prints, bit for bit, on 2 and 3 ranks.
 set -eu
 granule=$1
 src=$2
@@ -110,11 +114,32 @@ echo "a failure on one rank ends them all"
 # Nothing but rank 0's files where the scene writes; no scratch folder left.
 test -z "$(ls scratch)" || { echo "scratch left behind: $(ls scratch)"; exit 1; }
 for f in *.h5; do
-  case $f in plain_*|np?_*|restarted?_*|mf?.h5) ;; *) echo "unexpected file $f"; exit 1 ;; esac
+  case $f in plain_*|np?_*|restarted?_*|mf?.h5|repl_*) ;; *) echo "unexpected file $f"; exit 1 ;; esac
 done
-# The REPL runs on one process.
-if $mpirun -np 2 "$granule" repl < /dev/null > repl.txt 2>&1; then
-  echo "the REPL was started on 2 ranks"; exit 1
-fi
-grep -q "the REPL runs on one process" repl.txt || { cat repl.txt; exit 1; }
+# The REPL under mpirun: rank 0 reads the lines and every rank runs them, so
+# the scene and the runs typed at the prompt spread over the ranks; what the
+# prompt prints (values, errors) is the plain REPL's, bit for bit.
+cat > repl_in.txt <<'LUA'
+sim:run { steps = 400 }
+st = sim:stats()
+string.format("%a %d %d", st.kinetic_energy, st.contacts_particle, #sim:contacts())
+no_such_name
+for _, id in ipairs(sim:particles()) do local q = sim:particle(id) print(id, string.format("%a %a %a", q.position[1], q.velocity[2], q.force[3])) end
+sim:run { steps = 200 }
+string.format("%a", sim:wall("floor").force[2])
+LUA
+"$granule" repl "$scene" -D case=box -D canonical=1 -D steps=300 -D checkpoint=repl_plain.chk.h5 \
+  -o repl_plain.h5 --quiet < repl_in.txt > repl_plain.txt 2> repl_plain.err && {
+  echo "the plain REPL's failing line did not fail the session"; exit 1; }
+for n in 2 3; do
+  if $mpirun -np $n "$granule" repl "$scene" -D case=box -D steps=300 -D checkpoint=repl_np$n.chk.h5 \
+       -o repl_np$n.h5 --quiet < repl_in.txt > repl_np$n.txt 2> repl_np$n.err; then
+    echo "the REPL on $n ranks did not fail the session with its failing line"; exit 1
+  fi
+  cmp repl_plain.txt repl_np$n.txt || { diff repl_plain.txt repl_np$n.txt | head; exit 1; }
+done
+grep -q "no_such_name is not defined" repl_plain.txt
+test "$(grep -c '^[0-9]' repl_plain.txt)" -gt 800  # the prompt's lines, a particle each
+test -z "$(ls scratch)" || { echo "scratch left behind: $(ls scratch)"; exit 1; }
+echo "repl: 2 and 3 ranks print the plain REPL's lines bit for bit"
 echo "lua_over_ranks ok"

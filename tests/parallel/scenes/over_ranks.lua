@@ -14,7 +14,7 @@ local p = parameters {
 }
 local sim
 if p.case == "wb" then
-  sim = simulation { dimension = 2 }
+  sim = simulation { dimension = 2, record_contacts = true }
   sim:material { name = "powder", density = 1200 }
   sim:material { name = "steel", density = 7800 }
   sim:contact { "powder", "powder", model = "walton_braun", k_load = 2e4, restitution = 0.85, friction = 0.1 }
@@ -26,7 +26,8 @@ if p.case == "wb" then
 else
   -- The shear cell: periodic along x, so its ghosts cross the period.
   local period = 6e-3
-  sim = simulation { dimension = 3, periodic = p.case == "shear" and { axis = "x", origin = 0, length = period } or nil }
+  sim = simulation { dimension = 3, record_contacts = true,
+                     periodic = p.case == "shear" and { axis = "x", origin = 0, length = period } or nil }
   sim:material { name = "glass", density = 2500, young = 5e7, poisson = 0.3, surface_energy = 0.05 }
   sim:material { name = "steel", density = 7800, young = 2e8, poisson = 0.3 }
   if p.case == "box" then
@@ -82,10 +83,18 @@ if p.canonical == 1 then sim:set { canonical_order = true } end
 sim:output { snapshot_every = steps * sim:time_step() / p.snapshots }
 sim:checkpoint { file = p.checkpoint, every_steps = 1000 }
 -- A callback that reads the whole scene and sets state wherever the particle lives.
-local energies = {}
+local energies, contact_sums = {}, {}
+-- The last step's contacts, in the order sim:contacts() lists them: the
+-- normal forces summed in that order (another order rounds differently).
+local function contact_sum(s)
+  local sum, list = 0, s:contacts()
+  for _, c in ipairs(list) do sum = sum + c.normal_force * (c.b or -#c.wall) end
+  return string.format("%d %a", #list, sum)
+end
 sim:every { steps = 250, function(s)
   local st = s:stats()
   energies[#energies + 1] = st.kinetic_energy
+  contact_sums[#contact_sums + 1] = contact_sum(s)
   local ids = s:particles()
   local id = ids[(#energies * 37) % #ids + 1]
   local v = s:particle(id).velocity
@@ -98,7 +107,20 @@ sim:run { steps = steps, check_every = 500, stop_when = function(s) return s:sta
 local st = sim:stats()
 print(string.format("stats %d %d %a %d %d", sim:step_count(), st.particles, st.kinetic_energy,
   st.contacts_particle, st.contacts_wall))
-for k, e in ipairs(energies) do print(string.format("energy %d %a", k, e)) end
+for k, e in ipairs(energies) do print(string.format("energy %d %a %s", k, e, contact_sums[k])) end
+for _, c in ipairs(sim:contacts()) do
+  local line = { "contact", c.model, tostring(c.a), tostring(c.b or c.wall),
+                 string.format("%a %a", c.overlap, c.normal_force) }
+  for _, vec in ipairs { c.tangential_force, c.normal } do
+    for _, x in ipairs(vec) do line[#line + 1] = string.format("%a", x) end
+  end
+  print(table.concat(line, " "))
+end
+local view = sim:contact_arrays()
+assert(#view == #sim:contacts(), "contact_arrays and contacts() disagree")
+local view_sum = 0
+for k = 1, #view do view_sum = view_sum + view.fn[k] * view.i[k] + view.nx[k] end
+print(string.format("contact_arrays %d %a", #view, view_sum))
 for _, id in ipairs(sim:particles()) do
   local q = sim:particle(id)
   local line = { "state", tostring(id) }
