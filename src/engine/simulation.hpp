@@ -203,6 +203,17 @@ class Simulation final : public SimulationBase {
   // with its model and its place in the canonical slot order. Empty unless
   // the scene records contacts and a step was logged.
   std::string pack_led_contacts() const;
+  // Parallel bonds over ranks (simulation_bonds.cpp): every rank keeps every
+  // bond and steps those with a particle it owns. break_orphan_bonds() breaks,
+  // on the whole scene, the bonds of removed particles (what the next step
+  // would do); pack_led_bonds() gives the state (broken, loads) of the bonds
+  // whose first particle this rank owns, set_bond_states() takes every rank's;
+  // led_bond_reach() is the longest centre distance of those bonds (m), which
+  // the ghosts' reach must cover.
+  void break_orphan_bonds();
+  std::string pack_led_bonds() const;
+  void set_bond_states(const std::string& all);
+  double led_bond_reach() const;
   // contacts() gives the records every rank packed (`all`, pack_led_contacts()
   // concatenated in any order), in the canonical slot order, until the next
   // step or share: a scene gathered from its ranks lists the contacts as one

@@ -8,6 +8,7 @@
 #include <limits>
 #include <utility>
 
+#include "core/bytes.hpp"
 #include "core/errors.hpp"
 #include "core/state.hpp"
 #include "engine/simulation.hpp"
@@ -151,9 +152,16 @@ std::vector<SimulationBase::BondRecord> Simulation<D>::bond_records() const {
 template <int D>
 void Simulation<D>::apply_bonds() {
   ForceTorque<D>* const load = p_.force_torque.data();
+  // A rank's share (parallel/distributed_run.hpp) holds its owned particles
+  // and ghosts: a bond is stepped where one of its particles is owned (the
+  // other is then a ghost: the ghosts' reach covers the bonds), and a particle
+  // that is not here is another rank's, not a removed one.
+  const bool share = external_rebuilds_;
   for (std::size_t k = 0; k < bonds_.size(); ++k) {
     if (bonds_.broken[k]) continue;
     const int i = p_.index(bonds_.id_a[k]), j = p_.index(bonds_.id_b[k]);
+    if (share && (i < 0 || j < 0 || ((p_.fixed[i] & ghost_flag) && (p_.fixed[j] & ghost_flag))))
+      continue;
     if (i < 0 || j < 0) {  // a bonded particle was removed: nothing holds the other
       bonds_.break_bond(k);
       continue;
@@ -188,6 +196,57 @@ void Simulation<D>::apply_bonds() {
     load[i].torque += S(moment - lever_i * n_cross_shear);
     load[j].torque -= S(moment + lever_j * n_cross_shear);
   }
+}
+
+// ----------------------------------------------------------------------------
+// Bonds over MPI ranks: every rank keeps every bond; each steps those with a
+// particle it owns, and the owner of a bond's first particle (id_a) hands its
+// state to every rank at each redistribution and gather.
+// ----------------------------------------------------------------------------
+template <int D>
+void Simulation<D>::break_orphan_bonds() {
+  for (std::size_t k = 0; k < bonds_.size(); ++k)
+    if (!bonds_.broken[k] && (p_.index(bonds_.id_a[k]) < 0 || p_.index(bonds_.id_b[k]) < 0))
+      bonds_.break_bond(k);
+}
+
+template <int D>
+std::string Simulation<D>::pack_led_bonds() const {
+  std::string out;
+  for (std::size_t k = 0; k < bonds_.size(); ++k) {
+    const int i = p_.index(bonds_.id_a[k]);
+    if (i < 0 || (p_.fixed[i] & ghost_flag)) continue;
+    bytes::put(out, static_cast<std::uint64_t>(k));
+    bytes::put(out, bonds_.broken[k]);
+    bytes::put(out, bonds_.load[k]);
+  }
+  return out;
+}
+
+template <int D>
+void Simulation<D>::set_bond_states(const std::string& all) {
+  const char* what = "distributed run: a bond's state";
+  for (std::size_t at = 0; at < all.size();) {
+    const auto k = static_cast<std::size_t>(bytes::take<std::uint64_t>(all, at, what));
+    const std::uint8_t broken = bytes::take<std::uint8_t>(all, at, what);
+    const BondLoad<D> load = bytes::take<BondLoad<D>>(all, at, what);
+    if (k >= bonds_.size())
+      throw RunError(fmt::format("{}: bond {} of {}", what, k, bonds_.size()));
+    bonds_.load[k] = load;
+    if (broken) bonds_.break_bond(k);
+  }
+}
+
+template <int D>
+double Simulation<D>::led_bond_reach() const {
+  double reach = 0;
+  for (std::size_t k = 0; k < bonds_.size(); ++k) {
+    if (bonds_.broken[k]) continue;
+    const int i = p_.index(bonds_.id_a[k]), j = p_.index(bonds_.id_b[k]);
+    if (i < 0 || j < 0 || (p_.fixed[i] & ghost_flag)) continue;
+    reach = std::max(reach, separation(p_.position[i], p_.position[j]).norm());
+  }
+  return reach;
 }
 
 // ----------------------------------------------------------------------------

@@ -94,8 +94,6 @@ DistributedRun<D>::DistributedRun(Simulation<D>& sim, MPI_Comm comm, double reba
     throw InputError(fmt::format(
         "distributed run: rebalance threshold {} (the largest share over the mean, 1 or more)",
         threshold_));
-  if (sim_.bond_counts().intact > 0)
-    throw InputError("distributed run: parallel bonds are not distributed yet");
   if (!sim_.effects().diagnostics.empty() && !sim_.hooks_wrapped())
     throw InputError(
         "distributed run: diagnostics would see only this rank's share; take the steps they "
@@ -110,7 +108,12 @@ DistributedRun<D>::DistributedRun(Simulation<D>& sim, MPI_Comm comm, double reba
   sim_.ensure_prepared();
   sim_.set_external_rebuilds(true);
   sim_.set_keep_wall_reactions(true);
-  reach_ = sim_.interaction_reach();
+  // The bonds of particles a script removed break now, on the whole scene, as
+  // the next step would break them (no rank can tell a removed particle from
+  // another rank's).
+  sim_.break_orphan_bonds();
+  contact_reach_ = sim_.interaction_reach();
+  reach_ = std::max(contact_reach_, sim_.led_bond_reach());
   // Each rank's scene wraps the periodic axis itself (minimum images): a
   // ghost is needed once per rank, and only while the reach is under half
   // the period (beyond it a particle would meet two images of another).
@@ -118,8 +121,8 @@ DistributedRun<D>::DistributedRun(Simulation<D>& sim, MPI_Comm comm, double reba
   if (periodic.on() && !(2 * reach_ < periodic.length))
     throw InputError(fmt::format(
         "distributed run: the periodic length {} m along axis {} is not more than twice the "
-        "interaction reach ({} m: the largest diameter, the skin and any adhesive reach); "
-        "lengthen the period or run on one process",
+        "interaction reach ({} m: the largest diameter, the skin and any adhesive reach, or "
+        "the longest parallel bond); lengthen the period or run on one process",
         periodic.length, "xyz"[periodic.axis], reach_));
   // Every rank holds the whole scene now: the cut needs no communication, and
   // each keeps what its box holds. The last step's contacts are kept for a
@@ -221,6 +224,7 @@ void DistributedRun<D>::redistribute() {
     return;
   }
   take_records();
+  sync_bonds();
   // Re-cut when the largest share has grown past the threshold over the mean.
   std::int64_t mine = static_cast<std::int64_t>(owned_.size()), most = 0, total = 0;
   MPI_Allreduce(&mine, &most, 1, MPI_INT64_T, MPI_MAX, comm_);
@@ -233,6 +237,18 @@ void DistributedRun<D>::redistribute() {
   migrated_ += static_cast<std::int64_t>(migrate(d_, owned_, comm_));
   ghosts_ = exchange_ghosts(d_, reach_, owned_, comm_, plan_, Images::wrapped);
   install();
+}
+
+template <int D>
+void DistributedRun<D>::sync_bonds() {
+  if (sim_.bonds().empty()) return;
+  sim_.set_bond_states(all_gather(sim_.pack_led_bonds(), comm_));
+  // A bond's partner must be a ghost of its owner's rank until the next
+  // rebuild: the ghosts' reach covers the longest bond now (a bond stretches
+  // between rebuilds, but the ghosts chosen now stay).
+  double mine = sim_.led_bond_reach(), longest = 0;
+  MPI_Allreduce(&mine, &longest, 1, MPI_DOUBLE, MPI_MAX, comm_);
+  reach_ = std::max(contact_reach_, longest);
 }
 
 template <int D>
@@ -312,6 +328,7 @@ void DistributedRun<D>::dissolve() {
   dissolved_ = true;
   const auto t0 = Clock::now();
   take_records();
+  sync_bonds();
   const Particles<D>& p = sim_.share();
   std::string mine;
   for (std::size_t k = 0; k < owned_.size(); ++k) {

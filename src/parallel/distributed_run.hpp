@@ -20,7 +20,9 @@
 // periodic scenes (each rank's scene wraps the periodic axis as one process
 // does, so a ghost is the owner's particle where it is, sent once per rank
 // that needs it: Images::wrapped).
-// Not yet: parallel bonds, diagnostics on the shares (their sums cross ranks).
+// parallel bonds (every rank keeps every bond and steps those with a particle
+// it owns; their states meet at each redistribution and gather).
+// Not yet: diagnostics on the shares (their sums cross ranks).
 #pragma once
 
 #ifdef GRANULE_HAVE_MPI
@@ -107,14 +109,18 @@ class DistributedRun {
   // contacts, deepest overlap), packed for sum_tallies.
   std::string tallies(const GlobalStats& here) const;
   void redistribute();  // migrate, ghosts, install
-  void install();       // owned_ and ghosts_ as the simulation's share
-  void forward();       // the ghosts' state from their owners
+  // Every bond's state from the rank owning its first particle, to every
+  // rank; the ghosts' reach from the longest bond.
+  void sync_bonds();
+  void install();  // owned_ and ghosts_ as the simulation's share
+  void forward();  // the ghosts' state from their owners
 
   Simulation<D>& sim_;
   MPI_Comm comm_;
   int rank_ = 0, size_ = 1;
   double threshold_ = 1.1;
-  double reach_ = 0;  // m
+  double contact_reach_ = 0;  // m: contacts (Simulation::interaction_reach)
+  double reach_ = 0;          // m: the ghosts', contacts and bonds
   Decomposition<D> d_;
   GhostPlan plan_;
   std::vector<ParticleRecord<D>> owned_, ghosts_;

@@ -43,9 +43,12 @@ class SceneOverRanks final : public SpreadRun {
       // A hook that reads only the totals (the output's series row) gets them
       // reduced over the ranks, one that reads only the particles (the
       // output's snapshots) gets them gathered, the shares kept; any other
-      // gets the whole scene.
+      // gets the whole scene, and so do snapshots of a scene with bonds
+      // (they record the bonds, whose states meet at a gather).
       const bool shared = run_ && !run_->dissolved();
-      if (shared && reads != HookReads::scene) {
+      const bool whole =
+          reads == HookReads::scene || (reads == HookReads::state && !sim_.bonds().empty());
+      if (shared && !whole) {
         sim_.set_stats_override(run_->totals());
         if (reads == HookReads::state) sim_.set_state_override(run_->gathered_state());
       } else {

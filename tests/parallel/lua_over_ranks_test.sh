@@ -4,15 +4,17 @@
 #   lua_over_ranks_test.sh GRANULE SOURCE_DIR MPIRUN
 # - five scenes (3D dense box with Hertz-Mindlin, 3D drum with a turning
 #   cylinder, 3D JKR cloud, 2D Walton-Braun drum, 3D shear cell periodic
-#   along x, its ghosts across the period), each with callbacks that
+#   along x, its ghosts across the period, 2D pile bonded with parallel bonds
+#   and tumbled until some break), each with callbacks that
 #   query the whole scene and set a particle's velocity, time-triggered
 #   snapshots, checkpoints and a stop check, on 1-4 ranks against a plain run
 #   in canonical order: every particle's state, the stats, the callbacks'
 #   readings (with the last step's contacts from sim:contacts() and
-#   sim:contact_arrays(), in order), the final contact list and the walls'
+#   sim:contact_arrays(), in order, and the bond counts), the final contact
+#   list, the bond counts and the walls'
 #   forces equal bit for bit;
 # - a checkpoint written on 2 ranks continued on 3 ends in the same state
-#   (the box, the 2D drum and the periodic shear cell);
+#   (the box, the 2D drum, the periodic shear cell and the bonded pile);
 # - the 2D Mechanofusion base case with its diagnostics (steps they look at
 #   taken whole) on 3 ranks: the same /results and final snapshot as on 1;
 # - ranks other than 0 write nothing where the scene says (their scratch
@@ -39,7 +41,7 @@ for x, y in zip(a, b):
     assert x == y, f"{sys.argv[1]} / {sys.argv[2]} differ:\n{x[:200]}\n{y[:200]}"
 PY
 }
-for case in box drum jkr wb shear; do
+for case in box drum jkr wb shear bonds; do
   "$granule" run "$scene" -D case=$case -D canonical=1 -D checkpoint=plain_$case.chk.h5 \
     -o plain_$case.h5 --quiet > plain_$case.txt
   for n in 1 2 3 4; do
@@ -53,10 +55,11 @@ done
 # over the ranks, the shares kept) and snapshots are the plain run's bits.
 /usr/bin/python3 - <<'PY'
 import h5py
+bonded = 0
 e = h5py.File("np3_box.h5", "r")["scene/effects"].attrs
 assert e["ranks"] == 3 and "rcb" in str(e["decomposition"]), dict(e)
 assert h5py.File("plain_box.h5", "r")["scene/effects"].attrs["ranks"] == 1
-for case in ("box", "wb"):
+for case in ("box", "wb", "bonds"):
     a, b = h5py.File(f"plain_{case}.h5", "r"), h5py.File(f"np3_{case}.h5", "r")
     names = list(a["series"].keys())
     assert len(names) > 5 and len(a["series/time"]) > 20, names
@@ -67,10 +70,16 @@ for case in ("box", "wb"):
     for k in range(count):
         for q in ("id", "position", "velocity", "spin"):
             assert a["snapshots/%06d/%s" % (k, q)][:].tobytes() == b["snapshots/%06d/%s" % (k, q)][:].tobytes()
+        if case == "bonds" and "bonds" in a["snapshots/%06d" % k]:
+            for q in ("a", "b", "broken"):
+                assert a["snapshots/%06d/bonds/%s" % (k, q)][:].tobytes() == b["snapshots/%06d/bonds/%s" % (k, q)][:].tobytes(), (k, q)
+            bonded += 1
+assert bonded > 2, "too few snapshots with bonds"
+
 print("series and snapshots bit-identical")
 PY
 # A checkpoint from 2 ranks, continued on 3 (and on 1).
-for case in box wb shear; do
+for case in box wb shear bonds; do
   $mpirun -np 3 "$granule" run "$scene" -D case=$case -D checkpoint=np2_$case.chk.h5 \
     --restart np2_$case.chk.h5 -o restarted3_$case.h5 --quiet > restarted3_$case.txt
   same plain_$case.txt restarted3_$case.txt

@@ -6,14 +6,27 @@
 -- order every spread run uses (docs/parallel.md), so that its lines are the
 -- same bits too.
 local p = parameters {
-  case = { default = "box", doc = "box (3D dense, Hertz-Mindlin) | drum (3D, turning cylinder, linear) | jkr (3D agglomerate) | wb (2D Walton-Braun drum) | shear (3D shear cell, periodic along x)" },
+  case = { default = "box", doc = "box (3D dense, Hertz-Mindlin) | drum (3D, turning cylinder, linear) | jkr (3D agglomerate) | wb (2D Walton-Braun drum) | shear (3D shear cell, periodic along x) | bonds (2D pile bonded, then tumbled in its drum)" },
   canonical = { default = 0 },
   checkpoint = { default = "over_ranks.chk.h5" },
   steps = { default = 0, doc = "steps of each of the two stages (0: the case's own)" },
   snapshots = { default = 6, doc = "snapshots in each stage (by simulated time)" },
 }
 local sim
-if p.case == "wb" then
+if p.case == "bonds" then
+  -- A 2D pile settles in its drum; between the stages its touching pairs are
+  -- bonded and the drum turns, so that bonds load, stretch across the ranks'
+  -- boxes and break.
+  sim = simulation { dimension = 2, record_contacts = true }
+  sim:material { name = "powder", density = 1200 }
+  sim:material { name = "steel", density = 7800 }
+  sim:contact { "powder", "powder", model = "linear", k_normal = 2e3, restitution = 0.5, friction = 0.3 }
+  sim:contact { "powder", "steel", model = "linear", k_normal = 2e3, restitution = 0.5, friction = 0.5 }
+  sim:wall_cylinder { name = "drum", center = { 0, 0 }, radius = 6e-3, angular_velocity = 0, material = "steel" }
+  sim:fill { region = { circle = { center = { 0, 0 }, radius = 6e-3 } }, count = 200, radius = 0.3e-3,
+             material = "powder", seed = 3, overlap = false }
+  sim:gravity { 0, -400 }  -- settles within the first stage
+elseif p.case == "wb" then
   sim = simulation { dimension = 2, record_contacts = true }
   sim:material { name = "powder", density = 1200 }
   sim:material { name = "steel", density = 7800 }
@@ -75,10 +88,10 @@ else
                material = "glass", seed = 11, max_speed = 0.05, overlap = false }
     sim:central_field { point = { 0, 0, 0 }, strength = 20 }
   else
-    error("case: box, drum, jkr, wb or shear, not '" .. p.case .. "'")
+    error("case: box, drum, jkr, wb, shear or bonds, not '" .. p.case .. "'")
   end
 end
-local steps = p.steps > 0 and p.steps or ({ box = 8000, drum = 8000, jkr = 4000, wb = 10000, shear = 8000 })[p.case]
+local steps = p.steps > 0 and p.steps or ({ box = 8000, drum = 8000, jkr = 4000, wb = 10000, shear = 8000, bonds = 8000 })[p.case]
 if p.canonical == 1 then sim:set { canonical_order = true } end
 sim:output { snapshot_every = steps * sim:time_step() / p.snapshots }
 sim:checkpoint { file = p.checkpoint, every_steps = 1000 }
@@ -94,7 +107,8 @@ end
 sim:every { steps = 250, function(s)
   local st = s:stats()
   energies[#energies + 1] = st.kinetic_energy
-  contact_sums[#contact_sums + 1] = contact_sum(s)
+  local bonds = s:bond_counts()
+  contact_sums[#contact_sums + 1] = contact_sum(s) .. string.format(" bonds %d %d", bonds.intact, bonds.broken)
   local ids = s:particles()
   local id = ids[(#energies * 37) % #ids + 1]
   local v = s:particle(id).velocity
@@ -103,6 +117,11 @@ sim:every { steps = 250, function(s)
 end }
 sim:run { steps = steps }
 if p.case == "jkr" then sim:set_central_strength(0) end
+if p.case == "bonds" then
+  print("bonds made " .. sim:bond { normal_stiffness = 2e9, shear_stiffness = 1e9, tensile_strength = 2e4,
+                                    shear_strength = 2e4, gap = 2e-5 })
+  sim:set_wall("drum", { angular_velocity = 300 })
+end
 sim:run { steps = steps, check_every = 500, stop_when = function(s) return s:stats().kinetic_energy < 0 end }
 local st = sim:stats()
 print(string.format("stats %d %d %a %d %d", sim:step_count(), st.particles, st.kinetic_energy,
@@ -130,7 +149,9 @@ for _, id in ipairs(sim:particles()) do
   end
   print(table.concat(line, " "))
 end
-local walls = ({ box = { "floor", "left", "right", "back", "front" }, drum = { "drum", "back", "front" },
+local bonds = sim:bond_counts()
+print(string.format("bond_counts %d %d", bonds.intact, bonds.broken))
+local walls = ({ box = { "floor", "left", "right", "back", "front" }, drum = { "drum", "back", "front" }, bonds = { "drum" },
                 jkr = {}, wb = { "drum" }, shear = { "floor", "lid", "back", "front" } })[p.case]
 for _, name in ipairs(walls) do
   local wall = sim:wall(name)
