@@ -21,6 +21,10 @@
 // engine leaves the lane's inv_mass_sum at 1 and does not fetch the particles'
 // masses (a cache line per particle the batch would not use).
 //
+// The law's parameters reach the lanes through the model's LaneParams<true>
+// (one law for the batch) and LaneParams<false> (mixed laws), chosen by
+// with_lane_params below.
+//
 // What it costs a model's author: the law written a second time, as loops
 // over the lanes with every branch a select (a division or a root under a
 // condition keeps the loop from vectorising), and a test that the two agree
@@ -71,6 +75,19 @@ struct ContactBatch<2> {
   alignas(64) double normal_force[lanes];         // N, positive repulsive
   alignas(64) double tangential_force[lanes];     // along t, on i, N
 };
+
+// Calls run(q) with the lanes' laws as the model's LaneParams<true> (every
+// lane under one law: its values in registers) or LaneParams<false> (each
+// value an array over the lanes): the one dispatch of every force_batch.
+template <typename M, typename Run>
+inline void with_lane_params(const typename M::Params* const lane[], Run&& run) {
+  bool one_law = true;
+  for (int l = 1; l < batch_lanes; ++l) one_law &= lane[l] == lane[0];
+  if (one_law)
+    run(typename M::template LaneParams<true>(lane));
+  else
+    run(typename M::template LaneParams<false>(lane));
+}
 
 // Detected by calling it on the history (a law may write it as a template
 // over the history type, whose address cannot be taken without arguments).

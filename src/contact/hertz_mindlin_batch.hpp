@@ -117,18 +117,12 @@ inline void lanes_2d(const P& q, HertzMindlin::BatchHistory2& h, ContactBatch<2>
 
 template <typename History, typename Batch>
 inline void dispatch(const HertzMindlin::Params* const lane[], History& h, Batch& c) {
-  bool one_law = true;
-  for (int l = 1; l < batch_lanes; ++l) one_law &= lane[l] == lane[0];
-  auto run = [&](const auto& q) {
+  with_lane_params<HertzMindlin>(lane, [&](const auto& q) {
     if constexpr (std::is_same_v<Batch, ContactBatch<2>>)
       lanes_2d(q, h, c);
     else
       lanes_3d(q, h, c);
-  };
-  if (one_law)
-    run(HertzMindlin::LaneParams<true>(lane));
-  else
-    run(HertzMindlin::LaneParams<false>(lane));
+  });
 }
 
 }  // namespace hertz_mindlin_lanes

@@ -313,22 +313,12 @@ struct LinearSpringDashpot::LaneParams<false> {
 
 inline void LinearSpringDashpot::force_batch(const Params* const lane[], BatchHistory3& h,
                                              ContactBatch<3>& c) {
-  bool one_law = true;
-  for (int l = 1; l < batch_lanes; ++l) one_law &= lane[l] == lane[0];
-  if (one_law)
-    force_lanes(LaneParams<true>(lane), h, c);
-  else
-    force_lanes(LaneParams<false>(lane), h, c);
+  with_lane_params<LinearSpringDashpot>(lane, [&](const auto& q) { force_lanes(q, h, c); });
 }
 
 inline void LinearSpringDashpot::force_batch(const Params* const lane[], BatchHistory2& h,
                                              ContactBatch<2>& c) {
-  bool one_law = true;
-  for (int l = 1; l < batch_lanes; ++l) one_law &= lane[l] == lane[0];
-  if (one_law)
-    force_lanes(LaneParams<true>(lane), h, c);
-  else
-    force_lanes(LaneParams<false>(lane), h, c);
+  with_lane_params<LinearSpringDashpot>(lane, [&](const auto& q) { force_lanes(q, h, c); });
 }
 
 }  // namespace granule

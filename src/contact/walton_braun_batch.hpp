@@ -187,12 +187,9 @@ inline void lanes_3d(const P& q, WaltonBraun::BatchHistory3& h, ContactBatch<3>&
 // The lanes' laws: one law or many, exponent 1 or not.
 template <typename History, typename Batch>
 inline void dispatch(const WaltonBraun::Params* const lane[], History& h, Batch& c) {
-  bool one_law = true, unit_exponent = true;
-  for (int l = 0; l < batch_lanes; ++l) {
-    one_law &= lane[l] == lane[0];
-    unit_exponent &= lane[l]->slip_exponent == 1.0;
-  }
-  auto run = [&](const auto& q) {
+  bool unit_exponent = true;
+  for (int l = 0; l < batch_lanes; ++l) unit_exponent &= lane[l]->slip_exponent == 1.0;
+  with_lane_params<WaltonBraun>(lane, [&](const auto& q) {
     if constexpr (std::is_same_v<Batch, ContactBatch<2>>) {
       if (unit_exponent)
         lanes_2d<true>(q, h, c);
@@ -204,11 +201,7 @@ inline void dispatch(const WaltonBraun::Params* const lane[], History& h, Batch&
       else
         lanes_3d<false>(q, h, c);
     }
-  };
-  if (one_law)
-    run(WaltonBraun::LaneParams<true>(lane));
-  else
-    run(WaltonBraun::LaneParams<false>(lane));
+  });
 }
 
 }  // namespace walton_braun_lanes
