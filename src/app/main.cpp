@@ -85,16 +85,23 @@ std::string add_override(Options& o, const std::string& v) {
 
 // On ranks other than 0 a scene's own files (io.open for writing, os.remove,
 // os.rename) go to the rank's scratch folder, as the engine's do (io/rank_files.hpp),
-// and print() prints nothing: rank 0 writes and prints for all.
+// and a file read (io.open, io.lines) is the rank's own copy where it wrote one
+// (a scene that writes a file and reads it back); print() prints nothing: rank
+// 0 writes and prints for all.
 int rank_path_call(lua_State* L) {
   const int n = lua_gettop(L);
-  const bool is_open = lua_toboolean(L, lua_upvalueindex(2));
+  const int kind = static_cast<int>(lua_tointeger(L, lua_upvalueindex(2)));  // Wrapped::kind
   const char* mode = n >= 2 && lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : "r";
-  // io.open(path, mode) writing: its path; os.remove(path), os.rename(from, to): every path.
-  const int paths = is_open ? (std::strpbrk(mode, "wa+") ? 1 : 0) : n;
+  // io.open(path, mode): its path, written or read; io.lines(path): read;
+  // os.remove(path), os.rename(from, to): every path, written.
+  const bool opens = kind != 0;
+  const bool writes = kind == 0 || (kind == 1 && std::strpbrk(mode, "wa+"));
+  const int paths = opens ? std::min(n, 1) : n;
   for (int k = 1; k <= paths; ++k)
     if (lua_type(L, k) == LUA_TSTRING) {
-      const std::string mapped = granule::io::writable_path(lua_tostring(L, k));
+      const std::string named = lua_tostring(L, k);
+      const std::string mapped =
+          writes ? granule::io::writable_path(named) : granule::io::readable_path(named);
       lua_pushstring(L, mapped.c_str());
       lua_replace(L, k);
     }
@@ -107,19 +114,40 @@ int rank_path_call(lua_State* L) {
 void keep_files_on_rank(lua_State* L) {
   lua_pushcfunction(L, [](lua_State*) { return 0; });
   lua_setglobal(L, "print");
+  // os.tmpname's files in the rank's scratch folder, which goes at exit (a
+  // scene's os.remove of one goes to its scratch copy, and would leave it).
+  lua_getglobal(L, "os");
+  if (lua_istable(L, -1)) {
+    lua_getfield(L, -1, "tmpname");
+    lua_pushcclosure(
+        L,
+        [](lua_State* S) {
+          const std::string name = granule::io::scratch_temporary();
+          if (name.empty()) {  // no scratch folder: the library's own
+            lua_pushvalue(S, lua_upvalueindex(1));
+            lua_call(S, 0, 1);
+            return 1;
+          }
+          lua_pushstring(S, name.c_str());
+          return 1;
+        },
+        1);
+    lua_setfield(L, -2, "tmpname");
+  }
+  lua_pop(L, 1);
   struct Wrapped {
     const char *library, *name;
-    bool open;  // io.open: only the first argument, and only when writing
+    int kind;  // rank_path_call: 0 every argument written, 1 io.open, 2 io.lines
   };
-  for (const Wrapped w : {Wrapped{"io", "open", true}, Wrapped{"os", "remove", false},
-                          Wrapped{"os", "rename", false}}) {
+  for (const Wrapped w : {Wrapped{"io", "open", 1}, Wrapped{"io", "lines", 2},
+                          Wrapped{"os", "remove", 0}, Wrapped{"os", "rename", 0}}) {
     lua_getglobal(L, w.library);
     if (!lua_istable(L, -1)) {
       lua_pop(L, 1);
       continue;
     }
     lua_getfield(L, -1, w.name);
-    lua_pushboolean(L, w.open);
+    lua_pushinteger(L, w.kind);
     lua_pushcclosure(L, rank_path_call, 2);
     lua_setfield(L, -2, w.name);
     lua_pop(L, 1);
@@ -279,6 +307,7 @@ int repl_over_ranks(Options& o) {
   int interactive = root && input.interactive ? 1 : 0;
   MPI_Bcast(&interactive, 1, MPI_INT, 0, MPI_COMM_WORLD);
   input.interactive = interactive != 0;
+  if (!root) input.prepare = keep_files_on_rank;
   input.read = [root](const char* prompt, std::string& line) {
     std::int64_t size = -1;  // -1: end of input
     if (root && granule::app::read_terminal_line(prompt, line))

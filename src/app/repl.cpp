@@ -90,7 +90,7 @@ bool read_terminal_line(const char* prompt, std::string& line) {
 }
 
 ReplInput terminal_input() {
-  return {read_terminal_line, isatty(0) != 0};
+  return {read_terminal_line, isatty(0) != 0, {}};
 }
 
 namespace {
@@ -206,6 +206,7 @@ int run_repl(const std::string& scene, lua::SceneContext& ctx, const ReplInput& 
   ctx.repl = true;
   lua_State* L = lua::new_state(&ctx);
   lua::clear_progress_before_prints(L);
+  if (input.prepare) input.prepare(L);
   const bool interactive = input.interactive;
   const auto& read_line = input.read;
   int failures = 0;

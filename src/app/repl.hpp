@@ -14,6 +14,8 @@ namespace granule::app {
 struct ReplInput {
   std::function<bool(const char* prompt, std::string& line)> read;
   bool interactive = false;
+  // Called on the prompt's Lua state once it is made (a rank's file mapping).
+  std::function<void(lua_State*)> prepare;
 };
 
 // Standard input: readline on a terminal, else plain lines.

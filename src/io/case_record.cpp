@@ -38,7 +38,7 @@ hid_t open_file(const std::string& path, unsigned flags, bool create = false) {
 #endif
   if (create) return H5Fcreate(writable_path(path).c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get());
   if (flags & H5F_ACC_RDWR) return H5Fopen(writable_path(path, true).c_str(), flags, fapl.get());
-  return H5Fopen(path.c_str(), flags, fapl.get());
+  return H5Fopen(readable_path(path).c_str(), flags, fapl.get());
 }
 
 std::optional<double> read_number(hid_t object, const std::string& name) {

@@ -239,7 +239,7 @@ StateBlob read_checkpoint(const std::string& path, std::map<std::string, std::st
   silence_hdf5();
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) fail(path, "no such file");
-  Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  Handle file(H5Fopen(readable_path(path).c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
   if (file.get() < 0) fail(path, "not an HDF5 file");
   if (H5Lexists(file.get(), "/checkpoint", H5P_DEFAULT) <= 0)
     fail(path, "not a Granule checkpoint (no /checkpoint group)");
@@ -285,14 +285,14 @@ bool has_state_group(const std::string& path, const std::string& group) {
   silence_hdf5();
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) fail(path, "no such file");
-  Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  Handle file(H5Fopen(readable_path(path).c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
   if (file.get() < 0) fail(path, "not an HDF5 file");
   return H5Lexists(file.get(), group.c_str(), H5P_DEFAULT) > 0;
 }
 
 StateBlob read_state_group(const std::string& path, const std::string& group) {
   silence_hdf5();
-  Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  Handle file(H5Fopen(readable_path(path).c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
   if (file.get() < 0) fail(path, "not an HDF5 file");
   if (H5Lexists(file.get(), group.c_str(), H5P_DEFAULT) <= 0) fail(path, "has no " + group);
   Handle root(check(H5Gopen2(file.get(), group.c_str(), H5P_DEFAULT), path, "open " + group),

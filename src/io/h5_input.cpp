@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "io/h5_handle.hpp"
+#include "io/rank_files.hpp"
 
 namespace granule::io {
 
@@ -29,7 +30,9 @@ struct File {
   explicit File(const std::string& p) : path(p) {
     silence_hdf5();
     std::error_code ec;
-    if (!std::filesystem::exists(p, ec))
+    // This rank's copy of a file the scene wrote (io/rank_files.hpp), else the file.
+    const std::string file = readable_path(p);
+    if (!std::filesystem::exists(file, ec))
       throw std::runtime_error(fmt::format("cannot open {}: no such file", p));
     Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
     if (fapl.get() < 0) fail_h5("open", "/");
@@ -39,7 +42,7 @@ struct File {
     // Files from other writers may hold a lock; reading the flushed part is safe regardless.
     if (H5Pset_file_locking(fapl.get(), 0, 1) < 0) fail_h5("open", "/");
 #endif
-    hid_t f = H5Fopen(p.c_str(), H5F_ACC_RDONLY, fapl.get());
+    hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, fapl.get());
     if (f < 0)
       throw std::runtime_error(fmt::format("cannot open HDF5 file {}: {}", p, h5_error_detail()));
     id = Handle(f, H5Fclose);

@@ -13,6 +13,7 @@
 #include <map>
 
 #include "core/errors.hpp"
+#include "io/rank_files.hpp"
 
 namespace granule::io {
 
@@ -113,20 +114,22 @@ void clean_mesh(TriangleMesh& mesh, MeshFileReport& report) {
 
 TriangleMesh read_mesh_file(const std::string& path, const MeshTransform& transform,
                             MeshFileReport& report) {
+  // Messages name the file as the scene did; the bytes may be this rank's copy.
+  const std::string file = readable_path(path);
   if (!(transform.scale > 0) || !std::isfinite(transform.scale))
     throw InputError(fmt::format("mesh '{}': scale must be a finite number > 0 (got {})", path,
                                  transform.scale));
   if (!transform.translation.allFinite() || !transform.rotation.allFinite())
     throw InputError(fmt::format("mesh '{}': translate and rotate must be finite", path));
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec))
+  if (!std::filesystem::is_regular_file(file, ec))
     throw InputError(fmt::format("mesh file '{}' does not exist or is not a file", path));
-  if (!std::ifstream(path).good())
+  if (!std::ifstream(file).good())
     throw InputError(fmt::format("mesh file '{}' cannot be read (permissions?)", path));
   Assimp::Importer importer;
   // Triangulate: OBJ faces may be quads or polygons. Nothing else: corners are
   // joined below by position alone (assimp's join also compares normals).
-  const aiScene* scene = importer.ReadFile(path, aiProcess_Triangulate);
+  const aiScene* scene = importer.ReadFile(file, aiProcess_Triangulate);
   if (!scene || !scene->mRootNode)
     throw InputError(
         fmt::format("mesh file '{}' cannot be read: {}", path, importer.GetErrorString()));

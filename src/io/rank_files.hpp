@@ -19,4 +19,14 @@ void remove_scratch();
 // (a file opened to be continued).
 std::string writable_path(const std::string& path, bool keep_content = false);
 
+// A fresh temporary file's name (the file made empty, as os.tmpname makes it):
+// in the scratch folder when there is one, so that what a rank's scene makes
+// there goes with the folder; else "" (the caller makes its own).
+std::string scratch_temporary();
+
+// Where this process reads the file named `path`: its scratch copy when this
+// process wrote one (a scene that writes a file and then reads it, such as a
+// mesh it generates), else `path` itself.
+std::string readable_path(const std::string& path);
+
 }  // namespace granule::io

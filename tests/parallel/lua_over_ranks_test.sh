@@ -5,7 +5,8 @@
 # - five scenes (3D dense box with Hertz-Mindlin, 3D drum with a turning
 #   cylinder, 3D JKR cloud, 2D Walton-Braun drum, 3D shear cell periodic
 #   along x, its ghosts across the period, 2D pile bonded with parallel bonds
-#   and tumbled until some break), each with callbacks that
+#   and tumbled until some break, 3D pile on a triangle-mesh floor the scene
+#   writes to a file and reads back), each with callbacks that
 #   query the whole scene and set a particle's velocity, time-triggered
 #   snapshots, checkpoints and a stop check, on 1-4 ranks against a plain run
 #   in canonical order: every particle's state, the stats, the callbacks'
@@ -41,7 +42,7 @@ for x, y in zip(a, b):
     assert x == y, f"{sys.argv[1]} / {sys.argv[2]} differ:\n{x[:200]}\n{y[:200]}"
 PY
 }
-for case in box drum jkr wb shear bonds; do
+for case in box drum jkr wb shear bonds mesh; do
   "$granule" run "$scene" -D case=$case -D canonical=1 -D checkpoint=plain_$case.chk.h5 \
     -o plain_$case.h5 --quiet > plain_$case.txt
   for n in 1 2 3 4; do

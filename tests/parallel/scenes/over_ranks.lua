@@ -6,7 +6,7 @@
 -- order every spread run uses (docs/parallel.md), so that its lines are the
 -- same bits too.
 local p = parameters {
-  case = { default = "box", doc = "box (3D dense, Hertz-Mindlin) | drum (3D, turning cylinder, linear) | jkr (3D agglomerate) | wb (2D Walton-Braun drum) | shear (3D shear cell, periodic along x) | bonds (2D pile bonded, then tumbled in its drum)" },
+  case = { default = "box", doc = "box (3D dense, Hertz-Mindlin) | drum (3D, turning cylinder, linear) | jkr (3D agglomerate) | wb (2D Walton-Braun drum) | shear (3D shear cell, periodic along x) | bonds (2D pile bonded, then tumbled in its drum) | mesh (3D pile on a triangle-mesh floor the scene writes)" },
   canonical = { default = 0 },
   checkpoint = { default = "over_ranks.chk.h5" },
   steps = { default = 0, doc = "steps of each of the two stages (0: the case's own)" },
@@ -81,6 +81,18 @@ else
     sim:fill { region = { box = { lo = { 0, 0, 0 }, hi = { period, height, width } } }, count = 300, radius = 0.25e-3,
                material = "glass", seed = 13, max_speed = 0.2, overlap = false }
     sim:gravity { 0, -9.81, 0 }
+  elseif p.case == "mesh" then
+    -- A pile falling onto a triangle-mesh floor the scene writes itself
+    -- (every rank reads back its own copy of the file).
+    local shapes = require "granule.mesh_shapes"
+    sim:contact { "glass", "glass", model = "hertz_mindlin", restitution = 0.5, friction = 0.4 }
+    sim:contact { "glass", "steel", model = "hertz_mindlin", restitution = 0.5, friction = 0.6 }
+    local path = shapes.box { corner = { -3e-3, -4e-3, -3e-3 }, edges = { { 6e-3, 0, 0 }, { 0, 1e-3, 0 }, { 0, 0, 6e-3 } } }
+    sim:wall_mesh { name = "floor", file = path, material = "steel" }
+    os.remove(path)
+    sim:fill { region = { box = { lo = { -2.5e-3, -2.5e-3, -2.5e-3 }, hi = { 2.5e-3, 2.5e-3, 2.5e-3 } } }, count = 400,
+               radius = 0.25e-3, material = "glass", seed = 17, max_speed = 0.1, overlap = false }
+    sim:gravity { 0, -200, 0 }
   elseif p.case == "jkr" then
     sim:contact { "glass", "glass", model = "thornton_jkr", friction = 0.3 }
     -- a cloud pulled together by a central field: JKR necks form and hold
@@ -88,10 +100,10 @@ else
                material = "glass", seed = 11, max_speed = 0.05, overlap = false }
     sim:central_field { point = { 0, 0, 0 }, strength = 20 }
   else
-    error("case: box, drum, jkr, wb, shear or bonds, not '" .. p.case .. "'")
+    error("case: box, drum, jkr, wb, shear, bonds or mesh, not '" .. p.case .. "'")
   end
 end
-local steps = p.steps > 0 and p.steps or ({ box = 8000, drum = 8000, jkr = 4000, wb = 10000, shear = 8000, bonds = 8000 })[p.case]
+local steps = p.steps > 0 and p.steps or ({ box = 8000, drum = 8000, jkr = 4000, wb = 10000, shear = 8000, bonds = 8000, mesh = 6000 })[p.case]
 if p.canonical == 1 then sim:set { canonical_order = true } end
 sim:output { snapshot_every = steps * sim:time_step() / p.snapshots }
 sim:checkpoint { file = p.checkpoint, every_steps = 1000 }
@@ -151,7 +163,7 @@ for _, id in ipairs(sim:particles()) do
 end
 local bonds = sim:bond_counts()
 print(string.format("bond_counts %d %d", bonds.intact, bonds.broken))
-local walls = ({ box = { "floor", "left", "right", "back", "front" }, drum = { "drum", "back", "front" }, bonds = { "drum" },
+local walls = ({ box = { "floor", "left", "right", "back", "front" }, drum = { "drum", "back", "front" }, bonds = { "drum" }, mesh = { "floor" },
                 jkr = {}, wb = { "drum" }, shear = { "floor", "lid", "back", "front" } })[p.case]
 for _, name in ipairs(walls) do
   local wall = sim:wall(name)
