@@ -203,6 +203,9 @@ class Simulation final : public SimulationBase {
   // with its model and its place in the canonical slot order. Empty unless
   // the scene records contacts and a step was logged.
   std::string pack_led_contacts() const;
+  // Each stored particle's contacts at the last step (pairs it is in, and its
+  // wall contacts), for weighing a rank's share of the work; zeros before any step.
+  std::vector<std::uint32_t> contacts_per_particle() const;
   // Parallel bonds over ranks (simulation_bonds.cpp): every rank keeps every
   // bond and steps those with a particle it owns. break_orphan_bonds() breaks,
   // on the whole scene, the bonds of removed particles (what the next step

@@ -76,6 +76,22 @@ std::vector<std::string> Simulation<D>::pack_histories() const {
 }
 
 template <int D>
+std::vector<std::uint32_t> Simulation<D>::contacts_per_particle() const {
+  std::vector<std::uint32_t> count(p_.size(), 0);
+  if (slot_in_contact_.size() != slot_count_) return count;
+  for_each_model([&](auto index) {
+    constexpr int I = decltype(index)::value;
+    const auto& b = std::get<I>(pair_buckets_);
+    for (std::size_t k = 0; k < b.size(); ++k)
+      if (slot_in_contact_[b.offset + k]) ++count[b.i[k]], ++count[b.j[k]];
+    const auto& w = std::get<I>(wall_buckets_);
+    for (std::size_t k = 0; k < w.size(); ++k)
+      if (slot_in_contact_[w.offset + k]) ++count[w.particle[k]];
+  });
+  return count;
+}
+
+template <int D>
 std::string Simulation<D>::pack_led_contacts() const {
   std::string out;
   if (!record_contacts_ || !log_.filled) return out;

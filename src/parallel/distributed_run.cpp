@@ -151,20 +151,34 @@ DistributedRun<D>::DistributedRun(Simulation<D>& sim, MPI_Comm comm, double reba
 }
 
 template <int D>
+std::vector<double> DistributedRun<D>::owned_costs() const {
+  const std::vector<std::uint32_t> contacts = sim_.contacts_per_particle();
+  std::vector<double> cost(owned_.size());
+  for (std::size_t k = 0; k < cost.size(); ++k) cost[k] = particle_cost(contacts[k]);
+  return cost;
+}
+
+template <int D>
 void DistributedRun<D>::cut(bool whole_scene_here) {
-  // Every rank's owned positions and ids; at construction every rank holds
-  // the whole scene, so its own list is everyone's.
+  // Every rank's owned positions, ids and costs; at construction every rank
+  // holds the whole scene, so its own list is everyone's.
   const Particles<D>& p = sim_.share();
   std::vector<Vec<D>> points;
   std::vector<std::int64_t> ids;
+  std::vector<double> weights;
   if (whole_scene_here) {
-    for (std::size_t k = 0; k < p.size(); ++k)
+    const std::vector<std::uint32_t> contacts = sim_.contacts_per_particle();
+    for (std::size_t k = 0; k < p.size(); ++k) {
       points.push_back(p.position[k]), ids.push_back(p.id[k]);
+      weights.push_back(particle_cost(contacts[k]));
+    }
   } else {
+    const std::vector<double> cost = owned_costs();
     std::string mine;
-    for (const auto& r : owned_) {
-      put(mine, r.id);
-      for (int a = 0; a < D; ++a) put(mine, r.position[a]);
+    for (std::size_t k = 0; k < owned_.size(); ++k) {
+      put(mine, owned_[k].id);
+      for (int a = 0; a < D; ++a) put(mine, owned_[k].position[a]);
+      put(mine, cost[k]);
     }
     const std::string all = all_gather(mine, comm_);
     for (std::size_t at = 0; at < all.size();) {
@@ -172,6 +186,7 @@ void DistributedRun<D>::cut(bool whole_scene_here) {
       Vec<D> x;
       for (int a = 0; a < D; ++a) x[a] = take<double>(all, at);
       points.push_back(x);
+      weights.push_back(take<double>(all, at));
     }
   }
   Box<D> domain;
@@ -190,7 +205,7 @@ void DistributedRun<D>::cut(bool whole_scene_here) {
     domain.lo[periodic.axis] = periodic.origin;
     domain.hi[periodic.axis] = periodic.origin + periodic.length;
   }
-  d_ = bisect<D>(domain, wraps, size_, points, {}, ids);
+  d_ = bisect<D>(domain, wraps, size_, points, weights, ids);
   // Particles leave the box the cut was made in (a drum's charge spreads, a
   // jet flies off): the outer faces reach to infinity, so that the ghosts a
   // rank gets are those within reach of all the space it owns, which is what
@@ -225,12 +240,16 @@ void DistributedRun<D>::redistribute() {
   }
   take_records();
   sync_bonds();
-  // Re-cut when the largest share has grown past the threshold over the mean.
-  std::int64_t mine = static_cast<std::int64_t>(owned_.size()), most = 0, total = 0;
-  MPI_Allreduce(&mine, &most, 1, MPI_INT64_T, MPI_MAX, comm_);
-  MPI_Allreduce(&mine, &total, 1, MPI_INT64_T, MPI_SUM, comm_);
-  if (total > 0 && static_cast<double>(most) * size_ > threshold_ * static_cast<double>(total) &&
-      size_ > 1) {
+  // Re-cut when the costliest share has grown past the threshold over the mean
+  // (the shares' costs summed in a fixed order, so every rank decides alike).
+  double mine = 0;
+  for (const double c : owned_costs()) mine += c;
+  std::vector<double> costs(static_cast<std::size_t>(size_));
+  MPI_Allgather(&mine, 1, MPI_DOUBLE, costs.data(), 1, MPI_DOUBLE, comm_);
+  double most = 0, total = 0;
+  for (const double c : costs) most = std::max(most, c), total += c;
+  last_imbalance_ = total > 0 ? most * size_ / total : 1.0;
+  if (total > 0 && most * size_ > threshold_ * total) {
     cut(false);
     ++recuts_;
   }

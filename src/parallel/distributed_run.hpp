@@ -65,8 +65,9 @@ class DistributedRun {
  public:
   // Every rank passes the same scene, every particle in it (as a scene script
   // run on every rank builds it); the run keeps this rank's share. Switches the
-  // scene to canonical order. `rebalance_threshold`: the largest rank's
-  // particles over the mean above which a rebuild re-cuts the boxes.
+  // scene to canonical order. The boxes are cut to equal costs (particles
+  // weighed by their contacts: particle_cost); `rebalance_threshold`: the
+  // costliest rank's share over the mean above which a rebuild re-cuts them.
   DistributedRun(Simulation<D>& sim, MPI_Comm comm, double rebalance_threshold = 1.1);
 
   void advance(std::int64_t steps);
@@ -96,6 +97,8 @@ class DistributedRun {
   std::size_t ghosts() const { return ghosts_.size(); }
   std::int64_t migrated() const { return migrated_; }  // particles that left this rank
   std::int64_t recuts() const { return recuts_; }
+  // The costliest rank's share over the mean (particle_cost) at the last rebuild.
+  double imbalance() const { return last_imbalance_; }
   const DistributedTimes& times() const { return times_; }
   // "ranks: 4, rcb: 4 boxes, imbalance 1.02; cuts ..." for the run header.
   std::string describe() const;
@@ -105,6 +108,13 @@ class DistributedRun {
   // this rank holds the whole scene).
   void cut(bool whole_scene_here);
   void take_records();  // owned_ from the share, with the histories as payloads
+  // What a particle costs a step, in units of a particle without contacts: its
+  // own integration and checks (1), and its share of each of its contacts (a
+  // pair's force is computed once per pair on one rank; each contact costs
+  // about five times a particle's own work in the 3D lattice box,
+  // docs/performance.md, so half of that falls on each of its particles).
+  static double particle_cost(std::uint32_t contacts) { return 1.0 + 2.5 * contacts; }
+  std::vector<double> owned_costs() const;  // each owned particle's, in owned_ order
   // This rank's part of the step's tallies (particles, pair and wall
   // contacts, deepest overlap), packed for sum_tallies.
   std::string tallies(const GlobalStats& here) const;
@@ -125,6 +135,7 @@ class DistributedRun {
   GhostPlan plan_;
   std::vector<ParticleRecord<D>> owned_, ghosts_;
   std::int64_t migrated_ = 0, recuts_ = 0;
+  double last_imbalance_ = 1;  // the costliest share over the mean, at the last rebuild
   DistributedTimes times_;
   bool dissolved_ = false;
   std::int64_t steps_since_install_ = 0;
