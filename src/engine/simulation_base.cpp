@@ -204,6 +204,7 @@ void SimulationBase::fire_hooks() {
     if (hook_wrapper_)
       hook_wrapper_(h.totals_only && h.totals_only() ? HookReads::totals
                     : h.state_only && h.state_only() ? HookReads::state
+                    : h.script                       ? HookReads::script
                                                      : HookReads::scene,
                     fn);
     else

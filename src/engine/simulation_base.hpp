@@ -177,10 +177,14 @@ struct Hook {
   // nothing (the output's snapshots): a spread run then gathers those
   // alone and keeps the ranks' shares.
   std::function<bool()> state_only;
+  // A script's function (sim:every): it reaches the scene only through the
+  // Lua API, whose calls make a spread scene whole when they need it
+  // (set_pending_gather).
+  bool script = false;
 };
 
-// What a firing hook reads (Hook::totals_only, Hook::state_only).
-enum class HookReads { scene, totals, state };
+// What a firing hook reads (Hook::totals_only, Hook::state_only, Hook::script).
+enum class HookReads { scene, totals, state, script };
 
 struct TimeStepReport {
   double rule = 0;             // Eq. 4.1 (or the model's analogue) over the pairs in use, s
@@ -434,6 +438,29 @@ class SimulationBase {
   bool hooks_wrapped() const { return static_cast<bool>(hook_wrapper_); }
   // The at_start hooks, before step 0 (advance() fires them itself).
   void fire_start_hooks();
+  // A script callback on a scene spread over ranks, fired with the shares
+  // kept: the first script call that reads or changes the scene calls
+  // `gather` (the scene made whole, as for any other hook), while stats(),
+  // time() and step_count() need only `totals` (reduced over the ranks, the
+  // shares kept). Every rank runs the same callback, so every rank makes the
+  // same calls and the same collectives. Empty functions: nothing pending.
+  void set_pending_gather(std::function<void()> gather, std::function<void()> totals) {
+    pending_gather_ = std::move(gather);
+    pending_totals_ = std::move(totals);
+  }
+  void ensure_whole() {
+    if (!pending_gather_) return;
+    const std::function<void()> gather = std::move(pending_gather_);
+    pending_gather_ = nullptr;
+    pending_totals_ = nullptr;
+    gather();
+  }
+  void ensure_totals() {
+    if (!pending_totals_) return;
+    const std::function<void()> totals = std::move(pending_totals_);
+    pending_totals_ = nullptr;
+    totals();
+  }
   // The scene is spread over `ranks` MPI ranks, space split as `how`: the run
   // header and /scene/effects say so.
   void set_spread(int ranks, std::string how) {
@@ -485,6 +512,7 @@ class SimulationBase {
   int threads_ = 0;
   std::int64_t parallel_min_candidates_ = 32768, parallel_min_particles_ = 16384;
   bool batched_contacts_ = true;
+  std::function<void()> pending_gather_, pending_totals_;  // set_pending_gather
   bool pruning_ = true;
   bool canonical_order_ = false;
   bool prepared_ = false;

@@ -34,6 +34,16 @@ LuaSim& self(lua_State* L) {
   if (!p) throw std::runtime_error("expected a simulation: call methods as sim:method(...)");
   auto* s = static_cast<LuaSim*>(p);
   if (!s->sim) throw std::runtime_error("this simulation has been closed");
+  s->sim->ensure_whole();  // a spread scene's callback: made whole before the call
+  return *s;
+}
+
+LuaSim& self_totals(lua_State* L) {
+  void* p = luaL_testudata(L, 1, simulation_metatable);
+  if (!p) throw std::runtime_error("expected a simulation: call methods as sim:method(...)");
+  auto* s = static_cast<LuaSim*>(p);
+  if (!s->sim) throw std::runtime_error("this simulation has been closed");
+  s->sim->ensure_totals();
   return *s;
 }
 
@@ -86,6 +96,7 @@ int l_tostring(lua_State* L) {
   if (!s || !s->sim) {
     lua_pushstring(L, "simulation (closed)");
   } else {
+    s->sim->ensure_whole();
     lua_pushfstring(L, "simulation (%dD, %d particles, t = %f s)", s->sim->dimension(),
                     static_cast<int>(s->sim->particle_count()), s->sim->time());
   }

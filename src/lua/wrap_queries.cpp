@@ -107,7 +107,7 @@ int l_particles(lua_State* L) {
 // ---- queries ----
 int l_stats(lua_State* L) {
   return protect(L, [](lua_State* L) {
-    LuaSim& s = self(L);
+    LuaSim& s = self_totals(L);
     GlobalStats g = s.sim->stats();
     lua_newtable(L);
     auto set = [&](const char* k, double v) {
@@ -177,13 +177,13 @@ int l_contacts(lua_State* L) {
 
 int l_time(lua_State* L) {
   return protect(L, [](lua_State* L) {
-    lua_pushnumber(L, self(L).sim->time());
+    lua_pushnumber(L, self_totals(L).sim->time());
     return 1;
   });
 }
 int l_step_count(lua_State* L) {
   return protect(L, [](lua_State* L) {
-    lua_pushinteger(L, self(L).sim->step_count());
+    lua_pushinteger(L, self_totals(L).sim->step_count());
     return 1;
   });
 }

@@ -278,6 +278,7 @@ int l_every(lua_State* L) {
     LuaSim& s = self(L);
     TableReader t(L, 2, "every");
     Hook h;
+    h.script = true;
     h.name = t.string("name", "lua callback");
     h.every_steps = t.integer("steps", 0);
     h.every_time = t.number("time", 0);

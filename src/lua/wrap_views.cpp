@@ -156,6 +156,7 @@ double contact_value(const LuaSim& s, int field, std::size_t k) {
 }
 
 std::size_t rows(const Column& c) {
+  c.sim->sim->ensure_whole();  // a view kept from an earlier callback of a spread scene
   return c.contacts ? contact_rows(*c.sim) : particle_rows(*c.sim);
 }
 

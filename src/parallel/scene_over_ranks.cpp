@@ -45,10 +45,22 @@ class SceneOverRanks final : public SpreadRun {
       // output's snapshots) gets them gathered, the shares kept; any other
       // gets the whole scene, and so do snapshots of a scene with bonds
       // (they record the bonds, whose states meet at a gather).
+      // A script's function (HookReads::script) is fired with the shares
+      // kept: its first call that reads or changes the scene gathers it, and
+      // one that reads only the totals (sim:stats(), time, step count) has
+      // them reduced, so a callback that monitors the totals costs one
+      // reduction, not a gather and a re-share (set_pending_gather).
       const bool shared = run_ && !run_->dissolved();
       const bool whole =
           reads == HookReads::scene || (reads == HookReads::state && !sim_.bonds().empty());
-      if (shared && !whole) {
+      if (shared && reads == HookReads::script) {
+        sim_.set_pending_gather(
+            [this] {
+              sim_.set_stats_override(std::nullopt);
+              gather();
+            },
+            [this] { sim_.set_stats_override(run_->totals()); });
+      } else if (shared && !whole) {
         sim_.set_stats_override(run_->totals());
         if (reads == HookReads::state) sim_.set_state_override(run_->gathered_state());
       } else {
@@ -62,6 +74,7 @@ class SceneOverRanks final : public SpreadRun {
       } catch (...) {
         error = std::current_exception();
       }
+      sim_.set_pending_gather({}, {});
       sim_.set_stats_override(std::nullopt);
       sim_.set_state_override(std::nullopt);
       hook_failed_ = error != nullptr;

@@ -116,6 +116,13 @@ local function contact_sum(s)
   for _, c in ipairs(list) do sum = sum + c.normal_force * (c.b or -#c.wall) end
   return string.format("%d %a", #list, sum)
 end
+-- A callback that reads only the totals (spread runs keep their shares for it).
+local monitored = {}
+sim:every { steps = 70, function(s)
+  local st = s:stats()
+  monitored[#monitored + 1] = string.format("%d %a %a %a %d %d", s:step_count(), s:time(), st.kinetic_energy,
+    st.kinetic_energy_rotational, st.contacts_particle, st.contacts_wall)
+end }
 sim:every { steps = 250, function(s)
   local st = s:stats()
   energies[#energies + 1] = st.kinetic_energy
@@ -139,6 +146,7 @@ local st = sim:stats()
 print(string.format("stats %d %d %a %d %d", sim:step_count(), st.particles, st.kinetic_energy,
   st.contacts_particle, st.contacts_wall))
 for k, e in ipairs(energies) do print(string.format("energy %d %a %s", k, e, contact_sums[k])) end
+for k, line in ipairs(monitored) do print("monitored " .. k .. " " .. line) end
 for _, c in ipairs(sim:contacts()) do
   local line = { "contact", c.model, tostring(c.a), tostring(c.b or c.wall),
                  string.format("%a %a", c.overlap, c.normal_force) }
