@@ -24,6 +24,10 @@ class SpreadRun {
   virtual void advance(std::int64_t steps) = 0;
   // Every rank holds the whole scene again.
   virtual void gather() = 0;
+  // Runs a script's function (a run's stop_when) with the shares kept: its
+  // first call that reads or changes the scene gathers it, one that reads
+  // only the totals has them reduced (SimulationBase::set_pending_gather).
+  virtual void run_script(const std::function<void()>& script) = 0;
   // True on every rank when it is true on any (a signal, a clock).
   virtual bool any(bool mine) = 0;
   // Rank 0's value, on every rank (a chunk length chosen from a clock).

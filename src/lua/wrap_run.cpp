@@ -173,9 +173,14 @@ int l_run(lua_State* L) {
     // user's interrupt are served between its chunks.
     RunHooks hooks;
     hooks.stop_when = [&] {
-      if (spread) spread->gather();
       if (journal) journal->record_callback(-1);
-      call_lua(L, stop_ref, s.self_ref, 1, "the run's stop_when");
+      // Spread over ranks: the shares kept unless the criterion reads more
+      // than the totals (SpreadRun::run_script).
+      auto call = [&] { call_lua(L, stop_ref, s.self_ref, 1, "the run's stop_when"); };
+      if (spread)
+        spread->run_script(call);
+      else
+        call();
       const bool stop = lua_toboolean(L, -1);
       lua_pop(L, 1);
       return stop;

@@ -54,12 +54,7 @@ class SceneOverRanks final : public SpreadRun {
       const bool whole =
           reads == HookReads::scene || (reads == HookReads::state && !sim_.bonds().empty());
       if (shared && reads == HookReads::script) {
-        sim_.set_pending_gather(
-            [this] {
-              sim_.set_stats_override(std::nullopt);
-              gather();
-            },
-            [this] { sim_.set_stats_override(run_->totals()); });
+        gather_when_needed();
       } else if (shared && !whole) {
         sim_.set_stats_override(run_->totals());
         if (reads == HookReads::state) sim_.set_state_override(run_->gathered_state());
@@ -116,6 +111,19 @@ class SceneOverRanks final : public SpreadRun {
     }
   }
 
+  void run_script(const std::function<void()>& script) override {
+    if (run_ && !run_->dissolved()) gather_when_needed();
+    try {
+      script();
+    } catch (...) {
+      sim_.set_pending_gather({}, {});
+      sim_.set_stats_override(std::nullopt);
+      throw;
+    }
+    sim_.set_pending_gather({}, {});
+    sim_.set_stats_override(std::nullopt);
+  }
+
   void gather() override {
     if (run_ && !run_->dissolved()) {
       run_->dissolve();
@@ -161,6 +169,16 @@ class SceneOverRanks final : public SpreadRun {
   }
 
  private:
+  // The scene gathered by the first script call that needs it; the totals
+  // reduced for one that needs only them (SimulationBase::set_pending_gather).
+  void gather_when_needed() {
+    sim_.set_pending_gather(
+        [this] {
+          sim_.set_stats_override(std::nullopt);
+          gather();
+        },
+        [this] { sim_.set_stats_override(run_->totals()); });
+  }
   void share() { run_ = std::make_unique<DistributedRun<D>>(sim_, comm_, threshold_); }
   static void add(DistributedTimes& to, const DistributedTimes& t) {
     to.compute += t.compute, to.exchange += t.exchange, to.waiting += t.waiting;

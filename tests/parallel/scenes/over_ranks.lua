@@ -141,7 +141,10 @@ if p.case == "bonds" then
                                     shear_strength = 2e4, gap = 2e-5 })
   sim:set_wall("drum", { angular_velocity = 300 })
 end
-sim:run { steps = steps, check_every = 500, stop_when = function(s) return s:stats().kinetic_energy < 0 end }
+-- The stop check reads the totals (the shares kept) and then a particle (the scene gathered).
+sim:run { steps = steps, check_every = 500, stop_when = function(s)
+  return s:stats().kinetic_energy < 0 or s:particle(s:particles()[1]).radius < 0
+end }
 local st = sim:stats()
 print(string.format("stats %d %d %a %d %d", sim:step_count(), st.particles, st.kinetic_energy,
   st.contacts_particle, st.contacts_wall))
