@@ -275,9 +275,10 @@ void join_ranks(Options& o) {
   if (o.ctx.rank > 0) {
     o.ctx.quiet = true;
     o.ctx.progress = false;
+    const std::filesystem::path temp = std::filesystem::temp_directory_path();
+    granule::io::remove_stale_scratch(temp.string(), "granule-rank");
     granule::io::write_files_into(
-        (std::filesystem::temp_directory_path() /
-         fmt::format("granule-rank{}-{}", o.ctx.rank, static_cast<long>(getpid())))
+        (temp / fmt::format("granule-rank{}-{}", o.ctx.rank, static_cast<long>(getpid())))
             .string());
   }
 }

@@ -1,8 +1,11 @@
 #include "io/rank_files.hpp"
 
+#include <signal.h>
 #include <stdlib.h>
 #include <unistd.h>
 
+#include <cerrno>
+#include <cstdlib>
 #include <filesystem>
 #include <system_error>
 
@@ -36,6 +39,22 @@ std::filesystem::path scratch_copy(const std::string& path) {
   return std::filesystem::path(scratch()) / flat;
 }
 }  // namespace
+
+void remove_stale_scratch(const std::string& parent, const std::string& prefix) {
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(parent, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind(prefix, 0) != 0 || !entry.is_directory(ec)) continue;
+    const std::size_t dash = name.rfind('-');
+    if (dash == std::string::npos || dash + 1 >= name.size()) continue;
+    char* end = nullptr;
+    const long pid = std::strtol(name.c_str() + dash + 1, &end, 10);
+    if (*end != '\0' || pid <= 0) continue;
+    // Gone: no such process here (a live one of another user answers EPERM).
+    if (kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;
+    std::filesystem::remove_all(entry.path(), ec);
+  }
+}
 
 std::string scratch_temporary() {
   if (scratch().empty()) return "";

@@ -14,6 +14,11 @@ namespace granule::io {
 void write_files_into(const std::string& folder);
 void remove_scratch();
 
+// Removes the folders under `parent` named `prefix` + "<rank>-<pid>" whose
+// process is gone from this machine: the scratch of a rank that was killed
+// before it could remove its own (mpirun's SIGKILL after another rank's abort).
+void remove_stale_scratch(const std::string& parent, const std::string& prefix);
+
 // Where this process writes the file named `path`: `path` itself, or its
 // scratch copy; with `keep_content`, a file that exists is copied there first
 // (a file opened to be continued).
