@@ -124,7 +124,7 @@ void Simulation<D>::set_gathered_contacts(const std::string& all) {
   struct Entry {
     std::uint8_t kind;
     std::int32_t model;
-    std::int64_t id_a, b;
+    std::int64_t b;  // the partner's id, or the wall
     std::uint8_t part;
     ContactRecord record;
   };
@@ -136,13 +136,12 @@ void Simulation<D>::set_gathered_contacts(const std::string& all) {
     Entry e;
     e.kind = take<std::uint8_t>(all, at);
     e.model = take<std::int32_t>(all, at);
-    e.id_a = take<std::int64_t>(all, at);
+    e.record.id_a = take<std::int64_t>(all, at);
     e.b = take<std::int64_t>(all, at);
     e.part = take<std::uint8_t>(all, at);
     if (e.model < 0 || static_cast<std::size_t>(e.model) >= names.size())
       throw RunError(fmt::format("distributed run: a gathered contact of model {}", e.model));
     ContactRecord& r = e.record;
-    r.id_a = e.id_a;
     if (e.kind == wall_entry)
       r.wall = static_cast<int>(e.b);
     else
@@ -157,8 +156,8 @@ void Simulation<D>::set_gathered_contacts(const std::string& all) {
   // The canonical slot order (Simulation::rebuild_lists): every model's pairs
   // by (id_i, id_j), then every model's wall contacts by (particle id, wall, part).
   std::sort(entries.begin(), entries.end(), [](const Entry& x, const Entry& y) {
-    return std::tie(x.kind, x.model, x.id_a, x.b, x.part) <
-           std::tie(y.kind, y.model, y.id_a, y.b, y.part);
+    return std::tie(x.kind, x.model, x.record.id_a, x.b, x.part) <
+           std::tie(y.kind, y.model, y.record.id_a, y.b, y.part);
   });
   std::vector<ContactRecord> records;
   records.reserve(entries.size());

@@ -29,22 +29,26 @@
 
 namespace granule::lua {
 
-LuaSim& self(lua_State* L) {
+namespace {
+LuaSim& open_self(lua_State* L) {
   void* p = luaL_testudata(L, 1, simulation_metatable);
   if (!p) throw std::runtime_error("expected a simulation: call methods as sim:method(...)");
   auto* s = static_cast<LuaSim*>(p);
   if (!s->sim) throw std::runtime_error("this simulation has been closed");
-  s->sim->ensure_whole();  // a spread scene's callback: made whole before the call
   return *s;
+}
+}  // namespace
+
+LuaSim& self(lua_State* L) {
+  LuaSim& s = open_self(L);
+  s.sim->ensure_whole();  // a spread scene's callback: made whole before the call
+  return s;
 }
 
 LuaSim& self_totals(lua_State* L) {
-  void* p = luaL_testudata(L, 1, simulation_metatable);
-  if (!p) throw std::runtime_error("expected a simulation: call methods as sim:method(...)");
-  auto* s = static_cast<LuaSim*>(p);
-  if (!s->sim) throw std::runtime_error("this simulation has been closed");
-  s->sim->ensure_totals();
-  return *s;
+  LuaSim& s = open_self(L);
+  s.sim->ensure_totals();
+  return s;
 }
 
 int dim(lua_State* L) {

@@ -129,7 +129,7 @@ DistributedRun<D>::DistributedRun(Simulation<D>& sim, MPI_Comm comm, double reba
   // gather before any step on the shares.
   const std::vector<std::string> histories = sim_.pack_histories();
   whole_contacts_ = sim_.pack_led_contacts();
-  cut(true);
+  cut(stored_costs(sim_.share().size()), true);
   Particles<D>& p = sim_.share();
   owned_.clear();
   for (std::size_t k = 0; k < p.size(); ++k) {
@@ -151,15 +151,15 @@ DistributedRun<D>::DistributedRun(Simulation<D>& sim, MPI_Comm comm, double reba
 }
 
 template <int D>
-std::vector<double> DistributedRun<D>::owned_costs() const {
+std::vector<double> DistributedRun<D>::stored_costs(std::size_t count) const {
   const std::vector<std::uint32_t> contacts = sim_.contacts_per_particle();
-  std::vector<double> cost(owned_.size());
-  for (std::size_t k = 0; k < cost.size(); ++k) cost[k] = particle_cost(contacts[k]);
+  std::vector<double> cost(count);
+  for (std::size_t k = 0; k < count; ++k) cost[k] = particle_cost(contacts[k]);
   return cost;
 }
 
 template <int D>
-void DistributedRun<D>::cut(bool whole_scene_here) {
+void DistributedRun<D>::cut(const std::vector<double>& cost, bool whole_scene_here) {
   // Every rank's owned positions, ids and costs; at construction every rank
   // holds the whole scene, so its own list is everyone's.
   const Particles<D>& p = sim_.share();
@@ -167,13 +167,10 @@ void DistributedRun<D>::cut(bool whole_scene_here) {
   std::vector<std::int64_t> ids;
   std::vector<double> weights;
   if (whole_scene_here) {
-    const std::vector<std::uint32_t> contacts = sim_.contacts_per_particle();
-    for (std::size_t k = 0; k < p.size(); ++k) {
+    for (std::size_t k = 0; k < p.size(); ++k)
       points.push_back(p.position[k]), ids.push_back(p.id[k]);
-      weights.push_back(particle_cost(contacts[k]));
-    }
+    weights = cost;
   } else {
-    const std::vector<double> cost = owned_costs();
     std::string mine;
     for (std::size_t k = 0; k < owned_.size(); ++k) {
       put(mine, owned_[k].id);
@@ -242,15 +239,15 @@ void DistributedRun<D>::redistribute() {
   sync_bonds();
   // Re-cut when the costliest share has grown past the threshold over the mean
   // (the shares' costs summed in a fixed order, so every rank decides alike).
+  const std::vector<double> cost = stored_costs(owned_.size());
   double mine = 0;
-  for (const double c : owned_costs()) mine += c;
-  std::vector<double> costs(static_cast<std::size_t>(size_));
-  MPI_Allgather(&mine, 1, MPI_DOUBLE, costs.data(), 1, MPI_DOUBLE, comm_);
+  for (const double c : cost) mine += c;
+  std::vector<double> shares(static_cast<std::size_t>(size_));
+  MPI_Allgather(&mine, 1, MPI_DOUBLE, shares.data(), 1, MPI_DOUBLE, comm_);
   double most = 0, total = 0;
-  for (const double c : costs) most = std::max(most, c), total += c;
-  last_imbalance_ = total > 0 ? most * size_ / total : 1.0;
+  for (const double c : shares) most = std::max(most, c), total += c;
   if (total > 0 && most * size_ > threshold_ * total) {
-    cut(false);
+    cut(cost, false);
     ++recuts_;
   }
   migrated_ += static_cast<std::int64_t>(migrate(d_, owned_, comm_));

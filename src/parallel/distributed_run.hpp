@@ -97,8 +97,6 @@ class DistributedRun {
   std::size_t ghosts() const { return ghosts_.size(); }
   std::int64_t migrated() const { return migrated_; }  // particles that left this rank
   std::int64_t recuts() const { return recuts_; }
-  // The costliest rank's share over the mean (particle_cost) at the last rebuild.
-  double imbalance() const { return last_imbalance_; }
   const DistributedTimes& times() const { return times_; }
   // "ranks: 4, rcb: 4 boxes, imbalance 1.02; cuts ..." for the run header.
   std::string describe() const;
@@ -106,7 +104,9 @@ class DistributedRun {
  private:
   // The boxes, from every particle's position (gathered from the ranks unless
   // this rank holds the whole scene).
-  void cut(bool whole_scene_here);
+  // `cost`: each stored particle's (stored_costs), every particle's when this
+  // rank holds the whole scene, else the owned ones'.
+  void cut(const std::vector<double>& cost, bool whole_scene_here);
   void take_records();  // owned_ from the share, with the histories as payloads
   // What a particle costs a step, in units of a particle without contacts: its
   // own integration and checks (1), and its share of each of its contacts (a
@@ -114,7 +114,8 @@ class DistributedRun {
   // about five times a particle's own work in the 3D lattice box,
   // docs/performance.md, so half of that falls on each of its particles).
   static double particle_cost(std::uint32_t contacts) { return 1.0 + 2.5 * contacts; }
-  std::vector<double> owned_costs() const;  // each owned particle's, in owned_ order
+  // The first `count` stored particles' costs (the owned ones come first).
+  std::vector<double> stored_costs(std::size_t count) const;
   // This rank's part of the step's tallies (particles, pair and wall
   // contacts, deepest overlap), packed for sum_tallies.
   std::string tallies(const GlobalStats& here) const;
@@ -135,7 +136,6 @@ class DistributedRun {
   GhostPlan plan_;
   std::vector<ParticleRecord<D>> owned_, ghosts_;
   std::int64_t migrated_ = 0, recuts_ = 0;
-  double last_imbalance_ = 1;  // the costliest share over the mean, at the last rebuild
   DistributedTimes times_;
   bool dissolved_ = false;
   std::int64_t steps_since_install_ = 0;

@@ -191,13 +191,10 @@ std::vector<ParticleRecord<D>> exchange_ghosts(const Decomposition<D>& d, double
     ghost_targets(d, shifts, owned[i].position, reach, rank, targets);
     if (images == Images::wrapped) {
       // Each other rank once, unshifted (targets come by shift, then rank).
-      std::vector<bool> sent(static_cast<std::size_t>(size), false);
-      sent[static_cast<std::size_t>(rank)] = true;
-      for (const auto& t : targets)
-        if (!sent[static_cast<std::size_t>(t.rank)]) {
-          sent[static_cast<std::size_t>(t.rank)] = true;
-          plan.send[static_cast<std::size_t>(t.rank)].push_back({i, 0});
-        }
+      for (const auto& t : targets) {
+        auto& to = plan.send[static_cast<std::size_t>(t.rank)];
+        if (t.rank != rank && (to.empty() || to.back().index != i)) to.push_back({i, 0});
+      }
       continue;
     }
     for (const auto& t : targets) {

@@ -42,14 +42,11 @@ class SceneOverRanks final : public SpreadRun {
     sim_.set_hook_wrapper([this](HookReads reads, const std::function<void()>& fire) {
       // A hook that reads only the totals (the output's series row) gets them
       // reduced over the ranks, one that reads only the particles (the
-      // output's snapshots) gets them gathered, the shares kept; any other
-      // gets the whole scene, and so do snapshots of a scene with bonds
-      // (they record the bonds, whose states meet at a gather).
-      // A script's function (HookReads::script) is fired with the shares
-      // kept: its first call that reads or changes the scene gathers it, and
-      // one that reads only the totals (sim:stats(), time, step count) has
-      // them reduced, so a callback that monitors the totals costs one
-      // reduction, not a gather and a re-share (set_pending_gather).
+      // output's snapshots) gets them gathered, the shares kept, and a
+      // script's function is fired with the shares kept, to be gathered by
+      // its first call that needs more than the totals (gather_when_needed).
+      // Any other gets the whole scene, and so do snapshots of a scene with
+      // bonds (they record the bonds, whose states meet at a gather).
       const bool shared = run_ && !run_->dissolved();
       const bool whole =
           reads == HookReads::scene || (reads == HookReads::state && !sim_.bonds().empty());
@@ -69,9 +66,7 @@ class SceneOverRanks final : public SpreadRun {
       } catch (...) {
         error = std::current_exception();
       }
-      sim_.set_pending_gather({}, {});
-      sim_.set_stats_override(std::nullopt);
-      sim_.set_state_override(std::nullopt);
+      end_firing();
       hook_failed_ = error != nullptr;
       settle(error);
     });
@@ -116,12 +111,10 @@ class SceneOverRanks final : public SpreadRun {
     try {
       script();
     } catch (...) {
-      sim_.set_pending_gather({}, {});
-      sim_.set_stats_override(std::nullopt);
+      end_firing();
       throw;
     }
-    sim_.set_pending_gather({}, {});
-    sim_.set_stats_override(std::nullopt);
+    end_firing();
   }
 
   void gather() override {
@@ -169,8 +162,16 @@ class SceneOverRanks final : public SpreadRun {
   }
 
  private:
-  // The scene gathered by the first script call that needs it; the totals
-  // reduced for one that needs only them (SimulationBase::set_pending_gather).
+  // After a hook or a script: nothing pending, no overrides.
+  void end_firing() {
+    sim_.set_pending_gather({}, {});
+    sim_.set_stats_override(std::nullopt);
+    sim_.set_state_override(std::nullopt);
+  }
+  // The scene gathered by the first script call that needs it (a script's
+  // function, a run's stop_when: one that monitors the totals then costs one
+  // reduction, not a gather and a re-share); the totals reduced for one that
+  // needs only them (SimulationBase::set_pending_gather).
   void gather_when_needed() {
     sim_.set_pending_gather(
         [this] {

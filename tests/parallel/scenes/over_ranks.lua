@@ -12,29 +12,33 @@ local p = parameters {
   steps = { default = 0, doc = "steps of each of the two stages (0: the case's own)" },
   snapshots = { default = 6, doc = "snapshots in each stage (by simulated time)" },
 }
+-- A 2D drum of radius 6 mm filled with powder: `law` (model and its values)
+-- for powder on powder, with friction mu_pp, and on the steel drum with 0.5.
+local function drum_2d(law, mu_pp, spin, fill)
+  local s = simulation { dimension = 2, record_contacts = true }
+  s:material { name = "powder", density = 1200 }
+  s:material { name = "steel", density = 7800 }
+  for _, pair in ipairs { { "powder", mu_pp }, { "steel", 0.5 } } do
+    local c = { "powder", pair[1], friction = pair[2] }
+    for k, v in pairs(law) do c[k] = v end
+    s:contact(c)
+  end
+  s:wall_cylinder { name = "drum", center = { 0, 0 }, radius = 6e-3, angular_velocity = spin, material = "steel" }
+  fill.region = { circle = { center = { 0, 0 }, radius = 6e-3 } }
+  fill.material, fill.seed, fill.overlap = "powder", 3, false
+  s:fill(fill)
+  return s
+end
 local sim
 if p.case == "bonds" then
   -- A 2D pile settles in its drum; between the stages its touching pairs are
   -- bonded and the drum turns, so that bonds load, stretch across the ranks'
   -- boxes and break.
-  sim = simulation { dimension = 2, record_contacts = true }
-  sim:material { name = "powder", density = 1200 }
-  sim:material { name = "steel", density = 7800 }
-  sim:contact { "powder", "powder", model = "linear", k_normal = 2e3, restitution = 0.5, friction = 0.3 }
-  sim:contact { "powder", "steel", model = "linear", k_normal = 2e3, restitution = 0.5, friction = 0.5 }
-  sim:wall_cylinder { name = "drum", center = { 0, 0 }, radius = 6e-3, angular_velocity = 0, material = "steel" }
-  sim:fill { region = { circle = { center = { 0, 0 }, radius = 6e-3 } }, count = 200, radius = 0.3e-3,
-             material = "powder", seed = 3, overlap = false }
+  sim = drum_2d({ model = "linear", k_normal = 2e3, restitution = 0.5 }, 0.3, 0, { count = 200, radius = 0.3e-3 })
   sim:gravity { 0, -400 }  -- settles within the first stage
 elseif p.case == "wb" then
-  sim = simulation { dimension = 2, record_contacts = true }
-  sim:material { name = "powder", density = 1200 }
-  sim:material { name = "steel", density = 7800 }
-  sim:contact { "powder", "powder", model = "walton_braun", k_load = 2e4, restitution = 0.85, friction = 0.1 }
-  sim:contact { "powder", "steel", model = "walton_braun", k_load = 2e4, restitution = 0.85, friction = 0.5 }
-  sim:wall_cylinder { name = "drum", center = { 0, 0 }, radius = 6e-3, angular_velocity = 150, material = "steel" }
-  sim:fill { region = { circle = { center = { 0, 0 }, radius = 6e-3 } }, count = 350, radius = 0.2e-3,
-             material = "powder", seed = 3, max_speed = 2, overlap = false }
+  sim = drum_2d({ model = "walton_braun", k_load = 2e4, restitution = 0.85 }, 0.1, 150,
+                { count = 350, radius = 0.2e-3, max_speed = 2 })
   sim:gravity { 0, -9.81 }
 else
   -- The shear cell: periodic along x, so its ghosts cross the period.
