@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "core/errors.hpp"
@@ -151,19 +152,55 @@ void CellGrid<D>::build(const Particles<D>& p, double skin, const Periodicity& p
     }
   };
 
-  // small-small: each unordered pair once (j > i).
-  std::array<int, D> one;
-  one.fill(1);
+  // small-small: each unordered pair once (j > i). The 3^D cells around each
+  // particle's cell are those for_cells visits, in its order (axis 0 fastest),
+  // so the pairs come out as from the general stencil; each axis's neighbouring
+  // coordinates are listed once per build instead of once per particle.
+  std::array<std::vector<std::array<int, 4>>, D> near;  // [0]: count, then the coordinates
+  for (int k = 0; k < D; ++k) {
+    near[k].resize(static_cast<std::size_t>(dims_[k]));
+    std::vector<int> out;
+    for (int c = 0; c < dims_[k]; ++c) {
+      axis_offsets(k, c, 1, out);
+      auto& row = near[k][static_cast<std::size_t>(c)];
+      row[0] = static_cast<int>(out.size());
+      for (std::size_t q = 0; q < out.size(); ++q) row[q + 1] = out[q];
+    }
+  }
+  auto scan_cell = [&](std::uint32_t i, std::size_t cell) {
+    const Vec<D>& xi = p.position[i];
+    for (std::uint32_t s = cell_start_[cell]; s < cell_start_[cell + 1]; ++s) {
+      const std::uint32_t j = cell_particles_[s];
+      if (j <= i || (p.fixed[i] & p.fixed[j])) continue;
+      const double reach = p.radius[i] + p.radius[j] + skin;
+      if (separation<D>(xi, p.position[j], per).squaredNorm() < reach * reach)
+        pairs.emplace_back(i, j);
+    }
+  };
   for (std::size_t i = 0; i < n; ++i) {
-    if (particle_cell_[i] == UINT32_MAX) continue;
+    const std::uint32_t own = particle_cell_[i];
+    if (own == UINT32_MAX) continue;
     std::array<int, D> c;
-    for (int k = 0; k < D; ++k) c[k] = coord(p.position[i], k);
-    for_cells(c, one, [&](std::size_t cell) {
-      for (std::uint32_t s = cell_start_[cell]; s < cell_start_[cell + 1]; ++s) {
-        std::uint32_t j = cell_particles_[s];
-        if (j > i) consider(static_cast<std::uint32_t>(i), j);
-      }
-    });
+    std::size_t rest = own;
+    for (int k = 0; k < D; ++k) {
+      c[k] = static_cast<int>(rest % static_cast<std::size_t>(dims_[k]));
+      rest /= static_cast<std::size_t>(dims_[k]);
+    }
+    const auto& n0 = near[0][static_cast<std::size_t>(c[0])];
+    const auto& n1 = near[1][static_cast<std::size_t>(c[1])];
+    const auto ii = static_cast<std::uint32_t>(i);
+    if constexpr (D == 2) {
+      for (int b = 1; b <= n1[0]; ++b)
+        for (int a = 1; a <= n0[0]; ++a)
+          scan_cell(ii, static_cast<std::size_t>(n1[b]) * dims_[0] + n0[a]);
+    } else {
+      const auto& n2 = near[2][static_cast<std::size_t>(c[2])];
+      for (int e = 1; e <= n2[0]; ++e)
+        for (int b = 1; b <= n1[0]; ++b) {
+          const std::size_t plane = (static_cast<std::size_t>(n2[e]) * dims_[1] + n1[b]) * dims_[0];
+          for (int a = 1; a <= n0[0]; ++a) scan_cell(ii, plane + n0[a]);
+        }
+    }
   }
   // large-small: scan the cells within the large particle's reach.
   for (std::uint32_t i : large_) {
