@@ -146,12 +146,17 @@ class Simulation final : public SimulationBase {
   double interaction_reach() const;
   Particles<D>& share() { return p_; }
   // Per storage index, the pair and wall histories of the contacts an owned
-  // particle had at the last step, packed to travel with it.
-  std::vector<std::string> pack_histories() const;
+  // particle had at the last step, packed to travel with it; with `only`, just
+  // those of the particles it marks (the others' strings stay empty).
+  std::vector<std::string> pack_histories(const std::vector<std::uint8_t>* only = nullptr) const;
   // Stores `share` (owned particles, then ghosts) in place of the particles and
   // rebuilds the lists, each contact's history taken from the packed lists
-  // (every rank's packing of the same contact is the same bytes).
-  void install_share(Particles<D> share, const std::vector<std::string>& histories);
+  // (every rank's packing of the same contact is the same bytes). With
+  // `keep_own`, the contacts of the current lists that were in contact at the
+  // last step are carried too (by id, as the packed ones), so that the
+  // particles staying on this rank need not pack theirs.
+  void install_share(Particles<D> share, const std::vector<std::string>& histories,
+                     bool keep_own = false);
   // Rebuilds the lists of the share in place (a run on one rank: nothing moves
   // between ranks, and the histories stay where they are).
   void rebuild_share_lists() { rebuild_lists(); }

@@ -38,8 +38,10 @@ double Simulation<D>::interaction_reach() const {
 }
 
 template <int D>
-std::vector<std::string> Simulation<D>::pack_histories() const {
+std::vector<std::string> Simulation<D>::pack_histories(
+    const std::vector<std::uint8_t>* only) const {
   std::vector<std::string> out(p_.size());
+  auto wanted = [&](std::uint32_t q) { return !only || (*only)[q] != 0; };
   // A slot not in contact at the last
   // step has a cleared history: nothing to carry.
   const bool any_slots = slot_in_contact_.size() == slot_count_;
@@ -50,7 +52,7 @@ std::vector<std::string> Simulation<D>::pack_histories() const {
     for (std::size_t k = 0; k < b.size(); ++k) {
       if (!in_contact(b.offset + k)) continue;
       for (const std::uint32_t q : {b.i[k], b.j[k]}) {
-        if (p_.fixed[q] & ghost_flag) continue;
+        if ((p_.fixed[q] & ghost_flag) || !wanted(q)) continue;
         std::string& s = out[q];
         put(s, std::uint8_t{pair_entry});
         put(s, std::int32_t{I});
@@ -61,7 +63,7 @@ std::vector<std::string> Simulation<D>::pack_histories() const {
     }
     const auto& w = std::get<I>(wall_buckets_);
     for (std::size_t k = 0; k < w.size(); ++k) {
-      if (!in_contact(w.offset + k)) continue;
+      if (!in_contact(w.offset + k) || !wanted(w.particle[k])) continue;
       std::string& s = out[w.particle[k]];
       put(s, std::uint8_t{wall_entry});
       put(s, std::int32_t{I});
@@ -225,16 +227,41 @@ std::string Simulation<D>::pack_wall_reactions() const {
 }
 
 template <int D>
-void Simulation<D>::install_share(Particles<D> share, const std::vector<std::string>& histories) {
+void Simulation<D>::install_share(Particles<D> share, const std::vector<std::string>& histories,
+                                  bool keep_own) {
   p_ = std::move(share);
   log_.filled = false;  // its entries name storage indices of the particles replaced
   gathered_contacts_.reset();
   // The arrived histories become the "old" lists that rebuild_lists() carries
   // from, by id (contact_lists.hpp); the storage indices there are not read.
+  // Kept ones first: the entries a packing would have given (those in contact
+  // at the last step), moved instead of packed. A contact both kept and
+  // arrived is the same bits on both sides, so whichever is found first will do.
+  const bool any_slots = slot_in_contact_.size() == slot_count_;
+  auto in_contact = [&](std::size_t slot) { return !any_slots || slot_in_contact_[slot] != 0; };
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
-    lists_detail::renew(std::get<I>(pair_buckets_));
-    lists_detail::renew(std::get<I>(wall_buckets_));
+    auto& b = std::get<I>(pair_buckets_);
+    auto& w = std::get<I>(wall_buckets_);
+    auto old_pairs = lists_detail::renew(b);
+    auto old_walls = lists_detail::renew(w);
+    if (!keep_own) return;
+    for (std::size_t k = 0; k < old_pairs.size(); ++k) {
+      if (!in_contact(old_pairs.offset + k)) continue;
+      b.i.push_back(0), b.j.push_back(0), b.slot.push_back(0);
+      b.id_i.push_back(old_pairs.id_i[k]), b.id_j.push_back(old_pairs.id_j[k]);
+      b.history.push_back(old_pairs.history[k]);
+    }
+    for (std::size_t k = 0; k < old_walls.size(); ++k) {
+      if (!in_contact(old_walls.offset + k)) continue;
+      w.particle.push_back(0), w.slot.push_back(0);
+      w.id.push_back(old_walls.id[k]);
+      w.wall.push_back(old_walls.wall[k]);
+      w.part.push_back(old_walls.part[k]);
+      w.history.push_back(old_walls.history[k]);
+      w.part_normal.push_back(k < old_walls.part_normal.size() ? old_walls.part_normal[k]
+                                                               : Vec<D>(Vec<D>::Zero()));
+    }
   });
   for (const std::string& bytes : histories) {
     for (std::size_t at = 0; at < bytes.size();) {

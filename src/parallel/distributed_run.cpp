@@ -217,8 +217,8 @@ void DistributedRun<D>::cut(const std::vector<double>& cost, bool whole_scene_he
 }
 
 template <int D>
-void DistributedRun<D>::take_records() {
-  const std::vector<std::string> histories = sim_.pack_histories();
+void DistributedRun<D>::take_records(const std::vector<std::uint8_t>* only) {
+  const std::vector<std::string> histories = sim_.pack_histories(only);
   const Particles<D>& p = sim_.share();
   for (std::size_t k = 0; k < owned_.size(); ++k) {
     ParticleRecord<D>& r = owned_[k];
@@ -235,7 +235,9 @@ void DistributedRun<D>::redistribute() {
     sim_.rebuild_share_lists();
     return;
   }
-  take_records();
+  // The states now; the histories below, once it is known who leaves.
+  const std::vector<std::uint8_t> none(owned_.size(), 0);
+  take_records(&none);
   sync_bonds();
   // Re-cut when the costliest share has grown past the threshold over the mean
   // (the shares' costs summed in a fixed order, so every rank decides alike).
@@ -250,9 +252,16 @@ void DistributedRun<D>::redistribute() {
     cut(cost, false);
     ++recuts_;
   }
+  // Only the particles leaving this rank pack their contacts' histories; the
+  // staying ones' stay in the lists, which install_share carries from.
+  std::vector<std::uint8_t> leaving(owned_.size(), 0);
+  bool any_leaving = false;
+  for (std::size_t k = 0; k < owned_.size(); ++k)
+    if (d_.owner(owned_[k].position) != rank_) leaving[k] = 1, any_leaving = true;
+  if (any_leaving) take_records(&leaving);
   migrated_ += static_cast<std::int64_t>(migrate(d_, owned_, comm_));
   ghosts_ = exchange_ghosts(d_, reach_, owned_, comm_, plan_, Images::wrapped);
-  install();
+  install(true);
 }
 
 template <int D>
@@ -268,7 +277,7 @@ void DistributedRun<D>::sync_bonds() {
 }
 
 template <int D>
-void DistributedRun<D>::install() {
+void DistributedRun<D>::install(bool keep_own) {
   const Particles<D>& old = sim_.share();
   Particles<D> share;
   share.next_id = old.next_id;
@@ -287,7 +296,7 @@ void DistributedRun<D>::install() {
     r.payload.clear();
   }
   for (const auto& g : ghosts_) add(g, true);
-  sim_.install_share(std::move(share), histories);
+  sim_.install_share(std::move(share), histories, keep_own);
   steps_since_install_ = 0;
 }
 

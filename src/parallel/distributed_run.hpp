@@ -107,7 +107,9 @@ class DistributedRun {
   // `cost`: each stored particle's (stored_costs), every particle's when this
   // rank holds the whole scene, else the owned ones'.
   void cut(const std::vector<double>& cost, bool whole_scene_here);
-  void take_records();  // owned_ from the share, with the histories as payloads
+  // owned_ from the share, with the histories as payloads (with `only`, just
+  // those of the particles it marks)
+  void take_records(const std::vector<std::uint8_t>* only = nullptr);
   // What a particle costs a step, in units of a particle without contacts: its
   // own integration and checks (1), and its share of each of its contacts (a
   // pair's force is computed once per pair on one rank; each contact costs
@@ -123,7 +125,9 @@ class DistributedRun {
   // Every bond's state from the rank owning its first particle, to every
   // rank; the ghosts' reach from the longest bond.
   void sync_bonds();
-  void install();  // owned_ and ghosts_ as the simulation's share
+  // owned_ and ghosts_ as the simulation's share; `keep_own`: the histories of
+  // the current lists are carried too (Simulation::install_share)
+  void install(bool keep_own = false);
   void forward();  // the ghosts' state from their owners
 
   Simulation<D>& sim_;
