@@ -138,7 +138,10 @@ void CellGrid<D>::build(const Particles<D>& p, double skin, const Periodicity& p
   std::array<std::vector<int>, D> ranges;
   auto for_cells = [&](const std::array<int, D>& centre, const std::array<int, D>& reach,
                        auto&& visit) {
-    for (int k = 0; k < D; ++k) axis_offsets(k, centre[k], reach[k], ranges[k]);
+    for (int k = 0; k < D; ++k) {
+      axis_offsets(k, centre[k], reach[k], ranges[k]);
+      if (ranges[k].empty()) return;
+    }
     std::array<std::size_t, D> idx{};
     for (;;) {
       std::array<int, D> c;
@@ -147,8 +150,6 @@ void CellGrid<D>::build(const Particles<D>& p, double skin, const Periodicity& p
       int k = 0;
       while (k < D && ++idx[k] == ranges[k].size()) idx[k++] = 0;
       if (k == D) break;
-      for (int q = 0; q < D; ++q)
-        if (ranges[q].empty()) return;
     }
   };
 
@@ -208,7 +209,8 @@ void CellGrid<D>::build(const Particles<D>& p, double skin, const Periodicity& p
     const double r = p.radius[i] + r_small_max + skin;
     for (int k = 0; k < D; ++k) {
       c[k] = coord(p.position[i], k);
-      reach[k] = static_cast<int>(std::ceil(r * inv_side[k])) + 1;
+      // At most the grid's width (a radius beyond any grid must not overflow).
+      reach[k] = static_cast<int>(std::min<double>(std::ceil(r * inv_side[k]) + 1, dims_[k]));
     }
     for_cells(c, reach, [&](std::size_t cell) {
       for (std::uint32_t s = cell_start_[cell]; s < cell_start_[cell + 1]; ++s)

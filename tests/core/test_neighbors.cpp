@@ -71,6 +71,23 @@ TEST_CASE("neighbors: cell lists find exactly the brute-force pairs", "[neighbor
   }
 }
 
+TEST_CASE("neighbors: a particle larger than any grid meets every small one, once", "[neighbors]") {
+  // Its reach in cells would overflow an int: it must cover the grid, no more.
+  Particles<2> p;
+  Random rng(5);
+  for (int k = 0; k < 30; ++k)
+    p.add(Vec<2>(rng.uniform(0, 0.01), rng.uniform(0, 0.01)), Vec<2>::Zero(), Dim<2>::zero_spin(),
+          1e-3, 1000, 0, false);
+  p.add(Vec<2>(0.005, 0.005), Vec<2>::Zero(), Dim<2>::zero_spin(), 1e300, 1000, 0, false);
+  CellGrid<2> grid;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  grid.build(p, 1e-4, Periodicity{}, pairs);
+  std::set<std::pair<int, int>> found;
+  for (auto [a, b] : pairs)
+    REQUIRE(found.insert({int(std::min(a, b)), int(std::max(a, b))}).second);
+  for (int k = 0; k < 30; ++k) CHECK(found.count({k, 30}) == 1);
+}
+
 TEST_CASE("neighbors: particles spread beyond any grid are refused, not a hang", "[neighbors]") {
   Simulation<2> sim;
   sim.set_warning_handler([](const std::string&) {});
