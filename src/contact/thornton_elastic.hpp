@@ -294,6 +294,12 @@ struct ThorntonElastic {
   struct LaneParams;
   static void force_batch(const Params* const lane[], BatchHistory3& h, ContactBatch<3>& c);
   static void force_batch(const Params* const lane[], BatchHistory2& h, ContactBatch<2>& c);
+  // The law reads no mass, so the batch never fetches the pair's masses
+  // (contact_batch.hpp: batch_needs_mass).
+  template <typename H>
+  static bool batch_needs_mass(const H&) {
+    return false;
+  }
 };
 
 }  // namespace granule

@@ -9,6 +9,7 @@
 #include <Eigen/Dense>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <type_traits>
 #include <vector>
@@ -108,7 +109,9 @@ TEST_CASE("walton-braun: the batched 2D kernel gives force()'s forces and histor
       cb.nx[l] = c.normal.x(), cb.ny[l] = c.normal.y();
       cb.overlap[l] = c.overlap, cb.normal_velocity[l] = c.normal_velocity;
       cb.tangential_velocity[l] = c.tangential_velocity.dot(t_axis);
-      cb.inv_mass_sum[l] = c.inv_mass_sum;
+      // The law reads no mass (batch_needs_mass is false: the engine never
+      // fetches it), so a NaN here must not reach a force.
+      cb.inv_mass_sum[l] = std::numeric_limits<double>::quiet_NaN();
       hb.load(l, histories[l]);
     }
     WaltonBraun::force_batch(lane_law, hb, cb);
@@ -190,7 +193,9 @@ TEST_CASE("walton-braun: the batched 3D kernel gives force()'s forces and histor
       cb.overlap[l] = c.overlap, cb.normal_velocity[l] = c.normal_velocity;
       cb.vtx[l] = c.tangential_velocity.x(), cb.vty[l] = c.tangential_velocity.y();
       cb.vtz[l] = c.tangential_velocity.z();
-      cb.inv_mass_sum[l] = c.inv_mass_sum;
+      // The law reads no mass (batch_needs_mass is false: the engine never
+      // fetches it), so a NaN here must not reach a force.
+      cb.inv_mass_sum[l] = std::numeric_limits<double>::quiet_NaN();
       hb.load(l, histories[l]);
     }
     WaltonBraun::force_batch(lane_law, hb, cb);
@@ -549,7 +554,9 @@ void check_thornton_elastic_lanes() {
         }
         cb.nx[l] = c.normal.x(), cb.ny[l] = c.normal.y();
         cb.overlap[l] = c.overlap, cb.normal_velocity[l] = c.normal_velocity;
-        cb.inv_mass_sum[l] = c.inv_mass_sum;
+        // The law reads no mass (batch_needs_mass is false: the engine never
+        // fetches it), so a NaN here must not reach a force.
+        cb.inv_mass_sum[l] = std::numeric_limits<double>::quiet_NaN();
         cb.effective_radius[l] = c.effective_radius;
         if constexpr (D == 2) {
           cb.tangential_velocity[l] =
