@@ -186,9 +186,10 @@ int main(int argc, char** argv) {
   double slowest = 0;
   MPI_Reduce(&mine_seconds, &slowest, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
   if (rank == 0)
-    std::printf("mode %s ranks %d spheres %zu snapshots %d seconds_per_snapshot %.5f mb_per_s %.1f\n",
-                mode.c_str(), size, total, snapshots, slowest / snapshots,
-                136.0 * static_cast<double>(total) / (slowest / snapshots) / 1e6);
+    std::printf(
+        "mode %s ranks %d spheres %zu snapshots %d seconds_per_snapshot %.5f mb_per_s %.1f\n",
+        mode.c_str(), size, total, snapshots, slowest / snapshots,
+        136.0 * static_cast<double>(total) / (slowest / snapshots) / 1e6);
   MPI_Finalize();
   return 0;
 }
