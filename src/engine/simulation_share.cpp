@@ -28,6 +28,13 @@ T take(const std::string& packed, std::size_t& at) {
   return bytes::take<T>(packed, at, "distributed run: a packed contact history");
 }
 
+// Did the contact in `slot` touch at the last step? One that did not has a
+// cleared history: nothing to carry. Before any step every slot counts.
+template <typename Flags>
+bool touched(const Flags& in_contact, std::size_t slot_count, std::size_t slot) {
+  return in_contact.size() != slot_count || in_contact[slot] != 0;
+}
+
 }  // namespace
 
 template <int D>
@@ -42,10 +49,7 @@ std::vector<std::string> Simulation<D>::pack_histories(
     const std::vector<std::uint8_t>* only) const {
   std::vector<std::string> out(p_.size());
   auto wanted = [&](std::uint32_t q) { return !only || (*only)[q] != 0; };
-  // A slot not in contact at the last
-  // step has a cleared history: nothing to carry.
-  const bool any_slots = slot_in_contact_.size() == slot_count_;
-  auto in_contact = [&](std::size_t slot) { return !any_slots || slot_in_contact_[slot] != 0; };
+  auto in_contact = [&](std::size_t slot) { return touched(slot_in_contact_, slot_count_, slot); };
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
     const auto& b = std::get<I>(pair_buckets_);
@@ -237,8 +241,7 @@ void Simulation<D>::install_share(Particles<D> share, const std::vector<std::str
   // Kept ones first: the entries a packing would have given (those in contact
   // at the last step), moved instead of packed. A contact both kept and
   // arrived is the same bits on both sides, so whichever is found first will do.
-  const bool any_slots = slot_in_contact_.size() == slot_count_;
-  auto in_contact = [&](std::size_t slot) { return !any_slots || slot_in_contact_[slot] != 0; };
+  auto in_contact = [&](std::size_t slot) { return touched(slot_in_contact_, slot_count_, slot); };
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
     auto& b = std::get<I>(pair_buckets_);

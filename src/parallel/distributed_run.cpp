@@ -217,14 +217,18 @@ void DistributedRun<D>::cut(const std::vector<double>& cost, bool whole_scene_he
 }
 
 template <int D>
-void DistributedRun<D>::take_records(const std::vector<std::uint8_t>* only) {
-  const std::vector<std::string> histories = sim_.pack_histories(only);
+void DistributedRun<D>::take_states() {
   const Particles<D>& p = sim_.share();
   for (std::size_t k = 0; k < owned_.size(); ++k) {
     ParticleRecord<D>& r = owned_[k];
     r.position = p.position[k], r.velocity = p.velocity[k], r.spin = p.spin[k];
-    r.payload = histories[k];
   }
+}
+
+template <int D>
+void DistributedRun<D>::take_histories(const std::vector<std::uint8_t>* only) {
+  std::vector<std::string> histories = sim_.pack_histories(only);
+  for (std::size_t k = 0; k < owned_.size(); ++k) owned_[k].payload = std::move(histories[k]);
 }
 
 template <int D>
@@ -236,8 +240,7 @@ void DistributedRun<D>::redistribute() {
     return;
   }
   // The states now; the histories below, once it is known who leaves.
-  const std::vector<std::uint8_t> none(owned_.size(), 0);
-  take_records(&none);
+  take_states();
   sync_bonds();
   // Re-cut when the costliest share has grown past the threshold over the mean
   // (the shares' costs summed in a fixed order, so every rank decides alike).
@@ -258,7 +261,7 @@ void DistributedRun<D>::redistribute() {
   bool any_leaving = false;
   for (std::size_t k = 0; k < owned_.size(); ++k)
     if (d_.owner(owned_[k].position) != rank_) leaving[k] = 1, any_leaving = true;
-  if (any_leaving) take_records(&leaving);
+  if (any_leaving) take_histories(&leaving);
   migrated_ += static_cast<std::int64_t>(migrate(d_, owned_, comm_));
   ghosts_ = exchange_ghosts(d_, reach_, owned_, comm_, plan_, Images::wrapped);
   install(true);

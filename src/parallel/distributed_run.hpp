@@ -107,9 +107,11 @@ class DistributedRun {
   // `cost`: each stored particle's (stored_costs), every particle's when this
   // rank holds the whole scene, else the owned ones'.
   void cut(const std::vector<double>& cost, bool whole_scene_here);
-  // owned_ from the share, with the histories as payloads (with `only`, just
-  // those of the particles it marks)
-  void take_records(const std::vector<std::uint8_t>* only = nullptr);
+  // owned_'s states from the share, and its payloads: the packed histories
+  // (with `only`, those of the particles it marks; the others' left empty).
+  void take_states();
+  void take_histories(const std::vector<std::uint8_t>* only = nullptr);
+  void take_records() { take_states(), take_histories(); }
   // What a particle costs a step, in units of a particle without contacts: its
   // own integration and checks (1), and its share of each of its contacts (a
   // pair's force is computed once per pair on one rank; each contact costs

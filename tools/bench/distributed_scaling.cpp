@@ -40,41 +40,41 @@ double setting(const char* name, double fallback) {
   return v ? std::atof(v) : fallback;
 }
 
-// A periodic shear cell: spheres on a lattice SPACING radii apart (default
-// 1.95: a dense packing, 5 % overlapping at the start), periodic along x, held
-// between side walls in y and two plates in z that slide along x at
-// +-WALL_SPEED (default 0.5 m/s), no gravity. After the start's overlaps have
-// relaxed the cell shears in a steady state: the contacts, the rebuild rate
-// and the particles crossing the x cuts stay level, so that a short timed
-// window measures what a long run would.
-void shear_cell(Simulation<3>& sim, int nx, int ny, int nz) {
+// The spheres' material and linear law with friction, and the walls'.
+void linear_materials(Simulation<3>& sim) {
   sim.set_warning_handler([](const std::string&) {});
   sim.add_material({"p", 2500, 0, 0, 0});
   sim.add_material({"w", 0, 0, 0, 0});
   const ParamValues law{{"k_normal", 2e3}, {"restitution", 0.5}, {"friction", 0.4}};
   sim.set_contact("p", "p", "linear", law);
   sim.set_contact("p", "w", "linear", law);
-  const double r = 0.5e-3, spacing = setting("SPACING", 1.95) * r;
-  const double speed = setting("WALL_SPEED", 0.5);
-  sim.set_periodic(0, 0.0, nx * spacing);
-  const int count[3] = {nx, ny, nz};
-  for (int axis = 1; axis < 3; ++axis) {
-    WallSpec lo, hi;
-    lo.name = "lo" + std::to_string(axis), hi.name = "hi" + std::to_string(axis);
-    lo.material = hi.material = 1;
-    lo.normal = hi.normal = {0, 0, 0};
-    lo.normal[axis] = 1, hi.normal[axis] = -1;
-    lo.point = {0, 0, 0}, hi.point = {0, 0, 0};
-    lo.point[axis] = 0, hi.point[axis] = count[axis] * spacing;
-    if (axis == 2) lo.velocity = {-speed, 0, 0}, hi.velocity = {speed, 0, 0};
-    sim.add_wall(lo), sim.add_wall(hi);
-  }
+}
+
+// Two planes facing each other across `axis`, at `lo` and `hi` along it,
+// moving at `lo_velocity` and `hi_velocity` (in their planes).
+void wall_pair(Simulation<3>& sim, int axis, double lo_at, double hi_at,
+               const Triple& lo_velocity = {}, const Triple& hi_velocity = {}) {
+  WallSpec lo, hi;
+  lo.name = "lo" + std::to_string(axis), hi.name = "hi" + std::to_string(axis);
+  lo.material = hi.material = 1;
+  lo.normal = hi.normal = {0, 0, 0};
+  lo.normal[axis] = 1, hi.normal[axis] = -1;
+  lo.point = {0, 0, 0}, hi.point = {0, 0, 0};
+  lo.point[axis] = lo_at, hi.point[axis] = hi_at;
+  lo.velocity = lo_velocity, hi.velocity = hi_velocity;
+  sim.add_wall(lo), sim.add_wall(hi);
+}
+
+// Spheres of radius r on an nx x ny x nz lattice, `spacing` apart, the first
+// at (offset, offset, offset) * spacing, with random velocities of up to
+// 0.05 m/s along each axis.
+void lattice(Simulation<3>& sim, int nx, int ny, int nz, double r, double spacing, double offset) {
   Random rng(7);
   for (int a = 0; a < nx; ++a)
     for (int b = 0; b < ny; ++b)
       for (int c = 0; c < nz; ++c) {
         ParticleSpec s;
-        s.position = {(a + 0.5) * spacing, (b + 0.5) * spacing, (c + 0.5) * spacing};
+        s.position = {(a + offset) * spacing, (b + offset) * spacing, (c + offset) * spacing};
         s.radius = r;
         s.material = 0;
         for (int d = 0; d < 3; ++d) s.velocity[d] = rng.uniform(-0.05, 0.05);
@@ -83,43 +83,34 @@ void shear_cell(Simulation<3>& sim, int nx, int ny, int nz) {
   sim.set_threads(1);
 }
 
+// A periodic shear cell: spheres on a lattice SPACING radii apart (default
+// 1.95: a dense packing, 5 % overlapping at the start), periodic along x, held
+// between side walls in y and two plates in z that slide along x at
+// +-WALL_SPEED (default 0.5 m/s), no gravity. After the start's overlaps have
+// relaxed the cell shears in a steady state: the contacts, the rebuild rate
+// and the particles crossing the x cuts stay level, so that a short timed
+// window measures what a long run would.
+void shear_cell(Simulation<3>& sim, int nx, int ny, int nz) {
+  linear_materials(sim);
+  const double r = 0.5e-3, spacing = setting("SPACING", 1.95) * r;
+  const double speed = setting("WALL_SPEED", 0.5);
+  sim.set_periodic(0, 0.0, nx * spacing);
+  wall_pair(sim, 1, 0, ny * spacing);
+  wall_pair(sim, 2, 0, nz * spacing, {-speed, 0, 0}, {speed, 0, 0});
+  lattice(sim, nx, ny, nz, r, spacing, 0.5);
+}
+
 // SCENE=burst: the lattice box of spheres 1.98 radii apart in a closed box
 // with gravity, jostled by random velocities: a transient (the start's
 // overlaps burst, the spheres fly, collide and cool), whose cost per particle
 // falls twenty-fold within a few thousand steps while the cut follows it.
 void burst_box(Simulation<3>& sim, int nx, int ny, int nz) {
-  sim.set_warning_handler([](const std::string&) {});
-  sim.add_material({"p", 2500, 0, 0, 0});
-  sim.add_material({"w", 0, 0, 0, 0});
-  const ParamValues law{{"k_normal", 2e3}, {"restitution", 0.5}, {"friction", 0.4}};
-  sim.set_contact("p", "p", "linear", law);
-  sim.set_contact("p", "w", "linear", law);
+  linear_materials(sim);
   const double r = 0.5e-3, spacing = 1.98 * r;
   const double extent[3] = {nx * spacing, ny * spacing, 2 * nz * spacing};
-  for (int axis = 0; axis < 3; ++axis) {
-    WallSpec lo, hi;
-    lo.name = "lo" + std::to_string(axis), hi.name = "hi" + std::to_string(axis);
-    lo.material = hi.material = 1;
-    lo.normal = hi.normal = {0, 0, 0};
-    lo.normal[axis] = 1, hi.normal[axis] = -1;
-    lo.point = {-r, -r, -r};
-    hi.point = {0, 0, 0};
-    hi.point[axis] = extent[axis];
-    sim.add_wall(lo), sim.add_wall(hi);
-  }
-  Random rng(7);
-  for (int a = 0; a < nx; ++a)
-    for (int b = 0; b < ny; ++b)
-      for (int c = 0; c < nz; ++c) {
-        ParticleSpec s;
-        s.position = {a * spacing, b * spacing, c * spacing};
-        s.radius = r;
-        s.material = 0;
-        for (int d = 0; d < 3; ++d) s.velocity[d] = rng.uniform(-0.05, 0.05);
-        sim.add_particle(s);
-      }
+  for (int axis = 0; axis < 3; ++axis) wall_pair(sim, axis, -r, extent[axis]);
+  lattice(sim, nx, ny, nz, r, spacing, 0);
   sim.set_gravity({0, 0, -9.81});
-  sim.set_threads(1);
 }
 
 // The scene SCENE names (default shear).
