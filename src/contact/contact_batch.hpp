@@ -13,9 +13,10 @@
 //   static void force_batch(const Params* const lanes[], BatchHistory3&, ContactBatch<3>&);
 // (each lane's parameters: the contacts of a batch may belong to different
 // material pairs); in 2D the same with `BatchHistory2` and ContactBatch<2>.
-// The engine then uses it for particle pairs in that dimension (PairKernel,
-// kernel/pair_kernel.hpp); wall contacts and models without it take the
-// per-contact force(). A model whose law reads inv_mass_sum only on some
+// The engine then uses it in that dimension for particle pairs (PairKernel,
+// kernel/pair_kernel.hpp) and for particles against walls (WallKernel,
+// kernel/wall_batch.hpp: there inv_mass_sum is 1/m of the particle); models
+// without it take the per-contact force(). A model whose law reads inv_mass_sum only on some
 // steps of a contact (the linear law: once, when it first touches) may say so
 // with `static bool batch_needs_mass(const History<D>&)`: on the other steps the
 // engine leaves the lane's inv_mass_sum at 1 and does not fetch the particles'

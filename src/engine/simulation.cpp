@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numeric>
 #include <type_traits>
@@ -115,16 +116,17 @@ void Simulation<D>::step() {
     using M = ContactModelAt<I>;
     auto& wb = std::get<I>(wall_buckets_);
     if (!wb.size()) return;
-    const WallStep<D> at{p_,    walls_,
-                         dt_,   slot_in_contact_.data() + wb.offset,
-                         &log_, policy.wall_team(static_cast<std::int64_t>(wb.size()), fused_),
-                         fused_};
+    const WallStep<D> at{p_,     walls_,
+                         dt_,    slot_in_contact_.data() + wb.offset,
+                         &log_,  policy.wall_team(static_cast<std::int64_t>(wb.size()), fused_),
+                         fused_, batched_contacts_};
     if (observed)
       WallKernel<D, M>::template run<true>(wb, pairs_.params<I>(), at, wall_tally);
     else
       WallKernel<D, M>::template run<false>(wb, pairs_.params<I>(), at, wall_tally);
   });
   contacts_wall_ = wall_tally.touching;
+  contacts_wall_batched_ = wall_tally.batched;
   max_overlap_ratio_ = std::max(pair_overlap_ratio, wall_tally.max_ratio);
   stage_times_.walls += seconds_since(walls_start);
   // The reactions on the walls (the inner-piece force of 4.4.1), summed in
@@ -283,9 +285,14 @@ void Simulation<D>::zero_forces() {
   ForceTorque<D>* const load = p_.force_torque.data();
   const std::int64_t n = static_cast<std::int64_t>(p_.size());
   const ThreadPolicy policy = thread_policy();
-  over_particles(
-      !fused_ && policy.particles_parallel(n), policy.threads, n,
-      [&](std::int64_t lo, std::int64_t hi) { std::fill(load + lo, load + hi, ForceTorque<D>{}); });
+  over_particles(!fused_ && policy.particles_parallel(n), policy.threads, n,
+                 [&](std::int64_t lo, std::int64_t hi) {
+                   // ForceTorque is doubles alone, and a double of zero bits is 0.0: one
+                   // memset rather than a store per member (the pads too, which the
+                   // batched pair loop needs at zero).
+                   std::memset(static_cast<void*>(load + lo), 0,
+                               static_cast<std::size_t>(hi - lo) * sizeof(ForceTorque<D>));
+                 });
 }
 
 // The reactions on the walls (the inner-piece force of 4.4.1), in slot order

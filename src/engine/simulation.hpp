@@ -333,6 +333,7 @@ class Simulation final : public SimulationBase {
   double prune_distance() const { return 0.25 * skin_; }
   // per-step counters
   std::int64_t contacts_particle_ = 0, contacts_wall_ = 0, contacts_batched_ = 0;
+  std::int64_t contacts_wall_batched_ = 0;
   std::int64_t candidates_visited_ = 0;  // by the pair loops' listing passes
   double max_overlap_ratio_ = 0;
   std::size_t non_finite_index_ = SIZE_MAX;

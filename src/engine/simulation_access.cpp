@@ -173,6 +173,7 @@ GlobalStats Simulation<D>::stats() const {
   g.momentum = to_triple(momentum);
   g.contacts_particle = contacts_particle_;
   g.contacts_batched = contacts_batched_;
+  g.contacts_wall_batched = contacts_wall_batched_;
   g.contacts_wall = contacts_wall_;
   g.max_overlap_ratio = max_overlap_ratio_;
   g.candidate_pairs = static_cast<std::int64_t>(slot_count_);

@@ -131,6 +131,7 @@ struct GlobalStats {
   // of contacts_particle, those a model's batched kernel computed (3D pairs:
   // contact/contact_batch.hpp); the rest went one at a time
   std::int64_t contacts_batched = 0;
+  std::int64_t contacts_wall_batched = 0;  // of contacts_wall, likewise
   double max_overlap_ratio = 0;      // largest overlap / smaller radius in the last step
   std::int64_t candidate_pairs = 0;  // neighbour-list entries (pairs and walls) within the skin
   std::int64_t list_rebuilds = 0;    // neighbour-list rebuilds since the start

@@ -98,8 +98,9 @@ struct Wall {
   // surface velocity at the contact point and the lever arm from the axis
   // (for the reaction torque); and R* (effective_radius below) where asked, from
   // the same closest point on a finite wall.
-  double contact(const V& x, double r, V& n, V& surface_velocity, V& lever,
-                 double* effective_radius_out = nullptr) const {
+  // Inlined into the wall loop, which calls it for every candidate.
+  [[gnu::always_inline]] double contact(const V& x, double r, V& n, V& surface_velocity, V& lever,
+                                        double* effective_radius_out = nullptr) const {
     if (finite()) {
       const Nearest<D> c = nearest(x);
       if (effective_radius_out)

@@ -5,12 +5,16 @@
 // one thread. The reactions on the walls (the inner-piece force of 4.4.1) are
 // summed at once on one thread ("fused"); on more, each contact leaves its
 // part in its thread's list and scatter_reactions() sums them in slot order.
+// For a model with force_batch in this dimension (contact_batch.hpp) the
+// contacts go through the law in batches of lanes (wall_batch.hpp), as the
+// pair kernel's do.
 #pragma once
 
 #include <cstdint>
 #include <limits>
 #include <vector>
 
+#include "contact/contact_batch.hpp"
 #include "contact/contact_state.hpp"
 #include "contact/rolling.hpp"
 #include "core/particles.hpp"
@@ -18,6 +22,7 @@
 #include "hooks/contact_log.hpp"
 #include "kernel/buckets.hpp"
 #include "kernel/team.hpp"
+#include "kernel/wall_batch.hpp"
 
 namespace granule {
 
@@ -31,11 +36,13 @@ struct WallStep {
   ContactLog<D>* log;        // written when Observed
   int team;                  // threads (ThreadPolicy::wall_team)
   bool fused;                // reactions summed at once (one thread)
+  bool batched;              // the batched force pass where the model has one
 };
 
 struct WallTally {
   std::int64_t touching = 0;
-  double max_ratio = 0;  // deepest overlap / radius
+  std::int64_t batched = 0;  // of which by the batched pass
+  double max_ratio = 0;      // deepest overlap / radius
 };
 
 template <int D, typename M>
@@ -127,7 +134,7 @@ void WallKernel<D, M>::run(WallBucket<D, M>& b, const std::vector<typename M::Pa
     V* const out_force = list.force.data();
     double* const out_axial = list.axial.data();
     const bool prefetch = count >= wall_prefetch_min_candidates;
-    for (std::int64_t k = begin; k < end; ++k) {
+    auto prefetch_ahead = [&](std::int64_t k) __attribute__((always_inline)) {
       if (prefetch && k + wall_prefetch_distance < end) {
         const std::uint32_t ahead = bp[k + wall_prefetch_distance];
         __builtin_prefetch(&x[ahead]);
@@ -136,15 +143,17 @@ void WallKernel<D, M>::run(WallBucket<D, M>& b, const std::vector<typename M::Pa
         __builtin_prefetch(&w_spin[ahead]);
         __builtin_prefetch(&load[ahead], 1);
       }
+    };
+    // Candidate k's geometry, from the wall (or, for a mesh, as
+    // resolve_mesh_contacts found it this step); false when it does not touch
+    // (its history cleared if it did), else it is listed.
+    auto find = [&](std::int64_t k, V & n, V & surface_velocity, V & lever, double& overlap,
+                    double& r_star, std::size_t& e) __attribute__((always_inline)) {
       const std::uint32_t i = bp[k];
       const Wall<D>& w = walls[bw[k]];
-      const typename M::Params& par = par_of[bslot[k]];
-      History& h = hist[k];
-      V n, surface_velocity, lever;
-      double overlap;
       // R* only for a law that reads it (contact_state.hpp), from the contact's own
       // closest point (a mesh's faces count as flat, a polyline's arcs as circles).
-      double r_star = std::numeric_limits<double>::quiet_NaN();
+      r_star = std::numeric_limits<double>::quiet_NaN();
       if (is_surface_wall(w.type)) {  // found this step by resolve_mesh_contacts
         const WallTouch<D>& t = touch[k];
         n = t.normal, surface_velocity = t.surface_velocity, lever = t.lever;
@@ -154,16 +163,93 @@ void WallKernel<D, M>::run(WallBucket<D, M>& b, const std::vector<typename M::Pa
         overlap = w.contact(x[i], radius[i], n, surface_velocity, lever,
                             uses_effective_radius<M>::value ? &r_star : nullptr);
       }
-      if (!M::touching(par, h, overlap)) {
+      if (!M::touching(par_of[bslot[k]], hist[k], overlap)) {
         if (in_contact[k]) {
-          h = History{};
+          hist[k] = History{};
           in_contact[k] = 0;
         }
-        continue;
+        return false;
       }
       in_contact[k] = 1;
-      const std::size_t e = list.count;  // this contact's place in the list
+      e = list.count;  // this contact's place in the list
       list.push(static_cast<std::uint32_t>(k) << 1 | 1u);
+      return true;
+    };
+    constexpr bool batchable = has_force_batch<M, D>::value && !has_rolling<M>::value;
+    if constexpr (batchable) {
+      if (step.batched) {
+        // The contacts' geometry found one by one, their laws computed lane by
+        // lane (wall_batch.hpp), the results added in slot order.
+        WallBatch<D, M> batch;
+        batch.c.dt = dt;
+        auto flush = [&]() {
+          batch.pad();
+          batch.kinematics();
+          M::force_batch(batch.params, batch.history, batch.c);
+          batch.totals();
+          double worst = max_ratio;
+          for (int l = 0; l < batch.count; ++l) {
+            const std::uint32_t k = batch.k[l], i = batch.i[l], wall = batch.wall[l];
+            batch.history.store(l, hist[k]);
+            const V total = batch.total(l);
+            load[i].force += total;
+            load[i].torque += batch.torque(l);
+            const double axial = walls[wall].axial_moment(batch.lever(l), total);
+            if (fused) {
+              Wall<D>& reacting = reacting_walls[wall];
+              reacting.force -= total;
+              reacting.axial_torque -= axial;
+            } else {
+              const std::uint32_t e = batch.entry[l];
+              out_b[e] = wall;
+              out_force[e] = total;
+              out_axial[e] = axial;
+            }
+            const double overlap = batch.c.overlap[l], r = batch.r[l];
+            if (overlap > worst * r) worst = overlap / r;
+            if constexpr (Observed) {
+              const V n = batch.normal(l);
+              log->record(offset + k, static_cast<std::int32_t>(i),
+                          -1 - static_cast<std::int32_t>(wall), overlap, batch.c.normal_force[l],
+                          batch.c.normal_velocity[l], n, batch.tangential_force(l),
+                          x[i] - (r - overlap) * n);
+            }
+          }
+          max_ratio = worst;
+          touching += batch.count;
+          batch.count = 0;
+        };
+        for (std::int64_t k = begin; k < end; ++k) {
+          prefetch_ahead(k);
+          V n, surface_velocity, lever;
+          double overlap, r_star;
+          std::size_t e;
+          if (!find(k, n, surface_velocity, lever, overlap, r_star, e)) continue;
+          const std::uint32_t i = bp[k];
+          const int l = batch.count++;
+          batch.k[l] = static_cast<std::uint32_t>(k), batch.i[l] = i, batch.wall[l] = bw[k];
+          batch.entry[l] = static_cast<std::uint32_t>(e);
+          batch.params[l] = &par_of[bslot[k]];
+          batch.gather_lane(l, n, overlap, surface_velocity, v[i], w_spin[i], radius[i],
+                            inv_mass[i], r_star, lever, hist[k]);
+          if (batch.count == batch.lanes) flush();
+        }
+        if (batch.count) flush();
+        touching_out += touching;
+        if (max_ratio > max_ratio_out) max_ratio_out = max_ratio;
+        return;
+      }
+    }
+    for (std::int64_t k = begin; k < end; ++k) {
+      prefetch_ahead(k);
+      V n, surface_velocity, lever;
+      double overlap, r_star;
+      std::size_t e;
+      if (!find(k, n, surface_velocity, lever, overlap, r_star, e)) continue;
+      const std::uint32_t i = bp[k];
+      const Wall<D>& w = walls[bw[k]];
+      const typename M::Params& par = par_of[bslot[k]];
+      History& h = hist[k];
       ContactState<D> c;
       c.dt = dt;
       c.normal = n;
@@ -223,6 +309,8 @@ void WallKernel<D, M>::run(WallBucket<D, M>& b, const std::vector<typename M::Pa
   };
   run_on_team(team, work, touching, max_ratio);
   tally.touching += touching;
+  if (has_force_batch<M, D>::value && !has_rolling<M>::value && step.batched)
+    tally.batched += touching;
   if (max_ratio > tally.max_ratio) tally.max_ratio = max_ratio;
 }
 

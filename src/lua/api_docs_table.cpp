@@ -20,7 +20,7 @@ std::vector<FunctionDoc> make_entries() {
 // Text written from the model registry; static, as the entries point into it.
 static const std::string model_names = contact_model_names(" | ");
 static const std::string stats_doc = fmt::format(
- "Global quantities now (J, kg m/s, kg m^2/s); contacts_batched: of contacts_particle, those a batched (vectorised) contact kernel computed (pairs of a law that has one: in 3D {}; in 2D {}), candidate_pairs: neighbour-list entries within the skin, list_rebuilds: rebuilds so far, thread_rebalances: times the threads' shares of the pair contacts were moved to even out their work, pair_list_prunes: times a pair list was pruned (sim:set pruning), pair_candidates_visited: pair candidates the last step's contact loop looked at (fewer than the pair candidates while pruned lists are in use).",
+ "Global quantities now (J, kg m/s, kg m^2/s); contacts_batched: of contacts_particle, those a batched (vectorised) contact kernel computed (pairs of a law that has one: in 3D {}; in 2D {}), contacts_wall_batched: of contacts_wall, those the same kernels computed, candidate_pairs: neighbour-list entries within the skin, list_rebuilds: rebuilds so far, thread_rebalances: times the threads' shares of the pair contacts were moved to even out their work, pair_list_prunes: times a pair list was pruned (sim:set pruning), pair_candidates_visited: pair candidates the last step's contact loop looked at (fewer than the pair candidates while pruned lists are in use).",
  batched_model_names(", ", 3), batched_model_names(", ", 2));
 return {
 // ---- globals ----
@@ -384,7 +384,7 @@ return {
 
 // ---- queries ----
 {"sim:stats", "simulation", P,
- "sim:stats() -> { time =, step =, particles =, kinetic_energy =, kinetic_energy_translational =, kinetic_energy_rotational =, momentum =, angular_momentum_z =, contacts_particle =, contacts_batched =, contacts_wall =, max_overlap_ratio =, candidate_pairs =, list_rebuilds =, thread_rebalances =, pair_list_prunes =, pair_candidates_visited = }",
+ "sim:stats() -> { time =, step =, particles =, kinetic_energy =, kinetic_energy_translational =, kinetic_energy_rotational =, momentum =, angular_momentum_z =, contacts_particle =, contacts_batched =, contacts_wall =, contacts_wall_batched =, max_overlap_ratio =, candidate_pairs =, list_rebuilds =, thread_rebalances =, pair_list_prunes =, pair_candidates_visited = }",
  stats_doc.c_str(),
  {}, ""},
 {"sim:arrays", "simulation", P, "sim:arrays() -> P: P.x[i], P.vx[i], ..., #P",

@@ -129,6 +129,8 @@ int l_stats(lua_State* L) {
     lua_setfield(L, -2, "contacts_particle");
     lua_pushinteger(L, g.contacts_batched);
     lua_setfield(L, -2, "contacts_batched");
+    lua_pushinteger(L, g.contacts_wall_batched);
+    lua_setfield(L, -2, "contacts_wall_batched");
     lua_pushinteger(L, g.contacts_wall);
     lua_setfield(L, -2, "contacts_wall");
     set("max_overlap_ratio", g.max_overlap_ratio);
