@@ -77,7 +77,10 @@ void Simulation<D>::step() {
   // Pruned pair lists are noted afresh once two particles may have closed the
   // prune distance between them, each having moved at most prune_travel_.
   prune_due_ = !(2 * prune_travel_ < prune_distance());
-  if (prune_due_) prune_travel_ = 0;
+  if (prune_due_) {
+    if (pruning_) tune_prune_distance();
+    prune_travel_ = 0;
+  }
   PairTally pairs;
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
@@ -102,6 +105,8 @@ void Simulation<D>::step() {
   contacts_particle_ = pairs.touching;
   contacts_batched_ = pairs.batched;
   candidates_visited_ = pairs.visited;
+  prune_cycle_visited_ += pairs.visited;
+  ++prune_cycle_steps_;
   prunes_ += pairs.prunes;
   rebalances_ += pairs.rebalances;
   stage_times_.scatter += pairs.scatter_seconds;
@@ -326,6 +331,7 @@ void Simulation<D>::integrate() {
   max_displacement_sq_ = result.max_displacement_sq;
   // The fastest particle moved at most |v| dt: what pruning needs (PrunedLists).
   prune_travel_ += std::sqrt(result.fastest_speed_sq) * dt_;
+  last_fastest_speed_sq_ = result.fastest_speed_sq;
   const std::int64_t bad = result.first_non_finite;
   if (bad != std::numeric_limits<std::int64_t>::max() && non_finite_index_ == SIZE_MAX)
     non_finite_index_ = static_cast<std::size_t>(bad);
@@ -368,6 +374,29 @@ void Simulation<D>::build_slots() {
   // Every slot counts as possibly in contact until its first step: one that is
   // not touching then clears the history it may have carried over.
   slot_in_contact_.assign(slots, 1);
+}
+
+// At a global prune: the cycle that ends here, if it ran from one global prune
+// to the next (not cut short by a list rebuild, whose fresh lists are pruned
+// at once), visited so many candidates per step. Worse than the cycle before
+// it: the fraction's last move was the wrong way, so it turns. The fraction
+// moves by a quarter between 1/32 and 1/4 of the skin. In a slow flow the
+// prunes are rare and a near distance pays (the 2D Mechanofusion base case
+// visits ~30 % fewer candidates at 1/16 than at 1/4); in a fast one the
+// prunes come every few steps and a farther one does (docs/performance.md).
+template <int D>
+void Simulation<D>::tune_prune_distance() {
+  constexpr double nearest = 1.0 / 32, farthest = 0.25, factor = 1.25;
+  if (std::isfinite(prune_travel_) && prune_cycle_steps_ > 0) {
+    const double cost =
+        static_cast<double>(prune_cycle_visited_) / static_cast<double>(prune_cycle_steps_);
+    if (prune_cycle_cost_ >= 0 && cost >= prune_cycle_cost_) prune_direction_ = -prune_direction_;
+    prune_cycle_cost_ = cost;
+    prune_fraction_ *= prune_direction_ < 0 ? 1 / factor : factor;
+    if (prune_fraction_ <= nearest) prune_fraction_ = nearest, prune_direction_ = 1;
+    if (prune_fraction_ >= farthest) prune_fraction_ = farthest, prune_direction_ = -1;
+  }
+  prune_cycle_steps_ = prune_cycle_visited_ = 0;
 }
 
 template <int D>

@@ -3,6 +3,7 @@
 // contacts per model, integration, hooks.
 #pragma once
 
+#include <cmath>
 #include <optional>
 #include <tuple>
 #include <vector>
@@ -141,6 +142,17 @@ class Simulation final : public SimulationBase {
   void set_external_rebuilds(bool on) { external_rebuilds_ = on; }
   // The lists need rebuilding before the next step (on this rank's share).
   bool lists_due() const { return !lists_valid_ || lists_stale(); }
+  // On the ranks of a distributed run the particles of other ranks are ghosts,
+  // which this rank does not integrate, so its last step's fastest speed
+  // (m^2/s^2) is its own particles'. DistributedRun::advance hands every
+  // rank the fastest of all, and the pruned lists' travel takes that: a
+  // ghost must not close the prune distance unseen.
+  double last_fastest_speed_sq() const { return last_fastest_speed_sq_; }
+  void widen_prune_travel(double fastest_speed_sq_anywhere) {
+    if (fastest_speed_sq_anywhere > last_fastest_speed_sq_)
+      prune_travel_ +=
+          (std::sqrt(fastest_speed_sq_anywhere) - std::sqrt(last_fastest_speed_sq_)) * dt_;
+  }
   // The farthest centre distance at which two particles can interact before
   // the next rebuild: twice the largest radius, the skin and the adhesive reach.
   double interaction_reach() const;
@@ -328,9 +340,20 @@ class Simulation final : public SimulationBase {
   // lists were last pruned all at once (the fastest speed of each step times
   // dt, summed), whether this step prunes them all, and how many prunes so far.
   double prune_travel_ = 0;
+  double last_fastest_speed_sq_ = 0;  // m^2/s^2, of the particles this rank integrates
   bool prune_due_ = true;
   std::int64_t prunes_ = 0;
-  double prune_distance() const { return 0.25 * skin_; }
+  // The prune distance, a fraction of the skin tuned as the run goes
+  // (tune_prune_distance): the nearer, the fewer candidates the pruned lists
+  // keep, but the sooner the particles may close it and all are noted again.
+  // The candidates visited per step over each cycle between global prunes
+  // judge the last move of the fraction. None of it changes a result.
+  double prune_fraction_ = 0.25;
+  int prune_direction_ = -1;  // the fraction's next move: -1 nearer, +1 farther
+  std::int64_t prune_cycle_steps_ = 0, prune_cycle_visited_ = 0;
+  double prune_cycle_cost_ = -1;  // visited per step over the last whole cycle; -1: none yet
+  double prune_distance() const { return prune_fraction_ * skin_; }
+  void tune_prune_distance();
   // per-step counters
   std::int64_t contacts_particle_ = 0, contacts_wall_ = 0, contacts_batched_ = 0;
   std::int64_t contacts_wall_batched_ = 0;

@@ -132,7 +132,7 @@ struct GlobalStats {
   // contact/contact_batch.hpp); the rest went one at a time
   std::int64_t contacts_batched = 0;
   std::int64_t contacts_wall_batched = 0;  // of contacts_wall, likewise
-  double max_overlap_ratio = 0;      // largest overlap / smaller radius in the last step
+  double max_overlap_ratio = 0;            // largest overlap / smaller radius in the last step
   std::int64_t candidate_pairs = 0;  // neighbour-list entries (pairs and walls) within the skin
   std::int64_t list_rebuilds = 0;    // neighbour-list rebuilds since the start
   // times the threads' shares of the pair contacts were moved to even out their
@@ -284,9 +284,11 @@ class SimulationBase {
   // one contact at a time: the same results to round-off (tests compare the two).
   void set_batched_contacts(bool on) { batched_contacts_ = on; }
   // Pruned pair lists (default on): between prunes the contact loop's listing
-  // pass visits only the candidates that were within a quarter of the skin of
+  // pass visits only the candidates that were within the prune distance of
   // touching (or in contact) when last pruned, and no particle can have closed
-  // that gap since. The results are the same bit for bit either way.
+  // that gap since. The distance, 1/32 to 1/4 of the skin, is tuned as the run
+  // goes (Simulation::tune_prune_distance). The results are the same bit for
+  // bit either way.
   void set_pruning(bool on) { pruning_ = on; }
   // Canonical order (default off): at each neighbour-list rebuild the pair
   // candidates are sorted by (lower id, higher id) and the wall candidates by

@@ -259,7 +259,7 @@ return {
   {"time_step", "number", "s", false, "fixed time step; 0 = the automatic rule"},
   {"steps_per_contact", "number", "-", false, "n of Eq. 4.1"},
   {"threads", "integer", "", false, "threads; 0 = OMP_NUM_THREADS, else 1"},
-  {"pruning", "boolean", "", false, "prune the pair lists between rebuilds (default true): the contact loop then visits only candidates within a quarter of the skin of touching; the same results bit for bit"},
+  {"pruning", "boolean", "", false, "prune the pair lists between rebuilds (default true): the contact loop then visits only candidates within the prune distance of touching (1/32 to 1/4 of the skin, tuned as the run goes); the same results bit for bit"},
   {"canonical_order", "boolean", "", false, "sum every particle's contacts, the reactions on the walls and stats() in particle-id order (default false): results bit-identical whatever order the particles are stored in; costs a sort per list rebuild and some cache locality (docs/parallel.md); kept by checkpoints"}},
  "{ skin = 1e-4 }"},
 {"sim:prepare", "simulation", P, "sim:prepare()",

@@ -330,9 +330,13 @@ void DistributedRun<D>::advance(std::int64_t steps) {
   for (std::int64_t s = 0; s < steps; ++s) {
     auto t0 = Clock::now();
     // One rank's rule, over every rank: rebuild when any particle anywhere moved
-    // half the skin.
-    int due = sim_.lists_due() ? 1 : 0, any = 0;
-    MPI_Allreduce(&due, &any, 1, MPI_INT, MPI_MAX, comm_);
+    // half the skin. With it the fastest speed anywhere in the last step, for
+    // the pruned lists' travel (a ghost moves as fast as its owner lets it).
+    const double mine[2] = {sim_.lists_due() ? 1.0 : 0.0, sim_.last_fastest_speed_sq()};
+    double anywhere[2] = {0, 0};
+    MPI_Allreduce(mine, anywhere, 2, MPI_DOUBLE, MPI_MAX, comm_);
+    const bool any = anywhere[0] > 0;
+    sim_.widen_prune_travel(anywhere[1]);
     auto t1 = Clock::now();
     times_.waiting += std::chrono::duration<double>(t1 - t0).count();
     if (any) {
