@@ -45,6 +45,9 @@ struct HertzMindlin {
 
   struct Params {
     double young_eff, shear_eff, damping, friction;  // E*, G*, b (>= 0), mu
+    // c_t / c_n = sqrt(S_t / S_n) = sqrt(4 G* / E*): the tangential dashpot
+    // from the normal one without a second root per contact.
+    double tangential_dashpot_ratio;
   };
 
   // Rebound speed of the dimensionless damped Hertz impact x'' = -x^1.5 - sqrt(5) b x^0.25 x',
@@ -97,6 +100,7 @@ struct HertzMindlin {
     const double inv_g = (2 - m.a.poisson) / ga + (2 - m.b.poisson) / gb;  // Mindlin's G*
     p.young_eff = 1 / inv_e;
     p.shear_eff = 1 / inv_g;
+    p.tangential_dashpot_ratio = std::sqrt(4 * p.shear_eff / p.young_eff);
     p.friction = v.at("friction");
     p.damping = damping_for(v.at("restitution"), v.at("calibrate_restitution") != 0);
     return p;
@@ -135,20 +139,24 @@ struct HertzMindlin {
     // rebound as e falls (39 % short at e = 0.02 and 5 m/s with the default
     // step); solved, the rebound is e to 1 % for e = 0.02-1 over four decades
     // of speed (tests/contact/test_hertz_mindlin.cpp).
+    // (dt / m* as dt (1/m_i + 1/m_j), and below S_t's damping as c_n times a
+    // constant and one division by S_t: the batched law's divider is its
+    // bottleneck, and both paths keep one form.)
     const double c_n = damp * std::sqrt(s_n * c.effective_mass);
     double normal = ((2.0 / 3.0) * s_n * c.overlap + c_n * c.normal_velocity) /
-                    (1 + 0.5 * c_n * c.dt / c.effective_mass);
+                    (1 + 0.5 * c_n * c.dt * c.inv_mass_sum);
     if (normal < 0) normal = 0;
     out.normal = normal;
     const double s_t = 8 * p.shear_eff * root;
     Vec<D> slip = rotate_onto_plane<D>(h.slip, c.normal) + c.tangential_velocity * c.dt;
-    const double c_t = damp * std::sqrt(s_t * c.effective_mass);
+    const double c_t = c_n * p.tangential_dashpot_ratio;  // damp sqrt(S_t m*)
     Vec<D> t = s_t * slip + c_t * c.tangential_velocity;
     const double limit = p.friction * normal;
     const double t_sq = t.squaredNorm();
     if (t_sq > limit * limit) {
       t = t_sq > 0 ? Vec<D>(t * (limit / std::sqrt(t_sq))) : Vec<D>(Vec<D>::Zero());
-      slip = s_t > 0 ? Vec<D>((t - c_t * c.tangential_velocity) / s_t) : Vec<D>(Vec<D>::Zero());
+      slip =
+          s_t > 0 ? Vec<D>((t - c_t * c.tangential_velocity) * (1 / s_t)) : Vec<D>(Vec<D>::Zero());
     }
     h.slip = slip;
     out.tangential = t;

@@ -14,33 +14,37 @@ namespace granule {
 
 template <>
 struct HertzMindlin::LaneParams<true> {
-  double young_, shear_, damp_, mu_;
+  double young_, shear_, damp_, mu_, ratio_;
   explicit LaneParams(const Params* const lane[]) {
     const Params& p = *lane[0];
     young_ = p.young_eff, shear_ = p.shear_eff, mu_ = p.friction;
     damp_ = 2 * std::sqrt(5.0 / 6.0) * p.damping;
+    ratio_ = p.tangential_dashpot_ratio;
   }
   double young(int) const { return young_; }
   double shear(int) const { return shear_; }
   double damp(int) const { return damp_; }
   double mu(int) const { return mu_; }
+  double ratio(int) const { return ratio_; }
 };
 
 template <>
 struct HertzMindlin::LaneParams<false> {
   static constexpr int L = batch_lanes;
-  alignas(64) double young_[L], shear_[L], damp_[L], mu_[L];
+  alignas(64) double young_[L], shear_[L], damp_[L], mu_[L], ratio_[L];
   explicit LaneParams(const Params* const lane[]) {
     for (int l = 0; l < L; ++l) {
       const Params& p = *lane[l];
       young_[l] = p.young_eff, shear_[l] = p.shear_eff, mu_[l] = p.friction;
       damp_[l] = 2 * std::sqrt(5.0 / 6.0) * p.damping;
+      ratio_[l] = p.tangential_dashpot_ratio;
     }
   }
   double young(int l) const { return young_[l]; }
   double shear(int l) const { return shear_[l]; }
   double damp(int l) const { return damp_[l]; }
   double mu(int l) const { return mu_[l]; }
+  double ratio(int l) const { return ratio_[l]; }
 };
 
 namespace hertz_mindlin_lanes {
@@ -55,9 +59,9 @@ inline double normal_force(const P& q, const Batch& c, int l, double& s_t, doubl
   const double damp = q.damp(l);
   const double c_n = damp * std::sqrt(s_n * effective_mass);
   const double normal = ((2.0 / 3.0) * s_n * c.overlap[l] + c_n * c.normal_velocity[l]) /
-                        (1 + 0.5 * c_n * c.dt / effective_mass);
+                        (1 + 0.5 * c_n * c.dt * c.inv_mass_sum[l]);
   s_t = 8 * q.shear(l) * root;
-  c_t = damp * std::sqrt(s_t * effective_mass);
+  c_t = c_n * q.ratio(l);
   return normal < 0 ? 0.0 : normal;
 }
 
@@ -81,9 +85,10 @@ inline void lanes_3d(const P& q, HertzMindlin::BatchHistory3& h, ContactBatch<3>
     tx = sliding ? tx * scale : tx, ty = sliding ? ty * scale : ty, tz = sliding ? tz * scale : tz;
     // The spring shortened to store exactly the capped force.
     const bool stiff = s_t > 0;
-    sx = sliding ? (stiff ? (tx - c_t * vx) / s_t : 0.0) : sx;
-    sy = sliding ? (stiff ? (ty - c_t * vy) / s_t : 0.0) : sy;
-    sz = sliding ? (stiff ? (tz - c_t * vz) / s_t : 0.0) : sz;
+    const double compliance = 1 / s_t;  // one division for the three components
+    sx = sliding ? (stiff ? (tx - c_t * vx) * compliance : 0.0) : sx;
+    sy = sliding ? (stiff ? (ty - c_t * vy) * compliance : 0.0) : sy;
+    sz = sliding ? (stiff ? (tz - c_t * vz) * compliance : 0.0) : sz;
     h.sx[l] = sx, h.sy[l] = sy, h.sz[l] = sz;
     c.ftx[l] = tx, c.fty[l] = ty, c.ftz[l] = tz;
   }
@@ -109,7 +114,7 @@ inline void lanes_2d(const P& q, HertzMindlin::BatchHistory2& h, ContactBatch<2>
     const double limit = q.mu(l) * normal;
     const bool sliding = t * t > limit * limit;
     t = sliding ? (t > 0 ? limit : -limit) : t;
-    slip = sliding ? (s_t > 0 ? (t - c_t * v_t) / s_t : 0.0) : slip;
+    slip = sliding ? (s_t > 0 ? (t - c_t * v_t) * (1 / s_t) : 0.0) : slip;
     h.sx[l] = slip * -ny, h.sy[l] = slip * nx;
     c.tangential_force[l] = t;
   }
