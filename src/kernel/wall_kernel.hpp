@@ -134,21 +134,21 @@ void WallKernel<D, M>::run(WallBucket<D, M>& b, const std::vector<typename M::Pa
     V* const out_force = list.force.data();
     double* const out_axial = list.axial.data();
     const bool prefetch = count >= wall_prefetch_min_candidates;
-    auto prefetch_ahead = [&](std::int64_t k) __attribute__((always_inline)) {
-      if (prefetch && k + wall_prefetch_distance < end) {
-        const std::uint32_t ahead = bp[k + wall_prefetch_distance];
-        __builtin_prefetch(&x[ahead]);
-        __builtin_prefetch(&radius[ahead]);
-        __builtin_prefetch(&v[ahead]);
-        __builtin_prefetch(&w_spin[ahead]);
-        __builtin_prefetch(&load[ahead], 1);
-      }
+    // A touching candidate's geometry, and its place in this thread's list.
+    struct Found {
+      V n, surface_velocity, lever;
+      double overlap, r_star;
+      std::size_t e;
     };
     // Candidate k's geometry, from the wall (or, for a mesh, as
     // resolve_mesh_contacts found it this step); false when it does not touch
     // (its history cleared if it did), else it is listed.
-    auto find = [&](std::int64_t k, V & n, V & surface_velocity, V & lever, double& overlap,
-                    double& r_star, std::size_t& e) __attribute__((always_inline)) {
+    auto find = [&](std::int64_t k, Found & f) __attribute__((always_inline)) {
+      V& n = f.n;
+      V& surface_velocity = f.surface_velocity;
+      V& lever = f.lever;
+      double& overlap = f.overlap;
+      double& r_star = f.r_star;
       const std::uint32_t i = bp[k];
       const Wall<D>& w = walls[bw[k]];
       // R* only for a law that reads it (contact_state.hpp), from the contact's own
@@ -171,9 +171,25 @@ void WallKernel<D, M>::run(WallBucket<D, M>& b, const std::vector<typename M::Pa
         return false;
       }
       in_contact[k] = 1;
-      e = list.count;  // this contact's place in the list
+      f.e = list.count;  // this contact's place in the list
       list.push(static_cast<std::uint32_t>(k) << 1 | 1u);
       return true;
+    };
+    // take(k, particle, found) for each candidate of this thread's range that
+    // touches, in slot order, with the particles' data fetched ahead.
+    auto each_touching = [&](auto&& take) __attribute__((always_inline)) {
+      for (std::int64_t k = begin; k < end; ++k) {
+        if (prefetch && k + wall_prefetch_distance < end) {
+          const std::uint32_t ahead = bp[k + wall_prefetch_distance];
+          __builtin_prefetch(&x[ahead]);
+          __builtin_prefetch(&radius[ahead]);
+          __builtin_prefetch(&v[ahead]);
+          __builtin_prefetch(&w_spin[ahead]);
+          __builtin_prefetch(&load[ahead], 1);
+        }
+        Found f;
+        if (find(k, f)) take(k, bp[k], f);
+      }
     };
     constexpr bool batchable = has_force_batch<M, D>::value && !has_rolling<M>::value;
     if constexpr (batchable) {
@@ -219,34 +235,25 @@ void WallKernel<D, M>::run(WallBucket<D, M>& b, const std::vector<typename M::Pa
           touching += batch.count;
           batch.count = 0;
         };
-        for (std::int64_t k = begin; k < end; ++k) {
-          prefetch_ahead(k);
-          V n, surface_velocity, lever;
-          double overlap, r_star;
-          std::size_t e;
-          if (!find(k, n, surface_velocity, lever, overlap, r_star, e)) continue;
-          const std::uint32_t i = bp[k];
+        each_touching([&](std::int64_t k, std::uint32_t i, const Found& f) {
           const int l = batch.count++;
           batch.k[l] = static_cast<std::uint32_t>(k), batch.i[l] = i, batch.wall[l] = bw[k];
-          batch.entry[l] = static_cast<std::uint32_t>(e);
+          batch.entry[l] = static_cast<std::uint32_t>(f.e);
           batch.params[l] = &par_of[bslot[k]];
-          batch.gather_lane(l, n, overlap, surface_velocity, v[i], w_spin[i], radius[i],
-                            inv_mass[i], r_star, lever, hist[k]);
+          batch.gather_lane(l, f.n, f.overlap, f.surface_velocity, v[i], w_spin[i], radius[i],
+                            inv_mass[i], f.r_star, f.lever, hist[k]);
           if (batch.count == batch.lanes) flush();
-        }
+        });
         if (batch.count) flush();
         touching_out += touching;
         if (max_ratio > max_ratio_out) max_ratio_out = max_ratio;
         return;
       }
     }
-    for (std::int64_t k = begin; k < end; ++k) {
-      prefetch_ahead(k);
-      V n, surface_velocity, lever;
-      double overlap, r_star;
-      std::size_t e;
-      if (!find(k, n, surface_velocity, lever, overlap, r_star, e)) continue;
-      const std::uint32_t i = bp[k];
+    each_touching([&](std::int64_t k, std::uint32_t i, const Found& found) {
+      const V &n = found.n, &surface_velocity = found.surface_velocity, &lever = found.lever;
+      const double overlap = found.overlap, r_star = found.r_star;
+      const std::size_t e = found.e;
       const Wall<D>& w = walls[bw[k]];
       const typename M::Params& par = par_of[bslot[k]];
       History& h = hist[k];
@@ -303,7 +310,7 @@ void WallKernel<D, M>::run(WallBucket<D, M>& b, const std::vector<typename M::Pa
                     overlap, f.normal, c.normal_velocity, n, f.tangential,
                     x[i] - (r - overlap) * n);
       }
-    }
+    });
     touching_out += touching;
     if (max_ratio > max_ratio_out) max_ratio_out = max_ratio;
   };

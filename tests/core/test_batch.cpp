@@ -10,6 +10,7 @@
 
 #include "box_walls.hpp"
 #include "engine/simulation.hpp"
+#include "relative_gap.hpp"
 
 using namespace granule;
 
@@ -20,17 +21,7 @@ struct PileRun {
   std::vector<ContactRecord> contacts;  // the last step's, from the contact log
 };
 
-// The largest difference between two arrays, relative to the largest value.
-double relative_gap(const std::vector<double>& a, const std::vector<double>& b) {
-  REQUIRE(a.size() == b.size());
-  double largest = 0, gap = 0;
-  for (std::size_t k = 0; k < a.size(); ++k) {
-    largest = std::max(largest, std::abs(a[k]));
-    gap = std::max(gap, std::abs(a[k] - b[k]));
-  }
-  REQUIRE(largest > 0);
-  return gap / largest;
-}
+using test::relative_gap;
 
 void build_pile(Simulation<3>& sim, bool batched, bool mixed) {
   sim.set_warning_handler([](const std::string&) {});

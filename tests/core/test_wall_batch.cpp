@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "engine/simulation.hpp"
+#include "relative_gap.hpp"
 
 using namespace granule;
 
@@ -27,16 +28,7 @@ struct ChamberRun {
   std::int64_t wall_contacts = 0, wall_batched = 0;
 };
 
-double relative_gap(const std::vector<double>& a, const std::vector<double>& b) {
-  REQUIRE(a.size() == b.size());
-  double largest = 0, gap = 0;
-  for (std::size_t k = 0; k < a.size(); ++k) {
-    largest = std::max(largest, std::abs(a[k]));
-    gap = std::max(gap, std::abs(a[k] - b[k]));
-  }
-  REQUIRE(largest > 0);
-  return gap / largest;
-}
+using test::relative_gap;
 
 struct ChamberOptions {
   bool batched = true;
