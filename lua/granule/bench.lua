@@ -150,7 +150,7 @@ end
 local line_fields = {
   "model", "particles", "steps", "wall_s", "particle_steps_per_s", "mean_contacts", "mean_pair_contacts",
   "mean_kinetic_energy", "neighbour_s", "contacts_s", "walls_s", "sums_s", "diagnostics_s", "integrate_s", "hooks_s",
-  "pair_wait_s", "list_rebuilds", "thread_rebalances",
+  "pair_wait_s", "list_rebuilds", "thread_rebalances", "mean_candidates_visited", "list_prunes",
 }
 
 -- The one line a timed bench scene prints on stdout for tools/bench/compare.py:

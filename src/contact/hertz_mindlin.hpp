@@ -139,9 +139,9 @@ struct HertzMindlin {
     // rebound as e falls (39 % short at e = 0.02 and 5 m/s with the default
     // step); solved, the rebound is e to 1 % for e = 0.02-1 over four decades
     // of speed (tests/contact/test_hertz_mindlin.cpp).
-    // (dt / m* as dt (1/m_i + 1/m_j), and below S_t's damping as c_n times a
-    // constant and one division by S_t: the batched law's divider is its
-    // bottleneck, and both paths keep one form.)
+    // dt / m* is taken as dt (1/m_i + 1/m_j), c_t as c_n times a constant and
+    // the slip's components as one division by S_t: the divider bounds the
+    // batched law (hertz_mindlin_batch.hpp), which keeps these same forms.
     const double c_n = damp * std::sqrt(s_n * c.effective_mass);
     double normal = ((2.0 / 3.0) * s_n * c.overlap + c_n * c.normal_velocity) /
                     (1 + 0.5 * c_n * c.dt * c.inv_mass_sum);

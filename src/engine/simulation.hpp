@@ -182,7 +182,7 @@ class Simulation final : public SimulationBase {
   // The last step's tallies and the walls' reactions, as reduced over the
   // ranks, in place of this rank's (a scene gathered from its ranks).
   void set_step_tallies(std::int64_t pair_contacts, std::int64_t wall_contacts,
-                        double max_overlap_ratio);
+                        std::int64_t wall_batched, double max_overlap_ratio);
   void set_wall_reactions(const std::vector<Vec<D>>& force,
                           const std::vector<double>& axial_torque);
   // Every wall contact leaves its reaction in its list (the kernels' unfused

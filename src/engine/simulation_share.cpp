@@ -191,9 +191,10 @@ std::int64_t Simulation<D>::led_pair_contacts() const {
 
 template <int D>
 void Simulation<D>::set_step_tallies(std::int64_t pair_contacts, std::int64_t wall_contacts,
-                                     double max_overlap_ratio) {
+                                     std::int64_t wall_batched, double max_overlap_ratio) {
   contacts_particle_ = pair_contacts;
   contacts_wall_ = wall_contacts;
+  contacts_wall_batched_ = wall_batched;
   max_overlap_ratio_ = max_overlap_ratio;
 }
 

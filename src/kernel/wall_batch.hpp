@@ -126,36 +126,35 @@ struct WallBatch {
     }
   }
 
-  V total(int l) const {
-    if constexpr (D == 3)
-      return V(fx[l], fy[l], fz[l]);
-    else
-      return V(fx[l], fy[l]);
-  }
+  V total(int l) const { return lane_vector(fx, fy, fz, l); }
   S torque(int l) const {
     if constexpr (D == 3)
-      return S(tx[l], ty[l], tz[l]);
+      return lane_vector(tx, ty, tz, l);
     else
       return tz[l];
   }
-  V lever(int l) const {
-    if constexpr (D == 3)
-      return V(lever_x[l], lever_y[l], lever_z[l]);
-    else
-      return V(lever_x[l], lever_y[l]);
-  }
+  V lever(int l) const { return lane_vector(lever_x, lever_y, lever_z, l); }
   // For the contact log.
   V normal(int l) const {
     if constexpr (D == 3)
-      return V(c.nx[l], c.ny[l], c.nz[l]);
+      return lane_vector(c.nx, c.ny, c.nz, l);
     else
-      return V(c.nx[l], c.ny[l]);
+      return lane_vector(c.nx, c.ny, nullptr, l);
   }
   V tangential_force(int l) const {
     if constexpr (D == 3)
-      return V(c.ftx[l], c.fty[l], c.ftz[l]);
+      return lane_vector(c.ftx, c.fty, c.ftz, l);
     else
       return V(-c.tangential_force[l] * c.ny[l], c.tangential_force[l] * c.nx[l]);
+  }
+
+ private:
+  // Lane l of three lane arrays as a vector (2D: the first two).
+  static V lane_vector(const double* x, const double* y, const double* z, int l) {
+    if constexpr (D == 3)
+      return V(x[l], y[l], z[l]);
+    else
+      return V(x[l], y[l]);
   }
 };
 

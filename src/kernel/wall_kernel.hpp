@@ -78,6 +78,9 @@ void WallKernel<D, M>::run(WallBucket<D, M>& b, const std::vector<typename M::Pa
   using History = typename M::template History<D>;
   using V = Vec<D>;
   using S = Spin<D>;
+  // Contacts through the law's batch (wall_batch.hpp) where it has one; the
+  // rolling variants' torque needs each contact's own state.
+  constexpr bool batchable = has_force_batch<M, D>::value && !has_rolling<M>::value;
   const std::int64_t count = static_cast<std::int64_t>(b.size());
   const std::size_t offset = b.offset;
   std::int64_t touching = 0;
@@ -137,33 +140,29 @@ void WallKernel<D, M>::run(WallBucket<D, M>& b, const std::vector<typename M::Pa
     // A touching candidate's geometry, and its place in this thread's list.
     struct Found {
       V n, surface_velocity, lever;
-      double overlap, r_star;
+      double overlap;
+      double r_star;  // R*, only for a law that reads it (contact_state.hpp)
       std::size_t e;
     };
     // Candidate k's geometry, from the wall (or, for a mesh, as
     // resolve_mesh_contacts found it this step); false when it does not touch
     // (its history cleared if it did), else it is listed.
     auto find = [&](std::int64_t k, Found & f) __attribute__((always_inline)) {
-      V& n = f.n;
-      V& surface_velocity = f.surface_velocity;
-      V& lever = f.lever;
-      double& overlap = f.overlap;
-      double& r_star = f.r_star;
       const std::uint32_t i = bp[k];
       const Wall<D>& w = walls[bw[k]];
-      // R* only for a law that reads it (contact_state.hpp), from the contact's own
-      // closest point (a mesh's faces count as flat, a polyline's arcs as circles).
-      r_star = std::numeric_limits<double>::quiet_NaN();
+      // R* from the contact's own closest point (a mesh's faces count as flat,
+      // a polyline's arcs as circles).
+      f.r_star = std::numeric_limits<double>::quiet_NaN();
       if (is_surface_wall(w.type)) {  // found this step by resolve_mesh_contacts
         const WallTouch<D>& t = touch[k];
-        n = t.normal, surface_velocity = t.surface_velocity, lever = t.lever;
-        overlap = t.overlap;
-        r_star = t.effective_radius;
+        f.n = t.normal, f.surface_velocity = t.surface_velocity, f.lever = t.lever;
+        f.overlap = t.overlap;
+        f.r_star = t.effective_radius;
       } else {
-        overlap = w.contact(x[i], radius[i], n, surface_velocity, lever,
-                            uses_effective_radius<M>::value ? &r_star : nullptr);
+        f.overlap = w.contact(x[i], radius[i], f.n, f.surface_velocity, f.lever,
+                              uses_effective_radius<M>::value ? &f.r_star : nullptr);
       }
-      if (!M::touching(par_of[bslot[k]], hist[k], overlap)) {
+      if (!M::touching(par_of[bslot[k]], hist[k], f.overlap)) {
         if (in_contact[k]) {
           hist[k] = History{};
           in_contact[k] = 0;
@@ -191,7 +190,32 @@ void WallKernel<D, M>::run(WallBucket<D, M>& b, const std::vector<typename M::Pa
         if (find(k, f)) take(k, bp[k], f);
       }
     };
-    constexpr bool batchable = has_force_batch<M, D>::value && !has_rolling<M>::value;
+    // Contact k's results, both passes alike: the force and torque onto
+    // particle i, the reaction onto its wall (at once, or left in the list at
+    // place e for scatter_reactions), the deepest overlap so far (`worst`: a
+    // local of the caller's, so that it stays in a register), the log.
+    auto apply = [&](std::int64_t k, std::uint32_t i, std::uint32_t wall, std::size_t e, double r,
+                     const V& total, const S& torque, double axial, double overlap, const V& n,
+                     double normal_force, double normal_velocity, const V& tangential_force,
+                     double& worst) __attribute__((always_inline)) {
+      load[i].force += total;
+      load[i].torque += torque;
+      if (fused) {
+        Wall<D>& reacting = reacting_walls[wall];
+        reacting.force -= total;
+        reacting.axial_torque -= axial;
+      } else {
+        out_b[e] = wall;
+        out_force[e] = total;
+        out_axial[e] = axial;
+      }
+      if (overlap > worst * r) worst = overlap / r;
+      if constexpr (Observed) {
+        log->record(offset + k, static_cast<std::int32_t>(i), -1 - static_cast<std::int32_t>(wall),
+                    overlap, normal_force, normal_velocity, n, tangential_force,
+                    x[i] - (r - overlap) * n);
+      }
+    };
     if constexpr (batchable) {
       if (step.batched) {
         // The contacts' geometry found one by one, their laws computed lane by
@@ -208,28 +232,10 @@ void WallKernel<D, M>::run(WallBucket<D, M>& b, const std::vector<typename M::Pa
             const std::uint32_t k = batch.k[l], i = batch.i[l], wall = batch.wall[l];
             batch.history.store(l, hist[k]);
             const V total = batch.total(l);
-            load[i].force += total;
-            load[i].torque += batch.torque(l);
-            const double axial = walls[wall].axial_moment(batch.lever(l), total);
-            if (fused) {
-              Wall<D>& reacting = reacting_walls[wall];
-              reacting.force -= total;
-              reacting.axial_torque -= axial;
-            } else {
-              const std::uint32_t e = batch.entry[l];
-              out_b[e] = wall;
-              out_force[e] = total;
-              out_axial[e] = axial;
-            }
-            const double overlap = batch.c.overlap[l], r = batch.r[l];
-            if (overlap > worst * r) worst = overlap / r;
-            if constexpr (Observed) {
-              const V n = batch.normal(l);
-              log->record(offset + k, static_cast<std::int32_t>(i),
-                          -1 - static_cast<std::int32_t>(wall), overlap, batch.c.normal_force[l],
-                          batch.c.normal_velocity[l], n, batch.tangential_force(l),
-                          x[i] - (r - overlap) * n);
-            }
+            apply(k, i, wall, batch.entry[l], batch.r[l], total, batch.torque(l),
+                  walls[wall].axial_moment(batch.lever(l), total), batch.c.overlap[l],
+                  batch.normal(l), batch.c.normal_force[l], batch.c.normal_velocity[l],
+                  batch.tangential_force(l), worst);
           }
           max_ratio = worst;
           touching += batch.count;
@@ -251,9 +257,8 @@ void WallKernel<D, M>::run(WallBucket<D, M>& b, const std::vector<typename M::Pa
       }
     }
     each_touching([&](std::int64_t k, std::uint32_t i, const Found& found) {
-      const V &n = found.n, &surface_velocity = found.surface_velocity, &lever = found.lever;
-      const double overlap = found.overlap, r_star = found.r_star;
-      const std::size_t e = found.e;
+      const V& n = found.n;
+      const double overlap = found.overlap;
       const Wall<D>& w = walls[bw[k]];
       const typename M::Params& par = par_of[bslot[k]];
       History& h = hist[k];
@@ -261,18 +266,18 @@ void WallKernel<D, M>::run(WallBucket<D, M>& b, const std::vector<typename M::Pa
       c.dt = dt;
       c.normal = n;
       c.overlap = overlap;
-      const V v_rel = surface_velocity - v[i];
+      const V v_rel = found.surface_velocity - v[i];
       c.normal_velocity = v_rel.dot(n);
       c.tangential_velocity =
           v_rel - n * c.normal_velocity + radius[i] * Dim<D>::spin_cross(w_spin[i], n);
       c.effective_mass = mass[i];
       c.inv_mass_sum = inv_mass[i];
       const double r = radius[i];
-      c.effective_radius = r_star;
+      c.effective_radius = found.r_star;
       const ContactForce<D> f = M::force(par, h, c);
       const V total = f.normal * n + f.tangential;
       S torque_i = Dim<D>::torque(-(r - overlap) * n, f.tangential);  // at the wall surface
-      double axial = w.axial_moment(lever, total);
+      double axial = w.axial_moment(found.lever, total);
       if constexpr (has_rolling<M>::value) {
         // Rolling resistance (rolling.hpp) against the wall's own spin: M on
         // the particle, -M on the wall (its axial part joins the reaction).
@@ -291,33 +296,16 @@ void WallKernel<D, M>::run(WallBucket<D, M>& b, const std::vector<typename M::Pa
         else
           axial += roll;
       }
-      load[i].force += total;
-      load[i].torque += torque_i;
-      if (fused) {
-        Wall<D>& reacting = reacting_walls[bw[k]];
-        reacting.force -= total;
-        reacting.axial_torque -= axial;
-      } else {
-        out_b[e] = bw[k];
-        out_force[e] = total;
-        out_axial[e] = axial;
-      }
+      apply(k, i, bw[k], found.e, r, total, torque_i, axial, overlap, n, f.normal,
+            c.normal_velocity, f.tangential, max_ratio);
       ++touching;
-      if (overlap > max_ratio * r) max_ratio = overlap / r;
-      if constexpr (Observed) {
-        const std::size_t s = offset + k;
-        log->record(s, static_cast<std::int32_t>(i), -1 - static_cast<std::int32_t>(b.wall[k]),
-                    overlap, f.normal, c.normal_velocity, n, f.tangential,
-                    x[i] - (r - overlap) * n);
-      }
     });
     touching_out += touching;
     if (max_ratio > max_ratio_out) max_ratio_out = max_ratio;
   };
   run_on_team(team, work, touching, max_ratio);
   tally.touching += touching;
-  if (has_force_batch<M, D>::value && !has_rolling<M>::value && step.batched)
-    tally.batched += touching;
+  if (batchable && step.batched) tally.batched += touching;
   if (max_ratio > tally.max_ratio) tally.max_ratio = max_ratio;
 }
 

@@ -8,9 +8,9 @@
 #include <cstring>
 #include <string>
 
+#include "batch_compare.hpp"
 #include "box_walls.hpp"
 #include "engine/simulation.hpp"
-#include "relative_gap.hpp"
 
 using namespace granule;
 
@@ -256,15 +256,7 @@ TEST_CASE("pair loop: the batched 3D kernel logs the contacts the per-contact pa
     REQUIRE(a[k]->id_a == b[k]->id_a);
     REQUIRE(a[k]->id_b == b[k]->id_b);
     CHECK(std::abs(a[k]->overlap - b[k]->overlap) <= 1e-9 * largest_overlap);
-    CHECK(std::abs(a[k]->normal_force - b[k]->normal_force) <= 1e-9 * largest_force);
-    for (int axis = 0; axis < 3; ++axis) {
-      CHECK(std::abs(a[k]->tangential_force[axis] - b[k]->tangential_force[axis]) <=
-            1e-9 * largest_force);
-      CHECK(std::abs(a[k]->normal[axis] - b[k]->normal[axis]) <= 1e-9);
-    }
-    const double t =
-        std::hypot(a[k]->tangential_force[0], a[k]->tangential_force[1], a[k]->tangential_force[2]);
-    sliding_or_turning += t > 0;
+    sliding_or_turning += test::check_record_forces(*a[k], *b[k], largest_force);
   }
   CHECK(sliding_or_turning > 10);  // friction is at work, not only normal springs
 }

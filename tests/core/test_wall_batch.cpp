@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "batch_compare.hpp"
 #include "engine/simulation.hpp"
-#include "relative_gap.hpp"
 
 using namespace granule;
 
@@ -208,14 +208,7 @@ TEST_CASE("wall loop: the batch logs the wall contacts the per-contact path logs
     REQUIRE(a[k]->id_a == b[k]->id_a);
     REQUIRE(a[k]->wall == b[k]->wall);
     CHECK(std::abs(a[k]->overlap - b[k]->overlap) <= 1e-9 * std::abs(b[k]->overlap) + 1e-18);
-    CHECK(std::abs(a[k]->normal_force - b[k]->normal_force) <= 1e-9 * largest_force);
-    for (int axis = 0; axis < 3; ++axis) {
-      CHECK(std::abs(a[k]->tangential_force[axis] - b[k]->tangential_force[axis]) <=
-            1e-9 * largest_force);
-      CHECK(std::abs(a[k]->normal[axis] - b[k]->normal[axis]) <= 1e-9);
-    }
-    sliding += std::hypot(a[k]->tangential_force[0], a[k]->tangential_force[1],
-                          a[k]->tangential_force[2]) > 0;
+    sliding += test::check_record_forces(*a[k], *b[k], largest_force);
   }
   CHECK(sliding > 5);  // the turning chamber drags them: friction is at work
 }

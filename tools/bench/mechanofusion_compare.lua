@@ -49,10 +49,11 @@ if p.state == "" then
   return
 end
 sim:load_particles { file = p.state }
-local contacts, pair_contacts, energy, samples = 0, 0, 0, 0
+local contacts, pair_contacts, energy, visited, samples = 0, 0, 0, 0, 0
 sim:every { steps = 100, function(s)
   local st = s:stats()
   contacts, pair_contacts = contacts + st.contacts_particle + st.contacts_wall, pair_contacts + st.contacts_particle
+  visited = visited + st.pair_candidates_visited  -- the pruned lists at work (docs/performance.md)
   energy = energy + st.kinetic_energy_translational  -- as LAMMPS's `ke`, for checking the flows agree
   samples = samples + 1
 end }
@@ -70,7 +71,9 @@ local line = {
   particle_steps_per_s = st.particles * p.steps / wall, mean_contacts = contacts / math.max(samples, 1),
   mean_pair_contacts = pair_contacts / math.max(samples, 1),
   mean_kinetic_energy = energy / math.max(samples, 1),
+  mean_candidates_visited = visited / math.max(samples, 1),
   list_rebuilds = st.list_rebuilds - st0.list_rebuilds, thread_rebalances = st.thread_rebalances - st0.thread_rebalances,
+  list_prunes = st.pair_list_prunes - st0.pair_list_prunes,
 }
 for k, v in pairs(stage) do line[k] = v end
 print(bench.result_line(line))
