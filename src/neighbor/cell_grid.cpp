@@ -168,18 +168,36 @@ void CellGrid<D>::build(const Particles<D>& p, double skin, const Periodicity& p
       for (std::size_t q = 0; q < out.size(); ++q) row[q + 1] = out[q];
     }
   }
-  auto scan_cell = [&](std::uint32_t i, std::size_t cell) {
-    const Vec<D>& xi = p.position[i];
-    for (std::uint32_t s = cell_start_[cell]; s < cell_start_[cell + 1]; ++s) {
-      const std::uint32_t j = cell_particles_[s];
-      if (j <= i || (p.fixed[i] & p.fixed[j])) continue;
-      const double reach = p.radius[i] + p.radius[j] + skin;
-      if (separation<D>(xi, p.position[j], per).squaredNorm() < reach * reach)
-        pairs.emplace_back(i, j);
+  // The scan writes every pair it looks at into the next place of `pairs` and
+  // keeps it only when it is near: no branch on "j after i" and "near", which
+  // the cells' mixed order makes unpredictable. The arrays as local pointers
+  // (captured, they would be reloaded after every store); room is made before
+  // each cell, for all its particles.
+  const Vec<D>* const x = p.position.data();
+  const double* const radius = p.radius.data();
+  const std::uint8_t* const fixed = p.fixed.data();
+  const std::uint32_t* const start = cell_start_.data();
+  const std::uint32_t* const members = cell_particles_.data();
+  const std::uint32_t* const cell_of = particle_cell_.data();
+  const bool wraps = per.on();
+  std::size_t kept = pairs.size();
+  auto scan_cell = [&](std::uint32_t i, std::size_t cell) __attribute__((always_inline)) {
+    const std::uint32_t first = start[cell], last = start[cell + 1];
+    if (pairs.size() < kept + (last - first)) pairs.resize(2 * (kept + (last - first)));
+    std::pair<std::uint32_t, std::uint32_t>* const out = pairs.data();
+    const Vec<D> xi = x[i];
+    const double ri = radius[i];
+    const std::uint8_t fi = fixed[i];
+    for (std::uint32_t s = first; s < last; ++s) {
+      const std::uint32_t j = members[s];
+      const double reach = ri + radius[j] + skin;  // as consider() sums it
+      const Vec<D> d = wraps ? separation<D>(xi, x[j], per) : Vec<D>(xi - x[j]);
+      out[kept] = {i, j};
+      kept += (j > i) & ((fi & fixed[j]) == 0) & (d.squaredNorm() < reach * reach);
     }
   };
   for (std::size_t i = 0; i < n; ++i) {
-    const std::uint32_t own = particle_cell_[i];
+    const std::uint32_t own = cell_of[i];
     if (own == UINT32_MAX) continue;
     std::array<int, D> c;
     std::size_t rest = own;
@@ -203,6 +221,7 @@ void CellGrid<D>::build(const Particles<D>& p, double skin, const Periodicity& p
         }
     }
   }
+  pairs.resize(kept);
   // large-small: scan the cells within the large particle's reach.
   for (std::uint32_t i : large_) {
     std::array<int, D> c, reach;

@@ -15,6 +15,8 @@ contacts, wall seconds and, for Granule, the seconds of each stage of the step
 (the columns are listed in docs/performance.md). Without LAMMPS (`lmp`) or
 LIGGGHTS (`liggghts`) on PATH, or without `mpirun` for more than one rank, the
 Granule runs still happen and the report says which peers are missing.
+On more than one core Granule runs twice: as threads, and spread over as many
+MPI ranks ("granule ... (mpirun)", one thread each), as LAMMPS runs.
 """
 import argparse
 import csv
@@ -138,6 +140,24 @@ def peer_procs(args):
     return [p for p in args.threads if p == 1 or args.peers["mpirun"]]
 
 
+def granule_rows(args, work, program, scene_args):
+    """Granule on each core count: as threads, and on more than one core also spread
+    over as many MPI ranks of one thread each (a scene over ranks), where mpirun is
+    here. Both rows are reported; the user picks the faster (docs/performance.md)."""
+    rows = []
+    for t in args.threads:
+        out, _ = run([args.granule] + scene_args + ["--threads", str(t), "--quiet"], work)
+        rows.append(granule_row(program, t, granule_line(out)))
+        if t > 1 and shutil.which("mpirun"):
+            out, _ = run(mpi_prefix(t) + [args.granule] + scene_args + ["--threads", "1", "--quiet"], work)
+            rows.append(granule_row(program + RANKS, t, granule_line(out)))
+    return rows
+
+
+# The label of Granule's rows spread over MPI ranks (one thread each).
+RANKS = " (mpirun)"
+
+
 def mpi_prefix(procs):
     if procs == 1:
         return []
@@ -166,11 +186,9 @@ def mechanofusion2d(args, work):
     write_lammps_data(s, data, [(-0.0126, 0.0126), (-0.0126, 0.0126), (-0.5, 0.5)], 2)
     rows = []
     for model in ("linear", "walton_braun"):
-        for t in args.threads:
-            out, _ = run([args.granule, "run", os.path.join(BENCH, "mechanofusion_compare.lua"), "-D",
-                          f"state={state}", "-D", f"steps={steps}", "-D", f"model={model}",
-                          "--threads", str(t), "--quiet"], work)
-            rows.append(granule_row("granule " + model, t, granule_line(out)))
+        rows += granule_rows(args, work, "granule " + model,
+                             ["run", os.path.join(BENCH, "mechanofusion_compare.lua"), "-D", f"state={state}",
+                              "-D", f"steps={steps}", "-D", f"model={model}"])
     variables = dict(data=data, steps=steps, dt=dt, kn=kn, kt=kn * 2 / 7, gn=gn, gt=gn / 2, gnw=gnw,
                      gtw=gnw / 2, mu=0.4, muw=0.5, omega=2000 * 2 * math.pi / 60, mass=mass, skin=1e-4)
     lmp_vars = sum((["-var", k, str(v)] for k, v in variables.items()), [])
@@ -230,10 +248,8 @@ def box3d(args, work):
     write_lammps_data(s, data, [(-r, side + r), (-r, side + r), (-r, top)], 3)
     steps = max(args.steps // 20, 200) if args.steps else 1000
     rows = []
-    for t in args.threads:
-        out, _ = run([args.granule, "run", scene, "-D", f"state={state}", "-D", f"steps={steps}", "--threads",
-                      str(t), "--quiet"] + size, work)
-        rows.append(granule_row("granule " + args.box_model, t, granule_line(out)))
+    rows += granule_rows(args, work, "granule " + args.box_model,
+                         ["run", scene, "-D", f"state={state}", "-D", f"steps={steps}"] + size)
     if hertz:
         # Mindlin's S_t / S_n = 8 G* a / (2 E* a) = 4 G* / E* for one material:
         # Granule's tangential damping is the normal one times its square root.
