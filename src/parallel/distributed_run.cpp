@@ -499,14 +499,30 @@ GlobalStats DistributedRun<D>::totals() const {
     t.lz = take<double>(all, at);
     terms.push_back(t);
   }
-  std::sort(terms.begin(), terms.end(), [](const Terms& a, const Terms& b) { return a.id < b.id; });
+  // Summed in id order, as one process sums them. The ids are below next_id:
+  // where they are dense (no scene removed most of its particles), each term
+  // goes to its id's place, which is linear, else they are sorted.
+  const std::int64_t id_count = p.next_id;
+  std::vector<const Terms*> by_id;
+  if (id_count <= 4 * static_cast<std::int64_t>(terms.size()) + 64) {
+    by_id.assign(static_cast<std::size_t>(id_count), nullptr);
+    for (const Terms& t : terms) {
+      if (t.id < 0 || t.id >= id_count)
+        throw RunError(fmt::format("distributed run: particle id {} of {}", t.id, id_count));
+      by_id[static_cast<std::size_t>(t.id)] = &t;
+    }
+  } else {
+    std::sort(terms.begin(), terms.end(), [](const Terms& a, const Terms& b) { return a.id < b.id; });
+    for (const Terms& t : terms) by_id.push_back(&t);
+  }
   g.kinetic_translational = g.kinetic_rotational = g.angular_momentum_z = 0;
   Vec<D> momentum = Vec<D>::Zero();
-  for (const Terms& t : terms) {
-    g.kinetic_translational += t.kt;
-    g.kinetic_rotational += t.kr;
-    momentum += t.momentum;
-    g.angular_momentum_z += t.lz;
+  for (const Terms* t : by_id) {
+    if (!t) continue;
+    g.kinetic_translational += t->kt;
+    g.kinetic_rotational += t->kr;
+    momentum += t->momentum;
+    g.angular_momentum_z += t->lz;
   }
   g.momentum = Triple{};
   for (int a = 0; a < D; ++a) g.momentum[static_cast<std::size_t>(a)] = momentum[a];
