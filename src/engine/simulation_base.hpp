@@ -443,10 +443,11 @@ class SimulationBase {
   void fire_start_hooks();
   // A script callback on a scene spread over ranks, fired with the shares
   // kept: the first script call that reads or changes the scene calls
-  // `gather` (the scene made whole, as for any other hook), while stats(),
-  // time() and step_count() need only `totals` (reduced over the ranks, the
-  // shares kept). Every rank runs the same callback, so every rank makes the
-  // same calls and the same collectives. Empty functions: nothing pending.
+  // `gather` (the scene made whole, as for any other hook), while stats()
+  // needs only `totals` (reduced over the ranks, the shares kept), and the
+  // time, the step and setting a wall's velocities (what every rank holds
+  // alike) need neither. Every rank runs the same callback, so every rank
+  // makes the same calls and the same collectives. Empty functions: nothing pending.
   void set_pending_gather(std::function<void()> gather, std::function<void()> totals) {
     pending_gather_ = std::move(gather);
     pending_totals_ = std::move(totals);

@@ -45,6 +45,10 @@ LuaSim& self(lua_State* L) {
   return s;
 }
 
+LuaSim& self_kept(lua_State* L) {
+  return open_self(L);
+}
+
 LuaSim& self_totals(lua_State* L) {
   LuaSim& s = open_self(L);
   s.sim->ensure_totals();
@@ -52,7 +56,7 @@ LuaSim& self_totals(lua_State* L) {
 }
 
 int dim(lua_State* L) {
-  return self(L).sim->dimension();
+  return self_kept(L).sim->dimension();
 }
 
 std::int64_t particle_id(lua_State* L, int index, const SimulationBase& sim) {

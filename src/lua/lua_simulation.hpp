@@ -80,10 +80,13 @@ void begin_restart(SceneContext& ctx);
 
 // The simulation at stack index 1; throws (use inside protect()) if it is not one.
 LuaSim& self(lua_State* L);
-// The same for the calls that read only the global totals (sim:stats(),
-// sim:time(), sim:step_count()): a spread scene's callback then keeps its
-// shares (SimulationBase::set_pending_gather).
+// The same for the calls that read only the global totals (sim:stats()): a
+// spread scene's callback then keeps its shares (SimulationBase::set_pending_gather).
 LuaSim& self_totals(lua_State* L);
+// The simulation, neither gathered nor reduced: for what every rank of a spread
+// scene holds alike (the time, the step, the dimension, the walls), read or
+// set by every rank alike (SimulationBase::set_pending_gather).
+LuaSim& self_kept(lua_State* L);
 
 // The simulation a method was called on (argument 1); throws std::runtime_error
 // if it is not a simulation or has been closed.

@@ -179,13 +179,13 @@ int l_contacts(lua_State* L) {
 
 int l_time(lua_State* L) {
   return protect(L, [](lua_State* L) {
-    lua_pushnumber(L, self_totals(L).sim->time());
+    lua_pushnumber(L, self_kept(L).sim->time());
     return 1;
   });
 }
 int l_step_count(lua_State* L) {
   return protect(L, [](lua_State* L) {
-    lua_pushinteger(L, self_totals(L).sim->step_count());
+    lua_pushinteger(L, self_kept(L).sim->step_count());
     return 1;
   });
 }

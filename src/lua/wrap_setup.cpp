@@ -392,7 +392,9 @@ int l_remove_central_field(lua_State* L) {
 // ---- walls at run time ----
 int l_set_wall(lua_State* L) {
   return protect(L, [](lua_State* L) {
-    LuaSim& s = self(L);
+    // A wall's velocities: every rank of a spread scene holds the walls and
+    // sets them alike, so the shares are kept (a shaken floor set every step).
+    LuaSim& s = self_kept(L);
     int w = s.sim->wall_id(read_string(L, 2, "set_wall: wall name"));
     TableReader t(L, 3, "set_wall");
     if (t.has("velocity")) s.sim->set_wall_velocity(w, t.vector("velocity", dim(L)));

@@ -7,7 +7,8 @@
 #   along x, its ghosts across the period, 2D pile bonded with parallel bonds
 #   and tumbled until some break, 3D pile on a triangle-mesh floor the scene
 #   writes to a file and reads back), each with callbacks that
-#   query the whole scene and set a particle's velocity, time-triggered
+#   query the whole scene and set a particle's velocity (the shear cell's
+#   also a wall's velocity every 3 steps, the shares kept), time-triggered
 #   snapshots, checkpoints and a stop check, on 1-4 ranks against a plain run
 #   in canonical order: every particle's state, the stats, the callbacks'
 #   readings (with the last step's contacts from sim:contacts() and

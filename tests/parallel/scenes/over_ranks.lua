@@ -127,6 +127,14 @@ sim:every { steps = 70, function(s)
   monitored[#monitored + 1] = string.format("%d %a %a %a %d %d", s:step_count(), s:time(), st.kinetic_energy,
     st.kinetic_energy_rotational, st.contacts_particle, st.contacts_wall)
 end }
+-- The shear cell's floor shaken from a callback that reads the time and sets a
+-- wall's velocity (spread runs keep their shares for it, as for a shaken floor
+-- set every step).
+if p.case == "shear" then
+  sim:every { steps = 3, function(s)
+    s:set_wall("floor", { velocity = { -0.1, 0.02 * math.sin(2 * math.pi * 2000 * s:time()), 0 } })
+  end }
+end
 sim:every { steps = 250, function(s)
   local st = s:stats()
   energies[#energies + 1] = st.kinetic_energy
