@@ -86,6 +86,21 @@ struct Wall {
     return inside ? radius - rho - r : rho - radius - r;
   }
 
+  // True only where a particle at x with radius r surely does not touch an
+  // unbounded cylinder: its distance from the axis checked squared, with a
+  // margin far above round-off, so that contact() (a root and a division)
+  // would find a negative overlap too. False for every other wall.
+  bool surely_apart(const V& x, double r) const {
+    if (type != WallType::cylinder || bounded) return false;
+    const double rho_sq = radial(x).squaredNorm();
+    if (inside) {
+      const double reach = radius - r;  // touching: rho > radius - r
+      return reach > 0 && rho_sq < reach * reach * (1 - 1e-9);
+    }
+    const double reach = radius + r;  // touching: rho < radius + r
+    return rho_sq > reach * reach * (1 + 1e-9);
+  }
+
   // The part of x - center perpendicular to the axis.
   V radial(const V& x) const {
     V d = x - center;

@@ -326,3 +326,58 @@ TEST_CASE("finite walls: bad input is refused naming the parameter") {
   spin.normal = {0, 1, 0}, spin.angular_velocity = 1;
   refused(spin, "leave angular_velocity out", 2);
 }
+
+// The wall loop skips a candidate surely clear of an unbounded cylinder
+// (Wall::surely_apart) without its root and division: never one that
+// contact() finds touching, and most of those that are clear by more than
+// round-off; never a bounded cylinder or another wall.
+TEST_CASE("walls: surely_apart never skips a touching candidate") {
+  auto check = [](auto dimension) {
+    constexpr int D = decltype(dimension)::value;
+    using V = Vec<D>;
+    for (const bool inside : {true, false}) {
+      Wall<D> w;
+      w.type = WallType::cylinder;
+      w.center = V::Zero();
+      w.center[0] = 1e-3;
+      if constexpr (D == 3) w.axis = V(0, 0, 1);
+      w.radius = 5e-3;
+      w.inside = inside;
+      int skipped = 0, clear = 0;
+      const double r = 2e-4;
+      // Centres swept across the surface in steps of 1e-9 m about the touching
+      // distance, and far from it, at several angles.
+      for (int a = 0; a < 16; ++a) {
+        const double angle = 0.39 * a;
+        for (int s = -400; s <= 400; ++s) {
+          const double from_axis = (inside ? w.radius - r : w.radius + r) + s * 1e-9 +
+                                   (s % 50 == 0 ? s * 1e-6 : 0.0);
+          V x = w.center;
+          x[0] += from_axis * std::cos(angle);
+          x[1] += from_axis * std::sin(angle);
+          if constexpr (D == 3) x[2] = 0.3e-3 * a;
+          V n, surface_velocity, lever;
+          const double overlap = w.contact(x, r, n, surface_velocity, lever);
+          const bool apart = w.surely_apart(x, r);
+          if (apart) {
+            ++skipped;
+            REQUIRE(overlap < 0);
+          }
+          if (overlap < -1e-8) ++clear;
+        }
+      }
+      // Clear by more than 10 nm: each is skipped (the margin is ~5e-10 of the radius).
+      CHECK(skipped >= clear);
+      CHECK(clear > 0);
+      w.bounded = true;
+      V far = w.center;
+      far[0] += inside ? 0.0 : 1.0;
+      CHECK_FALSE(w.surely_apart(far, r));
+      w.bounded = false;
+      w.type = WallType::plane;
+      CHECK_FALSE(w.surely_apart(far, r));
+    }
+  };
+  check(std::integral_constant<int, 2>{});
+  check(std::integral_constant<int, 3>{});
+}
