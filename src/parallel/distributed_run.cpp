@@ -305,7 +305,7 @@ void DistributedRun<D>::install(bool keep_own) {
 }
 
 template <int D>
-void DistributedRun<D>::forward() {
+void DistributedRun<D>::forward(double* maxima, int count) {
   Particles<D>& p = sim_.share();
   // Only the records some rank holds a ghost of are read by the forward.
   for (const auto& to_rank : plan_.send)
@@ -314,7 +314,7 @@ void DistributedRun<D>::forward() {
       r.position = p.position[send.index], r.velocity = p.velocity[send.index];
       r.spin = p.spin[send.index];
     }
-  forward_ghosts(d_, plan_, owned_, ghosts_, comm_);
+  forward_ghosts(d_, plan_, owned_, ghosts_, comm_, maxima, count);
   const std::size_t first = owned_.size();
   for (std::size_t g = 0; g < ghosts_.size(); ++g) {
     p.position[first + g] = ghosts_[g].position;
@@ -334,16 +334,22 @@ void DistributedRun<D>::advance(std::int64_t steps) {
     // half the skin. With it the fastest speed anywhere in the last step, for
     // the pruned lists' travel (a ghost moves as fast as its owner lets it).
     const double mine[2] = {sim_.lists_due() ? 1.0 : 0.0, sim_.last_fastest_speed_sq()};
-    double anywhere[2] = {0, 0};
-    MPI_Allreduce(mine, anywhere, 2, MPI_DOUBLE, MPI_MAX, comm_);
+    double anywhere[2] = {mine[0], mine[1]};
+    // Few ranks: the ghosts' states sent at once, with the flag and the speed
+    // (wasted on a rebuild step, which sends them again).
+    const bool folded = size_ > 1 && size_ <= fold_ranks;
+    if (folded)
+      forward(anywhere, 2);
+    else
+      MPI_Allreduce(mine, anywhere, 2, MPI_DOUBLE, MPI_MAX, comm_);
     const bool any = anywhere[0] > 0;
     sim_.widen_prune_travel(anywhere[1]);
     auto t1 = Clock::now();
-    times_.waiting += std::chrono::duration<double>(t1 - t0).count();
+    (folded ? times_.exchange : times_.waiting) += std::chrono::duration<double>(t1 - t0).count();
     if (any) {
       redistribute();
       ++times_.rebuilds;
-    } else {
+    } else if (!folded) {
       forward();
     }
     auto t2 = Clock::now();

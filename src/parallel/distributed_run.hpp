@@ -130,7 +130,13 @@ class DistributedRun {
   // owned_ and ghosts_ as the simulation's share; `keep_own`: the histories of
   // the current lists are carried too (Simulation::install_share)
   void install(bool keep_own = false);
-  void forward();  // the ghosts' state from their owners
+  // The ghosts' state from their owners; with `maxima`, those values' maxima
+  // over the ranks in the same exchange (forward_ghosts).
+  void forward(double* maxima = nullptr, int count = 0);
+  // Up to this many ranks, the step's rebuild flag and fastest speed travel
+  // with the ghosts' states (every rank then sends to every other: one
+  // collective a step instead of two); beyond it, an MPI_Allreduce of their own.
+  static constexpr int fold_ranks = 3;  // (4 ranks in the tests take the other way)
 
   Simulation<D>& sim_;
   MPI_Comm comm_;

@@ -244,9 +244,11 @@ std::vector<ParticleRecord<D>> exchange_ghosts(const Decomposition<D>& d, double
 template <int D>
 void forward_ghosts(const Decomposition<D>& d, const GhostPlan& plan,
                     const std::vector<ParticleRecord<D>>& owned,
-                    std::vector<ParticleRecord<D>>& ghosts, MPI_Comm comm) {
+                    std::vector<ParticleRecord<D>>& ghosts, MPI_Comm comm, double* maxima,
+                    int count) {
   int size = 0;
   MPI_Comm_size(comm, &size);
+  const std::size_t extra = maxima ? static_cast<std::size_t>(count) : 0;  // first, to each rank
   const auto shifts = periodic_shifts(d);
   // The plan fixes who sends how many to whom until the next rebuild, so one
   // MPI_Alltoallv of doubles moves the states (doubles travel bit for bit
@@ -257,13 +259,14 @@ void forward_ghosts(const Decomposition<D>& d, const GhostPlan& plan,
   for (int k = 0; k < size; ++k) {
     const std::size_t u = static_cast<std::size_t>(k);
     send_at[u] = count_of(sending), recv_at[u] = count_of(receiving);
-    send_counts[u] = count_of(plan.send[u].size() * per);
-    recv_counts[u] = count_of(plan.place[u].size() * per);
-    sending += plan.send[u].size() * per, receiving += plan.place[u].size() * per;
+    send_counts[u] = count_of(extra + plan.send[u].size() * per);
+    recv_counts[u] = count_of(extra + plan.place[u].size() * per);
+    sending += extra + plan.send[u].size() * per, receiving += extra + plan.place[u].size() * per;
   }
   std::vector<double> out(sending), in(receiving);
   double* o = out.data();
-  for (int k = 0; k < size; ++k)
+  for (int k = 0; k < size; ++k) {
+    for (std::size_t e = 0; e < extra; ++e) *o++ = maxima[e];
     for (const auto& s : plan.send[static_cast<std::size_t>(k)]) {
       const ParticleRecord<D>& r = owned[s.index];
       const Vec<D> x = r.position + shifts[static_cast<std::size_t>(s.image)];
@@ -274,11 +277,14 @@ void forward_ghosts(const Decomposition<D>& d, const GhostPlan& plan,
       else
         for (int a = 0; a < 3; ++a) *o++ = r.spin[a];
     }
+  }
   check(MPI_Alltoallv(out.data(), send_counts.data(), send_at.data(), MPI_DOUBLE, in.data(),
                       recv_counts.data(), recv_at.data(), MPI_DOUBLE, comm),
         "MPI_Alltoallv");
   const double* q = in.data();
-  for (int k = 0; k < size; ++k)
+  for (int k = 0; k < size; ++k) {
+    for (std::size_t e = 0; e < extra; ++e, ++q)  // rank k's values (this rank's own among them)
+      maxima[e] = std::max(maxima[e], *q);
     for (const std::size_t g : plan.place[static_cast<std::size_t>(k)]) {
       ParticleRecord<D>& ghost = ghosts[g];
       for (int a = 0; a < D; ++a) ghost.position[a] = *q++;
@@ -288,6 +294,7 @@ void forward_ghosts(const Decomposition<D>& d, const GhostPlan& plan,
       else
         for (int a = 0; a < 3; ++a) ghost.spin[a] = *q++;
     }
+  }
 }
 
 template std::size_t migrate<2>(const Decomposition<2>&, std::vector<ParticleRecord<2>>&, MPI_Comm);
@@ -300,10 +307,10 @@ template std::vector<ParticleRecord<3>> exchange_ghosts<3>(const Decomposition<3
                                                            MPI_Comm, GhostPlan&, Images);
 template void forward_ghosts<2>(const Decomposition<2>&, const GhostPlan&,
                                 const std::vector<ParticleRecord<2>>&,
-                                std::vector<ParticleRecord<2>>&, MPI_Comm);
+                                std::vector<ParticleRecord<2>>&, MPI_Comm, double*, int);
 template void forward_ghosts<3>(const Decomposition<3>&, const GhostPlan&,
                                 const std::vector<ParticleRecord<3>>&,
-                                std::vector<ParticleRecord<3>>&, MPI_Comm);
+                                std::vector<ParticleRecord<3>>&, MPI_Comm, double*, int);
 
 #endif  // GRANULE_HAVE_MPI
 

@@ -92,11 +92,15 @@ std::vector<ParticleRecord<D>> exchange_ghosts(const Decomposition<D>& d, double
                                                Images images = Images::shifted);
 
 // Each step between rebuilds: the ghosts' positions, velocities and spins from
-// their owners (the same particles, the same places), nothing else.
+// their owners (the same particles, the same places), nothing else. With
+// `maxima` (`count` values), each rank's values also go to every rank in the
+// same exchange and come back as their maxima over the ranks (as an
+// MPI_Allreduce with MPI_MAX would give them, one collective fewer).
 template <int D>
 void forward_ghosts(const Decomposition<D>& d, const GhostPlan& plan,
                     const std::vector<ParticleRecord<D>>& owned,
-                    std::vector<ParticleRecord<D>>& ghosts, MPI_Comm comm);
+                    std::vector<ParticleRecord<D>>& ghosts, MPI_Comm comm,
+                    double* maxima = nullptr, int count = 0);
 #endif
 
 }  // namespace granule::parallel

@@ -8,7 +8,8 @@
 //     every particle and periodic image finds within reach of its box, at the
 //     shifted positions, bit for bit, in (id, image) order;
 //   - after the particles move a little, forward_ghosts refreshes every ghost
-//     to its owner's new state (plus shift), bit for bit;
+//     to its owner's new state (plus shift), bit for bit, and brings back
+//     the maxima over the ranks of the values each rank gave it;
 //   - a second migration after the move again keeps each particle once.
 // Prints "mpi_exchange ok on N ranks" from rank 0 when every check passed on
 // every rank; exits 1 otherwise.
@@ -130,7 +131,14 @@ void run(const char* name, std::array<bool, D> periodic) {
     r.velocity *= 0.5;
     r.spin *= -1.0;
   }
-  forward_ghosts(d, plan, owned, ghosts, MPI_COMM_WORLD);
+  // With two values whose maxima over the ranks come back from the same
+  // exchange: the highest rank, and the largest of -rank (0, rank 0's).
+  int ranks = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+  double maxima[2] = {static_cast<double>(rank), -static_cast<double>(rank)};
+  forward_ghosts(d, plan, owned, ghosts, MPI_COMM_WORLD, maxima, 2);
+  expect(maxima[0] == ranks - 1 && maxima[1] == 0,
+         std::string(name) + ": the values' maxima over the ranks, from the forward");
   for (std::size_t k = 0; k < std::min(ghosts.size(), want.size()); ++k) {
     const auto& was = *by_id[ghosts[k].id];
     const Vec<D> expected =
