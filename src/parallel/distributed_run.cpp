@@ -518,7 +518,8 @@ GlobalStats DistributedRun<D>::totals() const {
       by_id[static_cast<std::size_t>(t.id)] = &t;
     }
   } else {
-    std::sort(terms.begin(), terms.end(), [](const Terms& a, const Terms& b) { return a.id < b.id; });
+    std::sort(terms.begin(), terms.end(),
+              [](const Terms& a, const Terms& b) { return a.id < b.id; });
     for (const Terms& t : terms) by_id.push_back(&t);
   }
   g.kinetic_translational = g.kinetic_rotational = g.angular_momentum_z = 0;

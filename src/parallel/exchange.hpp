@@ -99,8 +99,8 @@ std::vector<ParticleRecord<D>> exchange_ghosts(const Decomposition<D>& d, double
 template <int D>
 void forward_ghosts(const Decomposition<D>& d, const GhostPlan& plan,
                     const std::vector<ParticleRecord<D>>& owned,
-                    std::vector<ParticleRecord<D>>& ghosts, MPI_Comm comm,
-                    double* maxima = nullptr, int count = 0);
+                    std::vector<ParticleRecord<D>>& ghosts, MPI_Comm comm, double* maxima = nullptr,
+                    int count = 0);
 #endif
 
 }  // namespace granule::parallel

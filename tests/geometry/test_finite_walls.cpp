@@ -350,8 +350,8 @@ TEST_CASE("walls: surely_apart never skips a touching candidate") {
       for (int a = 0; a < 16; ++a) {
         const double angle = 0.39 * a;
         for (int s = -400; s <= 400; ++s) {
-          const double from_axis = (inside ? w.radius - r : w.radius + r) + s * 1e-9 +
-                                   (s % 50 == 0 ? s * 1e-6 : 0.0);
+          const double from_axis =
+              (inside ? w.radius - r : w.radius + r) + s * 1e-9 + (s % 50 == 0 ? s * 1e-6 : 0.0);
           V x = w.center;
           x[0] += from_axis * std::cos(angle);
           x[1] += from_axis * std::sin(angle);
