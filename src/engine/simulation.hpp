@@ -177,12 +177,14 @@ class Simulation final : public SimulationBase {
   // on the whole scene.
   bool whole_step_due() const;
   // The pair contacts of the last step that this rank leads: those whose
-  // lower-id particle it owns (every pair is led by one rank).
-  std::int64_t led_pair_contacts() const;
+  // lower-id particle it owns (every pair is led by one rank); with
+  // `batched`, also how many of them the batched kernels computed.
+  std::int64_t led_pair_contacts(std::int64_t* batched = nullptr) const;
   // The last step's tallies and the walls' reactions, as reduced over the
   // ranks, in place of this rank's (a scene gathered from its ranks).
-  void set_step_tallies(std::int64_t pair_contacts, std::int64_t wall_contacts,
-                        std::int64_t wall_batched, double max_overlap_ratio);
+  void set_step_tallies(std::int64_t pair_contacts, std::int64_t pair_batched,
+                        std::int64_t wall_contacts, std::int64_t wall_batched,
+                        double max_overlap_ratio);
   void set_wall_reactions(const std::vector<Vec<D>>& force,
                           const std::vector<double>& axial_torque);
   // Every wall contact leaves its reaction in its list (the kernels' unfused

@@ -172,27 +172,35 @@ void Simulation<D>::set_gathered_contacts(const std::string& all) {
 }
 
 template <int D>
-std::int64_t Simulation<D>::led_pair_contacts() const {
-  std::int64_t led = 0;
+std::int64_t Simulation<D>::led_pair_contacts(std::int64_t* batched) const {
+  std::int64_t led = 0, led_batched = 0;
   const bool any_slots = slot_in_contact_.size() == slot_count_;
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
     const auto& b = std::get<I>(pair_buckets_);
     if (!any_slots) return;
+    std::int64_t here = 0;
     for (std::size_t k = 0; k < b.size(); ++k) {
       if (!slot_in_contact_[b.offset + k]) continue;
       // The pair is oriented id_i < id_j (buckets.hpp).
       const std::uint32_t lower = b.id_i[k] < b.id_j[k] ? b.i[k] : b.j[k];
-      if (!(p_.fixed[lower] & ghost_flag)) ++led;
+      if (!(p_.fixed[lower] & ghost_flag)) ++here;
     }
+    led += here;
+    // The pair kernel's choice (PairKernel::run): a model's batch where it has one and batches are
+    // on.
+    if (has_force_batch<ContactModelAt<I>, D>::value && batched_contacts_) led_batched += here;
   });
+  if (batched) *batched = led_batched;
   return led;
 }
 
 template <int D>
-void Simulation<D>::set_step_tallies(std::int64_t pair_contacts, std::int64_t wall_contacts,
-                                     std::int64_t wall_batched, double max_overlap_ratio) {
+void Simulation<D>::set_step_tallies(std::int64_t pair_contacts, std::int64_t pair_batched,
+                                     std::int64_t wall_contacts, std::int64_t wall_batched,
+                                     double max_overlap_ratio) {
   contacts_particle_ = pair_contacts;
+  contacts_batched_ = pair_batched;
   contacts_wall_ = wall_contacts;
   contacts_wall_batched_ = wall_batched;
   max_overlap_ratio_ = max_overlap_ratio;

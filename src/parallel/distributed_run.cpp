@@ -49,7 +49,8 @@ void append(Particles<D>& to, const ParticleRecord<D>& r, std::uint8_t fixed,
 
 // The step's tallies over the ranks (DistributedRun::tallies).
 struct Tallies {
-  std::int64_t particles = 0, pair_contacts = 0, wall_contacts = 0, wall_batched = 0;
+  std::int64_t particles = 0, pair_contacts = 0, pair_batched = 0, wall_contacts = 0,
+               wall_batched = 0;
   double max_overlap_ratio = 0;
 };
 
@@ -58,6 +59,7 @@ Tallies sum_tallies(const std::string& all) {
   for (std::size_t at = 0; at < all.size();) {
     sum.particles += take<std::int64_t>(all, at);
     sum.pair_contacts += take<std::int64_t>(all, at);
+    sum.pair_batched += take<std::int64_t>(all, at);
     sum.wall_contacts += take<std::int64_t>(all, at);
     sum.wall_batched += take<std::int64_t>(all, at);
     sum.max_overlap_ratio = std::max(sum.max_overlap_ratio, take<double>(all, at));
@@ -449,7 +451,7 @@ void DistributedRun<D>::dissolve() {
   sim_.set_external_rebuilds(false);
   sim_.set_keep_wall_reactions(false);
   sim_.install_share(std::move(whole), histories);
-  sim_.set_step_tallies(sum.pair_contacts, sum.wall_contacts, sum.wall_batched,
+  sim_.set_step_tallies(sum.pair_contacts, sum.pair_batched, sum.wall_contacts, sum.wall_batched,
                         sum.max_overlap_ratio);
   if (stepped) sim_.set_wall_reactions(force, axial);
   if (sim_.record_contacts()) sim_.set_gathered_contacts(all_contacts);
@@ -465,7 +467,10 @@ std::string DistributedRun<D>::tallies(const GlobalStats& here) const {
   const bool stepped = steps_since_install_ > 0;
   std::string out;
   put(out, static_cast<std::int64_t>(owned_.size()));
-  put(out, stepped ? sim_.led_pair_contacts() : rank_ == 0 ? here.contacts_particle : 0);
+  std::int64_t led_batched = 0;
+  const std::int64_t led = stepped ? sim_.led_pair_contacts(&led_batched) : 0;
+  put(out, stepped ? led : rank_ == 0 ? here.contacts_particle : 0);
+  put(out, stepped ? led_batched : rank_ == 0 ? here.contacts_batched : 0);
   put(out, stepped || rank_ == 0 ? here.contacts_wall : std::int64_t{0});
   put(out, stepped || rank_ == 0 ? here.contacts_wall_batched : std::int64_t{0});
   put(out, here.max_overlap_ratio);
@@ -535,6 +540,7 @@ GlobalStats DistributedRun<D>::totals() const {
   for (int a = 0; a < D; ++a) g.momentum[static_cast<std::size_t>(a)] = momentum[a];
   g.particles = sum.particles;
   g.contacts_particle = sum.pair_contacts;
+  g.contacts_batched = sum.pair_batched;  // of the led pairs, as contacts_particle
   g.contacts_wall = sum.wall_contacts;
   g.contacts_wall_batched = sum.wall_batched;  // each wall contact is its particle's rank's
   g.max_overlap_ratio = sum.max_overlap_ratio;

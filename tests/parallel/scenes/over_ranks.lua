@@ -124,8 +124,9 @@ end
 local monitored = {}
 sim:every { steps = 70, function(s)
   local st = s:stats()
-  monitored[#monitored + 1] = string.format("%d %a %a %a %d %d", s:step_count(), s:time(), st.kinetic_energy,
-    st.kinetic_energy_rotational, st.contacts_particle, st.contacts_wall)
+  monitored[#monitored + 1] = string.format("%d %a %a %a %d %d %d %d", s:step_count(), s:time(), st.kinetic_energy,
+    st.kinetic_energy_rotational, st.contacts_particle, st.contacts_batched, st.contacts_wall,
+    st.contacts_wall_batched)
 end }
 -- The shear cell's floor shaken from a callback that reads the time and sets a
 -- wall's velocity (spread runs keep their shares for it, as for a shaken floor
