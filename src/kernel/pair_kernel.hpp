@@ -154,6 +154,8 @@ void PairKernel<D, M>::run(PairBucket<D, M>& b, const std::vector<typename M::Pa
     History* const hist = b.history.data();
     const typename M::Params* const par_of = params.data();
     const bool one_law = b.law >= 0;
+    // The shared law's parameters, or null: a local, not reloaded from the bucket per contact.
+    const typename M::Params* const shared_law = one_law ? &par_of[b.law] : nullptr;
     const V* const x = p.position.data();
     const V* const v = p.velocity.data();
     const S* const w = p.spin.data();
@@ -300,7 +302,7 @@ void PairKernel<D, M>::run(PairBucket<D, M>& b, const std::vector<typename M::Pa
         const double dist = std::sqrt(dist_sq);
         const double inv_dist = dist * (1.0 / dist_sq);
         const double overlap = r_sum - dist;
-        const typename M::Params& par = par_of[one_law ? b.law : bslot[k]];
+        const typename M::Params& par = one_law ? *shared_law : par_of[bslot[k]];
         in_contact[k] = 1;
         ContactState<D> c;
         c.dt = dt;
@@ -430,7 +432,7 @@ void PairKernel<D, M>::run(PairBucket<D, M>& b, const std::vector<typename M::Pa
             if (!open_entry(e, e_end, k, i, j)) continue;
             const int l = batch.count++;
             batch.k[l] = k, batch.i[l] = i, batch.j[l] = j;
-            batch.params[l] = &par_of[one_law ? b.law : bslot[k]];
+            batch.params[l] = one_law ? shared_law : &par_of[bslot[k]];
             const History& h = hist[k];
             batch.gather_lane(l, x[i], x[j], v[i], v[j], w[i], w[j], radius[i], radius[j],
                               batch_needs_mass<M>(h) ? inv_mass[i] + inv_mass[j] : 1.0, h);
