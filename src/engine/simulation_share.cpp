@@ -187,9 +187,7 @@ std::int64_t Simulation<D>::led_pair_contacts(std::int64_t* batched) const {
       if (!(p_.fixed[lower] & ghost_flag)) ++here;
     }
     led += here;
-    // The pair kernel's choice (PairKernel::run): a model's batch where it has one and batches are
-    // on.
-    if (has_force_batch<ContactModelAt<I>, D>::value && batched_contacts_) led_batched += here;
+    if (PairKernel<D, ContactModelAt<I>>::takes_batch(batched_contacts_)) led_batched += here;
   });
   if (batched) *batched = led_batched;
   return led;

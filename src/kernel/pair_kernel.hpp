@@ -69,6 +69,13 @@ struct PairTally {
 template <int D, typename M>
 class PairKernel {
  public:
+  // Whether a step with batches on (PairStep::batched) takes the model's
+  // batched force pass: where it has force_batch in this dimension
+  // (contact_batch.hpp). The engine's count of batched contacts asks the same.
+  static constexpr bool takes_batch(bool batches_on) {
+    return has_force_batch<M, D>::value && batches_on;
+  }
+
   template <bool Observed>
   void run(PairBucket<D, M>& bucket, const std::vector<typename M::Params>& params,
            const PairStep<D>& step, PairTally& tally);
@@ -112,9 +119,8 @@ void PairKernel<D, M>::run(PairBucket<D, M>& b, const std::vector<typename M::Pa
   double max_ratio = 0;
   const int team = step.team;
   b.touched.resize(team);
-  // Pairs of a model with a batched kernel in this dimension (contact_batch.hpp) take it.
   constexpr bool batchable = has_force_batch<M, D>::value;
-  const bool batched = batchable && step.batched;
+  const bool batched = takes_batch(step.batched);
   if (b.law == -2) {  // once per list: do all candidates share one law (no index to load)?
     b.law = count ? static_cast<std::int64_t>(b.slot[0]) : -1;
     for (const std::uint32_t s : b.slot)

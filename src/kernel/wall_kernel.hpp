@@ -155,16 +155,13 @@ void WallKernel<D, M>::run(WallBucket<D, M>& b, const std::vector<typename M::Pa
       f.r_star = std::numeric_limits<double>::quiet_NaN();
       // A law that touches only at overlap > 0 skips the geometry of a
       // candidate surely clear of its cylinder (about half of them in a drum).
-      bool apart = false;
-      if constexpr (!M::adhesive) apart = w.surely_apart(x[i], radius[i]);
-      if (apart) {
-        f.overlap = -1;
-      } else if (is_surface_wall(w.type)) {  // found this step by resolve_mesh_contacts
+      const bool apart = !M::adhesive && w.surely_apart(x[i], radius[i]);
+      if (!apart && is_surface_wall(w.type)) {  // found this step by resolve_mesh_contacts
         const WallTouch<D>& t = touch[k];
         f.n = t.normal, f.surface_velocity = t.surface_velocity, f.lever = t.lever;
         f.overlap = t.overlap;
         f.r_star = t.effective_radius;
-      } else {
+      } else if (!apart) {
         f.overlap = w.contact(x[i], radius[i], f.n, f.surface_velocity, f.lever,
                               uses_effective_radius<M>::value ? &f.r_star : nullptr);
       }

@@ -110,13 +110,21 @@ void CellGrid<D>::build(const Particles<D>& p, double skin, const Periodicity& p
         cell_particles_[fill[particle_cell_[i]]++] = static_cast<std::uint32_t>(i);
   }
 
+  // Is j within reach of a particle at xi with radius ri, and may they meet?
+  // Two immobile particles, or two ghosts of a distributed run (bit 1), meet
+  // nothing that moves here; an immobile particle and a ghost still do.
+  const Vec<D>* const x = p.position.data();
+  const double* const radius = p.radius.data();
+  const std::uint8_t* const fixed = p.fixed.data();
+  const bool wraps = per.on();
+  auto within_reach = [&](const Vec<D>& xi, double ri, std::uint8_t fi, std::uint32_t j)
+      __attribute__((always_inline)) {
+    const double reach = ri + radius[j] + skin;
+    const Vec<D> d = wraps ? separation<D>(xi, x[j], per) : Vec<D>(xi - x[j]);
+    return ((fi & fixed[j]) == 0) & (d.squaredNorm() < reach * reach);
+  };
   auto consider = [&](std::uint32_t i, std::uint32_t j) {
-    // Two immobile particles, or two ghosts of a distributed run (bit 1), meet
-    // nothing that moves here; an immobile particle and a ghost still do.
-    if (p.fixed[i] & p.fixed[j]) return;
-    const double reach = p.radius[i] + p.radius[j] + skin;
-    if (separation<D>(p.position[i], p.position[j], per).squaredNorm() < reach * reach)
-      pairs.emplace_back(i, j);
+    if (within_reach(x[i], radius[i], fixed[i], j)) pairs.emplace_back(i, j);
   };
 
   // Neighbour cell offsets along each axis, deduplicated when a periodic axis has < 3 cells.
@@ -173,13 +181,9 @@ void CellGrid<D>::build(const Particles<D>& p, double skin, const Periodicity& p
   // the cells' mixed order makes unpredictable. The arrays as local pointers
   // (captured, they would be reloaded after every store); room is made before
   // each cell, for all its particles.
-  const Vec<D>* const x = p.position.data();
-  const double* const radius = p.radius.data();
-  const std::uint8_t* const fixed = p.fixed.data();
   const std::uint32_t* const start = cell_start_.data();
   const std::uint32_t* const members = cell_particles_.data();
   const std::uint32_t* const cell_of = particle_cell_.data();
-  const bool wraps = per.on();
   std::size_t kept = pairs.size();
   auto scan_cell = [&](std::uint32_t i, std::size_t cell) __attribute__((always_inline)) {
     const std::uint32_t first = start[cell], last = start[cell + 1];
@@ -190,10 +194,8 @@ void CellGrid<D>::build(const Particles<D>& p, double skin, const Periodicity& p
     const std::uint8_t fi = fixed[i];
     for (std::uint32_t s = first; s < last; ++s) {
       const std::uint32_t j = members[s];
-      const double reach = ri + radius[j] + skin;  // as consider() sums it
-      const Vec<D> d = wraps ? separation<D>(xi, x[j], per) : Vec<D>(xi - x[j]);
       out[kept] = {i, j};
-      kept += (j > i) & ((fi & fixed[j]) == 0) & (d.squaredNorm() < reach * reach);
+      kept += (j > i) & within_reach(xi, ri, fi, j);
     }
   };
   for (std::size_t i = 0; i < n; ++i) {
