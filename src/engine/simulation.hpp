@@ -3,6 +3,7 @@
 // contacts per model, integration, hooks.
 #pragma once
 
+#include <array>
 #include <cmath>
 #include <optional>
 #include <tuple>
@@ -70,7 +71,10 @@ class Simulation final : public SimulationBase {
     return static_cast<std::int64_t>(state_override_ ? state_override_->state.id.size()
                                                      : p_.size());
   }
-  std::vector<std::int64_t> particle_ids() const override { return p_.id; }
+  // In increasing order: not the storage order, which the space-filling
+  // curve's sorts and the ranks' shares change, so that a script that picks
+  // the k-th id picks the same particle in every run of the scene.
+  std::vector<std::int64_t> particle_ids() const override;
   bool has_particle(std::int64_t id) const override { return p_.index(id) >= 0; }
   Triple position(std::int64_t id) const override;
   Triple velocity(std::int64_t id) const override;
@@ -94,6 +98,9 @@ class Simulation final : public SimulationBase {
   void advance(std::int64_t steps) override;
   TimeStepReport time_step_rule() override;
   GlobalStats stats() const override;
+  // stats() without the sums over the particles (energies, momenta): the
+  // time, the step and the counters, as this process holds them.
+  GlobalStats counters() const;
   std::vector<ContactRecord> contacts() const override;
   std::vector<std::string> describe() const override;
   ActiveEffects effects() const override;
@@ -194,15 +201,21 @@ class Simulation final : public SimulationBase {
   // are the one-process sums bit for bit (canonical order lists each
   // particle's wall contacts in id order).
   void set_keep_wall_reactions(bool on) { keep_wall_reactions_ = on; }
-  // Particle i's terms of stats()' totals, rounded as stats() adds them (a
-  // call the compiler does not inline, so that no sum fuses with a product
-  // differently here and in a reduction over ranks that adds the same terms).
-  struct StatTerms {
-    double kinetic_translational = 0, kinetic_rotational = 0;
-    Vec<D> momentum = Vec<D>::Zero();
-    double angular_momentum_z = 0;
+  // The terms of stats()' totals of particles which[0..count), a column
+  // each, rounded as stats() adds them. Written to memory by a call the
+  // compiler does not inline, so that no sum fuses with a product
+  // differently in stats() and in a reduction over ranks that adds the same
+  // terms; columns, so that no term is read back wider than it was stored.
+  struct StatColumns {
+    std::vector<double> kinetic_translational, kinetic_rotational, angular_momentum_z;
+    std::array<std::vector<double>, D> momentum;
+    void resize(std::size_t count) {
+      kinetic_translational.resize(count), kinetic_rotational.resize(count);
+      angular_momentum_z.resize(count);
+      for (auto& column : momentum) column.resize(count);
+    }
   };
-  StatTerms stat_terms(std::size_t i) const;
+  void stat_columns(const std::uint32_t* which, std::size_t count, StatColumns& out) const;
   // flat_state(), flat_forces() and particle_count() give `state` (every
   // particle, gathered from the ranks in id order) until reset.
   struct StateOverride {

@@ -130,47 +130,43 @@ typename SimulationBase::FlatState Simulation<D>::flat_state() const {
 }
 
 template <int D>
-__attribute__((noinline)) typename Simulation<D>::StatTerms Simulation<D>::stat_terms(
-    std::size_t i) const {
-  StatTerms t;
-  const double m = p_.mass[i];
-  const V& x = p_.position[i];
-  const V& v = p_.velocity[i];
-  t.kinetic_translational = 0.5 * m * v.squaredNorm();
-  t.kinetic_rotational = 0.5 * sphere_inertia(m, p_.radius[i]) * Dim<D>::spin_sq(p_.spin[i]);
-  t.momentum = m * v;
-  double spin_z;
-  if constexpr (D == 2) {
-    spin_z = p_.spin[i];
-  } else {
-    spin_z = p_.spin[i][2];
+__attribute__((noinline)) void Simulation<D>::stat_columns(const std::uint32_t* which,
+                                                           std::size_t count,
+                                                           StatColumns& out) const {
+  out.resize(count);
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::uint32_t i = which[k];
+    const double m = p_.mass[i];
+    const V& x = p_.position[i];
+    const V& v = p_.velocity[i];
+    const double inertia = sphere_inertia(m, p_.radius[i]);
+    out.kinetic_translational[k] = 0.5 * m * v.squaredNorm();
+    out.kinetic_rotational[k] = 0.5 * inertia * Dim<D>::spin_sq(p_.spin[i]);
+    for (int a = 0; a < D; ++a) out.momentum[static_cast<std::size_t>(a)][k] = m * v[a];
+    double spin_z;
+    if constexpr (D == 2) {
+      spin_z = p_.spin[i];
+    } else {
+      spin_z = p_.spin[i][2];
+    }
+    out.angular_momentum_z[k] = m * (x[0] * v[1] - x[1] * v[0]) + inertia * spin_z;
   }
-  t.angular_momentum_z = m * (x[0] * v[1] - x[1] * v[0]) + sphere_inertia(m, p_.radius[i]) * spin_z;
-  return t;
 }
 
 template <int D>
-GlobalStats Simulation<D>::stats() const {
-  if (stats_override_) return *stats_override_;
+std::vector<std::int64_t> Simulation<D>::particle_ids() const {
+  std::vector<std::int64_t> ids;
+  ids.reserve(p_.size());
+  for (const std::uint32_t i : p_.in_id_order()) ids.push_back(p_.id[i]);
+  return ids;
+}
+
+template <int D>
+GlobalStats Simulation<D>::counters() const {
   GlobalStats g;
   g.time = time_;
   g.step = step_;
   g.particles = static_cast<std::int64_t>(p_.size());
-  V momentum = V::Zero();
-  // In canonical order the totals are summed in id order: the same bits
-  // whatever order the particles are stored in.
-  const std::vector<std::uint32_t> id_order =
-      canonical_order_ ? p_.in_id_order() : std::vector<std::uint32_t>{};
-  for (std::size_t k = 0; k < p_.size(); ++k) {
-    const std::size_t i = canonical_order_ ? id_order[k] : k;
-    if (p_.fixed[i]) continue;
-    const StatTerms t = stat_terms(i);
-    g.kinetic_translational += t.kinetic_translational;
-    g.kinetic_rotational += t.kinetic_rotational;
-    momentum += t.momentum;
-    g.angular_momentum_z += t.angular_momentum_z;
-  }
-  g.momentum = to_triple(momentum);
   g.contacts_particle = contacts_particle_;
   g.contacts_batched = contacts_batched_;
   g.contacts_wall_batched = contacts_wall_batched_;
@@ -181,6 +177,32 @@ GlobalStats Simulation<D>::stats() const {
   g.thread_rebalances = rebalances_;
   g.pair_list_prunes = prunes_;
   g.pair_candidates_visited = candidates_visited_;
+  return g;
+}
+
+template <int D>
+GlobalStats Simulation<D>::stats() const {
+  if (stats_override_) return *stats_override_;
+  GlobalStats g = counters();
+  // In canonical order the totals are summed in id order: the same bits
+  // whatever order the particles are stored in.
+  std::vector<std::uint32_t> which =
+      canonical_order_ ? p_.in_id_order() : std::vector<std::uint32_t>(p_.size());
+  if (!canonical_order_)
+    for (std::size_t k = 0; k < which.size(); ++k) which[k] = static_cast<std::uint32_t>(k);
+  which.erase(
+      std::remove_if(which.begin(), which.end(), [&](std::uint32_t i) { return p_.fixed[i] != 0; }),
+      which.end());
+  StatColumns t;
+  stat_columns(which.data(), which.size(), t);
+  V momentum = V::Zero();
+  for (std::size_t k = 0; k < which.size(); ++k) {
+    g.kinetic_translational += t.kinetic_translational[k];
+    g.kinetic_rotational += t.kinetic_rotational[k];
+    for (int a = 0; a < D; ++a) momentum[a] += t.momentum[static_cast<std::size_t>(a)][k];
+    g.angular_momentum_z += t.angular_momentum_z[k];
+  }
+  g.momentum = to_triple(momentum);
   return g;
 }
 

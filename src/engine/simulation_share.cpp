@@ -174,18 +174,22 @@ void Simulation<D>::set_gathered_contacts(const std::string& all) {
 template <int D>
 std::int64_t Simulation<D>::led_pair_contacts(std::int64_t* batched) const {
   std::int64_t led = 0, led_batched = 0;
-  const bool any_slots = slot_in_contact_.size() == slot_count_;
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
     const auto& b = std::get<I>(pair_buckets_);
-    if (!any_slots) return;
+    if (!b.size()) return;  // its kernel did not run: its lists are not this step's
     std::int64_t here = 0;
-    for (std::size_t k = 0; k < b.size(); ++k) {
-      if (!slot_in_contact_[b.offset + k]) continue;
-      // The pair is oriented id_i < id_j (buckets.hpp).
-      const std::uint32_t lower = b.id_i[k] < b.id_j[k] ? b.i[k] : b.j[k];
-      if (!(p_.fixed[lower] & ghost_flag)) ++here;
-    }
+    // The last step's contacts are the entries of its lists with the touch
+    // bit (buckets.hpp): far fewer than the candidates.
+    for (const StepList<D>& list : b.touched)
+      for (std::size_t e = 0; e < list.count; ++e) {
+        const std::uint32_t entry = list.entries[e];
+        if (!(entry & 1)) continue;  // stopped touching
+        const std::uint32_t k = entry >> 1;
+        // The pair is oriented id_i < id_j (buckets.hpp).
+        const std::uint32_t lower = b.id_i[k] < b.id_j[k] ? b.i[k] : b.j[k];
+        if (!(p_.fixed[lower] & ghost_flag)) ++here;
+      }
     led += here;
     if (PairKernel<D, ContactModelAt<I>>::takes_batch(batched_contacts_)) led_batched += here;
   });

@@ -225,7 +225,7 @@ return {
 {"sim:particle", "simulation", P,
  "sim:particle(id) -> { id =, position =, velocity =, spin =, force =, radius =, mass =, material =, fixed = }",
  "One particle's state (SI units: m, m/s, rad/s, N, kg).", {{"1", "integer", "", true, "particle id"}}, "3"},
-{"sim:particles", "simulation", P, "sim:particles() -> { id, ... }", "The ids of the particles present.", {}, ""},
+{"sim:particles", "simulation", P, "sim:particles() -> { id, ... }", "The ids of the particles present, in increasing order (the same in every run of a scene, whatever the storage order or the ranks).", {}, ""},
 {"sim:set_position", "simulation", P, "sim:set_position(id, { x, y[, z] })", "Moves a particle.",
  {{"1", "integer", "", true, "particle id"}, {"2", "vector", "m", true, "new centre"}}, "3, { 0, 0 }"},
 {"sim:set_velocity", "simulation", P, "sim:set_velocity(id, { vx, vy[, vz] })", "Sets a (free) particle's velocity.",

@@ -6,7 +6,10 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstring>
 #include <limits>
+#include <numeric>
+#include <type_traits>
 
 #include "core/bytes.hpp"
 #include "core/errors.hpp"
@@ -54,16 +57,19 @@ struct Tallies {
   double max_overlap_ratio = 0;
 };
 
+// One rank's tallies, read from `all` at `at`, added to `sum`.
+void add_tallies(Tallies& sum, const std::string& all, std::size_t& at) {
+  sum.particles += take<std::int64_t>(all, at);
+  sum.pair_contacts += take<std::int64_t>(all, at);
+  sum.pair_batched += take<std::int64_t>(all, at);
+  sum.wall_contacts += take<std::int64_t>(all, at);
+  sum.wall_batched += take<std::int64_t>(all, at);
+  sum.max_overlap_ratio = std::max(sum.max_overlap_ratio, take<double>(all, at));
+}
+
 Tallies sum_tallies(const std::string& all) {
   Tallies sum;
-  for (std::size_t at = 0; at < all.size();) {
-    sum.particles += take<std::int64_t>(all, at);
-    sum.pair_contacts += take<std::int64_t>(all, at);
-    sum.pair_batched += take<std::int64_t>(all, at);
-    sum.wall_contacts += take<std::int64_t>(all, at);
-    sum.wall_batched += take<std::int64_t>(all, at);
-    sum.max_overlap_ratio = std::max(sum.max_overlap_ratio, take<double>(all, at));
-  }
+  for (std::size_t at = 0; at < all.size();) add_tallies(sum, all, at);
   return sum;
 }
 
@@ -381,7 +387,7 @@ void DistributedRun<D>::dissolve() {
   // the shares: the walls' are then still the whole scene's). Every rank has
   // taken the same steps.
   const bool stepped = steps_since_install_ > 0;
-  const Tallies sum = sum_tallies(all_gather(tallies(sim_.stats()), comm_));
+  const Tallies sum = sum_tallies(all_gather(tallies(sim_.counters()), comm_));
   const std::string all_reactions =
       all_gather(stepped ? sim_.pack_wall_reactions() : std::string(), comm_);
   const std::string all = all_gather(mine, comm_);
@@ -479,62 +485,84 @@ std::string DistributedRun<D>::tallies(const GlobalStats& here) const {
 
 template <int D>
 GlobalStats DistributedRun<D>::totals() const {
-  GlobalStats g = sim_.stats();  // time, step, this rank's counters
-  // Each owned particle's terms, as Simulation::stats() forms them.
+  GlobalStats g = sim_.counters();  // time, step, this rank's counters
+  // One message per rank, gathered at once: its tallies, then its owned
+  // particles' ids and terms as Simulation::stats() forms them, a column each.
   const Particles<D>& p = sim_.share();
-  std::string mine;
-  for (std::size_t i = 0; i < owned_.size(); ++i) {
-    if (p.fixed[i]) continue;
-    const auto t = sim_.stat_terms(i);
-    put(mine, p.id[i]);
-    put(mine, t.kinetic_translational);
-    put(mine, t.kinetic_rotational);
-    put(mine, t.momentum);
-    put(mine, t.angular_momentum_z);
+  std::vector<std::uint32_t> which;
+  which.reserve(owned_.size());
+  for (std::size_t i = 0; i < owned_.size(); ++i)
+    if (!p.fixed[i]) which.push_back(static_cast<std::uint32_t>(i));
+  typename Simulation<D>::StatColumns t;
+  sim_.stat_columns(which.data(), which.size(), t);
+  std::vector<const std::vector<double>*> columns = {&t.kinetic_translational,
+                                                     &t.kinetic_rotational};
+  for (const auto& column : t.momentum) columns.push_back(&column);
+  columns.push_back(&t.angular_momentum_z);
+  const std::size_t n = which.size(), terms = columns.size();
+  std::string mine = tallies(g);
+  put(mine, static_cast<std::int64_t>(n));
+  std::size_t at = mine.size();
+  mine.resize(at + n * (sizeof(std::int64_t) + terms * sizeof(double)));
+  for (const std::uint32_t i : which) {
+    std::memcpy(mine.data() + at, &p.id[i], sizeof(std::int64_t));
+    at += sizeof(std::int64_t);
+  }
+  for (const auto* column : columns) {
+    std::memcpy(mine.data() + at, column->data(), n * sizeof(double));
+    at += n * sizeof(double);
   }
   const std::string all = all_gather(mine, comm_);
-  const Tallies sum = sum_tallies(all_gather(tallies(g), comm_));
-  struct Terms {
-    std::int64_t id;
-    double kt, kr;
-    Vec<D> momentum;
-    double lz;
-  };
-  std::vector<Terms> terms;
-  for (std::size_t at = 0; at < all.size();) {
-    Terms t;
-    t.id = take<std::int64_t>(all, at);
-    t.kt = take<double>(all, at);
-    t.kr = take<double>(all, at);
-    t.momentum = take<Vec<D>>(all, at);
-    t.lz = take<double>(all, at);
-    terms.push_back(t);
+  // Every rank's columns: id and term j of particle k at id[k] and term[j][k].
+  Tallies sum;
+  std::vector<std::int64_t> id;
+  std::vector<std::vector<double>> term(terms);
+  for (at = 0; at < all.size();) {
+    add_tallies(sum, all, at);
+    const auto count = take<std::int64_t>(all, at);
+    const std::size_t row = sizeof(std::int64_t) + terms * sizeof(double);
+    if (count < 0 || static_cast<std::size_t>(count) > (all.size() - at) / row)
+      throw RunError(
+          fmt::format("distributed run: {} particles' terms in a gathered record", count));
+    const std::size_t c = static_cast<std::size_t>(count), first = id.size();
+    id.resize(first + c);
+    std::memcpy(id.data() + first, all.data() + at, c * sizeof(std::int64_t));
+    at += c * sizeof(std::int64_t);
+    for (auto& column : term) {
+      column.resize(first + c);
+      std::memcpy(column.data() + first, all.data() + at, c * sizeof(double));
+      at += c * sizeof(double);
+    }
   }
   // Summed in id order, as one process sums them. The ids are below next_id:
-  // where they are dense (no scene removed most of its particles), each term
-  // goes to its id's place, which is linear, else they are sorted.
+  // where they are dense (no scene removed most of its particles), each
+  // particle goes to its id's place, which is linear, else they are sorted.
   const std::int64_t id_count = p.next_id;
-  std::vector<const Terms*> by_id;
-  if (id_count <= 4 * static_cast<std::int64_t>(terms.size()) + 64) {
-    by_id.assign(static_cast<std::size_t>(id_count), nullptr);
-    for (const Terms& t : terms) {
-      if (t.id < 0 || t.id >= id_count)
-        throw RunError(fmt::format("distributed run: particle id {} of {}", t.id, id_count));
-      by_id[static_cast<std::size_t>(t.id)] = &t;
+  std::vector<std::int32_t> order;  // indices into the columns, in id order
+  if (id_count <= 4 * static_cast<std::int64_t>(id.size()) + 64) {
+    std::vector<std::int32_t> at_id(static_cast<std::size_t>(id_count), -1);
+    for (std::size_t k = 0; k < id.size(); ++k) {
+      if (id[k] < 0 || id[k] >= id_count)
+        throw RunError(fmt::format("distributed run: particle id {} of {}", id[k], id_count));
+      at_id[static_cast<std::size_t>(id[k])] = static_cast<std::int32_t>(k);
     }
+    for (const std::int32_t k : at_id)
+      if (k >= 0) order.push_back(k);
   } else {
-    std::sort(terms.begin(), terms.end(),
-              [](const Terms& a, const Terms& b) { return a.id < b.id; });
-    for (const Terms& t : terms) by_id.push_back(&t);
+    order.resize(id.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](std::int32_t a, std::int32_t b) {
+      return id[static_cast<std::size_t>(a)] < id[static_cast<std::size_t>(b)];
+    });
   }
   g.kinetic_translational = g.kinetic_rotational = g.angular_momentum_z = 0;
   Vec<D> momentum = Vec<D>::Zero();
-  for (const Terms* t : by_id) {
-    if (!t) continue;
-    g.kinetic_translational += t->kt;
-    g.kinetic_rotational += t->kr;
-    momentum += t->momentum;
-    g.angular_momentum_z += t->lz;
+  for (const std::int32_t k : order) {
+    g.kinetic_translational += term[0][static_cast<std::size_t>(k)];
+    g.kinetic_rotational += term[1][static_cast<std::size_t>(k)];
+    for (int a = 0; a < D; ++a)
+      momentum[a] += term[2 + static_cast<std::size_t>(a)][static_cast<std::size_t>(k)];
+    g.angular_momentum_z += term[2 + D][static_cast<std::size_t>(k)];
   }
   g.momentum = Triple{};
   for (int a = 0; a < D; ++a) g.momentum[static_cast<std::size_t>(a)] = momentum[a];

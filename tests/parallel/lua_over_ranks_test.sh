@@ -48,7 +48,7 @@ for x, y in zip(a, b):
     assert x == y, f"{sys.argv[1]} / {sys.argv[2]} differ:\n{x[:200]}\n{y[:200]}"
 PY
 }
-for case in box drum jkr wb shear bonds mesh; do
+for case in box sparse drum jkr wb shear bonds mesh; do
   if [ "$case" = drum ]; then  # after the box's mpirun runs
     test ! -e scratch/granule-rank1-$dead || { echo "a dead rank's scratch was kept"; exit 1; }
     test -d scratch/granule-rank2-$$ || { echo "a live process's folder was removed"; exit 1; }
