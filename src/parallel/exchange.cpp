@@ -254,7 +254,11 @@ void forward_ghosts(const Decomposition<D>& d, const GhostPlan& plan,
   // MPI_Alltoallv of doubles moves the states (doubles travel bit for bit
   // between ranks of one machine type): position, velocity, spin per ghost.
   constexpr int per = 2 * D + Dim<D>::spin_components;
-  std::vector<int> send_counts(size), send_at(size), recv_counts(size), recv_at(size);
+  GhostPlan::Buffers& b = plan.buffers;
+  for (auto* v : {&b.send_counts, &b.send_at, &b.recv_counts, &b.recv_at})
+    v->resize(static_cast<std::size_t>(size));
+  std::vector<int>&send_counts = b.send_counts, &send_at = b.send_at;
+  std::vector<int>&recv_counts = b.recv_counts, &recv_at = b.recv_at;
   std::size_t sending = 0, receiving = 0;
   for (int k = 0; k < size; ++k) {
     const std::size_t u = static_cast<std::size_t>(k);
@@ -263,7 +267,8 @@ void forward_ghosts(const Decomposition<D>& d, const GhostPlan& plan,
     recv_counts[u] = count_of(extra + plan.place[u].size() * per);
     sending += extra + plan.send[u].size() * per, receiving += extra + plan.place[u].size() * per;
   }
-  std::vector<double> out(sending), in(receiving);
+  b.out.resize(sending), b.in.resize(receiving);
+  std::vector<double>&out = b.out, &in = b.in;
   double* o = out.data();
   for (int k = 0; k < size; ++k) {
     for (std::size_t e = 0; e < extra; ++e) *o++ = maxima[e];
@@ -285,8 +290,8 @@ void forward_ghosts(const Decomposition<D>& d, const GhostPlan& plan,
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
   constexpr int tag = 0x6f72;  // used by nothing else on this communicator
-  std::vector<MPI_Request> requests;
-  requests.reserve(2 * static_cast<std::size_t>(size));
+  std::vector<MPI_Request>& requests = b.requests;
+  requests.clear();
   for (int k = 0; k < size; ++k) {
     const std::size_t u = static_cast<std::size_t>(k);
     if (k == rank || recv_counts[u] == 0) continue;

@@ -71,6 +71,13 @@ struct GhostPlan {
   std::vector<std::vector<Send>> send;  // per destination rank, in a fixed order
   // place[k][n]: where the n-th ghost from rank k lands in the sorted ghosts.
   std::vector<std::vector<std::size_t>> place;
+  // The forward's buffers, kept from step to step so that a step allocates nothing.
+  struct Buffers {
+    std::vector<double> out, in;
+    std::vector<int> send_counts, send_at, recv_counts, recv_at;
+    std::vector<MPI_Request> requests;
+  };
+  mutable Buffers buffers;
 };
 
 // How periodic images reach a rank. `shifted`: each image is a ghost of its
