@@ -185,23 +185,35 @@ GlobalStats Simulation<D>::stats() const {
   if (stats_override_) return *stats_override_;
   GlobalStats g = counters();
   // In canonical order the totals are summed in id order: the same bits
-  // whatever order the particles are stored in.
-  std::vector<std::uint32_t> which =
-      canonical_order_ ? p_.in_id_order() : std::vector<std::uint32_t>(p_.size());
-  if (!canonical_order_)
-    for (std::size_t k = 0; k < which.size(); ++k) which[k] = static_cast<std::uint32_t>(k);
-  which.erase(
-      std::remove_if(which.begin(), which.end(), [&](std::uint32_t i) { return p_.fixed[i] != 0; }),
-      which.end());
+  // whatever order the particles are stored in. The terms are formed a chunk
+  // at a time, so that a large scene's call allocates no large buffers.
+  constexpr std::size_t chunk = 512;
+  std::uint32_t which[chunk];
+  std::size_t listed = 0;
   StatColumns t;
-  stat_columns(which.data(), which.size(), t);
   V momentum = V::Zero();
-  for (std::size_t k = 0; k < which.size(); ++k) {
-    g.kinetic_translational += t.kinetic_translational[k];
-    g.kinetic_rotational += t.kinetic_rotational[k];
-    for (int a = 0; a < D; ++a) momentum[a] += t.momentum[static_cast<std::size_t>(a)][k];
-    g.angular_momentum_z += t.angular_momentum_z[k];
+  auto sum = [&]() {
+    stat_columns(which, listed, t);
+    for (std::size_t k = 0; k < listed; ++k) {
+      g.kinetic_translational += t.kinetic_translational[k];
+      g.kinetic_rotational += t.kinetic_rotational[k];
+      for (int a = 0; a < D; ++a) momentum[a] += t.momentum[static_cast<std::size_t>(a)][k];
+      g.angular_momentum_z += t.angular_momentum_z[k];
+    }
+    listed = 0;
+  };
+  auto visit = [&](std::uint32_t i) {
+    if (p_.fixed[i]) return;
+    which[listed++] = i;
+    if (listed == chunk) sum();
+  };
+  if (canonical_order_) {
+    for (const std::int32_t i : p_.index_of_id)
+      if (i >= 0) visit(static_cast<std::uint32_t>(i));
+  } else {
+    for (std::size_t i = 0; i < p_.size(); ++i) visit(static_cast<std::uint32_t>(i));
   }
+  if (listed) sum();
   g.momentum = to_triple(momentum);
   return g;
 }
