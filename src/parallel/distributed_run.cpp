@@ -155,6 +155,8 @@ DistributedRun<D>::DistributedRun(Simulation<D>& sim, MPI_Comm comm, double reba
   std::sort(owned_.begin(), owned_.end(), [](const auto& a, const auto& b) { return a.id < b.id; });
   const auto t0 = Clock::now();
   ghosts_ = exchange_ghosts(d_, reach_, owned_, comm_, plan_, Images::wrapped);
+  shared_ = std::make_unique<SharedForward<D>>(comm_);
+  if (shared_->usable()) shared_->fit(plan_, 2);
   install();
   times_.rebuild += since(t0);
 }
@@ -273,6 +275,7 @@ void DistributedRun<D>::redistribute() {
   if (any_leaving) take_histories(&leaving);
   migrated_ += static_cast<std::int64_t>(migrate(d_, owned_, comm_));
   ghosts_ = exchange_ghosts(d_, reach_, owned_, comm_, plan_, Images::wrapped);
+  if (shared_ && shared_->usable()) shared_->fit(plan_, 2);
   install(true);
 }
 
@@ -322,7 +325,10 @@ void DistributedRun<D>::forward(double* maxima, int count) {
       r.position = p.position[send.index], r.velocity = p.velocity[send.index];
       r.spin = p.spin[send.index];
     }
-  forward_ghosts(d_, plan_, owned_, ghosts_, comm_, maxima, count);
+  if (shared_ && shared_->usable())
+    shared_->forward(d_, plan_, owned_, ghosts_, maxima, count);
+  else
+    forward_ghosts(d_, plan_, owned_, ghosts_, comm_, maxima, count);
   const std::size_t first = owned_.size();
   for (std::size_t g = 0; g < ghosts_.size(); ++g) {
     p.position[first + g] = ghosts_[g].position;
@@ -643,7 +649,10 @@ std::int64_t DistributedRun<D>::global_particles() const {
 
 template <int D>
 std::string DistributedRun<D>::describe() const {
-  return fmt::format("ranks: {}, {}", size_, d_.describe());
+  if (size_ == 1) return fmt::format("ranks: {}, {}", size_, d_.describe());
+  // How the ghosts' states travel each step (shared_forward.hpp).
+  return fmt::format("ranks: {}, {}; ghosts by {}", size_, d_.describe(),
+                     shared_ && shared_->usable() ? "shared memory" : "messages");
 }
 
 template class DistributedRun<2>;

@@ -30,12 +30,14 @@
 #include <mpi.h>
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "engine/simulation.hpp"
 #include "parallel/decomposition.hpp"
 #include "parallel/exchange.hpp"
+#include "parallel/shared_forward.hpp"
 
 namespace granule::parallel {
 
@@ -146,6 +148,8 @@ class DistributedRun {
   double reach_ = 0;          // m: the ghosts', contacts and bonds
   Decomposition<D> d_;
   GhostPlan plan_;
+  // The forward through shared memory where every rank is on this machine.
+  std::unique_ptr<SharedForward<D>> shared_;
   std::vector<ParticleRecord<D>> owned_, ghosts_;
   std::int64_t migrated_ = 0, recuts_ = 0;
   DistributedTimes times_;
