@@ -37,6 +37,12 @@ class PairTable {
   const Entry& at(int a, int b) const {
     return table_[static_cast<std::size_t>(a) * materials_ + b];
   }
+  // Does any pair of materials have its contacts under `model`?
+  bool uses(int model) const {
+    for (const Entry& e : table_)
+      if (e.model == model) return true;
+    return false;
+  }
 
   // Declares (or replaces) the law between a and b. `values` must already be resolved.
   void set(int a, int b, int model, const ParamValues& values, const PairMaterials& materials);

@@ -412,19 +412,24 @@ void Simulation<D>::rebuild_lists() {
   const std::vector<std::uint32_t> id_order =
       canonical_order_ ? p_.in_id_order() : std::vector<std::uint32_t>{};
   std::size_t slots = 0;
+  // A model no pair of materials uses has nothing to list: its empty bucket
+  // is not scanned for (every model's scan reads all candidates).
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
     auto& bucket = std::get<I>(pair_buckets_);
-    const std::size_t old =
-        list_pairs(bucket, I, p_, pairs_, candidates_, tracking_, canonical_order_);
-    std::get<I>(pair_kernels_).on_new_list(old, bucket.size());
+    if (bucket.size() || pairs_.uses(I)) {
+      const std::size_t old =
+          list_pairs(bucket, I, p_, pairs_, candidates_, tracking_, canonical_order_);
+      std::get<I>(pair_kernels_).on_new_list(old, bucket.size());
+    }
     bucket.offset = slots;
     slots += bucket.size();
   });
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
     auto& bucket = std::get<I>(wall_buckets_);
-    list_walls(bucket, I, p_, walls_, meshes_, pairs_, skin_, tracking_, id_order);
+    if (bucket.size() || pairs_.uses(I))
+      list_walls(bucket, I, p_, walls_, meshes_, pairs_, skin_, tracking_, id_order);
     bucket.offset = slots;
     slots += bucket.size();
   });
