@@ -9,7 +9,6 @@
 #include <cstring>
 #include <limits>
 #include <numeric>
-#include <type_traits>
 
 #include "core/bytes.hpp"
 #include "core/errors.hpp"
@@ -156,7 +155,7 @@ DistributedRun<D>::DistributedRun(Simulation<D>& sim, MPI_Comm comm, double reba
   const auto t0 = Clock::now();
   ghosts_ = exchange_ghosts(d_, reach_, owned_, comm_, plan_, Images::wrapped);
   shared_ = std::make_unique<SharedForward<D>>(comm_);
-  if (shared_->usable()) shared_->fit(plan_, 2);
+  if (shared_->usable()) shared_->fit(plan_, step_maxima);
   install();
   times_.rebuild += since(t0);
 }
@@ -275,7 +274,7 @@ void DistributedRun<D>::redistribute() {
   if (any_leaving) take_histories(&leaving);
   migrated_ += static_cast<std::int64_t>(migrate(d_, owned_, comm_));
   ghosts_ = exchange_ghosts(d_, reach_, owned_, comm_, plan_, Images::wrapped);
-  if (shared_ && shared_->usable()) shared_->fit(plan_, 2);
+  if (shared_ && shared_->usable()) shared_->fit(plan_, step_maxima);
   install(true);
 }
 
@@ -347,15 +346,15 @@ void DistributedRun<D>::advance(std::int64_t steps) {
     // One rank's rule, over every rank: rebuild when any particle anywhere moved
     // half the skin. With it the fastest speed anywhere in the last step, for
     // the pruned lists' travel (a ghost moves as fast as its owner lets it).
-    const double mine[2] = {sim_.lists_due() ? 1.0 : 0.0, sim_.last_fastest_speed_sq()};
-    double anywhere[2] = {mine[0], mine[1]};
+    const double mine[step_maxima] = {sim_.lists_due() ? 1.0 : 0.0, sim_.last_fastest_speed_sq()};
+    double anywhere[step_maxima] = {mine[0], mine[1]};
     // Few ranks: the ghosts' states sent at once, with the flag and the speed
     // (wasted on a rebuild step, which sends them again).
     const bool folded = size_ > 1 && size_ <= fold_ranks;
     if (folded)
-      forward(anywhere, 2);
+      forward(anywhere, step_maxima);
     else
-      MPI_Allreduce(mine, anywhere, 2, MPI_DOUBLE, MPI_MAX, comm_);
+      MPI_Allreduce(mine, anywhere, step_maxima, MPI_DOUBLE, MPI_MAX, comm_);
     const bool any = anywhere[0] > 0;
     sim_.widen_prune_travel(anywhere[1]);
     auto t1 = Clock::now();

@@ -139,6 +139,9 @@ class DistributedRun {
   // with the ghosts' states (every rank then sends to every other: one
   // collective a step instead of two); beyond it, an MPI_Allreduce of their own.
   static constexpr int fold_ranks = 3;  // (4 ranks in the tests take the other way)
+  // The values each step reduces to their maxima over the ranks: the rebuild
+  // flag and the fastest speed.
+  static constexpr int step_maxima = 2;
 
   Simulation<D>& sim_;
   MPI_Comm comm_;
