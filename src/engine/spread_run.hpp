@@ -39,7 +39,9 @@ class SpreadRun {
   // ordinary error, the same everywhere); on some only (a file rank 0 could
   // not write), every rank ends, lest the others wait; nowhere, returns.
   virtual void settle(const std::exception_ptr& error) = 0;
-  // Time per step split into compute, exchange and waiting, for the log.
+  // Each rank's time split into compute, exchange, waiting and rebuilds, a
+  // line per rank, for the log (an imbalance shows as one rank computing
+  // longer). Collective: every rank calls it; rank 0 gets every line.
   virtual std::string timing() const = 0;
 };
 

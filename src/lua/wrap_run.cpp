@@ -237,8 +237,9 @@ int l_run(lua_State* L) {
     }
     if (spread) {
       spread->gather();
-      if (ctx && !ctx->quiet && ctx->rank == 0)
-        std::cerr << "granule: " << spread->timing() << "\n";
+      // Every rank takes part (the other ranks are always quiet).
+      const std::string lines = spread->timing();
+      if (ctx && !ctx->quiet && ctx->rank == 0) std::cerr << lines;
       spread.reset();
     }
     done = outcome.done;

@@ -7,6 +7,8 @@
 #include <exception>
 #include <iostream>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "core/errors.hpp"
 #include "io/rank_files.hpp"
@@ -155,10 +157,21 @@ class SceneOverRanks final : public SpreadRun {
   std::string timing() const override {
     DistributedTimes t = total_;
     if (run_ && !run_->dissolved()) add(t, run_->times());
-    return fmt::format(
-        "rank {}: compute {:.3g} s, ghost exchange {:.3g} s, waiting {:.3g} s, rebuilds {} "
-        "({:.3g} s), steps taken whole for the diagnostics {}",
+    const std::string mine = fmt::format(
+        "granule: rank {}: compute {:.3g} s, ghost exchange {:.3g} s, waiting {:.3g} s, "
+        "rebuilds {} ({:.3g} s), steps taken whole for the diagnostics {}\n",
         rank_, t.compute, t.exchange, t.waiting, t.rebuilds, t.rebuild, whole_steps_);
+    // Every rank's line to rank 0, in rank order.
+    const int length = static_cast<int>(mine.size());
+    std::vector<int> lengths(static_cast<std::size_t>(size_)), at(static_cast<std::size_t>(size_));
+    MPI_Gather(&length, 1, MPI_INT, lengths.data(), 1, MPI_INT, 0, comm_);
+    int total = 0;
+    for (int k = 0; k < size_; ++k)
+      at[static_cast<std::size_t>(k)] = total, total += lengths[static_cast<std::size_t>(k)];
+    std::string all(rank_ == 0 ? static_cast<std::size_t>(total) : 0, '\0');
+    MPI_Gatherv(mine.data(), length, MPI_CHAR, all.data(), lengths.data(), at.data(), MPI_CHAR, 0,
+                comm_);
+    return rank_ == 0 ? all : mine;
   }
 
  private:
