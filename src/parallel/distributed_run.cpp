@@ -6,12 +6,11 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstring>
 #include <limits>
-#include <numeric>
 
 #include "core/bytes.hpp"
 #include "core/errors.hpp"
+#include "parallel/gathering.hpp"
 
 namespace granule::parallel {
 
@@ -22,11 +21,6 @@ double since(Clock::time_point t0) {
 }
 
 using bytes::put;
-
-template <typename T>
-T take(const std::string& in, std::size_t& at) {
-  return bytes::take<T>(in, at, "distributed run: a gathered record");
-}
 
 // Appends record r to `to` with the given `fixed` flags and load; refuses an id
 // that is out of range or already there (`what` names the occasion).
@@ -49,48 +43,6 @@ void append(Particles<D>& to, const ParticleRecord<D>& r, std::uint8_t fixed,
   to.fixed.push_back(fixed);
 }
 
-// The step's tallies over the ranks (DistributedRun::tallies).
-struct Tallies {
-  std::int64_t particles = 0, pair_contacts = 0, pair_batched = 0, wall_contacts = 0,
-               wall_batched = 0;
-  double max_overlap_ratio = 0;
-};
-
-// One rank's tallies, read from `all` at `at`, added to `sum`.
-void add_tallies(Tallies& sum, const std::string& all, std::size_t& at) {
-  sum.particles += take<std::int64_t>(all, at);
-  sum.pair_contacts += take<std::int64_t>(all, at);
-  sum.pair_batched += take<std::int64_t>(all, at);
-  sum.wall_contacts += take<std::int64_t>(all, at);
-  sum.wall_batched += take<std::int64_t>(all, at);
-  sum.max_overlap_ratio = std::max(sum.max_overlap_ratio, take<double>(all, at));
-}
-
-Tallies sum_tallies(const std::string& all) {
-  Tallies sum;
-  for (std::size_t at = 0; at < all.size();) add_tallies(sum, all, at);
-  return sum;
-}
-
-// Every rank's bytes, in rank order, on every rank.
-std::string all_gather(const std::string& mine, MPI_Comm comm) {
-  int size = 0;
-  MPI_Comm_size(comm, &size);
-  const int count = static_cast<int>(mine.size());
-  std::vector<int> counts(static_cast<std::size_t>(size)), at(static_cast<std::size_t>(size));
-  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
-  std::size_t total = 0;
-  for (int k = 0; k < size; ++k) {
-    at[static_cast<std::size_t>(k)] = static_cast<int>(total);
-    total += static_cast<std::size_t>(counts[static_cast<std::size_t>(k)]);
-  }
-  if (total > static_cast<std::size_t>(std::numeric_limits<int>::max()))
-    throw RunError(fmt::format("distributed run: {} bytes to gather at once", total));
-  std::string all(total, '\0');
-  MPI_Allgatherv(mine.data(), count, MPI_CHAR, all.data(), counts.data(), at.data(), MPI_CHAR,
-                 comm);
-  return all;
-}
 }  // namespace
 
 template <int D>
@@ -189,11 +141,11 @@ void DistributedRun<D>::cut(const std::vector<double>& cost, bool whole_scene_he
     }
     const std::string all = all_gather(mine, comm_);
     for (std::size_t at = 0; at < all.size();) {
-      ids.push_back(take<std::int64_t>(all, at));
+      ids.push_back(take_gathered<std::int64_t>(all, at));
       Vec<D> x;
-      for (int a = 0; a < D; ++a) x[a] = take<double>(all, at);
+      for (int a = 0; a < D; ++a) x[a] = take_gathered<double>(all, at);
       points.push_back(x);
-      weights.push_back(take<double>(all, at));
+      weights.push_back(take_gathered<double>(all, at));
     }
   }
   Box<D> domain;
@@ -406,8 +358,8 @@ void DistributedRun<D>::dissolve() {
   for (std::size_t at = 0; at < all.size();) {
     records.push_back(unpack<D>(all, at));
     ForceTorque<D> ft;
-    ft.force = take<Vec<D>>(all, at);
-    ft.torque = take<Spin<D>>(all, at);
+    ft.force = take_gathered<Vec<D>>(all, at);
+    ft.torque = take_gathered<Spin<D>>(all, at);
     loads.push_back(ft);
   }
   std::vector<std::size_t> order(records.size());
@@ -440,11 +392,11 @@ void DistributedRun<D>::dissolve() {
   std::vector<Reaction> each;
   for (std::size_t at = 0; at < all_reactions.size();) {
     Reaction r;
-    r.model = take<std::int32_t>(all_reactions, at);
-    r.id = take<std::int64_t>(all_reactions, at);
-    r.wall = take<std::uint32_t>(all_reactions, at);
-    r.force = take<Vec<D>>(all_reactions, at);
-    r.axial = take<double>(all_reactions, at);
+    r.model = take_gathered<std::int32_t>(all_reactions, at);
+    r.id = take_gathered<std::int64_t>(all_reactions, at);
+    r.wall = take_gathered<std::uint32_t>(all_reactions, at);
+    r.force = take_gathered<Vec<D>>(all_reactions, at);
+    r.axial = take_gathered<double>(all_reactions, at);
     each.push_back(r);
   }
   std::stable_sort(each.begin(), each.end(), [](const Reaction& a, const Reaction& b) {
@@ -469,181 +421,6 @@ void DistributedRun<D>::dissolve() {
   owned_.clear();
   ghosts_.clear();
   times_.rebuild += since(t0);
-}
-
-template <int D>
-std::string DistributedRun<D>::tallies(const GlobalStats& here) const {
-  // No step since the shares were made: the scene's tallies are still the
-  // whole scene's, on every rank (counted once, from rank 0).
-  const bool stepped = steps_since_install_ > 0;
-  std::string out;
-  put(out, static_cast<std::int64_t>(owned_.size()));
-  std::int64_t led_batched = 0;
-  const std::int64_t led = stepped ? sim_.led_pair_contacts(&led_batched) : 0;
-  put(out, stepped ? led : rank_ == 0 ? here.contacts_particle : 0);
-  put(out, stepped ? led_batched : rank_ == 0 ? here.contacts_batched : 0);
-  put(out, stepped || rank_ == 0 ? here.contacts_wall : std::int64_t{0});
-  put(out, stepped || rank_ == 0 ? here.contacts_wall_batched : std::int64_t{0});
-  put(out, here.max_overlap_ratio);
-  return out;
-}
-
-template <int D>
-GlobalStats DistributedRun<D>::totals() const {
-  GlobalStats g = sim_.counters();  // time, step, this rank's counters
-  // One message per rank, gathered at once: its tallies, then its owned
-  // particles' ids and terms as Simulation::stats() forms them, a column each.
-  const Particles<D>& p = sim_.share();
-  std::vector<std::uint32_t> which;
-  which.reserve(owned_.size());
-  for (std::size_t i = 0; i < owned_.size(); ++i)
-    if (!p.fixed[i]) which.push_back(static_cast<std::uint32_t>(i));
-  typename Simulation<D>::StatColumns t;
-  sim_.stat_columns(which.data(), which.size(), t);
-  std::vector<const std::vector<double>*> columns = {&t.kinetic_translational,
-                                                     &t.kinetic_rotational};
-  for (const auto& column : t.momentum) columns.push_back(&column);
-  columns.push_back(&t.angular_momentum_z);
-  const std::size_t n = which.size(), terms = columns.size();
-  std::string mine = tallies(g);
-  put(mine, static_cast<std::int64_t>(n));
-  std::size_t at = mine.size();
-  mine.resize(at + n * (sizeof(std::int64_t) + terms * sizeof(double)));
-  for (const std::uint32_t i : which) {
-    std::memcpy(mine.data() + at, &p.id[i], sizeof(std::int64_t));
-    at += sizeof(std::int64_t);
-  }
-  for (const auto* column : columns) {
-    std::memcpy(mine.data() + at, column->data(), n * sizeof(double));
-    at += n * sizeof(double);
-  }
-  const std::string all = all_gather(mine, comm_);
-  // Every rank's columns: id and term j of particle k at id[k] and term[j][k].
-  Tallies sum;
-  std::vector<std::int64_t> id;
-  std::vector<std::vector<double>> term(terms);
-  for (at = 0; at < all.size();) {
-    add_tallies(sum, all, at);
-    const auto count = take<std::int64_t>(all, at);
-    const std::size_t row = sizeof(std::int64_t) + terms * sizeof(double);
-    if (count < 0 || static_cast<std::size_t>(count) > (all.size() - at) / row)
-      throw RunError(
-          fmt::format("distributed run: {} particles' terms in a gathered record", count));
-    const std::size_t c = static_cast<std::size_t>(count), first = id.size();
-    id.resize(first + c);
-    std::memcpy(id.data() + first, all.data() + at, c * sizeof(std::int64_t));
-    at += c * sizeof(std::int64_t);
-    for (auto& column : term) {
-      column.resize(first + c);
-      std::memcpy(column.data() + first, all.data() + at, c * sizeof(double));
-      at += c * sizeof(double);
-    }
-  }
-  // Summed in id order, as one process sums them. The ids are below next_id:
-  // where they are dense (no scene removed most of its particles), each
-  // particle goes to its id's place, which is linear, else they are sorted.
-  const std::int64_t id_count = p.next_id;
-  std::vector<std::int32_t> order;  // indices into the columns, in id order
-  if (id_count <= 4 * static_cast<std::int64_t>(id.size()) + 64) {
-    std::vector<std::int32_t> at_id(static_cast<std::size_t>(id_count), -1);
-    for (std::size_t k = 0; k < id.size(); ++k) {
-      if (id[k] < 0 || id[k] >= id_count)
-        throw RunError(fmt::format("distributed run: particle id {} of {}", id[k], id_count));
-      at_id[static_cast<std::size_t>(id[k])] = static_cast<std::int32_t>(k);
-    }
-    for (const std::int32_t k : at_id)
-      if (k >= 0) order.push_back(k);
-  } else {
-    order.resize(id.size());
-    std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(), [&](std::int32_t a, std::int32_t b) {
-      return id[static_cast<std::size_t>(a)] < id[static_cast<std::size_t>(b)];
-    });
-  }
-  g.kinetic_translational = g.kinetic_rotational = g.angular_momentum_z = 0;
-  Vec<D> momentum = Vec<D>::Zero();
-  for (const std::int32_t k : order) {
-    g.kinetic_translational += term[0][static_cast<std::size_t>(k)];
-    g.kinetic_rotational += term[1][static_cast<std::size_t>(k)];
-    for (int a = 0; a < D; ++a)
-      momentum[a] += term[2 + static_cast<std::size_t>(a)][static_cast<std::size_t>(k)];
-    g.angular_momentum_z += term[2 + D][static_cast<std::size_t>(k)];
-  }
-  g.momentum = Triple{};
-  for (int a = 0; a < D; ++a) g.momentum[static_cast<std::size_t>(a)] = momentum[a];
-  g.particles = sum.particles;
-  g.contacts_particle = sum.pair_contacts;
-  g.contacts_batched = sum.pair_batched;  // of the led pairs, as contacts_particle
-  g.contacts_wall = sum.wall_contacts;
-  g.contacts_wall_batched = sum.wall_batched;  // each wall contact is its particle's rank's
-  g.max_overlap_ratio = sum.max_overlap_ratio;
-  return g;
-}
-
-template <int D>
-typename Simulation<D>::StateOverride DistributedRun<D>::gathered_state() const {
-  constexpr int sc = Dim<D>::spin_components;
-  typename Simulation<D>::StateOverride out;
-  auto& s = out.state;
-  for (const GatheredParticle<D>& g : gather()) {
-    s.id.push_back(g.id);
-    s.radius.push_back(g.radius);
-    s.material.push_back(g.material);
-    s.fixed.push_back(g.fixed);
-    for (int a = 0; a < D; ++a) {
-      s.position.push_back(g.position[a]);
-      s.velocity.push_back(g.velocity[a]);
-      out.force.push_back(g.force[a]);
-    }
-    if constexpr (sc == 1) {
-      s.spin.push_back(g.spin);
-      out.torque.push_back(g.torque);
-    } else {
-      for (int a = 0; a < sc; ++a) s.spin.push_back(g.spin[a]), out.torque.push_back(g.torque[a]);
-    }
-  }
-  return out;
-}
-
-template <int D>
-std::vector<GatheredParticle<D>> DistributedRun<D>::gather() const {
-  const Particles<D>& p = sim_.share();
-  std::string mine;
-  for (std::size_t k = 0; k < owned_.size(); ++k) {
-    put(mine, p.id[k]);
-    put(mine, p.position[k]);
-    put(mine, p.velocity[k]);
-    put(mine, p.spin[k]);
-    put(mine, p.force_torque[k].force);
-    put(mine, p.force_torque[k].torque);
-    put(mine, p.radius[k]);
-    put(mine, p.material[k]);
-    put(mine, static_cast<std::uint8_t>(p.fixed[k] & ~Simulation<D>::ghost_flag));
-  }
-  const std::string all = all_gather(mine, comm_);
-  std::vector<GatheredParticle<D>> out;
-  for (std::size_t at = 0; at < all.size();) {
-    GatheredParticle<D> g;
-    g.id = take<std::int64_t>(all, at);
-    g.position = take<Vec<D>>(all, at);
-    g.velocity = take<Vec<D>>(all, at);
-    g.spin = take<Spin<D>>(all, at);
-    g.force = take<Vec<D>>(all, at);
-    g.torque = take<Spin<D>>(all, at);
-    g.radius = take<double>(all, at);
-    g.material = take<std::int32_t>(all, at);
-    g.fixed = take<std::uint8_t>(all, at);
-    out.push_back(g);
-  }
-  std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.id < b.id; });
-  return out;
-}
-
-template <int D>
-std::int64_t DistributedRun<D>::global_particles() const {
-  std::int64_t mine = static_cast<std::int64_t>(owned_.size()), total = 0;
-  MPI_Allreduce(&mine, &total, 1, MPI_INT64_T, MPI_SUM, comm_);
-  return total;
 }
 
 template <int D>

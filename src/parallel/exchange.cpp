@@ -8,6 +8,9 @@
 #include <stdexcept>
 
 #include "core/bytes.hpp"
+#ifdef GRANULE_HAVE_MPI
+#include "parallel/gathering.hpp"
+#endif
 
 namespace granule::parallel {
 
@@ -96,14 +99,6 @@ ParticleRecord<D> unpack(const std::string& bytes, std::size_t& offset) {
 
 namespace {
 
-void check(int code, const char* what) {
-  if (code == MPI_SUCCESS) return;
-  char text[MPI_MAX_ERROR_STRING];
-  int length = 0;
-  MPI_Error_string(code, text, &length);
-  throw std::runtime_error(fmt::format("parallel: {} failed: {}", what, std::string(text, length)));
-}
-
 int count_of(std::size_t n) {
   if (n > static_cast<std::size_t>(std::numeric_limits<int>::max()))
     throw std::runtime_error(
@@ -125,8 +120,8 @@ std::vector<std::string> all_to_all(const std::vector<std::string>& to_rank, MPI
     send_at[k] = count_of(total);
     total += to_rank[k].size();
   }
-  check(MPI_Alltoall(send_counts.data(), 1, MPI_INT, recv_counts.data(), 1, MPI_INT, comm),
-        "MPI_Alltoall");
+  check_mpi(MPI_Alltoall(send_counts.data(), 1, MPI_INT, recv_counts.data(), 1, MPI_INT, comm),
+            "MPI_Alltoall");
   std::string send;
   send.reserve(total);
   for (const auto& b : to_rank) send += b;
@@ -136,9 +131,9 @@ std::vector<std::string> all_to_all(const std::vector<std::string>& to_rank, MPI
     incoming += static_cast<std::size_t>(recv_counts[k]);
   }
   std::string recv(incoming, '\0');
-  check(MPI_Alltoallv(send.data(), send_counts.data(), send_at.data(), MPI_CHAR, recv.data(),
-                      recv_counts.data(), recv_at.data(), MPI_CHAR, comm),
-        "MPI_Alltoallv");
+  check_mpi(MPI_Alltoallv(send.data(), send_counts.data(), send_at.data(), MPI_CHAR, recv.data(),
+                          recv_counts.data(), recv_at.data(), MPI_CHAR, comm),
+            "MPI_Alltoallv");
   std::vector<std::string> out(size);
   for (int k = 0; k < size; ++k) out[k] = recv.substr(recv_at[k], recv_counts[k]);
   return out;
@@ -253,7 +248,7 @@ void forward_ghosts(const Decomposition<D>& d, const GhostPlan& plan,
   // The plan fixes who sends how many to whom until the next rebuild, so one
   // MPI_Alltoallv of doubles moves the states (doubles travel bit for bit
   // between ranks of one machine type): position, velocity, spin per ghost.
-  constexpr int per = 2 * D + Dim<D>::spin_components;
+  constexpr std::size_t per = ghost_state_doubles<D>;
   GhostPlan::Buffers& b = plan.buffers;
   for (auto* v : {&b.send_counts, &b.send_at, &b.recv_counts, &b.recv_at})
     v->resize(static_cast<std::size_t>(size));
@@ -272,16 +267,8 @@ void forward_ghosts(const Decomposition<D>& d, const GhostPlan& plan,
   double* o = out.data();
   for (int k = 0; k < size; ++k) {
     for (std::size_t e = 0; e < extra; ++e) *o++ = maxima[e];
-    for (const auto& s : plan.send[static_cast<std::size_t>(k)]) {
-      const ParticleRecord<D>& r = owned[s.index];
-      const Vec<D> x = r.position + shifts[static_cast<std::size_t>(s.image)];
-      for (int a = 0; a < D; ++a) *o++ = x[a];
-      for (int a = 0; a < D; ++a) *o++ = r.velocity[a];
-      if constexpr (D == 2)
-        *o++ = r.spin;
-      else
-        for (int a = 0; a < 3; ++a) *o++ = r.spin[a];
-    }
+    for (const auto& s : plan.send[static_cast<std::size_t>(k)])
+      o = put_ghost_state(o, owned[s.index], shifts[static_cast<std::size_t>(s.image)]);
   }
   // Point to point, only with the ranks there is something for (every rank
   // when the maxima travel too), and this rank's own part (periodic images)
@@ -292,43 +279,36 @@ void forward_ghosts(const Decomposition<D>& d, const GhostPlan& plan,
   constexpr int tag = 0x6f72;  // used by nothing else on this communicator
   std::vector<MPI_Request>& requests = b.requests;
   requests.clear();
-  for (int k = 0; k < size; ++k) {
-    const std::size_t u = static_cast<std::size_t>(k);
-    if (k == rank || recv_counts[u] == 0) continue;
-    requests.emplace_back();
-    check(MPI_Irecv(in.data() + recv_at[u], recv_counts[u], MPI_DOUBLE, k, tag, comm,
-                    &requests.back()),
-          "MPI_Irecv");
-  }
-  for (int k = 0; k < size; ++k) {
-    const std::size_t u = static_cast<std::size_t>(k);
-    if (k == rank || send_counts[u] == 0) continue;
-    requests.emplace_back();
-    check(MPI_Isend(out.data() + send_at[u], send_counts[u], MPI_DOUBLE, k, tag, comm,
-                    &requests.back()),
-          "MPI_Isend");
-  }
+  // The receives posted first, then the sends.
+  for (const bool sending : {false, true})
+    for (int k = 0; k < size; ++k) {
+      const std::size_t u = static_cast<std::size_t>(k);
+      const int values = sending ? send_counts[u] : recv_counts[u];
+      if (k == rank || values == 0) continue;
+      requests.emplace_back();
+      if (sending)
+        check_mpi(
+            MPI_Isend(out.data() + send_at[u], values, MPI_DOUBLE, k, tag, comm, &requests.back()),
+            "MPI_Isend");
+      else
+        check_mpi(
+            MPI_Irecv(in.data() + recv_at[u], values, MPI_DOUBLE, k, tag, comm, &requests.back()),
+            "MPI_Irecv");
+    }
   const std::size_t self = static_cast<std::size_t>(rank);
   if (send_counts[self] != recv_counts[self])
     throw std::runtime_error(
         fmt::format("parallel: ghost forward: rank {} sends itself {} values and expects {}", rank,
                     send_counts[self], recv_counts[self]));
   std::copy_n(out.data() + send_at[self], send_counts[self], in.data() + recv_at[self]);
-  check(MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE),
-        "MPI_Waitall");
+  check_mpi(MPI_Waitall(static_cast<int>(requests.size()), requests.data(), MPI_STATUSES_IGNORE),
+            "MPI_Waitall");
   const double* q = in.data();
   for (int k = 0; k < size; ++k) {
     for (std::size_t e = 0; e < extra; ++e, ++q)  // rank k's values (this rank's own among them)
       maxima[e] = std::max(maxima[e], *q);
-    for (const std::size_t g : plan.place[static_cast<std::size_t>(k)]) {
-      ParticleRecord<D>& ghost = ghosts[g];
-      for (int a = 0; a < D; ++a) ghost.position[a] = *q++;
-      for (int a = 0; a < D; ++a) ghost.velocity[a] = *q++;
-      if constexpr (D == 2)
-        ghost.spin = *q++;
-      else
-        for (int a = 0; a < 3; ++a) ghost.spin[a] = *q++;
-    }
+    for (const std::size_t g : plan.place[static_cast<std::size_t>(k)])
+      q = take_ghost_state(q, ghosts[g]);
   }
 }
 

@@ -60,6 +60,35 @@ template <int D>
 std::size_t migrate(const Decomposition<D>& d, std::vector<ParticleRecord<D>>& owned,
                     MPI_Comm comm);
 
+// A ghost's state as the step's forward carries it, as doubles (bit for bit
+// between ranks of one machine type): position, velocity, spin.
+template <int D>
+constexpr std::size_t ghost_state_doubles = 2 * D + Dim<D>::spin_components;
+// Writes r's state at `out`, its position shifted to the ghost's periodic
+// image; returns the place after it.
+template <int D>
+double* put_ghost_state(double* out, const ParticleRecord<D>& r, const Vec<D>& shift) {
+  const Vec<D> x = r.position + shift;
+  for (int a = 0; a < D; ++a) *out++ = x[a];
+  for (int a = 0; a < D; ++a) *out++ = r.velocity[a];
+  if constexpr (D == 2)
+    *out++ = r.spin;
+  else
+    for (int a = 0; a < 3; ++a) *out++ = r.spin[a];
+  return out;
+}
+// Reads a state put_ghost_state wrote into `ghost`; returns the place after it.
+template <int D>
+const double* take_ghost_state(const double* in, ParticleRecord<D>& ghost) {
+  for (int a = 0; a < D; ++a) ghost.position[a] = *in++;
+  for (int a = 0; a < D; ++a) ghost.velocity[a] = *in++;
+  if constexpr (D == 2)
+    ghost.spin = *in++;
+  else
+    for (int a = 0; a < 3; ++a) ghost.spin[a] = *in++;
+  return in;
+}
+
 // Who sends which owned particle (and which image of it) to whom, fixed from
 // one list rebuild to the next, and where each arriving ghost goes in this
 // rank's canonical ghost order.

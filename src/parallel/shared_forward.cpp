@@ -10,19 +10,10 @@
 #include <stdexcept>
 #include <string>
 
+#include "parallel/gathering.hpp"
 #include "parallel/ghosts.hpp"
 
 namespace granule::parallel {
-
-namespace {
-void check(int code, const char* what) {
-  if (code == MPI_SUCCESS) return;
-  char text[MPI_MAX_ERROR_STRING];
-  int length = 0;
-  MPI_Error_string(code, text, &length);
-  throw std::runtime_error(fmt::format("parallel: {} failed: {}", what, std::string(text, length)));
-}
-}  // namespace
 
 template <int D>
 SharedForward<D>::SharedForward(MPI_Comm comm) : comm_(comm) {
@@ -31,8 +22,8 @@ SharedForward<D>::SharedForward(MPI_Comm comm) : comm_(comm) {
   const char* setting = std::getenv("GRANULE_MPI_SHARED");
   const bool wanted = !(setting && std::string(setting) == "0");
   MPI_Comm node;
-  check(MPI_Comm_split_type(comm_, MPI_COMM_TYPE_SHARED, rank_, MPI_INFO_NULL, &node),
-        "MPI_Comm_split_type");
+  check_mpi(MPI_Comm_split_type(comm_, MPI_COMM_TYPE_SHARED, rank_, MPI_INFO_NULL, &node),
+            "MPI_Comm_split_type");
   int node_size = 0;
   MPI_Comm_size(node, &node_size);
   MPI_Comm_free(&node);
@@ -54,7 +45,7 @@ SharedForward<D>::~SharedForward() {
 
 template <int D>
 std::size_t SharedForward<D>::needed(const GhostPlan& plan, int count) const {
-  constexpr std::size_t per = 2 * D + Dim<D>::spin_components;
+  constexpr std::size_t per = ghost_state_doubles<D>;
   std::size_t doubles = 2 * static_cast<std::size_t>(size_) + static_cast<std::size_t>(count);
   for (const auto& to_rank : plan.send) doubles += to_rank.size() * per;
   return doubles;
@@ -73,13 +64,13 @@ void SharedForward<D>::allocate(std::size_t half) {
   const int code = MPI_Win_allocate_shared(static_cast<MPI_Aint>(2 * half * sizeof(double)),
                                            sizeof(double), info, comm_, &base, &window_);
   MPI_Info_free(&info);
-  check(code, "MPI_Win_allocate_shared");
-  check(MPI_Win_lock_all(MPI_MODE_NOCHECK, window_), "MPI_Win_lock_all");
+  check_mpi(code, "MPI_Win_allocate_shared");
+  check_mpi(MPI_Win_lock_all(MPI_MODE_NOCHECK, window_), "MPI_Win_lock_all");
   for (int k = 0; k < size_; ++k) {
     MPI_Aint bytes = 0;
     int unit = 0;
     double* at = nullptr;
-    check(MPI_Win_shared_query(window_, k, &bytes, &unit, &at), "MPI_Win_shared_query");
+    check_mpi(MPI_Win_shared_query(window_, k, &bytes, &unit, &at), "MPI_Win_shared_query");
     part_[static_cast<std::size_t>(k)] = at;
     halves_[static_cast<std::size_t>(k)] = static_cast<std::size_t>(bytes) / sizeof(double) / 2;
   }
@@ -101,7 +92,7 @@ template <int D>
 void SharedForward<D>::forward(const Decomposition<D>& d, const GhostPlan& plan,
                                const std::vector<ParticleRecord<D>>& owned,
                                std::vector<ParticleRecord<D>>& ghosts, double* maxima, int count) {
-  constexpr std::size_t per = 2 * D + Dim<D>::spin_components;
+  constexpr std::size_t per = ghost_state_doubles<D>;
   const std::size_t ranks = static_cast<std::size_t>(size_);
   const std::size_t extra = maxima ? static_cast<std::size_t>(count) : 0;
   if (needed(plan, static_cast<int>(extra)) > half_)
@@ -114,21 +105,15 @@ void SharedForward<D>::forward(const Decomposition<D>& d, const GhostPlan& plan,
   for (std::size_t k = 0; k < ranks; ++k) {
     mine[2 * k] = static_cast<double>(at);
     mine[2 * k + 1] = static_cast<double>(plan.send[k].size() * per);
-    for (const auto& s : plan.send[k]) {
-      const ParticleRecord<D>& r = owned[s.index];
-      const Vec<D> x = r.position + shifts[static_cast<std::size_t>(s.image)];
-      for (int a = 0; a < D; ++a) mine[at++] = x[a];
-      for (int a = 0; a < D; ++a) mine[at++] = r.velocity[a];
-      if constexpr (D == 2)
-        mine[at++] = r.spin;
-      else
-        for (int a = 0; a < 3; ++a) mine[at++] = r.spin[a];
-    }
+    double* end = mine + at;
+    for (const auto& s : plan.send[k])
+      end = put_ghost_state(end, owned[s.index], shifts[static_cast<std::size_t>(s.image)]);
+    at = static_cast<std::size_t>(end - mine);
   }
   // Written, then everyone's visible: the sync-barrier-sync of MPI's
   // separate memory model for shared windows.
   MPI_Win_sync(window_);
-  check(MPI_Barrier(comm_), "MPI_Barrier");
+  check_mpi(MPI_Barrier(comm_), "MPI_Barrier");
   MPI_Win_sync(window_);
   for (std::size_t k = 0; k < ranks; ++k) {
     const double* const theirs = part_[k] + turn_ * halves_[k];
@@ -140,15 +125,7 @@ void SharedForward<D>::forward(const Decomposition<D>& d, const GhostPlan& plan,
           fmt::format("parallel: rank {} shares {} values for rank {}, which expects {}", k, length,
                       rank_, plan.place[k].size() * per));
     const double* q = theirs + from;
-    for (const std::size_t g : plan.place[k]) {
-      ParticleRecord<D>& ghost = ghosts[g];
-      for (int a = 0; a < D; ++a) ghost.position[a] = *q++;
-      for (int a = 0; a < D; ++a) ghost.velocity[a] = *q++;
-      if constexpr (D == 2)
-        ghost.spin = *q++;
-      else
-        for (int a = 0; a < 3; ++a) ghost.spin[a] = *q++;
-    }
+    for (const std::size_t g : plan.place[k]) q = take_ghost_state(q, ghosts[g]);
   }
   turn_ ^= 1;
 }
