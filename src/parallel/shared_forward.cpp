@@ -74,18 +74,17 @@ void SharedForward<D>::allocate(std::size_t half) {
     part_[static_cast<std::size_t>(k)] = at;
     halves_[static_cast<std::size_t>(k)] = static_cast<std::size_t>(bytes) / sizeof(double) / 2;
   }
-  half_ = halves_[static_cast<std::size_t>(rank_)];
   turn_ = 0;
 }
 
 template <int D>
 void SharedForward<D>::fit(const GhostPlan& plan, int count) {
   const std::size_t need = needed(plan, count);
-  const int mine = need > half_ ? 1 : 0;
+  const int mine = need > own_half() ? 1 : 0;
   int any = 0;
   MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, comm_);
   // Room to grow, so that a drifting ghost count does not re-make it often.
-  if (any) allocate(std::max(need + need / 2, half_));
+  if (any) allocate(std::max(need + need / 2, own_half()));
 }
 
 template <int D>
@@ -95,11 +94,11 @@ void SharedForward<D>::forward(const Decomposition<D>& d, const GhostPlan& plan,
   constexpr std::size_t per = ghost_state_doubles<D>;
   const std::size_t ranks = static_cast<std::size_t>(size_);
   const std::size_t extra = maxima ? static_cast<std::size_t>(count) : 0;
-  if (needed(plan, static_cast<int>(extra)) > half_)
+  if (needed(plan, static_cast<int>(extra)) > own_half())
     throw std::runtime_error("parallel: the shared ghost window was not fitted to the plan");
   const auto shifts = periodic_shifts(d);
   // This rank's half: each destination's block (offset, length), the maxima, the blocks.
-  double* const mine = part_[static_cast<std::size_t>(rank_)] + turn_ * half_;
+  double* const mine = part_[static_cast<std::size_t>(rank_)] + turn_ * own_half();
   std::size_t at = 2 * ranks + extra;
   for (std::size_t e = 0; e < extra; ++e) mine[2 * ranks + e] = maxima[e];
   for (std::size_t k = 0; k < ranks; ++k) {

@@ -49,12 +49,12 @@ class SharedForward {
   // and length, the maxima, then the blocks.
   std::size_t needed(const GhostPlan& plan, int count) const;
   void allocate(std::size_t half);  // collective
+  std::size_t own_half() const { return halves_[static_cast<std::size_t>(rank_)]; }
 
   MPI_Comm comm_;
   int rank_ = 0, size_ = 1;
   bool usable_ = false;
   MPI_Win window_ = MPI_WIN_NULL;
-  std::size_t half_ = 0;             // doubles per half of each rank's part
   std::vector<double*> part_;        // each rank's part, as this process sees it
   std::vector<std::size_t> halves_;  // each rank's half size
   int turn_ = 0;                     // the half this step writes
