@@ -216,6 +216,7 @@ void DistributedRun<D>::redistribute() {
   if (total > 0 && most * size_ > threshold_ * total) {
     cut(cost, false);
     ++recuts_;
+    ++times_.recuts;
   }
   // Only the particles leaving this rank pack their contacts' histories; the
   // staying ones' stay in the lists, which install_share carries from.

@@ -59,7 +59,8 @@ struct DistributedTimes {
   double exchange = 0;  // s: forwarding the ghosts' states each step
   double rebuild = 0;   // s: at rebuilds, packing histories, migrating, new ghosts and lists
   std::int64_t rebuilds = 0;
-  double waiting = 0;  // s: the collective that decides a rebuild (waits for the slowest rank)
+  std::int64_t recuts = 0;  // rebuilds at which the boxes were cut afresh
+  double waiting = 0;       // s: the collective that decides a rebuild (waits for the slowest rank)
 };
 
 template <int D>

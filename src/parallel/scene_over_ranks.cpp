@@ -159,8 +159,9 @@ class SceneOverRanks final : public SpreadRun {
     if (run_ && !run_->dissolved()) add(t, run_->times());
     const std::string mine = fmt::format(
         "granule: rank {}: compute {:.3g} s, ghost exchange {:.3g} s, waiting {:.3g} s, "
-        "rebuilds {} ({:.3g} s), steps taken whole for the diagnostics {}\n",
-        rank_, t.compute, t.exchange, t.waiting, t.rebuilds, t.rebuild, whole_steps_);
+        "rebuilds {} ({:.3g} s; boxes cut afresh at {}), steps taken whole for the diagnostics "
+        "{}\n",
+        rank_, t.compute, t.exchange, t.waiting, t.rebuilds, t.rebuild, t.recuts, whole_steps_);
     // Every rank's line to rank 0, in rank order.
     const int length = static_cast<int>(mine.size());
     std::vector<int> lengths(static_cast<std::size_t>(size_)), at(static_cast<std::size_t>(size_));
@@ -196,7 +197,7 @@ class SceneOverRanks final : public SpreadRun {
   void share() { run_ = std::make_unique<DistributedRun<D>>(sim_, comm_, threshold_); }
   static void add(DistributedTimes& to, const DistributedTimes& t) {
     to.compute += t.compute, to.exchange += t.exchange, to.waiting += t.waiting;
-    to.rebuild += t.rebuild, to.rebuilds += t.rebuilds;
+    to.rebuild += t.rebuild, to.rebuilds += t.rebuilds, to.recuts += t.recuts;
   }
 
   Simulation<D>& sim_;

@@ -3,8 +3,10 @@
 #ifdef GRANULE_HAVE_MPI
 
 #include <fmt/format.h>
+#include <sched.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <stdexcept>
@@ -14,6 +16,17 @@
 #include "parallel/ghosts.hpp"
 
 namespace granule::parallel {
+
+namespace {
+// A spinning core's hint to the processor (and to its other hyperthread).
+inline void pause() {
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#elif defined(__aarch64__)
+  asm volatile("yield");
+#endif
+}
+}  // namespace
 
 template <int D>
 SharedForward<D>::SharedForward(MPI_Comm comm) : comm_(comm) {
@@ -33,6 +46,7 @@ SharedForward<D>::SharedForward(MPI_Comm comm) : comm_(comm) {
   MPI_Allreduce(&here, &everywhere, 1, MPI_INT, MPI_MIN, comm_);
   usable_ = everywhere == 1 && size_ > 1;
   part_.assign(static_cast<std::size_t>(size_), nullptr);
+  flag_.assign(static_cast<std::size_t>(size_), nullptr);
   halves_.assign(static_cast<std::size_t>(size_), 0);
 }
 
@@ -61,8 +75,9 @@ void SharedForward<D>::allocate(std::size_t half) {
   MPI_Info_create(&info);
   MPI_Info_set(info, "alloc_shared_noncontig", "true");  // each part near its own core
   double* base = nullptr;
-  const int code = MPI_Win_allocate_shared(static_cast<MPI_Aint>(2 * half * sizeof(double)),
-                                           sizeof(double), info, comm_, &base, &window_);
+  const int code =
+      MPI_Win_allocate_shared(static_cast<MPI_Aint>((flag_doubles + 2 * half) * sizeof(double)),
+                              sizeof(double), info, comm_, &base, &window_);
   MPI_Info_free(&info);
   check_mpi(code, "MPI_Win_allocate_shared");
   check_mpi(MPI_Win_lock_all(MPI_MODE_NOCHECK, window_), "MPI_Win_lock_all");
@@ -71,10 +86,51 @@ void SharedForward<D>::allocate(std::size_t half) {
     int unit = 0;
     double* at = nullptr;
     check_mpi(MPI_Win_shared_query(window_, k, &bytes, &unit, &at), "MPI_Win_shared_query");
-    part_[static_cast<std::size_t>(k)] = at;
-    halves_[static_cast<std::size_t>(k)] = static_cast<std::size_t>(bytes) / sizeof(double) / 2;
+    flag_[static_cast<std::size_t>(k)] = reinterpret_cast<std::uint64_t*>(at);
+    part_[static_cast<std::size_t>(k)] = at + flag_doubles;
+    halves_[static_cast<std::size_t>(k)] =
+        (static_cast<std::size_t>(bytes) / sizeof(double) - flag_doubles) / 2;
   }
   turn_ = 0;
+  // The ranks meet by their flags where the window's memory is the processes'
+  // own (the unified model); else by MPI_Barrier with MPI_Win_sync around it.
+  int* model = nullptr;
+  int found = 0;
+  MPI_Win_get_attr(window_, MPI_WIN_MODEL, &model, &found);
+  by_flags_ = found && model && *model == MPI_WIN_UNIFIED;
+  // Each flag holds the forwards made so far (the same on every rank), set
+  // before any rank reads it.
+  __atomic_store_n(flag_[static_cast<std::size_t>(rank_)], rounds_, __ATOMIC_RELEASE);
+  MPI_Win_sync(window_);
+  check_mpi(MPI_Barrier(comm_), "MPI_Barrier");
+  MPI_Win_sync(window_);
+}
+
+template <int D>
+void SharedForward<D>::meet() {
+  if (!by_flags_) {
+    // Written, then everyone's visible: the sync-barrier-sync of MPI's
+    // separate memory model for shared windows.
+    MPI_Win_sync(window_);
+    check_mpi(MPI_Barrier(comm_), "MPI_Barrier");
+    MPI_Win_sync(window_);
+    return;
+  }
+  // This rank's writes before its flag (release); each other rank's before
+  // its flag was seen (acquire): the barrier of the two halves' argument.
+  ++rounds_;
+  __atomic_store_n(flag_[static_cast<std::size_t>(rank_)], rounds_, __ATOMIC_RELEASE);
+  for (std::size_t k = 0; k < flag_.size(); ++k) {
+    if (static_cast<int>(k) == rank_) continue;
+    // Pausing while the other rank computes; after a while yielding the core,
+    // so that ranks sharing cores (mpirun --oversubscribe) let it run.
+    for (int spins = 0; __atomic_load_n(flag_[k], __ATOMIC_ACQUIRE) < rounds_; ++spins) {
+      if (spins < spins_before_yield)
+        pause();
+      else
+        sched_yield();
+    }
+  }
 }
 
 template <int D>
@@ -109,11 +165,7 @@ void SharedForward<D>::forward(const Decomposition<D>& d, const GhostPlan& plan,
       end = put_ghost_state(end, owned[s.index], shifts[static_cast<std::size_t>(s.image)]);
     at = static_cast<std::size_t>(end - mine);
   }
-  // Written, then everyone's visible: the sync-barrier-sync of MPI's
-  // separate memory model for shared windows.
-  MPI_Win_sync(window_);
-  check_mpi(MPI_Barrier(comm_), "MPI_Barrier");
-  MPI_Win_sync(window_);
+  meet();
   for (std::size_t k = 0; k < ranks; ++k) {
     const double* const theirs = part_[k] + turn_ * halves_[k];
     for (std::size_t e = 0; e < extra; ++e) maxima[e] = std::max(maxima[e], theirs[2 * ranks + e]);

@@ -2,13 +2,15 @@
 // machine, the floor under a spread run's per-step ghost forward
 // (docs/parallel.md): by messages (MPI_Irecv, MPI_Isend, MPI_Waitall, as
 // forward_ghosts sends them) and through an MPI-3 shared window as
-// SharedForward uses it (each rank writes its part's half of this round, one
-// barrier, each reads the other's; the halves alternate).
+// SharedForward uses it (each rank writes its part's half of this round, the
+// ranks meet, each reads the other's; the halves alternate), the ranks
+// meeting at MPI_Barrier and, as SharedForward meets them, by flags.
 //
 //   cmake --build build --target exchange_floor
 //   mpirun --allow-run-as-root -np 2 build/exchange_floor [N ...]   (default 1 60 300 600 1200)
 #include <mpi.h>
 
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -58,6 +60,43 @@ double by_shared_window(int other, int n) {
   return each;
 }
 
+// As by_shared_window, with the barrier made by the two ranks themselves:
+// each stores its round number into its own flag in the window after writing
+// (release) and waits, pausing, until the other's flag has reached it
+// (acquire), as SharedForward meets the others (SharedForward::meet).
+double by_shared_flags(int rank, int other, int n) {
+  double* mine = nullptr;
+  MPI_Win window;
+  // One cache line for the flag ahead of the two halves.
+  MPI_Win_allocate_shared(static_cast<MPI_Aint>(64 + 2 * n * sizeof(double)), sizeof(double),
+                          MPI_INFO_NULL, MPI_COMM_WORLD, &mine, &window);
+  MPI_Aint bytes = 0;
+  int unit = 0;
+  double* theirs = nullptr;
+  MPI_Win_shared_query(window, other, &bytes, &unit, &theirs);
+  MPI_Win_lock_all(MPI_MODE_NOCHECK, window);
+  auto* my_flag = reinterpret_cast<std::uint64_t*>(mine);
+  auto* their_flag = reinterpret_cast<std::uint64_t*>(theirs);
+  __atomic_store_n(my_flag, 0, __ATOMIC_RELEASE);
+  std::vector<double> out(static_cast<std::size_t>(n), 1.0), in(static_cast<std::size_t>(n));
+  MPI_Barrier(MPI_COMM_WORLD);
+  (void)rank;
+  const double t0 = MPI_Wtime();
+  for (int r = 0; r < rounds; ++r) {
+    const std::size_t half = 8 + static_cast<std::size_t>(r % 2) * out.size();
+    std::memcpy(mine + half, out.data(), out.size() * sizeof(double));
+    const std::uint64_t round = static_cast<std::uint64_t>(r) + 1;
+    __atomic_store_n(my_flag, round, __ATOMIC_RELEASE);
+    while (__atomic_load_n(their_flag, __ATOMIC_ACQUIRE) < round) __builtin_ia32_pause();
+    std::memcpy(in.data(), theirs + half, in.size() * sizeof(double));
+  }
+  const double each = (MPI_Wtime() - t0) / rounds;
+  MPI_Barrier(MPI_COMM_WORLD);
+  MPI_Win_unlock_all(window);
+  MPI_Win_free(&window);
+  return each;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -73,12 +112,16 @@ int main(int argc, char** argv) {
   std::vector<int> counts;
   for (int a = 1; a < argc; ++a) counts.push_back(std::atoi(argv[a]));
   if (counts.empty()) counts = {1, 60, 300, 600, 1200};
-  if (rank == 0) std::printf("doubles each way | messages [us] | shared window [us]\n");
+  if (rank == 0)
+    std::printf(
+        "doubles each way | messages [us] | shared window [us] | shared window, flags [us]\n");
   for (const int n : counts) {
     if (n < 1) continue;
     const double messages = by_messages(1 - rank, n);
     const double shared = by_shared_window(1 - rank, n);
-    if (rank == 0) std::printf("%d | %.2f | %.2f\n", n, messages * 1e6, shared * 1e6);
+    const double flags = by_shared_flags(rank, 1 - rank, n);
+    if (rank == 0)
+      std::printf("%d | %.2f | %.2f | %.2f\n", n, messages * 1e6, shared * 1e6, flags * 1e6);
   }
   MPI_Finalize();
   return 0;
