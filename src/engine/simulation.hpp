@@ -155,6 +155,15 @@ class Simulation final : public SimulationBase {
   // rank the fastest of all, and the pruned lists' travel takes that: a
   // ghost must not close the prune distance unseen.
   double last_fastest_speed_sq() const { return last_fastest_speed_sq_; }
+  // Whether this rank's next step will note its pruned lists afresh (before
+  // widen_prune_travel): the ranks then note on the same steps
+  // (note_pruned_lists_with), rather than each waiting at the next forward
+  // for the other's noting step.
+  bool prune_due_next() const { return pruning_ && !(2 * prune_travel_ < prune_distance()); }
+  // Some rank notes its pruned lists at the coming step: this one too (noting
+  // early never changes a result: a pruned candidate cannot touch before the
+  // next note).
+  void note_pruned_lists_with(bool another_rank_notes) { prune_with_others_ = another_rank_notes; }
   void widen_prune_travel(double fastest_speed_sq_anywhere) {
     if (fastest_speed_sq_anywhere > last_fastest_speed_sq_)
       prune_travel_ +=
@@ -355,6 +364,7 @@ class Simulation final : public SimulationBase {
   // lists were last pruned all at once (the fastest speed of each step times
   // dt, summed), whether this step prunes them all, and how many prunes so far.
   double prune_travel_ = 0;
+  bool prune_with_others_ = false;    // note_pruned_lists_with
   double last_fastest_speed_sq_ = 0;  // m^2/s^2, of the particles this rank integrates
   bool prune_due_ = true;
   std::int64_t prunes_ = 0;

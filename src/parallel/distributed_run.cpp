@@ -299,8 +299,10 @@ void DistributedRun<D>::advance(std::int64_t steps) {
     // One rank's rule, over every rank: rebuild when any particle anywhere moved
     // half the skin. With it the fastest speed anywhere in the last step, for
     // the pruned lists' travel (a ghost moves as fast as its owner lets it).
-    const double mine[step_maxima] = {sim_.lists_due() ? 1.0 : 0.0, sim_.last_fastest_speed_sq()};
-    double anywhere[step_maxima] = {mine[0], mine[1]};
+    // And whether any rank notes its pruned lists this step, so that all do.
+    const double mine[step_maxima] = {sim_.lists_due() ? 1.0 : 0.0, sim_.last_fastest_speed_sq(),
+                                      sim_.prune_due_next() ? 1.0 : 0.0};
+    double anywhere[step_maxima] = {mine[0], mine[1], mine[2]};
     // Few ranks: the ghosts' states sent at once, with the flag and the speed
     // (wasted on a rebuild step, which sends them again).
     const bool folded = size_ > 1 && size_ <= fold_ranks;
@@ -310,6 +312,7 @@ void DistributedRun<D>::advance(std::int64_t steps) {
       MPI_Allreduce(mine, anywhere, step_maxima, MPI_DOUBLE, MPI_MAX, comm_);
     const bool any = anywhere[0] > 0;
     sim_.widen_prune_travel(anywhere[1]);
+    sim_.note_pruned_lists_with(anywhere[2] > 0);
     auto t1 = Clock::now();
     (folded ? times_.exchange : times_.waiting) += std::chrono::duration<double>(t1 - t0).count();
     if (any) {

@@ -192,3 +192,39 @@ TEST_CASE("pruning: an adhesive contact stretched past the prune distance stays 
   CHECK(std::memcmp(full.velocity.data(), pruned.velocity.data(),
                     full.velocity.size() * sizeof(double)) == 0);
 }
+
+TEST_CASE("pruning: notes forced by another rank's schedule change nothing but the notes",
+          "[pruning]") {
+  // DistributedRun has every rank note its pruned lists when any rank's
+  // schedule calls for it (Simulation::note_pruned_lists_with), so that no
+  // rank waits at the next forward for another's noting step. A forced note
+  // must note (the prune count grows by it) and must not change a bit.
+  auto run = [](int force_every, std::int64_t* prunes) {
+    Simulation<2> sim;
+    gas(sim, "walton_braun", 900);
+    sim.set_pruning(true);
+    for (int s = 1; s <= 1500; ++s) {
+      if (force_every > 0 && s % force_every == 0) sim.note_pruned_lists_with(true);
+      sim.advance(1);
+    }
+    *prunes = sim.stats().pair_list_prunes;
+    return sim.flat_state();
+  };
+  std::int64_t own = 0, every_step = 0, every_third = 0;
+  const auto plain = run(0, &own);
+  const auto forced = run(1, &every_step);
+  const auto some = run(3, &every_third);
+  // Its own schedule notes far less often than every step; forced at every
+  // step, every step notes; forced at every third, at least those do.
+  REQUIRE(own > 1);
+  CHECK(own < 500);
+  CHECK(every_step == 1500);
+  CHECK(every_third >= 500);
+  CHECK(every_third < every_step);
+  for (const auto* other : {&forced, &some}) {
+    CHECK(std::memcmp(plain.position.data(), other->position.data(),
+                      plain.position.size() * sizeof(double)) == 0);
+    CHECK(std::memcmp(plain.velocity.data(), other->velocity.data(),
+                      plain.velocity.size() * sizeof(double)) == 0);
+  }
+}
