@@ -24,7 +24,7 @@ local defaults = {
   frequency = 50,         -- Hz, of the floor
   time_step = 1.5e-6,     -- s
   gap = 0,                -- m, between neighbours on the starting lattice (0: touching)
-  model = "linear",       -- linear (k_normal) | hertz_mindlin (young, poisson; restitution calibrated)
+  model = "linear",       -- linear (k_normal) | walton_braun (k_load = k_normal) | hertz_mindlin (young, poisson; restitution calibrated)
   young = 5e7,            -- Pa, hertz_mindlin: spheres and walls alike (a soft glass: dt as linear)
   poisson = 0.25,
 }
@@ -67,8 +67,8 @@ function bench.shaken_box(options)
   local side = p.per_side * (2 * p.radius + p.gap)
   local sim = simulation { dimension = 3, time_step = p.time_step }
   local hertz = p.model == "hertz_mindlin"
-  if not hertz and p.model ~= "linear" then
-    error("granule.bench: model = '" .. tostring(p.model) .. "' is not linear or hertz_mindlin", 2)
+  if not hertz and p.model ~= "linear" and p.model ~= "walton_braun" then
+    error("granule.bench: model = '" .. tostring(p.model) .. "' is not linear, walton_braun or hertz_mindlin", 2)
   end
   -- Hertz: one E and nu for spheres and walls, as LAMMPS's granular walls assume.
   local elastic = hertz and { young = p.young, poisson = p.poisson } or {}
@@ -77,6 +77,9 @@ function bench.shaken_box(options)
   for _, other in ipairs { "glass", "steel" } do
     if hertz then
       sim:contact { "glass", other, model = "hertz_mindlin", restitution = p.restitution, friction = p.friction }
+    elseif p.model == "walton_braun" then  -- Granule only (no peer has it): k_load = k_normal
+      sim:contact { "glass", other, model = "walton_braun", k_load = p.k_normal, restitution = p.restitution,
+                    friction = p.friction }
     else
       sim:contact { "glass", other, model = "linear", k_normal = p.k_normal, restitution = p.restitution,
                     friction = p.friction }

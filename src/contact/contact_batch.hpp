@@ -29,7 +29,9 @@
 // What it costs a model's author: the law written a second time, as loops
 // over the lanes with every branch a select (a division or a root under a
 // condition keeps the loop from vectorising), and a test that the two agree
-// (tests/core/test_batch.cpp runs a scene both ways for every batched model).
+// (tests/core/test_batch.cpp runs a scene both ways for every batched model);
+// and a check with -fopt-info-vec that GCC did vectorise each loop, which no
+// test sees (docs/architecture.md: a long loop may stay scalar whole).
 #pragma once
 
 #include <type_traits>

@@ -70,11 +70,15 @@ inline void lanes_3d(const P& q, HertzMindlin::BatchHistory3& h, ContactBatch<3>
   constexpr int L = batch_lanes;
   const double dt = c.dt;
   alignas(64) double rx[L], ry[L], rz[L];  // the slip on the new tangent plane
+  alignas(64) double stiffness_t[L], damping_t[L];
+  // Two loops, as the linear law's: in one, GCC 12 vectorises neither (the
+  // roots and divisions then run one lane at a time).
+  for (int l = 0; l < L; ++l)
+    c.normal_force[l] = normal_force(q, c, l, stiffness_t[l], damping_t[l]);
   rotate_lanes_onto_plane(c, h.sx, h.sy, h.sz, rx, ry, rz);
   for (int l = 0; l < L; ++l) {
-    double s_t, c_t;
-    const double normal = normal_force(q, c, l, s_t, c_t);
-    c.normal_force[l] = normal;
+    const double s_t = stiffness_t[l], c_t = damping_t[l];
+    const double normal = c.normal_force[l];
     const double vx = c.vtx[l], vy = c.vty[l], vz = c.vtz[l];
     double sx = rx[l] + vx * dt, sy = ry[l] + vy * dt, sz = rz[l] + vz * dt;
     double tx = s_t * sx + c_t * vx, ty = s_t * sy + c_t * vy, tz = s_t * sz + c_t * vz;
