@@ -75,8 +75,8 @@ void Simulation<D>::step() {
   zero_forces();
   for (auto& w : walls_) w.force.setZero(), w.axial_torque = 0;
   // Pruned pair lists are noted afresh once two particles may have closed the
-  // prune distance between them, each having moved at most prune_travel_.
-  prune_due_ = prune_with_others_ || !(2 * prune_travel_ < prune_distance());
+  // prune distance between them, or when another rank notes its own.
+  prune_due_ = prune_with_others_ || prune_distance_closed();
   prune_with_others_ = false;
   if (prune_due_) {
     if (pruning_) tune_prune_distance();

@@ -159,7 +159,7 @@ class Simulation final : public SimulationBase {
   // widen_prune_travel): the ranks then note on the same steps
   // (note_pruned_lists_with), rather than each waiting at the next forward
   // for the other's noting step.
-  bool prune_due_next() const { return pruning_ && !(2 * prune_travel_ < prune_distance()); }
+  bool prune_due_next() const { return pruning_ && prune_distance_closed(); }
   // Some rank notes its pruned lists at the coming step: this one too (noting
   // early never changes a result: a pruned candidate cannot touch before the
   // next note).
@@ -378,6 +378,9 @@ class Simulation final : public SimulationBase {
   std::int64_t prune_cycle_steps_ = 0, prune_cycle_visited_ = 0;
   double prune_cycle_cost_ = -1;  // visited per step over the last whole cycle; -1: none yet
   double prune_distance() const { return prune_fraction_ * skin_; }
+  // Two particles may have closed the prune distance since the last note,
+  // each having moved at most prune_travel_.
+  bool prune_distance_closed() const { return !(2 * prune_travel_ < prune_distance()); }
   void tune_prune_distance();
   // per-step counters
   std::int64_t contacts_particle_ = 0, contacts_wall_ = 0, contacts_batched_ = 0;

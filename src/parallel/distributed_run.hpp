@@ -141,7 +141,7 @@ class DistributedRun {
   // collective a step instead of two); beyond it, an MPI_Allreduce of their own.
   static constexpr int fold_ranks = 3;  // (4 ranks in the tests take the other way)
   // The values each step reduces to their maxima over the ranks: the rebuild
-  // flag and the fastest speed.
+  // flag, the fastest speed and the pruned lists' noting flag.
   static constexpr int step_maxima = 3;
 
   Simulation<D>& sim_;

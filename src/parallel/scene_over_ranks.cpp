@@ -13,6 +13,7 @@
 #include "core/errors.hpp"
 #include "io/rank_files.hpp"
 #include "parallel/distributed_run.hpp"
+#include "parallel/gathering.hpp"
 
 namespace granule::parallel {
 
@@ -162,16 +163,8 @@ class SceneOverRanks final : public SpreadRun {
         "rebuilds {} ({:.3g} s; boxes cut afresh at {}), steps taken whole for the diagnostics "
         "{}\n",
         rank_, t.compute, t.exchange, t.waiting, t.rebuilds, t.rebuild, t.recuts, whole_steps_);
-    // Every rank's line to rank 0, in rank order.
-    const int length = static_cast<int>(mine.size());
-    std::vector<int> lengths(static_cast<std::size_t>(size_)), at(static_cast<std::size_t>(size_));
-    MPI_Gather(&length, 1, MPI_INT, lengths.data(), 1, MPI_INT, 0, comm_);
-    int total = 0;
-    for (int k = 0; k < size_; ++k)
-      at[static_cast<std::size_t>(k)] = total, total += lengths[static_cast<std::size_t>(k)];
-    std::string all(rank_ == 0 ? static_cast<std::size_t>(total) : 0, '\0');
-    MPI_Gatherv(mine.data(), length, MPI_CHAR, all.data(), lengths.data(), at.data(), MPI_CHAR, 0,
-                comm_);
+    // Every rank's line, in rank order (once, at the end of a run).
+    const std::string all = all_gather(mine, comm_);
     return rank_ == 0 ? all : mine;
   }
 

@@ -46,7 +46,6 @@ SharedForward<D>::SharedForward(MPI_Comm comm) : comm_(comm) {
   MPI_Allreduce(&here, &everywhere, 1, MPI_INT, MPI_MIN, comm_);
   usable_ = everywhere == 1 && size_ > 1;
   part_.assign(static_cast<std::size_t>(size_), nullptr);
-  flag_.assign(static_cast<std::size_t>(size_), nullptr);
   halves_.assign(static_cast<std::size_t>(size_), 0);
 }
 
@@ -86,7 +85,6 @@ void SharedForward<D>::allocate(std::size_t half) {
     int unit = 0;
     double* at = nullptr;
     check_mpi(MPI_Win_shared_query(window_, k, &bytes, &unit, &at), "MPI_Win_shared_query");
-    flag_[static_cast<std::size_t>(k)] = reinterpret_cast<std::uint64_t*>(at);
     part_[static_cast<std::size_t>(k)] = at + flag_doubles;
     halves_[static_cast<std::size_t>(k)] =
         (static_cast<std::size_t>(bytes) / sizeof(double) - flag_doubles) / 2;
@@ -100,7 +98,7 @@ void SharedForward<D>::allocate(std::size_t half) {
   by_flags_ = found && model && *model == MPI_WIN_UNIFIED;
   // Each flag holds the forwards made so far (the same on every rank), set
   // before any rank reads it.
-  __atomic_store_n(flag_[static_cast<std::size_t>(rank_)], rounds_, __ATOMIC_RELEASE);
+  __atomic_store_n(flag(static_cast<std::size_t>(rank_)), rounds_, __ATOMIC_RELEASE);
   MPI_Win_sync(window_);
   check_mpi(MPI_Barrier(comm_), "MPI_Barrier");
   MPI_Win_sync(window_);
@@ -119,12 +117,12 @@ void SharedForward<D>::meet() {
   // This rank's writes before its flag (release); each other rank's before
   // its flag was seen (acquire): the barrier of the two halves' argument.
   ++rounds_;
-  __atomic_store_n(flag_[static_cast<std::size_t>(rank_)], rounds_, __ATOMIC_RELEASE);
-  for (std::size_t k = 0; k < flag_.size(); ++k) {
+  __atomic_store_n(flag(static_cast<std::size_t>(rank_)), rounds_, __ATOMIC_RELEASE);
+  for (std::size_t k = 0; k < part_.size(); ++k) {
     if (static_cast<int>(k) == rank_) continue;
     // Pausing while the other rank computes; after a while yielding the core,
     // so that ranks sharing cores (mpirun --oversubscribe) let it run.
-    for (int spins = 0; __atomic_load_n(flag_[k], __ATOMIC_ACQUIRE) < rounds_; ++spins) {
+    for (int spins = 0; __atomic_load_n(flag(k), __ATOMIC_ACQUIRE) < rounds_; ++spins) {
       if (spins < spins_before_yield)
         pause();
       else

@@ -55,6 +55,10 @@ class SharedForward {
   // their flags, or by MPI_Barrier (by_flags_).
   void meet();
   std::size_t own_half() const { return halves_[static_cast<std::size_t>(rank_)]; }
+  // Rank k's flag: the cache line ahead of its halves.
+  std::uint64_t* flag(std::size_t k) const {
+    return reinterpret_cast<std::uint64_t*>(part_[k] - flag_doubles);
+  }
 
   MPI_Comm comm_;
   int rank_ = 0, size_ = 1;
@@ -65,11 +69,10 @@ class SharedForward {
   static constexpr std::size_t flag_doubles = 8;
   // Pauses before a waiting rank starts yielding its core (~0.1 ms).
   static constexpr int spins_before_yield = 2000;
-  std::vector<std::uint64_t*> flag_;  // each rank's flag
-  std::vector<double*> part_;         // each rank's halves, as this process sees them
-  std::vector<std::size_t> halves_;   // each rank's half size
-  int turn_ = 0;                      // the half this step writes
-  std::uint64_t rounds_ = 0;          // forwards made
+  std::vector<double*> part_;        // each rank's halves, as this process sees them
+  std::vector<std::size_t> halves_;  // each rank's half size
+  int turn_ = 0;                     // the half this step writes
+  std::uint64_t rounds_ = 0;         // forwards made
   bool by_flags_ = false;
 };
 

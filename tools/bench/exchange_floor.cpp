@@ -33,68 +33,56 @@ double by_messages(int other, int n) {
   return (MPI_Wtime() - t0) / rounds;
 }
 
-double by_shared_window(int other, int n) {
-  double* mine = nullptr;
+// Each rank's part of a shared window: a cache line for a flag, then two
+// halves of n doubles, used on alternate rounds.
+struct SharedPair {
+  static constexpr std::size_t flag_doubles = 8;
   MPI_Win window;
-  MPI_Win_allocate_shared(static_cast<MPI_Aint>(2 * n * sizeof(double)), sizeof(double),
-                          MPI_INFO_NULL, MPI_COMM_WORLD, &mine, &window);
-  MPI_Aint bytes = 0;
-  int unit = 0;
+  double* mine = nullptr;
   double* theirs = nullptr;
-  MPI_Win_shared_query(window, other, &bytes, &unit, &theirs);
-  MPI_Win_lock_all(MPI_MODE_NOCHECK, window);
-  std::vector<double> out(static_cast<std::size_t>(n), 1.0), in(static_cast<std::size_t>(n));
-  MPI_Barrier(MPI_COMM_WORLD);
-  const double t0 = MPI_Wtime();
-  for (int r = 0; r < rounds; ++r) {
-    const std::size_t half = static_cast<std::size_t>(r % 2) * out.size();
-    std::memcpy(mine + half, out.data(), out.size() * sizeof(double));
-    MPI_Win_sync(window);
+  SharedPair(int other, int n) {
+    MPI_Win_allocate_shared(static_cast<MPI_Aint>((flag_doubles + 2 * n) * sizeof(double)),
+                            sizeof(double), MPI_INFO_NULL, MPI_COMM_WORLD, &mine, &window);
+    MPI_Aint bytes = 0;
+    int unit = 0;
+    MPI_Win_shared_query(window, other, &bytes, &unit, &theirs);
+    MPI_Win_lock_all(MPI_MODE_NOCHECK, window);
+    __atomic_store_n(flag(mine), std::uint64_t{0}, __ATOMIC_RELEASE);
     MPI_Barrier(MPI_COMM_WORLD);
-    MPI_Win_sync(window);
-    std::memcpy(in.data(), theirs + half, in.size() * sizeof(double));
   }
-  const double each = (MPI_Wtime() - t0) / rounds;
-  MPI_Win_unlock_all(window);
-  MPI_Win_free(&window);
-  return each;
-}
+  ~SharedPair() {
+    MPI_Barrier(MPI_COMM_WORLD);
+    MPI_Win_unlock_all(window);
+    MPI_Win_free(&window);
+  }
+  static std::uint64_t* flag(double* part) { return reinterpret_cast<std::uint64_t*>(part); }
+};
 
-// As by_shared_window, with the barrier made by the two ranks themselves:
-// each stores its round number into its own flag in the window after writing
-// (release) and waits, pausing, until the other's flag has reached it
-// (acquire), as SharedForward meets the others (SharedForward::meet).
-double by_shared_flags(int rank, int other, int n) {
-  double* mine = nullptr;
-  MPI_Win window;
-  // One cache line for the flag ahead of the two halves.
-  MPI_Win_allocate_shared(static_cast<MPI_Aint>(64 + 2 * n * sizeof(double)), sizeof(double),
-                          MPI_INFO_NULL, MPI_COMM_WORLD, &mine, &window);
-  MPI_Aint bytes = 0;
-  int unit = 0;
-  double* theirs = nullptr;
-  MPI_Win_shared_query(window, other, &bytes, &unit, &theirs);
-  MPI_Win_lock_all(MPI_MODE_NOCHECK, window);
-  auto* my_flag = reinterpret_cast<std::uint64_t*>(mine);
-  auto* their_flag = reinterpret_cast<std::uint64_t*>(theirs);
-  __atomic_store_n(my_flag, 0, __ATOMIC_RELEASE);
+// Through the shared window, the ranks meeting at MPI_Barrier (with
+// MPI_Win_sync on each side) or, as SharedForward::meet does, by flags: each
+// stores its round number into its own flag after writing (release) and
+// waits, pausing, until the other's has reached it (acquire).
+double by_shared_window(int other, int n, bool by_flags) {
+  SharedPair pair(other, n);
   std::vector<double> out(static_cast<std::size_t>(n), 1.0), in(static_cast<std::size_t>(n));
-  MPI_Barrier(MPI_COMM_WORLD);
-  (void)rank;
   const double t0 = MPI_Wtime();
   for (int r = 0; r < rounds; ++r) {
-    const std::size_t half = 8 + static_cast<std::size_t>(r % 2) * out.size();
-    std::memcpy(mine + half, out.data(), out.size() * sizeof(double));
-    const std::uint64_t round = static_cast<std::uint64_t>(r) + 1;
-    __atomic_store_n(my_flag, round, __ATOMIC_RELEASE);
-    while (__atomic_load_n(their_flag, __ATOMIC_ACQUIRE) < round) __builtin_ia32_pause();
-    std::memcpy(in.data(), theirs + half, in.size() * sizeof(double));
+    const std::size_t half =
+        SharedPair::flag_doubles + static_cast<std::size_t>(r % 2) * out.size();
+    std::memcpy(pair.mine + half, out.data(), out.size() * sizeof(double));
+    if (by_flags) {
+      const std::uint64_t round = static_cast<std::uint64_t>(r) + 1;
+      __atomic_store_n(SharedPair::flag(pair.mine), round, __ATOMIC_RELEASE);
+      while (__atomic_load_n(SharedPair::flag(pair.theirs), __ATOMIC_ACQUIRE) < round)
+        __builtin_ia32_pause();
+    } else {
+      MPI_Win_sync(pair.window);
+      MPI_Barrier(MPI_COMM_WORLD);
+      MPI_Win_sync(pair.window);
+    }
+    std::memcpy(in.data(), pair.theirs + half, in.size() * sizeof(double));
   }
-  const double each = (MPI_Wtime() - t0) / rounds;
-  MPI_Barrier(MPI_COMM_WORLD);
-  MPI_Win_unlock_all(window);
-  MPI_Win_free(&window);
-  return each;
+  return (MPI_Wtime() - t0) / rounds;
 }
 
 }  // namespace
@@ -118,8 +106,8 @@ int main(int argc, char** argv) {
   for (const int n : counts) {
     if (n < 1) continue;
     const double messages = by_messages(1 - rank, n);
-    const double shared = by_shared_window(1 - rank, n);
-    const double flags = by_shared_flags(rank, 1 - rank, n);
+    const double shared = by_shared_window(1 - rank, n, false);
+    const double flags = by_shared_window(1 - rank, n, true);
     if (rank == 0)
       std::printf("%d | %.2f | %.2f | %.2f\n", n, messages * 1e6, shared * 1e6, flags * 1e6);
   }
