@@ -249,8 +249,11 @@ void WallKernel<D, M>::run(WallBucket<D, M>& b, const std::vector<typename M::Pa
           batch.k[l] = static_cast<std::uint32_t>(k), batch.i[l] = i, batch.wall[l] = bw[k];
           batch.entry[l] = static_cast<std::uint32_t>(f.e);
           batch.params[l] = &par_of[bslot[k]];
+          // The mass only where the law reads it this step (batch_needs_mass,
+          // contact_batch.hpp): a line the batch would otherwise miss on.
+          const History& h = hist[k];
           batch.gather_lane(l, f.n, f.overlap, f.surface_velocity, v[i], w_spin[i], radius[i],
-                            inv_mass[i], f.r_star, f.lever, hist[k]);
+                            batch_needs_mass<M>(h) ? inv_mass[i] : 1.0, f.r_star, f.lever, h);
           if (batch.count == batch.lanes) flush();
         });
         if (batch.count) flush();
