@@ -42,18 +42,20 @@ GlobalStats DistributedRun<D>::totals() const {
   // One message per rank, gathered at once: its tallies, then its owned
   // particles' ids and terms as Simulation::stats() forms them, a column each.
   const Particles<D>& p = sim_.share();
-  std::vector<std::uint32_t> which;
-  which.reserve(owned_.size());
+  TotalsBuffers& b = totals_buffers_;
+  std::vector<std::uint32_t>& which = b.which;
+  which.clear();
   for (std::size_t i = 0; i < owned_.size(); ++i)
     if (!p.fixed[i]) which.push_back(static_cast<std::uint32_t>(i));
-  typename Simulation<D>::StatColumns t;
+  typename Simulation<D>::StatColumns& t = b.columns;
   sim_.stat_columns(which.data(), which.size(), t);
   std::vector<const std::vector<double>*> columns = {&t.kinetic_translational,
                                                      &t.kinetic_rotational};
   for (const auto& column : t.momentum) columns.push_back(&column);
   columns.push_back(&t.angular_momentum_z);
   const std::size_t n = which.size(), terms = columns.size();
-  std::string mine = tallies(g);
+  std::string& mine = b.mine;
+  mine = tallies(g);
   put(mine, static_cast<std::int64_t>(n));
   std::size_t at = mine.size();
   mine.resize(at + n * (sizeof(std::int64_t) + terms * sizeof(double)));
@@ -65,11 +67,15 @@ GlobalStats DistributedRun<D>::totals() const {
     std::memcpy(mine.data() + at, column->data(), n * sizeof(double));
     at += n * sizeof(double);
   }
-  const std::string all = all_gather(mine, comm_);
+  const std::string& all = b.all;
+  all_gather(mine, comm_, b.all);
   // Every rank's columns: id and term j of particle k at id[k] and term[j][k].
   Tallies sum;
-  std::vector<std::int64_t> id;
-  std::vector<std::vector<double>> term(terms);
+  std::vector<std::int64_t>& id = b.id;
+  std::vector<std::vector<double>>& term = b.term;
+  id.clear();
+  term.resize(terms);
+  for (auto& column : term) column.clear();
   for (at = 0; at < all.size();) {
     add_tallies(sum, all, at);
     const auto count = take_gathered<std::int64_t>(all, at);
@@ -91,9 +97,11 @@ GlobalStats DistributedRun<D>::totals() const {
   // where they are dense (no scene removed most of its particles), each
   // particle goes to its id's place, which is linear, else they are sorted.
   const std::int64_t id_count = p.next_id;
-  std::vector<std::int32_t> order;  // indices into the columns, in id order
+  std::vector<std::int32_t>& order = b.order;  // indices into the columns, in id order
+  order.clear();
   if (id_count <= 4 * static_cast<std::int64_t>(id.size()) + 64) {
-    std::vector<std::int32_t> at_id(static_cast<std::size_t>(id_count), -1);
+    std::vector<std::int32_t>& at_id = b.at_id;
+    at_id.assign(static_cast<std::size_t>(id_count), -1);
     for (std::size_t k = 0; k < id.size(); ++k) {
       if (id[k] < 0 || id[k] >= id_count)
         throw RunError(fmt::format("distributed run: particle id {} of {}", id[k], id_count));

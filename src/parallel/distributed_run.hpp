@@ -160,6 +160,17 @@ class DistributedRun {
   bool dissolved_ = false;
   std::int64_t steps_since_install_ = 0;
   std::string whole_contacts_;  // the whole scene's last contacts, at the start (packed)
+  // totals()' buffers, kept from call to call (a callback may call stats()
+  // every step): no allocation or zeroing per call once they have grown.
+  struct TotalsBuffers {
+    std::vector<std::uint32_t> which;
+    typename Simulation<D>::StatColumns columns;
+    std::string mine, all;
+    std::vector<std::int64_t> id;
+    std::vector<std::vector<double>> term;
+    std::vector<std::int32_t> at_id, order;
+  };
+  mutable TotalsBuffers totals_buffers_;
 };
 
 }  // namespace granule::parallel

@@ -59,7 +59,7 @@ inline Tallies sum_tallies(const std::string& all) {
 }
 
 // Every rank's bytes, in rank order, on every rank.
-inline std::string all_gather(const std::string& mine, MPI_Comm comm) {
+inline void all_gather(const std::string& mine, MPI_Comm comm, std::string& all) {
   int size = 0;
   MPI_Comm_size(comm, &size);
   const int count = static_cast<int>(mine.size());
@@ -72,9 +72,13 @@ inline std::string all_gather(const std::string& mine, MPI_Comm comm) {
   }
   if (total > static_cast<std::size_t>(std::numeric_limits<int>::max()))
     throw RunError(fmt::format("distributed run: {} bytes to gather at once", total));
-  std::string all(total, '\0');
+  all.resize(total);
   MPI_Allgatherv(mine.data(), count, MPI_CHAR, all.data(), counts.data(), at.data(), MPI_CHAR,
                  comm);
+}
+inline std::string all_gather(const std::string& mine, MPI_Comm comm) {
+  std::string all;
+  all_gather(mine, comm, all);
   return all;
 }
 
