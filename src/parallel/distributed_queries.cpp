@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cstring>
 #include <numeric>
 
@@ -49,10 +50,10 @@ GlobalStats DistributedRun<D>::totals() const {
     if (!p.fixed[i]) which.push_back(static_cast<std::uint32_t>(i));
   typename Simulation<D>::StatColumns& t = b.columns;
   sim_.stat_columns(which.data(), which.size(), t);
-  std::vector<const std::vector<double>*> columns = {&t.kinetic_translational,
-                                                     &t.kinetic_rotational};
-  for (const auto& column : t.momentum) columns.push_back(&column);
-  columns.push_back(&t.angular_momentum_z);
+  std::array<const std::vector<double>*, D + 3> columns;
+  columns[0] = &t.kinetic_translational, columns[1] = &t.kinetic_rotational;
+  for (int a = 0; a < D; ++a) columns[2 + a] = &t.momentum[static_cast<std::size_t>(a)];
+  columns[2 + D] = &t.angular_momentum_z;
   const std::size_t n = which.size(), terms = columns.size();
   std::string& mine = b.mine;
   mine = tallies(g);
@@ -67,8 +68,8 @@ GlobalStats DistributedRun<D>::totals() const {
     std::memcpy(mine.data() + at, column->data(), n * sizeof(double));
     at += n * sizeof(double);
   }
-  const std::string& all = b.all;
   all_gather(mine, comm_, b.all);
+  const std::string& all = b.all;
   // Every rank's columns: id and term j of particle k at id[k] and term[j][k].
   Tallies sum;
   std::vector<std::int64_t>& id = b.id;

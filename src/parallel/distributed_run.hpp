@@ -160,8 +160,8 @@ class DistributedRun {
   bool dissolved_ = false;
   std::int64_t steps_since_install_ = 0;
   std::string whole_contacts_;  // the whole scene's last contacts, at the start (packed)
-  // totals()' buffers, kept from call to call (a callback may call stats()
-  // every step): no allocation or zeroing per call once they have grown.
+  // totals()' per-particle buffers, kept from call to call (a callback may
+  // call stats() every step): once grown they are not allocated again.
   struct TotalsBuffers {
     std::vector<std::uint32_t> which;
     typename Simulation<D>::StatColumns columns;
