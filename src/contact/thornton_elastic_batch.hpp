@@ -21,8 +21,10 @@
 // Eq. 6.7's cube root has no vector form in the maths library: each batch
 // computes the cubes in one loop over the lanes, their roots one lane at a
 // time, and the rest of the law in a third loop. GCC 12 vectorises the first
-// and third in 3D; in 2D it leaves the first scalar (its selects nest too
-// deep for its if-conversion, as in Hertz-Mindlin's 2D loop).
+// and third, in 3D and 2D (the 2D first loop only as long as it reads T's
+// components from registers, not back from the arrays it just stored them
+// in: a select between such a load and another value defeats its
+// if-conversion, and the loop stays scalar).
 #pragma once
 
 #include <cmath>
@@ -249,19 +251,20 @@ inline void lanes_2d(const P& q, ThorntonElastic::BatchHistory2& h, ContactBatch
     };
     const double t = onto_line(h.tx[l], h.ty[l]), star = onto_line(h.rx[l], h.ry[l]);
     const double star2 = onto_line(h.qx[l], h.qy[l]), pu = onto_line(h.ux[l], h.uy[l]);
-    tx[l] = t * ax, ty[l] = t * ay;
+    const double t_x = t * ax, t_y = t * ay;  // used from registers below (see the top)
+    tx[l] = t_x, ty[l] = t_y;
     double sx = star * ax, sy = star * ay, s2x = star2 * ax, s2y = star2 * ay;
     const double pux = pu * ax, puy = pu * ay;
     // d(delta), Eq. 3.10: the slip velocity along t as the vector force() is given.
     const double v_t = c.tangential_velocity[l];
     const double dx = v_t * ax * dt, dy = v_t * ay * dt;
     // From here force()'s 3D steps on 2-vectors (lanes_3d without z).
-    const double t_mag = std::sqrt(tx[l] * tx[l] + ty[l] * ty[l]);
+    const double t_mag = std::sqrt(t_x * t_x + t_y * t_y);
     const double slip_mag = std::sqrt(dx * dx + dy * dy);
     const bool has_t = t_mag > 0, has_slip = slip_mag > 0;
     const double mag = has_t ? t_mag : (has_slip ? slip_mag : 1.0);
-    const double lx = (has_t ? tx[l] : (has_slip ? dx : pux)) / mag;
-    const double ly = (has_t ? ty[l] : (has_slip ? dy : puy)) / mag;
+    const double lx = (has_t ? t_x : (has_slip ? dx : pux)) / mag;
+    const double ly = (has_t ? t_y : (has_slip ? dy : puy)) / mag;
     const double slip_par = dx * lx + dy * ly;
     px[l] = dx - slip_par * lx, py[l] = dy - slip_par * ly;
     par[l] = std::abs(slip_par);
@@ -274,10 +277,10 @@ inline void lanes_2d(const P& q, ThorntonElastic::BatchHistory2& h, ContactBatch
     const bool reversed = moving && !first && vx * pux + vy * puy < 0;
     bool to_unloading, to_reloading;
     double branch = next_branch(h.branch[l], moving, first, reversed, to_unloading, to_reloading);
-    sx = to_unloading ? tx[l] : sx, sy = to_unloading ? ty[l] : sy;
-    s2x = to_reloading ? tx[l] : s2x, s2y = to_reloading ? ty[l] : s2y;
+    sx = to_unloading ? t_x : sx, sy = to_unloading ? t_y : sy;
+    s2x = to_reloading ? t_x : s2x, s2y = to_reloading ? t_y : s2y;
     rx[l] = sx, ry[l] = sy, r2x[l] = s2x, r2y[l] = s2y;
-    const double t_u = tx[l] * vx + ty[l] * vy;
+    const double t_u = t_x * vx + t_y * vy;
     const double star_u = sx * vx + sy * vy, star2_u = s2x * vx + s2y * vy;
     // Masing's memory: back on the curve this branch branched off from.
     branch = branch == reloading && t_u >= star_u ? loading : branch;

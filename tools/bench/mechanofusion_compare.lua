@@ -11,7 +11,7 @@ local bench = require "granule.bench"
 -- A binary built elsewhere loads its own tree's library: say so, not "nil".
 assert(bench.result_line, "granule.bench lacks result_line (an older lua/): set GRANULE_LUA_PATH to this tree's lua/")
 local p = parameters {
-  model = { default = "linear", doc = "linear (the law LAMMPS has too) | walton_braun" },
+  model = { default = "linear", doc = "linear (the law LAMMPS has too) | walton_braun | hertz_mindlin | thornton_elastic" },
   particles = { default = 1500 },
   settle = { default = 0.05, unit = "s", doc = "settling time when preparing" },
   save = { default = "", doc = "write the settled state here (HDF5 snapshot) and stop" },
@@ -21,11 +21,21 @@ local p = parameters {
   rpm = { default = 2000 },
   k_normal = { default = 2e4, unit = "N/m" },
   restitution = { default = 0.85 },
+  young = { default = 5e8, unit = "Pa", doc = "Young's modulus of both materials, for the Hertz laws" },
+  poisson = { default = 0.3, doc = "Poisson's ratio of both materials, for the Hertz laws" },
 }
 local sim = simulation { dimension = 2, time_step = p.time_step }
-sim:material { name = "powder", density = 1200 }
-sim:material { name = "steel", density = 7800 }
+local hertz = p.model == "hertz_mindlin" or p.model == "thornton_elastic"
+sim:material { name = "powder", density = 1200, young = hertz and p.young or nil, poisson = hertz and p.poisson or nil }
+sim:material { name = "steel", density = 7800, young = hertz and p.young or nil, poisson = hertz and p.poisson or nil }
 local function law(mu)
+  if p.model == "hertz_mindlin" then
+    return { model = "hertz_mindlin", restitution = p.restitution, friction = mu }
+  elseif p.model == "thornton_elastic" then  -- elastic: no damping
+    return { model = "thornton_elastic", friction = mu }
+  elseif p.model ~= "linear" and p.model ~= "walton_braun" then
+    error("model: unknown '" .. p.model .. "' (linear, walton_braun, hertz_mindlin, thornton_elastic)")
+  end
   if p.model == "linear" then
     return { model = "linear", k_normal = p.k_normal, restitution = p.restitution, friction = mu }
   end
