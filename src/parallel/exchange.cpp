@@ -163,9 +163,20 @@ std::size_t migrate(const Decomposition<D>& d, std::vector<ParticleRecord<D>>& o
     }
   }
   const auto in = all_to_all(out, comm);
+  const std::size_t stayed = kept.size();
   for (const auto& bytes : in)
     for (std::size_t at = 0; at < bytes.size();) kept.push_back(unpack<D>(bytes, at));
-  std::sort(kept.begin(), kept.end(), [](const auto& a, const auto& b) { return a.id < b.id; });
+  // In id order. Those that stayed keep the order they had, which is id order
+  // after the first migration: then only the arrivals are sorted and merged in
+  // (a record moves a string; most rebuilds bring few arrivals or none).
+  const auto by_id = [](const auto& a, const auto& b) { return a.id < b.id; };
+  const auto arrivals = kept.begin() + static_cast<std::ptrdiff_t>(stayed);
+  if (std::is_sorted(kept.begin(), arrivals, by_id)) {
+    std::sort(arrivals, kept.end(), by_id);
+    std::inplace_merge(kept.begin(), arrivals, kept.end(), by_id);
+  } else {
+    std::sort(kept.begin(), kept.end(), by_id);
+  }
   owned = std::move(kept);
   return left;
 }
