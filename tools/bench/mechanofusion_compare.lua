@@ -25,21 +25,21 @@ local p = parameters {
   poisson = { default = 0.3, doc = "Poisson's ratio of both materials, for the Hertz laws" },
 }
 local sim = simulation { dimension = 2, time_step = p.time_step }
-local hertz = p.model == "hertz_mindlin" or p.model == "thornton_elastic"
-sim:material { name = "powder", density = 1200, young = hertz and p.young or nil, poisson = hertz and p.poisson or nil }
-sim:material { name = "steel", density = 7800, young = hertz and p.young or nil, poisson = hertz and p.poisson or nil }
+-- The Hertz laws read the materials' elastic constants; the others do not.
+local elastic = (p.model == "hertz_mindlin" or p.model == "thornton_elastic") and { p.young, p.poisson } or {}
+sim:material { name = "powder", density = 1200, young = elastic[1], poisson = elastic[2] }
+sim:material { name = "steel", density = 7800, young = elastic[1], poisson = elastic[2] }
 local function law(mu)
-  if p.model == "hertz_mindlin" then
+  if p.model == "linear" then
+    return { model = "linear", k_normal = p.k_normal, restitution = p.restitution, friction = mu }
+  elseif p.model == "walton_braun" then
+    return { model = "walton_braun", k_load = p.k_normal, restitution = p.restitution, friction = mu }
+  elseif p.model == "hertz_mindlin" then
     return { model = "hertz_mindlin", restitution = p.restitution, friction = mu }
   elseif p.model == "thornton_elastic" then  -- elastic: no damping
     return { model = "thornton_elastic", friction = mu }
-  elseif p.model ~= "linear" and p.model ~= "walton_braun" then
-    error("model: unknown '" .. p.model .. "' (linear, walton_braun, hertz_mindlin, thornton_elastic)")
   end
-  if p.model == "linear" then
-    return { model = "linear", k_normal = p.k_normal, restitution = p.restitution, friction = mu }
-  end
-  return { model = "walton_braun", k_load = p.k_normal, restitution = p.restitution, friction = mu }
+  error("model: unknown '" .. p.model .. "' (linear, walton_braun, hertz_mindlin, thornton_elastic)")
 end
 local pp, pw = law(0.4), law(0.5)
 pp[1], pp[2], pw[1], pw[2] = "powder", "powder", "powder", "steel"
