@@ -1,6 +1,6 @@
 // The pair loop's batched path against its per-contact path across a periodic
-// boundary: the batch wraps each lane's separation itself (PairKernel's
-// take_lane), so a batch that read the unwrapped one would put the contacts
+// boundary: the batch wraps each lane's separation itself (the gather in
+// PairKernel::run), so a batch that read the unwrapped one would put the contacts
 // that straddle the boundary a whole period apart. A lattice of overlapping
 // particles fills the period along x, so the first and last of each row touch
 // through the boundary from the first step; walls close the other axes.
