@@ -8,6 +8,7 @@
 #include <string>
 
 #include "batch_compare.hpp"
+#include "box_walls.hpp"
 #include "core/random.hpp"
 #include "engine/simulation.hpp"
 
@@ -38,16 +39,7 @@ LatticeRun run_periodic_lattice(const std::string& model, bool batched, std::int
   sim.set_contact("p", "w", model, law);
   sim.set_periodic(0, 0, period);
   const int rows = 4;  // across each walled axis
-  const double depth = rows * spacing;
-  for (int axis = 1; axis < D; ++axis) {
-    WallSpec lo, hi;
-    lo.name = "lo" + std::to_string(axis), hi.name = "hi" + std::to_string(axis);
-    lo.material = hi.material = 1;
-    lo.normal = hi.normal = {0, 0, 0};
-    lo.normal[axis] = 1, hi.normal[axis] = -1;
-    hi.point[axis] = depth;
-    sim.add_wall(lo), sim.add_wall(hi);
-  }
+  test::add_walls_across(sim, 1, rows * spacing, 1);
   // Radii of 0.505-0.52 spacings: every lattice neighbour overlaps, through
   // the boundary too; random velocities make the contacts slide and turn.
   Random rng(17);

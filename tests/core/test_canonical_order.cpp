@@ -133,15 +133,7 @@ TEST_CASE("canonical: a 3D periodic gas (Hertz-Mindlin) is bit-identical in any 
     // Periodic along x; walls across y and z.
     const double side = 0.01;
     sim.set_periodic(0, 0, side);
-    for (int axis = 1; axis < 3; ++axis) {
-      WallSpec lo, hi;
-      lo.name = "lo" + std::to_string(axis), hi.name = "hi" + std::to_string(axis);
-      lo.material = hi.material = 1;
-      lo.normal = hi.normal = {0, 0, 0};
-      lo.normal[axis] = 1, hi.normal[axis] = -1;
-      hi.point[axis] = side;
-      sim.add_wall(lo), sim.add_wall(hi);
-    }
+    test::add_walls_across(sim, 1, side, 1);
     Random rng(3);
     const int per_row = 8;
     const double spacing = side / per_row;
