@@ -173,6 +173,11 @@ class Simulation final : public SimulationBase {
   // the next rebuild: twice the largest radius, the skin and the adhesive reach.
   double interaction_reach() const;
   Particles<D>& share() { return p_; }
+  // The lists built anew where their storage indices went stale (a removal:
+  // list_indices_stale_), before a share packs them.
+  void renew_lists_if_indices_stale() {
+    if (list_indices_stale_) rebuild_lists();
+  }
   // Per storage index, the pair and wall histories of the contacts an owned
   // particle had at the last step, packed to travel with it; with `only`, just
   // those of the particles it marks (the others' strings stay empty).
@@ -357,6 +362,18 @@ class Simulation final : public SimulationBase {
   double max_displacement_sq_ = 0;
   bool any_fixed_ = true;  // a fixed particle exists (refreshed at every list rebuild)
   bool lists_valid_ = false;
+  // The particles' storage changed since the lists were built (a removal, a
+  // re-order, a checkpoint of such lists): their storage indices may name
+  // another particle or none until the next rebuild; their ids still hold.
+  bool list_indices_stale_ = false;
+  // The smallest radius at prepare(): no particle may move farther in a step
+  // (report_step_over, simulation_checks.cpp).
+  double smallest_radius_ = INFINITY;
+  void report_step_over();
+  // Before storage indices change between steps: the last step's contacts kept by id.
+  void keep_contacts_by_id();
+  // RunError naming `what` while list_indices_stale_.
+  void require_current_indices(const char* what) const;
   std::size_t rebuilds_ = 0;
   std::int64_t rebalances_ =
       0;  // moves of the threads' shares of pair contacts (ThreadRanges::rebalance)

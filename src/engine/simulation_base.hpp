@@ -116,6 +116,9 @@ struct FillSpec {
   double max_speed = 0;  // m/s, random velocities in [0, max_speed], then zero net momentum
   std::int64_t max_attempts = 0;  // 0: 2000 per particle
   bool allow_overlap = true;      // false: no new particle overlaps any other particle
+  // Asked now and then: true ends the fill at once (a signal), fill() returning
+  // the particles placed so far.
+  std::function<bool()> stop_requested;
 };
 
 struct GlobalStats {

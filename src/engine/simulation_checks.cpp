@@ -127,6 +127,26 @@ void Simulation<D>::check_overlaps(double pair_ratio) {
                  : ""));
 }
 
+// A particle that moves farther in one step than the smallest radius can step
+// over a contact: two such particles closing head-on cross the depth at which
+// check_overlaps() sees them pass through (about three radii) within one
+// step, and a finite wall's edge as much. One comparison a step (integrate()
+// keeps the fastest speed); the particle is found only when it fails.
+template <int D>
+void Simulation<D>::report_step_over() {
+  std::size_t fastest = 0;
+  for (std::size_t i = 1; i < p_.size(); ++i)
+    if (p_.velocity[i].squaredNorm() > p_.velocity[fastest].squaredNorm()) fastest = i;
+  const double speed = p_.size() ? p_.velocity[fastest].norm() : 0;
+  fail(fmt::format(
+      "step {} (t = {:.6g} s): particle {} moves {:.4g} m in one step ({:.4g} m/s, time step "
+      "{:.4g} s), more than the smallest radius {:.4g} m: it can step over a contact, or two such "
+      "particles pass through each other unseen; reduce time_step (or raise steps_per_contact) "
+      "below {:.4g} s; the output keeps this state",
+      step_, time_, p_.size() ? p_.id[fastest] : -1, speed * dt_, speed, dt_, smallest_radius_,
+      smallest_radius_ / std::max(speed, 1e-300)));
+}
+
 template class Simulation<2>;
 template class Simulation<3>;
 

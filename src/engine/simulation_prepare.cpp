@@ -116,6 +116,8 @@ void Simulation<D>::prepare() {
                          -c));
     }
   }
+  smallest_radius_ = INFINITY;
+  for (const double r : p_.radius) smallest_radius_ = std::min(smallest_radius_, r);
   // Skin: automatic = half the median radius.
   if (skin_set_ > 0) {
     skin_ = skin_set_;

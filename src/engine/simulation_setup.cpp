@@ -67,6 +67,15 @@ void Simulation<D>::check_particle_input(const ParticleSpec& s, const std::strin
                                  context, materials_[s.material].name));
   if (!finite3(s.position) || !finite3(s.velocity) || !finite3(s.spin))
     throw InputError(fmt::format("{}: position, velocity and spin must be finite", context));
+  // A sphere's mass and moment of inertia (2D particles are spheres too) must
+  // be finite and positive numbers, or every later step divides by them.
+  const double mass = materials_[s.material].density * (4.0 / 3.0) * pi * std::pow(s.radius, 3);
+  const double inertia = 0.4 * mass * s.radius * s.radius;
+  if (!(mass > 0 && std::isfinite(mass) && inertia > 0 && std::isfinite(inertia)))
+    throw InputError(fmt::format(
+        "{}: radius {} m with density {} kg/m^3 gives a mass of {} kg and a moment of inertia of "
+        "{} kg m^2, which are not finite positive numbers",
+        context, s.radius, materials_[s.material].density, mass, inertia));
 }
 
 // A request for more particles than the machine's memory holds is refused at
@@ -98,12 +107,20 @@ std::int64_t Simulation<D>::add_particle(const ParticleSpec& s) {
   position_at_rebuild_.push_back(p_.position.back());
   lists_valid_ = false;
   prepared_ = false;
+  scene_overlaps_ = true;  // as set_position: a deep overlap made here is the scene's
   return id;
 }
 
 template <int D>
 void Simulation<D>::remove_particle(std::int64_t id) {
   const std::size_t i = checked(id), last = p_.size() - 1;
+  keep_contacts_by_id();
+  if (gathered_contacts_) {
+    auto& kept = *gathered_contacts_;
+    kept.erase(std::remove_if(kept.begin(), kept.end(),
+                              [&](const ContactRecord& c) { return c.id_a == id || c.id_b == id; }),
+               kept.end());
+  }
   auto erase = [&](auto& v) {
     v[i] = v[last];
     v.pop_back();
@@ -114,6 +131,19 @@ void Simulation<D>::remove_particle(std::int64_t id) {
   p_.index_of_id[id] = -1;
   if (i != last) p_.index_of_id[p_.id[i]] = static_cast<std::int32_t>(i);
   lists_valid_ = false;
+  list_indices_stale_ = true;
+}
+
+// The contact log names particles by storage index (hooks/contact_log.hpp),
+// and so do the lists: the log's contacts become records by id, which queries
+// read before the log (contacts(), the Lua views), and the log stops
+// describing the particles. The lists carry their histories by id at their
+// next rebuild.
+template <int D>
+void Simulation<D>::keep_contacts_by_id() {
+  if (record_contacts_ && log_.filled && !gathered_contacts_ && !external_rebuilds_)
+    gathered_contacts_ = contacts();
+  log_.filled = false;
 }
 
 template <int D>
@@ -130,10 +160,14 @@ void Simulation<D>::reorder_storage(const std::vector<std::int64_t>& ids) {
       throw InputError(fmt::format("reorder_storage: 'ids' names particle {} twice", ids[k]));
     order[k] = static_cast<std::uint32_t>(i);
   }
+  keep_contacts_by_id();
   reorder_particles(p_, order);  // neighbor/contact_lists.hpp
   if (position_at_rebuild_.size() == order.size()) gather(position_at_rebuild_, order);
   // The lists name storage indices: rebuilt now, histories carried by id.
-  if (lists_valid_) rebuild_lists();
+  if (lists_valid_)
+    rebuild_lists();
+  else
+    list_indices_stale_ = true;
 }
 
 template <int D>

@@ -44,9 +44,20 @@ double Simulation<D>::interaction_reach() const {
   return 2 * r_max + skin_ + contact_reach_;
 }
 
+// What reads the lists by storage index between steps needs them current.
+template <int D>
+void Simulation<D>::require_current_indices(const char* what) const {
+  if (list_indices_stale_)
+    throw RunError(
+        fmt::format("distributed run: {} read lists whose storage indices a removal made stale "
+                    "(renew_lists_if_indices_stale() first)",
+                    what));
+}
+
 template <int D>
 std::vector<std::string> Simulation<D>::pack_histories(
     const std::vector<std::uint8_t>* only) const {
+  require_current_indices("pack_histories");
   std::vector<std::string> out(p_.size());
   auto wanted = [&](std::uint32_t q) { return !only || (*only)[q] != 0; };
   auto in_contact = [&](std::size_t slot) { return touched(slot_in_contact_, slot_count_, slot); };
@@ -83,6 +94,7 @@ std::vector<std::string> Simulation<D>::pack_histories(
 
 template <int D>
 std::vector<std::uint32_t> Simulation<D>::contacts_per_particle() const {
+  require_current_indices("contacts_per_particle");
   std::vector<std::uint32_t> count(p_.size(), 0);
   if (slot_in_contact_.size() != slot_count_) return count;
   for_each_model([&](auto index) {
@@ -99,6 +111,7 @@ std::vector<std::uint32_t> Simulation<D>::contacts_per_particle() const {
 
 template <int D>
 std::string Simulation<D>::pack_led_contacts() const {
+  require_current_indices("pack_led_contacts");
   std::string out;
   if (!record_contacts_ || !log_.filled) return out;
   auto put_record = [&](std::uint8_t kind, std::int32_t model, std::int64_t id_a, std::int64_t b,

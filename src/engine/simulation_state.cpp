@@ -16,6 +16,7 @@
 #include "core/errors.hpp"
 #include "engine/simulation.hpp"
 #include "engine/state_checks.hpp"
+#include "neighbor/contact_lists.hpp"
 
 namespace granule {
 
@@ -178,13 +179,34 @@ StateBlob Simulation<D>::save_state() const {
   s.integers["particles.material"] = to_i64(p_.material);
   s.integers["particles.fixed"] = to_i64(p_.fixed);
   s.integers["particles.index_of_id"] = to_i64(p_.index_of_id);
-  // Neighbour lists with their histories, per model.
+  // Neighbour lists with their histories, per model. Lists whose storage
+  // indices went stale (list_indices_stale_: a particle removed since they were
+  // built) are written as their live entries (live_entries), slots laid out as a
+  // rebuild lays them, pairs then walls: a checkpoint names only particles it
+  // holds (state_checks.cpp), and the next step rebuilds the lists anyway.
+  typename BucketsOf<D, ContactModels>::pairs live_pairs;
+  typename BucketsOf<D, ContactModels>::walls live_walls;
+  if (list_indices_stale_) {
+    std::size_t slots = 0;
+    for_each_model([&](auto index) {
+      constexpr int I = decltype(index)::value;
+      auto& b = std::get<I>(live_pairs) = live_entries(std::get<I>(pair_buckets_), p_);
+      b.offset = slots;
+      slots += b.size();
+    });
+    for_each_model([&](auto index) {
+      constexpr int I = decltype(index)::value;
+      auto& b = std::get<I>(live_walls) = live_entries(std::get<I>(wall_buckets_), p_);
+      b.offset = slots;
+      slots += b.size();
+    });
+  }
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
     using M = ContactModelAt<I>;
     const std::string pk = fmt::format("pairs.{}.", M::name),
                       wk = fmt::format("walls.{}.", M::name);
-    const auto& pb = std::get<I>(pair_buckets_);
+    const auto& pb = list_indices_stale_ ? std::get<I>(live_pairs) : std::get<I>(pair_buckets_);
     s.integers[pk + "i"] = to_i64(pb.i);
     s.integers[pk + "j"] = to_i64(pb.j);
     s.integers[pk + "slot"] = to_i64(pb.slot);
@@ -195,7 +217,7 @@ StateBlob Simulation<D>::save_state() const {
         static_cast<std::int64_t>(sizeof(typename M::template History<D>))};
     s.bytes[pk + "history"] = raw_bytes(pb.history);
     s.bytes[pk + "track"] = raw_bytes(pb.track);
-    const auto& wb = std::get<I>(wall_buckets_);
+    const auto& wb = list_indices_stale_ ? std::get<I>(live_walls) : std::get<I>(wall_buckets_);
     s.integers[wk + "particle"] = to_i64(wb.particle);
     s.integers[wk + "wall"] = to_i64(wb.wall);
     s.integers[wk + "slot"] = to_i64(wb.slot);
@@ -433,6 +455,7 @@ void Simulation<D>::load_state(const StateBlob& s) {
   load_schedules(s);  // simulation_schedules.cpp
 
   lists_valid_ = meta[5] != 0;
+  list_indices_stale_ = false;  // save_state wrote live entries
   scene_overlaps_ = s.i("guards")[0] != 0;
   overlap_warned_ = s.i("guards")[1] != 0;
   dt_governing_pair_ = s.t("time_step.governing_pair");
@@ -449,6 +472,8 @@ void Simulation<D>::load_state(const StateBlob& s) {
           "of {}: refused",
           dt_, rule.stability_limit, rule.governing_pair));
   }
+  smallest_radius_ = INFINITY;
+  for (const double r : p_.radius) smallest_radius_ = std::min(smallest_radius_, r);
   prepared_ = true;
 }
 

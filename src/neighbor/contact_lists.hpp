@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <numeric>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -193,6 +194,41 @@ void list_walls(WallBucket<D, M>& bucket, int model, const Particles<D>& p,
       [&](std::size_t k, std::uint32_t o) {
         if (o < old.part_normal.size()) fresh.part_normal[k] = old.part_normal[o];
       });
+}
+
+// A bucket's entries whose particles are all still stored, each entry's
+// storage indices taken from its ids: the lists as they stand after particles
+// were removed or moved since they were built (their indices then stale, their
+// ids not), for writing them out. The histories and tracks go with their entries;
+// offset is the caller's.
+template <typename B, typename Particles>
+B live_entries(const B& b, const Particles& p) {
+  B out;
+  const bool tracks = b.track.size() == b.size();
+  for (std::size_t k = 0; k < b.size(); ++k) {
+    if constexpr (B::is_pair) {
+      const int a = p.index(b.id_i[k]), c = p.index(b.id_j[k]);
+      if (a < 0 || c < 0) continue;
+      out.i.push_back(static_cast<std::uint32_t>(a));
+      out.j.push_back(static_cast<std::uint32_t>(c));
+      out.id_i.push_back(b.id_i[k]);
+      out.id_j.push_back(b.id_j[k]);
+    } else {
+      const int a = p.index(b.id[k]);
+      if (a < 0) continue;
+      out.particle.push_back(static_cast<std::uint32_t>(a));
+      out.wall.push_back(b.wall[k]);
+      out.id.push_back(b.id[k]);
+      out.part.push_back(b.part[k]);
+      using Normal = typename std::decay_t<decltype(b.part_normal)>::value_type;
+      out.part_normal.push_back(k < b.part_normal.size() ? b.part_normal[k]
+                                                         : Normal(Normal::Zero()));
+    }
+    out.slot.push_back(b.slot[k]);
+    out.history.push_back(b.history[k]);
+    if (tracks) out.track.push_back(b.track[k]);
+  }
+  return out;
 }
 
 // Moves the particle at storage index order[k] to k, every per-particle array

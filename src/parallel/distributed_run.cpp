@@ -66,6 +66,9 @@ DistributedRun<D>::DistributedRun(Simulation<D>& sim, MPI_Comm comm, double reba
   // its rank stores; prepare() (time step, skin, lists) sees the whole scene.
   sim_.set_canonical_order(true);
   sim_.ensure_prepared();
+  // A script's removals left the lists naming moved storage indices: built
+  // anew (histories carried by id) before they are packed below.
+  sim_.renew_lists_if_indices_stale();
   sim_.set_external_rebuilds(true);
   sim_.set_keep_wall_reactions(true);
   // The bonds of particles a script removed break now, on the whole scene, as

@@ -16,7 +16,9 @@
 #   list, the bond counts and the walls'
 #   forces equal bit for bit;
 # - a checkpoint written on 2 ranks continued on 3 ends in the same state
-#   (the box, the 2D drum, the periodic shear cell and the bonded pile);
+#   (the box, the sparse box whose callback removes a particle every 250
+#   steps, the 2D drum, the periodic shear cell and the bonded pile), and the
+#   sparse box's plain run continues its own checkpoint;
 # - the 2D Mechanofusion base case with its diagnostics (steps they look at
 #   taken whole) on 2, 3 and 4 ranks: the same /results, diagnostics series
 #   and final snapshot as on 1;
@@ -102,7 +104,7 @@ assert bonded > 2, "too few snapshots with bonds"
 print("series and snapshots bit-identical")
 PY
 # A checkpoint from 2 ranks, continued on 3 (and on 1).
-for case in box wb shear bonds; do
+for case in box sparse wb shear bonds; do
   $mpirun -np 3 "$granule" run "$scene" -D case=$case -D checkpoint=np2_$case.chk.h5 \
     --restart np2_$case.chk.h5 -o restarted3_$case.h5 --quiet > restarted3_$case.txt
   same plain_$case.txt restarted3_$case.txt
@@ -110,6 +112,10 @@ for case in box wb shear bonds; do
     --restart np2_$case.chk.h5 -o restarted1_$case.h5 --quiet > restarted1_$case.txt
   same plain_$case.txt restarted1_$case.txt
 done
+# The plain run's own checkpoint (the sparse case's written after a removal) continued.
+"$granule" run "$scene" -D case=sparse -D canonical=1 -D checkpoint=plain_sparse.chk.h5 \
+  --restart plain_sparse.chk.h5 -o restarted_plain_sparse.h5 --quiet > restarted_plain_sparse.txt
+same plain_sparse.txt restarted_plain_sparse.txt
 echo "restart: 2 ranks' checkpoints continued on 3 ranks and on one process"
 # The 2D Mechanofusion base case with its diagnostics.
 mf=$src/scenarios/mechanofusion.lua
@@ -149,7 +155,7 @@ echo "a failure on one rank ends them all"
 # Nothing but rank 0's files where the scene writes; no scratch folder left.
 test -z "$(ls scratch)" || { echo "scratch left behind: $(ls scratch)"; exit 1; }
 for f in *.h5; do
-  case $f in plain_*|np?_*|msg_*|restarted?_*|mf?.h5|repl_*) ;; *) echo "unexpected file $f"; exit 1 ;; esac
+  case $f in plain_*|np?_*|msg_*|restarted?_*|restarted_plain_*|mf?.h5|repl_*) ;; *) echo "unexpected file $f"; exit 1 ;; esac
 done
 # The REPL under mpirun: rank 0 reads the lines and every rank runs them, so
 # the scene and the runs typed at the prompt spread over the ranks; what the
