@@ -3,7 +3,8 @@
 //
 // Normal:     N = 4/3 E* sqrt(R*) a^{3/2} + 2 sqrt(5/6) b sqrt(S_n m*) da/dt,  S_n = 2 E* sqrt(R*
 // a) Tangential: T = S_t xi + 2 sqrt(5/6) b sqrt(S_t m*) v_t, S_t = 8 G* sqrt(R* a), |T| <= mu N,
-// with xi the accumulated slip (rotated onto the tangent plane, shortened when sliding).
+// with xi the accumulated slip (rotated onto the tangent plane; when sliding,
+// the slip whose spring force alone is the capped T).
 // The normal force is kept >= 0, as those codes do.
 //
 // The damping factor b: those codes use b = -ln e / sqrt(ln^2 e + pi^2), which
@@ -154,9 +155,13 @@ struct HertzMindlin {
     const double limit = p.friction * normal;
     const double t_sq = t.squaredNorm();
     if (t_sq > limit * limit) {
+      // Sliding: the spring alone stores the capped force. Storing T - c_t v_t
+      // instead (as for the linear law) turns the spring against the slip
+      // where the dashpot exceeds mu N, which it does early in a contact, and
+      // S_t growing with the overlap then pushes along the slip: friction
+      // doing work on the pair (tests/contact/test_hertz_mindlin.cpp).
       t = t_sq > 0 ? Vec<D>(t * (limit / std::sqrt(t_sq))) : Vec<D>(Vec<D>::Zero());
-      slip =
-          s_t > 0 ? Vec<D>((t - c_t * c.tangential_velocity) * (1 / s_t)) : Vec<D>(Vec<D>::Zero());
+      slip = s_t > 0 ? Vec<D>(t * (1 / s_t)) : Vec<D>(Vec<D>::Zero());
     }
     h.slip = slip;
     out.tangential = t;

@@ -87,12 +87,12 @@ inline void lanes_3d(const P& q, HertzMindlin::BatchHistory3& h, ContactBatch<3>
     const bool sliding = t_sq > limit * limit;  // then t_sq > 0
     const double scale = limit / std::sqrt(t_sq);
     tx = sliding ? tx * scale : tx, ty = sliding ? ty * scale : ty, tz = sliding ? tz * scale : tz;
-    // The spring shortened to store exactly the capped force.
+    // The spring alone storing the capped force (force()).
     const bool stiff = s_t > 0;
     const double compliance = 1 / s_t;  // one division for the three components
-    sx = sliding ? (stiff ? (tx - c_t * vx) * compliance : 0.0) : sx;
-    sy = sliding ? (stiff ? (ty - c_t * vy) * compliance : 0.0) : sy;
-    sz = sliding ? (stiff ? (tz - c_t * vz) * compliance : 0.0) : sz;
+    sx = sliding ? (stiff ? tx * compliance : 0.0) : sx;
+    sy = sliding ? (stiff ? ty * compliance : 0.0) : sy;
+    sz = sliding ? (stiff ? tz * compliance : 0.0) : sz;
     h.sx[l] = sx, h.sy[l] = sy, h.sz[l] = sz;
     c.ftx[l] = tx, c.fty[l] = ty, c.ftz[l] = tz;
   }
@@ -118,7 +118,7 @@ inline void lanes_2d(const P& q, HertzMindlin::BatchHistory2& h, ContactBatch<2>
     const double limit = q.mu(l) * normal;
     const bool sliding = t * t > limit * limit;
     t = sliding ? (t > 0 ? limit : -limit) : t;
-    slip = sliding ? (s_t > 0 ? (t - c_t * v_t) * (1 / s_t) : 0.0) : slip;
+    slip = sliding ? (s_t > 0 ? t * (1 / s_t) : 0.0) : slip;
     h.sx[l] = slip * -ny, h.sy[l] = slip * nx;
     c.tangential_force[l] = t;
   }

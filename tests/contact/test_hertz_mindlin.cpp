@@ -115,6 +115,41 @@ TEST_CASE(
   CHECK(std::abs(HertzMindlin::dimensionless_restitution(standard) - e) > 0.02);
 }
 
+TEMPLATE_TEST_CASE_SIG(
+    "hertz_mindlin: an impact that slides throughout takes a tangential impulse of mu times "
+    "the normal one, friction never pushing along the slip",
+    "[hertz_mindlin]", ((int D), D), 2, 3) {
+  // 60 degrees from the normal, mu = 0.1: the slip (tan 60 = 1.73 of the
+  // normal speed) outlasts what friction can take from it, (7/2) mu (1 + e),
+  // so Coulomb's limit holds at every step. Early in a contact the dashpot
+  // exceeds mu N; a spring that stored T - c_t v_t then turned against the
+  // slip as S_t grew, and the impulse came out 0.55-0.6 of mu J_n at e = 0.3.
+  for (bool wall : {false, true})
+    for (double e : {0.3, 0.7})
+      for (double v : {0.05, 1.0}) {
+        ImpactSetup s = quartz(e, v, wall);
+        s.params["friction"] = 0.1;
+        s.angle_deg = 60;
+        bool along_slip = false;
+        s.each_step = [&](SimulationBase& sim) {
+          // Particle 0 slides along +y against the wall or particle 1: the
+          // friction on it points along -y.
+          for (const ContactRecord& c : sim.contacts())
+            if (c.id_a == 0 && c.tangential_force[1] > 0) along_slip = true;
+        };
+        const auto res = run_impact<D>(s);
+        const double vn = v * std::cos(pi / 3), vt = v * std::sin(pi / 3);
+        const double ratio = (vt - res.rebound_tangential) / (0.1 * vn * (1 + res.restitution));
+        INFO("D=" << D << " wall=" << wall << " e=" << e << " v=" << v << " J_t / (mu J_n) "
+                  << ratio);
+        // Against a wall exactly; between two spheres the line of centres turns
+        // while they slide past each other, so the impulses, split along the
+        // line measured after the impact, come out up to 1.5 % short.
+        CHECK(ratio == Approx(1.0).epsilon(wall ? 1e-3 : 0.02));
+        CHECK_FALSE(along_slip);
+      }
+}
+
 TEST_CASE("hertz_mindlin: a material without a Young's modulus is refused by name",
           "[hertz_mindlin]") {
   Material a{"sand", 2650, 0, 0.3, 0}, b{"steel", 7800, 200e9, 0.3, 0};
