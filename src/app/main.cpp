@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -332,6 +333,10 @@ int main(int argc, char** argv) {
   // Whatever escapes (out of memory, a Lua state that cannot be made) ends
   // with a message and status 1, never with an abort.
   granule::io::keep_hdf5_files_at_exit();
+  // Standard output closed by its reader (`granule run ... | head`) must not end
+  // a run and lose its checkpoint: the prints fail quietly, the run and its
+  // HDF5 output go on.
+  std::signal(SIGPIPE, SIG_IGN);
   try {
     return run_command(std::vector<std::string>(argv + 1, argv + argc));
   } catch (const std::exception& e) {

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -66,6 +67,26 @@ void setup_readline(lua_State* L) {
     read_history(file.c_str());
   }
 }
+
+// Ctrl-C at the prompt drops the line being typed and shows a fresh prompt, as
+// a shell does; the session goes on (Ctrl-C stops runs, not the REPL). The
+// handler only notes the signal: readline, its read interrupted, calls the
+// event hook, which clears the line outside the handler.
+volatile std::sig_atomic_t prompt_interrupted = 0;
+
+void note_prompt_interrupt(int) {
+  prompt_interrupted = 1;
+}
+
+int clear_line_after_interrupt() {
+  if (!prompt_interrupted) return 0;
+  prompt_interrupted = 0;
+  rl_replace_line("", 0);
+  rl_crlf();
+  rl_on_new_line();
+  rl_redisplay();
+  return 0;
+}
 #endif
 
 }  // namespace
@@ -73,7 +94,16 @@ void setup_readline(lua_State* L) {
 bool read_terminal_line(const char* prompt, std::string& line) {
 #ifdef GRANULE_HAVE_READLINE
   if (isatty(0)) {
+    rl_catch_signals = 0;
+    rl_signal_event_hook = clear_line_after_interrupt;
+    struct sigaction on {
+    }, before{};
+    on.sa_handler = note_prompt_interrupt;
+    sigemptyset(&on.sa_mask);
+    on.sa_flags = 0;  // no SA_RESTART: readline's read sees EINTR and calls the hook
+    sigaction(SIGINT, &on, &before);
     char* s = readline(prompt);
+    sigaction(SIGINT, &before, nullptr);
     if (!s) return false;
     line = s;
     if (*s) {

@@ -51,7 +51,8 @@ struct LuaSim {
   bool header_printed = false;
   // run bookkeeping, for checkpoints
   std::int64_t run_start_step = 0, run_total_steps = 0;
-  std::int64_t output_calls = 0;  // sim:output calls so far (which output is open)
+  std::int64_t output_calls = 0;          // sim:output calls so far (which output is open)
+  std::vector<std::string> output_paths;  // the files its sim:output calls opened
   struct LuaHook {
     int ref = LUA_NOREF;  // registry ref of its function
     std::string what;     // "sim:every callback 'name'", for its errors
@@ -74,6 +75,9 @@ int replay_run(lua_State* L, LuaSim& s, TableReader& run);
 
 // Writes a checkpoint of `s` now (between steps), with the run bookkeeping.
 void write_checkpoint_now(LuaSim& s, const std::string& path, bool in_run);
+// InputError when `path` is the simulation's output or its scene file: a
+// checkpoint written there would replace it.
+void refuse_checkpoint_over(const LuaSim& s, const std::string& path);
 // --restart: reads the checkpoint, checks the -D values and the scene against it and
 // starts the journal's replay (before the scene's first journaled call).
 void begin_restart(SceneContext& ctx);

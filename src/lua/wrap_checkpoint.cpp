@@ -10,6 +10,7 @@
 
 #include "core/errors.hpp"
 #include "io/checkpoint.hpp"
+#include "io/same_file.hpp"
 #include "lua/journal.hpp"
 #include "lua/lua_simulation.hpp"
 #include "lua/lua_util.hpp"
@@ -75,7 +76,20 @@ void apply_restart(SceneContext& ctx) {
 
 }  // namespace
 
+void refuse_checkpoint_over(const LuaSim& s, const std::string& path) {
+  if (s.output && io::same_file(path, s.output->path()))
+    throw InputError(fmt::format(
+        "checkpoint {}: that file is this simulation's output; a checkpoint there would replace "
+        "the results it holds: give the checkpoint another name (sim:checkpoint {{ file = }}, "
+        "--checkpoint)",
+        path));
+  if (s.context && io::same_file(path, s.context->scene_path))
+    throw InputError(fmt::format(
+        "checkpoint {}: that is the scene file; give the checkpoint another name", path));
+}
+
 void write_checkpoint_now(LuaSim& s, const std::string& path, bool in_run) {
+  refuse_checkpoint_over(s, path);
   StateBlob state = s.sim->save_state();
   s.sim->save_diagnostics(state);
   // The scene's record: what it saw (the journal), what it was given (-D, its source),
@@ -210,6 +224,7 @@ int l_checkpoint(lua_State* L) {
     // A file named on the command line (--checkpoint, as granule sweep gives each
     // case its own) wins over the scene's, which every case of a sweep shares.
     if (!s.checkpoint_path_fixed) s.checkpoint.path = file;
+    refuse_checkpoint_over(s, s.checkpoint.path);
     s.checkpoint.every_steps = every_steps;
     s.checkpoint.every_seconds = every_seconds;
     // And a wall-clock period given there (--checkpoint-every) holds too: the sooner wins.

@@ -7,6 +7,7 @@
 
 #include "core/errors.hpp"
 #include "io/run_output.hpp"
+#include "io/same_file.hpp"
 #include "lua/journal.hpp"
 #include "lua/lua_util.hpp"
 #include "lua/scene.hpp"
@@ -44,6 +45,29 @@ int l_output(lua_State* L) {
     }
     // -o wins, but the scene's own 'file' must still be a file name.
     if (!ctx->output_path.empty() && t.has("file")) (void)t.string("file");
+    // One file, one role: opened again it would be emptied of what it holds.
+    if (s.running)
+      throw InputError(
+          "output: not from inside a run's callback (the run's snapshots and series go to the "
+          "output it began with); open it before sim:run");
+    if (io::same_file(o.path, ctx->scene_path))
+      throw InputError(
+          fmt::format("output: {} is the scene file; give the output another name", o.path));
+    if (io::same_file(o.path, ctx->restart_path))
+      throw InputError(fmt::format(
+          "output: {} is the checkpoint this run continues; give the output another name", o.path));
+    if (io::same_file(o.path, s.checkpoint.path))
+      throw InputError(fmt::format(
+          "output: {} is also where this simulation's checkpoints go; a checkpoint would replace "
+          "the results it holds: give the output or the checkpoint another name",
+          o.path));
+    for (const std::string& opened : s.output_paths)
+      if (io::same_file(o.path, opened))
+        throw InputError(fmt::format(
+            "output: {} was already opened by this simulation; opening it again would erase "
+            "what it holds: call sim:output once per file (its settings hold for every later "
+            "run)",
+            o.path));
     o.snapshot_every = t.number("snapshot_every", 0);
     o.series_every = t.number("series_every", 0);
     o.xdmf = t.boolean("xdmf", true);
@@ -61,6 +85,7 @@ int l_output(lua_State* L) {
     s.output.reset();
     s.output = std::make_unique<io::RunOutput>(*s.sim, o);
     ++s.output_calls;
+    s.output_paths.push_back(o.path);
     if (!o.muted) ctx->outputs_written.push_back(o.path);
     lua_pushstring(L, o.path.c_str());
     return 1;
@@ -118,7 +143,15 @@ int l_result(lua_State* L) {
   return protect(L, [](lua_State* L) {
     auto& out = output_of(self(L));
     TableReader t(L, 2, "result");
-    for (const auto& key : t.keys()) out.write_result(key, t.number(key.c_str()));
+    const std::vector<std::string> names = t.keys();
+    std::size_t entries = 0;
+    lua_pushnil(L);
+    while (lua_next(L, 2) != 0) ++entries, lua_pop(L, 1);
+    if (entries != names.size())
+      throw InputError(
+          "result: every value needs a name (sim:result { name = value }); one without would "
+          "be lost");
+    for (const auto& key : names) out.write_result(key, t.number(key.c_str()));
     return 0;
   });
 }
@@ -132,6 +165,10 @@ int l_close(lua_State* L) {
       if (s.output) s.output->flush();
       return 0;
     }
+    if (s.running)
+      throw InputError(
+          "close: not from inside a run's callback (the run's snapshots and series go on into "
+          "the output until it ends); close it after sim:run");
     if (s.output) s.output->finish();
     s.output.reset();
     return 0;

@@ -7,6 +7,7 @@
 #include "core/names.hpp"
 #include "engine/simulation_base.hpp"
 #include "lua/lua_util.hpp"
+#include "lua/scene.hpp"
 #include "lua/wrap_simulation.hpp"
 
 namespace granule::lua {
@@ -338,7 +339,15 @@ int l_fill(lua_State* L) {
     r.finish();
     lua_pop(L, 1);
     t.finish();
+    // A signal stops a long fill as it stops a run (no Lua runs meanwhile to see it).
+    f.stop_requested = [] { return interrupt_pending(); };
     std::vector<std::int64_t> ids = s.sim->fill(f);
+    if (interrupt_pending()) {
+      if (SceneContext* ctx = context(L)) ctx->interrupted = true;
+      throw std::runtime_error(
+          fmt::format("interrupted ({}) during fill, {} of {} particles placed", interrupt_cause(),
+                      ids.size(), f.count));
+    }
     lua_createtable(L, static_cast<int>(ids.size()), 0);
     for (std::size_t k = 0; k < ids.size(); ++k) {
       lua_pushinteger(L, ids[k]);

@@ -693,6 +693,30 @@ case("param_declared_twice", "parameters { } called twice",
 case("param_write_read_only", "assigning into the read-only parameter table",
      r"{at}.*read-only", before={"sim": [P % "count = 5", wrong("p.count = 6")]})
 
+# ---------------------------------------------------------------------------
+# one file, one role; a run that outpaces its time step; a region already full
+# ---------------------------------------------------------------------------
+case("output_twice", "sim:output called again on the file it already writes (it would be emptied)",
+     r"{at}.*already opened by this simulation", after={"output": [wrong("sim:output {}")]})
+case("checkpoint_over_output", "checkpoints into the run's output file (run with -o out.h5)",
+     r"{at}.*this simulation's output", after={"output": [wrong('sim:checkpoint { file = "out.h5", every_steps = 5 }')]})
+case("close_in_callback", "the output closed from inside a run's callback",
+     r"{at}.*close: not from inside a run's callback",
+     after={"output": [wrong("sim:every { steps = 2, function(s) s:close() end }")]})
+case("output_in_callback", "an output opened from inside a run's callback",
+     r"{at}.*output: not from inside a run's callback",
+     after={"output": [wrong('sim:every { steps = 2, function(s) s:output { file = "other.h5" } end }')]})
+case("particle_steps_over", "a particle at 1e4 m/s moves farther in one step than its radius",
+     r"particle 5 moves .* more than the smallest radius",
+     after={"fill": [wrong('sim:add_particle { position = { 0, 0 }, radius = 3e-4, material = "glass", velocity = { 1e4, 0 } }')]})
+case("result_without_name", "sim:result given a value without a name",
+     r"{at}.*every value needs a name", after={"output": [wrong("sim:result { 5 }")]})
+case("particle_radius_huge", "a particle of radius 1e300 m: its mass overflows",
+     r"{at}.*not finite positive", after={"fill": [wrong('sim:add_particle { position = { 0, 0 }, radius = 1e300, material = "glass" }')]})
+case("fill_region_full", "a fill without overlaps asking for far more particles than the region holds",
+     r"{at}.*without a place", base=BASE3,
+     replace={"fill": wrong('sim:fill { region = { box = { lo = { -0.002, -0.002, 0.001 }, hi = { 0.002, 0.002, 0.004 } } }, count = 100000, radius = 3e-4, material = "glass", seed = 2, overlap = false }')})
+
 
 def main():
     os.makedirs(OUT, exist_ok=True)
