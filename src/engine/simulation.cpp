@@ -39,6 +39,12 @@ inline double seconds_since(Clock::time_point t0) {
 // ----------------------------------------------------------------------------
 template <int D>
 void Simulation<D>::step() {
+  // A callback that changed what the time step and the lists depend on (a law's
+  // parameters, particles added) is prepared for at the very next step, not at
+  // the next chunk of steps, whose length follows the wall clock: the same scene
+  // gives the same bits however fast the machine runs it. (A spread run
+  // prepares the gathered scene before it shares it again.)
+  if (!prepared_ && !external_rebuilds_) prepare();
   auto t0 = Clock::now();
   // 1. Neighbour lists: rebuilt only when something moved more than half the skin.
   // Large scenes are re-sorted along a space-filling curve every 32nd rebuild.

@@ -146,7 +146,6 @@ class Simulation final : public SimulationBase {
   // walls or against each other. The run, not the step, decides when the lists
   // are rebuilt, from every rank's displacements.
   static constexpr std::uint8_t ghost_flag = 2;
-  void set_external_rebuilds(bool on) { external_rebuilds_ = on; }
   // The lists need rebuilding before the next step (on this rank's share).
   bool lists_due() const { return !lists_valid_ || lists_stale(); }
   // On the ranks of a distributed run the particles of other ranks are ghosts,
@@ -407,7 +406,6 @@ class Simulation final : public SimulationBase {
   std::size_t non_finite_index_ = SIZE_MAX;
   std::string dt_governing_pair_;     // the pair whose rule sets the automatic time step
   double contact_reach_ = 0;          // m, how far apart adhesive contacts persist (<= skin)
-  bool external_rebuilds_ = false;    // a distributed run rebuilds the lists (install_share)
   bool keep_wall_reactions_ = false;  // set_keep_wall_reactions
   std::optional<GlobalStats> stats_override_;                    // set_stats_override
   std::optional<StateOverride> state_override_;                  // set_state_override

@@ -364,6 +364,9 @@ class SimulationBase {
   // Validates the scene (contact laws for every pair in use, particles inside
   // the walls, periodic box large enough), chooses dt, builds neighbour lists.
   virtual void prepare() = 0;
+  // Whether a change since the last prepare() still waits for one (step() makes it).
+  bool prepared() const { return prepared_; }
+  void set_external_rebuilds(bool on) { external_rebuilds_ = on; }
   void ensure_prepared() {
     if (!prepared_) prepare();
   }
@@ -523,6 +526,7 @@ class SimulationBase {
   bool pruning_ = true;
   bool canonical_order_ = false;
   bool prepared_ = false;
+  bool external_rebuilds_ = false;  // a distributed run rebuilds the lists (install_share)
   double time_ = 0;
   std::int64_t step_ = 0;
   std::vector<Hook> hooks_;

@@ -94,7 +94,10 @@ void SimulationBase::apply_schedules() {
     } else {
       const bool was_prepared = prepared_;
       update_contact(s.a, s.b, {{s.target, v}});
-      if (was_prepared) prepare();
+      // A rank's share is not prepared on its own (its particles alone would set
+      // the skin and the time step): the spread run gathers the scene and
+      // prepares it whole before its next step (scene_over_ranks.cpp).
+      if (was_prepared && !external_rebuilds_) prepare();
     }
     s.applied = v;
   }

@@ -105,6 +105,8 @@ StateBlob Simulation<D>::save_state() const {
   s.integers["meta"] = {
       state_version,       D, step_, p_.next_id, static_cast<std::int64_t>(rebuilds_),
       lists_valid_ ? 1 : 0};
+  // A callback's change still to be prepared for (step() does it first).
+  s.integers["prepare_due"] = {prepared_ ? 0 : 1};
   s.doubles["meta"] = {time_,
                        dt_,
                        dt_fixed_,
@@ -474,7 +476,10 @@ void Simulation<D>::load_state(const StateBlob& s) {
   }
   smallest_radius_ = INFINITY;
   for (const double r : p_.radius) smallest_radius_ = std::min(smallest_radius_, r);
-  prepared_ = true;
+  const auto& prepare_due = s.i("prepare_due");
+  if (prepare_due.size() != 1 || (prepare_due[0] != 0 && prepare_due[0] != 1))
+    refuse_entry("prepare_due", fmt::format("holds {} values, not one 0 or 1", prepare_due.size()));
+  prepared_ = prepare_due[0] == 0;
 }
 
 template class Simulation<2>;

@@ -354,7 +354,6 @@ void Journal::skip_results() {
   } else if (tag != tag_build) {
     damaged("results were expected");
   }
-  check_end();
   took_results_ = true;
 }
 
@@ -472,9 +471,16 @@ int journaled_call(lua_State* L) {
       // The run itself replays the callbacks it fired and returns its journaled result,
       // or, when the journal ends inside it, continues it for real (journaled again).
       return call_inner(true);
-    case Journal::Kind::build:
+    case Journal::Kind::build: {
       if (next == Journal::Next::error) return lua_error(L);
-      return call_inner(true);
+      // Made again on the scene being rebuilt, and only then, if this call ends the
+      // journal, the checkpoint's state loaded: the run that wrote it had made the
+      // call before its checkpoint (made after the load, a sim:set_contact would ask
+      // for a preparation that run never had, a sim:every a second hook).
+      const int n = call_inner(true);
+      if (failed_with_message(L, [&] { j->end_of_build_call(); })) return lua_error(L);
+      return n;
+    }
     case Journal::Kind::observe:
     case Journal::Kind::checkpoint:
       if (next == Journal::Next::error) return lua_error(L);

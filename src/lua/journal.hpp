@@ -68,7 +68,11 @@ class Journal {
   Next peek();
   // Pushes the journaled results; returns their count.
   int push_results(lua_State* L);
+  // A build call's entry, read; the journal's end (the checkpoint's state loaded,
+  // when this was its last entry) waits for end_of_build_call(), after the call
+  // has run again on the scene being rebuilt.
   void skip_results();
+  void end_of_build_call() { check_end(); }
   void push_error(lua_State* L);  // the journaled error value
   std::int64_t take_callback();   // a hook's id (-1: stop_when)
 

@@ -102,6 +102,9 @@ class SceneOverRanks final : public SpreadRun {
         }
         if (!run_ || run_->dissolved()) share();
         run_->advance(1);
+        // A schedule changed a law: prepared whole before the next step, as one
+        // process prepares it at once.
+        if (!sim_.prepared()) gather();
       }
     } catch (const std::exception& e) {
       if (hook_failed_) throw;

@@ -17,7 +17,8 @@
 #   forces equal bit for bit;
 # - a checkpoint written on 2 ranks continued on 3 ends in the same state
 #   (the box, the sparse box whose callback removes a particle every 250
-#   steps, the 2D drum, the periodic shear cell and the bonded pile), and the
+#   steps and whose friction ramps down over 40 steps, the 2D drum, the
+#   periodic shear cell and the bonded pile), and the
 #   sparse box's plain run continues its own checkpoint;
 # - the 2D Mechanofusion base case with its diagnostics (steps they look at
 #   taken whole) on 2, 3 and 4 ranks: the same /results, diagnostics series

@@ -6,7 +6,7 @@
 -- order every spread run uses (docs/parallel.md), so that its lines are the
 -- same bits too.
 local p = parameters {
-  case = { default = "box", doc = "box (3D dense, Hertz-Mindlin) | sparse (the box, four particles in five removed, and one more in the callback every 250 steps) | drum (3D, turning cylinder, linear) | jkr (3D agglomerate) | wb (2D Walton-Braun drum) | shear (3D shear cell, periodic along x) | bonds (2D pile bonded, then tumbled in its drum) | mesh (3D pile on a triangle-mesh floor the scene writes)" },
+  case = { default = "box", doc = "box (3D dense, Hertz-Mindlin) | sparse (the box, four particles in five removed, one more in the callback every 250 steps, and a friction ramp from step 500 to 540) | drum (3D, turning cylinder, linear) | jkr (3D agglomerate) | wb (2D Walton-Braun drum) | shear (3D shear cell, periodic along x) | bonds (2D pile bonded, then tumbled in its drum) | mesh (3D pile on a triangle-mesh floor the scene writes)" },
   canonical = { default = 0 },
   checkpoint = { default = "over_ranks.chk.h5" },
   steps = { default = 0, doc = "steps of each of the two stages (0: the case's own)" },
@@ -116,6 +116,12 @@ else
 end
 local steps = p.steps > 0 and p.steps or ({ box = 8000, sparse = 3000, drum = 8000, jkr = 4000, wb = 10000, shear = 8000, bonds = 8000, mesh = 6000 })[p.case]
 if p.canonical == 1 then sim:set { canonical_order = true } end
+-- sparse: a friction ramp over 40 steps of the first stage, from step 500: a
+-- schedule that changes a law prepares the scene whole (spread: gathered).
+if p.case == "sparse" then
+  local dt = sim:time_step()
+  sim:schedule { "friction", from = "glass", to = "glass", linear = { 500 * dt, 0.4, 540 * dt, 0.2 } }
+end
 sim:output { snapshot_every = steps * sim:time_step() / p.snapshots }
 sim:checkpoint { file = p.checkpoint, every_steps = 1000 }
 -- A callback that reads the whole scene and sets state wherever the particle lives.
