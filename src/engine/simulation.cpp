@@ -171,7 +171,8 @@ void Simulation<D>::step() {
   // 4. Body forces and leap-frog (Eqs. 4.8-4.9).
   integrate();
   if (non_finite_index_ != SIZE_MAX) report_non_finite(non_finite_index_);
-  if (std::sqrt(last_fastest_speed_sq_) * dt_ > smallest_radius_) report_step_over();
+  if (last_fastest_speed_sq_ * (dt_ * dt_) > smallest_radius_ * smallest_radius_)
+    report_step_over();
   time_ += dt_;
   ++step_;
   // Schedules (ramps): their targets set to the values of the next step's time.
