@@ -1,6 +1,9 @@
 #include "app/sweep.hpp"
 
+#include <fcntl.h>
 #include <fmt/format.h>
+#include <sys/file.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
@@ -46,6 +49,40 @@ const char* sweep_usage =
     "  under mpirun the cases are shared among the ranks (see docs/performance.md)\n";
 
 using namespace sweep_detail;  // the shared types (sweep_types.hpp)
+
+// flock() on DIR/.granule-sweep.lock for the sweep's life (the kernel drops it
+// when the process ends, however it ends); throws naming the folder when
+// another process holds it. An empty folder: no lock (a worker rank).
+class DirectoryLock {
+ public:
+  explicit DirectoryLock(const std::string& directory) {
+    if (directory.empty()) return;
+    const std::string path = (fs::path(directory) / ".granule-sweep.lock").string();
+    fd_ = open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd_ < 0)
+      throw std::runtime_error(
+          fmt::format("cannot make the lock file {}: {}", path, strerror(errno)));
+    if (flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+      const int why = errno;
+      close(fd_);
+      fd_ = -1;
+      if (why == EWOULDBLOCK)
+        throw std::runtime_error(fmt::format(
+            "another granule sweep is writing into {}/ (it holds {}); wait for it to end, or "
+            "give this one another folder (-o)",
+            directory, path));
+      // A filesystem without flock (some network mounts): go on unlocked.
+    }
+  }
+  ~DirectoryLock() {
+    if (fd_ >= 0) close(fd_);
+  }
+  DirectoryLock(const DirectoryLock&) = delete;
+  DirectoryLock& operator=(const DirectoryLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
 
 // Loads the scene with this case's values as far as its parameters{...}, in this
 // process: a name the scene does not declare, or a value of the wrong kind, is
@@ -97,11 +134,14 @@ int sweep(const Settings& s, Ranks& ranks) {
     if (lead)
       for (const Case& c : cases) {
         auto record = io::read_case_record(c.file);
-        bool finished = record && record->key == c.key;
+        const bool same_case = record && record->key == c.key;
+        const bool finished = same_case && record->scene_digest == s.scene_digest;
         std::error_code ec;
         const bool resumable = !finished && fs::exists(c.checkpoint, ec);
         std::cout << fmt::format("{} {} -> {}{}\n", c.index, describe(c), c.file,
                                  finished    ? " (finished)"
+                                 : same_case ? " (finished by another version of the scene: runs "
+                                               "again)"
                                  : resumable ? " (continues from " + c.checkpoint + ")"
                                              : "");
       }
@@ -114,6 +154,9 @@ int sweep(const Settings& s, Ranks& ranks) {
       std::cerr << "granule sweep: cannot make the output directory '" << s.directory << "'\n";
     return 2;
   }
+  // One sweep at a time in a folder: a second would truncate the files the
+  // first is writing (HDF5's own locks are off: they fail on shared filesystems).
+  const DirectoryLock lock(lead ? s.directory : std::string());
   // Several ranks on one node share its cores unless told otherwise (--threads, or
   // OMP_NUM_THREADS, which the cases then read themselves).
   int threads = s.threads;
@@ -141,8 +184,9 @@ int sweep(const Settings& s, Ranks& ranks) {
   for (const Case& c : cases) {
     Outcome& o = outcomes[c.index];
     o.index = c.index;
+    // Finished by this scene as it is now: a case of an edited scene runs again.
     auto record = io::read_case_record(c.file);
-    if (record && record->key == c.key) {
+    if (record && record->key == c.key && record->scene_digest == s.scene_digest) {
       o.status = Status::reused;
       o.rank = record->rank;
       o.wall_seconds = record->wall_seconds;
@@ -259,6 +303,12 @@ int run_sweep(const std::vector<std::string>& args) {
     if (!rank || std::atoi(rank) == 0)
       std::cerr << "granule sweep: " << e.what() << "\n" << sweep_usage;
     return 2;
+  }
+  {
+    std::ifstream scene(settings.scene, std::ios::binary);
+    std::stringstream text;
+    text << scene.rdbuf();
+    settings.scene_digest = io::source_digest(text.str());
   }
   Ranks ranks;
   if (ranks.idle()) return 0;

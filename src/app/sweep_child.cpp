@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <fmt/format.h>
+#include <sys/prctl.h>
 #include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -11,12 +12,15 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
+#include <map>
 #include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "io/case_record.hpp"
+#include "io/checkpoint.hpp"
 #include "io/h5_output.hpp"
 
 extern char** environ;
@@ -41,9 +45,11 @@ std::string self_executable() {
 }
 
 // The first line of the error the run printed ("error: ..." from the scene, "granule:
-// error: ..." from the program), else its last line.
-std::string error_from_log(const std::string& log) {
+// error: ..." from the program), else its last line; from byte `start` on (a
+// continued case appends to the log of its earlier attempts).
+std::string error_from_log(const std::string& log, std::uintmax_t start) {
   std::ifstream in(log);
+  in.seekg(static_cast<std::streamoff>(start));
   std::string line, last;
   while (std::getline(in, line)) {
     for (const char* prefix : {"error: ", "granule: error: "})
@@ -53,18 +59,57 @@ std::string error_from_log(const std::string& log) {
   return last;
 }
 
+// Why an earlier sweep's checkpoint of this case's file names cannot be
+// continued by this case (empty: it can): it was written with other -D values
+// (the values an earlier sweep held fixed, or another case that had this
+// file's name) or by another version of the scene. A restart would refuse it
+// each time the sweep runs.
+std::string foreign_checkpoint(const std::string& path, const Case& c, const std::string& digest) {
+  std::string values;  // as the run records them: name=value lines in name order
+  std::map<std::string, std::string> sorted(c.values.begin(), c.values.end());
+  for (const auto& [name, value] : sorted) values += name + "=" + value + "\n";
+  try {
+    if (io::read_checkpoint_text(path, "lua.overrides") != values)
+      return "it was written with other -D values";
+    if (io::source_digest(io::read_checkpoint_text(path, "lua.scene_source")) != digest)
+      return "it was written by another version of the scene";
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
 }  // namespace
 
 RunningCase::RunningCase(const Settings& s, const Case& c, int threads, int rank)
-    : case_(c), rank_(rank), timeout_(s.case_timeout), start_(std::chrono::steady_clock::now()) {
+    : case_(c),
+      scene_digest_(s.scene_digest),
+      rank_(rank),
+      timeout_(s.case_timeout),
+      start_(std::chrono::steady_clock::now()) {
   std::vector<std::string> args{self_executable(), "run", s.scene};
   for (const auto& [name, value] : c.values) args.insert(args.end(), {"-D", name + "=" + value});
   args.insert(args.end(), {"-o", c.file});
   // A case stopped half-way (a signal, a lost node, the sweep killed) left its
   // checkpoint: it goes on from there, its output file continued, its log appended.
   std::error_code ec;
-  const bool resume = fs::exists(c.checkpoint, ec);
+  bool resume = fs::exists(c.checkpoint, ec);
+  if (resume) {
+    const std::string why = foreign_checkpoint(c.checkpoint, c, s.scene_digest);
+    if (!why.empty()) {
+      // Kept for whoever wants it, out of the way of this case's own.
+      const std::string aside = c.checkpoint + ".set-aside";
+      fs::rename(c.checkpoint, aside, ec);
+      std::cerr << fmt::format(
+          "granule sweep: case {}: not continuing {} ({}); moved to {}, the "
+          "case runs from its start\n",
+          c.index, c.checkpoint, why, aside);
+      resume = false;
+    }
+  }
   continued_ = resume;
+  log_start_ = resume ? fs::file_size(c.log, ec) : 0;
+  if (ec) log_start_ = 0;
   if (resume) args.insert(args.end(), {"--restart", c.checkpoint});
   args.insert(args.end(), {"--checkpoint", c.checkpoint});
   if (s.checkpoint_every > 0)
@@ -85,9 +130,15 @@ RunningCase::RunningCase(const Settings& s, const Case& c, int threads, int rank
   env.push_back(nullptr);
   const char* log = c.log.c_str();
   std::string exec_error = std::string("error: cannot run ") + argv[0] + "\n";
+  const pid_t parent = getpid();
   pid_ = fork();
   if (pid_ < 0) throw std::runtime_error(std::string("cannot start a case: ") + strerror(errno));
   if (pid_ == 0) {
+    // A sweep killed outright (SIGKILL, a lost node) leaves no case running on
+    // as an orphan beside a rerun of the sweep: the case gets SIGTERM, writes
+    // its checkpoint and ends.
+    prctl(PR_SET_PDEATHSIG, SIGTERM);
+    if (getppid() != parent) _exit(128 + SIGTERM);
     int fd = open(log, O_WRONLY | O_CREAT | (resume ? O_APPEND : O_TRUNC), 0644);
     if (fd >= 0) {
       dup2(fd, 1);
@@ -153,7 +204,7 @@ bool RunningCase::poll(Outcome& out) {
     const bool stopped = code == 128 + SIGINT || code == 128 + SIGTERM || code == 128 + SIGHUP;
     out.status = (stopped || forwarded_) ? Status::interrupted : Status::failed;
     if (stopped) out.stop_signal = code - 128;
-    out.error = error_from_log(case_.log);
+    out.error = error_from_log(case_.log, log_start_);
     if (out.error.empty()) out.error = fmt::format("exit status {}", code);
   }
   return true;
@@ -167,6 +218,7 @@ void RunningCase::finish(Outcome& out) {
     record.key = case_.key;
     record.rank = rank_;
     record.wall_seconds = out.wall_seconds;
+    record.scene_digest = scene_digest_;
     io::write_case_record(case_.file, record);
     out.status = Status::ok;
     // Finished: its checkpoint would only make a later sweep continue a done case.

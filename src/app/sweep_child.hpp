@@ -7,6 +7,8 @@
 
 #include <chrono>
 #include <csignal>
+#include <cstdint>
+#include <string>
 
 #include "app/sweep_types.hpp"
 
@@ -28,6 +30,8 @@ class RunningCase {
   void finish(Outcome& out);
 
   Case case_;
+  std::string scene_digest_;
+  std::uintmax_t log_start_ = 0;  // where this attempt's lines begin in the (appended) log
   int rank_;
   double timeout_;
   std::chrono::steady_clock::time_point start_;

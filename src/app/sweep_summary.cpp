@@ -8,6 +8,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <ostream>
 #include <set>
 #include <stdexcept>
 
@@ -28,6 +30,30 @@ std::string csv_field(const std::string& text) {
 
 std::string number(double v) {
   return fmt::format("{:.10g}", v);
+}
+
+// Writes `path` through `fill` into path.tmp, renamed into place only once all
+// of it reached the disk: a full disk leaves the earlier summary, not an
+// empty or cut one.
+void write_whole(const std::string& path, const std::function<void(std::ostream&)>& fill) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp);
+    if (!out) throw std::runtime_error("cannot create " + tmp);
+    fill(out);
+    out.flush();
+    out.close();
+    if (!out) {
+      std::error_code ec;
+      fs::remove(tmp, ec);
+      throw std::runtime_error("cannot write " + path +
+                               " (is the disk full?); the earlier one, if "
+                               "any, is kept");
+    }
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) throw std::runtime_error("cannot move " + tmp + " to " + path + ": " + ec.message());
 }
 
 }  // namespace
@@ -64,18 +90,24 @@ Summary tabulate(const Settings& s, const std::vector<Case>& cases,
 }
 
 void write_csv(const std::string& path, const Summary& t) {
-  std::ofstream out(path);
-  for (std::size_t k = 0; k < t.header.size(); ++k) out << (k ? "," : "") << csv_field(t.header[k]);
-  out << "\n";
-  for (const auto& row : t.rows) {
-    for (std::size_t k = 0; k < row.size(); ++k) out << (k ? "," : "") << csv_field(row[k]);
+  write_whole(path, [&](std::ostream& out) {
+    for (std::size_t k = 0; k < t.header.size(); ++k)
+      out << (k ? "," : "") << csv_field(t.header[k]);
     out << "\n";
-  }
-  if (!out) throw std::runtime_error("cannot write " + path);
+    for (const auto& row : t.rows) {
+      for (std::size_t k = 0; k < row.size(); ++k) out << (k ? "," : "") << csv_field(row[k]);
+      out << "\n";
+    }
+  });
 }
 
+void markdown(std::ostream& out, const Settings& s, const Summary& t);
+
 void write_markdown(const std::string& path, const Settings& s, const Summary& t) {
-  std::ofstream out(path);
+  write_whole(path, [&](std::ostream& out) { markdown(out, s, t); });
+}
+
+void markdown(std::ostream& out, const Settings& s, const Summary& t) {
   out << "# Sweep of " << s.scene << "\n\n";
   auto cell = [](std::string text) {
     if (text.size() > 100) text = text.substr(0, 97) + "...";
@@ -91,15 +123,14 @@ void write_markdown(const std::string& path, const Settings& s, const Summary& t
     for (const auto& v : row) out << "| " << cell(v) << " ";
     out << "|\n";
   }
-  if (!out) throw std::runtime_error("cannot write " + path);
 }
 
 // One series group /sweep (the form tools/plot_sweep.py reads from one file): a row per
 // finished case with every result, numeric parameters and results as columns; the whole
 // table (every case, failed ones too) as CSV text in /sweep_table.
-void write_h5(const std::string& path, const Settings& s, const std::vector<Case>& cases,
-              const std::vector<Outcome>& outcomes, const std::vector<std::string>& result_names,
-              const std::string& csv_text) {
+void write_h5_file(const std::string& path, const Settings& s, const std::vector<Case>& cases,
+                   const std::vector<Outcome>& outcomes,
+                   const std::vector<std::string>& result_names, const std::string& csv_text) {
   io::H5Output out(path);
   std::vector<std::size_t> numeric_axes;
   for (std::size_t a = 0; a < s.axes.size(); ++a) {
@@ -111,33 +142,62 @@ void write_h5(const std::string& path, const Settings& s, const std::vector<Case
     }
     if (numeric) numeric_axes.push_back(a);
   }
-  std::vector<std::string> columns{"case"};
+  // A row per finished case: the results every one of them reported are its
+  // columns; one that some cases lack (a scene reporting it only sometimes)
+  // stays in /sweep_table and is named in the attribute partial_results.
+  auto finished = [&](const Outcome& o) {
+    return o.status == Status::ok || o.status == Status::reused;
+  };
+  std::vector<std::string> columns{"case"}, partial;
   for (auto a : numeric_axes) columns.push_back(s.axes[a].name);
-  for (const auto& r : result_names)
-    if (std::find(columns.begin(), columns.end(), r) == columns.end()) columns.push_back(r);
+  for (const auto& r : result_names) {
+    const bool everywhere = std::all_of(outcomes.begin(), outcomes.end(), [&](const Outcome& o) {
+      auto it = o.results.find(r);
+      return !finished(o) || (it != o.results.end() && std::isfinite(it->second));
+    });
+    if (!everywhere)
+      partial.push_back(r);
+    else if (std::find(columns.begin(), columns.end(), r) == columns.end())
+      columns.push_back(r);
+  }
   for (const char* extra : {"rank", "wall_seconds"})
     if (std::find(columns.begin(), columns.end(), extra) == columns.end()) columns.push_back(extra);
   out.series_declare("/sweep", columns);
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const Outcome& o = outcomes[i];
-    if (o.status != Status::ok && o.status != Status::reused) continue;
+    if (!finished(o)) continue;
     std::map<std::string, double> values{
         {"case", double(i)}, {"rank", double(o.rank)}, {"wall_seconds", o.wall_seconds}};
     for (auto a : numeric_axes)
       values[s.axes[a].name] = std::strtod(cases[i].values[a].second.c_str(), nullptr);
     for (const auto& [name, v] : o.results) values[name] = v;
     std::vector<double> row;
-    for (const auto& c : columns) {
-      auto it = values.find(c);
-      if (it == values.end() || !std::isfinite(it->second)) break;
-      row.push_back(it->second);
-    }
-    if (row.size() == columns.size()) out.series_append("/sweep", row);
+    for (const auto& c : columns) row.push_back(values.at(c));
+    out.series_append("/sweep", row);
   }
   out.write_text("/sweep_table", csv_text);
   out.write_attribute("/sweep", "scene", s.scene);
   out.write_attribute("/sweep", "cases", static_cast<std::int64_t>(cases.size()));
+  std::string partial_names;
+  for (const auto& r : partial) partial_names += (partial_names.empty() ? "" : ",") + r;
+  out.write_attribute("/sweep", "partial_results", partial_names);
   out.flush();
+}
+
+void write_h5(const std::string& path, const Settings& s, const std::vector<Case>& cases,
+              const std::vector<Outcome>& outcomes, const std::vector<std::string>& result_names,
+              const std::string& csv_text) {
+  // Written beside and renamed into place, as the CSV.
+  const std::string tmp = path + ".tmp";
+  std::error_code ec;
+  try {
+    write_h5_file(tmp, s, cases, outcomes, result_names, csv_text);
+  } catch (...) {
+    fs::remove(tmp, ec);
+    throw;
+  }
+  fs::rename(tmp, path, ec);
+  if (ec) throw std::runtime_error("cannot move " + tmp + " to " + path + ": " + ec.message());
 }
 
 }  // namespace granule::app::sweep_detail

@@ -22,6 +22,7 @@ struct Axis {
 
 struct Settings {
   std::string scene, directory;
+  std::string scene_digest;  // io::source_digest of the scene's text, read once
   std::vector<Axis> axes;
   int threads = 0;  // 0: the scene's own choice (or, under MPI, the cores shared out)
   bool quiet = false;

@@ -29,6 +29,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include "contact/contact_batch.hpp"
@@ -98,6 +99,10 @@ struct ThorntonElastic {
     Vec<D> reversal2 = Vec<D>::Zero();       // T**: where unloading turned to reloading (Eq. 6.10)
     Vec<D> load_direction = Vec<D>::Zero();  // u: unit sense of the last increment on T's line
     int branch = loading;
+    // Histories are written to checkpoints and output as their bytes: the gap
+    // before the next double is a member, so that it holds zeros, not whatever
+    // the heap held (the same run then writes the same file).
+    std::int32_t zero_padding = 0;
     double previous_normal = 0;  // N of the last step, for dN
   };
 
@@ -301,6 +306,10 @@ struct ThorntonElastic {
     return false;
   }
 };
+
+// No gap the compiler fills: a history's bytes are all members (zero_padding).
+static_assert(sizeof(ThorntonElastic::History<2>) == 4 * sizeof(Vec<2>) + 16);
+static_assert(sizeof(ThorntonElastic::History<3>) == 4 * sizeof(Vec<3>) + 16);
 
 }  // namespace granule
 

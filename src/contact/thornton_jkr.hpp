@@ -41,6 +41,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include "contact/contact_state.hpp"
@@ -104,6 +105,7 @@ struct ThorntonJkr {
     double contact_radius = 0;       // a; 0: no contact yet
     double separation_overlap = 0;   // alpha_f of this contact (<= 0)
     bool peeled = false;             // Eq. 6.21 reached: Mindlin-Deresiewicz from now on
+    char zero_padding[7] = {};       // written as bytes: zeros, not the heap's (thornton_elastic)
     double cbrt_radius = 0;          // cbrt(R*), once per contact (R* is the pair's)
   };
 
@@ -264,5 +266,9 @@ struct ThorntonJkr {
     return out;
   }
 };
+
+// No gap the compiler fills: a history's bytes are all members (zero_padding).
+static_assert(sizeof(ThorntonJkr::History<2>) == sizeof(ThorntonElastic::History<2>) + 32);
+static_assert(sizeof(ThorntonJkr::History<3>) == sizeof(ThorntonElastic::History<3>) + 32);
 
 }  // namespace granule

@@ -404,7 +404,12 @@ class Simulation final : public SimulationBase {
   std::int64_t candidates_visited_ = 0;  // by the pair loops' listing passes
   double max_overlap_ratio_ = 0;
   std::size_t non_finite_index_ = SIZE_MAX;
-  std::string dt_governing_pair_;     // the pair whose rule sets the automatic time step
+  std::string dt_governing_pair_;  // the pair whose rule sets the automatic time step
+  std::string dt_warned_;          // the last warning of a time_step above the rule
+  // Parts of prepare() (simulation_prepare.cpp).
+  double adhesive_reach() const;      // m, contact_reach_ for the particles and laws now
+  void choose_time_step();            // dt_ by Eq. 4.1 or time_step, against the stability limit
+  bool prepare_parameters();          // after a law's parameters alone changed; false: prepare all
   double contact_reach_ = 0;          // m, how far apart adhesive contacts persist (<= skin)
   bool keep_wall_reactions_ = false;  // set_keep_wall_reactions
   std::optional<GlobalStats> stats_override_;                    // set_stats_override

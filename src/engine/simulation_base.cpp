@@ -35,7 +35,7 @@ int SimulationBase::add_material(const Material& m) {
         fmt::format("material '{}': 'poisson' must be in (-1, 0.5], got {}", m.name, m.poisson));
   materials_.push_back(m);
   pairs_.resize(static_cast<int>(materials_.size()));
-  prepared_ = false;
+  unprepare();
   return static_cast<int>(materials_.size() - 1);
 }
 
@@ -61,7 +61,7 @@ void SimulationBase::set_contact(const std::string& a, const std::string& b,
   ParamValues resolved =
       resolve_parameters(contact_model_catalogue()[m].parameters, chosen, context);
   pairs_.set(ia, ib, m, resolved, {materials_[ia], materials_[ib]});
-  prepared_ = false;
+  unprepare();
 }
 
 void SimulationBase::declare_contact(const std::string& a, const std::string& b,
@@ -84,7 +84,11 @@ void SimulationBase::update_contact(const std::string& a, const std::string& b,
   int ia = material_id(a), ib = material_id(b);
   pairs_.update(ia, ib, changes, fmt::format("contact '{}'-'{}'", a, b),
                 {materials_[ia], materials_[ib]});
-  prepared_ = false;  // re-check the time step against the new parameters
+  // The time step, the spins and the adhesive reach are checked again at the
+  // next prepare(); the lists hold unless something else changed too.
+  const bool lists_hold = prepared_ || lists_kept_;
+  unprepare();
+  lists_kept_ = lists_hold;
 }
 
 void SimulationBase::set_time_step(double dt) {
@@ -92,7 +96,7 @@ void SimulationBase::set_time_step(double dt) {
     throw InputError(fmt::format("time_step must be > 0 [s] (or 0 for Eq. 4.1), got {}", dt));
   dt_fixed_ = dt;
   if (dt > 0) dt_ = dt;
-  prepared_ = false;
+  unprepare();
 }
 
 void SimulationBase::set_steps_per_contact(double n) {
@@ -100,14 +104,14 @@ void SimulationBase::set_steps_per_contact(double n) {
     throw InputError(fmt::format("steps_per_contact must be >= 1, got {}", n));
   steps_per_contact_ = n;
   if (dt_fixed_ == 0) dt_ = 0;
-  prepared_ = false;
+  unprepare();
 }
 
 void SimulationBase::set_skin(double skin) {
   if (!std::isfinite(skin) || skin < 0)
     throw InputError(fmt::format("skin must be >= 0 [m] (0 = automatic), got {}", skin));
   skin_set_ = skin;
-  prepared_ = false;
+  unprepare();
 }
 
 void SimulationBase::set_overlap_warning(double fraction) {
@@ -126,7 +130,7 @@ void SimulationBase::set_periodic(int axis, double origin, double length) {
   if (!std::isfinite(length) || length <= 0 || !std::isfinite(origin))
     throw InputError(fmt::format("periodic length must be > 0 [m], got {}", length));
   periodic_ = {axis, origin, length};
-  prepared_ = false;
+  unprepare();
 }
 
 void SimulationBase::set_threads(int threads) {

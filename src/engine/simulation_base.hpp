@@ -301,7 +301,7 @@ class SimulationBase {
   // threads). Costs a sort per rebuild and the caches' Morton-order locality
   // (docs/parallel.md, "Canonical order"). Takes effect at the next prepare().
   void set_canonical_order(bool on) {
-    if (on != canonical_order_) prepared_ = false;  // the lists are rebuilt in the new order
+    if (on != canonical_order_) unprepare();  // the lists are rebuilt in the new order
     canonical_order_ = on;
   }
   bool canonical_order() const { return canonical_order_; }
@@ -526,6 +526,12 @@ class SimulationBase {
   bool pruning_ = true;
   bool canonical_order_ = false;
   bool prepared_ = false;
+  // The only change since the last prepare() is a contact law's parameters
+  // (update_contact: a schedule's ramp, sim:set_contact): the lists still
+  // hold, so prepare() re-chooses the time step, the spin flag and the
+  // adhesive reach and keeps them (simulation_prepare.cpp).
+  bool lists_kept_ = false;
+  void unprepare() { prepared_ = false, lists_kept_ = false; }
   bool external_rebuilds_ = false;  // a distributed run rebuilds the lists (install_share)
   double time_ = 0;
   std::int64_t step_ = 0;

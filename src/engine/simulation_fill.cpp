@@ -174,7 +174,7 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
     for (auto id : ids) p_.velocity[p_.index(id)] -= mean;
   }
   lists_valid_ = false;
-  prepared_ = false;
+  unprepare();
   return ids;
 }
 

@@ -69,7 +69,7 @@ int Simulation<D>::add_mesh_wall(const MeshWallSpec& s, Triangles mesh) {
     meshes_.meshes.push_back(std::move(m));
     mesh_grid_reach_ = 0;
     lists_valid_ = false;
-    prepared_ = false;
+    unprepare();
     return static_cast<int>(walls_.size() - 1);
   }
 }

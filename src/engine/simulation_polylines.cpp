@@ -79,7 +79,7 @@ int Simulation<D>::add_polyline_wall(const PolylineWallSpec& s) {
     meshes_.mesh_of_wall.back() = static_cast<int>(meshes_.meshes.size());
     meshes_.meshes.push_back(std::move(m));
     lists_valid_ = false;
-    prepared_ = false;
+    unprepare();
     return static_cast<int>(walls_.size() - 1);
   }
 }

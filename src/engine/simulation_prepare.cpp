@@ -96,7 +96,93 @@ TimeStepReport Simulation<D>::time_step_rule() {
 }
 
 template <int D>
+double Simulation<D>::adhesive_reach() const {
+  double reach = 0;
+  double r_max = 0;
+  for (double r : p_.radius) r_max = std::max(r_max, r);
+  // Only pairs that can meet: an adhesive law declared for materials no
+  // particle has must not widen the skin of the whole scene.
+  for (auto [a, b] : pairs_in_use()) {
+    const PairTable::Entry& e = pairs_.at(a, b);
+    for_each_model([&](auto index) {
+      constexpr int I = decltype(index)::value;
+      using M = ContactModelAt<I>;
+      if constexpr (M::adhesive)
+        if (e.model == I) reach = std::max(reach, M::reach(pairs_.params<I>()[e.slot], r_max));
+    });
+  }
+  return reach;
+}
+
+template <int D>
+void Simulation<D>::choose_time_step() {
+  if (p_.size()) {
+    TimeStepReport rule = time_step_rule();
+    dt_governing_pair_ = rule.governing_pair;
+    if (dt_fixed_ > 0) {
+      dt_ = dt_fixed_;
+      if (dt_ >= rule.stability_limit)
+        throw InputError(fmt::format(
+            "time_step {:.4g} s is above the stability limit 1/omega = {:.4g} s of {} (half of "
+            "leap-frog's 2/omega: with fewer than pi steps per contact an impact gains energy): "
+            "refused",
+            dt_, rule.stability_limit, rule.limit_pair));
+      if (dt_ > rule.rule * (1 + 1e-9)) {
+        // Said once per rule: a ramp re-checks it every step it changes a law.
+        std::string message = fmt::format(
+            "time_step {:.4g} s exceeds the Eq. 4.1 rule {:.4g} s (n = {} steps per "
+            "contact) for {}",
+            dt_, rule.rule, steps_per_contact_, rule.governing_pair);
+        if (message != dt_warned_) warn(message);
+        dt_warned_ = std::move(message);
+      }
+    } else if (dt_ == 0 || std::isinf(dt_)) {
+      if (std::isinf(rule.rule))
+        throw InputError("cannot choose a time step: no contact can occur; set time_step");
+      dt_ = rule.rule;
+    } else if (dt_ > rule.rule * (1 + 1e-9)) {
+      // An automatic dt chosen earlier is too long for changed parameters (a
+      // stiffer law, smaller particles): choose again. A dt that became shorter
+      // than needed is kept, so that removing particles does not change it.
+      dt_ = rule.rule;
+    }
+    // The automatic dt is t_c / n (Eq. 4.1): a small n puts it beyond the limit
+    // as surely as a time_step does (n = 1 gives restitution 3 with Walton-Braun,
+    // 17 with Hertz), so it is refused the same way. The limit is 1/omega, so
+    // linear and Walton-Braun laws accept n > pi; Hertz and Thornton, whose rule
+    // is 8 T_R / n against a limit of T_R / 2, n > 16.
+    if (!(dt_fixed_ > 0) && dt_ >= rule.stability_limit)
+      throw InputError(fmt::format(
+          "steps_per_contact = {} gives a time step {:.4g} s (Eq. 4.1 for {}), above the "
+          "stability limit 1/omega = {:.4g} s of {} (half of leap-frog's 2/omega: with fewer than "
+          "pi steps per contact an impact gains energy): refused; raise steps_per_contact",
+          steps_per_contact_, dt_, rule.governing_pair, rule.stability_limit, rule.limit_pair));
+  } else if (dt_ == 0) {
+    dt_ = dt_fixed_;
+  }
+  if (!(dt_ > 0)) throw InputError("no time step: the scene has no particles and no time_step");
+}
+
+// Only a law's parameters changed since the last prepare() (lists_kept_): the
+// lists hold (they depend on positions, the skin and which law each pair has,
+// none of which changed), so a ramp that sets a law every step does not
+// rebuild them every step. What the parameters decide is chosen again. An
+// adhesive reach grown past what the skin allows needs the whole prepare().
+template <int D>
+bool Simulation<D>::prepare_parameters() {
+  const double reach = adhesive_reach();
+  if (reach > 0 && !(skin_ > 1.5 * reach)) return false;
+  contact_reach_ = reach;
+  rotation_ = effects().rotation;
+  choose_time_step();
+  prepared_ = true;
+  lists_kept_ = false;
+  return true;
+}
+
+template <int D>
 void Simulation<D>::prepare() {
+  if (lists_kept_ && lists_valid_ && p_.size() && prepare_parameters()) return;
   // Every position inside the periodic box: the force loops take minimum images
   // of separations between two positions in the box (Periodicity::wrap).
   if (periodic_.on())
@@ -151,23 +237,7 @@ void Simulation<D>::prepare() {
   // (-alpha_f, Eq. 6.14): a pair stays in the neighbour list only while its gap
   // is below the skin, so the skin must exceed that reach, taken for the
   // largest effective radius (alpha_f grows as R*^(1/3)).
-  contact_reach_ = 0;
-  {
-    double r_max = 0;
-    for (double r : p_.radius) r_max = std::max(r_max, r);
-    // Only pairs that can meet: an adhesive law declared for materials no
-    // particle has must not widen the skin of the whole scene.
-    for (auto [a, b] : pairs_in_use()) {
-      const PairTable::Entry& e = pairs_.at(a, b);
-      for_each_model([&](auto index) {
-        constexpr int I = decltype(index)::value;
-        using M = ContactModelAt<I>;
-        if constexpr (M::adhesive)
-          if (e.model == I)
-            contact_reach_ = std::max(contact_reach_, M::reach(pairs_.params<I>()[e.slot], r_max));
-      });
-    }
-  }
+  contact_reach_ = adhesive_reach();
   // Spins are integrated only when some pair in use has friction: without it
   // no contact exerts a torque (simulation_effects.cpp).
   rotation_ = effects().rotation;
@@ -188,50 +258,11 @@ void Simulation<D>::prepare() {
           "(2 (2 r_max + skin) = {} m)",
           periodic_.length, 2 * (2 * r_max + skin_)));
   }
-  if (p_.size()) {
-    TimeStepReport rule = time_step_rule();
-    dt_governing_pair_ = rule.governing_pair;
-    if (dt_fixed_ > 0) {
-      dt_ = dt_fixed_;
-      if (dt_ >= rule.stability_limit)
-        throw InputError(fmt::format(
-            "time_step {:.4g} s is above the stability limit 1/omega = {:.4g} s of {} (half of "
-            "leap-frog's 2/omega: with fewer than pi steps per contact an impact gains energy): "
-            "refused",
-            dt_, rule.stability_limit, rule.limit_pair));
-      if (dt_ > rule.rule * (1 + 1e-9))
-        warn(
-            fmt::format("time_step {:.4g} s exceeds the Eq. 4.1 rule {:.4g} s (n = {} steps per "
-                        "contact) for {}",
-                        dt_, rule.rule, steps_per_contact_, rule.governing_pair));
-    } else if (dt_ == 0 || std::isinf(dt_)) {
-      if (std::isinf(rule.rule))
-        throw InputError("cannot choose a time step: no contact can occur; set time_step");
-      dt_ = rule.rule;
-    } else if (dt_ > rule.rule * (1 + 1e-9)) {
-      // An automatic dt chosen earlier is too long for changed parameters (a
-      // stiffer law, smaller particles): choose again. A dt that became shorter
-      // than needed is kept, so that removing particles does not change it.
-      dt_ = rule.rule;
-    }
-    // The automatic dt is t_c / n (Eq. 4.1): a small n puts it beyond the limit
-    // as surely as a time_step does (n = 1 gives restitution 3 with Walton-Braun,
-    // 17 with Hertz), so it is refused the same way. The limit is 1/omega, so
-    // linear and Walton-Braun laws accept n > pi; Hertz and Thornton, whose rule
-    // is 8 T_R / n against a limit of T_R / 2, n > 16.
-    if (!(dt_fixed_ > 0) && dt_ >= rule.stability_limit)
-      throw InputError(fmt::format(
-          "steps_per_contact = {} gives a time step {:.4g} s (Eq. 4.1 for {}), above the "
-          "stability limit 1/omega = {:.4g} s of {} (half of leap-frog's 2/omega: with fewer than "
-          "pi steps per contact an impact gains energy): refused; raise steps_per_contact",
-          steps_per_contact_, dt_, rule.governing_pair, rule.stability_limit, rule.limit_pair));
-  } else if (dt_ == 0) {
-    dt_ = dt_fixed_;
-  }
-  if (!(dt_ > 0)) throw InputError("no time step: the scene has no particles and no time_step");
+  choose_time_step();
   rebuild_lists();
   scene_overlaps_ = true;
   prepared_ = true;
+  lists_kept_ = false;
 }
 
 template class Simulation<2>;

@@ -106,7 +106,7 @@ std::int64_t Simulation<D>::add_particle(const ParticleSpec& s) {
                            materials_[s.material].density, s.material, s.fixed);
   position_at_rebuild_.push_back(p_.position.back());
   lists_valid_ = false;
-  prepared_ = false;
+  unprepare();
   scene_overlaps_ = true;  // as set_position: a deep overlap made here is the scene's
   return id;
 }
@@ -181,7 +181,7 @@ int Simulation<D>::add_wall(const WallSpec& s) {
   if (s.finite()) {
     walls_.push_back(make_finite_wall<D>(s, ctx));
     lists_valid_ = false;
-    prepared_ = false;
+    unprepare();
     return static_cast<int>(walls_.size() - 1);
   }
   Wall<D> w;
@@ -213,7 +213,7 @@ int Simulation<D>::add_wall(const WallSpec& s) {
   }
   walls_.push_back(w);
   lists_valid_ = false;
-  prepared_ = false;
+  unprepare();
   return static_cast<int>(walls_.size() - 1);
 }
 

@@ -105,8 +105,9 @@ StateBlob Simulation<D>::save_state() const {
   s.integers["meta"] = {
       state_version,       D, step_, p_.next_id, static_cast<std::int64_t>(rebuilds_),
       lists_valid_ ? 1 : 0};
-  // A callback's change still to be prepared for (step() does it first).
-  s.integers["prepare_due"] = {prepared_ ? 0 : 1};
+  // A callback's change still to be prepared for (step() does it first): 1 in
+  // full, 2 a law's parameters only (lists_kept_).
+  s.integers["prepare_due"] = {prepared_ ? 0 : lists_kept_ ? 2 : 1};
   s.doubles["meta"] = {time_,
                        dt_,
                        dt_fixed_,
@@ -477,9 +478,11 @@ void Simulation<D>::load_state(const StateBlob& s) {
   smallest_radius_ = INFINITY;
   for (const double r : p_.radius) smallest_radius_ = std::min(smallest_radius_, r);
   const auto& prepare_due = s.i("prepare_due");
-  if (prepare_due.size() != 1 || (prepare_due[0] != 0 && prepare_due[0] != 1))
-    refuse_entry("prepare_due", fmt::format("holds {} values, not one 0 or 1", prepare_due.size()));
+  if (prepare_due.size() != 1 || prepare_due[0] < 0 || prepare_due[0] > 2)
+    refuse_entry("prepare_due",
+                 fmt::format("holds {} values, not one of 0, 1 or 2", prepare_due.size()));
   prepared_ = prepare_due[0] == 0;
+  lists_kept_ = prepare_due[0] == 2;
 }
 
 template class Simulation<2>;

@@ -253,10 +253,15 @@ int MeshSurface::contacts(const Eigen::Vector3d& x, double radius, double within
       if (owned) continue;
     }
     // A point already found (two triangles of a flat patch), or the farther
-    // contact of a shallow concave fold: the nearer one stands for both.
+    // contact of a shallow concave fold: the nearer one stands for both. Only
+    // two faces' inner points make a fold: edges and corners are convex
+    // features, each a contact of its own however alike their normals (a
+    // sphere on the rim of a hole smaller than itself rests on all of them).
     bool repeated = false;
     for (int k = 0; k < count && !repeated; ++k)
-      repeated = (out[k].point - h.point).norm() <= same || out[k].normal.dot(h.normal) > flat_cos_;
+      repeated = (out[k].point - h.point).norm() <= same ||
+                 (h.feature == MeshFeature::face && out[k].feature == MeshFeature::face &&
+                  out[k].normal.dot(h.normal) > flat_cos_);
     if (repeated) continue;
     out[count++] = h;
     if (count == max_hits) break;

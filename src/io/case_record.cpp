@@ -88,6 +88,12 @@ void write_string(hid_t object, const std::string& name, const std::string& valu
 
 }  // namespace
 
+std::string source_digest(const std::string& text) {
+  std::uint64_t h = 14695981039346656037ull;
+  for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
+  return fmt::format("{:016x}", h);
+}
+
 std::map<std::string, double> read_results(const std::string& path) {
   std::map<std::string, double> out;
   Handle file(open_file(path, H5F_ACC_RDONLY), H5Fclose);
@@ -123,6 +129,7 @@ std::optional<CaseRecord> read_case_record(const std::string& path) {
   r.rank = static_cast<int>(read_number(group.get(), "rank").value_or(0));
   r.wall_seconds = read_number(group.get(), "wall_seconds").value_or(0);
   r.finished = read_string(group.get(), "finished").value_or("");
+  r.scene_digest = read_string(group.get(), "scene_digest").value_or("");
   return r;
 }
 
@@ -145,6 +152,7 @@ void write_case_record(const std::string& path, const CaseRecord& record) {
   replace_attribute(group.get(), "wall_seconds", H5T_NATIVE_DOUBLE, &record.wall_seconds, path);
   write_string(group.get(), "finished", record.finished.empty() ? iso_time_now() : record.finished,
                path);
+  write_string(group.get(), "scene_digest", record.scene_digest, path);
   H5Fflush(file.get(), H5F_SCOPE_LOCAL);
   std::int64_t one = 1;
   replace_attribute(group.get(), "complete", H5T_NATIVE_INT64, &one, path);

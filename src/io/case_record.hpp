@@ -18,7 +18,13 @@ struct CaseRecord {
   int rank = 0;             // the MPI rank that ran it (0 without MPI)
   double wall_seconds = 0;  // of the whole `granule run`
   std::string finished;     // ISO 8601 time, UTC
+  // source_digest() of the scene that ran (empty in records of older
+  // versions): a case of an edited scene is not a finished case of it.
+  std::string scene_digest;
 };
+
+// A digest of a scene's text (FNV-1a, 64 bits, as 16 hex digits).
+std::string source_digest(const std::string& text);
 
 // The numeric attributes of /results; empty when the scene reported none.
 std::map<std::string, double> read_results(const std::string& path);

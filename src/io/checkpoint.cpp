@@ -215,6 +215,13 @@ void write_checkpoint(const std::string& named, const StateBlob& s,
   const std::string path = writable_path(named);
   const std::string tmp = path + ".tmp";
   std::error_code ec;
+  // The file is written beside and renamed over the old one: a device, a pipe
+  // or a folder there would be replaced by a file (as root, /dev/full).
+  const auto there = std::filesystem::status(path, ec);
+  if (std::filesystem::exists(there) && !std::filesystem::is_regular_file(there))
+    fail(path,
+         "exists and is not a plain file (a device, a pipe or a folder): a checkpoint "
+         "replaces its file, so name a file");
   try {
     write_file(path, tmp, s, attributes);
   } catch (const std::runtime_error& e) {
@@ -261,6 +268,18 @@ StateBlob read_checkpoint(const std::string& path, std::map<std::string, std::st
     }
   }
   return read_blob(root.get(), path);
+}
+
+std::string read_checkpoint_text(const std::string& path, const std::string& key) {
+  silence_hdf5();
+  Handle file(H5Fopen(readable_path(path).c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  if (file.get() < 0) fail(path, "not an HDF5 file");
+  const std::string name = "/checkpoint/texts/" + key;
+  if (H5Lexists(file.get(), "/checkpoint", H5P_DEFAULT) <= 0 ||
+      H5Lexists(file.get(), "/checkpoint/texts", H5P_DEFAULT) <= 0 ||
+      H5Lexists(file.get(), name.c_str(), H5P_DEFAULT) <= 0)
+    fail(path, "has no " + name);
+  return read_string(file.get(), name, false, path);
 }
 
 void add_state_group(const std::string& path, const std::string& group, const StateBlob& s) {

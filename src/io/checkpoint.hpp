@@ -19,6 +19,9 @@ void write_checkpoint(const std::string& path, const StateBlob& state,
                       const std::map<std::string, std::string>& attributes = {});
 StateBlob read_checkpoint(const std::string& path,
                           std::map<std::string, std::string>* attributes = nullptr);
+// One text entry of a checkpoint, without reading the rest (throws naming the
+// file when it is not a checkpoint or lacks the entry).
+std::string read_checkpoint_text(const std::string& path, const std::string& key);
 
 // The same layout as a group of an existing HDF5 file, e.g. a closed run output that
 // keeps part of a state beside its snapshots (a prepared agglomerate's contact

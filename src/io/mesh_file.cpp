@@ -46,14 +46,21 @@ Eigen::Matrix3d rotation_xyz(double rx, double ry, double rz) {
 }
 
 namespace {
-void collect(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent,
-             TriangleMesh& out) {
+void collect(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent, TriangleMesh& out,
+             const std::string& path) {
   const aiMatrix4x4 to_scene = parent * node->mTransformation;
   for (unsigned m = 0; m < node->mNumMeshes; ++m) {
     const aiMesh* mesh = scene->mMeshes[node->mMeshes[m]];
     const auto base = static_cast<std::uint32_t>(out.vertices.size());
     for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
-      const aiVector3D x = to_scene * mesh->mVertices[v];
+      // As read, before the file's node transform spreads one NaN over all three.
+      const aiVector3D& read = mesh->mVertices[v];
+      if (!std::isfinite(read.x) || !std::isfinite(read.y) || !std::isfinite(read.z))
+        throw InputError(
+            fmt::format("mesh file '{}': vertex {} (counted from 1, as read) is not "
+                        "finite ({} {} {})",
+                        path, out.vertices.size() + 1, read.x, read.y, read.z));
+      const aiVector3D x = to_scene * read;
       out.vertices.emplace_back(x.x, x.y, x.z);
     }
     for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
@@ -64,7 +71,7 @@ void collect(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent
     }
   }
   for (unsigned c = 0; c < node->mNumChildren; ++c)
-    collect(scene, node->mChildren[c], to_scene, out);
+    collect(scene, node->mChildren[c], to_scene, out, path);
 }
 }  // namespace
 
@@ -134,16 +141,21 @@ TriangleMesh read_mesh_file(const std::string& path, const MeshTransform& transf
     throw InputError(
         fmt::format("mesh file '{}' cannot be read: {}", path, importer.GetErrorString()));
   TriangleMesh mesh;
-  collect(scene, scene->mRootNode, aiMatrix4x4(), mesh);
+  collect(scene, scene->mRootNode, aiMatrix4x4(), mesh, path);
   report = MeshFileReport{};
   report.triangles_read = mesh.triangles.size();
-  for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
-    if (!mesh.vertices[v].allFinite())
-      throw InputError(fmt::format("mesh file '{}': vertex {} is not finite ({} {} {})", path, v,
-                                   mesh.vertices[v].x(), mesh.vertices[v].y(),
-                                   mesh.vertices[v].z()));
-  for (auto& x : mesh.vertices)
+  // Far beyond any scene, and where the squares of lengths (areas, distances)
+  // overflow: a slip of scale or units.
+  constexpr double farthest = 1e100;  // m
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+    Eigen::Vector3d& x = mesh.vertices[v];
     x = transform.rotation * (transform.scale * x) + transform.translation;
+    if (!(x.cwiseAbs().maxCoeff() < farthest))
+      throw InputError(fmt::format(
+          "mesh '{}': vertex {} lies at ({:g} {:g} {:g}) m after scale = {:g}, beyond {:g} m: is "
+          "the scale right (a file in mm needs scale = 1e-3)?",
+          path, v + 1, x.x(), x.y(), x.z(), transform.scale, farthest));
+  }
   clean_mesh(mesh, report);
   if (mesh.triangles.empty())
     throw InputError(

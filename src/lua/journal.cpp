@@ -118,6 +118,7 @@ void Journal::put_value(lua_State* L, int index, int depth) {
 }
 
 void Journal::record_call(const char* name) {
+  took_results_ = false;  // this call's results are new: they are journaled
   put_byte(tag_call);
   put_interned(name, std::strlen(name));
   ++entries_;
@@ -287,6 +288,16 @@ void Journal::check_end() {
   }
 }
 
+namespace {
+// The scene and its -D values were checked against the checkpoint before the
+// replay began: what is left to differ is what the journal does not keep.
+constexpr const char* another_path_why =
+    "the scene's choices depend on something the journal does not keep: values read through "
+    "sim:arrays() or sim:contact_arrays(), which read NaN while a restart replays (take them "
+    "from sim:particle, sim:stats or sim:contacts to decide), or a file the scene reads that "
+    "changed";
+}  // namespace
+
 void Journal::expect_call(const char* name) {
   if (cursor_ >= bytes_.size()) damaged("it ended");
   const std::size_t at = cursor_;
@@ -295,9 +306,8 @@ void Journal::expect_call(const char* name) {
     cursor_ = at;
     throw std::runtime_error(fmt::format(
         "restart: the scene took another path than the run that wrote the checkpoint: it "
-        "called {} where that run's sim:run fired a callback (did the scene or its -D values "
-        "change?)",
-        name));
+        "called {} where that run's sim:run fired a callback ({})",
+        name, another_path_why));
   }
   if (tag != tag_call) damaged("a call was expected");
   const std::string recorded = get_interned(get_byte());
@@ -305,9 +315,8 @@ void Journal::expect_call(const char* name) {
   if (recorded != name)
     throw std::runtime_error(fmt::format(
         "restart: the scene took another path than the run that wrote the checkpoint: it "
-        "called {} where that run called {} (did the scene, a file it reads or its -D values "
-        "change?)",
-        name, recorded));
+        "called {} where that run called {} ({})",
+        name, recorded, another_path_why));
   check_end();
 }
 
@@ -483,6 +492,9 @@ int journaled_call(lua_State* L) {
     }
     case Journal::Kind::observe:
     case Journal::Kind::checkpoint:
+      // Its results were the journal's; a run it was called in (from a callback)
+      // and that goes on after the journal's end journals its own.
+      j->forget_took_results();
       if (next == Journal::Next::error) return lua_error(L);
       return results;
   }

@@ -48,6 +48,7 @@ class Journal {
   // Whether the call being replayed took its results from the journal (false once the
   // journal was used up before they came): its results must then be journaled.
   bool took_results() const { return took_results_; }
+  void forget_took_results() { took_results_ = false; }
 
   // Starts replaying `recorded`; `apply` is called once, at the moment the journal is
   // used up (then recording resumes, appending to the same journal).

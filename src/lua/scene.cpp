@@ -256,6 +256,25 @@ lua_State* new_state(SceneContext* ctx) {
   lua_State* L = luaL_newstate();
   if (!L) throw std::runtime_error("cannot create a Lua state (out of memory)");
   luaL_openlibs(L);
+  // os.exit(code) would end the program with the scene's simulations open, and
+  // their files would lose what is still buffered (the last rows of a series):
+  // it closes the Lua state, and so the simulations and their files, first, as
+  // os.exit(code, true) does.
+  lua_getglobal(L, "os");
+  lua_getfield(L, -1, "exit");
+  lua_pushcclosure(
+      L,
+      [](lua_State* S) -> int {
+        lua_settop(S, 1);
+        lua_pushboolean(S, 1);
+        lua_pushvalue(S, lua_upvalueindex(1));
+        lua_insert(S, 1);
+        lua_call(S, 2, 0);  // does not return
+        return 0;
+      },
+      1);
+  lua_setfield(L, -2, "exit");
+  lua_pop(L, 1);
   lua_pushlightuserdata(L, ctx);
   lua_setfield(L, LUA_REGISTRYINDEX, context_key);
   // lua/ of the source tree (or $GRANULE_LUA_PATH) on package.path.

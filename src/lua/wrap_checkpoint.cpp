@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <set>
 
@@ -86,6 +87,13 @@ void refuse_checkpoint_over(const LuaSim& s, const std::string& path) {
   if (s.context && io::same_file(path, s.context->scene_path))
     throw InputError(fmt::format(
         "checkpoint {}: that is the scene file; give the checkpoint another name", path));
+  std::error_code ec;
+  const auto there = std::filesystem::status(path, ec);
+  if (std::filesystem::exists(there) && !std::filesystem::is_regular_file(there))
+    throw InputError(fmt::format(
+        "checkpoint {}: that is not a plain file (a device, a pipe or a folder); a checkpoint "
+        "replaces its file: give a file's name",
+        path));
 }
 
 void write_checkpoint_now(LuaSim& s, const std::string& path, bool in_run) {

@@ -266,6 +266,11 @@ int l_run(lua_State* L) {
         if (ctx) {
           for (const auto& [name, value] : ctx->overrides) again += " -D " + name + "=" + value;
           if (!ctx->output_path.empty()) again += " -o " + ctx->output_path;
+          // Its later checkpoints where this run's went (a scene's own sim:checkpoint
+          // is in the scene, which the restart runs again).
+          if (!ctx->checkpoint_path.empty()) again += " --checkpoint " + ctx->checkpoint_path;
+          if (ctx->checkpoint_every_seconds > 0)
+            again += fmt::format(" --checkpoint-every {:g}", ctx->checkpoint_every_seconds);
         }
         throw std::runtime_error(fmt::format(
             "run interrupted ({}) after {} of {} steps, at t = {} s (step {}); checkpoint "

@@ -73,7 +73,14 @@ class SceneOverRanks final : public SpreadRun {
       hook_failed_ = error != nullptr;
       settle(error);
     });
-    share();
+    // An error while sharing may be one rank's alone, with the others already
+    // inside the share's collectives (a window's free waits for every rank):
+    // it ends them all rather than leave them waiting.
+    try {
+      share();
+    } catch (const std::exception& e) {
+      abandon(e.what());
+    }
     sim_.set_spread(size_, run_->describe());
   }
 

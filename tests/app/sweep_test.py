@@ -238,7 +238,30 @@ def resume():
     listed = subprocess.run([GRANULE, "sweep", drum, *common, "-o", cut_dir, "--list"], capture_output=True,
                             text=True).stdout
     check("continues from" in listed, "--list says the case continues from its checkpoint", listed)
+    # The checkpoint, continued by a sweep whose fixed value differs (the same file
+    # names: only varying values name files), is set aside: the case runs from its
+    # start rather than fail at every rerun on the restart's refusal.
+    other_dir = os.path.join(WORK, "sweep_resume_other")
+    shutil.rmtree(other_dir, ignore_errors=True)
+    os.makedirs(other_dir)
+    shutil.copy(checkpoint, other_dir)
+    other = subprocess.run([GRANULE, "sweep", drum, "-D", "duration=0.3", "-o", other_dir],
+                           capture_output=True, text=True, timeout=120)
+    check(other.returncode == 0 and "not continuing" in other.stderr and
+          os.path.exists(os.path.join(other_dir, "tutorial_drum.checkpoint.h5.set-aside")),
+          f"a checkpoint of other -D values is set aside and the case runs (exit {other.returncode})",
+          other.stdout + other.stderr)
     p = run_sweep(cut_dir, "--checkpoint-every", "0.3")
+    # A second sweep into the same folder while the first runs is refused.
+    deadline = time.time() + 30
+    while not os.path.exists(os.path.join(cut_dir, ".granule-sweep.lock")) and time.time() < deadline:
+        time.sleep(0.05)
+    time.sleep(0.2)
+    second = subprocess.run([GRANULE, "sweep", drum, *common, "-o", cut_dir], capture_output=True,
+                            text=True, timeout=60)
+    check(second.returncode != 0 and "another granule sweep" in second.stderr,
+          f"a second sweep into a folder in use is refused (exit {second.returncode})",
+          second.stdout + second.stderr)
     out = p.communicate(timeout=120)[0]
     check(p.returncode == 0, f"the rerun finishes the case, got exit {p.returncode}", out)
     check("continued from its checkpoint" in out, "the case went on from its checkpoint", out)
@@ -255,6 +278,18 @@ def resume():
     # (where the kill fell depends on the machine's load: before or after the first stage).
     head, _, rest = log.partition("continuing from")
     check("granule: particles:" in head and rest, "the continued case's log is appended, not replaced", log)
+    # A finished case of the scene as it was is not a finished case of an edited one.
+    edited = os.path.join(WORK, "sweep_resume_edit", "tutorial_drum.lua")
+    os.makedirs(os.path.dirname(edited), exist_ok=True)
+    shutil.copy(drum, edited)
+    listed = subprocess.run([GRANULE, "sweep", edited, *common, "-o", cut_dir, "--list"],
+                            capture_output=True, text=True).stdout
+    check("(finished)" in listed, "the same scene's finished case is listed as finished", listed)
+    with open(edited, "a") as f:
+        f.write("-- edited\n")
+    listed = subprocess.run([GRANULE, "sweep", edited, *common, "-o", cut_dir, "--list"],
+                            capture_output=True, text=True).stdout
+    check("another version of the scene" in listed, "an edited scene's case runs again", listed)
 
 
 def rebuilt():

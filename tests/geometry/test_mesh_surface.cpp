@@ -131,6 +131,38 @@ TEST_CASE("mesh surface: the grid examines a few triangles of a 10^5-triangle me
   CHECK(per_query > 2);
 }
 
+TEST_CASE("mesh surface: edge contacts are not merged, however alike their normals", "[mesh]") {
+  // A plate z = 0 with a square hole of side 2a = 0.3 r, and a sphere sunk into
+  // it: it rests on the four edges' midpoints, whose normals are tilted by
+  // atan(a / h) = 8.6 degrees from z, so any two lie less than flat_angle (20
+  // degrees) apart. They are four contacts at the closed form's depth, and
+  // their normals sum to a vertical push.
+  const double r = 0.1, a = 0.015;
+  const double h = std::sqrt(r * r - a * a) - 1e-4;  // 1e-4 of overlap on each edge, about
+  Triangles m;
+  m.vertices = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0},
+                {-a, -a, 0}, {a, -a, 0}, {a, a, 0}, {-a, a, 0}};
+  for (std::uint32_t k = 0; k < 4; ++k) {
+    const std::uint32_t o0 = k, o1 = (k + 1) % 4, i0 = 4 + k, i1 = 4 + (k + 1) % 4;
+    m.triangles.push_back({o0, o1, i1});
+    m.triangles.push_back({o0, i1, i0});
+  }
+  MeshSurface s(m);
+  s.build_grid(0.2);
+  const Vector3d x(0, 0, h);
+  MeshHit hits[MeshSurface::max_hits];
+  REQUIRE(s.contacts(x, r, r, hits) == 4);
+  Vector3d sum = Vector3d::Zero();
+  for (int k = 0; k < 4; ++k) {
+    CHECK(hits[k].feature == MeshFeature::edge);
+    CHECK(hits[k].distance == Approx(std::sqrt(a * a + h * h)).epsilon(1e-12));
+    sum += hits[k].normal;
+  }
+  CHECK(std::abs(sum.x()) < 1e-12);
+  CHECK(std::abs(sum.y()) < 1e-12);
+  CHECK(sum.z() == Approx(4 * h / std::sqrt(a * a + h * h)).epsilon(1e-12));
+}
+
 TEST_CASE("mesh surface: a shallow concave fold gives one contact, the nearer; a steep one two",
           "[mesh]") {
   // Two faces meeting along the y axis, each tilted up by `tilt` from the floor z = 0

@@ -145,6 +145,39 @@ def check_case(name, scene, args, checkpoint, stages):
     return failures
 
 
+def check_twice(name, scene, args, checkpoint, first, second):
+    """A run interrupted, its restart interrupted in turn, and that restart's
+    checkpoint continued: the third run ends as the run never stopped does (a
+    restarted run's own checkpoints journal what it did after the restart).
+    first, second: (trigger regex, delay s) of the two interruptions."""
+    with tempfile.TemporaryDirectory() as work:
+        whole, whole_stdout, _ = run_whole(scene, args, work)
+        chk, extra = None, []
+        for k, (trigger, delay) in enumerate([first, second]):
+            tag = f"twice{k}"
+            _, status, _, err = interrupt(scene, args + extra, work, tag, trigger, delay,
+                                          signal.SIGTERM)
+            chk = os.path.join(work, tag, checkpoint)
+            if status != 143 or not os.path.exists(chk):
+                print(f"FAIL {name} twice: interruption {k + 1} gave status {status}:\n{err}")
+                return 1
+            extra = ["--restart", chk]
+        cwd = folder(work, "twice_resumed")
+        r = subprocess.run([GRANULE, "run", scene, *args, *extra, "-o", "out.h5"], cwd=cwd,
+                           env=ENV, capture_output=True, text=True, timeout=300)
+        if r.returncode != 0 or r.stdout != whole_stdout:
+            print(f"FAIL {name} twice: the second restart failed ({r.returncode}) or printed "
+                  f"other lines:\n{r.stderr}\n--- whole\n{whole_stdout}--- restarted\n{r.stdout}")
+            return 1
+        c = subprocess.run(["/usr/bin/python3", COMPARE, whole, os.path.join(cwd, "out.h5")],
+                           capture_output=True, text=True)
+        if c.returncode != 0:
+            print(f"FAIL {name} twice: outputs differ: {c.stdout}{c.stderr}")
+            return 1
+        print(f"ok {name} twice: interrupted, its restart interrupted, restarted: {c.stdout.strip()}")
+    return 0
+
+
 def check_refusals(scene, args):
     """A restart with other -D values, or of an edited scene, is refused by name."""
     failures = 0
@@ -187,6 +220,8 @@ def main():
         "stages", stages, args, "stages.chk.h5",
         [(s, rf"^stage {s} ", 0.2, lambda step, k=k: k * n < step < (k + 1) * n)
          for k, s in enumerate(["one", "two", "three"])])
+    failures += check_twice("stages", stages, args, "stages.chk.h5",
+                            (r"^stage one ", 0.2), (r"^stage two ", 0.2))
     # The tutorial drum: settling until at rest, then turning (its stages print
     # their end on stderr); Ctrl-C's checkpoint goes to tutorial_drum.checkpoint.h5.
     drum = os.path.join(SOURCE, "scenarios", "tutorial_drum.lua")
