@@ -13,7 +13,9 @@
 
 #include <csignal>
 #include <ctime>
+#include <exception>
 #include <lua.hpp>
+#include <string>
 
 #include "lua/scene.hpp"
 
@@ -33,9 +35,24 @@ inline double monotonic_seconds_now() {  // clock_gettime is async-signal-safe
 
 inline void stop_hook(lua_State* L, lua_Debug*) {
   lua_sethook(L, nullptr, 0, 0);
-  // Stopped by the signal, as a run is: the program exits with 128 + the signal.
-  if (lua::SceneContext* ctx = lua::context(L)) ctx->interrupted = true;
-  luaL_error(L, "interrupted (%s)", lua::interrupt_cause());
+  {
+    // Stopped by the signal, as a run is: the program exits with 128 + the signal,
+    // and the scene, between runs, is kept in a checkpoint as a run's would be (the
+    // hook fires at a Lua call or instruction, never inside an engine call).
+    std::string message = std::string("interrupted (") + lua::interrupt_cause() + ")";
+    if (lua::SceneContext* ctx = lua::context(L)) {
+      ctx->interrupted = true;
+      try {
+        message += lua::checkpoint_between_runs(*ctx);
+      } catch (const std::exception& e) {
+        message += std::string("; no checkpoint written: ") + e.what();
+      }
+    }
+    luaL_where(L, 1);
+    lua_pushstring(L, message.c_str());
+    lua_concat(L, 2);
+  }  // (lua_error does not return: nothing with a destructor may be alive there)
+  lua_error(L);
 }
 
 inline void on_interrupt_signal(int signal_number) {

@@ -95,6 +95,7 @@ int l_simulations(lua_State* L) {
 
 int l_gc(lua_State* L) {
   auto* s = static_cast<LuaSim*>(luaL_testudata(L, 1, metatable_name));
+  if (s && s->context && s->context->first_simulation == s) s->context->first_simulation = nullptr;
   if (s) s->~LuaSim();  // output first (member order reversed), then the simulation
   return 0;
 }
@@ -156,6 +157,7 @@ int l_simulation(lua_State* L) {
     // The scene's first simulation continues the checkpoint.
     if (SceneContext* ctx = context(L); ctx && ctx->restart && !ctx->restart->target)
       ctx->restart->target = s;
+    if (SceneContext* ctx = context(L); ctx && !ctx->first_simulation) ctx->first_simulation = s;
     // And writes its checkpoints where the command line says.
     if (SceneContext* ctx = context(L);
         ctx && (!ctx->checkpoint_path.empty() || ctx->checkpoint_every_seconds > 0) &&

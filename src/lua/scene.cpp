@@ -128,6 +128,12 @@ int l_parameters(lua_State* L) {
                 fmt::format("-D {}={}: '{}' expects a number", name, text, name));
           if (!std::isfinite(lua_tonumber(L, -1)))
             throw std::runtime_error(fmt::format("-D {}={}: must be finite", name, text));
+          // A value written as not zero that reads as zero (1e-400) is a slip, not a zero.
+          if (lua_tonumber(L, -1) == 0 && text.find_first_of("123456789") != std::string::npos &&
+              text.find_first_of("eE") != std::string::npos)
+            throw std::runtime_error(fmt::format(
+                "-D {}={}: below the smallest number a double holds (it would read as 0)", name,
+                text));
         } else if (t == LUA_TBOOLEAN) {
           if (text != "true" && text != "false")
             throw std::runtime_error(

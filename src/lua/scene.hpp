@@ -19,6 +19,7 @@ namespace granule::lua {
 
 class Journal;
 struct Restart;
+struct LuaSim;
 
 // A parameter as parameters{...} declares it, for `granule run SCENE --help`.
 struct ParameterDoc {
@@ -44,7 +45,10 @@ struct SceneContext {
   double checkpoint_every_seconds = 0;
   bool checkpoint_assigned = false;  // the first simulation has taken checkpoint_path
   bool interrupted = false;          // a run stopped on a signal (the program exits with 128 + it)
-  bool progress = false;             // progress line for long runs (the CLI: unless --quiet)
+  // The scene's first simulation (while it lives): a signal while the scene's
+  // own Lua code runs, between runs, checkpoints it (checkpoint_between_runs).
+  LuaSim* first_simulation = nullptr;
+  bool progress = false;      // progress line for long runs (the CLI: unless --quiet)
   bool progress_log = false;  // as lines of their own (stderr is not a terminal, or --progress)
   double progress_every = 0;  // --progress S: a line every S s of wall time; 0: every 10 %
   // granule repl: the output stays open until the session ends (sim:close() only flushes)
@@ -100,5 +104,18 @@ std::string run_string(lua_State* L, const std::string& chunk, const std::string
 // Registers simulation{...}, simulations() and the methods (lua_simulation.cpp).
 void open_simulation(lua_State* L);
 SceneContext* context(lua_State* L);
+
+// A signal stopped the scene's own Lua code between runs: writes the first
+// simulation's checkpoint where a run's signal would have (the scene is whole
+// and between steps), and returns "; checkpoint written to ...; continue
+// with: ..." for the message, or "" where none is written (at the REPL's
+// prompt, while a restart replays, spread over ranks, no simulation yet).
+// Throws when the checkpoint cannot be written (wrap_checkpoint.cpp).
+std::string checkpoint_between_runs(SceneContext& ctx);
+// Where a stopped run of `s` writes its checkpoint outside the REPL: the
+// scene's or the command line's checkpoint file, else <scene>.checkpoint.h5.
+std::string interrupt_checkpoint_path(const LuaSim& s);
+// "; checkpoint written to P; continue with: granule run SCENE -D ... --restart P".
+std::string continue_hint(const SceneContext* ctx, const std::string& checkpoint);
 
 }  // namespace granule::lua

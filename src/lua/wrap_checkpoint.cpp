@@ -96,6 +96,42 @@ void refuse_checkpoint_over(const LuaSim& s, const std::string& path) {
         path));
 }
 
+std::string interrupt_checkpoint_path(const LuaSim& s) {
+  if (!s.checkpoint.path.empty()) return s.checkpoint.path;
+  const SceneContext* ctx = s.context;
+  return (ctx && !ctx->scene_path.empty() ? std::filesystem::path(ctx->scene_path).stem().string()
+                                          : std::string("granule")) +
+         ".checkpoint.h5";
+}
+
+std::string continue_hint(const SceneContext* ctx, const std::string& checkpoint) {
+  // The command that continues it: the same -D values (a restart refuses others)
+  // and the same -o, which the restart then continues rather than writing beside it;
+  // its later checkpoints where this run's went (a scene's own sim:checkpoint is
+  // in the scene, which the restart runs again).
+  std::string again = ctx ? ctx->scene_path : std::string("SCENE.lua");
+  if (ctx) {
+    for (const auto& [name, value] : ctx->overrides) again += " -D " + name + "=" + value;
+    if (!ctx->output_path.empty()) again += " -o " + ctx->output_path;
+    if (!ctx->checkpoint_path.empty()) again += " --checkpoint " + ctx->checkpoint_path;
+    if (ctx->checkpoint_every_seconds > 0)
+      again += fmt::format(" --checkpoint-every {:g}", ctx->checkpoint_every_seconds);
+  }
+  return fmt::format("; checkpoint written to {}; continue with: granule run {} --restart {}",
+                     checkpoint, again, checkpoint);
+}
+
+std::string checkpoint_between_runs(SceneContext& ctx) {
+  LuaSim* s = ctx.first_simulation;
+  // Ranks would each stop at another point of the script: no common state to keep.
+  if (!s || !s->sim || ctx.repl || ctx.ranks > 1 || (ctx.journal && ctx.journal->replaying()))
+    return "";
+  const std::string path = interrupt_checkpoint_path(*s);
+  refuse_checkpoint_over(*s, path);
+  write_checkpoint_now(*s, path, false);
+  return continue_hint(&ctx, path);
+}
+
 void write_checkpoint_now(LuaSim& s, const std::string& path, bool in_run) {
   refuse_checkpoint_over(s, path);
   StateBlob state = s.sim->save_state();

@@ -218,11 +218,7 @@ int l_run(lua_State* L) {
         interrupt_path = (p.parent_path() / (p.stem().string() + ".checkpoint.h5")).string();
       }
     }
-    if (interrupt_path.empty())
-      interrupt_path =
-          (ctx && !ctx->scene_path.empty() ? std::filesystem::path(ctx->scene_path).stem().string()
-                                           : std::string("granule")) +
-          ".checkpoint.h5";
+    if (interrupt_path.empty()) interrupt_path = interrupt_checkpoint_path(s);
     // Before any step: a checkpoint, periodic or at a signal, never over the output.
     if (!s.checkpoint.path.empty()) refuse_checkpoint_over(s, s.checkpoint.path);
     refuse_checkpoint_over(s, interrupt_path);
@@ -260,23 +256,9 @@ int l_run(lua_State* L) {
             s.sim->time(), s.sim->step_count(), done, steps, interrupt_path);
       } else {
         if (ctx) ctx->interrupted = true;
-        // The command that continues it: the same -D values (a restart refuses others)
-        // and the same -o, which the restart then continues rather than writing beside it.
-        std::string again = ctx ? ctx->scene_path : std::string("SCENE.lua");
-        if (ctx) {
-          for (const auto& [name, value] : ctx->overrides) again += " -D " + name + "=" + value;
-          if (!ctx->output_path.empty()) again += " -o " + ctx->output_path;
-          // Its later checkpoints where this run's went (a scene's own sim:checkpoint
-          // is in the scene, which the restart runs again).
-          if (!ctx->checkpoint_path.empty()) again += " --checkpoint " + ctx->checkpoint_path;
-          if (ctx->checkpoint_every_seconds > 0)
-            again += fmt::format(" --checkpoint-every {:g}", ctx->checkpoint_every_seconds);
-        }
         throw std::runtime_error(fmt::format(
-            "run interrupted ({}) after {} of {} steps, at t = {} s (step {}); checkpoint "
-            "written to {}; continue with: granule run {} --restart {}",
-            interrupt_cause(), done, steps, s.sim->time(), s.sim->step_count(), interrupt_path,
-            again, interrupt_path));
+            "run interrupted ({}) after {} of {} steps, at t = {} s (step {}){}", interrupt_cause(),
+            done, steps, s.sim->time(), s.sim->step_count(), continue_hint(ctx, interrupt_path)));
       }
     }
     if (progress) progress->finish();

@@ -7,6 +7,7 @@ local p = parameters {
   checkpoint = { default = "stages.chk.h5" },
   stage_steps = { default = 60000, doc = "steps in each stage" },
   checkpoint_every = { default = 5000 },
+  busy = { default = 0, doc = "iterations of Lua arithmetic between stages one and two" },
 }
 local sim = simulation { dimension = 2 }
 sim:material { name = "powder", density = 1200 }
@@ -45,6 +46,14 @@ mark("one")
 local r1 = sim:run { steps = p.stage_steps }
 print("run one", r1.steps, r1.time, r1.stopped)
 sim:result { after_one = sim:stats().kinetic_energy }
+-- Lua's own work between two runs (a signal there stops the script, not a run).
+if p.busy > 0 then
+  print("busy")
+  io.stdout:flush()
+  local sum = 0
+  for i = 1, p.busy do sum = sum + math.sin(i) end
+  print(string.format("busy sum %.6f", sum))
+end
 local x0 = sim:particle(0).position
 sim:set_contact("powder", "powder", { friction = 0.4 })
 sim:set_velocity(0, { 0.02, 0.01 })

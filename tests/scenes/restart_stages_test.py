@@ -178,6 +178,34 @@ def check_twice(name, scene, args, checkpoint, first, second):
     return 0
 
 
+def check_between_runs(name, scene, args, checkpoint, trigger, delay, step):
+    """A signal while the scene's own Lua code runs between two runs: exit 143 with a
+    checkpoint of the scene as the first run left it (at `step`), and its restart
+    ends as the run never stopped does."""
+    with tempfile.TemporaryDirectory() as work:
+        whole, whole_stdout, _ = run_whole(scene, args, work)
+        _, status, _, err = interrupt(scene, args, work, "between", trigger, delay, signal.SIGTERM)
+        chk = os.path.join(work, "between", checkpoint)
+        if status != 143 or not os.path.exists(chk) or "checkpoint written to" not in err:
+            print(f"FAIL {name} between runs: status {status}, checkpoint "
+                  f"{'kept' if os.path.exists(chk) else 'missing'}:\n{err}")
+            return 1
+        if checkpoint_step(chk) != step:
+            print(f"FAIL {name} between runs: checkpoint at step {checkpoint_step(chk)}, not {step}")
+            return 1
+        cwd = folder(work, "between_resumed")
+        r = subprocess.run([GRANULE, "run", scene, *args, "--restart", chk, "-o", "out.h5"],
+                           cwd=cwd, env=ENV, capture_output=True, text=True, timeout=300)
+        c = subprocess.run(["/usr/bin/python3", COMPARE, whole, os.path.join(cwd, "out.h5")],
+                           capture_output=True, text=True)
+        if r.returncode != 0 or r.stdout != whole_stdout or c.returncode != 0:
+            print(f"FAIL {name} between runs: the restart ({r.returncode}) differs:\n{r.stderr}"
+                  f"{c.stdout}{c.stderr}")
+            return 1
+        print(f"ok {name} between runs: stopped in Lua at step {step}, restarted: {c.stdout.strip()}")
+    return 0
+
+
 def check_refusals(scene, args):
     """A restart with other -D values, or of an edited scene, is refused by name."""
     failures = 0
@@ -222,6 +250,8 @@ def main():
          for k, s in enumerate(["one", "two", "three"])])
     failures += check_twice("stages", stages, args, "stages.chk.h5",
                             (r"^stage one ", 0.2), (r"^stage two ", 0.2))
+    failures += check_between_runs("stages", stages, args + ["-D", "busy=30000000"],
+                                   "stages.chk.h5", r"^busy$", 0.3, n)
     # The tutorial drum: settling until at rest, then turning (its stages print
     # their end on stderr); Ctrl-C's checkpoint goes to tutorial_drum.checkpoint.h5.
     drum = os.path.join(SOURCE, "scenarios", "tutorial_drum.lua")
