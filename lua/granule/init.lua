@@ -65,6 +65,10 @@ end)
 
 --- Sphere mass m = (4/3) pi r^3 rho (Eq. 4.7's pi d^3 rho / 6).
 granule.sphere_mass = export("granule.sphere_mass", function(radius, density)
+  if not (radius > 0) or not (density > 0) then
+    error(string.format("granule.sphere_mass: radius (%s m) and density (%s kg/m^3) must be > 0",
+      tostring(radius), tostring(density)), 2)
+  end
   return 4 / 3 * math.pi * radius ^ 3 * density
 end)
 

@@ -58,8 +58,9 @@ inline double normal_force(const P& q, const Batch& c, int l, double& s_t, doubl
   const double s_n = 2 * q.young(l) * root;
   const double damp = q.damp(l);
   const double c_n = damp * std::sqrt(s_n * effective_mass);
+  const double k = 0.5 * c_n * c.dt * c.inv_mass_sum[l];  // as force() (hertz_mindlin.hpp)
   const double normal = ((2.0 / 3.0) * s_n * c.overlap[l] + c_n * c.normal_velocity[l]) /
-                        (1 + 0.5 * c_n * c.dt * c.inv_mass_sum[l]);
+                        (1 + k + std::max(0.0, k - 1));
   s_t = 8 * q.shear(l) * root;
   c_t = c_n * q.ratio(l);
   return normal < 0 ? 0.0 : normal;

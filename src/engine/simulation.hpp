@@ -410,6 +410,7 @@ class Simulation final : public SimulationBase {
   double adhesive_reach() const;      // m, contact_reach_ for the particles and laws now
   void choose_time_step();            // dt_ by Eq. 4.1 or time_step, against the stability limit
   bool prepare_parameters();          // after a law's parameters alone changed; false: prepare all
+  void check_walls_repeat() const;    // with a periodic axis: every wall the same along it
   double contact_reach_ = 0;          // m, how far apart adhesive contacts persist (<= skin)
   bool keep_wall_reactions_ = false;  // set_keep_wall_reactions
   std::optional<GlobalStats> stats_override_;                    // set_stats_override

@@ -180,6 +180,62 @@ bool Simulation<D>::prepare_parameters() {
   return true;
 }
 
+// A periodic axis repeats the scene, its walls included, but a wall contact
+// takes no periodic image: a wall must be the same all along the axis, or a
+// particle that wraps lands on its other side (and is thrown out of it).
+// Planes must contain the axis, cylinders lie along it; a mesh or a rectangle
+// must span the period and a particle's radius beyond both of its ends.
+template <int D>
+void Simulation<D>::check_walls_repeat() const {
+  const int a = periodic_.axis;
+  double r_max = 0;
+  for (double r : p_.radius) r_max = std::max(r_max, r);
+  const double from = periodic_.origin - r_max, to = periodic_.origin + periodic_.length + r_max;
+  auto refuse = [&](const Wall<D>& w, const std::string& why) {
+    throw InputError(fmt::format(
+        "wall '{}' {}, but the scene is periodic along {} ({} to {} m): a wall must repeat with "
+        "the scene (a plane containing that axis, a cylinder along it, a mesh or rectangle "
+        "spanning the period and a radius beyond it), since contacts with walls take no "
+        "periodic image",
+        w.name, why, "xyz"[a], periodic_.origin, periodic_.origin + periodic_.length));
+  };
+  auto spans = [&](const Wall<D>& w, double lo, double hi) {
+    if (lo > from || hi < to)
+      refuse(w, fmt::format("reaches only from {:.6g} to {:.6g} m along the axis", lo, hi));
+  };
+  for (std::size_t k = 0; k < walls_.size(); ++k) {
+    const Wall<D>& w = walls_[k];
+    if constexpr (D == 3) {
+      switch (w.type) {
+        case WallType::plane:
+          if (std::abs(w.normal[a]) > 1e-9) refuse(w, "is a plane crossing the periodic axis");
+          if (w.bounded) {
+            const V other = w.normal.cross(w.side);
+            const double half = std::abs(w.side[a]) * w.half_a + std::abs(other[a]) * w.half_b;
+            spans(w, w.point[a] - half, w.point[a] + half);
+          }
+          break;
+        case WallType::cylinder:
+          if (w.bounded || std::abs(std::abs(w.axis[a]) - 1) > 1e-9)
+            refuse(w, w.bounded ? "is a tube of finite length" : "is a cylinder across the axis");
+          break;
+        case WallType::mesh: {
+          const auto* m = meshes_.of_wall(k);
+          double lo = INFINITY, hi = -INFINITY;
+          for (const auto& x : m->surface->vertices()) {
+            const double c = m->to_scene(x)[a];
+            lo = std::min(lo, c), hi = std::max(hi, c);
+          }
+          spans(w, lo, hi);
+          break;
+        }
+        default:
+          refuse(w, "is a disk or a cone");
+      }
+    }
+  }
+}
+
 template <int D>
 void Simulation<D>::prepare() {
   if (lists_kept_ && lists_valid_ && p_.size() && prepare_parameters()) return;
@@ -202,6 +258,7 @@ void Simulation<D>::prepare() {
                          -c));
     }
   }
+  if (periodic_.on()) check_walls_repeat();
   smallest_radius_ = INFINITY;
   for (const double r : p_.radius) smallest_radius_ = std::min(smallest_radius_, r);
   // Skin: automatic = half the median radius.

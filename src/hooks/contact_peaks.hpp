@@ -307,13 +307,17 @@ class ContactPeaksDiagnostic final : public Diagnostic<D> {
     std::vector<std::string> coating{"time", "covered_area", "covered_fraction", "host_collisions"};
     for (const char* n : convention_names) coating.push_back(std::string("covered_fraction_") + n);
     sink_->declare_series(g + "/coating", coating);
-    sink_->write_attribute(g + "/coating", "units", std::string("s, m^2, -, -, - (each reading)"));
+    std::string coating_units = "s, m^2, -, -";
+    for (std::size_t k = 4; k < coating.size(); ++k) coating_units += ", -";
+    sink_->write_attribute(g + "/coating", "units", coating_units);
     std::vector<std::string> columns{"time"};
     for (int k = 1; k <= bins_; ++k) columns.push_back(fmt::format("bin_{}", k));
     for (int s = 0; s < sets; ++s)
       for (const char* q :
-           {"force_histogram_", "velocity_histogram_", "impact_velocity_histogram_"})
+           {"force_histogram_", "velocity_histogram_", "impact_velocity_histogram_"}) {
         sink_->declare_series(g + "/" + q + set_name(s), columns);
+        sink_->write_attribute(g + "/" + q + set_name(s), "units", std::string("-"));  // counts
+      }
     sink_->write_attribute(g, "window", this->sampling_.window());
     sink_->write_attribute(g, "force_bin_edges", edges(force_max_));
     sink_->write_attribute(g, "velocity_bin_edges", edges(velocity_max_));

@@ -364,7 +364,13 @@ class GapProfileDiagnostic final : public Diagnostic<D> {
     sink_->write_attribute(g + "/sector", "units", std::string("s, 1/s, 1/s, m^2/s^2, -, -, N"));
     std::vector<std::string> columns{"time"};
     for (int k = 1; k <= bins_; ++k) columns.push_back(fmt::format("bin_{}", k));
-    for (const char* q : profile_names) sink_->declare_series(g + "/" + q, columns);
+    // Each profile's bins in one unit (the time column in s).
+    static constexpr std::array<const char*, profile_count> profile_units = {"m/s", "m/s",
+                                                                             "m^2/s^2", "-", "-"};
+    for (int q = 0; q < profile_count; ++q) {
+      sink_->declare_series(g + "/" + profile_names[q], columns);
+      sink_->write_attribute(g + "/" + profile_names[q], "units", std::string(profile_units[q]));
+    }
     sink_->write_attribute(g, "window", this->sampling_.window());
     sink_->write_attribute(g, "every_steps", static_cast<double>(this->sampling_.every_steps()));
     sink_->write_attribute(g, "sector_deg", sector_deg_);

@@ -155,7 +155,8 @@ class OverlapsDiagnostic final : public Diagnostic<D> {
     declared_ = true;
     const std::string g = "diagnostics/" + label_;
     sink_->declare_series(g + "/max_overlap_ratio", {"time", "particle", "fixed", "wall"});
-    sink_->write_attribute(g + "/max_overlap_ratio", "units",
+    sink_->write_attribute(g + "/max_overlap_ratio", "units", std::string("s, -, -, -"));
+    sink_->write_attribute(g + "/max_overlap_ratio", "quantity",
                            std::string("overlap / radius, largest in the window"));
     sink_->write_attribute(g, "window", this->sampling_.window());
     sink_->write_attribute(g, "every_steps", static_cast<double>(this->sampling_.every_steps()));

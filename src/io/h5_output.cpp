@@ -231,9 +231,17 @@ bool H5Output::set_series_units(const std::string& group_path,
   silence_hdf5();
   const std::string p = m.normalise(group_path, "set series units");
   auto it = m.series.find(p);
-  if (it == m.series.end() || it->second.columns.size() != units.size()) return false;
+  if (it == m.series.end()) return false;
+  const auto& columns = it->second.columns;
+  // One unit for a series of several columns: the unit of each but `time` (s).
+  if (units.size() == 1 && columns.size() > 1) {
+    for (const auto& c : columns)
+      m.string_attribute(join_path(p, c), "units", c == "time" ? std::string("s") : units[0]);
+    return true;
+  }
+  if (columns.size() != units.size()) return false;
   for (std::size_t c = 0; c < units.size(); ++c)
-    m.string_attribute(join_path(p, it->second.columns[c]), "units", units[c]);
+    m.string_attribute(join_path(p, columns[c]), "units", units[c]);
   return true;
 }
 

@@ -103,8 +103,9 @@ class H5Output {
   // each dataset.
   void series_declare(const std::string& group_path, const std::vector<std::string>& columns,
                       const std::vector<std::string>& units = {});
-  // Sets the "units" attribute of each column of a declared series; false (and nothing
-  // written) when `group_path` is no series or `units` has not one entry per column.
+  // Sets the "units" attribute of each column of a declared series (one unit for
+  // several columns: each but `time`, which is in s); false (and nothing written)
+  // when `group_path` is no series or `units` has neither one entry nor one per column.
   bool set_series_units(const std::string& group_path, const std::vector<std::string>& units);
   // Appends one row (row.size() must equal the column count). A non-finite value throws
   // naming the column, and the row is not appended.

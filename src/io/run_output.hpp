@@ -86,6 +86,7 @@ class RunOutput final : public OutputSink {
   bool wall_extent_set_ = false;
   std::vector<int> hook_ids_;
   std::int64_t last_snapshot_step_ = -1;
+  std::int64_t last_snapshot_digest_ = -1;  // of the last snapshot's particles (state_digest)
   bool finished_ = false;
   bool header_written_ = false;
   int walls_written_ = 0;  // walls 0 .. walls_written_ - 1 are in /walls

@@ -39,6 +39,7 @@ struct ImpactSetup {
   // Called after every step with the simulation (for per-step checks).
   std::function<void(SimulationBase&)> each_step;
   std::int64_t sort_at_step = -1;  // re-sort particle storage at this step
+  bool batched = true;             // the batched kernels where a model has them
 };
 
 template <int D>
@@ -99,6 +100,7 @@ ImpactResult run_impact(const ImpactSetup& s) {
   sim.set_steps_per_contact(s.steps_per_contact);
   if (s.skin > 0) sim.set_skin(s.skin);
   sim.set_record_contacts(true);
+  sim.set_batched_contacts(s.batched);
   const double r = s.radius, gap = 1e-3 * r;
   const double ca = std::cos(s.angle_deg * pi / 180), sa = std::sin(s.angle_deg * pi / 180);
   ParticleSpec a, b;

@@ -181,6 +181,11 @@ for name, text, expect in [
 ]:
     case(name, f"simulation {{ {text} }}: a bad periodic axis", expect,
          replace={"sim": wrong(f"local sim = simulation {{ dimension = 3, {text} }}")}, base=BASE3)
+case("periodic_wall_across", "a floor across the periodic axis: a particle wrapping past it would land "
+     "below it (refused at the run's preparation, naming the wall)",
+     r"{at}.*wall 'floor' is a plane crossing the periodic axis",
+     replace={"sim": 'local sim = simulation { dimension = 3, periodic = { axis = "z", origin = 0, length = 0.01 } }',
+              "run": wrong("sim:run { steps = 10 }")}, base=BASE3)
 case("sim_skin_larger_than_scene", "a neighbour skin (1 km) far larger than the scene (2 cm)",
      r"skin 1000 m is larger than the scene", replace={"sim": wrong("local sim = simulation { dimension = 2, skin = 1000 }")})
 case("sim_time_step_above_limit", "a fixed time step far above the stability limit",

@@ -58,7 +58,14 @@ def main():
                         "series/momentum_x": "kg m/s", "probe/time": "s", "probe/height": "m",
                         "plain/time": "s", "plain/whatever": "",
                         "diagnostics/floor/normal_force": "N", "diagnostics/floor/samples": "-",
-                        "diagnostics/floor/time": "s"}
+                        "diagnostics/floor/time": "s",
+                        "diagnostics/overlaps/max_overlap_ratio/time": "s",
+                        "diagnostics/overlaps/max_overlap_ratio/wall": "-"}
+        # Every diagnostic column has a unit, not the empty one (a group's units
+        # given in any form reach each of its columns).
+        unitless = [n for n in datasets if n.startswith("diagnostics/") and not text(f[n].attrs["units"])]
+        if unitless:
+            fail(f"diagnostic columns without a unit: {unitless}")
         for name, unit in series_units.items():
             if text(f[name].attrs["units"]) != unit:
                 fail(f"{name} units {text(f[name].attrs['units'])!r}, expected {unit!r}")
@@ -77,6 +84,9 @@ def main():
             fail(f"/scene central field {dict(scene)}")
 
         snaps = [f["snapshots"][k] for k in sorted(f["snapshots"])]
+        steps = [int(s.attrs["step"]) for s in snaps]
+        if len(set(steps)) != len(steps):
+            fail(f"two snapshots of one step (the second a copy of the first): steps {steps}")
         full = [s for s in snaps if "force" in s]
         plain = [s for s in snaps if "force" not in s]
         if len(full) < 2 or len(plain) != 1 or "contacts" in plain[0]:

@@ -20,6 +20,7 @@ sim:add_particle { position = { 2 * r - d, 0, r - d }, radius = r, material = "g
 sim:add_particle { position = { 0, 0.01, 0.01 }, radius = r, material = "glass" }
 sim:output { file = p.file, forces = true, contacts = true }
 sim:diagnostic("wall_force", { wall = "floor", label = "floor" })
+sim:diagnostic("overlaps", { every = 2, window = 5e-6 })  -- a group whose units are one per column
 sim:series("probe", { "time", "height" }, { "s", "m" })
 sim:series("plain", { "time", "whatever" })
 sim:every { steps = 5, function(s)
@@ -30,5 +31,6 @@ sim:run { steps = 10 }
 sim:snapshot()  -- with the output's forces and contacts
 sim:run { steps = 10 }
 sim:snapshot { forces = false, contacts = false }
+sim:snapshot { forces = false, contacts = false }  -- the same state at the same step: not again
 sim:close()
 print("output_documented ok")
