@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "contact/parameters.hpp"
 #include "core/names.hpp"
@@ -208,7 +210,23 @@ int l_parameters(lua_State* L) {
 
 int strict_index(lua_State* L) {
   const char* name = lua_tostring(L, 2);
-  return luaL_error(L, "undeclared global '%s' (a typo? locals need 'local')", name ? name : "?");
+  {
+    // The nearest global there is (`simulaton` -> `simulation`).
+    std::vector<std::string> globals;
+    lua_pushnil(L);
+    while (lua_next(L, 1) != 0) {
+      lua_pop(L, 1);
+      if (lua_type(L, -1) == LUA_TSTRING) globals.emplace_back(lua_tostring(L, -1));
+    }
+    const std::string hint = name ? nearest_name(name, globals) : std::string();
+    luaL_where(L, 1);
+    lua_pushstring(
+        L, fmt::format("undeclared global '{}'{} (a typo? locals need 'local')", name ? name : "?",
+                       hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint))
+               .c_str());
+    lua_concat(L, 2);
+  }  // (lua_error does not return: nothing with a destructor may be alive there)
+  return lua_error(L);
 }
 int strict_newindex(lua_State* L) {
   const char* name = lua_tostring(L, 2);

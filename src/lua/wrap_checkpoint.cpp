@@ -5,8 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <set>
 
 #include "core/errors.hpp"
@@ -210,7 +212,25 @@ void begin_restart(SceneContext& ctx) {
   std::set<std::string> names;
   for (const auto& [k, v] : recorded) names.insert(k);
   for (const auto& [k, v] : ctx.overrides) names.insert(k);
+  // A value given on one side only is the same run when it is the scene's
+  // default, and two spellings of one number are one value (1e3 and 1000).
+  auto same = [](const std::string& x, const std::string& y) {
+    char *ex = nullptr, *ey = nullptr;
+    const double dx = std::strtod(x.c_str(), &ex), dy = std::strtod(y.c_str(), &ey);
+    return x == y || (!x.empty() && !y.empty() && *ex == 0 && *ey == 0 && dx == dy);
+  };
+  auto value_of = [&](const std::map<std::string, std::string>& given, const std::string& name,
+                      std::string& out) {
+    if (auto it = given.find(name); it != given.end()) return out = it->second, true;
+    for (const ParameterDoc& d : ctx.parameter_docs)
+      if (d.name == name) return out = d.default_value, true;
+    return false;
+  };
   for (const auto& name : names) {
+    std::string value_then, value_now;
+    if (value_of(recorded, name, value_then) && value_of(ctx.overrides, name, value_now) &&
+        same(value_then, value_now))
+      continue;
     auto a = recorded.find(name);
     auto b = ctx.overrides.find(name);
     const std::string was = a == recorded.end() ? "(not given)" : "-D " + name + "=" + a->second;

@@ -118,7 +118,7 @@ case("syntax_unbalanced_paren", "syntax error: a parenthesis never closed",
 case("lua_nil_arithmetic", "runtime error: arithmetic on nil",
      r"{at}.*undeclared global 'undefined_radius'", after={"output": [wrong("local x = undefined_radius * 2")]})
 case("lua_misspelled_global", "runtime error: a misspelled global function",
-     r"{at}.*undeclared global 'simulaton'", replace={"sim": wrong("local sim = simulaton { dimension = 2 }")},
+     r"{at}.*undeclared global 'simulaton' \(did you mean 'simulation'\?\)", replace={"sim": wrong("local sim = simulaton { dimension = 2 }")},
      drop=["material", "wall_material", "contact", "wall_contact", "wall", "fill", "output", "run"])
 case("lua_index_nil", "runtime error: indexing a field that does not exist",
      r"{at}.*no method 'settings'", after={"output": [wrong("local r = sim.settings.radius")]})

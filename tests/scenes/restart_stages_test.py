@@ -222,6 +222,15 @@ def check_refusals(scene, args):
             failures += 1
         else:
             print("ok refusal: other -D values")
+        # The scene's default given explicitly (the first run left it out) is the same run.
+        r = subprocess.run([GRANULE, "run", scene, *args, "-D", "checkpoint_every=5e3", "--restart",
+                            chk, "-o", "d.h5", "--quiet"], cwd=cwd, env=ENV, capture_output=True,
+                           text=True, timeout=300)
+        if r.returncode != 0:
+            print(f"FAIL refusal: a restart giving a default explicitly was refused: {r.stderr}")
+            failures += 1
+        else:
+            print("ok: a restart may give a default explicitly")
         edited = os.path.join(cwd, os.path.basename(scene))
         lines = open(scene).read().split("\n")
         lines[20] += "  -- edited"
