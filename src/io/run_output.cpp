@@ -144,6 +144,7 @@ SnapshotView RunOutput::view(const SimulationBase::FlatState& s,
 // first written: at the header, and at every snapshot and the end for walls a
 // script adds later (walls are never removed, so a count is enough).
 void RunOutput::write_new_walls() {
+  if (header_written_) write_new_laws();  // a later stage's materials and laws, as its walls
   if (sim_.wall_count() <= walls_written_) return;
   H5Output& f = *file_;
   const auto& mats = sim_.materials();
@@ -499,6 +500,10 @@ void RunOutput::save_mark(StateBlob& state) {
                                        wall_extent_set_ ? 1 : 0,
                                        last_snapshot_digest_};
   state.doubles["output.wall_extent"] = {wall_extent_.begin(), wall_extent_.end()};
+  // The materials and laws written: their count, then the laws' groups.
+  std::vector<std::string> laws{std::to_string(materials_written_)};
+  laws.insert(laws.end(), laws_written_.begin(), laws_written_.end());
+  state.texts["output.laws"] = join_lines(laws);
   // The XDMF index: each snapshot's line, then its walls' lines; numbers in flat arrays.
   std::vector<std::string> lines;
   std::vector<double> times, points;
@@ -603,6 +608,31 @@ void RunOutput::resume(const StateBlob& state) {
   last_snapshot_step_ = progress[3];
   wall_extent_set_ = progress[4] != 0;
   last_snapshot_digest_ = progress.size() > 5 ? progress[5] : 0;
+  // A checkpoint written before the laws' record: what the scene holds now counts
+  // as written (as it was then).
+  laws_written_.clear();
+  if (state.has("output.laws")) {
+    const std::vector<std::string> lines = lines_of(state.t("output.laws"));
+    if (lines.empty()) damaged_mark("output.laws");
+    std::size_t used = 0;
+    unsigned long long count = 0;
+    try {
+      count = std::stoull(lines[0], &used);
+    } catch (const std::exception&) {
+      damaged_mark("output.laws");
+    }
+    if (used != lines[0].size() || count > sim_.materials().size()) damaged_mark("output.laws");
+    materials_written_ = static_cast<std::size_t>(count);
+    laws_written_.insert(lines.begin() + 1, lines.end());
+  } else {
+    materials_written_ = sim_.materials().size();
+    const auto& mats = sim_.materials();
+    const PairTable& table = sim_.pair_table();
+    for (int a = 0; a < table.material_count(); ++a)
+      for (int b = a; b < table.material_count(); ++b)
+        if (table.at(a, b).model >= 0)
+          laws_written_.insert(fmt::format("/contacts/{}-{}", mats[a].name, mats[b].name));
+  }
   std::copy(extent.begin(), extent.end(), wall_extent_.begin());
   settings_.muted = false;
 }

@@ -7,6 +7,7 @@
 
 #include <map>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -76,6 +77,7 @@ class RunOutput final : public OutputSink {
  private:
   void write_header();
   void write_new_walls();
+  void write_new_laws();  // run_output_header.cpp
   SnapshotView view(const SimulationBase::FlatState& s, std::vector<std::string> names) const;
   void index_snapshot(const std::string& group, const SimulationBase::FlatState& s);
   SimulationBase& sim_;
@@ -89,7 +91,9 @@ class RunOutput final : public OutputSink {
   std::int64_t last_snapshot_digest_ = -1;  // of the last snapshot's particles (state_digest)
   bool finished_ = false;
   bool header_written_ = false;
-  int walls_written_ = 0;  // walls 0 .. walls_written_ - 1 are in /walls
+  int walls_written_ = 0;               // walls 0 .. walls_written_ - 1 are in /walls
+  std::size_t materials_written_ = 0;   // materials 0 .. materials_written_ - 1 are in /materials
+  std::set<std::string> laws_written_;  // the /contacts groups written
 };
 
 }  // namespace granule::io

@@ -9,6 +9,39 @@
 
 namespace granule::io {
 
+// Materials and contact laws with their resolved parameters (provenance), each
+// as it was when first written: at the header, or at the first output after a
+// scene declared it (a wall's material and law made for a later stage).
+void RunOutput::write_new_laws() {
+  H5Output& f = *file_;
+  const auto& mats = sim_.materials();
+  const PairTable& table = sim_.pair_table();
+  auto catalogue = contact_model_catalogue();
+  for (std::size_t k = materials_written_; k < mats.size(); ++k) {
+    const Material& m = mats[k];
+    std::string g = "/materials/" + m.name;
+    f.write_attribute(g, "density", m.density);
+    f.write_attribute(g, "young", m.young);
+    f.write_attribute(g, "poisson", m.poisson);
+    f.write_attribute(g, "surface_energy", m.surface_energy);
+  }
+  materials_written_ = mats.size();
+  for (int a = 0; a < table.material_count(); ++a)
+    for (int b = a; b < table.material_count(); ++b) {
+      const auto& e = table.at(a, b);
+      if (e.model < 0) continue;
+      std::string g = fmt::format("/contacts/{}-{}", mats[a].name, mats[b].name);
+      if (!laws_written_.insert(g).second) continue;
+      f.write_attribute(g, "model", catalogue[e.model].name);
+      for (const auto& [k, v] : table.values(a, b)) {
+        if (k == "rolling_model")
+          f.write_attribute(g, k, std::string(rolling_model_name(v)));
+        else
+          f.write_attribute(g, k, v);
+      }
+    }
+}
+
 void RunOutput::write_header() {
   // Written lazily, at the first output of the run, so that it describes the
   // scene as it runs, whatever order the script declared things in.
@@ -46,30 +79,7 @@ void RunOutput::write_header() {
       f.write_attribute("/scene", "central_field_strength_units", std::string("m/s^2"));
     }
   }
-  // Materials and contact laws with their resolved parameters (provenance).
-  const auto& mats = sim_.materials();
-  const PairTable& table = sim_.pair_table();
-  auto catalogue = contact_model_catalogue();
-  for (const auto& m : mats) {
-    std::string g = "/materials/" + m.name;
-    f.write_attribute(g, "density", m.density);
-    f.write_attribute(g, "young", m.young);
-    f.write_attribute(g, "poisson", m.poisson);
-    f.write_attribute(g, "surface_energy", m.surface_energy);
-  }
-  for (int a = 0; a < table.material_count(); ++a)
-    for (int b = a; b < table.material_count(); ++b) {
-      const auto& e = table.at(a, b);
-      if (e.model < 0) continue;
-      std::string g = fmt::format("/contacts/{}-{}", mats[a].name, mats[b].name);
-      f.write_attribute(g, "model", catalogue[e.model].name);
-      for (const auto& [k, v] : table.values(a, b)) {
-        if (k == "rolling_model")
-          f.write_attribute(g, k, std::string(rolling_model_name(v)));
-        else
-          f.write_attribute(g, k, v);
-      }
-    }
+  write_new_laws();
   write_new_walls();
   // What is simulated, as attributes a script can test (1/0, and lists joined by ", ").
   {

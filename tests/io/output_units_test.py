@@ -69,6 +69,11 @@ def main():
         for name, unit in series_units.items():
             if text(f[name].attrs["units"]) != unit:
                 fail(f"{name} units {text(f[name].attrs['units'])!r}, expected {unit!r}")
+        if "rubber" not in f["materials"] or "glass-rubber" not in f["contacts"]:
+            fail(f"a material and law declared after the first output are missing: "
+                 f"{list(f['materials'])}, {list(f['contacts'])}")
+        if f["contacts/glass-rubber"].attrs["k_normal"] != 2e3:
+            fail("the later law's parameters are not the ones declared")
         params = f["scene/parameters"].attrs
         punits = f["scene/parameters/units"].attrs
         if sorted(params) != sorted(punits):

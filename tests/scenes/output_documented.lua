@@ -28,6 +28,10 @@ sim:every { steps = 5, function(s)
   sim:append("plain", { s:time(), 1 })
 end }
 sim:run { steps = 10 }
+-- A later stage's wall: its material and law reach the file with it.
+sim:material { name = "rubber", density = 0 }
+sim:contact { "glass", "rubber", model = "linear", k_normal = 2e3, restitution = 0.5 }
+sim:wall_plane { name = "lid", material = "rubber", point = { 0, 0, 0.05 }, normal = { 0, 0, -1 } }
 sim:snapshot()  -- with the output's forces and contacts
 sim:run { steps = 10 }
 sim:snapshot { forces = false, contacts = false }
