@@ -155,8 +155,8 @@ struct HertzMindlin {
     // batched law (hertz_mindlin_batch.hpp), which keeps these same forms.
     // Solved with the rate now taken halfway (the trapezoid), a dashpot the
     // step cannot resolve (k = C dt / (2 m*) > 1: e below about 1e-3 at the
-    // default step) would reverse the approach in one step, a rebound of up
-    // to 0.7 for e = 1e-6; beyond k = 1 the denominator grows as backward
+    // default step) would reverse the approach in one step (its impulse tends
+    // to 2 m* v_half as k grows); beyond k = 1 the denominator grows as backward
     // Euler's (1 + 2k), which at most stops the pair. Below, the same bits.
     const double c_n = damp * std::sqrt(s_n * c.effective_mass);
     const double k = 0.5 * c_n * c.dt * c.inv_mass_sum;

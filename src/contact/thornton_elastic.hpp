@@ -52,8 +52,8 @@ struct ThorntonElastic {
     return {
         // Eq. 6.11 moves the reversal points by mu dN a step: far above 1 they
         // run out to the Coulomb limit and the unloading branch does work (an
-        // elastic impact gains energy: 1.012 of it at mu = 30, 5.4 at 1000;
-        // tests/contact/test_thornton_elastic.cpp). Up to 10, within the step's 3e-4.
+        // elastic impact gains energy). Up to 10 no impact gains more than the
+        // step's own error (tests/contact/test_thornton_friction.cpp).
         {"friction", "-", 0.0, 0, ThorntonElastic::friction_limit, true,
          "Coulomb friction coefficient mu (at most 10: Eq. 6.11's unloading gains energy far above "
          "1)"},

@@ -13,6 +13,15 @@
 
 namespace granule {
 
+namespace {
+template <typename Values>
+double largest(const Values& radii) {
+  double out = 0;
+  for (const double r : radii) out = std::max(out, r);
+  return out;
+}
+}  // namespace
+
 template <int D>
 TimeStepReport Simulation<D>::time_step_rule() {
   TimeStepReport r;
@@ -98,8 +107,7 @@ TimeStepReport Simulation<D>::time_step_rule() {
 template <int D>
 double Simulation<D>::adhesive_reach() const {
   double reach = 0;
-  double r_max = 0;
-  for (double r : p_.radius) r_max = std::max(r_max, r);
+  const double r_max = largest(p_.radius);
   // Only pairs that can meet: an adhesive law declared for materials no
   // particle has must not widen the skin of the whole scene.
   for (auto [a, b] : pairs_in_use()) {
@@ -188,8 +196,7 @@ bool Simulation<D>::prepare_parameters() {
 template <int D>
 void Simulation<D>::check_walls_repeat() const {
   const int a = periodic_.axis;
-  double r_max = 0;
-  for (double r : p_.radius) r_max = std::max(r_max, r);
+  const double r_max = largest(p_.radius);
   const double from = periodic_.origin - r_max, to = periodic_.origin + periodic_.length + r_max;
   auto refuse = [&](const Wall<D>& w, const std::string& why) {
     throw InputError(fmt::format(
@@ -307,8 +314,7 @@ void Simulation<D>::prepare() {
     skin_ = 2 * contact_reach_;
   }
   if (periodic_.on()) {
-    double r_max = 0;
-    for (double r : p_.radius) r_max = std::max(r_max, r);
+    const double r_max = largest(p_.radius);
     if (periodic_.length < 2 * (2 * r_max + skin_))
       throw InputError(fmt::format(
           "periodic length {} m is too short: it must exceed twice the largest contact reach "

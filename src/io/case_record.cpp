@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/fnv1a.hpp"
 #include "io/h5_handle.hpp"
 #include "io/rank_files.hpp"
 
@@ -89,9 +90,9 @@ void write_string(hid_t object, const std::string& name, const std::string& valu
 }  // namespace
 
 std::string source_digest(const std::string& text) {
-  std::uint64_t h = 14695981039346656037ull;
-  for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
-  return fmt::format("{:016x}", h);
+  Fnv1a h;
+  h.add(text.data(), text.size());
+  return fmt::format("{:016x}", h.value());
 }
 
 std::map<std::string, double> read_results(const std::string& path) {

@@ -12,6 +12,7 @@
 #include "io/h5_handle.hpp"
 #include "io/h5_output.hpp"
 #include "io/rank_files.hpp"
+#include "io/same_file.hpp"
 
 namespace granule::io {
 
@@ -215,10 +216,7 @@ void write_checkpoint(const std::string& named, const StateBlob& s,
   const std::string path = writable_path(named);
   const std::string tmp = path + ".tmp";
   std::error_code ec;
-  // The file is written beside and renamed over the old one: a device, a pipe
-  // or a folder there would be replaced by a file (as root, /dev/full).
-  const auto there = std::filesystem::status(path, ec);
-  if (std::filesystem::exists(there) && !std::filesystem::is_regular_file(there))
+  if (names_non_file(path))
     fail(path,
          "exists and is not a plain file (a device, a pipe or a folder): a checkpoint "
          "replaces its file, so name a file");

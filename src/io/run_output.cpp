@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "core/errors.hpp"
+#include "core/fnv1a.hpp"
 #include "io/output_units.hpp"
 #include "io/rank_files.hpp"
 
@@ -204,19 +205,15 @@ void RunOutput::write_new_walls() {
 }
 
 namespace {
-// FNV-1a over the bytes of a state's particles (and what the snapshot adds).
+// A digest of a state's particles (and of what the snapshot adds).
 std::int64_t state_digest(const SimulationBase::FlatState& s, bool forces, bool contacts) {
-  std::uint64_t h = 14695981039346656037ull;
-  auto add = [&h](const void* data, std::size_t bytes) {
-    const auto* b = static_cast<const unsigned char*>(data);
-    for (std::size_t k = 0; k < bytes; ++k) h = (h ^ b[k]) * 1099511628211ull;
-  };
-  auto add_all = [&add](const auto& v) { add(v.data(), v.size() * sizeof(v[0])); };
+  Fnv1a h;
+  auto add_all = [&h](const auto& v) { h.add(v.data(), v.size() * sizeof(v[0])); };
   add_all(s.id), add_all(s.position), add_all(s.velocity), add_all(s.spin);
   add_all(s.radius), add_all(s.material), add_all(s.fixed);
   const unsigned char flags[2] = {forces, contacts};
-  add(flags, 2);
-  return static_cast<std::int64_t>(h & 0x7fffffffffffffffull);
+  h.add(flags, 2);
+  return static_cast<std::int64_t>(h.value() & 0x7fffffffffffffffull);
 }
 }  // namespace
 

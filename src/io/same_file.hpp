@@ -25,4 +25,13 @@ inline bool same_file(const std::string& a, const std::string& b) {
   return !error_a && !error_b && path_a == path_b;
 }
 
+// Whether `path` names something that is there and is not a plain file (a
+// device, a pipe, a folder): a file written beside and renamed over it would
+// replace it (as root, /dev/full).
+inline bool names_non_file(const std::string& path) {
+  std::error_code error;
+  const auto there = std::filesystem::status(path, error);
+  return std::filesystem::exists(there) && !std::filesystem::is_regular_file(there);
+}
+
 }  // namespace granule::io

@@ -89,9 +89,7 @@ void refuse_checkpoint_over(const LuaSim& s, const std::string& path) {
   if (s.context && io::same_file(path, s.context->scene_path))
     throw InputError(fmt::format(
         "checkpoint {}: that is the scene file; give the checkpoint another name", path));
-  std::error_code ec;
-  const auto there = std::filesystem::status(path, ec);
-  if (std::filesystem::exists(there) && !std::filesystem::is_regular_file(there))
+  if (io::names_non_file(path))
     throw InputError(fmt::format(
         "checkpoint {}: that is not a plain file (a device, a pipe or a folder); a checkpoint "
         "replaces its file: give a file's name",
@@ -129,8 +127,7 @@ std::string checkpoint_between_runs(SceneContext& ctx) {
   if (!s || !s->sim || ctx.repl || ctx.ranks > 1 || (ctx.journal && ctx.journal->replaying()))
     return "";
   const std::string path = interrupt_checkpoint_path(*s);
-  refuse_checkpoint_over(*s, path);
-  write_checkpoint_now(*s, path, false);
+  write_checkpoint_now(*s, path, false);  // refuses the output's or the scene's file
   return continue_hint(&ctx, path);
 }
 

@@ -1,10 +1,10 @@
 // Thornton's elastic law is elastic: an impact may lose energy to micro-slip
 // but never gain it. Eq. 6.11 moves the reversal points T* and T** by mu dN a
 // step; far above mu = 1 they run out to the Coulomb limit and the unloading
-// branch does work (an elastic impact at 2 degrees gains 1.2 % at mu = 30),
-// so friction is bounded at ThorntonElastic::friction_limit, where no impact
-// of these (angles 2-85 degrees, walls and spheres, nu 0 and 0.49) gains more
-// than the time step's error (3e-4 at 160 steps a contact).
+// branch does work (an elastic impact gains energy), so friction is bounded
+// at ThorntonElastic::friction_limit, where no impact of these (angles 2-85
+// degrees, walls and spheres, nu 0 and 0.49) gains more than the time step's
+// own error on an elastic impact (5e-4 allowed at 160 steps a contact).
 #include <catch2/catch.hpp>
 #include <cmath>
 
