@@ -67,6 +67,15 @@ void Simulation<D>::check_particle_input(const ParticleSpec& s, const std::strin
                                  context, materials_[s.material].name));
   if (!finite3(s.position) || !finite3(s.velocity) || !finite3(s.spin))
     throw InputError(fmt::format("{}: position, velocity and spin must be finite", context));
+  // A fixed particle never moves (set_velocity and set_spin refuse it too): a
+  // velocity given with it would be dropped, and the scene would not do what it says.
+  const bool moves = s.velocity != Triple{} || s.spin != Triple{};
+  if (s.fixed && moves)
+    throw InputError(fmt::format(
+        "{}: a fixed particle is immobile, so its velocity and spin must be zero (got velocity "
+        "({}, {}, {}), spin ({}, {}, {})); for a moving boundary use a wall with a velocity, or "
+        "fixed = false",
+        context, s.velocity[0], s.velocity[1], s.velocity[2], s.spin[0], s.spin[1], s.spin[2]));
   // A sphere's mass and moment of inertia (2D particles are spheres too) must
   // be finite and positive numbers, or every later step divides by them.
   const double mass = materials_[s.material].density * (4.0 / 3.0) * pi * std::pow(s.radius, 3);

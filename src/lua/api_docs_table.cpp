@@ -190,7 +190,7 @@ return {
   {"material", "string", "", true, "a declared material with density > 0"},
   {"velocity", "vector", "m/s", false, "default zero"},
   {"spin", "any", "rad/s", false, "2D: a number (about z); 3D: a vector; default zero"},
-  {"fixed", "boolean", "", false, "immobile (infinite mass): its velocity and spin are zero, whatever is given; default false"}},
+  {"fixed", "boolean", "", false, "immobile (infinite mass): a velocity or spin given with it must be zero (it never moves); default false"}},
  "{ position = { 0, 0.0085 }, radius = 5e-4, material = 'glass', velocity = { 0.1, 0 } }"},
 {"sim:fill", "simulation", T,
  "sim:fill { region = { circle|sphere|box|cylinder = {...} }, count =, radius = | radii = | radius_min =, radius_max =, material =, seed =, max_speed =, max_attempts =, overlap = } -> { id, ... }",
