@@ -17,7 +17,8 @@
 //
 // Loads are accumulated incrementally from the relative motion at the bond
 // centre over each step (their section 2.2), all on particle a (b feels the opposite):
-//   F_n += k_n A du_n        du_n = v_n dt, v_n > 0 closing (compression);
+//   F_n += k_n A du_n        du_n = v_n dt, v_n > 0 closing (compression), v_n
+//                            taken along the step's mid-chord direction (below);
 //   F_s += k_s A du_s        du_s = v_s dt, v_s the velocity of b's side of the
 //                            bond relative to a's in the tangent plane;
 //   M_t += k_s J dtheta_n    dtheta = (w_b - w_a) dt, its part along n;
@@ -25,7 +26,16 @@
 // Potyondy and Cundall write dF_s = -k_s A dU_s with dU_s the motion of a
 // relative to b: the same. Before each increment F_s (and M_b in 3D) is turned
 // onto the current tangent plane keeping its length, as the contact laws'
-// tangential spring is (rotate_onto_plane: the dissertation's Eqs. 3.7-3.8).
+// tangential spring is (rotate_onto_plane: the dissertation's Eqs. 3.7-3.8),
+// and in 3D also turned about n by the pair's mean spin along n,
+// (w_a + w_b) . n dt / 2 (PFC's second rotation): a pair spinning as one body
+// about its axis carries its shear and bending with it.
+// The increments are exact for a rigid motion. Leap-frog's velocities are half
+// a step behind the positions (x(t) = x(t - dt) + v dt), so the closing speed is
+// taken along the direction of d(t) + d(t - dt), to which the relative chord
+// d(t) - d(t - dt) of a pair turning as one body is exactly normal; along the
+// current normal it would read a closing speed of order Omega^2 |d| dt / 2 in a
+// pair turning at Omega, and the incremental F_n would shorten the bond steadily.
 // Stresses on the rim, tension positive:
 //   sigma = -F_n / A + |M_b| R_b / I,   tau = |F_s| / A + |M_t| R_b / J;
 // the bond breaks at the step where sigma >= tensile strength or tau >= shear
@@ -95,11 +105,17 @@ struct BondLoad {
 template <int D>
 struct BondMotion {
   Vec<D> normal;           // unit, from b to a (as a contact's)
-  double normal_velocity;  // m/s, closing positive
+  double normal_velocity;  // m/s, closing positive (along the mid-chord direction)
   Vec<D> shear_velocity;   // m/s, of b's side relative to a's, in the tangent plane
   Spin<D> relative_spin;   // rad/s, w_b - w_a
+  double mean_axial_spin;  // rad/s, (w_a + w_b) . n / 2 (3D; 0 in 2D)
   double dt;               // s
 };
+
+// v turned about the unit axis n (v normal to it) by the angle `angle`.
+inline Vec<3> turn_about(const Vec<3>& v, const Vec<3>& n, double angle) {
+  return std::cos(angle) * v + std::sin(angle) * n.cross(v);
+}
 
 // The rim stresses (tension positive).
 struct BondStress {
@@ -123,14 +139,17 @@ template <int D>
 inline bool advance_bond(const BondProperties& b, BondLoad<D>& load, const BondMotion<D>& m) {
   const double kn_area = b.normal_stiffness * b.area, ks_area = b.shear_stiffness * b.area;
   load.normal += kn_area * m.normal_velocity * m.dt;
-  load.shear = rotate_onto_plane<D>(load.shear, m.normal) + ks_area * m.dt * m.shear_velocity;
   if constexpr (D == 3) {
+    const double turn = m.mean_axial_spin * m.dt;
+    load.shear = turn_about(rotate_onto_plane<3>(load.shear, m.normal), m.normal, turn) +
+                 ks_area * m.dt * m.shear_velocity;
     const double along = m.relative_spin.dot(m.normal);
     load.twist += b.shear_stiffness * b.polar * along * m.dt;
     const Vec<3> bend = m.relative_spin - along * m.normal;
-    load.bending = rotate_onto_plane<3>(load.bending, m.normal) +
+    load.bending = turn_about(rotate_onto_plane<3>(load.bending, m.normal), m.normal, turn) +
                    (b.normal_stiffness * b.inertia * m.dt) * bend;
   } else {
+    load.shear = rotate_onto_plane<2>(load.shear, m.normal) + ks_area * m.dt * m.shear_velocity;
     load.bending += b.normal_stiffness * b.inertia * m.relative_spin * m.dt;
   }
   const BondStress s = bond_stress<D>(b, load);

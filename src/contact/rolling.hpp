@@ -13,7 +13,10 @@
 //    -k_r w_r dt and carried in the contact's history (turned with the contact
 //    as the tangential spring is), capped at M_m = mu_r R* N; below the cap a
 //    dashpot M_d = -C_r w_r with C_r = eta_r 2 sqrt(I_r k_r) acts too (eta_r =
-//    rolling_damping, 0 by default; at the cap no dashpot, Ai's f = 0).
+//    rolling_damping, 0 by default; at the cap no dashpot, Ai's f = 0). The
+//    torque, spring and dashpot together, is at most M_m: Ai's dashpot below
+//    the cap is unbounded, and where N rises fast (an impact, a ringing
+//    undamped normal law) it would resist rolling by many times M_m.
 //    k_r = 2.25 k_n mu_r^2 R*^2 (Wensrich and Katterfeld 2012, the stiffness
 //    LIGGGHTS's epsd2 and MercuryDPM use), with k_n the normal law's stiffness
 //    at this overlap (the model's normal_stiffness, else the secant N / delta),
@@ -23,7 +26,14 @@
 //    |w_r| / ((1/I_i + 1/I_j) dt), the torque that by itself stops the relative
 //    spin in one step: below that rolling speed it brings w_r to zero rather
 //    than through it (the threshold below which it is held at zero, in the
-//    form that has no free constant).
+//    form that has no free constant). Being zero at w_r = 0 it cannot hold a
+//    sphere at rest against a steady torque (on an incline below its angle
+//    of repose it creeps at a speed proportional to dt, as Ai et al. note of
+//    type A): "epsd" can.
+// The EPSD spring adds a rotational mode, omega_r^2 = k_r / I_r; as
+// I_r >= 1.4 m* R*^2 for spheres (Ai Eq. 13 with R* <= each radius),
+// omega_r <= sqrt(k_r-factor / 1.4) mu_r omega_n, which bounds the stability
+// limit (1.27 mu_r omega_n with the default 2.25: a sphere on a wall).
 // N is the normal force kept >= 0 (an adhesive law's tensile force gives no
 // rolling resistance).
 #pragma once
@@ -133,7 +143,10 @@ struct WithRolling {
     return M::rule_time_step(p.base, s, steps_per_contact);
   }
   static double stability_limit(const Params& p, const PairScale& s) {
-    return M::stability_limit(p.base, s);
+    const double base = M::stability_limit(p.base, s);
+    if (p.roll.model != rolling_model::epsd) return base;
+    const double ratio = std::sqrt(p.roll.stiffness / 1.4) * p.roll.friction;  // omega_r / omega_n
+    return ratio > 1 ? base / ratio : base;
   }
 
   template <int D>
@@ -187,7 +200,9 @@ struct WithRolling {
     }
     h.rolling = spring;
     if (r.damping == 0) return spring;
-    return S(spring - (2 * r.damping * std::sqrt(inertia * k_r)) * w_r);
+    const S total = spring - (2 * r.damping * std::sqrt(inertia * k_r)) * w_r;
+    const double total_sq = Dim<D>::spin_sq(total);
+    return total_sq > cap * cap ? S(total * (cap / std::sqrt(total_sq))) : total;
   }
 };
 

@@ -176,11 +176,20 @@ void Simulation<D>::apply_bonds() {
     // (angular momentum is conserved to round-off, as with the contacts).
     const double overlap = p_.radius[i] + p_.radius[j] - dist;
     const double lever_i = p_.radius[i] - 0.5 * overlap, lever_j = p_.radius[j] - 0.5 * overlap;
-    const V v_rel = p_.velocity[j] - p_.velocity[i] +
-                    Dim<D>::spin_cross(S(lever_i * p_.spin[i] + lever_j * p_.spin[j]), m.normal);
-    m.normal_velocity = v_rel.dot(m.normal);
-    m.shear_velocity = v_rel - m.normal * m.normal_velocity;
+    const V v_centres = p_.velocity[j] - p_.velocity[i];
+    const V v_rel =
+        v_centres + Dim<D>::spin_cross(S(lever_i * p_.spin[i] + lever_j * p_.spin[j]), m.normal);
+    m.shear_velocity = v_rel - m.normal * v_rel.dot(m.normal);
+    // The closing speed along d(t) + d(t - dt), d(t - dt) = d + v_centres dt
+    // (parallel_bond.hpp: exact for a pair turning as one body).
+    const V mid_chord = d + (0.5 * dt_) * v_centres;
+    const double mid_length = mid_chord.norm();
+    m.normal_velocity = v_centres.dot(mid_length > 0 ? V(mid_chord / mid_length) : m.normal);
     m.relative_spin = p_.spin[j] - p_.spin[i];
+    if constexpr (D == 3)
+      m.mean_axial_spin = 0.5 * (p_.spin[i] + p_.spin[j]).dot(m.normal);
+    else
+      m.mean_axial_spin = 0;
     m.dt = dt_;
     BondLoad<D>& f = bonds_.load[k];
     if (advance_bond<D>(bonds_.properties[k], f, m)) {

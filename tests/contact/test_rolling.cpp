@@ -224,3 +224,88 @@ TEST_CASE("rolling: rolling parameters are checked and chosen per pair", "[rolli
   CHECK_THROWS_WITH(sim.update_contact("p", "p", {{"rolling_friction", 0}}),
                     Catch::Contains("must stay > 0"));
 }
+
+namespace {
+// A sphere spinning at w0 about z strikes the frictionless floor at (vx, -vy),
+// no gravity: only the rolling torque turns it, so |I dw| <= mu_r r J_n, J_n the
+// normal impulse (allow_tension = 0 keeps N >= 0, so J_n is the sum of N dt).
+template <int D>
+double rolling_impulse_ratio(double mu_r, double eta) {
+  const ParamValues law{
+      {"k_normal", k_normal}, {"restitution", 0.5},       {"friction", 0},
+      {"allow_tension", 0},   {"rolling_friction", mu_r}, {"rolling_damping", eta}};
+  auto sim = std::make_unique<Simulation<D>>();
+  sim->set_warning_handler([](const std::string&) {});
+  sim->add_material({"p", density, 0, 0, 0});
+  sim->add_material({"w", 0, 0, 0, 0});
+  sim->set_contact("p", "p", "linear", law);
+  sim->set_contact("p", "w", "linear", law);
+  WallSpec w;
+  w.name = "floor";
+  w.material = 1;
+  w.normal = {0, 1, 0};
+  sim->add_wall(w);
+  ParticleSpec s;
+  s.radius = radius;
+  s.material = 0;
+  s.position = {0, 1.001 * radius, 0};
+  s.velocity = {0.1, -0.1, 0};
+  s.spin = {0, 0, -100};
+  const std::int64_t id = sim->add_particle(s);
+  const double mass = sphere_mass(radius, density), inertia = sphere_inertia(mass, radius);
+  // Contact time pi sqrt(m / k) ~ 3.2e-3 s: 0.02 s covers the approach and the impact.
+  sim->prepare();
+  sim->advance(static_cast<std::int64_t>(0.02 / sim->time_step()));
+  REQUIRE(sim->stats().contacts_wall == 0);  // bounced off
+  const double impulse = mass * (sim->velocity(id)[1] + 0.1);
+  REQUIRE(impulse > 0);
+  return inertia * std::abs(sim->spin(id)[2] + 100) / (mu_r * radius * impulse);
+}
+}  // namespace
+
+TEST_CASE("rolling: the epsd torque, spring and dashpot together, stays within mu_r R* N",
+          "[rolling]") {
+  // Ai's dashpot below the cap is unbounded: through an impact, where N rises
+  // faster than the spring, it resisted by up to twice the cap in all (eta = 1).
+  for (const double eta : {0.0, 0.3, 1.0}) {
+    const double r3 = rolling_impulse_ratio<3>(0.1, eta), r2 = rolling_impulse_ratio<2>(0.1, eta);
+    INFO("eta_r " << eta << ": |I dw| / (mu_r r J_n) = " << r3 << " (3D), " << r2 << " (2D)");
+    CHECK(r3 <= 1 + 1e-9);
+    CHECK(r2 <= 1 + 1e-9);
+    CHECK(r3 > 0.3);  // the torque acted
+  }
+}
+
+TEST_CASE("rolling: the epsd spring's own mode bounds the time step", "[rolling]") {
+  // omega_r <= 1.27 mu_r omega_n (a sphere on a wall): at mu_r = 20 the automatic
+  // step puts it far past leap-frog's limit, where the spin chatters step by step.
+  auto scene = [](double mu_r, double model) {
+    Simulation<3> sim;
+    sim.set_warning_handler([](const std::string&) {});
+    sim.add_material({"p", density, 0, 0, 0});
+    sim.add_material({"w", 0, 0, 0, 0});
+    const ParamValues law{{"k_normal", k_normal},
+                          {"restitution", 0.5},
+                          {"rolling_friction", mu_r},
+                          {"rolling_model", model}};
+    sim.set_contact("p", "p", "linear", law);
+    sim.set_contact("p", "w", "linear", law);
+    WallSpec w;
+    w.name = "floor";
+    w.material = 1;
+    w.normal = {0, 1, 0};
+    sim.add_wall(w);
+    ParticleSpec s;
+    s.radius = radius;
+    s.material = 0;
+    s.position = {0, radius, 0};
+    sim.add_particle(s);
+    sim.prepare();
+    return sim.time_step_rule().stability_limit;
+  };
+  const double plain = scene(0.5, rolling_model::epsd);
+  CHECK(scene(2, rolling_model::epsd) == Approx(plain / (std::sqrt(2.25 / 1.4) * 2)));
+  CHECK(scene(20, rolling_model::constant) == Approx(plain));  // no spring, no mode
+  CHECK_THROWS_WITH(scene(20, rolling_model::epsd),
+                    Catch::Contains("stability limit") && Catch::Contains("p-p"));
+}
