@@ -45,15 +45,21 @@ TableReader::TableReader(lua_State* L, int index, std::string context)
 // The context names the function: "fill", or "material 'glass'" (a quoted
 // name after it); nested tables ("fill.region") and parameter specifications
 // ("parameters: 'x'") are checked by finish() as they are read.
-void TableReader::refuse_undocumented_keys() {
+std::vector<std::string> TableReader::declared_keys() const {
   const std::size_t end = context_.find(' ');
-  if (end != std::string::npos && context_.compare(end, 2, " '") != 0) return;
+  if (end != std::string::npos && context_.compare(end, 2, " '") != 0) return {};
   const std::string name = context_.substr(0, end);
-  if (name.empty() || name.find_first_of(".:") != std::string::npos) return;
+  if (name.empty() || name.find_first_of(".:") != std::string::npos) return {};
   const FunctionDoc* doc = find_doc(name);
-  if (!doc || doc->form != CallForm::table || doc->open_keys) return;
+  if (!doc || doc->form != CallForm::table || doc->open_keys) return {};
   std::vector<std::string> known;
   for (const ArgDoc& a : doc->args) known.emplace_back(a.name);
+  return known;
+}
+
+void TableReader::refuse_undocumented_keys() {
+  const std::vector<std::string> known = declared_keys();
+  if (known.empty()) return;
   lua_pushnil(L_);
   while (lua_next(L_, index_) != 0) {
     lua_pop(L_, 1);
@@ -70,15 +76,19 @@ void TableReader::refuse_undocumented_keys() {
 
 // A required key is absent. In a table no declared key list covers (a nested one, as
 // fill.region's), a present key that is a near spelling of it is the likelier mistake:
-// name that one first.
+// name that one first. A key the call declares is no misspelling, only not read yet.
 void TableReader::refuse_missing(const char* key) {
+  const std::vector<std::string> declared = declared_keys();
   std::string typo;
   lua_pushnil(L_);
   while (lua_next(L_, index_) != 0) {
     lua_pop(L_, 1);
     if (lua_type(L_, -1) == LUA_TSTRING && typo.empty()) {
       std::string present = lua_tostring(L_, -1);
-      if (!used_.count(present) && !nearest_name(present, {key}).empty()) typo = present;
+      const bool is_declared =
+          std::find(declared.begin(), declared.end(), present) != declared.end();
+      if (!used_.count(present) && !is_declared && !nearest_name(present, {key}).empty())
+        typo = present;
     }
   }
   if (!typo.empty())

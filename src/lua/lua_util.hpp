@@ -117,6 +117,8 @@ class TableReader {
   [[noreturn]] void refuse_missing(const char* key);
   int push(const char* key);  // pushes field, returns its type
   void refuse_undocumented_keys();
+  // The keys the API table declares for this call (empty: it declares none).
+  std::vector<std::string> declared_keys() const;
   lua_State* L_;
   int index_;
   std::string context_;

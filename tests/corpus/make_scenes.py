@@ -296,6 +296,9 @@ for name, line, expect in [
     case(name, "sim:contact: " + name.replace("contact_", "").replace("_", " "), expect, replace={"contact": wrong(line)})
 case("contact_declared_twice", "a second sim:contact for a pair already declared",
      r"{at}.*declared twice: first at \S*contact_declared_twice\.lua:6\b", after={"contact": [wrong('sim:contact { "glass", "glass", model = "linear", k_normal = 2e4, restitution = 0.7 }')]})
+case("bond_normal_stiffness_missing", "sim:bond without normal_stiffness, its shear_stiffness given: the missing key is named, not the present one",
+     r"{at}.*bond: 'normal_stiffness' is required",
+     after={"fill": [wrong('sim:bond { shear_stiffness = 1e9, tensile_strength = 1e6, shear_strength = 1e6 }')]})
 case("contact_pair_missing", "particles of a material pair that has no contact law",
      r"no contact law for materials 'glass' and 'steel'", drop=["wall_contact"])
 
