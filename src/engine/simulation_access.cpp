@@ -400,10 +400,14 @@ std::vector<std::string> Simulation<D>::describe() const {
   const ActiveEffects e = effects();
   lines.push_back(e.adhesion ? fmt::format("adhesion: on ({})", fmt::join(e.adhesive_pairs, ", "))
                              : std::string("adhesion: off (no adhesive pair in use)"));
-  lines.push_back(e.rotation          ? std::string("rotation: spins integrated (friction in use)")
-                  : bonds_.intact > 0 ? std::string("rotation: spins integrated (parallel bonds)")
-                                      : std::string("rotation: off (no pair in use has friction, "
-                                                    "so no torque acts; spins stay as set)"));
+  std::vector<std::string> turning;
+  if (e.friction) turning.emplace_back("friction in use");
+  if (e.rolling) turning.emplace_back("rolling resistance");
+  if (e.bonds) turning.emplace_back("parallel bonds");
+  lines.push_back(e.rotation
+                      ? fmt::format("rotation: spins integrated ({})", fmt::join(turning, ", "))
+                      : std::string("rotation: off (no pair in use has friction, "
+                                    "so no torque acts; spins stay as set)"));
   lines.push_back(e.moving_walls.empty()
                       ? std::string("moving walls: none")
                       : fmt::format("moving walls: {}", fmt::join(e.moving_walls, ", ")));
@@ -411,7 +415,9 @@ std::vector<std::string> Simulation<D>::describe() const {
     lines.push_back(fmt::format("parallel bonds: {} intact, {} broken", bonds_.intact,
                                 static_cast<std::int64_t>(bonds_.size()) - bonds_.intact));
   lines.push_back(fmt::format("gravity: {}", body_.gravity_on ? "on" : "off"));
-  lines.push_back(fmt::format("central field: {}", body_.central_on ? "on" : "off"));
+  lines.push_back(fmt::format("central field: {}", e.central_field    ? "on"
+                                                   : body_.central_on ? "declared, strength 0"
+                                                                      : "off"));
   lines.push_back(fmt::format("contact forces recorded: {}", record_contacts_ ? "yes" : "no"));
   if (diagnostics_.empty()) {
     lines.push_back("diagnostics: none");

@@ -208,7 +208,9 @@ struct ActiveEffects {
   std::vector<std::string> adhesive_pairs;  // those whose model is adhesive (JKR)
   bool adhesion = false;                    // an adhesive pair is in use
   bool friction = false;                    // a pair in use has friction > 0
-  bool rotation = false;  // torques are integrated (= friction: without it no torque acts)
+  bool rolling = false;                     // a pair in use has rolling resistance
+  bool bonds = false;                       // parallel bonds are intact
+  bool rotation = false;  // spins are integrated (friction, rolling or bonds: else no torque acts)
   bool gravity = false;
   bool central_field = false;
   std::vector<std::string> moving_walls;  // planes with a velocity, cylinders that turn

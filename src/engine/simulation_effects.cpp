@@ -49,14 +49,30 @@ ActiveEffects Simulation<D>::effects() const {
     if (mu == values.end() || mu->second != 0) e.friction = true;
   }
   e.adhesion = !e.adhesive_pairs.empty();
-  // A rolling torque turns the particles even without friction.
-  bool rolling = false;
-  for (auto [a, b] : pairs_in_use()) rolling |= pairs_.at(a, b).model >= base_contact_model_count;
-  e.rotation = e.friction || rolling;
+  // A rolling torque turns the particles even without friction, as a bond's moments do.
+  for (auto [a, b] : pairs_in_use()) e.rolling |= pairs_.at(a, b).model >= base_contact_model_count;
+  e.bonds = bonds_.intact > 0;
   e.gravity = body_.gravity_on;
   e.central_field = body_.central_on && body_.central_strength != 0;
   for (const auto& w : walls_)
     if (!w.velocity.isZero() || w.angular_velocity != 0) e.moving_walls.push_back(w.name);
+  // What a schedule will set is simulated too: a friction ramp from 0, a wall
+  // set moving, a field switched on (any value it passes through that is not 0).
+  for (const auto& s : schedules_) {
+    const auto& values = s.schedule.values();
+    if (std::all_of(values.begin(), values.end(), [](double v) { return v == 0; })) continue;
+    if (s.target == "central_strength") {
+      e.central_field = true;
+    } else if (s.wall >= 0) {
+      const std::string& name = walls_[static_cast<std::size_t>(s.wall)].name;
+      if (std::find(e.moving_walls.begin(), e.moving_walls.end(), name) == e.moving_walls.end())
+        e.moving_walls.push_back(name);
+    } else if (s.target == "friction") {
+      const int a = material_id(s.a), b = material_id(s.b);
+      for (auto [x, y] : pairs_in_use()) e.friction |= (x == std::min(a, b) && y == std::max(a, b));
+    }
+  }
+  e.rotation = e.friction || e.rolling || e.bonds;
   for (const auto& d : diagnostics_) e.diagnostics.push_back(d.name);
   e.contacts_recorded = record_contacts_;
   e.canonical_order = canonical_order_;

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -70,6 +71,9 @@ RunOutput::RunOutput(SimulationBase& sim, RunOutputSettings settings)
     series.every_time = settings_.series_every;
   else
     series.every_steps = 100;
+  // A row of the initial state too, as of the final one (end_of_run): a run
+  // shorter than the cadence still has its start and end in /series.
+  series.at_start = true;
   series.fire = [this] { write_series_row(); };
   // Once the header is written the row reads stats() alone (a run spread over
   // MPI ranks then reduces the totals rather than gathering the scene).
@@ -339,11 +343,31 @@ void RunOutput::write_series_row() {
   if (!file_) return;
   write_header();
   GlobalStats g = sim_.stats();
-  file_->series_append(
-      "/series",
-      {g.time, static_cast<double>(g.step), g.kinetic_translational, g.kinetic_rotational,
-       static_cast<double>(g.contacts_particle), static_cast<double>(g.contacts_wall),
-       g.max_overlap_ratio, g.momentum[0], g.momentum[1], g.momentum[2], g.angular_momentum_z});
+  const std::vector<double> row{g.time,
+                                static_cast<double>(g.step),
+                                g.kinetic_translational,
+                                g.kinetic_rotational,
+                                static_cast<double>(g.contacts_particle),
+                                static_cast<double>(g.contacts_wall),
+                                g.max_overlap_ratio,
+                                g.momentum[0],
+                                g.momentum[1],
+                                g.momentum[2],
+                                g.angular_momentum_z};
+  // The row before the first step comes before the step's checks: a scene given
+  // a speed of 1e300 m/s (a kinetic energy of inf) gets their error, which names
+  // the particle, rather than the file's refusal of the row.
+  if (g.step == 0 &&
+      !std::all_of(row.begin(), row.end(), [](double v) { return std::isfinite(v); }))
+    return;
+  file_->series_append("/series", row);
+  last_series_step_ = g.step;
+}
+
+void RunOutput::end_of_run() {
+  if (!file_ || finished_) return;
+  if (sim_.step_count() != last_series_step_) write_series_row();
+  note_effects();
 }
 
 void RunOutput::declare_series(const std::string& name, const std::vector<std::string>& columns) {
@@ -495,12 +519,14 @@ void RunOutput::save_mark(StateBlob& state) {
                                        walls_written_,
                                        last_snapshot_step_,
                                        wall_extent_set_ ? 1 : 0,
-                                       last_snapshot_digest_};
+                                       last_snapshot_digest_,
+                                       last_series_step_};
   state.doubles["output.wall_extent"] = {wall_extent_.begin(), wall_extent_.end()};
   // The materials and laws written: their count, then the laws' groups.
   std::vector<std::string> laws{std::to_string(materials_written_)};
   laws.insert(laws.end(), laws_written_.begin(), laws_written_.end());
   state.texts["output.laws"] = join_lines(laws);
+  state.texts["output.effects"] = effects_text();
   // The XDMF index: each snapshot's line, then its walls' lines; numbers in flat arrays.
   std::vector<std::string> lines;
   std::vector<double> times, points;
@@ -535,8 +561,9 @@ void RunOutput::resume(const StateBlob& state) {
   const auto results = lines_of(state.t("output.results"));
   const auto& progress = state.i("output.progress");
   const auto& extent = state.d("output.wall_extent");
-  // (Five entries in checkpoints written before the last snapshot's digest was kept.)
-  if (progress.size() != 5 && progress.size() != 6) damaged_mark("output.progress");
+  // (Five or six entries in checkpoints written before the last snapshot's digest
+  // and the last series row's step were kept.)
+  if (progress.size() < 5 || progress.size() > 7) damaged_mark("output.progress");
   if (extent.size() != 6) damaged_mark("output.wall_extent");
   // The XDMF index as it stood.
   std::vector<XdmfSnapshot> index;
@@ -605,6 +632,9 @@ void RunOutput::resume(const StateBlob& state) {
   last_snapshot_step_ = progress[3];
   wall_extent_set_ = progress[4] != 0;
   last_snapshot_digest_ = progress.size() > 5 ? progress[5] : 0;
+  last_series_step_ = progress.size() > 6 ? progress[6] : -1;
+  // (Checkpoints written before the effects were noted: they are noted from here on.)
+  if (state.has("output.effects")) restore_effects(state.t("output.effects"));
   // A checkpoint written before the laws' record: what the scene holds now counts
   // as written (as it was then).
   laws_written_.clear();

@@ -47,6 +47,11 @@ class RunOutput final : public OutputSink {
   void write_snapshot();  // with the settings' forces and contacts
   void write_snapshot(bool forces, bool contacts);
   void write_series_row();
+  // The end of a run (sim:run returned, not interrupted): a /series row of the
+  // final state, unless the cadence has just written one.
+  void end_of_run();
+  // What the runs written so far simulated, into /scene/effects (run_output_header.cpp).
+  void note_effects();
   void write_result(const std::string& name, double value);  // /results attributes
   void write_failure(const std::string& message);            // finite particles + message
   void finish();                                             // final snapshot + flush
@@ -77,7 +82,9 @@ class RunOutput final : public OutputSink {
  private:
   void write_header();
   void write_new_walls();
-  void write_new_laws();  // run_output_header.cpp
+  void write_new_laws();             // run_output_header.cpp
+  std::string effects_text() const;  // for the checkpoint mark
+  void restore_effects(const std::string& text);
   SnapshotView view(const SimulationBase::FlatState& s, std::vector<std::string> names) const;
   void index_snapshot(const std::string& group, const SimulationBase::FlatState& s);
   SimulationBase& sim_;
@@ -88,12 +95,14 @@ class RunOutput final : public OutputSink {
   bool wall_extent_set_ = false;
   std::vector<int> hook_ids_;
   std::int64_t last_snapshot_step_ = -1;
+  std::int64_t last_series_step_ = -1;      // the step of /series' last row
   std::int64_t last_snapshot_digest_ = -1;  // of the last snapshot's particles (state_digest)
   bool finished_ = false;
   bool header_written_ = false;
   int walls_written_ = 0;               // walls 0 .. walls_written_ - 1 are in /walls
   std::size_t materials_written_ = 0;   // materials 0 .. materials_written_ - 1 are in /materials
   std::set<std::string> laws_written_;  // the /contacts groups written
+  ActiveEffects effects_seen_;          // note_effects()
 };
 
 }  // namespace granule::io

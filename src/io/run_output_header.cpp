@@ -1,13 +1,120 @@
 // RunOutput's header: the scene's provenance (source, parameters and their units,
 // gravity and the central field, materials, contact laws, walls, what is simulated),
-// written once, at the first output of the run.
+// written once, at the first output of the run; /scene/effects grows with each run.
 #include <fmt/format.h>
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "contact/models.hpp"
 #include "contact/rolling.hpp"
 #include "io/run_output.hpp"
 
 namespace granule::io {
+
+namespace {
+void add_new(std::vector<std::string>& list, const std::vector<std::string>& items) {
+  for (const auto& item : items)
+    if (std::find(list.begin(), list.end(), item) == list.end()) list.push_back(item);
+}
+
+// The flags of ActiveEffects that /scene/effects holds, by name.
+std::vector<std::pair<const char*, bool ActiveEffects::*>> effect_flags() {
+  return {{"periodic", &ActiveEffects::periodic},
+          {"adhesion", &ActiveEffects::adhesion},
+          {"friction", &ActiveEffects::friction},
+          {"rolling", &ActiveEffects::rolling},
+          {"bonds", &ActiveEffects::bonds},
+          {"rotation", &ActiveEffects::rotation},
+          {"gravity", &ActiveEffects::gravity},
+          {"central_field", &ActiveEffects::central_field},
+          {"contacts_recorded", &ActiveEffects::contacts_recorded},
+          {"canonical_order", &ActiveEffects::canonical_order}};
+}
+std::vector<std::pair<const char*, std::vector<std::string> ActiveEffects::*>> effect_lists() {
+  return {{"pairs", &ActiveEffects::pairs},
+          {"adhesive_pairs", &ActiveEffects::adhesive_pairs},
+          {"moving_wall_names", &ActiveEffects::moving_walls},
+          {"diagnostics", &ActiveEffects::diagnostics}};
+}
+}  // namespace
+
+// What the runs written to this file simulated: an effect on in any of them is
+// on (a stage that adds friction, gravity, a turning wall or a diagnostic); the
+// threads, ranks and decomposition are the last run's. Noted when the header is
+// written and at each run's start and end (sim:run); a schedule's values count
+// from its declaration (Simulation::effects).
+void RunOutput::note_effects() {
+  if (!file_) return;
+  const ActiveEffects e = sim_.effects();
+  for (const auto& [name, flag] : effect_flags())
+    effects_seen_.*flag = effects_seen_.*flag || e.*flag;
+  for (const auto& [name, list] : effect_lists()) add_new(effects_seen_.*list, e.*list);
+  effects_seen_.dimension = e.dimension;
+  effects_seen_.threads = e.threads;
+  effects_seen_.ranks = e.ranks;
+  effects_seen_.decomposition = e.decomposition;
+  if (!header_written_) return;
+  // As attributes a script can test (1/0, and lists joined by ", ").
+  H5Output& f = *file_;
+  const std::string g = "/scene/effects";
+  f.write_attribute(g, "dimension", static_cast<std::int64_t>(effects_seen_.dimension));
+  for (const auto& [name, flag] : effect_flags())
+    f.write_attribute(g, name, static_cast<std::int64_t>(effects_seen_.*flag ? 1 : 0));
+  f.write_attribute(g, "moving_walls",
+                    static_cast<std::int64_t>(effects_seen_.moving_walls.empty() ? 0 : 1));
+  for (const auto& [name, list] : effect_lists()) {
+    std::string joined;
+    for (const auto& item : effects_seen_.*list) joined += (joined.empty() ? "" : ", ") + item;
+    f.write_attribute(g, name, joined);
+  }
+  f.write_attribute(g, "threads", static_cast<std::int64_t>(effects_seen_.threads));
+  f.write_attribute(g, "ranks", static_cast<std::int64_t>(effects_seen_.ranks));
+  f.write_attribute(g, "decomposition", effects_seen_.decomposition);
+}
+
+// The effects noted so far, for a checkpoint: "flag\tname" for each flag on,
+// "list\tname\titem" for each list item.
+std::string RunOutput::effects_text() const {
+  std::string out;
+  for (const auto& [name, flag] : effect_flags())
+    if (effects_seen_.*flag) out += fmt::format("flag\t{}\n", name);
+  for (const auto& [name, list] : effect_lists())
+    for (const auto& item : effects_seen_.*list) out += fmt::format("list\t{}\t{}\n", name, item);
+  return out;
+}
+
+void RunOutput::restore_effects(const std::string& text) {
+  effects_seen_ = ActiveEffects{};
+  std::size_t start = 0;
+  while (start < text.size()) {
+    std::size_t end = text.find('\n', start);
+    if (end == std::string::npos) end = text.size();
+    const std::string line = text.substr(start, end - start);
+    start = end + 1;
+    const std::size_t tab = line.find('\t');
+    const std::string kind = line.substr(0, tab);
+    const std::string rest = tab == std::string::npos ? "" : line.substr(tab + 1);
+    bool known = false;
+    if (kind == "flag")
+      for (const auto& [name, flag] : effect_flags())
+        if (rest == name) effects_seen_.*flag = known = true;
+    if (kind == "list") {
+      const std::size_t t2 = rest.find('\t');
+      for (const auto& [name, list] : effect_lists())
+        if (t2 != std::string::npos && rest.compare(0, t2, name) == 0 &&
+            std::char_traits<char>::length(name) == t2) {
+          (effects_seen_.*list).push_back(rest.substr(t2 + 1));
+          known = true;
+        }
+    }
+    if (!known && !line.empty())
+      throw std::runtime_error("checkpoint: the output's mark 'output.effects' is damaged");
+  }
+}
 
 // Materials and contact laws with their resolved parameters (provenance), each
 // as it was when first written: at the header, or at the first output after a
@@ -81,36 +188,7 @@ void RunOutput::write_header() {
   }
   write_new_laws();
   write_new_walls();
-  // What is simulated, as attributes a script can test (1/0, and lists joined by ", ").
-  {
-    const ActiveEffects e = sim_.effects();
-    const std::string g = "/scene/effects";
-    auto flag = [&](const char* name, bool on) {
-      f.write_attribute(g, name, static_cast<std::int64_t>(on ? 1 : 0));
-    };
-    auto list = [&](const char* name, const std::vector<std::string>& items) {
-      std::string joined;
-      for (const auto& item : items) joined += (joined.empty() ? "" : ", ") + item;
-      f.write_attribute(g, name, joined);
-    };
-    f.write_attribute(g, "dimension", static_cast<std::int64_t>(e.dimension));
-    flag("periodic", e.periodic);
-    list("pairs", e.pairs);
-    flag("adhesion", e.adhesion);
-    list("adhesive_pairs", e.adhesive_pairs);
-    flag("friction", e.friction);
-    flag("rotation", e.rotation);
-    flag("gravity", e.gravity);
-    flag("central_field", e.central_field);
-    flag("moving_walls", !e.moving_walls.empty());
-    list("moving_wall_names", e.moving_walls);
-    list("diagnostics", e.diagnostics);
-    flag("contacts_recorded", e.contacts_recorded);
-    flag("canonical_order", e.canonical_order);
-    f.write_attribute(g, "threads", static_cast<std::int64_t>(e.threads));
-    f.write_attribute(g, "ranks", static_cast<std::int64_t>(e.ranks));
-    f.write_attribute(g, "decomposition", e.decomposition);
-  }
+  note_effects();
   std::string lines;
   for (const auto& l : sim_.describe()) lines += l + "\n";
   f.write_text("/scene/description", lines);

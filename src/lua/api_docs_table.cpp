@@ -270,7 +270,7 @@ return {
  "Writes results to HDF5 (and an XDMF file beside it for ParaView); -o on the command line overrides `file`. Every dataset carries a `units` attribute; /scene holds gravity and the central field, /scene/parameters/units each parameter's unit. Once per file and outside a run's callbacks: a file this simulation already opened, the scene file, the checkpoint being continued or the simulation's checkpoint file is refused (opened again it would be emptied).",
  {{"file", "string", "", false, "default: -o, else <scene>.h5"},
   {"snapshot_every", "number", "s", false, "particle snapshots this often, the first of the initial state (t = 0); 0 (default) = the first and the last"},
-  {"series_every", "number", "s", false, "rows of /series this often; 0 (default) = every 100 steps"},
+  {"series_every", "number", "s", false, "rows of /series this often; 0 (default) = every 100 steps; also a row at step 0 and at the end of each run"},
   {"xdmf", "boolean", "", false, "keep <file>.xmf (for ParaView) beside the HDF5 file; default true"},
   {"forces", "boolean", "", false, "every snapshot with force [N] and torque [N m] per particle (the last step's); default false"},
   {"contacts", "boolean", "", false, "every snapshot with the contact network in <snapshot>/contacts: i, j (-1: wall), wall, overlap, normal_force, tangential_force, normal; needs simulation { record_contacts = true }; default false"}},

@@ -133,6 +133,7 @@ int l_run(lua_State* L) {
         s.output->file().write_attribute("/scene/effects", "decomposition", e.decomposition);
       }
     }
+    if (s.output) s.output->note_effects();  // this run's, beside the earlier runs'
     const double dt = s.sim->time_step();
     if (resuming) {
       steps = s.run_total_steps;
@@ -262,6 +263,7 @@ int l_run(lua_State* L) {
       }
     }
     if (progress) progress->finish();
+    if (s.output) s.output->end_of_run();
     lua_newtable(L);
     lua_pushinteger(L, done);
     lua_setfield(L, -2, "steps");
@@ -300,16 +302,20 @@ int l_every(lua_State* L) {
     }
     int ref = luaL_ref(L, LUA_REGISTRYINDEX);
     int self_ref = s.self_ref;
-    std::string what = fmt::format("sim:every callback '{}'", h.name);
     // The journal notes where each callback fired, so that a restart fires it there again.
     std::shared_ptr<Journal> journal = context(L) ? context(L)->journal : nullptr;
     auto id = std::make_shared<int>(0);
+    // Its name in an error: the hook id, for sim:remove_hook (a callback that
+    // fails stays registered, and fails again in the next run at the prompt).
+    auto what = std::make_shared<std::string>();
     h.fire = [L, ref, self_ref, journal, id, what] {
       if (journal && !journal->replaying()) journal->record_callback(*id);
-      call_lua(L, ref, self_ref, 0, what);
+      call_lua(L, ref, self_ref, 0, *what);
     };
     *id = s.sim->add_hook(h);
-    s.lua_hooks[*id] = {ref, what};
+    *what = fmt::format("sim:every callback '{}' (hook {}: sim:remove_hook({}) removes it)", h.name,
+                        *id, *id);
+    s.lua_hooks[*id] = {ref, *what};
     lua_pushinteger(L, *id);
     return 1;
   });

@@ -286,7 +286,7 @@ sim:run { steps = 5 }
 )");
   const std::string file = std::filesystem::path(r.path).filename().string();
   INFO("error: " << r.error);
-  CHECK_THAT(r.error, Catch::Contains("sim:every callback 'spin-up': "));
+  CHECK_THAT(r.error, Catch::Contains("sim:every callback 'spin-up' (hook "));
   CHECK_THAT(r.error, Catch::Contains(file + ":7: attempt to index a nil value"));
   // The traceback is the callback's: the helper, the callback's line, then the run's.
   CHECK_THAT(r.error, Catch::Contains("stack traceback:"));

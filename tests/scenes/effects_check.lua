@@ -102,4 +102,36 @@ do
   r:run { steps = 1 }
   r:close()
 end
+-- A later stage's effects reach /scene/effects (effects_check.py): friction,
+-- gravity and a moving floor set between runs, and a lid moved by a schedule
+-- that starts and ends at rest; the header before the second run says none.
+do
+  local st = simulation { dimension = 2 }
+  st:material { name = "m", density = 1200 }
+  st:material { name = "w", density = 0 }
+  st:contact { "m", "m", model = "linear", k_normal = 2e4, restitution = 0.9, friction = 0 }
+  st:contact { "m", "w", model = "linear", k_normal = 2e4, restitution = 0.9, friction = 0 }
+  st:wall_plane { name = "floor", point = { 0, 0 }, normal = { 0, 1 }, material = "w" }
+  st:wall_plane { name = "lid", point = { 0, 5e-3 }, normal = { 0, -1 }, material = "w" }
+  st:add_particle { position = { 0, 1e-3 }, radius = 0.2e-3, material = "m" }
+  st:output { file = p.out:gsub("%.h5$", "") .. "_stages.h5" }
+  st:run { steps = 20 }
+  has(st:describe(), "rotation: off", "stage one")
+  st:set_contact("m", "w", { friction = 0.3 })
+  st:gravity { 0, -9.81 }
+  st:set_wall("floor", { velocity = { 0.01, 0 } })
+  st:schedule { "wall_velocity", wall = "lid", direction = { 0, -1 }, piecewise = { 0, 0, 1e-5, 0.01, 2e-5, 0 } }
+  st:run { steps = 20 }
+  st:close()
+end
+-- Bonds turn the particles: the header and /scene/effects say so.
+do
+  local b = simulation { dimension = 2 }
+  b:material { name = "m", density = 1200 }
+  b:contact { "m", "m", model = "linear", k_normal = 2e4, restitution = 0.9, friction = 0 }
+  b:add_particle { position = { 0, 0 }, radius = 0.2e-3, material = "m" }
+  b:add_particle { position = { 0.4e-3, 0 }, radius = 0.2e-3, material = "m" }
+  b:bond { normal_stiffness = 1e9, shear_stiffness = 1e9, tensile_strength = 1e9, shear_strength = 1e9 }
+  has(b:describe(), "rotation: spins integrated (parallel bonds)", "bonds")
+end
 print("effects_check ok")

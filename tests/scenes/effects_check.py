@@ -36,4 +36,15 @@ with h5py.File(rolling, "r") as f:
     canonical = f["/scene/effects"].attrs["canonical_order"]
     if canonical != 1:
         sys.exit(f"{rolling}: /scene/effects canonical_order {canonical}, expected 1 (sim:set)")
+stages = sys.argv[1][: -len(".h5")] + "_stages.h5"
+with h5py.File(stages, "r") as f:
+    e = {k: (v.decode() if isinstance(v, bytes) else v) for k, v in f["/scene/effects"].attrs.items()}
+    want = {"friction": 1, "rotation": 1, "gravity": 1, "moving_walls": 1, "moving_wall_names": "floor, lid",
+            "bonds": 0, "rolling": 0}
+    wrong = {k: (e.get(k), v) for k, v in want.items() if e.get(k) != v}
+    if wrong:
+        sys.exit(f"{stages}: /scene/effects after a second stage (got, expected) {wrong}")
+    steps = list(f["/series/step"][:])
+    if steps != [0, 20, 40]:
+        sys.exit(f"{stages}: /series steps {steps}: expected rows at step 0 and at each run's end")
 print("effects attributes ok")
