@@ -464,6 +464,17 @@ int run_command(const std::vector<std::string>& args) {
 #endif
     return run_scene(o);
   }
+  // A scene that cannot be read is a mistake in the command, not a session to open
+  // bare (a scene that fails part-way does open: its `sim` can be looked at).
+  if (!o.scene.empty()) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(o.scene, ec))
+      return fail_usage(std::filesystem::exists(o.scene, ec)
+                            ? "'" + o.scene + "' is not a scene file"
+                            : "cannot open scene file '" + o.scene + "'");
+  } else if (!o.ctx.overrides.empty()) {
+    return fail_usage("-D sets a scene's parameter: give the scene (granule repl SCENE.lua -D ...)");
+  }
 #ifdef GRANULE_HAVE_MPI
   if (launched_ranks > 0) return repl_over_ranks(o);
 #endif

@@ -16,6 +16,7 @@
 #include "core/names.hpp"
 #include "lua/completion.hpp"
 #include "lua/run_progress.hpp"
+#include "lua/shown.hpp"
 
 #ifdef GRANULE_HAVE_READLINE
 #include <readline/history.h>
@@ -132,7 +133,7 @@ std::string error_text(lua_State* L) {
 }
 
 // How the prompt shows a value: plain tables (a particle, stats, a list of ids)
-// one level deep with sorted keys and 6 significant digits, so that results can
+// two levels deep with sorted keys and 6 significant digits, so that results can
 // be read; anything else as tostring() shows it (its __tostring included).
 const char* show_source = R"lua(
 local function show(v, depth)
@@ -301,6 +302,7 @@ int run_repl(const std::string& scene, lua::SceneContext& ctx, const ReplInput& 
       continue;
     }
     int status;
+    lua::clear_shown(L);
     {
       InterruptScope interrupt(L);
       status = lua_pcall(L, 0, LUA_MULTRET, 0);
@@ -311,6 +313,8 @@ int run_repl(const std::string& scene, lua::SceneContext& ctx, const ReplInput& 
       lua_settop(L, 0);
       continue;
     }
+    // sim:table and sim:plot print what they return: once is enough.
+    if (lua_gettop(L) == 1 && lua::is_shown(L, 1)) lua_settop(L, 0);
     if (lua_gettop(L) > 0) {
       lua_getfield(L, LUA_REGISTRYINDEX, "granule.repl_show");
       lua_pushcclosure(L, print_values, 1);

@@ -29,14 +29,26 @@ void Simulation<D>::check_escapes() {
       const double c = wall.clearance(p_.position[i], p_.radius[i]);
       if (!(c + 2 * p_.radius[i] < 0)) continue;
       const Triple x = to_triple(p_.position[i]), v = to_triple(p_.velocity[i]);
+      // A particle that moves a small part of its radius a step was not carried
+      // through by one step: the contact was too soft for its load (a static
+      // overlap m g / k beyond the radius) or for the speed it was driven at.
+      const double per_step = p_.velocity[i].norm() * dt_;
+      const std::string cause =
+          per_step < 0.25 * p_.radius[i]
+              ? fmt::format(
+                    "it moves {:.3g} m a step, so the wall contact was too soft to hold it (its "
+                    "load or its speed pressed it deeper than its radius): stiffen the contact "
+                    "(k_normal, young) or lighten the load",
+                    per_step)
+              : std::string("it moved too far in one step for the wall contact to stop it; "
+                            "reduce time_step or raise the skin");
       fail(fmt::format(
           "step {} (t = {:.6g} s): particle {} (radius {:.4g} m) escaped through wall '{}' (its "
-          "centre is {:.4g} m beyond it; position ({:.6g}), velocity ({:.6g}) m/s): it moved too "
-          "far in one step for "
-          "the wall contact to stop it; reduce time_step or raise the skin; the output keeps "
-          "this state",
+          "centre is {:.4g} m beyond it; position ({:.6g}), velocity ({:.6g}) m/s): {}; the "
+          "output keeps this state",
           step_, time_, p_.id[i], p_.radius[i], wall.name, -(c + p_.radius[i]),
-          fmt::join(x.begin(), x.begin() + D, ", "), fmt::join(v.begin(), v.begin() + D, ", ")));
+          fmt::join(x.begin(), x.begin() + D, ", "), fmt::join(v.begin(), v.begin() + D, ", "),
+          cause));
     }
   }
 }

@@ -80,37 +80,53 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
   // Occupied space goes into a hash grid of cells of side 2 r_max (r_max the
   // largest radius this fill draws): each particle is entered in every cell its
   // box, grown by r_max, touches, so a candidate looks in its own cell only.
+  // A particle far larger than r_max (a 1 mm sphere among 10 um ones) would
+  // cover (R / r_max)^D cells: those go into a second grid whose cells are as
+  // large as the largest of them, where each covers at most 2^D cells.
   double r_new_max = f.radius_max;
   for (double r : f.radii) r_new_max = std::max(r_new_max, r);
-  const double cell = 2 * r_new_max;
-  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> occupied;
-  auto cell_key = [&](const std::array<long long, 3>& c) {
-    std::uint64_t k = 1469598103934665603ull;
-    for (long long v : c) k = (k ^ static_cast<std::uint64_t>(v)) * 1099511628211ull;
-    return k;
+  const double large_radius = 4 * r_new_max;
+  double largest = 0;
+  for (std::size_t i = 0; i < p_.size(); ++i)
+    if ((p_.fixed[i] || !f.allow_overlap) && p_.radius[i] > large_radius)
+      largest = std::max(largest, p_.radius[i]);
+  struct Grid {
+    double cell;
+    std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> occupied;
+    static std::uint64_t key(const std::array<long long, 3>& c) {
+      std::uint64_t k = 1469598103934665603ull;
+      for (long long v : c) k = (k ^ static_cast<std::uint64_t>(v)) * 1099511628211ull;
+      return k;
+    }
+    long long cell_of(double coordinate) const {
+      return static_cast<long long>(std::floor(coordinate / cell));
+    }
   };
-  auto cell_of = [&](double coordinate) {
-    return static_cast<long long>(std::floor(coordinate / cell));
-  };
+  Grid small{2 * r_new_max, {}}, large{2 * (largest + r_new_max), {}};
   auto occupy = [&](std::size_t q) {
+    Grid& g = p_.radius[q] > large_radius ? large : small;
     const V& xq = p_.position[q];
     const double reach = p_.radius[q] + r_new_max;
     std::array<long long, 3> lo_c{0, 0, 0}, hi_c{0, 0, 0};
-    for (int k = 0; k < D; ++k) lo_c[k] = cell_of(xq[k] - reach), hi_c[k] = cell_of(xq[k] + reach);
+    for (int k = 0; k < D; ++k)
+      lo_c[k] = g.cell_of(xq[k] - reach), hi_c[k] = g.cell_of(xq[k] + reach);
     for (long long a = lo_c[0]; a <= hi_c[0]; ++a)
       for (long long b = lo_c[1]; b <= hi_c[1]; ++b)
         for (long long c = lo_c[2]; c <= hi_c[2]; ++c)
-          occupied[cell_key({a, b, c})].push_back(static_cast<std::uint32_t>(q));
+          g.occupied[Grid::key({a, b, c})].push_back(static_cast<std::uint32_t>(q));
   };
   for (std::size_t i = 0; i < p_.size(); ++i)
     if (p_.fixed[i] || !f.allow_overlap) occupy(i);
   auto overlaps_occupied = [&](const V& x, double r) {
-    std::array<long long, 3> c{0, 0, 0};
-    for (int k = 0; k < D; ++k) c[k] = cell_of(x[k]);
-    auto it = occupied.find(cell_key(c));
-    if (it == occupied.end()) return false;
-    for (std::uint32_t q : it->second)
-      if (separation(x, p_.position[q]).norm() < r + p_.radius[q]) return true;
+    for (const Grid* g : {&small, &large}) {
+      if (g->occupied.empty()) continue;
+      std::array<long long, 3> c{0, 0, 0};
+      for (int k = 0; k < D; ++k) c[k] = g->cell_of(x[k]);
+      auto it = g->occupied.find(Grid::key(c));
+      if (it == g->occupied.end()) continue;
+      for (std::uint32_t q : it->second)
+        if (separation(x, p_.position[q]).norm() < r + p_.radius[q]) return true;
+    }
     return false;
   };
 

@@ -17,6 +17,7 @@
 #include "io/run_output.hpp"
 #include "lua/lua_util.hpp"
 #include "lua/run_progress.hpp"
+#include "lua/shown.hpp"
 #include "lua/wrap_simulation.hpp"
 
 extern char** environ;
@@ -98,6 +99,7 @@ int l_table(lua_State* L) {
     clear_progress_line();
     std::cout << text << std::flush;
     lua_pushlstring(L, text.data(), text.size());
+    mark_shown(L);
     return 1;
   });
 }
@@ -180,6 +182,7 @@ int l_plot(lua_State* L) {
     std::cout << "plot: " << fmt::format("{}", fmt::join(chosen, ", ")) << " in " << file << "\n"
               << std::flush;
     lua_pushstring(L, file.c_str());
+    mark_shown(L);
     return 1;
   });
 }

@@ -136,3 +136,38 @@ TEST_CASE("guards: a thread count far above the cores is warned of", "[guards]")
   REQUIRE(warnings.size() == 1);
   CHECK_THAT(warnings[0], Catch::Contains(fmt::format("{} cores", cores)));
 }
+
+TEST_CASE("fill: small particles beside far larger ones are placed, none overlapping", "[guards]") {
+  // Ten 1 mm spheres, then 30 of 10 um that may not overlap them: the occupied
+  // space's grid has 20 um cells, which a 1 mm sphere would cover by 10^5 of
+  // (and the fill would take minutes); such spheres have a grid of their own.
+  Simulation<3> sim;
+  sim.set_warning_handler([](const std::string&) {});
+  sim.add_material({"p", 2500, 0, 0, 0});
+  sim.set_contact("p", "p", "linear", {{"k_normal", 1e3}, {"restitution", 0.5}});
+  for (int k = 0; k < 10; ++k) {
+    ParticleSpec big;
+    big.position = {2.5e-3 * k, 0, 0};
+    big.radius = 1e-3;
+    big.material = 0;
+    sim.add_particle(big);
+  }
+  FillSpec fill;
+  fill.shape = RegionShape::box;
+  fill.lo = {-1e-3, -1e-3, -1e-3};
+  fill.hi = {24e-3, 1e-3, 1e-3};
+  fill.count = 30;
+  fill.radius_min = fill.radius_max = 1e-5;
+  fill.material = 0;
+  fill.seed = 3;
+  fill.allow_overlap = false;
+  sim.fill(fill);
+  REQUIRE(sim.particle_count() == 40);
+  for (std::int64_t a = 10; a < 40; ++a)
+    for (std::int64_t b = 0; b < 40; ++b) {
+      if (a == b) continue;
+      const Triple x = sim.position(a), y = sim.position(b);
+      const double d = std::hypot(x[0] - y[0], x[1] - y[1], x[2] - y[2]);
+      CHECK(d >= sim.radius(a) + sim.radius(b));
+    }
+}
