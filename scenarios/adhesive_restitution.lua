@@ -20,6 +20,15 @@ local p = parameters {
   count = { default = 12, doc = "number of velocities, log-spaced" },
   dimension = { default = 3 },
 }
+-- The -D values, checked before anything runs.
+local checks = require "granule.checks"
+for name, unit in pairs { radius = "m", v_min = "m/s", v_max = "m/s" } do
+  checks.positive("adhesive_restitution", name, p[name], unit)
+end
+checks.non_negative("adhesive_restitution", "surface_energy", p.surface_energy, "J/m^2")
+if not (p.count >= 1 and p.count == math.floor(p.count)) then
+  checks.fail("adhesive_restitution", "count", "a whole number >= 1", p.count)
+end
 local sim = simulation { dimension = p.dimension, record_contacts = true }
 sim:material { name = "alumina", density = p.density, young = p.young, poisson = p.poisson }
 sim:material { name = "wall", young = p.wall_young, poisson = p.wall_poisson }

@@ -33,6 +33,12 @@ local p = parameters {
   quiet_duration = { default = d.quiet_duration, unit = "s" },
 }
 
+-- -1 (the default) is "the protocol's"; any other negative value is a mistake.
+for _, name in ipairs { "compaction_friction", "compaction_surface_energy" } do
+  if p[name] < 0 and p[name] ~= -1 then
+    require("granule.checks").fail("agglomerate_prepare", name, ">= 0, or -1 for the protocol's", p[name])
+  end
+end
 local sim = simulation { dimension = p.dimension, record_contacts = true }
 local out = sim:output {}
 local clock = os.clock()

@@ -33,6 +33,9 @@ local p = parameters {
   time_step = { default = 0, unit = "s", doc = "0: automatic; stiffer bonds may need a smaller one" },
 }
 
+if p.time_step < 0 then
+  require("granule.checks").fail("agglomerate_wall_impact", "time_step", ">= 0 s (0: automatic)", p.time_step)
+end
 local sim = simulation { dimension = p.dimension, record_contacts = true,
                          time_step = p.time_step > 0 and p.time_step or nil }
 local out = sim:output {}

@@ -15,6 +15,7 @@
 local coating = require "granule.coating"
 local materials = require "granule.materials"
 local granule = require "granule"
+local checks = require "granule.checks"
 
 local p = parameters {
   host = { default = "PMMA", doc = "host material (granule.materials)" },
@@ -34,6 +35,16 @@ local p = parameters {
 }
 
 assert(p.points >= 2 and p.points == math.floor(p.points), "points must be a whole number >= 2")
+-- The -D values first, by their names here (granule.coating names its own arguments).
+for _, name in ipairs { "host_radius", "guest_radius", "guest_diameter_min", "guest_diameter_max" } do
+  checks.positive("coating_deformation", name, p[name], "m")
+end
+for _, name in ipairs { "velocity", "velocity_min", "velocity_max" } do
+  checks.positive("coating_deformation", name, p[name], "m/s")
+end
+for _, name in ipairs { "hard_host_young", "young_min", "young_max" } do
+  checks.positive("coating_deformation", name, p[name], "Pa")
+end
 local hard_name = p.host .. "_hard"
 materials.define { name = hard_name, base = p.host, young_modulus_pa = p.hard_host_young }
 

@@ -10,29 +10,40 @@
 --   granule run scenarios/mechanofusion.lua -D scraper=false -D pictures=0.05,0.1
 --   granule run scenarios/mechanofusion.lua -D dimension=3          # the periodic slab of app. A
 --   granule run scenarios/mechanofusion.lua -D size_scale=2         # the double-sized system (5.3.2)
---   /usr/bin/python3 tools/plot_mechanofusion.py zones mechanofusion.h5
+--   /usr/bin/python3 tools/plot_mechanofusion.py series mechanofusion.h5   # areas, inner piece vs time
+--   /usr/bin/python3 tools/plot_mechanofusion.py peaks mechanofusion.h5    # contact peaks (Figs. 7.1-7.8)
+-- (the zone profiles: the printed 'zones' lines; drawn by `study` from mechanofusion_study.lua's file)
 local mf = require "granule.mechanofusion"
+local checks = require "granule.checks"
 
 local p = parameters(mf.parameter_spec {
   duration = { default = 0.02, unit = "s", doc = "simulated time" },
   settle = { default = 0, unit = "s", doc = "run this long before attaching the diagnostics (the start's overlapping fill inflates the coating sum)" },
   pictures = { default = "", unit = "s", doc = "pattern pictures at these times, comma-separated (Figs. 4.6-4.7)" },
-  picture_prefix = { default = "mechanofusion", doc = "picture files: <prefix>_<ms>ms.png" },
+  picture_prefix = { default = "mechanofusion", doc = "picture files: <prefix>_<ms>ms.png (<us>us when two times share a ms)" },
   snapshot_every = { default = 0, unit = "s", doc = "particle snapshots this often (0: first and last)" },
   keep_collisions = { default = 0, unit = "-", doc = "host-host collisions kept for coating.minimum_time" },
 })
+
+-- The scene's own -D values, checked before anything is built or run.
+checks.positive("mechanofusion", "duration", p.duration, "s")
+checks.non_negative("mechanofusion", "settle", p.settle, "s")
+local times = {}
+for item in p.pictures:gmatch("[^,%s]+") do
+  local t = tonumber(item)
+  if not t then error("pictures: '" .. item .. "' is not a number") end
+  if not (t >= 0 and t <= p.duration) then
+    error(string.format("pictures: %s s is outside the run: each time must be in [0, duration = %g] s", item, p.duration))
+  end
+  times[#times + 1] = t
+end
+mf.picture_files(times, p.picture_prefix)  -- refuses two times that would write one file
 
 local sim, geo = mf.build(p)
 local file = sim:output { snapshot_every = p.snapshot_every, series_every = 1e-3 }
 if p.settle > 0 then sim:run { duration = p.settle } end
 local ids = mf.attach_diagnostics(sim, geo, { keep_collisions = p.keep_collisions })
 sim:snapshot()
-local times = {}
-for item in p.pictures:gmatch("[^,%s]+") do
-  local t = tonumber(item)
-  if not t then error("pictures: '" .. item .. "' is not a number") end
-  times[#times + 1] = t
-end
 mf.run_with_pictures(sim, p.duration, times, p.picture_prefix)
 
 local s = mf.summary(sim, geo, ids)

@@ -20,6 +20,7 @@
 -- and /profiles (one row per case and zone); each case also writes its own
 -- <out without .h5>_case<k>.h5 with the diagnostics' time series.
 local mf = require "granule.mechanofusion"
+local checks = require "granule.checks"
 
 local p = parameters(mf.parameter_spec {
   study = { default = "rpm", doc = "scraper | rpm | loading | gap | stiffness | double | slab" },
@@ -64,9 +65,28 @@ if not study then
 end
 local values = p.values ~= "" and numbers(p.values, "values") or study.values
 
+-- The study's own -D values, checked before any case is built or run.
+local where = "mechanofusion_study"
+checks.non_negative(where, "settle", p.settle, "s")
+checks.non_negative(where, "measure", p.measure, "s")
+checks.non_negative(where, "settle_revolutions", p.settle_revolutions)
+checks.positive(where, "measure_revolutions", p.measure_revolutions)
+if p.pictures < 0 or p.pictures ~= math.floor(p.pictures) then
+  checks.fail(where, "pictures", "a whole number >= 0", p.pictures)
+end
+if #values == 0 then checks.fail(where, "values", "at least one number", p.values) end
+for _, v in ipairs(values) do
+  if p.study == "slab" then
+    if v ~= 2 and v ~= 3 then checks.fail(where, "values", "2 or 3 (dimensions)", v) end
+  elseif p.study ~= "scraper" then
+    checks.positive(where, "values", v, mf.defaults[study.key].unit)
+  end
+end
+
 local cases = {}
 if p.study == "loading" then
   for _, rpm in ipairs(numbers(p.speeds, "speeds")) do
+    checks.positive(where, "speeds", rpm, "1/min")
     for _, n in ipairs(values) do cases[#cases + 1] = { particles = n, rpm = rpm } end
   end
 else
@@ -75,6 +95,15 @@ else
     if study.key == "scraper" then c.scraper = v ~= 0 else c[study.key] = v end
     cases[#cases + 1] = c
   end
+end
+-- Every case's machine checked now (mf.geometry builds nothing), not when its turn comes;
+-- a short run counts revolutions, which a chamber at rest never makes.
+for _, case in ipairs(cases) do
+  local values_k = {}
+  for name, v in pairs(p) do values_k[name] = v end
+  for name, v in pairs(case) do values_k[name] = v end
+  local geo = mf.geometry(values_k)
+  if p.short and not (geo.rpm > 0) then checks.fail(where, "rpm", "> 0 1/min with short=true", geo.rpm) end
 end
 
 local out = p.out ~= "" and p.out or ("mechanofusion_" .. p.study .. ".h5")

@@ -35,6 +35,15 @@ for _, pair in ipairs { { "glass", "glass" }, { "glass", "steel" } } do
 end
 -- The bed's height at a solid fraction of 0.6, for the pour's region and the tube.
 local bed = p.particles * (math.pi / 6 * d ^ 3) / 0.6 / (math.pi * Rs ^ 2)
+-- The bulk density below is measured in a slab from one diameter above the
+-- floor to 80 % of the bed's top: a bed too shallow leaves it empty.
+local function bed_too_small(top, how)
+  error(string.format("silo_3d: the bed (top %s %.3g m) is too small for the bulk-density slab, from one diameter "
+    .. "(%.3g m) above the floor to 80 %% of the bed's top: raise particles (%g; at least about %d) or lower "
+    .. "silo_diameter (%g m) or diameter", how, top, d, p.particles, math.ceil(1.25 * d / bed * p.particles),
+    p.silo_diameter), 2)
+end
+if 0.8 * bed <= d then bed_too_small(bed, "expected at") end
 sim:wall_cylinder { name = "silo", center = { 0, 0, 0 }, radius = Rs, bounds = { 0, 3 * bed },
                     material = "steel" }
 sim:wall_disk { name = "bottom", center = { 0, 0, 0 }, normal = { 0, 0, 1 }, radius = Rs,
@@ -61,6 +70,7 @@ for _, id in ipairs(sim:particles()) do
   local z = sim:particle(id).position[3]
   if z > lo and z < hi then inside = inside + 1 end
 end
+if inside == 0 then bed_too_small(top, "at") end
 local rho_b = inside * mass_each / (math.pi * Rs ^ 2 * (hi - lo))
 
 -- Open: the shutter falls away at 2 m/s for 50 ms and stops 0.1 m down.

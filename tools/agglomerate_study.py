@@ -242,7 +242,12 @@ def velocity_figure(summary, protocol, d, out):
         n = int(min(r["n"] for r in mine))
 
         def bars(ax, key, style, label=None, color=None, alpha=1.0):
-            return ax.errorbar(vs, [r[f"{key}_mean"] for r in mine], yerr=[r[f"{key}_se"] for r in mine],
+            # No bars where no standard error is finite (one seed: n < 2, or a
+            # quantity no run measured): matplotlib's errorbar fails on all-nan yerr.
+            errors = [r[f"{key}_se"] for r in mine]
+            if not any(math.isfinite(e) for e in errors):
+                errors = None
+            return ax.errorbar(vs, [r[f"{key}_mean"] for r in mine], yerr=errors,
                                fmt=style, capsize=2, label=label, color=color, alpha=alpha)
         line = bars(axes[0], "damage_ratio", "o-", f"$\\Gamma$ = {gamma:g} J/m$^2$ ({n} seeds)")
         color = line[0].get_color()

@@ -259,9 +259,22 @@ function agglomerate.prepare(sim, given)
   -- Generation (Figs. 7.9-7.10): sizes, then random positions without overlaps.
   local seed = math.tointeger(o.seed)
   if not seed then error(context .. ": 'seed' must be a whole number, got " .. tostring(o.seed), 2) end
+  -- Before a list of `count` sizes is built: more primaries than a given region
+  -- takes (random_positions' check, from the equal counts per size class), or a
+  -- count the generation (a Lua table per primary) cannot hold.
+  local classes = agglomerate.size_classes(o.mean_diameter, o.size_spread, o.size_classes)
+  if o.generation_diameter > 0 or d == 2 then
+    local expected = 0
+    for c, dc in ipairs(classes) do
+      local n = o.count // #classes + (c <= o.count % #classes and 1 or 0)
+      expected = expected + n * (d == 2 and math.pi * (dc / 2) ^ 2 or 4 / 3 * math.pi * (dc / 2) ^ 3)
+    end
+    local given = o.generation_diameter > 0 and o.generation_diameter or 100e-6
+    agglomerate.check_fill(d, given / 2, o.count, expected, context)
+  end
+  if o.count > 1e6 then raise(string.format("%s: 'count' must be at most 1e6, got %.6g", context, o.count)) end
   math.randomseed(seed)
-  local diameters = agglomerate.primary_diameters(o.count,
-    agglomerate.size_classes(o.mean_diameter, o.size_spread, o.size_classes))
+  local diameters = agglomerate.primary_diameters(o.count, classes)
   local radii, solid = {}, 0
   for k, dk in ipairs(diameters) do
     radii[k] = dk / 2

@@ -156,6 +156,17 @@ end
 --- plane, lower against a boundary). `clearance` is the gap left between
 --- neighbours, a fraction of the sum of their radii. Returns the positions and
 --- the number of sweeps, or raises an error when the region cannot hold them.
+--- Refuses n primaries of total area (2D) or volume (3D) `solid` that would
+--- fill more of the generation region than can be placed at random.
+function agglomerate.check_fill(dimension, region_radius, n, solid, context)
+  local region = dimension == 2 and math.pi * region_radius ^ 2 or 4 / 3 * math.pi * region_radius ^ 3
+  local limit = dimension == 2 and 0.75 or 0.55  -- well below random close packing (0.82, 0.64)
+  if solid / region > limit then
+    raise(string.format("%s: generation_diameter %.4g m is too small for %d primaries: they would fill %.0f %% of "
+      .. "it (at most %.0f %% can be placed at random)", context, 2 * region_radius, n, 100 * solid / region, 100 * limit))
+  end
+end
+
 function agglomerate.random_positions(dimension, center, region_radius, radii, clearance, max_sweeps)
   local n = #radii
   local r_max, solid = 0, 0
@@ -163,12 +174,7 @@ function agglomerate.random_positions(dimension, center, region_radius, radii, c
     r_max = math.max(r_max, radii[i])
     solid = solid + (dimension == 2 and math.pi * radii[i] ^ 2 or 4 / 3 * math.pi * radii[i] ^ 3)
   end
-  local region = dimension == 2 and math.pi * region_radius ^ 2 or 4 / 3 * math.pi * region_radius ^ 3
-  local limit = dimension == 2 and 0.75 or 0.55  -- well below random close packing (0.82, 0.64)
-  if solid / region > limit then
-    raise(string.format("random_positions: generation_diameter %.4g m is too small for %d primaries: they would fill %.0f %% of "
-      .. "it (at most %.0f %% can be placed at random)", 2 * region_radius, n, 100 * solid / region, 100 * limit))
-  end
+  agglomerate.check_fill(dimension, region_radius, n, solid, "random_positions")
   local positions = {}
   for i = 1, n do positions[i] = random_in_ball(dimension, region_radius - radii[i]) end
   local cell = 2 * r_max * (1 + clearance)

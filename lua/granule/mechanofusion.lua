@@ -83,12 +83,12 @@ local function complete(p)
     if p[k] == nil then v[k] = d.default else v[k] = p[k] end
   end
   if v.dimension ~= 2 and v.dimension ~= 3 then checks.fail(where, "dimension", "2 or 3", v.dimension) end
-  for _, k in ipairs { "radius", "density", "chamber_radius", "inner_radius", "gap", "k_load",
+  for _, k in ipairs { "particles", "radius", "density", "chamber_radius", "inner_radius", "gap", "k_load",
                        "restitution", "size_scale", "steps_per_contact", "slab_layers", "zones",
                        "window", "every", "gap_sector", "gap_bins" } do
     checks.positive(where, k, v[k], M.defaults[k].unit)
   end
-  for _, k in ipairs { "particles", "rpm", "friction_particle", "friction_wall", "scraper_length",
+  for _, k in ipairs { "rpm", "friction_particle", "friction_wall", "scraper_length",
                        "max_speed", "scraper_wall_overlap" } do
     checks.non_negative(where, k, v[k], M.defaults[k].unit)
   end
@@ -469,18 +469,42 @@ function M.record(sim, summary)
   sim:result(scalars)
 end
 
+--- mf.picture_files({ times }, prefix) -> the picture file of each time (s):
+--- <prefix>_<ms>ms.png, or <prefix>_<us>us.png for all of them when two
+--- different times round to one millisecond; an error naming 'pictures' when
+--- two round to one microsecond.
+function M.picture_files(times, prefix)
+  local function names(per_second, unit, digits)
+    local files, time_of, clash = {}, {}, nil
+    for k, t in ipairs(times) do
+      files[k] = string.format("%s_%0" .. digits .. "d%s.png", prefix, math.floor(t * per_second + 0.5), unit)
+      if time_of[files[k]] and time_of[files[k]] ~= t then clash = { time_of[files[k]], t } end
+      time_of[files[k]] = t
+    end
+    return files, clash
+  end
+  local files, clash = names(1e3, "ms", 4)
+  if clash then files, clash = names(1e6, "us", 7) end
+  if clash then
+    checks.raise(string.format("pictures: the times %.12g s and %.12g s would write one file; "
+      .. "give times at least 1 us apart", clash[1], clash[2]))
+  end
+  return files
+end
+
 --- mf.run_with_pictures(sim, duration, { times }, prefix): runs `duration`
 --- seconds, drawing the particle pattern (Figs. 4.6-4.7) at each of `times`
---- (seconds from now) into <prefix>_<ms>ms.png.
+--- (seconds from now) into the files of mf.picture_files (<prefix>_<ms>ms.png).
 function M.run_with_pictures(sim, duration, times, prefix)
   local start = sim:time()
   local files = {}
   table.sort(times)
-  for _, t in ipairs(times) do
+  local names = M.picture_files(times, prefix)
+  for k, t in ipairs(times) do
     if t <= duration then
       local now = sim:time() - start
       if t > now then sim:run { duration = t - now } end
-      local file = string.format("%s_%04dms.png", prefix, math.floor(t * 1000 + 0.5))
+      local file = names[k]
       sim:picture { file = file, width = 480, color_by = "speed" }
       files[#files + 1] = file
     end
