@@ -7,7 +7,7 @@
 -- HDF5 under /diagnostics and the long-time means to /results.
 --
 --   granule run scenarios/mechanofusion.lua -D duration=0.1
---   granule run scenarios/mechanofusion.lua -D scraper=false -D pictures=0.05,0.1
+--   granule run scenarios/mechanofusion.lua -D scraper=false -D duration=0.1 -D pictures=0.05,0.1
 --   granule run scenarios/mechanofusion.lua -D dimension=3          # the periodic slab of app. A
 --   granule run scenarios/mechanofusion.lua -D size_scale=2         # the double-sized system (5.3.2)
 --   /usr/bin/python3 tools/plot_mechanofusion.py series mechanofusion.h5   # areas, inner piece vs time

@@ -78,6 +78,8 @@ if #values == 0 then checks.fail(where, "values", "at least one number", p.value
 for _, v in ipairs(values) do
   if p.study == "slab" then
     if v ~= 2 and v ~= 3 then checks.fail(where, "values", "2 or 3 (dimensions)", v) end
+  elseif p.study == "rpm" then
+    checks.non_negative(where, "values", v, "1/min")  -- a chamber at rest is a case too
   elseif p.study ~= "scraper" then
     checks.positive(where, "values", v, mf.defaults[study.key].unit)
   end

@@ -468,12 +468,13 @@ int run_command(const std::vector<std::string>& args) {
   // bare (a scene that fails part-way does open: its `sim` can be looked at).
   if (!o.scene.empty()) {
     std::error_code ec;
-    if (!std::filesystem::is_regular_file(o.scene, ec))
-      return fail_usage(std::filesystem::exists(o.scene, ec)
-                            ? "'" + o.scene + "' is not a scene file"
-                            : "cannot open scene file '" + o.scene + "'");
+    if (!std::filesystem::exists(o.scene, ec))
+      return fail_usage("cannot open scene file '" + o.scene + "'");
+    if (std::filesystem::is_directory(o.scene, ec))
+      return fail_usage("'" + o.scene + "' is a directory, not a scene file");
   } else if (!o.ctx.overrides.empty()) {
-    return fail_usage("-D sets a scene's parameter: give the scene (granule repl SCENE.lua -D ...)");
+    return fail_usage(
+        "-D sets a scene's parameter: give the scene (granule repl SCENE.lua -D ...)");
   }
 #ifdef GRANULE_HAVE_MPI
   if (launched_ranks > 0) return repl_over_ranks(o);

@@ -117,15 +117,22 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
   };
   for (std::size_t i = 0; i < p_.size(); ++i)
     if (p_.fixed[i] || !f.allow_overlap) occupy(i);
+  // Along a periodic axis a particle across the seam is entered at its own side
+  // of the box: the candidate is looked up at its images a period away too.
+  const int images = periodic_.on() ? 3 : 1;
   auto overlaps_occupied = [&](const V& x, double r) {
     for (const Grid* g : {&small, &large}) {
       if (g->occupied.empty()) continue;
-      std::array<long long, 3> c{0, 0, 0};
-      for (int k = 0; k < D; ++k) c[k] = g->cell_of(x[k]);
-      auto it = g->occupied.find(Grid::key(c));
-      if (it == g->occupied.end()) continue;
-      for (std::uint32_t q : it->second)
-        if (separation(x, p_.position[q]).norm() < r + p_.radius[q]) return true;
+      for (int image = 0; image < images; ++image) {
+        V y = x;
+        if (image > 0) y[periodic_.axis] += image == 1 ? periodic_.length : -periodic_.length;
+        std::array<long long, 3> c{0, 0, 0};
+        for (int k = 0; k < D; ++k) c[k] = g->cell_of(y[k]);
+        auto it = g->occupied.find(Grid::key(c));
+        if (it == g->occupied.end()) continue;
+        for (std::uint32_t q : it->second)
+          if (separation(x, p_.position[q]).norm() < r + p_.radius[q]) return true;
+      }
     }
     return false;
   };

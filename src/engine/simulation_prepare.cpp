@@ -127,14 +127,21 @@ void Simulation<D>::choose_time_step() {
   if (p_.size()) {
     TimeStepReport rule = time_step_rule();
     dt_governing_pair_ = rule.governing_pair;
+    // A rolling pair's limit may be its epsd spring's mode (rolling.hpp), which the
+    // step count does not move but mu_r does.
+    const std::string rolling_hint =
+        rule.limit_pair.find("+rolling") != std::string::npos
+            ? "; its limit includes the epsd rolling spring's mode (omega_r up to 1.27 mu_r "
+              "omega_n), which a lower rolling_friction lifts"
+            : "";
     if (dt_fixed_ > 0) {
       dt_ = dt_fixed_;
       if (dt_ >= rule.stability_limit)
         throw InputError(fmt::format(
             "time_step {:.4g} s is above the stability limit 1/omega = {:.4g} s of {} (half of "
             "leap-frog's 2/omega: with fewer than pi steps per contact an impact gains energy): "
-            "refused",
-            dt_, rule.stability_limit, rule.limit_pair));
+            "refused{}",
+            dt_, rule.stability_limit, rule.limit_pair, rolling_hint));
       if (dt_ > rule.rule * (1 + 1e-9)) {
         // Said once per rule: a ramp re-checks it every step it changes a law.
         std::string message = fmt::format(
@@ -163,8 +170,9 @@ void Simulation<D>::choose_time_step() {
       throw InputError(fmt::format(
           "steps_per_contact = {} gives a time step {:.4g} s (Eq. 4.1 for {}), above the "
           "stability limit 1/omega = {:.4g} s of {} (half of leap-frog's 2/omega: with fewer than "
-          "pi steps per contact an impact gains energy): refused; raise steps_per_contact",
-          steps_per_contact_, dt_, rule.governing_pair, rule.stability_limit, rule.limit_pair));
+          "pi steps per contact an impact gains energy): refused; raise steps_per_contact{}",
+          steps_per_contact_, dt_, rule.governing_pair, rule.stability_limit, rule.limit_pair,
+          rolling_hint));
   } else if (dt_ == 0) {
     dt_ = dt_fixed_;
   }

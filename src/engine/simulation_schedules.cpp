@@ -93,11 +93,19 @@ void SimulationBase::apply_schedules() {
       set_wall_velocity(s.wall, {v * s.direction[0], v * s.direction[1], v * s.direction[2]});
     } else {
       const bool was_prepared = prepared_;
-      update_contact(s.a, s.b, {{s.target, v}});
-      // A rank's share is not prepared on its own (its particles alone would set
-      // the skin and the time step): the spread run gathers the scene and
-      // prepares it whole before its next step (scene_over_ranks.cpp).
-      if (was_prepared && !external_rebuilds_) prepare();
+      try {
+        update_contact(s.a, s.b, {{s.target, v}});
+        // A rank's share is not prepared on its own (its particles alone would set
+        // the skin and the time step): the spread run gathers the scene and
+        // prepares it whole before its next step (scene_over_ranks.cpp).
+        if (was_prepared && !external_rebuilds_) prepare();
+      } catch (const InputError& e) {
+        // Mid-run the value comes from the schedule, not from a line of the scene: say when.
+        if (step_ == 0) throw;
+        throw InputError(
+            fmt::format("schedule '{}' of {}-{} at t = {:.6g} s (step {}), value {:.6g}: {}",
+                        s.target, s.a, s.b, time_, step_, v, e.what()));
+      }
     }
     s.applied = v;
   }

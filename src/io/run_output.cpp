@@ -342,6 +342,8 @@ void RunOutput::index_snapshot(const std::string& group, const SimulationBase::F
 void RunOutput::write_series_row() {
   if (!file_) return;
   write_header();
+  // One row a step: a run of no steps wrote the start's row at its end.
+  if (sim_.step_count() == last_series_step_) return;
   GlobalStats g = sim_.stats();
   const std::vector<double> row{g.time,
                                 static_cast<double>(g.step),

@@ -119,6 +119,9 @@ int l_run(lua_State* L) {
       for (const auto& line : s.sim->describe()) std::cerr << "granule: " << line << "\n";
       s.header_printed = true;
     }
+    // This run's effects beside the earlier runs', from the whole scene (before it is
+    // spread over ranks); a resumed run's were noted before its checkpoint.
+    if (s.output && !resuming) s.output->note_effects();
     // Under mpirun the steps are spread over the ranks (engine/spread_run.hpp);
     // the scene is whole again on every rank when a callback, a stop check or
     // a checkpoint looks at it, and when the run ends.
@@ -133,7 +136,6 @@ int l_run(lua_State* L) {
         s.output->file().write_attribute("/scene/effects", "decomposition", e.decomposition);
       }
     }
-    if (s.output) s.output->note_effects();  // this run's, beside the earlier runs'
     const double dt = s.sim->time_step();
     if (resuming) {
       steps = s.run_total_steps;
@@ -263,7 +265,7 @@ int l_run(lua_State* L) {
       }
     }
     if (progress) progress->finish();
-    if (s.output) s.output->end_of_run();
+    if (s.output && !outcome.interrupted) s.output->end_of_run();
     lua_newtable(L);
     lua_pushinteger(L, done);
     lua_setfield(L, -2, "steps");

@@ -171,3 +171,50 @@ TEST_CASE("fill: small particles beside far larger ones are placed, none overlap
       CHECK(d >= sim.radius(a) + sim.radius(b));
     }
 }
+
+TEST_CASE("fill: along a periodic axis no particle overlaps one across the seam", "[guards]") {
+  // A fixed sphere near the top of a 10 mm period reaches across the seam; a
+  // fill that may not overlap, in a region beside the seam's other side, must
+  // keep clear of it: a sphere too large for the fill's grid (1 mm beside
+  // 0.05 mm) and one that fits in it (0.6 mm beside 0.2 mm).
+  struct Case {
+    double big, at, small, region_x;
+    int count;
+  };
+  for (const Case c :
+       {Case{1e-3, 9.6e-3, 0.05e-3, 1.5e-3, 300}, Case{0.6e-3, 9.8e-3, 0.2e-3, 3e-3, 100}}) {
+    Simulation<3> sim;
+    sim.set_warning_handler([](const std::string&) {});
+    sim.add_material({"p", 2500, 0, 0, 0});
+    sim.set_contact("p", "p", "linear", {{"k_normal", 1e3}, {"restitution", 0.5}});
+    const double period = 10e-3;
+    sim.set_periodic(0, 0, period);
+    ParticleSpec big;
+    big.position = {c.at, 0, 0};
+    big.radius = c.big;
+    big.material = 0;
+    big.fixed = true;
+    sim.add_particle(big);
+    FillSpec fill;
+    fill.shape = RegionShape::box;
+    fill.lo = {0, -1e-3, -1e-3};
+    fill.hi = {c.region_x, 1e-3, 1e-3};
+    fill.count = c.count;
+    fill.radius_min = fill.radius_max = c.small;
+    fill.material = 0;
+    fill.seed = 5;
+    fill.allow_overlap = false;
+    sim.fill(fill);
+    REQUIRE(sim.particle_count() == c.count + 1);
+    int overlapping = 0;
+    for (std::int64_t a = 1; a <= c.count; ++a) {
+      const Triple x = sim.position(a), y = sim.position(0);
+      double dx = x[0] - y[0];
+      dx -= period * std::round(dx / period);  // the minimum image
+      const double d = std::hypot(dx, x[1] - y[1], x[2] - y[2]);
+      overlapping += d < sim.radius(a) + sim.radius(0);
+    }
+    INFO("fixed sphere of radius " << c.big << " m");
+    CHECK(overlapping == 0);
+  }
+}

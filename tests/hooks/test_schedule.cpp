@@ -164,3 +164,18 @@ TEST_CASE("a checkpoint holds the schedules; a restart with other ones is refuse
   drum(none);
   CHECK_THROWS_WITH(none.load_state(blob), Catch::Contains("schedules differ"));
 }
+
+TEST_CASE("a schedule that stiffens a law past the time step is refused saying when",
+          "[schedule]") {
+  Simulation<2> sim;
+  drum(sim);
+  sim.prepare();
+  const double dt = sim.time_step();
+  sim.set_time_step(dt);  // fixed: a stiffer law must not shorten it
+  // k_load 1000 times the drum's at step 10: the step is then far past the stability limit.
+  sim.add_schedule(
+      spec("k_load", Schedule::piecewise({0, 10 * dt, 10 * dt}, {1e4, 1e4, 1e7}, "k"), "p", "p"));
+  CHECK_THROWS_WITH(sim.advance(20), Catch::Contains("schedule 'k_load' of p-p at t = ") &&
+                                         Catch::Contains("(step 1") &&
+                                         Catch::Contains("stability limit"));
+}

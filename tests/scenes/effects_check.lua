@@ -115,6 +115,7 @@ do
   st:wall_plane { name = "lid", point = { 0, 5e-3 }, normal = { 0, -1 }, material = "w" }
   st:add_particle { position = { 0, 1e-3 }, radius = 0.2e-3, material = "m" }
   st:output { file = p.out:gsub("%.h5$", "") .. "_stages.h5" }
+  st:run { steps = 0 }  -- a run of no steps: its row is the start's, written once
   st:run { steps = 20 }
   has(st:describe(), "rotation: off", "stage one")
   st:set_contact("m", "w", { friction = 0.3 })
@@ -133,5 +134,8 @@ do
   b:add_particle { position = { 0.4e-3, 0 }, radius = 0.2e-3, material = "m" }
   b:bond { normal_stiffness = 1e9, shear_stiffness = 1e9, tensile_strength = 1e9, shear_strength = 1e9 }
   has(b:describe(), "rotation: spins integrated (parallel bonds)", "bonds")
+  b:output { file = p.out:gsub("%.h5$", "") .. "_bonds.h5" }
+  b:run { steps = 1 }
+  b:close()
 end
 print("effects_check ok")

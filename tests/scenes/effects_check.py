@@ -47,4 +47,10 @@ with h5py.File(stages, "r") as f:
     steps = list(f["/series/step"][:])
     if steps != [0, 20, 40]:
         sys.exit(f"{stages}: /series steps {steps}: expected rows at step 0 and at each run's end")
+bonds = sys.argv[1][: -len(".h5")] + "_bonds.h5"
+with h5py.File(bonds, "r") as f:
+    e = dict(f["/scene/effects"].attrs)
+    if e.get("bonds") != 1 or e.get("rotation") != 1 or e.get("friction") != 0:
+        sys.exit(f"{bonds}: /scene/effects bonds {e.get('bonds')}, rotation {e.get('rotation')}, "
+                 f"friction {e.get('friction')}: expected 1, 1 and 0 (the bonds turn the particles)")
 print("effects attributes ok")
