@@ -32,8 +32,9 @@ ParamValues resolve_parameters(const std::vector<ParamSpec>& spec, const ParamVa
           fmt::format("{}: parameter '{}' must be finite, got {}", context, p.name, v));
     bool below = p.min_inclusive ? v < p.min : v <= p.min;
     if (below || v > p.max)
-      throw InputError(fmt::format("{}: parameter '{}' = {} [{}] is outside {}{}, {}]", context,
-                                   p.name, v, p.unit, p.min_inclusive ? "[" : "(", p.min, p.max));
+      throw InputError(fmt::format("{}: parameter '{}' = {} [{}] is outside {}{}, {}{}", context,
+                                   p.name, v, p.unit, p.min_inclusive ? "[" : "(", p.min, p.max,
+                                   std::isinf(p.max) ? ")" : "]"));
     out[p.name] = v;
   }
   return out;

@@ -20,7 +20,8 @@ const char* rolling_model_name(double code) {
 std::vector<ParamSpec> rolling_parameters() {
   return {
       {"rolling_friction", "-", required, 0, unbounded, false,
-       "rolling friction coefficient mu_r: the rolling torque is at most mu_r R* N"},
+       "rolling friction coefficient mu_r: the rolling torque is at most mu_r R* N (0: no "
+       "rolling resistance, the plain law)"},
       {"rolling_model", "-", rolling_model::epsd, 0, 1, true,
        "\"epsd\" (0, default): elastic-plastic spring-dashpot, Ai et al. 2011 type C; "
        "\"constant\" (1): constant torque mu_r R* N against the rolling"},
