@@ -11,12 +11,13 @@
 #include <thread>
 
 #include "core/errors.hpp"
+#include "core/plain_name.hpp"
 #include "engine/simulation.hpp"
 
 namespace granule {
 
 int SimulationBase::add_material(const Material& m) {
-  if (m.name.empty()) throw InputError("material: 'name' must not be empty");
+  check_plain_name(m.name, "material");
   for (const auto& existing : materials_)
     if (existing.name == m.name)
       throw InputError(fmt::format("material '{}' is declared twice", m.name));

@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "core/errors.hpp"
+#include "core/plain_name.hpp"
 #include "engine/simulation.hpp"
 #include "kernel/mesh_contacts.hpp"
 
@@ -24,7 +25,7 @@ int Simulation<D>::add_mesh_wall(const MeshWallSpec& s, Triangles mesh) {
         "polyline walls (line segments and arcs)",
         ctx));
   } else {
-    if (s.name.empty()) throw InputError("wall_mesh: 'name' must not be empty");
+    check_plain_name(s.name, "wall_mesh");
     for (const auto& w : walls_)
       if (w.name == s.name) throw InputError(fmt::format("wall '{}' is declared twice", s.name));
     if (s.material < 0 || s.material >= static_cast<int>(materials_.size()))

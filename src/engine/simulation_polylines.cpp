@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "core/errors.hpp"
+#include "core/plain_name.hpp"
 #include "engine/simulation.hpp"
 
 namespace granule {
@@ -20,7 +21,7 @@ int Simulation<D>::add_polyline_wall(const PolylineWallSpec& s) {
         "from CAD files with sim:wall_mesh",
         ctx));
   } else {
-    if (s.name.empty()) throw InputError("wall_polyline: 'name' must not be empty");
+    check_plain_name(s.name, "wall_polyline");
     for (const auto& w : walls_)
       if (w.name == s.name) throw InputError(fmt::format("wall '{}' is declared twice", s.name));
     if (s.material < 0 || s.material >= static_cast<int>(materials_.size()))

@@ -10,6 +10,7 @@
 #include <unordered_map>
 
 #include "core/errors.hpp"
+#include "core/plain_name.hpp"
 #include "core/random.hpp"
 #include "engine/finite_wall_setup.hpp"
 #include "engine/simulation.hpp"
@@ -182,7 +183,7 @@ void Simulation<D>::reorder_storage(const std::vector<std::int64_t>& ids) {
 template <int D>
 int Simulation<D>::add_wall(const WallSpec& s) {
   std::string ctx = fmt::format("wall '{}'", s.name);
-  if (s.name.empty()) throw InputError("wall: 'name' must not be empty");
+  check_plain_name(s.name, "wall");
   for (const auto& w : walls_)
     if (w.name == s.name) throw InputError(fmt::format("{} is declared twice", ctx));
   if (s.material < 0 || s.material >= static_cast<int>(materials_.size()))

@@ -215,6 +215,11 @@ for name, text, expect in [
          replace={"material": wrong(f"sim:material {{ {text} }}")})
 case("material_declared_twice", "the same material name declared twice",
      r"{at}.*glass", after={"material": [wrong('sim:material { name = "glass", density = 1000 }')]})
+case("material_name_with_slash", "a material named with a '/', which would nest its HDF5 group",
+     r"{at}.*material: name 'glass/2' holds a '/'", after={"material": [wrong('sim:material { name = "glass/2", density = 1000 }')]})
+case("wall_name_with_newline", "a wall named with a newline, which would split the checkpoint's lines",
+     r"{at}.*wall: name .* holds a '/' or a control character",
+     after={"wall": [wrong('sim:wall_plane { name = "lid\\nright", point = { 0, 0.009 }, normal = { 0, -1 }, material = "steel" }')]})
 case("material_zero_density_particle", "particles of a material with density 0 (a wall material)",
      r"{at}.*density", replace={"fill": wrong('sim:fill { region = { circle = { center = { 0, 0 }, radius = 0.008 } }, count = 5, radius = 3e-4, material = "steel", seed = 2 }')},
      after={"wall_contact": ['sim:contact { "steel", "steel", model = "linear", k_normal = 1e4, restitution = 0.8 }']})
