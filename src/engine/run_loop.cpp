@@ -46,7 +46,9 @@ RunOutcome run_in_chunks(SimulationBase& sim, const RunPlan& plan, CheckpointPla
       out.stopped = true;
       return out;
     }
-    if (!checkpoints.path.empty() && out.done < steps) {
+    // At the run's last step too: stages exactly `every_steps` long would otherwise
+    // never be saved.
+    if (!checkpoints.path.empty()) {
       const bool by_steps =
           checkpoints.every_steps > 0 && sim.step_count() % checkpoints.every_steps == 0;
       const bool by_time = any(

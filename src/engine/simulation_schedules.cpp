@@ -51,7 +51,7 @@ void SimulationBase::add_schedule(ScheduleSpec spec) {
   if (spec.schedule.empty()) throw InputError(fmt::format("{}: no schedule given", what));
   if (spec.target == "central_strength") {
     // The field must exist: a strength without it would act on nothing.
-    if (!effects().central_field)
+    if (!body_fields().central_on)
       throw InputError(fmt::format(
           "{}: the scene has no central field; declare it first (sim:central_field)", what));
   } else if (is_wall_target(spec.target)) {
