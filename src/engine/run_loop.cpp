@@ -17,6 +17,14 @@ RunOutcome run_in_chunks(SimulationBase& sim, const RunPlan& plan, CheckpointPla
     checkpoints.last_wall = std::chrono::steady_clock::now();
   };
   auto any = [&](bool mine) { return hooks.any ? hooks.any(mine) : mine; };
+  // No checkpoint at a run's last step (a scene continued from there would have no
+  // contacts to report until its next step), so one due there is written before the
+  // next run's first step, as an interrupt there would be: stages exactly
+  // `every_steps` long are saved too.
+  if (plan.done == 0 && !checkpoints.path.empty() && checkpoints.every_steps > 0 && steps > 0 &&
+      sim.step_count() > 0 && sim.step_count() % checkpoints.every_steps == 0 &&
+      checkpoints.last_step != sim.step_count())
+    checkpoint(checkpoints.path);
   while (out.done < steps) {
     if (any(hooks.interrupt_pending && hooks.interrupt_pending())) {
       checkpoint(interrupt_path);
@@ -46,9 +54,7 @@ RunOutcome run_in_chunks(SimulationBase& sim, const RunPlan& plan, CheckpointPla
       out.stopped = true;
       return out;
     }
-    // At the run's last step too: stages exactly `every_steps` long would otherwise
-    // never be saved.
-    if (!checkpoints.path.empty()) {
+    if (!checkpoints.path.empty() && out.done < steps) {
       const bool by_steps =
           checkpoints.every_steps > 0 && sim.step_count() % checkpoints.every_steps == 0;
       const bool by_time = any(

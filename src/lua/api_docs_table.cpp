@@ -293,7 +293,7 @@ return {
 {"sim:checkpoint", "simulation", T, "sim:checkpoint { file =, every_steps =, every_seconds = }",
  "Writes checkpoints during runs (to a temporary file, then renamed); granule run SCENE --restart FILE continues bit-identically. The simulation's output file or the scene file is refused as `file`.",
  {{"file", "string", "", true, "checkpoint file (HDF5)"},
-  {"every_steps", "integer", "", false, "every this many steps"},
+  {"every_steps", "integer", "", false, "every this many steps (one due at a run's last step is written before the next run's first)"},
   {"every_seconds", "number", "s", false, "or every this many seconds of wall-clock time"}},
  "{ file = 'example.chk.h5', every_steps = 1000 }"},
 {"sim:save_checkpoint", "simulation", P, "sim:save_checkpoint(file)",

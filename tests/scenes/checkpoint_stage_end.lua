@@ -1,5 +1,6 @@
--- A periodic checkpoint falls on the last step of a run too: stages exactly
--- every_steps long are saved at each stage's end (they used to be saved never).
+-- A periodic checkpoint due at a run's last step is written before the next
+-- run's first step: stages exactly every_steps long are saved (they used to be
+-- saved never).
 -- And a schedule may drive a central field declared with strength 0.
 local p = parameters { checkpoint = { default = "checkpoint_stage_end.chk.h5" } }
 os.remove(p.checkpoint)
@@ -12,13 +13,14 @@ sim:central_field { point = { 0.5e-3, 0 }, strength = 0 }
 sim:schedule { "central_strength", linear = { 0, 0, 1e-3, 10 } }
 sim:checkpoint { file = p.checkpoint, every_steps = 200 }
 sim:run { steps = 200 }
+sim:run { steps = 200 }
 local f = io.open(p.checkpoint, "rb")
-assert(f, "no checkpoint after a run of exactly every_steps steps")
+assert(f, "no checkpoint in two runs of exactly every_steps steps")
 f:close()
 os.remove(p.checkpoint)
 sim:run { steps = 200 }
 f = io.open(p.checkpoint, "rb")
-assert(f, "no checkpoint at the second stage's end (step 400)")
+assert(f, "no checkpoint at the third run's start (step 400)")
 f:close()
 assert(sim:describe():find("central field: on", 1, true), "the scheduled field is not on:\n" .. sim:describe())
 print("checkpoint_stage_end ok")
