@@ -40,8 +40,9 @@ void Simulation<D>::check_escapes() {
                     "load or its speed pressed it deeper than its radius): stiffen the contact "
                     "(k_normal, young) or lighten the load",
                     per_step)
-              : std::string("it moved too far in one step for the wall contact to stop it; "
-                            "reduce time_step or raise the skin");
+              : std::string(
+                    "it moved too far in one step for the wall contact to stop it; "
+                    "reduce time_step or raise the skin");
       fail(fmt::format(
           "step {} (t = {:.6g} s): particle {} (radius {:.4g} m) escaped through wall '{}' (its "
           "centre is {:.4g} m beyond it; position ({:.6g}), velocity ({:.6g}) m/s): {}; the "

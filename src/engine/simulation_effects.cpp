@@ -30,7 +30,8 @@ ActiveEffects Simulation<D>::effects() const {
   e.dimension = D;
   e.periodic = periodic_.on();
   const auto catalogue = contact_model_catalogue();
-  for (auto [a, b] : pairs_in_use()) {
+  const auto in_use = pairs_in_use();  // one pass over the particles
+  for (auto [a, b] : in_use) {
     const PairTable::Entry& entry = pairs_.at(a, b);
     if (entry.model < 0) continue;  // prepare() refuses the scene if such a pair can occur
     const std::string label = fmt::format("{}-{} {}", materials_[a].name, materials_[b].name,
@@ -47,10 +48,10 @@ ActiveEffects Simulation<D>::effects() const {
     const ParamValues& values = pairs_.values(a, b);
     auto mu = values.find("friction");
     if (mu == values.end() || mu->second != 0) e.friction = true;
+    // A rolling torque turns the particles even without friction, as a bond's moments do.
+    e.rolling |= entry.model >= base_contact_model_count;
   }
   e.adhesion = !e.adhesive_pairs.empty();
-  // A rolling torque turns the particles even without friction, as a bond's moments do.
-  for (auto [a, b] : pairs_in_use()) e.rolling |= pairs_.at(a, b).model >= base_contact_model_count;
   e.bonds = bonds_.intact > 0;
   e.gravity = body_.gravity_on;
   e.central_field = body_.central_on && body_.central_strength != 0;
@@ -69,7 +70,8 @@ ActiveEffects Simulation<D>::effects() const {
         e.moving_walls.push_back(name);
     } else if (s.target == "friction") {
       const int a = material_id(s.a), b = material_id(s.b);
-      for (auto [x, y] : pairs_in_use()) e.friction |= (x == std::min(a, b) && y == std::max(a, b));
+      const std::pair<int, int> pair{std::min(a, b), std::max(a, b)};
+      e.friction |= std::find(in_use.begin(), in_use.end(), pair) != in_use.end();
     }
   }
   e.rotation = e.friction || e.rolling || e.bonds;

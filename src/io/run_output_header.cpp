@@ -11,6 +11,7 @@
 
 #include "contact/models.hpp"
 #include "contact/rolling.hpp"
+#include "io/effect_fields.hpp"
 #include "io/run_output.hpp"
 
 namespace granule::io {
@@ -21,25 +22,6 @@ void add_new(std::vector<std::string>& list, const std::vector<std::string>& ite
     if (std::find(list.begin(), list.end(), item) == list.end()) list.push_back(item);
 }
 
-// The flags of ActiveEffects that /scene/effects holds, by name.
-std::vector<std::pair<const char*, bool ActiveEffects::*>> effect_flags() {
-  return {{"periodic", &ActiveEffects::periodic},
-          {"adhesion", &ActiveEffects::adhesion},
-          {"friction", &ActiveEffects::friction},
-          {"rolling", &ActiveEffects::rolling},
-          {"bonds", &ActiveEffects::bonds},
-          {"rotation", &ActiveEffects::rotation},
-          {"gravity", &ActiveEffects::gravity},
-          {"central_field", &ActiveEffects::central_field},
-          {"contacts_recorded", &ActiveEffects::contacts_recorded},
-          {"canonical_order", &ActiveEffects::canonical_order}};
-}
-std::vector<std::pair<const char*, std::vector<std::string> ActiveEffects::*>> effect_lists() {
-  return {{"pairs", &ActiveEffects::pairs},
-          {"adhesive_pairs", &ActiveEffects::adhesive_pairs},
-          {"moving_wall_names", &ActiveEffects::moving_walls},
-          {"diagnostics", &ActiveEffects::diagnostics}};
-}
 }  // namespace
 
 // What the runs written to this file simulated: an effect on in any of them is
@@ -74,46 +56,6 @@ void RunOutput::note_effects() {
   f.write_attribute(g, "threads", static_cast<std::int64_t>(effects_seen_.threads));
   f.write_attribute(g, "ranks", static_cast<std::int64_t>(effects_seen_.ranks));
   f.write_attribute(g, "decomposition", effects_seen_.decomposition);
-}
-
-// The effects noted so far, for a checkpoint: "flag\tname" for each flag on,
-// "list\tname\titem" for each list item.
-std::string RunOutput::effects_text() const {
-  std::string out;
-  for (const auto& [name, flag] : effect_flags())
-    if (effects_seen_.*flag) out += fmt::format("flag\t{}\n", name);
-  for (const auto& [name, list] : effect_lists())
-    for (const auto& item : effects_seen_.*list) out += fmt::format("list\t{}\t{}\n", name, item);
-  return out;
-}
-
-void RunOutput::restore_effects(const std::string& text) {
-  effects_seen_ = ActiveEffects{};
-  std::size_t start = 0;
-  while (start < text.size()) {
-    std::size_t end = text.find('\n', start);
-    if (end == std::string::npos) end = text.size();
-    const std::string line = text.substr(start, end - start);
-    start = end + 1;
-    const std::size_t tab = line.find('\t');
-    const std::string kind = line.substr(0, tab);
-    const std::string rest = tab == std::string::npos ? "" : line.substr(tab + 1);
-    bool known = false;
-    if (kind == "flag")
-      for (const auto& [name, flag] : effect_flags())
-        if (rest == name) effects_seen_.*flag = known = true;
-    if (kind == "list") {
-      const std::size_t t2 = rest.find('\t');
-      for (const auto& [name, list] : effect_lists())
-        if (t2 != std::string::npos && rest.compare(0, t2, name) == 0 &&
-            std::char_traits<char>::length(name) == t2) {
-          (effects_seen_.*list).push_back(rest.substr(t2 + 1));
-          known = true;
-        }
-    }
-    if (!known && !line.empty())
-      throw std::runtime_error("checkpoint: the output's mark 'output.effects' is damaged");
-  }
 }
 
 // Materials and contact laws with their resolved parameters (provenance), each

@@ -266,7 +266,7 @@ double rolling_impulse_ratio(double mu_r, double eta) {
 TEST_CASE("rolling: the epsd torque, spring and dashpot together, stays within mu_r R* N",
           "[rolling]") {
   // Ai's dashpot below the cap is unbounded: through an impact, where N rises
-  // faster than the spring, it resisted by up to twice the cap in all (eta = 1).
+  // faster than the spring, it resisted by more than the cap in all (eta = 0.3, 1).
   for (const double eta : {0.0, 0.3, 1.0}) {
     const double r3 = rolling_impulse_ratio<3>(0.1, eta), r2 = rolling_impulse_ratio<2>(0.1, eta);
     INFO("eta_r " << eta << ": |I dw| / (mu_r r J_n) = " << r3 << " (3D), " << r2 << " (2D)");
