@@ -19,6 +19,7 @@ local p = parameters {
   v_max = { default = 3.0, unit = "m/s" },
   count = { default = 12, doc = "number of velocities, log-spaced" },
   dimension = { default = 3 },
+  steps_per_contact = { default = 40, doc = "n of Eq. 4.1 (the step is 8 T_R / n, T_R the sphere's Rayleigh time); above ~3 m/s the Hertz contact is shorter than 8 T_R, so raise n with v_max" },
 }
 -- The -D values, checked before anything runs.
 local checks = require "granule.checks"
@@ -26,10 +27,12 @@ for name, unit in pairs { radius = "m", v_min = "m/s", v_max = "m/s" } do
   checks.positive("adhesive_restitution", name, p[name], unit)
 end
 checks.non_negative("adhesive_restitution", "surface_energy", p.surface_energy, "J/m^2")
+checks.positive("adhesive_restitution", "steps_per_contact", p.steps_per_contact)
 if not (p.count >= 1 and p.count == math.floor(p.count)) then
   checks.fail("adhesive_restitution", "count", "a whole number >= 1", p.count)
 end
-local sim = simulation { dimension = p.dimension, record_contacts = true }
+local sim = simulation { dimension = p.dimension, record_contacts = true,
+                         steps_per_contact = p.steps_per_contact }
 sim:material { name = "alumina", density = p.density, young = p.young, poisson = p.poisson }
 sim:material { name = "wall", young = p.wall_young, poisson = p.wall_poisson }
 sim:contact { "alumina", "wall", model = "thornton_jkr", friction = p.friction, surface_energy = p.surface_energy }
