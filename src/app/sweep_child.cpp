@@ -3,12 +3,14 @@
 #include <fcntl.h>
 #include <fmt/format.h>
 #include <sys/prctl.h>
+#include <sys/stat.h>
 #include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -79,6 +81,33 @@ std::string foreign_checkpoint(const std::string& path, const Case& c, const std
   return "";
 }
 
+// The wall time of a case's earlier parts, kept beside its checkpoint
+// (`<checkpoint>.wall_s`: seconds of the parts before, and when this part
+// began, in seconds since the epoch). A part that ended without the sweep
+// seeing it (the sweep killed, a lost node) counts up to its last checkpoint,
+// the state the next part goes on from.
+std::string earlier_parts_file(const Case& c) {
+  return c.checkpoint + ".wall_s";
+}
+
+double epoch_seconds() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+double earlier_parts_seconds(const Case& c) {
+  std::ifstream in(earlier_parts_file(c));
+  double before = 0, began = 0;
+  struct stat st {};
+  if (!(in >> before >> began) || stat(c.checkpoint.c_str(), &st) != 0) return 0;
+  const double written = double(st.st_mtim.tv_sec) + 1e-9 * double(st.st_mtim.tv_nsec);
+  return std::max(0.0, before) + std::max(0.0, written - began);
+}
+
+void note_part_start(const Case& c, double before) {
+  std::ofstream out(earlier_parts_file(c), std::ios::trunc);
+  out << fmt::format("{:.17g} {:.17g}\n", before, epoch_seconds());
+}
+
 }  // namespace
 
 RunningCase::RunningCase(const Settings& s, const Case& c, int threads, int rank)
@@ -108,6 +137,8 @@ RunningCase::RunningCase(const Settings& s, const Case& c, int threads, int rank
     }
   }
   continued_ = resume;
+  earlier_seconds_ = resume ? earlier_parts_seconds(c) : 0;
+  note_part_start(c, earlier_seconds_);
   log_start_ = resume ? fs::file_size(c.log, ec) : 0;
   if (ec) log_start_ = 0;
   if (resume) args.insert(args.end(), {"--restart", c.checkpoint});
@@ -183,7 +214,7 @@ bool RunningCase::poll(Outcome& out) {
   if (r == 0 || (r < 0 && errno == EINTR)) return false;
   out.index = case_.index;
   out.rank = rank_;
-  out.wall_seconds = elapsed;
+  out.wall_seconds = earlier_seconds_ + elapsed;
   out.continued = continued_;
   if (r < 0) {
     out.status = Status::failed;
@@ -207,6 +238,8 @@ bool RunningCase::poll(Outcome& out) {
     out.error = error_from_log(case_.log, log_start_);
     if (out.error.empty()) out.error = fmt::format("exit status {}", code);
   }
+  std::error_code ec;
+  if (!fs::exists(case_.checkpoint, ec)) fs::remove(earlier_parts_file(case_), ec);
   return true;
 }
 
@@ -223,6 +256,7 @@ void RunningCase::finish(Outcome& out) {
     out.status = Status::ok;
     // Finished: its checkpoint would only make a later sweep continue a done case.
     fs::remove(case_.checkpoint, ec);
+    fs::remove(earlier_parts_file(case_), ec);
   } catch (const std::exception& e) {
     out.status = Status::failed;
     out.error = e.what();

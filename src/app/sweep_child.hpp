@@ -35,6 +35,8 @@ class RunningCase {
   int rank_;
   double timeout_;
   std::chrono::steady_clock::time_point start_;
+  double earlier_seconds_ =
+      0;  // wall time of the case's earlier parts (continued from a checkpoint)
   pid_t pid_ = -1;
   bool forwarded_ = false, timed_out_ = false, continued_ = false;
 };

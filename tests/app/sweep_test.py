@@ -226,6 +226,7 @@ def resume():
     p = run_sweep(ref_dir, "--checkpoint-every", "0")
     out = p.communicate(timeout=120)[0]
     check(p.returncode == 0, f"the uninterrupted sweep exits 0, got {p.returncode}", out)
+    started = time.time()
     p = run_sweep(cut_dir, "--checkpoint-every", "0.3")
     checkpoint = os.path.join(cut_dir, "tutorial_drum.checkpoint.h5")
     deadline = time.time() + 60
@@ -235,6 +236,14 @@ def resume():
     time.sleep(0.5)  # past a second checkpoint, into the run
     os.killpg(p.pid, signal.SIGKILL)
     p.wait()
+    # The killed part's wall time up to its last checkpoint counts in the case's wall_s.
+    parts = checkpoint + ".wall_s"
+    check(os.path.exists(parts), "the case's part start is kept beside its checkpoint")
+    with open(parts) as f:
+        before, began = map(float, f.read().split())
+    killed_part = os.path.getmtime(checkpoint) - began
+    check(before == 0 and started - 1 <= began and killed_part > 0.2,
+          f"the first part began at {began - started:.3f} s, checkpointed {killed_part:.3f} s in")
     listed = subprocess.run([GRANULE, "sweep", drum, *common, "-o", cut_dir, "--list"], capture_output=True,
                             text=True).stdout
     check("continues from" in listed, "--list says the case continues from its checkpoint", listed)
@@ -265,6 +274,9 @@ def resume():
     out = p.communicate(timeout=120)[0]
     check(p.returncode == 0, f"the rerun finishes the case, got exit {p.returncode}", out)
     check("continued from its checkpoint" in out, "the case went on from its checkpoint", out)
+    wall = float(table(cut_dir, "tutorial_drum")[0]["wall_s"])
+    check(wall > killed_part and not os.path.exists(parts),
+          f"the continued case's wall_s ({wall:.3f} s) counts the killed part's {killed_part:.3f} s")
     with h5py.File(os.path.join(ref_dir, "tutorial_drum.h5"), "r") as a, \
             h5py.File(os.path.join(cut_dir, "tutorial_drum.h5"), "r") as b:
         ra, rb = dict(a["results"].attrs), dict(b["results"].attrs)
