@@ -1,6 +1,7 @@
 #include "engine/run_loop.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace granule {
 
@@ -9,7 +10,8 @@ RunOutcome run_in_chunks(SimulationBase& sim, const RunPlan& plan, CheckpointPla
   RunOutcome out;
   out.done = plan.done;
   std::int64_t chunk = 16;
-  const std::int64_t steps = plan.steps;
+  std::int64_t steps = plan.steps;
+  double planned_dt = sim.time_step();
   const std::int64_t check_every = plan.check_every;
   auto checkpoint = [&](const std::string& path) {
     hooks.write_checkpoint(path);
@@ -29,6 +31,7 @@ RunOutcome run_in_chunks(SimulationBase& sim, const RunPlan& plan, CheckpointPla
     if (any(hooks.interrupt_pending && hooks.interrupt_pending())) {
       checkpoint(interrupt_path);
       out.interrupted = true;
+      out.steps = steps;
       return out;
     }
     std::int64_t n = std::min<std::int64_t>(chunk, steps - out.done);
@@ -48,10 +51,21 @@ RunOutcome run_in_chunks(SimulationBase& sim, const RunPlan& plan, CheckpointPla
     else if (wall > 0.2 && chunk > 1)
       chunk /= 2;
     if (hooks.agreed) chunk = hooks.agreed(chunk);
+    // A shorter step on the way (a schedule made a law stiffer): the steps left
+    // counted from the time left, as the run's start counted them (sim:run), so
+    // the count is the same wherever the chunks fall. The automatic step only
+    // shrinks during a run, so the steps taken never pass the end time.
+    if (std::isfinite(plan.end_time) && sim.time_step() != planned_dt) {
+      planned_dt = sim.time_step();
+      const double left = std::ceil((plan.end_time - sim.time()) / planned_dt - 1e-9);
+      steps = out.done + static_cast<std::int64_t>(std::max(0.0, std::min(left, 4.6e18)));
+      if (hooks.retarget) hooks.retarget(steps);
+    }
     if (hooks.progress) hooks.progress(out.done - plan.done, sim.time());
     if (check_every > 0 && (out.done % check_every == 0 || out.done == steps) &&
         hooks.stop_when()) {
       out.stopped = true;
+      out.steps = steps;
       return out;
     }
     if (!checkpoints.path.empty() && out.done < steps) {
@@ -64,6 +78,7 @@ RunOutcome run_in_chunks(SimulationBase& sim, const RunPlan& plan, CheckpointPla
       if (by_steps || by_time) checkpoint(checkpoints.path);
     }
   }
+  out.steps = steps;
   return out;
 }
 

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <string>
 
 #include "engine/simulation_base.hpp"
@@ -28,6 +29,11 @@ struct RunPlan {
   std::int64_t done = 0;         // steps already taken (a run continued from a checkpoint)
   std::int64_t check_every = 0;  // steps between stop checks, counted from the run's start;
                                  // 0: the run has no stop criterion
+  // A run of a duration: the simulated time it ends at [s]. When the time step
+  // changes during the run (a schedule stiffens a law, a callback adds smaller
+  // particles), the steps left are counted again from the time left, so the
+  // run still reaches it. NaN: a run of a step count, whatever the step.
+  double end_time = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct RunHooks {
@@ -42,20 +48,24 @@ struct RunHooks {
   std::function<void(std::int64_t steps)> advance;
   std::function<bool(bool mine)> any;
   std::function<std::int64_t(std::int64_t mine)> agreed;
+  // The run's length counted again (RunPlan::end_time): its new total of steps.
+  std::function<void(std::int64_t steps)> retarget;
 };
 
 struct RunOutcome {
   std::int64_t done = 0;     // steps taken, counting those before a continuation
+  std::int64_t steps = 0;    // the run's length as it ended (RunPlan::end_time may change it)
   bool stopped = false;      // the stop criterion ended the run
   bool interrupted = false;  // a signal ended it, after a checkpoint to `interrupt_path`
 };
 
-// Takes plan.steps - plan.done steps. Chunks last about 0.1 s of wall time (so
-// that the progress line and an interrupt are served promptly at negligible
-// cost) and end at every stop check (every check_every steps of the run, also
-// when it was continued from a checkpoint) and at every checkpoint step. On an
-// interrupt it writes a checkpoint to `interrupt_path` between two steps and
-// returns. Exceptions from the steps or the functions propagate.
+// Takes plan.steps - plan.done steps (a run of a duration: as many more or
+// fewer as a change of the time step on the way calls for). Chunks last about 0.1 s of wall time
+// (so that the progress line and an interrupt are served promptly at negligible cost) and end at
+// every stop check (every check_every steps of the run, also when it was continued from a
+// checkpoint) and at every checkpoint step. On an interrupt it writes a checkpoint to
+// `interrupt_path` between two steps and returns. Exceptions from the steps or the functions
+// propagate.
 RunOutcome run_in_chunks(SimulationBase& sim, const RunPlan& plan, CheckpointPlan& checkpoints,
                          const std::string& interrupt_path, const RunHooks& hooks);
 

@@ -5,6 +5,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <limits>
 #include <lua.hpp>
 #include <map>
 #include <memory>
@@ -35,9 +36,11 @@ struct Restart {
   std::vector<std::uint8_t> journal;
   std::int64_t run_start_step = 0;   // the run in progress: where it began
   std::int64_t run_total_steps = 0;  // and how many steps it was to take
-  bool in_run = false;               // the checkpoint was taken inside a run
-  std::int64_t output_index = 0;     // which sim:output call made the open output (0: none)
-  LuaSim* target = nullptr;          // the scene's first simulation, which continues it
+  double run_end_time = std::numeric_limits<double>::quiet_NaN();  // its end [s], if a duration's
+  bool has_end_time = false;      // the checkpoint says (a build before end times did not)
+  bool in_run = false;            // the checkpoint was taken inside a run
+  std::int64_t output_index = 0;  // which sim:output call made the open output (0: none)
+  LuaSim* target = nullptr;       // the scene's first simulation, which continues it
   bool applied = false;
   bool resume_run = false;  // the next sim:run to reach the real path continues the run
 };
@@ -51,7 +54,8 @@ struct LuaSim {
   bool header_printed = false;
   // run bookkeeping, for checkpoints
   std::int64_t run_start_step = 0, run_total_steps = 0;
-  std::int64_t output_calls = 0;          // sim:output calls so far (which output is open)
+  double run_end_time = 0;        // a run of a duration: where it ends [s]; NaN: of a step count
+  std::int64_t output_calls = 0;  // sim:output calls so far (which output is open)
   std::vector<std::string> output_paths;  // the files its sim:output calls opened
   struct LuaHook {
     int ref = LUA_NOREF;  // registry ref of its function

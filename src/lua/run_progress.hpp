@@ -33,6 +33,8 @@ class RunProgress {
   RunProgress& operator=(const RunProgress&) = delete;
 
   void update(std::int64_t steps_done, double time);
+  // The run's length counted again (a shorter time step on the way).
+  void retarget(std::int64_t total_steps) { total_steps_ = total_steps; }
   void finish();  // erases the line (once)
   bool shown() const { return shown_; }
   // Erases the terminal line now (it is redrawn at the next update), so that what

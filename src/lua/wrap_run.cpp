@@ -139,6 +139,12 @@ int l_run(lua_State* L) {
     const double dt = s.sim->time_step();
     if (resuming) {
       steps = s.run_total_steps;
+      // Where the run was to end (a checkpoint of an older build holds none: then
+      // as its steps left at the step it had then).
+      const Restart& r = *ctx->restart;
+      s.run_end_time = !has_duration    ? std::numeric_limits<double>::quiet_NaN()
+                       : r.has_end_time ? r.run_end_time
+                                        : s.sim->time() + static_cast<double>(steps - done) * dt;
     } else {
       if (has_duration) {
         // A step count beyond 2^62 would overflow the counters (and never finish).
@@ -151,6 +157,8 @@ int l_run(lua_State* L) {
       }
       s.run_start_step = s.sim->step_count();
       s.run_total_steps = steps;
+      s.run_end_time =
+          has_duration ? s.sim->time() + duration : std::numeric_limits<double>::quiet_NaN();
     }
     int stop_ref = LUA_NOREF;
     if (t.push_function("stop_when")) stop_ref = luaL_ref(L, LUA_REGISTRYINDEX);
@@ -229,6 +237,11 @@ int l_run(lua_State* L) {
     plan.steps = steps;
     plan.done = done;
     plan.check_every = stop_ref != LUA_NOREF ? check_every : 0;
+    plan.end_time = s.run_end_time;
+    hooks.retarget = [&](std::int64_t total) {
+      s.run_total_steps = total;  // what a checkpoint from here on records
+      if (progress) progress->retarget(total - done);
+    };
     RunOutcome outcome;
     {
       struct Active {
@@ -245,6 +258,7 @@ int l_run(lua_State* L) {
       spread.reset();
     }
     done = outcome.done;
+    steps = outcome.steps;
     const bool stopped = outcome.stopped;
     if (outcome.interrupted) {
       // Between two steps, with the checkpoint written: say where and how to go on.
