@@ -92,6 +92,8 @@ struct LinearSpringDashpot {
     double omega0 = std::sqrt(p.k_normal / effective_mass);
     return pi / (omega0 * std::sqrt(1 - p.damping_ratio * p.damping_ratio));
   }
+  // What rule_time_step's n counts (the run header says it): steps per contact.
+  static constexpr bool steps_per_contact_counted = true;
   static double rule_time_step(const Params& p, const PairScale& s, double steps_per_contact) {
     return contact_duration(p, s.effective_mass) / steps_per_contact;
   }

@@ -139,6 +139,7 @@ struct WithRolling {
     return M::touching(p.base, h.base, overlap);
   }
   static double reach(const Params& p, double r_star) { return M::reach(p.base, r_star); }
+  static constexpr bool steps_per_contact_counted = M::steps_per_contact_counted;
   static double rule_time_step(const Params& p, const PairScale& s, double steps_per_contact) {
     return M::rule_time_step(p.base, s, steps_per_contact);
   }

@@ -118,7 +118,10 @@ struct ThorntonElastic {
     return overlap > 0;
   }
 
-  // 20% of the Rayleigh step of Eq. 6.1 at the default n = 40 steps per contact.
+  // What rule_time_step's n counts (the run header says it): not steps per
+  // contact, as a Hertz contact's duration falls with the closing speed.
+  static constexpr bool steps_per_contact_counted = false;
+  // 20% of the Rayleigh step of Eq. 6.1 at the default n = 40.
   static double rule_time_step(const Params&, const PairScale& s, double steps_per_contact) {
     return 0.2 * s.rayleigh_time * 40.0 / steps_per_contact;
   }

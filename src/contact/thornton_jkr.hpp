@@ -124,6 +124,7 @@ struct ThorntonJkr {
                                 : 0.0;
   }
 
+  static constexpr bool steps_per_contact_counted = ThorntonElastic::steps_per_contact_counted;
   static double rule_time_step(const Params& p, const PairScale& s, double steps_per_contact) {
     return ThorntonElastic::rule_time_step(p.elastic, s, steps_per_contact);
   }

@@ -93,6 +93,8 @@ struct WaltonBraun {
     return overlap > 0;
   }
 
+  // What rule_time_step's n counts (the run header says it): steps per contact.
+  static constexpr bool steps_per_contact_counted = true;
   // Eq. 4.1: dt = pi e sqrt(m/(2 K_N)) / n, with m/2 the reduced mass of two equal spheres.
   static double rule_time_step(const Params& p, const PairScale& s, double steps_per_contact) {
     double e = std::sqrt(p.k_load / p.k_unload);

@@ -405,6 +405,9 @@ class Simulation final : public SimulationBase {
   double max_overlap_ratio_ = 0;
   std::size_t non_finite_index_ = SIZE_MAX;
   std::string dt_governing_pair_;  // the pair whose rule sets the automatic time step
+  bool dt_per_contact_ = true;     // its rule is t_c / n (else 8 T_R / n)
+  // The run header's words for the automatic step.
+  std::string automatic_step_rule() const;
   std::string dt_warned_;          // the last warning of a time_step above the rule
   // Parts of prepare() (simulation_prepare.cpp).
   double adhesive_reach() const;      // m, contact_reach_ for the particles and laws now

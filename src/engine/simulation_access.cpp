@@ -425,7 +425,10 @@ std::vector<std::string> Simulation<D>::describe() const {
     for (const auto& d : diagnostics_)
       lines.push_back(fmt::format("diagnostic {}: {}", d.name, d.diagnostic->describe()));
   }
-  lines.push_back(fmt::format("hooks: {}", hooks_.size()));
+  std::size_t scripted = 0;
+  for (const auto& h : hooks_) scripted += h.script ? 1 : 0;
+  lines.push_back(fmt::format("hooks: {} ({} sim:every, {} the output's series and snapshots)",
+                              hooks_.size(), scripted, hooks_.size() - scripted));
   if (canonical_order_)
     lines.push_back("canonical order: on (contacts and totals summed in particle-id order)");
   if (spread_ranks_ > 1) lines.push_back(spread_how_);
@@ -435,10 +438,23 @@ std::vector<std::string> Simulation<D>::describe() const {
   lines.push_back(fmt::format("time step: {:.6g} s ({}), skin {:.4g} m", dt_,
                               dt_fixed_ > 0
                                   ? "set by the scene"
-                                  : fmt::format("automatic: n = {} steps per contact of {}",
-                                                steps_per_contact_, dt_governing_pair_),
+                                  : automatic_step_rule(),
                               skin_));
   return lines;
+}
+
+template <int D>
+std::string Simulation<D>::automatic_step_rule() const {
+  if (dt_per_contact_)
+    return fmt::format("automatic: t_c / n (Eq. 4.1), n = {} steps per contact of {}",
+                       steps_per_contact_, dt_governing_pair_);
+  // Thornton's rule (Eqs. 6.1-6.2): a Hertz contact closing at v lasts
+  // 2.87 (m*^2 / (R* E*^2 v))^(1/5), so its steps fall as v^(-1/5).
+  return fmt::format(
+      "automatic: 8 T_R / n (Eqs. 6.1-6.2), n = {}, T_R the Rayleigh time, for {}; not steps "
+      "per contact: a Hertz contact lasts 2.87 (m*^2/(R* E*^2 v))^(1/5), fewer steps the "
+      "faster it closes",
+      steps_per_contact_, dt_governing_pair_);
 }
 
 template class Simulation<2>;

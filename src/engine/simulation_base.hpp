@@ -194,6 +194,7 @@ struct TimeStepReport {
   double rule = 0;             // Eq. 4.1 (or the model's analogue) over the pairs in use, s
   double stability_limit = 0;  // 1 / omega_max (half of leap-frog's 2 / omega_max), s
   std::string governing_pair;  // "a-b (model)": the pair whose rule is shortest
+  bool per_contact = true;     // its model's rule is t_c / n (else 8 T_R / n: Hertz's laws)
   std::string limit_pair;      // the pair whose stability limit is shortest
 };
 
@@ -424,7 +425,15 @@ class SimulationBase {
 
   // ---- schedules (simulation_schedules.cpp): values that follow time ----
   // Checks the target, sets it to its value now, and from then on before every step.
-  void add_schedule(ScheduleSpec spec);
+  // Returns the schedule's id (1, 2, ...).
+  int add_schedule(ScheduleSpec spec);
+  // Ends a schedule: its target keeps the value it has now.
+  void remove_schedule(int id);
+  // Refuses (InputError) to set by hand what a schedule sets before every step:
+  // wall w's "velocity" or "angular_velocity", or a contact parameter of a-b.
+  void refuse_scheduled_wall(int w, const std::string& key) const;
+  void refuse_scheduled_contact(const std::string& a, const std::string& b,
+                                const std::string& key) const;
   // Sets every scheduled value to its value at the current time.
   void apply_schedules();
   const std::vector<ScheduleSpec>& schedules() const { return schedules_; }
@@ -539,6 +548,7 @@ class SimulationBase {
   std::int64_t step_ = 0;
   std::vector<Hook> hooks_;
   std::vector<ScheduleSpec> schedules_;
+  int next_schedule_id_ = 1;
   int next_hook_id_ = 1;
   HookWrapper hook_wrapper_;
   int spread_ranks_ = 1;

@@ -119,15 +119,28 @@ void Simulation<D>::check_overlaps(double pair_ratio) {
   const V dv = p_.velocity[wi] - p_.velocity[wj];
   const V d = separation(p_.position[wi], p_.position[wj]);
   const double closing = d.norm() > 0 ? -dv.dot(d) / d.norm() : dv.norm();
+  // Work the law's elastic force could have done up to this depth (about half
+  // of force x overlap for a law that stiffens as it is pressed: linear, Hertz)
+  // against the closing motion still left: where it is the smaller, the law is
+  // too soft for this impact and no time step stops them.
+  const double stored = 0.5 * std::max(0.0, force) * overlap;
+  const double kinetic = closing > 0 ? 0.5 * m_star * closing * closing : 0.0;
+  const std::string why =
+      kinetic > stored
+          ? fmt::format(
+                "their contact law stores about {:.3g} J up to this depth against the {:.3g} J "
+                "of their closing motion: it is too soft for this impact, and no time step "
+                "stops them; a stiffer law (young, k_normal, k_load) or a slower impact does",
+                stored, kinetic)
+          : "they moved too far in one step for their contact to stop them; reduce time_step "
+            "or raise steps_per_contact";
   if (through)
     fail(fmt::format(
         "step {} (t = {:.6g} s): particles {} and {} pass through each other: they overlap by "
         "{:.4g} m, {:.0f} % of the smaller radius {:.4g} m (centres {:.4g} m apart; speeds "
-        "{:.4g} and {:.4g} m/s, closing at {:.4g} m/s): they moved too far in one step for their "
-        "contact to stop them; reduce time_step or raise steps_per_contact; the output keeps "
-        "this state",
+        "{:.4g} and {:.4g} m/s, closing at {:.4g} m/s): {}; the output keeps this state",
         step_, time_, p_.id[wi], p_.id[wj], overlap, 100 * worst, r_min, d.norm(),
-        p_.velocity[wi].norm(), p_.velocity[wj].norm(), closing));
+        p_.velocity[wi].norm(), p_.velocity[wj].norm(), closing, why));
   overlap_warned_ = true;
   const double launch = std::sqrt(std::max(0.0, force * overlap) / m_star);
   warn(fmt::format(

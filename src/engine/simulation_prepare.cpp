@@ -74,6 +74,7 @@ TimeStepReport Simulation<D>::time_step_rule() {
         r.rule = rule;
         r.governing_pair =
             fmt::format("{}-{} ({}, {})", materials_[a].name, materials_[b].name, M::name, kind);
+        r.per_contact = M::steps_per_contact_counted;
       }
       if (limit < r.stability_limit) {
         r.stability_limit = limit;
@@ -127,6 +128,7 @@ void Simulation<D>::choose_time_step() {
   if (p_.size()) {
     TimeStepReport rule = time_step_rule();
     dt_governing_pair_ = rule.governing_pair;
+    dt_per_contact_ = rule.per_contact;
     // A rolling pair's limit may be its epsd spring's mode (rolling.hpp), which the
     // step count does not move but mu_r does.
     const std::string rolling_hint =

@@ -46,7 +46,7 @@ std::string lines_of(const std::vector<ScheduleSpec>& list) {
 }
 }  // namespace
 
-void SimulationBase::add_schedule(ScheduleSpec spec) {
+int SimulationBase::add_schedule(ScheduleSpec spec) {
   const std::string what = fmt::format("schedule '{}'", spec.target);
   if (spec.schedule.empty()) throw InputError(fmt::format("{}: no schedule given", what));
   if (spec.target == "central_strength") {
@@ -72,6 +72,7 @@ void SimulationBase::add_schedule(ScheduleSpec spec) {
     material_id(spec.a);  // throws naming a material not declared
     material_id(spec.b);
   }
+  spec.id = next_schedule_id_;
   schedules_.push_back(std::move(spec));
   try {
     apply_schedules();  // the value now; a parameter the pair's model lacks is refused here
@@ -79,6 +80,45 @@ void SimulationBase::add_schedule(ScheduleSpec spec) {
     schedules_.pop_back();
     throw;
   }
+  return next_schedule_id_++;
+}
+
+void SimulationBase::remove_schedule(int id) {
+  for (auto s = schedules_.begin(); s != schedules_.end(); ++s)
+    if (s->id == id) {
+      schedules_.erase(s);
+      return;
+    }
+  throw InputError(fmt::format("remove_schedule: no schedule {} (sim:schedule returns the ids; "
+                               "one removed is gone)",
+                               id));
+}
+
+namespace {
+// "schedule 3 ('wall_velocity')", for the refusals below.
+std::string schedule_named(const ScheduleSpec& s) {
+  return fmt::format("schedule {} ('{}')", s.id, s.target);
+}
+}  // namespace
+
+void SimulationBase::refuse_scheduled_wall(int w, const std::string& key) const {
+  const std::string target = "wall_" + key;
+  for (const auto& s : schedules_)
+    if (s.wall == w && s.target == target)
+      throw InputError(fmt::format(
+          "set_wall '{}': its {} is set before every step by {}, which would undo this; end "
+          "the schedule first (sim:remove_schedule({})), and the wall keeps what is set after",
+          s.a, key, schedule_named(s), s.id));
+}
+
+void SimulationBase::refuse_scheduled_contact(const std::string& a, const std::string& b,
+                                              const std::string& key) const {
+  for (const auto& s : schedules_)
+    if (s.target == key && ((s.a == a && s.b == b) || (s.a == b && s.b == a)))
+      throw InputError(fmt::format(
+          "set_contact '{}'-'{}': its {} is set before every step by {}, which would undo "
+          "this; end the schedule first (sim:remove_schedule({}))",
+          a, b, key, schedule_named(s), s.id));
 }
 
 void SimulationBase::apply_schedules() {

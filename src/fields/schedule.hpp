@@ -102,6 +102,7 @@ struct ScheduleSpec {
   std::array<double, 3> direction{1, 0, 0};  // wall_velocity: a unit vector
   Schedule schedule;
   int wall = -1;  // resolved
+  int id = 0;     // sim:schedule's answer, for sim:remove_schedule
   // The value last set; a schedule sets its target only when the value changes.
   double applied = std::nan("");
 };

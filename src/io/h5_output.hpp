@@ -10,7 +10,7 @@
 //                          optionally force, torque; attrs step, time, dimension
 //   /snapshots/NNNNNN/contacts  optional: datasets i, j (-1 for a wall), wall (-1 for a
 //                          pair), overlap, normal_force, tangential_force, normal
-//   every dataset carries attr units (io/output_units.hpp)
+//   every numeric dataset carries attr units (io/output_units.hpp)
 //   /materials             attr names (string array): material index -> name
 // Every failure throws std::runtime_error naming the file and the object.
 #pragma once

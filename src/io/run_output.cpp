@@ -160,6 +160,9 @@ void RunOutput::write_new_walls() {
     std::vector<double> point(s.point.begin(), s.point.begin() + sim_.dimension());
     std::vector<double> normal(s.normal.begin(), s.normal.begin() + sim_.dimension());
     f.write_attribute(g, "type", std::string(wall_type_name(s.type)));
+    // The number contacts/wall and sim:contact_arrays() give this wall (0-based,
+    // in declaration order; HDF5 lists the groups by name).
+    f.write_attribute(g, "index", static_cast<std::int64_t>(w));
     f.write_attribute(g, "material", mats[s.material].name);
     const bool finite = s.finite();
     auto vec = [&](const Triple& t) {

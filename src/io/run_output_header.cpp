@@ -128,6 +128,14 @@ void RunOutput::write_header() {
       f.write_attribute("/scene", "central_field_strength_units", std::string("m/s^2"));
     }
   }
+  if (sim_.is_periodic()) {
+    // What a post-processor needs to unwrap positions or measure across the seam.
+    const auto& p = sim_.periodicity();
+    f.write_attribute("/scene", "periodic_axis", std::string(1, "xyz"[p.axis]));
+    f.write_attribute("/scene", "periodic_origin", p.origin);
+    f.write_attribute("/scene", "periodic_length", p.length);
+    f.write_attribute("/scene", "periodic_units", std::string("m"));
+  }
   write_new_laws();
   write_new_walls();
   note_effects();

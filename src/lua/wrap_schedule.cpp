@@ -7,6 +7,7 @@
 //   points = { { t1, v1 }, { t2, v2 }, ... }   the same, as a table of {time, value} pairs
 #include <fmt/format.h>
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -124,7 +125,22 @@ int l_schedule(lua_State* L) {
       spec.schedule = Schedule::piecewise(times, values, what + ", points");
     }
     t.finish();
-    s.sim->add_schedule(std::move(spec));
+    lua_pushinteger(L, s.sim->add_schedule(std::move(spec)));
+    return 1;
+  });
+}
+
+// sim:remove_schedule(id): the schedule ends; its target keeps its value.
+int l_remove_schedule(lua_State* L) {
+  return protect(L, [](lua_State* L) {
+    LuaSim& s = self(L);
+    if (s.running)
+      throw InputError(
+          "remove_schedule: not from inside a run's callback; end a schedule between runs");
+    const std::int64_t id = read_integer(L, 2, "remove_schedule: schedule id");
+    if (id < 1 || id > std::numeric_limits<int>::max())
+      throw InputError(fmt::format("remove_schedule: no schedule {}", id));
+    s.sim->remove_schedule(static_cast<int>(id));
     return 0;
   });
 }
@@ -133,6 +149,7 @@ int l_schedule(lua_State* L) {
 
 const luaL_Reg schedule_methods[] = {
     {"schedule", l_schedule},
+    {"remove_schedule", l_remove_schedule},
     {nullptr, nullptr},
 };
 

@@ -75,6 +75,7 @@ int l_set_contact(lua_State* L) {
     std::string b = read_string(L, 3, "set_contact: second material");
     TableReader t(L, 4, fmt::format("set_contact '{}'-'{}'", a, b));
     ParamValues values;
+    for (const auto& key : t.keys()) s.sim->refuse_scheduled_contact(a, b, key);
     for (const auto& key : t.keys())
       values[key] = key == "rolling_model"
                         ? rolling_model_code(t.string("rolling_model"), t.context())
@@ -406,6 +407,8 @@ int l_set_wall(lua_State* L) {
     LuaSim& s = self_kept(L);
     int w = s.sim->wall_id(read_string(L, 2, "set_wall: wall name"));
     TableReader t(L, 3, "set_wall");
+    for (const char* key : {"velocity", "angular_velocity"})
+      if (t.has(key)) s.sim->refuse_scheduled_wall(w, key);
     if (t.has("velocity")) s.sim->set_wall_velocity(w, t.vector("velocity", dim(L)));
     if (t.has("angular_velocity"))
       s.sim->set_wall_angular_velocity(w, t.number("angular_velocity"));

@@ -408,3 +408,54 @@ assert(count.d == 3, "d fired " .. count.d)
 )");
   CHECK(r.error == "");
 }
+
+TEST_CASE("lua: a scheduled target is not set by hand until its schedule ends", "[lua]") {
+  const std::string walls = R"(sim:wall_plane { name = "floor", point = { 0, 0 }, normal = { 0, 1 }, material = "steel" }
+sim:wall_plane { name = "lid", point = { 0, 0.01 }, normal = { 0, -1 }, material = "steel" }
+sim:add_particle { position = { 0, 0.001 }, radius = 1e-3, material = "glass" }
+local lid = sim:schedule { "wall_velocity", wall = "lid", direction = { 0, -1 }, linear = { 0, 0, 0.1, 0.01 } }
+local mu = sim:schedule { "friction", from = "glass", to = "glass", constant = 0.2 }
+)";  // lines 6-10
+  // The schedule would set its value again before the next step: refused, naming it.
+  expect_refused(walls + "sim:set_wall('lid', { velocity = { 0, 0.5 } })\n", 11,
+                 "set_wall 'lid': its velocity is set before every step by schedule 1");
+  expect_refused(walls + "sim:set_contact('glass', 'glass', { friction = 0.1 })\n", 11,
+                 "sim:remove_schedule(2)");
+  expect_refused(walls + "sim:set_contact('steel', 'glass', { friction = 0.1 })\nsim:remove_schedule(7)\n",
+                 12, "remove_schedule: no schedule 7");
+  expect_refused(walls + "sim:every { steps = 1, function(s) s:remove_schedule(lid) end }\n"
+                         "sim:run { steps = 2 }\n",
+                 11, "not from inside a run's callback");
+  // Ended, the target keeps its value and takes what is set by hand.
+  auto r = run_scene(std::string(header) + walls + R"(
+sim:run { duration = 0.02 }
+local held = sim:wall("lid").velocity[2]
+sim:remove_schedule(lid)
+sim:remove_schedule(mu)
+assert(math.abs(held + 0.002) < 1e-6, "the ramp's value at 0.02 s: " .. held)
+sim:run { duration = 0.01 }
+assert(sim:wall("lid").velocity[2] == held, "an ended schedule's wall keeps its velocity")
+sim:set_wall("lid", { velocity = { 0, 0.5 } })
+sim:set_contact("glass", "glass", { friction = 0.1 })
+sim:run { duration = 0.01 }
+assert(sim:wall("lid").velocity[2] == 0.5, "set by hand after the schedule ended")
+)");
+  CHECK(r.error == "");
+}
+
+TEST_CASE("lua: a run of a duration reaches it when a schedule shrinks the time step", "[lua]") {
+  // Walton-Braun's unloading stiffness is K_load / e^2: lowering e shortens the
+  // automatic step (Eq. 4.1) on the way, so the run needs more steps than it planned.
+  auto r = run_scene(std::string(header) + R"(
+sim:add_particle { position = { -1.5e-3, 0 }, radius = 1e-3, material = "glass", velocity = { 0.5, 0 } }
+sim:add_particle { position = { 1.5e-3, 0 }, radius = 1e-3, material = "glass", velocity = { -0.5, 0 } }
+sim:schedule { "restitution", from = "glass", to = "glass", linear = { 0, 0.9, 5e-4, 0.05 } }
+local dt0 = sim:time_step()
+local run = sim:run { duration = 3e-3 }
+assert(sim:time_step() < dt0 / 10, "the step shrank: " .. dt0 .. " -> " .. sim:time_step())
+assert(run.time >= 3e-3 and run.time < 3e-3 + sim:time_step(),
+       string.format("ended at t = %.17g s after %d steps", run.time, run.steps))
+assert(run.steps > math.ceil(3e-3 / dt0), "more steps than planned at the first step")
+)");
+  CHECK(r.error == "");
+}
