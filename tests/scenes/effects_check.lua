@@ -138,4 +138,14 @@ do
   b:run { steps = 1 }
   b:close()
 end
+-- A periodic scene writes its axis, origin and length on /scene.
+do
+  local q = simulation { dimension = 3, periodic = { axis = "y", origin = -2e-3, length = 8e-3 } }
+  q:material { name = "m", density = 1200 }
+  q:contact { "m", "m", model = "linear", k_normal = 2e4, restitution = 0.9 }
+  q:add_particle { position = { 0, 0, 0 }, radius = 0.2e-3, material = "m", velocity = { 0, 1, 0 } }
+  q:output { file = p.out:gsub("%.h5$", "") .. "_periodic.h5" }
+  q:run { steps = 1 }
+  q:close()
+end
 print("effects_check ok")

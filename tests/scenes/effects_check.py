@@ -24,6 +24,10 @@ with h5py.File(sys.argv[1], "r") as f:
     walls = sorted(f["/walls"].keys())
     if walls != ["floor", "lid"]:
         sys.exit(f"/walls: {walls}, expected floor and lid (lid added after the header)")
+    # The index contacts/wall gives each wall: declaration order, not HDF5's by name.
+    index = {w: int(f["/walls"][w].attrs["index"]) for w in walls}
+    if index != {"floor": 0, "lid": 1}:
+        sys.exit(f"/walls index attributes {index}, expected floor 0 and lid 1")
     lid = f["/walls/lid"].attrs
     if list(lid["point"]) != [0.0, 5e-3] or list(lid["normal"]) != [0.0, -1.0]:
         sys.exit(f"/walls/lid: point {list(lid['point'])}, normal {list(lid['normal'])}")
@@ -53,4 +57,10 @@ with h5py.File(bonds, "r") as f:
     if e.get("bonds") != 1 or e.get("rotation") != 1 or e.get("friction") != 0:
         sys.exit(f"{bonds}: /scene/effects bonds {e.get('bonds')}, rotation {e.get('rotation')}, "
                  f"friction {e.get('friction')}: expected 1, 1 and 0 (the bonds turn the particles)")
+periodic = sys.argv[1][: -len(".h5")] + "_periodic.h5"
+with h5py.File(periodic, "r") as f:
+    a = {k: (v.decode() if isinstance(v, bytes) else v) for k, v in f["/scene"].attrs.items()}
+    got = (a.get("periodic_axis"), a.get("periodic_origin"), a.get("periodic_length"), a.get("periodic_units"))
+    if got != ("y", -2e-3, 8e-3, "m"):
+        sys.exit(f"{periodic}: /scene periodic attributes {got}, expected ('y', -0.002, 0.008, 'm')")
 print("effects attributes ok")
