@@ -436,10 +436,7 @@ std::vector<std::string> Simulation<D>::describe() const {
       fmt::format("threads: {}{}", thread_count(),
                   threads_ > 0 ? "" : " (OMP_NUM_THREADS, else 1; set with --threads N)"));
   lines.push_back(fmt::format("time step: {:.6g} s ({}), skin {:.4g} m", dt_,
-                              dt_fixed_ > 0
-                                  ? "set by the scene"
-                                  : automatic_step_rule(),
-                              skin_));
+                              dt_fixed_ > 0 ? "set by the scene" : automatic_step_rule(), skin_));
   return lines;
 }
 

@@ -89,9 +89,10 @@ void SimulationBase::remove_schedule(int id) {
       schedules_.erase(s);
       return;
     }
-  throw InputError(fmt::format("remove_schedule: no schedule {} (sim:schedule returns the ids; "
-                               "one removed is gone)",
-                               id));
+  throw InputError(
+      fmt::format("remove_schedule: no schedule {} (sim:schedule returns the ids; "
+                  "one removed is gone)",
+                  id));
 }
 
 namespace {

@@ -292,9 +292,33 @@ void RunOutput::write_snapshot(bool forces, bool contacts) {
     v.bond_b = bond_b.data();
     v.bond_broken = bond_broken.data();
   }
-  index_snapshot(file_->write_snapshot(v), s);
+  const std::string group = file_->write_snapshot(v);
+  write_wall_states(group);
+  index_snapshot(group, s);
   last_snapshot_step_ = sim_.step_count();
   last_snapshot_digest_ = digest;
+}
+
+// Where each wall is and how it moves at the snapshot's step: /walls/<name>
+// holds it as first written, and a moving or scheduled wall is elsewhere now.
+void RunOutput::write_wall_states(const std::string& snapshot) {
+  H5Output& f = *file_;
+  const int d = sim_.dimension();
+  auto vec = [d](const Triple& t) { return std::vector<double>(t.begin(), t.begin() + d); };
+  for (int w = 0; w < sim_.wall_count(); ++w) {
+    const WallSpec s = sim_.wall(w);
+    const std::string g = snapshot + "/walls/" + s.name;
+    f.write_attribute(g, "index", static_cast<std::int64_t>(w));
+    const char* where = s.type == WallType::plane                                  ? "point"
+                        : s.type == WallType::mesh || s.type == WallType::polyline ? "axis_point"
+                                                                                   : "center";
+    f.write_attribute(g, where, vec(s.type == WallType::plane ? s.point : s.center));
+    f.write_attribute(g, std::string(where) + "_units", std::string("m"));
+    f.write_attribute(g, "velocity", vec(s.velocity));
+    f.write_attribute(g, "velocity_units", std::string("m/s"));
+    f.write_attribute(g, "angular_velocity", s.angular_velocity);
+    f.write_attribute(g, "angular_velocity_units", std::string("rad/s"));
+  }
 }
 
 void RunOutput::index_snapshot(const std::string& group, const SimulationBase::FlatState& s) {

@@ -86,6 +86,7 @@ class RunOutput final : public OutputSink {
   std::string effects_text() const;  // for the checkpoint mark
   void restore_effects(const std::string& text);
   SnapshotView view(const SimulationBase::FlatState& s, std::vector<std::string> names) const;
+  void write_wall_states(const std::string& snapshot);
   void index_snapshot(const std::string& group, const SimulationBase::FlatState& s);
   SimulationBase& sim_;
   RunOutputSettings settings_;

@@ -62,7 +62,7 @@ return {
   {"density", "number", "kg/m^3", false, "needed (> 0) for particles; walls may leave it 0"},
   {"young", "number", "Pa", false, "Young's modulus (Hertz and Thornton models)"},
   {"poisson", "number", "-", false, "Poisson's ratio, in (-1, 0.5]"},
-  {"surface_energy", "number", "J/m^2", false, "surface energy (adhesive models)"}},
+  {"surface_energy", "number", "J/m^2", false, "the interface energy Gamma of this material against itself, as in N_c = 1.5 pi Gamma R* (Eq. 6.17; Gamma = 2 gamma for like solids of surface energy gamma); an adhesive pair takes the mean of its two materials' values unless its contact law gives its own"}},
  "{ name = 'rubber', density = 1100 }"},
 {"sim:contact", "simulation", T,
  "sim:contact { 'a', 'b', model = name, <model parameters> }",

@@ -28,6 +28,15 @@ with h5py.File(sys.argv[1], "r") as f:
     index = {w: int(f["/walls"][w].attrs["index"]) for w in walls}
     if index != {"floor": 0, "lid": 1}:
         sys.exit(f"/walls index attributes {index}, expected floor 0 and lid 1")
+    # Each snapshot says where the walls are then: the floor moves at 0.01 m/s along x from x = 0.
+    snapshots = f["/snapshots"]
+    last = snapshots[sorted(snapshots.keys())[-1]]
+    t = float(last.attrs["time"])
+    floor = last["walls/floor"].attrs
+    if not (t > 0 and abs(floor["point"][0] - 0.01 * t) < 1e-15 and list(floor["velocity"]) == [0.01, 0.0]
+            and int(last["walls/lid"].attrs["index"]) == 1):
+        sys.exit(f"last snapshot (t = {t}): floor point {list(floor['point'])}, velocity "
+                 f"{list(floor['velocity'])}; expected x = 0.01 t and (0.01, 0), lid index 1")
     lid = f["/walls/lid"].attrs
     if list(lid["point"]) != [0.0, 5e-3] or list(lid["normal"]) != [0.0, -1.0]:
         sys.exit(f"/walls/lid: point {list(lid['point'])}, normal {list(lid['normal'])}")
