@@ -18,7 +18,9 @@ local p = parameters {
   file = { default = "agglomerate_2d_g1.h5", doc = "output of scenarios/agglomerate_prepare.lua" },
   velocity = { default = 0.6, unit = "m/s", doc = "speed of the top wall" },
   strain = { default = d.strain, doc = "wall travel / agglomerate height at which the wall stops" },
-  surface_energy = { default = d.surface_energy, unit = "J/m^2", doc = "between primaries" },
+  surface_energy = { default = d.surface_energy, unit = "J/m^2",
+                     doc = "between primaries; -1: the prepared file's (another is refused: it unbalances the agglomerate)" },
+  friction = { default = d.friction, doc = "between primaries; -1: the prepared file's" },
   wall_surface_energy = { default = d.wall_surface_energy, unit = "J/m^2" },
   sample_every = { default = d.sample_every, doc = "steps between breakage samples" },
   steady_time = { default = d.steady_time, unit = "s" },
@@ -28,7 +30,7 @@ local p = parameters {
 local sim = simulation { dimension = p.dimension, record_contacts = true }
 local out = sim:output {}
 local result = tests.run(sim, "compression", {
-  file = p.file, velocity = p.velocity, strain = p.strain, surface_energy = p.surface_energy,
+  file = p.file, velocity = p.velocity, strain = p.strain, surface_energy = p.surface_energy, friction = p.friction,
   wall_surface_energy = p.wall_surface_energy, sample_every = p.sample_every, steady_time = p.steady_time,
   max_duration = p.max_duration,
 })

@@ -16,7 +16,9 @@ local p = parameters {
   dimension = { default = 2, doc = "must match the agglomerate file" },
   file = { default = "agglomerate_2d_g1.h5", doc = "output of scenarios/agglomerate_prepare.lua" },
   velocity = { default = 0.4, unit = "m/s", doc = "speed of each body" },
-  surface_energy = { default = d.surface_energy, unit = "J/m^2", doc = "between primaries" },
+  surface_energy = { default = d.surface_energy, unit = "J/m^2",
+                     doc = "between primaries; -1: the prepared file's (another is refused: it unbalances the agglomerate)" },
+  friction = { default = d.friction, doc = "between primaries; -1: the prepared file's" },
   host_diameter = { default = d.host_diameter, unit = "m" },
   gap = { default = d.gap, unit = "m", doc = "initial distance between host and agglomerate" },
   host_surface_energy = { default = d.host_surface_energy, unit = "J/m^2" },
@@ -28,7 +30,7 @@ local p = parameters {
 local sim = simulation { dimension = p.dimension, record_contacts = true }
 local out = sim:output {}
 local result = tests.run(sim, "host", {
-  file = p.file, velocity = p.velocity, surface_energy = p.surface_energy, host_diameter = p.host_diameter, gap = p.gap,
+  file = p.file, velocity = p.velocity, surface_energy = p.surface_energy, friction = p.friction, host_diameter = p.host_diameter, gap = p.gap,
   host_surface_energy = p.host_surface_energy, sample_every = p.sample_every, steady_time = p.steady_time,
   max_duration = p.max_duration,
 })

@@ -47,8 +47,9 @@ tests.defaults = {
   density = agglomerate.alumina.density,
   young = agglomerate.alumina.young,
   poisson = agglomerate.alumina.poisson,
-  friction = agglomerate.alumina.friction,
-  surface_energy = 1.0,             -- Gamma between primaries [J/m^2] (7.5.2: 1.0 and 2.0)
+  friction = -1,                    -- mu between primaries; -1: the prepared file's (its /results)
+  surface_energy = -1,              -- Gamma between primaries [J/m^2]; -1: the prepared file's (7.5.2: 1.0 and 2.0)
+  other_surface_energy = false,     -- true: a surface_energy other than the file's is taken, not refused
   velocity = 0.1,                   -- m/s: impact velocity (host: of each body) or wall speed
   gap = 20e-9,                      -- m: initial distance to the target ("very small", 7.4)
   settle = "auto",                  -- "auto": settle only without saved contact histories; "always"; "never"
@@ -80,9 +81,39 @@ tests.defaults = {
   bonds = false,                    -- false: JKR; a table: bonded (tests.bond_parameters)
 }
 
+-- The law between primaries where neither the test nor the prepared file
+-- gives one (a file not written by scenarios/agglomerate_prepare.lua).
+tests.fallback_law = { friction = agglomerate.alumina.friction, surface_energy = 1.0 }
+
+--- The law between primaries, from the file the agglomerate was prepared in
+--- (`prepared`: its /results) where the test leaves it at -1. Its contact
+--- histories and the balance of its adhesive contacts belong to the surface
+--- energy it was prepared with: another one starts it out of equilibrium (at
+--- Gamma 0.2 on one prepared at 1.5, half its bonds break before it reaches
+--- the wall), so a different one is refused. Friction may differ: a contact
+--- whose tangential spring is past the new cap slips at the first step.
+function tests.prepared_law(sim, o, prepared, bonded, context)
+  local declared = { friction = o.friction >= 0 and o.friction or tests.fallback_law.friction,
+                     surface_energy = o.surface_energy >= 0 and o.surface_energy or tests.fallback_law.surface_energy }
+  local gamma = prepared.surface_energy
+  if o.surface_energy >= 0 and gamma and o.surface_energy ~= gamma and not o.other_surface_energy then
+    error(string.format("%s: surface_energy = %g J/m^2, but %s was prepared with %g J/m^2; its contacts "
+      .. "balance at that value only, and another starts it out of equilibrium: leave surface_energy "
+      .. "out (-1) to test at the prepared value, prepare it with %g "
+      .. "(scenarios/agglomerate_prepare.lua -D surface_energy=%g), or give other_surface_energy = true",
+      context, o.surface_energy, o.file, gamma, o.surface_energy, o.surface_energy), 3)
+  end
+  if o.surface_energy < 0 then o.surface_energy = gamma or tests.fallback_law.surface_energy end
+  if o.friction < 0 then o.friction = prepared.friction or tests.fallback_law.friction end
+  if o.friction ~= declared.friction or o.surface_energy ~= declared.surface_energy then
+    sim:set_contact(o.material, o.material, { friction = o.friction,
+                                              surface_energy = bonded and 0 or o.surface_energy })
+  end
+end
+
 local rules = {
   density = { "positive", "kg/m^3" }, young = { "positive", "Pa" }, poisson = { "non_negative" },
-  friction = { "non_negative" }, surface_energy = { "non_negative", "J/m^2" }, velocity = { "positive", "m/s" },
+  velocity = { "positive", "m/s" },
   gap = { "non_negative", "m" }, settle_damping_rate = { "positive", "1/s" },
   settle_rest_speed = { "positive", "m/s" }, settle_steady_time = { "non_negative", "s" },
   settle_max_duration = { "positive", "s" }, damping_every = { "count" }, sample_every = { "count" },
@@ -229,13 +260,20 @@ function tests.run(sim, kind, given)
   -- (1) The agglomerate with its contact histories, or settled again with
   -- damping where the file has none.
   sim:material { name = o.material, density = o.density, young = o.young, poisson = o.poisson }
-  sim:contact { o.material, o.material, model = "thornton_jkr", friction = o.friction,
-                surface_energy = bonded and 0 or o.surface_energy }
+  for _, key in ipairs { "friction", "surface_energy" } do
+    if o[key] ~= -1 then agglomerate.check({ [key] = o[key] }, { [key] = { "non_negative" } }, context) end
+  end
+  -- Declared with the values asked for (or the fallbacks), set to the file's once it is read.
+  sim:contact { o.material, o.material, model = "thornton_jkr",
+                friction = o.friction >= 0 and o.friction or tests.fallback_law.friction,
+                surface_energy = bonded and 0 or (o.surface_energy >= 0 and o.surface_energy
+                                                  or tests.fallback_law.surface_energy) }
   -- Bonded, the JKR histories are not wanted (the law has no adhesion and the
   -- dilation below parts every contact); otherwise used where the file has them.
   local load = { file = o.file, snapshot = o.snapshot }
   if bonded then load.histories = false end
-  local ids, restored = sim:load_particles(load)
+  local ids, restored, prepared = sim:load_particles(load)
+  tests.prepared_law(sim, o, prepared, bonded, context)
   local mass = agglomerate.total_mass(sim, ids)
   local bond = nil
   if bonded then

@@ -11,7 +11,19 @@ RunOutcome run_in_chunks(SimulationBase& sim, const RunPlan& plan, CheckpointPla
   out.done = plan.done;
   std::int64_t chunk = 16;
   std::int64_t steps = plan.steps;
-  double planned_dt = sim.time_step();
+  double planned_dt = plan.planned_dt > 0 ? plan.planned_dt : sim.time_step();
+  // A shorter step on the way (a schedule made a law stiffer): the steps left
+  // counted from the time left, as the run's start counted them (sim:run), so
+  // the count is the same wherever the chunks fall. The automatic step only
+  // shrinks during a run, so the steps taken never pass the end time.
+  auto count_again = [&] {
+    if (!std::isfinite(plan.end_time) || sim.time_step() == planned_dt) return;
+    planned_dt = sim.time_step();
+    const double left = std::ceil((plan.end_time - sim.time()) / planned_dt - 1e-9);
+    steps = out.done + static_cast<std::int64_t>(std::max(0.0, std::min(left, 4.6e18)));
+    if (hooks.retarget) hooks.retarget(steps, planned_dt);
+  };
+  count_again();
   const std::int64_t check_every = plan.check_every;
   auto checkpoint = [&](const std::string& path) {
     hooks.write_checkpoint(path);
@@ -51,16 +63,7 @@ RunOutcome run_in_chunks(SimulationBase& sim, const RunPlan& plan, CheckpointPla
     else if (wall > 0.2 && chunk > 1)
       chunk /= 2;
     if (hooks.agreed) chunk = hooks.agreed(chunk);
-    // A shorter step on the way (a schedule made a law stiffer): the steps left
-    // counted from the time left, as the run's start counted them (sim:run), so
-    // the count is the same wherever the chunks fall. The automatic step only
-    // shrinks during a run, so the steps taken never pass the end time.
-    if (std::isfinite(plan.end_time) && sim.time_step() != planned_dt) {
-      planned_dt = sim.time_step();
-      const double left = std::ceil((plan.end_time - sim.time()) / planned_dt - 1e-9);
-      steps = out.done + static_cast<std::int64_t>(std::max(0.0, std::min(left, 4.6e18)));
-      if (hooks.retarget) hooks.retarget(steps);
-    }
+    count_again();
     if (hooks.progress) hooks.progress(out.done - plan.done, sim.time());
     if (check_every > 0 && (out.done % check_every == 0 || out.done == steps) &&
         hooks.stop_when()) {

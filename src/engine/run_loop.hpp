@@ -34,6 +34,10 @@ struct RunPlan {
   // particles), the steps left are counted again from the time left, so the
   // run still reaches it. NaN: a run of a step count, whatever the step.
   double end_time = std::numeric_limits<double>::quiet_NaN();
+  // The time step `steps` was counted with (0: the simulation's now). A run
+  // continued from a checkpoint taken before a change of the step took effect
+  // (a spread run prepares at the step after a law changed) counts again at once.
+  double planned_dt = 0;
 };
 
 struct RunHooks {
@@ -48,8 +52,9 @@ struct RunHooks {
   std::function<void(std::int64_t steps)> advance;
   std::function<bool(bool mine)> any;
   std::function<std::int64_t(std::int64_t mine)> agreed;
-  // The run's length counted again (RunPlan::end_time): its new total of steps.
-  std::function<void(std::int64_t steps)> retarget;
+  // The run's length counted again (RunPlan::end_time): its new total of steps,
+  // and the time step it was counted with.
+  std::function<void(std::int64_t steps, double dt)> retarget;
 };
 
 struct RunOutcome {

@@ -100,26 +100,34 @@ namespace {
 std::string schedule_named(const ScheduleSpec& s) {
   return fmt::format("schedule {} ('{}')", s.id, s.target);
 }
+// Past its last point a schedule holds its last value, which it has set: it
+// sets nothing again, and a value set by hand stays.
+bool sets_again(const ScheduleSpec& s, double now) {
+  return now < s.schedule.times().back();
+}
 }  // namespace
 
 void SimulationBase::refuse_scheduled_wall(int w, const std::string& key) const {
   const std::string target = "wall_" + key;
   for (const auto& s : schedules_)
-    if (s.wall == w && s.target == target)
+    if (s.wall == w && s.target == target && sets_again(s, time_))
       throw InputError(fmt::format(
-          "set_wall '{}': its {} is set before every step by {}, which would undo this; end "
-          "the schedule first (sim:remove_schedule({})), and the wall keeps what is set after",
-          s.a, key, schedule_named(s), s.id));
+          "set_wall '{}': its {} is set by {} until t = {:.6g} s, which would undo this; end "
+          "the schedule first (sim:remove_schedule({})): the wall then keeps the value it has "
+          "and takes what is set by hand",
+          s.a, key, schedule_named(s), s.schedule.times().back(), s.id));
 }
 
 void SimulationBase::refuse_scheduled_contact(const std::string& a, const std::string& b,
                                               const std::string& key) const {
   for (const auto& s : schedules_)
-    if (s.target == key && ((s.a == a && s.b == b) || (s.a == b && s.b == a)))
+    if (s.target == key && ((s.a == a && s.b == b) || (s.a == b && s.b == a)) &&
+        sets_again(s, time_))
       throw InputError(fmt::format(
-          "set_contact '{}'-'{}': its {} is set before every step by {}, which would undo "
-          "this; end the schedule first (sim:remove_schedule({}))",
-          a, b, key, schedule_named(s), s.id));
+          "set_contact '{}'-'{}': its {} is set by {} until t = {:.6g} s, which would undo "
+          "this; end the schedule first (sim:remove_schedule({})): the law then keeps the value "
+          "it has and takes what is set by hand",
+          a, b, key, schedule_named(s), s.schedule.times().back(), s.id));
 }
 
 void SimulationBase::apply_schedules() {

@@ -522,7 +522,7 @@ Journal::Kind journal_kind(const std::string& method) {
   static const char* build[] = {
       "simulation", "material", "contact", "set_contact", "wall_plane", "wall_cylinder",
       "wall_mesh", "wall_polyline", "wall_disk", "wall_cone", "set_wall", "gravity",
-      "central_field", "remove_central_field", "set_central_strength", "schedule", "every",
+      "central_field", "remove_central_field", "set_central_strength", "schedule", "remove_schedule", "every",
       "remove_hook", "set", "output", "checkpoint", "diagnostic", "remove_diagnostic",
       // views of the engine's arrays: made again, read live
       // (wrap_views.cpp says what they read while replaying)

@@ -38,6 +38,7 @@ struct Restart {
   std::int64_t run_total_steps = 0;  // and how many steps it was to take
   double run_end_time = std::numeric_limits<double>::quiet_NaN();  // its end [s], if a duration's
   bool has_end_time = false;      // the checkpoint says (a build before end times did not)
+  double run_planned_dt = 0;      // the time step its steps were counted with (0: not saved)
   bool in_run = false;            // the checkpoint was taken inside a run
   std::int64_t output_index = 0;  // which sim:output call made the open output (0: none)
   LuaSim* target = nullptr;       // the scene's first simulation, which continues it
@@ -54,8 +55,9 @@ struct LuaSim {
   bool header_printed = false;
   // run bookkeeping, for checkpoints
   std::int64_t run_start_step = 0, run_total_steps = 0;
-  double run_end_time = 0;        // a run of a duration: where it ends [s]; NaN: of a step count
-  std::int64_t output_calls = 0;  // sim:output calls so far (which output is open)
+  double run_end_time = std::numeric_limits<double>::quiet_NaN();  // a duration run's end [s]
+  double run_planned_dt = 0;              // the time step its steps were counted with [s]
+  std::int64_t output_calls = 0;          // sim:output calls so far (which output is open)
   std::vector<std::string> output_paths;  // the files its sim:output calls opened
   struct LuaHook {
     int ref = LUA_NOREF;  // registry ref of its function

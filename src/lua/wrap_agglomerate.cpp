@@ -15,6 +15,7 @@
 
 #include "analysis/breakage.hpp"
 #include "core/errors.hpp"
+#include "io/case_record.hpp"
 #include "io/checkpoint.hpp"
 #include "io/contact_histories.hpp"
 #include "io/h5_input.hpp"
@@ -261,7 +262,15 @@ int load_particles(lua_State* L, SimulationBase& sim) {
     lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
   }
   lua_pushinteger(L, static_cast<lua_Integer>(seeded));
-  return 2;
+  // The numbers the run that wrote the file reported (sim:result): a test reads
+  // there the law its agglomerate was prepared with.
+  const std::map<std::string, double> results = io::read_results(file);
+  lua_createtable(L, 0, static_cast<int>(results.size()));
+  for (const auto& [name, value] : results) {
+    lua_pushnumber(L, value);
+    lua_setfield(L, -2, name.c_str());
+  }
+  return 3;
 }
 
 int save_contact_histories(lua_State* L, SimulationBase& sim) {

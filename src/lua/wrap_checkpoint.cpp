@@ -142,9 +142,11 @@ void write_checkpoint_now(LuaSim& s, const std::string& path, bool in_run) {
   state.texts["lua.overrides"] = ctx ? overrides_text(*ctx) : std::string();
   state.texts["lua.scene_source"] = ctx ? ctx->scene_source : std::string();
   state.integers["lua.current"] = {in_run ? 1 : 0, s.run_start_step, s.run_total_steps};
-  // The run's end time, if it is a run of a duration: {1, t}; else {0, 0}.
-  const bool timed = std::isfinite(s.run_end_time);
-  state.doubles["lua.run_end_time"] = {timed ? 1.0 : 0.0, timed ? s.run_end_time : 0.0};
+  // The run's end time, if it is a run of a duration: {1, t, dt its steps were
+  // counted with}; else {0, 0, 0}.
+  const bool timed = std::isfinite(s.run_end_time) && in_run;
+  state.doubles["lua.run_end_time"] = {timed ? 1.0 : 0.0, timed ? s.run_end_time : 0.0,
+                                       timed ? s.run_planned_dt : 0.0};
   state.integers["lua.output"] = {s.output ? s.output_calls : 0};
   if (s.output) s.output->save_mark(state);
   io::write_checkpoint(path, state,
@@ -257,11 +259,11 @@ void begin_restart(SceneContext& ctx) {
   r->run_total_steps = current[2];
   if (st.has("lua.run_end_time")) {
     const auto& end = st.d("lua.run_end_time");
-    if (end.size() != 2 || (end[0] != 0 && !std::isfinite(end[1])))
+    if (end.size() != 3 || (end[0] != 0 && !(std::isfinite(end[1]) && end[2] > 0)))
       throw InputError(
           fmt::format("checkpoint {}: 'lua.run_end_time' is damaged", ctx.restart_path));
     r->has_end_time = true;
-    if (end[0] != 0) r->run_end_time = end[1];
+    if (end[0] != 0) r->run_end_time = end[1], r->run_planned_dt = end[2];
   }
   if (r->in_run && (r->run_start_step < 0 || r->run_total_steps < 0))
     throw InputError(

@@ -145,6 +145,7 @@ int l_run(lua_State* L) {
       s.run_end_time = !has_duration    ? std::numeric_limits<double>::quiet_NaN()
                        : r.has_end_time ? r.run_end_time
                                         : s.sim->time() + static_cast<double>(steps - done) * dt;
+      s.run_planned_dt = r.run_planned_dt > 0 ? r.run_planned_dt : dt;
     } else {
       if (has_duration) {
         // A step count beyond 2^62 would overflow the counters (and never finish).
@@ -159,6 +160,7 @@ int l_run(lua_State* L) {
       s.run_total_steps = steps;
       s.run_end_time =
           has_duration ? s.sim->time() + duration : std::numeric_limits<double>::quiet_NaN();
+      s.run_planned_dt = dt;
     }
     int stop_ref = LUA_NOREF;
     if (t.push_function("stop_when")) stop_ref = luaL_ref(L, LUA_REGISTRYINDEX);
@@ -238,8 +240,10 @@ int l_run(lua_State* L) {
     plan.done = done;
     plan.check_every = stop_ref != LUA_NOREF ? check_every : 0;
     plan.end_time = s.run_end_time;
-    hooks.retarget = [&](std::int64_t total) {
+    plan.planned_dt = s.run_planned_dt;
+    hooks.retarget = [&](std::int64_t total, double counted_with) {
       s.run_total_steps = total;  // what a checkpoint from here on records
+      s.run_planned_dt = counted_with;
       if (progress) progress->retarget(total - done);
     };
     RunOutcome outcome;

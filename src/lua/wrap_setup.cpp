@@ -6,6 +6,7 @@
 #include "core/errors.hpp"
 #include "core/names.hpp"
 #include "engine/simulation_base.hpp"
+#include "lua/journal.hpp"
 #include "lua/lua_util.hpp"
 #include "lua/scene.hpp"
 #include "lua/wrap_simulation.hpp"
@@ -68,6 +69,14 @@ int l_contact(lua_State* L) {
 }
 
 // set_contact("a", "b", { friction = 0.25 }): change parameters during a run.
+namespace {
+// A restart is replaying the scene's past (journal.hpp).
+bool replaying(lua_State* L) {
+  const SceneContext* ctx = context(L);
+  return ctx && ctx->journal && ctx->journal->replaying();
+}
+}  // namespace
+
 int l_set_contact(lua_State* L) {
   return protect(L, [](lua_State* L) {
     LuaSim& s = self(L);
@@ -75,7 +84,10 @@ int l_set_contact(lua_State* L) {
     std::string b = read_string(L, 3, "set_contact: second material");
     TableReader t(L, 4, fmt::format("set_contact '{}'-'{}'", a, b));
     ParamValues values;
-    for (const auto& key : t.keys()) s.sim->refuse_scheduled_contact(a, b, key);
+    // A restart's replay executes what the first run did, which passed this check
+    // at its own time (the replay's engine is not at that time).
+    if (!replaying(L))
+      for (const auto& key : t.keys()) s.sim->refuse_scheduled_contact(a, b, key);
     for (const auto& key : t.keys())
       values[key] = key == "rolling_model"
                         ? rolling_model_code(t.string("rolling_model"), t.context())
@@ -408,7 +420,7 @@ int l_set_wall(lua_State* L) {
     int w = s.sim->wall_id(read_string(L, 2, "set_wall: wall name"));
     TableReader t(L, 3, "set_wall");
     for (const char* key : {"velocity", "angular_velocity"})
-      if (t.has(key)) s.sim->refuse_scheduled_wall(w, key);
+      if (t.has(key) && !replaying(L)) s.sim->refuse_scheduled_wall(w, key);
     if (t.has("velocity")) s.sim->set_wall_velocity(w, t.vector("velocity", dim(L)));
     if (t.has("angular_velocity"))
       s.sim->set_wall_angular_velocity(w, t.number("angular_velocity"));

@@ -414,11 +414,11 @@ TEST_CASE("lua: a scheduled target is not set by hand until its schedule ends", 
 sim:wall_plane { name = "lid", point = { 0, 0.01 }, normal = { 0, -1 }, material = "steel" }
 sim:add_particle { position = { 0, 0.001 }, radius = 1e-3, material = "glass" }
 local lid = sim:schedule { "wall_velocity", wall = "lid", direction = { 0, -1 }, linear = { 0, 0, 0.1, 0.01 } }
-local mu = sim:schedule { "friction", from = "glass", to = "glass", constant = 0.2 }
+local mu = sim:schedule { "friction", from = "glass", to = "glass", linear = { 0, 0.2, 1, 0.3 } }
 )";  // lines 6-10
   // The schedule would set its value again before the next step: refused, naming it.
   expect_refused(walls + "sim:set_wall('lid', { velocity = { 0, 0.5 } })\n", 11,
-                 "set_wall 'lid': its velocity is set before every step by schedule 1");
+                 "set_wall 'lid': its velocity is set by schedule 1 ('wall_velocity') until t = 0.1 s");
   expect_refused(walls + "sim:set_contact('glass', 'glass', { friction = 0.1 })\n", 11,
                  "sim:remove_schedule(2)");
   expect_refused(walls + "sim:set_contact('steel', 'glass', { friction = 0.1 })\nsim:remove_schedule(7)\n",
@@ -439,6 +439,13 @@ sim:set_wall("lid", { velocity = { 0, 0.5 } })
 sim:set_contact("glass", "glass", { friction = 0.1 })
 sim:run { duration = 0.01 }
 assert(sim:wall("lid").velocity[2] == 0.5, "set by hand after the schedule ended")
+-- Past its last point a schedule sets nothing again: setting its target is not refused.
+local floor = sim:schedule { "wall_velocity", wall = "floor", direction = { 0, 1 }, linear = { 0, 0, 0.04, 0.01 } }
+sim:run { duration = 0.01 }
+assert(sim:time() > 0.04 and sim:wall("floor").velocity[2] == 0.01, "the floor's ramp is over")
+sim:set_wall("floor", { velocity = { 0, 0 } })
+sim:run { duration = 0.01 }
+assert(sim:wall("floor").velocity[2] == 0, "a value set after the ramp's last point stays")
 )");
   CHECK(r.error == "");
 }

@@ -7,8 +7,11 @@ local tests = require "granule.agglomerate_tests"
 local function wall_impact(velocity, surface_energy, name)
   local sim = simulation { dimension = 2, record_contacts = true }
   sim:output { file = name }
+  -- Gamma = 2 on the agglomerate prepared at 1: asked for explicitly (it starts
+  -- its test out of equilibrium, its contacts pulled tighter).
   local r = tests.run(sim, "wall", { file = "agglomerate_test.h5", velocity = velocity,
-                                     surface_energy = surface_energy, quiet = true })
+                                     surface_energy = surface_energy, other_surface_energy = true,
+                                     quiet = true })
   print(tests.summary_line(r))
   assert(r.ended_by == "criterion", name .. ": ended by its cap")
   assert(r.contact_start >= 0 and r.impact_duration > 0, name .. ": the agglomerate never reached the wall")
@@ -29,4 +32,16 @@ assert(strong.debris_ratio < weak.debris_ratio,
   string.format("Gamma = 2 J/m^2 gave no less debris (%g) than Gamma = 1 (%g)", strong.debris_ratio, weak.debris_ratio))
 assert(strong.damage_ratio < weak.damage_ratio,
   string.format("Gamma = 2 J/m^2 broke no fewer bonds (%g) than Gamma = 1 (%g)", strong.damage_ratio, weak.damage_ratio))
+-- Another surface energy than the prepared one is refused unless asked for, and
+-- left out (-1) the test takes the file's.
+do
+  local sim = simulation { dimension = 2, record_contacts = true }
+  local ok, message = pcall(tests.run, sim, "wall", { file = "agglomerate_test.h5", velocity = 0.005,
+                                                      surface_energy = 0.2, quiet = true })
+  assert(not ok and message:find("prepared with 1 J/m^2", 1, true), "Gamma 0.2 on an agglomerate of 1: " ..
+    tostring(message))
+  sim:close()
+end
+local prepared = wall_impact(0.005, -1, "agglomerate_wall_prepared.h5")
+assert(prepared.surface_energy == 1.0, "left out, surface_energy is the file's 1 J/m^2: " .. prepared.surface_energy)
 print("agglomerate_wall_check ok")

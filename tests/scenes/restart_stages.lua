@@ -42,6 +42,10 @@ local function mark(stage)
   io.stdout:flush()
 end
 
+-- A friction ramp that stage two ends (sim:remove_schedule) before setting
+-- friction by hand: a restart must replay the removal, or the set is refused
+-- and the checkpoint's schedules differ from the scene's.
+local ramp = sim:schedule { "friction", from = "powder", to = "powder", linear = { 0, 0.1, 1, 0.3 } }
 mark("one")
 local r1 = sim:run { steps = p.stage_steps }
 print("run one", r1.steps, r1.time, r1.stopped)
@@ -55,6 +59,7 @@ if p.busy > 0 then
   print(string.format("busy sum %.6f", sum))
 end
 local x0 = sim:particle(0).position
+sim:remove_schedule(ramp)
 sim:set_contact("powder", "powder", { friction = 0.4 })
 sim:set_velocity(0, { 0.02, 0.01 })
 mark("two")
