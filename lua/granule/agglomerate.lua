@@ -107,7 +107,8 @@ function agglomerate.contact_census(sim, ids)
 end
 
 --- The rms speed [m/s] of the simulation's particles relative to their centre
---- of mass, sqrt(2 (KE - |P|^2 / 2M) / M) with M their total mass: a drift of
+--- of mass, sqrt(2 (KE - |P|^2 / 2M) / M) with M their total mass and KE
+--- their whole kinetic energy, spin included: a drift of
 --- the whole agglomerate is not unrest. Use it while the simulation holds only
 --- the agglomerate.
 function agglomerate.internal_rms_speed(stats, mass)
@@ -346,7 +347,8 @@ function agglomerate.prepare(sim, given)
   -- Stage 3: the field removed in equal decrements, each followed by a return to
   -- rest, so the agglomerate stays in equilibrium; or, with a decrement_duration,
   -- as a linear ramp to zero at the same mean rate, set in C++ before every step.
-  local stage3 = { name = "3 field removed", start = sim:time(), steps = 0, ended_by = "criterion", decrements = {} }
+  local stage3 = { name = "3 field removed", start = sim:time(), steps = 0,
+                   ended_by = o.decrement_duration > 0 and "duration" or "criterion", decrements = {} }
   local ramp_end = stage3.start + o.field_decrements * o.decrement_duration
   if o.decrement_duration > 0 then
     sim:schedule { "central_strength", linear = { stage3.start, o.field_strength, ramp_end, 0 } }
@@ -357,7 +359,7 @@ function agglomerate.prepare(sim, given)
     if o.decrement_duration > 0 then  -- the ramp's k-th part: a fixed time, rest or not
       r = agglomerate.run_stage(sim, string.format("3.%d field to %.3g m/s^2", k, strength), o.decrement_duration,
         o.check_every, function() return false end, true)
-      r.ended_by = "criterion"
+      r.ended_by = "duration"  -- a fixed time: no rest was asked for, none is claimed
     else
       if k == o.field_decrements then sim:remove_central_field() else sim:set_central_strength(strength) end
       r = agglomerate.run_stage(sim, string.format("3.%d field %.3g m/s^2", k, strength),
@@ -428,7 +430,8 @@ end
 
 --- Writes a preparation report into the simulation's output: the series
 --- /preparation (a row per stage: stage, start_time, duration, steps,
---- criterion_met = 1 if the criterion ended it, 0 if the cap did) and the
+--- criterion_met = 1 if the criterion ended it, 0 if the cap did or, for a
+--- stage 3 ramp, its fixed duration) and the
 --- /results attributes.
 function agglomerate.write_preparation(sim, report)
   sim:series("preparation", { "stage", "start_time", "duration", "steps", "criterion_met" })
