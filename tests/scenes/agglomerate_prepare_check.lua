@@ -74,4 +74,10 @@ assert(sticky_counted == sticky.bonds, string.format("sticky: the report says %d
   sticky.bonds, sticky_counted))
 assert(sticky.bonds < report.bonds, string.format("sticky: %d bonds, not fewer than the dense %d", sticky.bonds,
   report.bonds))
+-- Stage 3 as a ramp (decrement_duration): it ends at its fixed time, which is
+-- not the rest criterion and is not reported as it.
+local ramp = agglomerate.prepare(simulation { dimension = 2, record_contacts = true },
+  { count = count, generation_diameter = 52e-6, rest_speed = rest_speed, decrement_duration = 0.5e-6, quiet = true })
+assert(ramp.stages[3].ended_by == "duration" and ramp.stages[1].ended_by == "criterion",
+  "a ramp's stage 3 ended by " .. ramp.stages[3].ended_by)
 print("agglomerate_prepare_check ok")
