@@ -19,8 +19,9 @@ local p = parameters {
   velocity = { default = 0.6, unit = "m/s", doc = "speed of the top wall" },
   strain = { default = d.strain, doc = "wall travel / agglomerate height at which the wall stops" },
   surface_energy = { default = d.surface_energy, unit = "J/m^2",
-                     doc = "between primaries; -1: the prepared file's (another is refused: it unbalances the agglomerate)" },
+                     doc = "between primaries; -1: the prepared file's (another is refused unless other_surface_energy)" },
   friction = { default = d.friction, doc = "between primaries; -1: the prepared file's" },
+  other_surface_energy = { default = false, doc = "true: test at a surface_energy other than the prepared one" },
   wall_surface_energy = { default = d.wall_surface_energy, unit = "J/m^2" },
   sample_every = { default = d.sample_every, doc = "steps between breakage samples" },
   steady_time = { default = d.steady_time, unit = "s" },
@@ -31,6 +32,7 @@ local sim = simulation { dimension = p.dimension, record_contacts = true }
 local out = sim:output {}
 local result = tests.run(sim, "compression", {
   file = p.file, velocity = p.velocity, strain = p.strain, surface_energy = p.surface_energy, friction = p.friction,
+  other_surface_energy = p.other_surface_energy,
   wall_surface_energy = p.wall_surface_energy, sample_every = p.sample_every, steady_time = p.steady_time,
   max_duration = p.max_duration,
 })

@@ -17,8 +17,9 @@ local p = parameters {
   file = { default = "agglomerate_2d_g1.h5", doc = "output of scenarios/agglomerate_prepare.lua" },
   velocity = { default = 0.4, unit = "m/s", doc = "speed of each body" },
   surface_energy = { default = d.surface_energy, unit = "J/m^2",
-                     doc = "between primaries; -1: the prepared file's (another is refused: it unbalances the agglomerate)" },
+                     doc = "between primaries; -1: the prepared file's (another is refused unless other_surface_energy)" },
   friction = { default = d.friction, doc = "between primaries; -1: the prepared file's" },
+  other_surface_energy = { default = false, doc = "true: test at a surface_energy other than the prepared one" },
   host_diameter = { default = d.host_diameter, unit = "m" },
   gap = { default = d.gap, unit = "m", doc = "initial distance between host and agglomerate" },
   host_surface_energy = { default = d.host_surface_energy, unit = "J/m^2" },
@@ -30,7 +31,8 @@ local p = parameters {
 local sim = simulation { dimension = p.dimension, record_contacts = true }
 local out = sim:output {}
 local result = tests.run(sim, "host", {
-  file = p.file, velocity = p.velocity, surface_energy = p.surface_energy, friction = p.friction, host_diameter = p.host_diameter, gap = p.gap,
+  file = p.file, velocity = p.velocity, surface_energy = p.surface_energy, friction = p.friction,
+  other_surface_energy = p.other_surface_energy, host_diameter = p.host_diameter, gap = p.gap,
   host_surface_energy = p.host_surface_energy, sample_every = p.sample_every, steady_time = p.steady_time,
   max_duration = p.max_duration,
 })

@@ -19,8 +19,9 @@ local p = parameters {
   file = { default = "agglomerate_2d_g1.h5", doc = "output of scenarios/agglomerate_prepare.lua" },
   velocity = { default = 0.5, unit = "m/s" },
   surface_energy = { default = d.surface_energy, unit = "J/m^2",
-                     doc = "between primaries; -1: the prepared file's (another is refused: it unbalances the agglomerate)" },
+                     doc = "between primaries; -1: the prepared file's (another is refused unless other_surface_energy)" },
   friction = { default = d.friction, doc = "between primaries; -1: the prepared file's" },
+  other_surface_energy = { default = false, doc = "true: test at a surface_energy other than the prepared one" },
   wall_surface_energy = { default = d.wall_surface_energy, unit = "J/m^2" },
   wall_friction = { default = d.wall_friction },
   sample_every = { default = d.sample_every, doc = "steps between breakage samples" },
@@ -43,6 +44,7 @@ local sim = simulation { dimension = p.dimension, record_contacts = true,
 local out = sim:output {}
 local result = tests.run(sim, "wall", {
   file = p.file, velocity = p.velocity, surface_energy = p.surface_energy, friction = p.friction,
+  other_surface_energy = p.other_surface_energy,
   wall_surface_energy = p.wall_surface_energy, wall_friction = p.wall_friction, sample_every = p.sample_every,
   steady_time = p.steady_time, max_duration = p.max_duration,
   bonds = p.bonded and { normal_stiffness = p.bond_normal_stiffness, shear_stiffness = p.bond_shear_stiffness,

@@ -90,13 +90,22 @@ tests.fallback_law = { friction = agglomerate.alumina.friction, surface_energy =
 --- histories and the balance of its adhesive contacts belong to the surface
 --- energy it was prepared with: another one starts it out of equilibrium (at
 --- Gamma 0.2 on one prepared at 1.5, half its bonds break before it reaches
---- the wall), so a different one is refused. Friction may differ: a contact
+--- the wall), so a different one is refused (not for bonds, which part the
+--- contacts and take Gamma for their strength only). Friction may differ: a contact
 --- whose tangential spring is past the new cap slips at the first step.
 function tests.prepared_law(sim, o, prepared, bonded, context)
   local declared = { friction = o.friction >= 0 and o.friction or tests.fallback_law.friction,
                      surface_energy = o.surface_energy >= 0 and o.surface_energy or tests.fallback_law.surface_energy }
   local gamma = prepared.surface_energy
-  if o.surface_energy >= 0 and gamma and o.surface_energy ~= gamma and not o.other_surface_energy then
+  if (o.surface_energy < 0 and gamma == nil) or (o.friction < 0 and prepared.friction == nil) then
+    io.stderr:write(string.format("warning: %s: %s reports no surface_energy or friction in its /results "
+      .. "(not written by scenarios/agglomerate_prepare.lua?): the primaries' law is taken as "
+      .. "surface_energy = %g J/m^2, friction = %g where not given\n", context, o.file,
+      tests.fallback_law.surface_energy, tests.fallback_law.friction))
+  end
+  -- Bonded, the contacts are parted and Gamma only sets the bonds' strength: any may be tested.
+  if o.surface_energy >= 0 and gamma and o.surface_energy ~= gamma and not o.other_surface_energy
+      and not bonded then
     error(string.format("%s: surface_energy = %g J/m^2, but %s was prepared with %g J/m^2; its contacts "
       .. "balance at that value only, and another starts it out of equilibrium: leave surface_energy "
       .. "out (-1) to test at the prepared value, prepare it with %g "

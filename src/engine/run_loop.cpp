@@ -16,11 +16,16 @@ RunOutcome run_in_chunks(SimulationBase& sim, const RunPlan& plan, CheckpointPla
   // counted from the time left, as the run's start counted them (sim:run), so
   // the count is the same wherever the chunks fall. The automatic step only
   // shrinks during a run, so the steps taken never pass the end time.
+  // Counted from the step the time step changed at, not from where the chunk
+  // ended: the clock's round-off over a chunk would otherwise make the count
+  // depend on the chunks, which follow the wall clock.
   auto count_again = [&] {
     if (!std::isfinite(plan.end_time) || sim.time_step() == planned_dt) return;
     planned_dt = sim.time_step();
-    const double left = std::ceil((plan.end_time - sim.time()) / planned_dt - 1e-9);
-    steps = out.done + static_cast<std::int64_t>(std::max(0.0, std::min(left, 4.6e18)));
+    const std::int64_t since = sim.step_count() - sim.time_step_from_step();
+    const double left = std::ceil((plan.end_time - sim.time_step_from_time()) / planned_dt - 1e-9);
+    steps = out.done - since + static_cast<std::int64_t>(std::max(0.0, std::min(left, 4.6e18)));
+    steps = std::max(steps, out.done);
     if (hooks.retarget) hooks.retarget(steps, planned_dt);
   };
   count_again();

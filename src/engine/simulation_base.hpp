@@ -378,6 +378,11 @@ class SimulationBase {
   double time() const { return time_; }
   std::int64_t step_count() const { return step_; }
   double time_step() const { return dt_; }
+  // The step and the time from which the time step has been what it is (the
+  // last prepare() that changed it, or a checkpoint's load): a run counting its
+  // steps again from there gets the same count wherever it looks.
+  std::int64_t time_step_from_step() const { return dt_from_step_; }
+  double time_step_from_time() const { return dt_from_time_; }
   bool time_step_is_automatic() const { return dt_fixed_ == 0; }
   double steps_per_contact() const { return steps_per_contact_; }
   double skin() const { return skin_; }
@@ -429,11 +434,13 @@ class SimulationBase {
   int add_schedule(ScheduleSpec spec);
   // Ends a schedule: its target keeps the value it has now.
   void remove_schedule(int id);
-  // Refuses (InputError) to set by hand what a schedule sets before every step:
-  // wall w's "velocity" or "angular_velocity", or a contact parameter of a-b.
-  void refuse_scheduled_wall(int w, const std::string& key) const;
-  void refuse_scheduled_contact(const std::string& a, const std::string& b,
-                                const std::string& key) const;
+  // A value set by hand takes its target from a schedule that has set its last
+  // value: wall w's "velocity" or "angular_velocity", a contact parameter of a-b,
+  // or the central field's strength. Refused (InputError) while the schedule
+  // will still set it (before its last point).
+  void claim_scheduled_wall(int w, const std::string& key);
+  void claim_scheduled_contact(const std::string& a, const std::string& b, const std::string& key);
+  void claim_scheduled_field();
   // Sets every scheduled value to its value at the current time.
   void apply_schedules();
   const std::vector<ScheduleSpec>& schedules() const { return schedules_; }
@@ -518,6 +525,8 @@ class SimulationBase {
   PairTable pairs_;
   std::map<std::pair<int, int>, std::string> contact_declared_at_;  // (a <= b) -> file:line
   double dt_ = 0;
+  std::int64_t dt_from_step_ = 0;
+  double dt_from_time_ = 0;
   double dt_fixed_ = 0;
   double steps_per_contact_ = 40;  // Eq. 4.1, n = 40 in the dissertation
   double skin_ = 0;

@@ -125,6 +125,14 @@ double Simulation<D>::adhesive_reach() const {
 
 template <int D>
 void Simulation<D>::choose_time_step() {
+  const double dt_before = dt_;
+  struct NoteChange {  // however this returns: when the step changed, for run_loop's count
+    Simulation& sim;
+    double before;
+    ~NoteChange() {
+      if (sim.dt_ != before) sim.dt_from_step_ = sim.step_, sim.dt_from_time_ = sim.time_;
+    }
+  } note{*this, dt_before};
   if (p_.size()) {
     TimeStepReport rule = time_step_rule();
     dt_governing_pair_ = rule.governing_pair;

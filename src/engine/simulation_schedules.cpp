@@ -101,33 +101,47 @@ std::string schedule_named(const ScheduleSpec& s) {
   return fmt::format("schedule {} ('{}')", s.id, s.target);
 }
 // Past its last point a schedule holds its last value, which it has set: it
-// sets nothing again, and a value set by hand stays.
-bool sets_again(const ScheduleSpec& s, double now) {
-  return now < s.schedule.times().back();
+// sets nothing again, and a value set by hand stays. Within half a step of
+// that point (a run of the ramp's length ends there, give or take the clock's
+// round-off) it counts as past it: its last value is taken as set, so that the
+// next step does not set it over the hand's.
+bool sets_again(ScheduleSpec& s, double now, double dt) {
+  if (now < s.schedule.times().back() - 0.5 * dt) return true;
+  s.applied = s.schedule.values().back();
+  return false;
 }
 }  // namespace
 
-void SimulationBase::refuse_scheduled_wall(int w, const std::string& key) const {
+void SimulationBase::claim_scheduled_wall(int w, const std::string& key) {
   const std::string target = "wall_" + key;
-  for (const auto& s : schedules_)
-    if (s.wall == w && s.target == target && sets_again(s, time_))
+  for (auto& s : schedules_)
+    if (s.wall == w && s.target == target && sets_again(s, time_, dt_))
       throw InputError(fmt::format(
-          "set_wall '{}': its {} is set by {} until t = {:.6g} s, which would undo this; end "
-          "the schedule first (sim:remove_schedule({})): the wall then keeps the value it has "
-          "and takes what is set by hand",
-          s.a, key, schedule_named(s), s.schedule.times().back(), s.id));
+          "set_wall '{}': its {} is set by {} until t = {} s (now t = {} s), which "
+          "would undo this; end the schedule first (sim:remove_schedule({})): the wall then "
+          "keeps the value it has and takes what is set by hand",
+          s.a, key, schedule_named(s), s.schedule.times().back(), time_, s.id));
 }
 
-void SimulationBase::refuse_scheduled_contact(const std::string& a, const std::string& b,
-                                              const std::string& key) const {
-  for (const auto& s : schedules_)
+void SimulationBase::claim_scheduled_contact(const std::string& a, const std::string& b,
+                                             const std::string& key) {
+  for (auto& s : schedules_)
     if (s.target == key && ((s.a == a && s.b == b) || (s.a == b && s.b == a)) &&
-        sets_again(s, time_))
+        sets_again(s, time_, dt_))
       throw InputError(fmt::format(
-          "set_contact '{}'-'{}': its {} is set by {} until t = {:.6g} s, which would undo "
-          "this; end the schedule first (sim:remove_schedule({})): the law then keeps the value "
-          "it has and takes what is set by hand",
-          a, b, key, schedule_named(s), s.schedule.times().back(), s.id));
+          "set_contact '{}'-'{}': its {} is set by {} until t = {} s (now t = {} s), "
+          "which would undo this; end the schedule first (sim:remove_schedule({})): the law then "
+          "keeps the value it has and takes what is set by hand",
+          a, b, key, schedule_named(s), s.schedule.times().back(), time_, s.id));
+}
+
+void SimulationBase::claim_scheduled_field() {
+  for (auto& s : schedules_)
+    if (s.target == "central_strength" && sets_again(s, time_, dt_))
+      throw InputError(fmt::format(
+          "set_central_strength: the field's strength is set by {} until t = {} s (now t = "
+          "{} s), which would undo this; end the schedule first (sim:remove_schedule({}))",
+          schedule_named(s), s.schedule.times().back(), time_, s.id));
 }
 
 void SimulationBase::apply_schedules() {

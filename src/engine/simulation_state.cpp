@@ -288,10 +288,12 @@ void Simulation<D>::load_state(const StateBlob& s) {
   ParallelBonds<D> bonds = read_bonds(s);  // simulation_bonds.cpp
   const auto& md = s.d("meta");
   time_ = md[0], dt_ = md[1], dt_fixed_ = md[2], steps_per_contact_ = md[3];
+  dt_from_time_ = time_;
   skin_ = md[4], skin_set_ = md[5], max_displacement_sq_ = md[6];
   periodic_ = {static_cast<int>(md[7]), md[8], md[9]};
   contact_reach_ = md[10];
   step_ = meta[2];
+  dt_from_step_ = step_;
   rebuilds_ = static_cast<std::size_t>(meta[4]);
   // Pruned pair lists are not saved (they change no result): note them all afresh.
   prune_travel_ = std::numeric_limits<double>::infinity();

@@ -76,7 +76,7 @@ return {
  "sim:schedule { target, constant = v | linear = { t0, v0, t1, v1 } | piecewise = { t1, v1, t2, v2, ... } | points = { { t1, v1 }, ... }, from =, to =, wall =, direction = } -> id",
  "A value that follows simulated time, set in C++ before every step to its value at that step's time: linear between the points, held before the first and after the last; two points at one time are a jump. Times are the simulation's clock (sim:time()), not the time since the call. Until its last point, sim:set_wall and sim:set_contact refuse to set its target by hand (the schedule would undo it); past it the schedule holds its last value and sets nothing again. sim:remove_schedule(id) ends it at any time. Saved in checkpoints (a restart must declare the same schedules).",
  {{"1", "string", "", true, "the target: 'central_strength' (m/s^2; after sim:central_field), 'wall_angular_velocity' (rad/s, a cylinder), 'wall_velocity' (m/s along `direction`, a plane), or a contact parameter of the from-to pair ('friction', 'surface_energy', ...)"},
-  {"constant", "number", "", false, "a value held at all times"},
+  {"constant", "number", "", false, "a value set once, at the declaration (a value set by hand later stands)"},
   {"linear", "list", "s, -", false, "{ t0, v0, t1, v1 }: v0 until t0, linear to v1 at t1 (> t0), then v1"},
   {"piecewise", "list", "s, -", false, "{ t1, v1, t2, v2, ... }: linear through the points, times non-decreasing"},
   {"points", "table", "s, -", false, "{ { t1, v1 }, { t2, v2 }, ... }: the same as a table of {time, value} pairs"},

@@ -258,12 +258,17 @@ void begin_restart(SceneContext& ctx) {
   r->run_start_step = current[1];
   r->run_total_steps = current[2];
   if (st.has("lua.run_end_time")) {
+    // {flag, end}, or {flag, end, dt} (the step the count was made with; 0 when
+    // not saved: the step at the restart).
     const auto& end = st.d("lua.run_end_time");
-    if (end.size() != 3 || (end[0] != 0 && !(std::isfinite(end[1]) && end[2] > 0)))
-      throw InputError(
-          fmt::format("checkpoint {}: 'lua.run_end_time' is damaged", ctx.restart_path));
+    const bool sized = end.size() == 2 || end.size() == 3;
+    if (!sized || (end[0] != 0 && !(std::isfinite(end[1]) && (end.size() == 2 || end[2] > 0))))
+      throw InputError(fmt::format(
+          "checkpoint {}: 'lua.run_end_time' is damaged (it must hold {{1, end time, time "
+          "step}} for a run of a duration, {{0, 0, 0}} else)",
+          ctx.restart_path));
     r->has_end_time = true;
-    if (end[0] != 0) r->run_end_time = end[1], r->run_planned_dt = end[2];
+    if (end[0] != 0) r->run_end_time = end[1], r->run_planned_dt = end.size() == 3 ? end[2] : 0;
   }
   if (r->in_run && (r->run_start_step < 0 || r->run_total_steps < 0))
     throw InputError(

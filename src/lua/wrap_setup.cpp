@@ -87,7 +87,7 @@ int l_set_contact(lua_State* L) {
     // A restart's replay executes what the first run did, which passed this check
     // at its own time (the replay's engine is not at that time).
     if (!replaying(L))
-      for (const auto& key : t.keys()) s.sim->refuse_scheduled_contact(a, b, key);
+      for (const auto& key : t.keys()) s.sim->claim_scheduled_contact(a, b, key);
     for (const auto& key : t.keys())
       values[key] = key == "rolling_model"
                         ? rolling_model_code(t.string("rolling_model"), t.context())
@@ -392,7 +392,10 @@ int l_central_field(lua_State* L) {
 
 int l_set_central_strength(lua_State* L) {
   return protect(L, [](lua_State* L) {
-    self(L).sim->set_central_strength(read_number(L, 2, "central field strength"));
+    LuaSim& s = self(L);
+    const double strength = read_number(L, 2, "central field strength");
+    if (!replaying(L)) s.sim->claim_scheduled_field();
+    s.sim->set_central_strength(strength);
     return 0;
   });
 }
@@ -420,7 +423,7 @@ int l_set_wall(lua_State* L) {
     int w = s.sim->wall_id(read_string(L, 2, "set_wall: wall name"));
     TableReader t(L, 3, "set_wall");
     for (const char* key : {"velocity", "angular_velocity"})
-      if (t.has(key) && !replaying(L)) s.sim->refuse_scheduled_wall(w, key);
+      if (t.has(key) && !replaying(L)) s.sim->claim_scheduled_wall(w, key);
     if (t.has("velocity")) s.sim->set_wall_velocity(w, t.vector("velocity", dim(L)));
     if (t.has("angular_velocity"))
       s.sim->set_wall_angular_velocity(w, t.number("angular_velocity"));

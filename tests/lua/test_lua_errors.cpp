@@ -446,6 +446,20 @@ assert(sim:time() > 0.04 and sim:wall("floor").velocity[2] == 0.01, "the floor's
 sim:set_wall("floor", { velocity = { 0, 0 } })
 sim:run { duration = 0.01 }
 assert(sim:wall("floor").velocity[2] == 0, "a value set after the ramp's last point stays")
+-- A run as long as the ramp ends at its last point give or take the clock's
+-- round-off: setting the target then is taken, and stays.
+local t = sim:time()
+sim:schedule { "friction", from = "glass", to = "steel", linear = { t, 0.5, t + 3e-3, 0.4 } }
+sim:run { duration = 3e-3 }
+sim:set_contact("glass", "steel", { friction = 0.1 })
+sim:run { steps = 3 }
+assert(sim:contact_parameters("glass", "steel").friction == 0.1, "the hand's friction after a ramp of the run's length")
+-- The central field's strength is claimed alike.
+sim:central_field { point = { 0, 0 }, strength = 0 }
+local t2 = sim:time()
+sim:schedule { "central_strength", linear = { t2, 0, t2 + 1, 5 } }
+local ok, message = pcall(sim.set_central_strength, sim, 3)
+assert(not ok and message:find("set_central_strength: the field's strength is set by schedule", 1, true), message)
 )");
   CHECK(r.error == "");
 }
