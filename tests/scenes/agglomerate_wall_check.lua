@@ -26,6 +26,8 @@ assert(slow.broken_bonds == 0 and slow.debris_ratio == 0 and slow.fragments == 1
 local weak = wall_impact(1.0, 1.0, "agglomerate_wall_gamma1.h5")
 assert(weak.debris_ratio > 0.02, "a 1 m/s impact made no debris: debris ratio " .. weak.debris_ratio)
 assert(weak.damage_ratio > 0.2, "a 1 m/s impact broke few bonds: damage ratio " .. weak.damage_ratio)
+assert(weak.peak_damage_ratio >= weak.damage_ratio and weak.peak_damage_ratio < 1.5 * weak.damage_ratio,
+  string.format("peak damage ratio %g against the final %g", weak.peak_damage_ratio, weak.damage_ratio))
 
 local strong = wall_impact(1.0, 2.0, "agglomerate_wall_gamma2.h5")
 assert(strong.debris_ratio < weak.debris_ratio,
