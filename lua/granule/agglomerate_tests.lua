@@ -88,11 +88,11 @@ tests.fallback_law = { friction = agglomerate.alumina.friction, surface_energy =
 --- The law between primaries, from the file the agglomerate was prepared in
 --- (`prepared`: its /results) where the test leaves it at -1. Its contact
 --- histories and the balance of its adhesive contacts belong to the surface
---- energy it was prepared with: another one starts it out of equilibrium (at
---- Gamma 0.2 on one prepared at 1.5, half its bonds break before it reaches
---- the wall), so a different one is refused (not for bonds, which part the
---- contacts and take Gamma for their strength only). Friction may differ: a contact
---- whose tangential spring is past the new cap slips at the first step.
+--- energy it was prepared with: a lower one leaves contacts in tension past
+--- their new pull-off, which part before the test begins, a higher one pulls
+--- them tighter; so a different one is refused (not for bonds, which part the
+--- contacts and take Gamma for their strength only). Friction may differ: a
+--- contact whose tangential spring is past the new cap slips at the first step.
 function tests.prepared_law(sim, o, prepared, bonded, context)
   local declared = { friction = o.friction >= 0 and o.friction or tests.fallback_law.friction,
                      surface_energy = o.surface_energy >= 0 and o.surface_energy or tests.fallback_law.surface_energy }

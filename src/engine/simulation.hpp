@@ -408,7 +408,7 @@ class Simulation final : public SimulationBase {
   bool dt_per_contact_ = true;     // its rule is t_c / n (else 8 T_R / n)
   // The run header's words for the automatic step.
   std::string automatic_step_rule() const;
-  std::string dt_warned_;          // the last warning of a time_step above the rule
+  std::string dt_warned_;  // the last warning of a time_step above the rule
   // Parts of prepare() (simulation_prepare.cpp).
   double adhesive_reach() const;      // m, contact_reach_ for the particles and laws now
   void choose_time_step();            // dt_ by Eq. 4.1 or time_step, against the stability limit

@@ -519,14 +519,15 @@ Journal::Kind journal_kind(const std::string& method) {
   // hold the same materials, laws, walls, hooks, diagnostics and output when the
   // checkpoint's state is loaded into it. Everything else reads or changes the state
   // (which the checkpoint brings) or writes output (which the continued file holds).
-  static const char* build[] = {
-      "simulation", "material", "contact", "set_contact", "wall_plane", "wall_cylinder",
-      "wall_mesh", "wall_polyline", "wall_disk", "wall_cone", "set_wall", "gravity",
-      "central_field", "remove_central_field", "set_central_strength", "schedule", "remove_schedule", "every",
-      "remove_hook", "set", "output", "checkpoint", "diagnostic", "remove_diagnostic",
-      // views of the engine's arrays: made again, read live
-      // (wrap_views.cpp says what they read while replaying)
-      "arrays", "contact_arrays"};
+  static const char* build[] = {"simulation", "material", "contact", "set_contact", "wall_plane",
+                                "wall_cylinder", "wall_mesh", "wall_polyline", "wall_disk",
+                                "wall_cone", "set_wall", "gravity", "central_field",
+                                "remove_central_field", "set_central_strength", "schedule",
+                                "remove_schedule", "every", "remove_hook", "set", "output",
+                                "checkpoint", "diagnostic", "remove_diagnostic",
+                                // views of the engine's arrays: made again, read live
+                                // (wrap_views.cpp says what they read while replaying)
+                                "arrays", "contact_arrays"};
   if (method == "run") return Journal::Kind::run;
   if (method == "save_checkpoint") return Journal::Kind::checkpoint;
   for (const char* b : build)

@@ -410,21 +410,25 @@ assert(count.d == 3, "d fired " .. count.d)
 }
 
 TEST_CASE("lua: a scheduled target is not set by hand until its schedule ends", "[lua]") {
-  const std::string walls = R"(sim:wall_plane { name = "floor", point = { 0, 0 }, normal = { 0, 1 }, material = "steel" }
+  const std::string walls =
+      R"(sim:wall_plane { name = "floor", point = { 0, 0 }, normal = { 0, 1 }, material = "steel" }
 sim:wall_plane { name = "lid", point = { 0, 0.01 }, normal = { 0, -1 }, material = "steel" }
 sim:add_particle { position = { 0, 0.001 }, radius = 1e-3, material = "glass" }
 local lid = sim:schedule { "wall_velocity", wall = "lid", direction = { 0, -1 }, linear = { 0, 0, 0.1, 0.01 } }
 local mu = sim:schedule { "friction", from = "glass", to = "glass", linear = { 0, 0.2, 1, 0.3 } }
 )";  // lines 6-10
   // The schedule would set its value again before the next step: refused, naming it.
-  expect_refused(walls + "sim:set_wall('lid', { velocity = { 0, 0.5 } })\n", 11,
-                 "set_wall 'lid': its velocity is set by schedule 1 ('wall_velocity') until t = 0.1 s");
+  expect_refused(
+      walls + "sim:set_wall('lid', { velocity = { 0, 0.5 } })\n", 11,
+      "set_wall 'lid': its velocity is set by schedule 1 ('wall_velocity') until t = 0.1 s");
   expect_refused(walls + "sim:set_contact('glass', 'glass', { friction = 0.1 })\n", 11,
                  "sim:remove_schedule(2)");
-  expect_refused(walls + "sim:set_contact('steel', 'glass', { friction = 0.1 })\nsim:remove_schedule(7)\n",
-                 12, "remove_schedule: no schedule 7");
-  expect_refused(walls + "sim:every { steps = 1, function(s) s:remove_schedule(lid) end }\n"
-                         "sim:run { steps = 2 }\n",
+  expect_refused(
+      walls + "sim:set_contact('steel', 'glass', { friction = 0.1 })\nsim:remove_schedule(7)\n", 12,
+      "remove_schedule: no schedule 7");
+  expect_refused(walls +
+                     "sim:every { steps = 1, function(s) s:remove_schedule(lid) end }\n"
+                     "sim:run { steps = 2 }\n",
                  11, "not from inside a run's callback");
   // Ended, the target keeps its value and takes what is set by hand.
   auto r = run_scene(std::string(header) + walls + R"(
