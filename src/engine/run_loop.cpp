@@ -13,12 +13,11 @@ RunOutcome run_in_chunks(SimulationBase& sim, const RunPlan& plan, CheckpointPla
   std::int64_t steps = plan.steps;
   double planned_dt = plan.planned_dt > 0 ? plan.planned_dt : sim.time_step();
   // A shorter step on the way (a schedule made a law stiffer): the steps left
-  // counted from the time left, as the run's start counted them (sim:run), so
-  // the count is the same wherever the chunks fall. The automatic step only
-  // shrinks during a run, so the steps taken never pass the end time.
-  // Counted from the step the time step changed at, not from where the chunk
-  // ended: the clock's round-off over a chunk would otherwise make the count
-  // depend on the chunks, which follow the wall clock.
+  // counted again, as the run's start counted them (sim:run), from the step
+  // the time step changed at rather than from where the chunk ended, whose
+  // clock carries the chunk's round-off: the count is the same wherever the
+  // chunks (which follow the wall clock) fall. The automatic step only shrinks
+  // during a run, so the steps taken never pass the end time.
   auto count_again = [&] {
     if (!std::isfinite(plan.end_time) || sim.time_step() == planned_dt) return;
     planned_dt = sim.time_step();
