@@ -46,6 +46,8 @@ WallSpec Simulation<D>::wall(int w) const {
   s.inside = x.inside;
   s.angular_velocity = x.angular_velocity;
   s.bounded = x.bounded;
+  for (const auto& m : meshes_.meshes)
+    if (m.wall == w) s.angle = m.angle;
   if (x.finite()) {
     s.axis = to_triple(x.axis);
     s.side = to_triple(x.side);

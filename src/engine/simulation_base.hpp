@@ -50,6 +50,7 @@ struct WallSpec {
   double radius = 0;
   bool inside = true;
   double angular_velocity = 0;
+  double angle = 0;  // mesh, polyline: turned about the axis since added [rad]
   // Finite walls (geometry/finite_walls.hpp); a disk uses center, normal and radius.
   bool bounded = false;                 // plane: a rectangle; cylinder: a tube
   Triple side{};                        // rectangle (3D): first side's direction; zero: default

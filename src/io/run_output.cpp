@@ -318,6 +318,10 @@ void RunOutput::write_wall_states(const std::string& snapshot) {
     f.write_attribute(g, "velocity_units", std::string("m/s"));
     f.write_attribute(g, "angular_velocity", s.angular_velocity);
     f.write_attribute(g, "angular_velocity_units", std::string("rad/s"));
+    if (is_surface_wall(s.type)) {  // turned about its axis since added, unwrapped
+      f.write_attribute(g, "angle", s.angle);
+      f.write_attribute(g, "angle_units", std::string("rad"));
+    }
   }
 }
 

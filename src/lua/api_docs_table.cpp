@@ -179,7 +179,7 @@ return {
   {"2", "table", "", true, "{ velocity = vector [m/s] } for a plane, { angular_velocity = number [rad/s] } for a cylinder, either for a mesh, a polyline or a finite wall"}},
  "'drum', { angular_velocity = 10 }"},
 {"sim:wall", "simulation", P, "sim:wall(name) -> { name =, type =, force =, torque =, point | center =, ... }",
- "A wall's state: geometry, motion, and the force [N] and axial torque [N m] the particles exerted on it in the last step.",
+ "A wall's state: geometry, motion (a mesh or polyline: `offset` [m] and `angle` [rad], how far it has moved and turned since added), and the force [N] and axial torque [N m] the particles exerted on it in the last step.",
  {{"1", "string", "", true, "wall name"}}, "'drum'"},
 {"sim:walls", "simulation", P, "sim:walls() -> { name, ... }", "The names of the walls, in declaration order.", {}, ""},
 {"sim:add_particle", "simulation", T,

@@ -44,6 +44,8 @@ int l_wall(lua_State* L) {
       lua_setfield(L, -2, "axis_point");
       lua_pushnumber(L, spec.angular_velocity);
       lua_setfield(L, -2, "angular_velocity");
+      lua_pushnumber(L, spec.angle);
+      lua_setfield(L, -2, "angle");
     } else {
       push_vector(L, spec.center, d);
       lua_setfield(L, -2, "center");

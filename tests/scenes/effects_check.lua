@@ -148,4 +148,21 @@ do
   q:run { steps = 1 }
   q:close()
 end
+-- A turning polyline says how far it has turned: sim:wall's angle, and each
+-- snapshot's walls/<name> (effects_check.py).
+do
+  local t = simulation { dimension = 2 }
+  t:material { name = "m", density = 1200 }
+  t:contact { "m", "m", model = "linear", k_normal = 2e4, restitution = 0.9, friction = 0 }
+  t:wall_polyline { name = "paddle", material = "m", points = { { -1e-3, 0 }, { 1e-3, 0 } },
+                    axis_point = { 0, 0 }, angular_velocity = 100 }
+  t:add_particle { position = { 0, 5e-3 }, radius = 0.2e-3, material = "m" }
+  t:output { file = p.out:gsub("%.h5$", "") .. "_turning.h5" }
+  t:run { steps = 40 }
+  t:snapshot()
+  local turned, want = t:wall("paddle").angle, 100 * t:time()
+  assert(want > 0 and math.abs(turned - want) <= 1e-9 * want,
+         string.format("sim:wall angle %.17g after %.17g s at 100 rad/s", turned, t:time()))
+  t:close()
+end
 print("effects_check ok")

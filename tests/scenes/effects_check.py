@@ -72,4 +72,12 @@ with h5py.File(periodic, "r") as f:
     got = (a.get("periodic_axis"), a.get("periodic_origin"), a.get("periodic_length"), a.get("periodic_units"))
     if got != ("y", -2e-3, 8e-3, "m"):
         sys.exit(f"{periodic}: /scene periodic attributes {got}, expected ('y', -0.002, 0.008, 'm')")
+turning = sys.argv[1][: -len(".h5")] + "_turning.h5"
+with h5py.File(turning, "r") as f:
+    snapshots = f["/snapshots"]
+    last = snapshots[sorted(snapshots.keys())[-1]]
+    t = float(last.attrs["time"])
+    a = last["walls/paddle"].attrs
+    if not (t > 0 and abs(a["angle"] - 100 * t) <= 1e-9 * 100 * t and a["angle_units"] == "rad"):
+        sys.exit(f"{turning}: last snapshot (t = {t}) paddle angle {a.get('angle')}, expected 100 t rad")
 print("effects attributes ok")
