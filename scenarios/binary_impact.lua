@@ -103,6 +103,11 @@ local function relative()
 end
 
 local vn_before = relative()
+local function kinetic_energy()  -- translational and rotational
+  local s = sim:stats()
+  return s.kinetic_energy_translational + s.kinetic_energy_rotational
+end
+local energy_before = kinetic_energy()
 local touching_steps, contact_steps, max_overlap, max_normal, seen, ended = 0, 0, 0, 0, false, false
 sim:every { steps = 1, function(s)
   local list = s:contacts()
@@ -155,6 +160,7 @@ local result = {
   contact_time = contact_steps * dt,
   max_overlap = max_overlap,
   max_normal_force = max_normal,
+  energy_ratio = kinetic_energy() / energy_before,
   time_step = dt,
 }
 sim:result { restitution = result.restitution, contact_duration = result.contact_duration,
@@ -162,8 +168,8 @@ sim:result { restitution = result.restitution, contact_duration = result.contact
              max_overlap = result.max_overlap, max_normal_force = result.max_normal_force,
              rebound_normal_velocity = result.rebound_normal_velocity,
              rebound_tangential_velocity = result.rebound_tangential_velocity,
-             spin_a = result.spin_a, spin_b = result.spin_b }
+             spin_a = result.spin_a, spin_b = result.spin_b, energy_ratio = result.energy_ratio }
 print(granule.summary_line(result, { "model", "target", "velocity", "angle", "rebound_normal_velocity",
   "rebound_tangential_velocity", "spin_a", "spin_b", "restitution", "stuck", "contact_duration", "contact_time", "max_overlap",
-  "max_normal_force", "time_step" }))
+  "max_normal_force", "energy_ratio", "time_step" }))
 io.stderr:write("wrote " .. out .. "\n")

@@ -7,6 +7,7 @@
 #include <set>
 #include <sstream>
 
+#include "contact/rolling.hpp"
 #include "core/errors.hpp"
 
 namespace granule {
@@ -72,13 +73,21 @@ std::string batched_model_names(const std::string& separator, int dimension) {
   return join(names, separator);
 }
 
+// rolling_model is given by name ("epsd", "constant": rolling.hpp); the table
+// holds its code.
+bool given_by_name(const ParamSpec& p) {
+  return std::string(p.name) == "rolling_model";
+}
+
 std::string parameter_range(const ParamSpec& p) {
+  if (given_by_name(p)) return "\"epsd\" or \"constant\"";
   // resolve_parameters: v < min (or <= min) and v > max are refused.
   return fmt::format("{}{}, {}{}", p.min_inclusive ? "[" : "(", number(p.min), number(p.max),
                      std::isinf(p.max) ? ")" : "]");
 }
 
 std::string parameter_default(const ParamSpec& p) {
+  if (given_by_name(p)) return fmt::format("\"{}\"", rolling_model_name(p.default_value));
   return std::isnan(p.default_value) ? "required" : number(p.default_value);
 }
 

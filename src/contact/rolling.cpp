@@ -23,8 +23,8 @@ std::vector<ParamSpec> rolling_parameters() {
        "rolling friction coefficient mu_r: the rolling torque is at most mu_r R* N (0: no "
        "rolling resistance, the plain law)"},
       {"rolling_model", "-", rolling_model::epsd, 0, 1, true,
-       "\"epsd\" (0, default): elastic-plastic spring-dashpot, Ai et al. 2011 type C; "
-       "\"constant\" (1): constant torque mu_r R* N against the rolling"},
+       "a name: \"epsd\" (default), elastic-plastic spring-dashpot, Ai et al. 2011 type C; "
+       "\"constant\", constant torque mu_r R* N against the rolling"},
       {"rolling_damping", "-", 0, 0, unbounded, true,
        "viscous damping ratio eta_r of the epsd rolling dashpot (0: spring only)"},
   };

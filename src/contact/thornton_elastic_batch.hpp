@@ -131,7 +131,7 @@ inline void lanes_3d(const P& q, ThorntonElastic::BatchHistory3& h, ContactBatch
   // What the first loop leaves for the last: u, the slip perpendicular to T's
   // line, |slip along it|, k0, mu N, mu dN; and for the roots the cubes.
   alignas(64) double ux[L], uy[L], uz[L], px[L], py[L], pz[L], par[L];
-  alignas(64) double k0s[L], mu_ns[L], mu_dns[L], cube[L], theta[L];
+  alignas(64) double k0s[L], mu_ns[L], mu_dns[L], cube[L], theta[L], was_slipping[L];
   for (int l = 0; l < L; ++l) {
     double k0, mu_n, mu_dn;
     const double normal = normal_force(q, c, l, h.previous_normal[l], k0, mu_n, mu_dn);
@@ -163,7 +163,10 @@ inline void lanes_3d(const P& q, ThorntonElastic::BatchHistory3& h, ContactBatch
     ux[l] = vx, uy[l] = vy, uz[l] = vz;
     const bool moving = slip_par != 0;
     const bool first = pux[l] * pux[l] + puy[l] * puy[l] + puz[l] * puz[l] == 0;
-    const bool reversed = moving && !first && vx * pux[l] + vy * puy[l] + vz * puz[l] < 0;
+    // A reversal once the branch has slipped (mindlin_deresiewicz()).
+    const bool reversed =
+        moving && !first && vx * pux[l] + vy * puy[l] + vz * puz[l] < 0 && h.slipped[l] != 0;
+    was_slipping[l] = (moving && first) || reversed ? 0.0 : h.slipped[l];
     bool to_unloading, to_reloading;
     double branch = next_branch(h.branch[l], moving, first, reversed, to_unloading, to_reloading);
     rx[l] = to_unloading ? tx[l] : rx[l], ry[l] = to_unloading ? ty[l] : ry[l];
@@ -219,6 +222,7 @@ inline void lanes_3d(const P& q, ThorntonElastic::BatchHistory3& h, ContactBatch
     h.ux[l] = free ? 0.0 : (new_u ? vx : h.ux[l]);
     h.uy[l] = free ? 0.0 : (new_u ? vy : h.uy[l]);
     h.uz[l] = free ? 0.0 : (new_u ? vz : h.uz[l]);
+    h.slipped[l] = free ? 0.0 : (th < 1 ? 1.0 : was_slipping[l]);
     c.ftx[l] = free ? 0.0 : nx, c.fty[l] = free ? 0.0 : ny, c.ftz[l] = free ? 0.0 : nz;
   }
 }
@@ -232,6 +236,7 @@ inline void lanes_2d(const P& q, ThorntonElastic::BatchHistory2& h, ContactBatch
   // roots the cubes.
   alignas(64) double tx[L], ty[L], rx[L], ry[L], r2x[L], r2y[L], ux[L], uy[L];
   alignas(64) double px[L], py[L], par[L], k0s[L], mu_ns[L], mu_dns[L], cube[L], theta[L];
+  alignas(64) double was_slipping[L];
   for (int l = 0; l < L; ++l) {
     double k0, mu_n, mu_dn;
     const double normal = normal_force(q, c, l, h.previous_normal[l], k0, mu_n, mu_dn);
@@ -274,7 +279,8 @@ inline void lanes_2d(const P& q, ThorntonElastic::BatchHistory2& h, ContactBatch
     ux[l] = vx, uy[l] = vy;
     const bool moving = slip_par != 0;
     const bool first = pux * pux + puy * puy == 0;
-    const bool reversed = moving && !first && vx * pux + vy * puy < 0;
+    const bool reversed = moving && !first && vx * pux + vy * puy < 0 && h.slipped[l] != 0;
+    was_slipping[l] = (moving && first) || reversed ? 0.0 : h.slipped[l];
     bool to_unloading, to_reloading;
     double branch = next_branch(h.branch[l], moving, first, reversed, to_unloading, to_reloading);
     sx = to_unloading ? t_x : sx, sy = to_unloading ? t_y : sy;
@@ -322,6 +328,7 @@ inline void lanes_2d(const P& q, ThorntonElastic::BatchHistory2& h, ContactBatch
     const bool new_u = vx * vx + vy * vy > 0;
     h.ux[l] = free ? 0.0 : (new_u ? vx : h.ux[l]);
     h.uy[l] = free ? 0.0 : (new_u ? vy : h.uy[l]);
+    h.slipped[l] = free ? 0.0 : (th < 1 ? 1.0 : was_slipping[l]);
     // The force along t (the engine applies it along t).
     c.tangential_force[l] = free ? 0.0 : nx * -c.ny[l] + ny * c.nx[l];
   }

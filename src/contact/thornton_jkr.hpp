@@ -61,10 +61,9 @@ struct ThorntonJkr {
 
   static std::vector<ParamSpec> parameters() {
     return {
-        // Bounded as thornton_elastic's (Eq. 6.11's unloading, thornton_elastic.hpp).
+        // Bounded as thornton_elastic's (thornton_elastic.hpp).
         {"friction", "-", 0.0, 0, ThorntonElastic::friction_limit, true,
-         "Coulomb friction coefficient mu (at most 10: Eq. 6.11's unloading gains energy far above "
-         "1)"},
+         "Coulomb friction coefficient mu (at most 10)"},
         {"surface_energy", "J/m^2", -1.0, -1, unbounded, true,
          "interface energy Gamma (Nc = 1.5 pi Gamma R*); -1: the mean of the two materials' "
          "surface_energy"},
@@ -260,6 +259,7 @@ struct ThorntonJkr {
       const double keep = std::min(t_c, slide);
       t_new *= keep / t_mag;
       h.md.branch = ThorntonElastic::loading;
+      h.md.slipped = 1;  // peeled: a reversal now starts Masing's unloading
       h.md.load_direction =
           t_new.squaredNorm() > 0 ? Vec<D>(t_new / t_new.norm()) : Vec<D>(Vec<D>::Zero());
       h.md.reversal.setZero();
