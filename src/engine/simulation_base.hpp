@@ -212,7 +212,8 @@ struct ActiveEffects {
   bool friction = false;                    // a pair in use has friction > 0
   bool rolling = false;                     // a pair in use has rolling resistance
   bool bonds = false;                       // parallel bonds are intact
-  bool rotation = false;  // spins are integrated (friction, rolling or bonds: else no torque acts)
+  bool rotation =
+      false;  // spins are integrated (friction, rolling, bonds or adhesion: else no torque)
   bool gravity = false;
   bool central_field = false;
   std::vector<std::string> moving_walls;  // planes with a velocity, cylinders that turn

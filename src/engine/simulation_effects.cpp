@@ -44,7 +44,9 @@ ActiveEffects Simulation<D>::effects() const {
     });
     if (adhesive) e.adhesive_pairs.push_back(label);
     // Every model caps the tangential force at mu times a normal force
-    // (Eqs. 3.5, 6.8-6.10, 6.23-6.25): with mu = 0 no torque can act.
+    // (Eqs. 3.5, 6.8-6.10, 6.23-6.25): with mu = 0 no torque can act, but
+    // for an adhesive pair's peeling (Eqs. 6.18-6.21), whose T rises to Tc
+    // whatever mu (e.rotation below).
     const ParamValues& values = pairs_.values(a, b);
     auto mu = values.find("friction");
     if (mu == values.end() || mu->second != 0) e.friction = true;
@@ -74,7 +76,7 @@ ActiveEffects Simulation<D>::effects() const {
       e.friction |= std::find(in_use.begin(), in_use.end(), pair) != in_use.end();
     }
   }
-  e.rotation = e.friction || e.rolling || e.bonds;
+  e.rotation = e.friction || e.rolling || e.bonds || e.adhesion;
   for (const auto& d : diagnostics_) e.diagnostics.push_back(d.name);
   e.contacts_recorded = record_contacts_;
   e.canonical_order = canonical_order_;

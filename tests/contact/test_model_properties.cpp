@@ -185,6 +185,32 @@ TEMPLATE_LIST_TEST_CASE("model properties: Newton's third law, lever arms and an
   check(std::integral_constant<int, 3>{});
 }
 
+// At mu = 0 a law may still turn the particles (thornton_jkr's peeling,
+// Eqs. 6.18-6.21, resists sliding by adhesion alone; a rolling term): the
+// engine must then integrate the spins, or the torques are lost.
+TEMPLATE_LIST_TEST_CASE("model properties: angular momentum kept at friction 0",
+                        "[models][properties]", ContactModels) {
+  using M = TestType;
+  auto check = [](auto dim) {
+    constexpr int D = decltype(dim)::value;
+    INFO("model " << M::name << ", " << D << "D, friction 0");
+    ParamValues given = given_parameters<M>(false);
+    given["friction"] = 0;
+    EnginePair<D> pair(oblique_impact<D>(M::name, given));
+    SimulationBase& sim = *pair.sim;
+    const Eigen::Vector3d l0 = angular_momentum<D>(sim);
+    const double l_scale = angular_momentum_scale<D>(sim);
+    double worst_l = 0;
+    run_through_contact(pair, [&](std::int64_t) {
+      worst_l = std::max(worst_l, (angular_momentum<D>(sim) - l0).norm());
+    });
+    INFO("angular momentum drift " << worst_l << " of scale " << l_scale);
+    CHECK(worst_l <= 1e-12 * l_scale);
+  };
+  check(std::integral_constant<int, 2>{});
+  check(std::integral_constant<int, 3>{});
+}
+
 TEMPLATE_LIST_TEST_CASE("model properties: no force once apart (adhesive: beyond the reach)",
                         "[models][properties]", ContactModels) {
   using M = TestType;
