@@ -96,7 +96,10 @@ void SimulationBase::set_time_step(double dt) {
   if (!std::isfinite(dt) || dt < 0)
     throw InputError(fmt::format("time_step must be > 0 [s] (or 0 for Eq. 4.1), got {}", dt));
   dt_fixed_ = dt;
-  if (dt > 0) dt_ = dt;
+  // 0: the rule chooses afresh at the next prepare(). An automatic step is
+  // otherwise only ever shortened (choose_time_step), so removing the
+  // particles that set it keeps it; this is how to have it lengthened.
+  dt_ = dt;
   unprepare();
 }
 

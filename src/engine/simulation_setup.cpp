@@ -124,6 +124,10 @@ std::int64_t Simulation<D>::add_particle(const ParticleSpec& s) {
 template <int D>
 void Simulation<D>::remove_particle(std::int64_t id) {
   const std::size_t i = checked(id), last = p_.size() - 1;
+  // Its parallel bonds break now (bond_counts says so at once, not at the next
+  // step's apply_bonds, which would find it gone).
+  for (std::size_t k = 0; k < bonds_.size(); ++k)
+    if (!bonds_.broken[k] && (bonds_.id_a[k] == id || bonds_.id_b[k] == id)) bonds_.break_bond(k);
   keep_contacts_by_id();
   if (gathered_contacts_) {
     auto& kept = *gathered_contacts_;
@@ -271,7 +275,24 @@ void Simulation<D>::set_wall_angular_velocity(int w, double omega) {
 template <int D>
 void Simulation<D>::set_position(std::int64_t id, const Triple& x) {
   if (!finite3(x)) throw InputError("position must be finite");
-  p_.position[checked(id)] = to_vec(x);
+  const int i = checked(id);
+  V at = to_vec(x);
+  // Into the periodic box, as prepare() puts every particle: the force loops'
+  // minimum images shift by one period only.
+  if (periodic_.on()) {
+    double& c = at[periodic_.axis];
+    c -= periodic_.length * std::floor((c - periodic_.origin) / periodic_.length);
+  }
+  // Inside every wall, as prepare() holds an added particle to.
+  for (const auto& w : walls_) {
+    const double c = w.clearance(at, p_.radius[i]);
+    if (c + p_.radius[i] < 0)
+      throw InputError(fmt::format("set_position: particle {} at ({}) would lie outside wall '{}'",
+                                   id, fmt::join(x.begin(), x.begin() + D, ", "), w.name));
+    if (c < 0 && !p_.fixed[i])
+      warn(fmt::format("set_position: particle {} overlaps wall '{}' by {:.3g} m", id, w.name, -c));
+  }
+  p_.position[i] = at;
   lists_valid_ = false;
   scene_overlaps_ = true;  // a deep overlap made here is the scene's, not a pass-through
 }

@@ -483,3 +483,15 @@ TEST_CASE("bond: shear and bending turn with a pair spinning about its axis", "[
   CHECK((f.shear - shear_turned).norm() < 1e-3 * shear.norm());
   CHECK((f.bending - bending_turned).norm() < 1e-3 * bending.norm());
 }
+
+TEMPLATE_TEST_CASE_SIG("bond: a removed particle's bonds break at once", "[bond]", ((int D), D), 2,
+                       3) {
+  auto sim = bonded_pair<D>(heavy, dt, particle({0, 0, 0}), particle({2 * radius, 0, 0}), spec());
+  sim->advance(1);
+  REQUIRE(sim->bond_counts().intact == 1);
+  sim->remove_particle(sim->particle_ids().back());
+  CHECK(sim->bond_counts().intact == 0);  // not only at the next step's apply_bonds
+  CHECK(sim->bond_counts().broken == 1);
+  sim->advance(1);
+  CHECK(sim->bond_counts().broken == 1);
+}

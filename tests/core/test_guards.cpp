@@ -222,3 +222,48 @@ TEST_CASE("fill: along a periodic axis no particle overlaps one across the seam"
     CHECK(overlapping == 0);
   }
 }
+
+// set_position holds a moved particle to what an added one is held to: inside
+// the periodic box (one period from its image, where the force loops look),
+// inside every wall. It used to place it anywhere: a particle moved 1.5
+// periods out missed its contact for a step; one moved outside a drum was
+// shot back in by the wall.
+TEST_CASE("guards: set_position wraps into the periodic box and refuses a place outside a wall",
+          "[guards]") {
+  std::vector<std::string> warnings;
+  {
+    Simulation<3> sim;
+    linear_pair_scene(sim, warnings);
+    const double period = 20 * r;
+    sim.set_periodic(0, 0, period);
+    const std::int64_t a = particle(sim, 0.5 * r, 0, 0);
+    const std::int64_t b = particle(sim, 10 * r, 0, 0);
+    sim.prepare();
+    sim.advance(1);
+    CHECK(sim.stats().contacts_particle == 0);
+    // 1.9 r from a, two periods out: overlapping a.
+    sim.set_position(b, {0.5 * r + 1.9 * r + 2 * period, 0, 0});
+    CHECK(sim.position(b)[0] == Approx(2.4 * r).epsilon(1e-12));
+    sim.advance(1);
+    CHECK(sim.stats().contacts_particle == 1);
+    CHECK(sim.force(a)[0] < 0);  // b, on a's +x side, pushes a to -x
+  }
+  {
+    Simulation<2> sim;
+    linear_pair_scene(sim, warnings);
+    WallSpec drum;
+    drum.name = "drum";
+    drum.type = WallType::cylinder;
+    drum.material = 0;
+    drum.radius = 10 * r;
+    sim.add_wall(drum);
+    const std::int64_t a = particle(sim, 0, 0, 0);
+    sim.prepare();
+    CHECK_THROWS_WITH(sim.set_position(a, {10.5 * r, 0, 0}),
+                      Catch::Contains("would lie outside wall 'drum'"));
+    CHECK(sim.position(a)[0] == 0.0);  // left where it was
+    warnings.clear();
+    sim.set_position(a, {9.5 * r, 0, 0});
+    CHECK(count_containing(warnings, "overlaps wall 'drum'") == 1);
+  }
+}

@@ -632,6 +632,14 @@ for name, line, expect in [
 ]:
     case(name, name.replace("_", " "), expect, after={"output": [wrong(line)]})
 
+case("diagnostic_label_taken", "two diagnostics under one label: their rows would mix",
+     r"{at}.*label 'zones' is taken by diagnostic 'zones'",
+     after={"output": ['sim:diagnostic("zones", {})', wrong('sim:diagnostic("zones", { mean = "cartesian" })')]})
+
+case("set_position_outside_wall", "set_position puts a particle outside the drum",
+     r"{at}.*would lie outside wall 'drum'",
+     after={"output": [wrong("sim:set_position(sim:particles()[1], { 0.05, 0 })")]})
+
 # ---------------------------------------------------------------------------
 # picture
 # ---------------------------------------------------------------------------

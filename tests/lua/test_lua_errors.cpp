@@ -484,3 +484,20 @@ assert(run.steps > math.ceil(3e-3 / dt0), "more steps than planned at the first 
 )");
   CHECK(r.error == "");
 }
+
+TEST_CASE("lua: sim:set { time_step = 0 } chooses the automatic step afresh", "[lua]") {
+  // An automatic step is only ever shortened on its own: removing the small
+  // particle that set it keeps it; time_step = 0 lengthens it again.
+  auto r = run_scene(std::string(header) + R"(
+sim:add_particle { position = { 0, 0 }, radius = 1e-3, material = "glass" }
+local big = sim:time_step()
+local small = sim:add_particle { position = { 5e-3, 0 }, radius = 1e-4, material = "glass" }
+local short = sim:time_step()
+assert(short < big / 10, "a small particle shortens the step: " .. big .. " -> " .. short)
+sim:remove_particle(small)
+assert(sim:time_step() == short, "kept after the removal: " .. sim:time_step())
+sim:set { time_step = 0 }
+assert(sim:time_step() == big, "chosen afresh: " .. sim:time_step() .. " against " .. big)
+)");
+  CHECK(r.error == "");
+}
