@@ -286,6 +286,12 @@ int Simulation<D>::attach(std::unique_ptr<Diagnostic<D>> diagnostic, const std::
   a.needs = a.diagnostic->needs();
   a.every = a.diagnostic->every();
   if (a.every < 1) throw InputError(fmt::format("diagnostic '{}': every must be >= 1", name));
+  for (const auto& d : diagnostics_)
+    if (d.diagnostic->label() == a.diagnostic->label())
+      throw InputError(fmt::format(
+          "diagnostic '{}': label '{}' is taken by diagnostic '{}' (id {}), whose rows under "
+          "/diagnostics/{} would mix with these: give each its own `label`",
+          name, a.diagnostic->label(), d.name, d.id, d.diagnostic->label()));
   a.id = next_diagnostic_id_++;
   if (sink_) a.diagnostic->attach_output(sink_);
   diagnostics_.push_back(std::move(a));
@@ -406,10 +412,12 @@ std::vector<std::string> Simulation<D>::describe() const {
   if (e.friction) turning.emplace_back("friction in use");
   if (e.rolling) turning.emplace_back("rolling resistance");
   if (e.bonds) turning.emplace_back("parallel bonds");
-  lines.push_back(e.rotation
-                      ? fmt::format("rotation: spins integrated ({})", fmt::join(turning, ", "))
-                      : std::string("rotation: off (no pair in use has friction, "
-                                    "so no torque acts; spins stay as set)"));
+  if (e.adhesion && !e.friction)
+    turning.emplace_back("adhesion: peeling resists sliding at mu = 0");
+  lines.push_back(
+      e.rotation ? fmt::format("rotation: spins integrated ({})", fmt::join(turning, ", "))
+                 : std::string("rotation: off (no pair in use has friction, rolling "
+                               "resistance or adhesion, so no torque acts; spins stay as set)"));
   lines.push_back(e.moving_walls.empty()
                       ? std::string("moving walls: none")
                       : fmt::format("moving walls: {}", fmt::join(e.moving_walls, ", ")));

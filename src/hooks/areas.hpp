@@ -149,6 +149,7 @@ class AreasDiagnostic final : public Diagnostic<D> {
     return r;
   }
 
+  const std::string& label() const override { return label_; }
   std::string describe() const override {
     return fmt::format("4 areas about '{}' from '{}' {}", frame_.chamber_name, frame_.inner_name,
                        this->sampling_.describe());

@@ -208,6 +208,7 @@ class ContactPeaksDiagnostic final : public Diagnostic<D> {
     return a;
   }
 
+  const std::string& label() const override { return label_; }
   std::string describe() const override {
     return fmt::format("contact peaks in 4 areas, {} bins to {} N and {} m/s, c = {} N s/m", bins_,
                        force_max_, velocity_max_, c_);
@@ -317,6 +318,7 @@ class ContactPeaksDiagnostic final : public Diagnostic<D> {
            {"force_histogram_", "velocity_histogram_", "impact_velocity_histogram_"}) {
         sink_->declare_series(g + "/" + q + set_name(s), columns);
         sink_->write_attribute(g + "/" + q + set_name(s), "units", std::string("-"));  // counts
+        sink_->write_attribute(g + "/" + q + set_name(s), "quantity", std::string(quantity(q)));
       }
     sink_->write_attribute(g, "window", this->sampling_.window());
     sink_->write_attribute(g, "force_bin_edges", edges(force_max_));
@@ -351,6 +353,13 @@ class ContactPeaksDiagnostic final : public Diagnostic<D> {
 
   ChamberFrame<D> frame_;
   AreaSectors sectors_;
+  // What a histogram bins: "velocity" is 7.2's impact velocity F_max / c,
+  // "impact_velocity" the approach speed measured at first touch.
+  static const char* quantity(const std::string& histogram) {
+    if (histogram.rfind("force", 0) == 0) return "largest normal force of each contact [N]";
+    if (histogram.rfind("velocity", 0) == 0) return "F_max / force_per_velocity (Eq. 7.2) [m/s]";
+    return "approach speed measured at first touch [m/s]";
+  }
   double force_max_ = 0.1, velocity_max_ = 5, c_ = 0.02;
   int bins_ = 50, which_ = 0;
   std::size_t keep_ = 0;

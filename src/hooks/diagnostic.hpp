@@ -230,11 +230,11 @@ class Diagnostic {
     if (!sampling_.due(view.time, view.dt)) return;
     sampling_.note(view.time);
     sample(view);
-    if (sampling_.full(view.time, view.dt)) close(view.time);
+    if (sampling_.full(view.time, view.dt)) close(view.time, false);
   }
   // Closes a partly filled window (end of a run, or when the scene closes the output).
   void flush() {
-    if (sampling_.open()) close(sampling_.last());
+    if (sampling_.open()) close(sampling_.last(), true);
   }
   const Sampling& sampling() const { return sampling_; }
 
@@ -249,6 +249,8 @@ class Diagnostic {
   virtual std::map<std::string, std::vector<double>> arrays() const { return {}; }
   // One line for the run header.
   virtual std::string describe() const = 0;
+  // Its group under /diagnostics: one diagnostic's, or their rows would mix.
+  virtual const std::string& label() const = 0;
 
   // Checkpoints: the window's state and every accumulator (anything sample()
   // or on_events() changes) under "<prefix><name>", with a fingerprint of the
@@ -285,9 +287,9 @@ class Diagnostic {
   Sampling sampling_;
 
  private:
-  void close(double time) {
+  void close(double time, bool flushed) {
     close_window(time);
-    sampling_.close(time);
+    sampling_.close(time, flushed);
   }
   const char* name_;
 };

@@ -12,7 +12,7 @@
 // (about the chamber axis), the granular temperature (the variance of the
 // velocity about the bin's mean, per component: <|v - u|^2> / D, the
 // azimuthal part taken about the bin's own linear profile), the solid
-// fraction (particle volume over the bin's volume, the depth one diameter in
+// fraction (particle volume over the bin's volume, the depth the mean diameter in
 // 2D as in the zones diagnostic, 4.3.2) and the count. The shear rate is the
 // least-squares slope of the azimuthal velocity against the distance from
 // the chamber wall, R - rho, over every particle sample in the sector
@@ -51,8 +51,8 @@ class GapProfileDiagnostic final : public Diagnostic<D> {
              {{"sector", "deg", "10", "half-width of the sector about the inner piece, in (0, 90]"},
               {"bins", "-", "8", "bins across the gap (at most 1000)"},
               {"depth", "m", "0",
-               "the slab's length in 3D (required there); 0 in 2D: one "
-               "particle diameter"},
+               "the slab's length in 3D (required there); 0 in 2D: the moving "
+               "particles' mean diameter"},
               {"label", "", "gap_profile", "group under /diagnostics"}});
     Sampling::add_option_docs(o, {10, 0.01});
     return o;
@@ -95,7 +95,6 @@ class GapProfileDiagnostic final : public Diagnostic<D> {
         acc->bins[k].add(ur, ut, uz, volume, y);
         acc->fit.add(y, ut);
       }
-      if (diameter_ == 0) diameter_ = 2 * p.radius[i];
     }
     const auto& log = v.contacts;
     for (std::size_t s = 0; s < log.size(); ++s) {
@@ -130,6 +129,7 @@ class GapProfileDiagnostic final : public Diagnostic<D> {
     return a;
   }
 
+  const std::string& label() const override { return label_; }
   std::string describe() const override {
     return fmt::format("gap profile +-{} deg about '{}', {} bins, {}", sector_deg_,
                        frame_.inner_name, bins_, this->sampling_.describe());
@@ -223,16 +223,23 @@ class GapProfileDiagnostic final : public Diagnostic<D> {
           "(at most {:.4g} deg for an inner piece of radius {} m at {} m from it)",
           name, sector_deg_, std::asin(std::min(1.0, inner_radius_ / offset_)) * 180 / pi,
           inner_radius_, offset_));
-    double depth = depth_;
-    if (depth <= 0) {
-      if constexpr (D == 2) {
-        for (std::size_t i = 0; i < v.particles.size() && depth <= 0; ++i)
-          if (!v.particles.fixed[i]) depth = 2 * v.particles.radius[i];
-      }
-      if (depth <= 0)
-        throw InputError(
-            fmt::format("diagnostic '{}': give 'depth' (m), the slab's length in 3D", name));
+    // The moving particles' mean diameter at the first sample, as zones takes
+    // it (4.3.2): the depth in 2D. Saved, so that a restart keeps it.
+    if (diameter_ == 0) {
+      double sum = 0;
+      int n = 0;
+      for (std::size_t i = 0; i < v.particles.size(); ++i)
+        if (!v.particles.fixed[i]) sum += 2 * v.particles.radius[i], ++n;
+      if (n == 0)
+        throw InputError(fmt::format(
+            "diagnostic '{}': no moving particles to set the mean diameter (the depth in 2D)",
+            name));
+      diameter_ = sum / n;
     }
+    const double depth = depth_ > 0 ? depth_ : (D == 2 ? diameter_ : 0.0);
+    if (!(depth > 0))
+      throw InputError(
+          fmt::format("diagnostic '{}': give 'depth' (m), the slab's length in 3D", name));
     // Bin volumes by the midpoint rule over the sector (the local gap is smooth).
     bin_volume_.assign(bins_, 0.0);
     const int steps = 4000;
@@ -306,7 +313,8 @@ class GapProfileDiagnostic final : public Diagnostic<D> {
     std::map<std::string, double> r;
     const double sign = frame_.omega >= 0 ? 1 : -1;
     r["shear_rate"] = -sign * acc.fit.slope();
-    r["nominal_shear_rate"] = std::abs(frame_.omega) * frame_.radius / narrowest_gap_;
+    r["nominal_shear_rate"] =  // 0 before the first sample has found the gap
+        narrowest_gap_ > 0 ? std::abs(frame_.omega) * frame_.radius / narrowest_gap_ : 0.0;
     r["wall_speed"] = std::abs(frame_.omega) * frame_.radius;
     // Sector means: temperature weighted by count, solid fraction over the whole sector.
     double n = 0, t = 0, volume = 0, sector_volume = 0;

@@ -31,8 +31,8 @@ class OverlapsDiagnostic final : public Diagnostic<D> {
   static constexpr const char* name = "overlaps";
   static constexpr const char* doc =
       "largest overlap / radius of particle-particle, particle-fixed-particle and particle-wall "
-      "contacts, per window and since attaching, with the deepest contact's time, place and "
-      "particle";
+      "contacts, per window and since attaching, with the deepest contact's time (the sample "
+      "that saw it, or its end where only its end saw the peak), place and particle";
   static OptionDocs options() {
     OptionDocs o{{"label", "", "overlaps", "group under /diagnostics"}};
     Sampling::add_option_docs(o, {10, 0.01, "window of the series' maxima"});
@@ -94,6 +94,7 @@ class OverlapsDiagnostic final : public Diagnostic<D> {
     return r;
   }
 
+  const std::string& label() const override { return label_; }
   std::string describe() const override {
     return fmt::format("deepest overlaps {}", this->sampling_.describe());
   }

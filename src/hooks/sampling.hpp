@@ -11,8 +11,13 @@
 // at the first sample whose time reaches its start plus the window length
 // (within half a step, so that a window of k dt closes on the k-th step
 // rather than on the (k+1)-th when the sum of the steps rounds down); the
-// next window starts at the time the last one closed. A run's end or a
-// detach closes a window holding samples (flush).
+// next window starts where the last one was due to end, not at the sample
+// that closed it, so that windows keep their length on average when the
+// sample period does not divide it (every 3 steps into a window of 10: 12,
+// 9, 9, 12, ... steps, not 12 each) and their times stay near multiples of
+// it. A sample period longer than the window closes a window at every
+// sample. A run's end or a detach closes a window holding samples (flush);
+// the next then starts at its last sample.
 #pragma once
 
 #include <fmt/format.h>
@@ -58,9 +63,10 @@ class Sampling {
     ++samples_;
   }
   bool full(double time, double dt) const { return time + 0.5 * dt >= start_ + window_; }
-  // The window closed at `time`: the next one starts there.
-  void close(double time) {
-    start_ = time;
+  // The window closed at `time`, full or (`flushed`) cut short.
+  void close(double time, bool flushed) {
+    const double due = start_ + window_;
+    start_ = flushed || !(time - due < window_) ? time : due;
     samples_ = 0;
   }
   bool open() const { return samples_ > 0; }

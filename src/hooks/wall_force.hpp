@@ -91,6 +91,7 @@ class WallForceDiagnostic final : public Diagnostic<D> {
     return out;
   }
 
+  const std::string& label() const override { return label_; }
   std::string describe() const override {
     return fmt::format("force on wall '{}' {}", wall_name_, this->sampling_.describe());
   }

@@ -218,6 +218,7 @@ class ZonesDiagnostic final : public Diagnostic<D> {
     return a;
   }
 
+  const std::string& label() const override { return label_; }
   std::string describe() const override {
     return fmt::format("{} radial zones of '{}' {}, {} mean", zones_, frame_.chamber_name,
                        this->sampling_.describe(), polar_ ? "polar" : "cartesian");

@@ -37,6 +37,7 @@ inline constexpr QuantityUnit quantity_units[] = {
     // /series, and the columns diagnostics share
     {"time", "s"},
     {"step", "-"},
+    {"kinetic_energy", "J"},
     {"kinetic_energy_translational", "J"},
     {"kinetic_energy_rotational", "J"},
     {"contacts_particle", "-"},

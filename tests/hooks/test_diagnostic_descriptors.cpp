@@ -125,3 +125,37 @@ TEST_CASE("the shared trigger: every_time samples the step nearest each multiple
   CHECK_THROWS_WITH(b.read(both, {10, 0.01}),
                     Catch::Contains("'every'") && Catch::Contains("'every_time'"));
 }
+
+// Windows keep their length on average when the sample period does not divide
+// it: sampled every 3 steps from step 3, 10-step windows are due to end at
+// steps 13, 23, 33, ... and close at 15, 24, 33, ... (a window starts where
+// the last was due to end), not at 15, 27, 39, ... (where the last closed).
+TEST_CASE("the shared window: its length on average whatever the sample period",
+          "[hooks][descriptors]") {
+  const double dt = 1e-4;
+  DiagnosticOptions o("diagnostic 'x'");
+  o.numbers["every"] = 3;
+  o.numbers["window"] = 10 * dt;
+  Sampling s;
+  s.read(o, {10, 0.01});
+  std::vector<double> closed;
+  for (int n = 3; n <= 3000; n += 3) {
+    const double t = n * dt;
+    s.note(t);
+    if (s.full(t, dt)) closed.push_back(t), s.close(t, false);
+  }
+  // The k-th window closes at the first sample at or past its due end, 3 + 10 k steps.
+  REQUIRE(closed.size() >= 290);
+  for (std::size_t k = 0; k < closed.size(); ++k) {
+    const double due = (3 + 10.0 * static_cast<double>(k + 1)) * dt;
+    INFO("window " << k << " closed at " << closed[k] << " s, due at " << due << " s");
+    CHECK(closed[k] >= due - 0.5 * dt);
+    CHECK(closed[k] < due + 3 * dt - 0.5 * dt);
+  }
+  // A flush (a run's end) cuts a window short: the next starts at its last sample.
+  s.note(3003 * dt);
+  s.close(3003 * dt, true);
+  s.note(3006 * dt);
+  CHECK_FALSE(s.full(3006 * dt, dt));
+  CHECK(s.full(3013 * dt, dt));
+}

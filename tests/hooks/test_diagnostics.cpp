@@ -29,6 +29,8 @@ struct EventRecorder final : Diagnostic<D> {
     ended.insert(ended.end(), v.contacts.ended.begin(), v.contacts.ended.end());
   }
   std::string describe() const override { return "test recorder"; }
+  const std::string& label() const override { return label_; }
+  std::string label_ = "test_recorder";
   void close_window(double) override {}
   std::string fingerprint() const override { return "test recorder"; }
   // Never checkpointed by these tests; refuse rather than save nothing.

@@ -111,6 +111,47 @@ TEST_CASE("gap_profile: a uniform shear across the gap has the shear rate it was
   CHECK(res.at("mean_gap") < local_gap(10 * pi / 180));
 }
 
+// In 2D the bins are one mean diameter of the moving particles deep, as the
+// zones diagnostic's (4.3.2), whichever particle is stored first: a large one
+// outside the sector used to set the depth alone (5 times the sector's).
+TEST_CASE("gap_profile: in 2D the depth is the moving particles' mean diameter",
+          "[diagnostics][mechanofusion]") {
+  const double omega = 2000 * 2 * pi / 60, rp = 0.05e-3, big = 0.5e-3;
+  auto sector_volume = [&](bool with_big, double& diameter) {
+    Simulation<2> sim;
+    machine(sim, omega);
+    if (with_big) {
+      ParticleSpec s;
+      s.position = {-8e-3, 0, 0}, s.radius = big, s.material = 0;
+      sim.add_particle(s);
+    }
+    shear_set(sim, rp, omega * R, 1500, 0);
+    DiagnosticOptions o;
+    o.numbers["every"] = 1;
+    const int id = sim.attach_diagnostic("gap_profile", o);
+    for (const auto& [name, value] : sim.diagnostic_results(id)) {
+      INFO(name << " before the first sample");
+      CHECK(std::isfinite(value));
+    }
+    sim.advance(1);
+    diameter = sim.diagnostic_results(id).at("diameter");
+    double volume = 0;
+    for (double v : sim.diagnostic_arrays(id).at("bin_volume")) volume += v;
+    return volume;
+  };
+  double plain_d = 0, mixed_d = 0;
+  const double plain = sector_volume(false, plain_d), mixed = sector_volume(true, mixed_d);
+  const Placed counted = [&] {
+    Simulation<2> sim;
+    machine(sim, omega);
+    return shear_set(sim, rp, omega * R, 1500, 0);
+  }();
+  const double mean = (counted.count * 2 * rp + 2 * big) / (counted.count + 1);
+  CHECK(plain_d == Approx(2 * rp).epsilon(1e-12));
+  CHECK(mixed_d == Approx(mean).epsilon(1e-12));
+  CHECK(mixed / plain == Approx(mean / (2 * rp)).epsilon(1e-12));
+}
+
 TEST_CASE("gap_profile: a known fluctuation is the granular temperature, per component",
           "[diagnostics][mechanofusion]") {
   const double omega = 1000 * 2 * pi / 60, rp = 0.05e-3, du = 0.3;
