@@ -271,23 +271,26 @@ int sweep(const Settings& s, Ranks& ranks) {
   std::ifstream csv(base + ".csv");
   std::stringstream csv_text;
   csv_text << csv.rdbuf();
+  bool h5_written = true;
   try {
     write_h5(base + ".h5", s, cases, outcomes, result_names, csv_text.str());
   } catch (const std::exception& e) {
     std::cerr << "granule sweep: the HDF5 summary was not written: " << e.what() << "\n";
+    h5_written = false;
   }
   std::map<Status, std::size_t> count;
   for (const auto& o : outcomes) ++count[o.status];
   std::size_t finished = count[Status::ok] + count[Status::reused];
   std::cout << fmt::format(
                    "sweep: {} of {} cases finished ({} now, {} earlier), {} failed{}; "
-                   "summary in {}.{{csv,md,h5}}\n",
+                   "summary in {}.{}\n",
                    finished, cases.size(), count[Status::ok], count[Status::reused],
                    count[Status::failed],
-                   finished + count[Status::failed] < cases.size() ? ", stopped early" : "", base)
+                   finished + count[Status::failed] < cases.size() ? ", stopped early" : "", base,
+                   h5_written ? "{csv,md,h5}" : "{csv,md} (not .h5: see above)")
             << std::flush;
   if (stop_signal) return 128 + stop_signal;  // as a shell reports a run ended by the signal
-  return finished == cases.size() ? 0 : 1;
+  return finished == cases.size() && h5_written ? 0 : 1;
 }
 
 }  // namespace

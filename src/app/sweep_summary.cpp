@@ -32,6 +32,21 @@ std::string number(double v) {
   return fmt::format("{:.10g}", v);
 }
 
+// The column a result takes in the summaries: its own name, or
+// "result_<name>" where that names a parameter or one of the summaries' own
+// columns, so that neither is lost (a result `x` beside a swept `x`).
+std::string result_column(const std::string& name, const Settings& s) {
+  static const std::set<std::string> own{"case",         "status", "rank", "wall_s",
+                                         "wall_seconds", "file",   "error"};
+  auto taken = [&](const std::string& column) {
+    return own.count(column) > 0 || std::any_of(s.axes.begin(), s.axes.end(),
+                                                [&](const auto& a) { return a.name == column; });
+  };
+  std::string column = name;
+  while (taken(column)) column = "result_" + column;
+  return column;
+}
+
 // Writes `path` through `fill` into path.tmp, renamed into place only once all
 // of it reached the disk: a full disk leaves the earlier summary, not an
 // empty or cut one.
@@ -68,7 +83,7 @@ Summary tabulate(const Settings& s, const std::vector<Case>& cases,
   t.header.push_back("case");
   for (const auto& a : s.axes) t.header.push_back(a.name);
   t.header.push_back("status");
-  for (const auto& r : result_names) t.header.push_back(r);
+  for (const auto& r : result_names) t.header.push_back(result_column(r, s));
   t.header.insert(t.header.end(), {"rank", "wall_s", "file", "error"});
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const Outcome& o = outcomes[i];
@@ -157,11 +172,10 @@ void write_h5_file(const std::string& path, const Settings& s, const std::vector
     });
     if (!everywhere)
       partial.push_back(r);
-    else if (std::find(columns.begin(), columns.end(), r) == columns.end())
-      columns.push_back(r);
+    else
+      columns.push_back(result_column(r, s));
   }
-  for (const char* extra : {"rank", "wall_seconds"})
-    if (std::find(columns.begin(), columns.end(), extra) == columns.end()) columns.push_back(extra);
+  columns.insert(columns.end(), {"rank", "wall_seconds"});
   out.series_declare("/sweep", columns);
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const Outcome& o = outcomes[i];
@@ -170,7 +184,7 @@ void write_h5_file(const std::string& path, const Settings& s, const std::vector
         {"case", double(i)}, {"rank", double(o.rank)}, {"wall_seconds", o.wall_seconds}};
     for (auto a : numeric_axes)
       values[s.axes[a].name] = std::strtod(cases[i].values[a].second.c_str(), nullptr);
-    for (const auto& [name, v] : o.results) values[name] = v;
+    for (const auto& [name, v] : o.results) values[result_column(name, s)] = v;
     std::vector<double> row;
     for (const auto& c : columns) row.push_back(values.at(c));
     out.series_append("/sweep", row);

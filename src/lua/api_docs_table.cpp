@@ -20,7 +20,7 @@ std::vector<FunctionDoc> make_entries() {
 // Text written from the model registry; static, as the entries point into it.
 static const std::string model_names = contact_model_names(" | ");
 static const std::string stats_doc = fmt::format(
- "Global quantities now (J, kg m/s, kg m^2/s); contacts_batched: of contacts_particle, those a batched (vectorised) contact kernel computed (pairs of a law that has one: in 3D {}; in 2D {}), contacts_wall_batched: of contacts_wall, those the same kernels computed, candidate_pairs: neighbour-list entries within the skin, list_rebuilds: rebuilds so far, thread_rebalances: times the threads' shares of the pair contacts were moved to even out their work, pair_list_prunes: times a pair list was pruned (sim:set pruning), pair_candidates_visited: pair candidates the last step's contact loop looked at (fewer than the pair candidates while pruned lists are in use).",
+ "Global quantities now (J, kg m/s, kg m^2/s); contacts_batched: of contacts_particle, those a batched (vectorised) contact kernel computed (pairs of a law that has one: in 3D {}; in 2D {}), contacts_wall_batched: of contacts_wall, those the same kernels computed, candidate_pairs: neighbour-list entries within the skin, list_rebuilds: rebuilds so far, thread_rebalances: times the threads' shares of the pair contacts were moved to even out their work, pair_list_prunes: times a pair list was pruned (sim:set pruning), pair_candidates_visited: pair candidates the last step's contact loop looked at (fewer than the pair candidates while pruned lists are in use), max_overlap_ratio: the last step's deepest overlap over the smaller radius of its pair (a wall contact: over the particle's radius; the overlaps diagnostic divides by the moving particle's radius).",
  batched_model_names(", ", 3), batched_model_names(", ", 2));
 return {
 // ---- globals ----
@@ -226,14 +226,14 @@ return {
  "sim:particle(id) -> { id =, position =, velocity =, spin =, force =, radius =, mass =, material =, fixed = }",
  "One particle's state (SI units: m, m/s, rad/s, N, kg).", {{"1", "integer", "", true, "particle id"}}, "3"},
 {"sim:particles", "simulation", P, "sim:particles() -> { id, ... }", "The ids of the particles present, in increasing order (the same in every run of a scene, whatever the storage order or the ranks).", {}, ""},
-{"sim:set_position", "simulation", P, "sim:set_position(id, { x, y[, z] })", "Moves a particle.",
+{"sim:set_position", "simulation", P, "sim:set_position(id, { x, y[, z] })", "Moves a particle: into the periodic box (wrapped), refused outside a wall, warned of overlapping one, as an added particle. Its contacts carry on if it stays within the skin of its partners; one it leaves further ends without an end event (overlaps and contact_peaks do not count it).",
  {{"1", "integer", "", true, "particle id"}, {"2", "vector", "m", true, "new centre"}}, "3, { 0, 0 }"},
 {"sim:set_velocity", "simulation", P, "sim:set_velocity(id, { vx, vy[, vz] })", "Sets a (free) particle's velocity.",
  {{"1", "integer", "", true, "particle id"}, {"2", "vector", "m/s", true, "new velocity"}}, "3, { 0.1, 0 }"},
 {"sim:set_spin", "simulation", P, "sim:set_spin(id, w)", "Sets a (free) particle's spin.",
  {{"1", "integer", "", true, "particle id"},
   {"2", "any", "rad/s", true, "2D: a number (about z); 3D: a vector"}}, "3, 5"},
-{"sim:remove_particle", "simulation", P, "sim:remove_particle(id)", "Removes a particle; the other ids do not change.",
+{"sim:remove_particle", "simulation", P, "sim:remove_particle(id)", "Removes a particle; the other ids do not change. Its parallel bonds break (sim:bond_counts; sim:breakage counts the bonds among the particles left); its open contacts end without an end event (overlaps and contact_peaks do not count them).",
  {{"1", "integer", "", true, "particle id"}}, "3"},
 
 // ---- running ----
@@ -258,7 +258,7 @@ return {
 {"sim:set", "simulation", T, "sim:set { skin =, time_step =, steps_per_contact =, threads =, pruning =, canonical_order = }",
  "Changes numerical settings between runs; the next run re-checks the scene and rebuilds its neighbour lists.",
  {{"skin", "number", "m", false, "neighbour-list skin; 0 = automatic"},
-  {"time_step", "number", "s", false, "fixed time step; 0 = the automatic rule"},
+  {"time_step", "number", "s", false, "fixed time step; 0 = the automatic rule, chosen afresh (an automatic step is shortened when the scene needs it, never lengthened on its own: after removing the particles that set it, this lengthens it)"},
   {"steps_per_contact", "number", "-", false, "n of Eq. 4.1"},
   {"threads", "integer", "", false, "threads; 0 = OMP_NUM_THREADS, else 1"},
   {"pruning", "boolean", "", false, "prune the pair lists between rebuilds (default true): the contact loop then visits only candidates within the prune distance of touching (1/32 to 1/4 of the skin, tuned as the run goes); the same results bit for bit"},
@@ -271,7 +271,7 @@ return {
 {"sim:output", "simulation", T, "sim:output { file =, snapshot_every =, series_every =, xdmf =, forces =, contacts = } -> path",
  "Writes results to HDF5 (and an XDMF file beside it for ParaView); -o on the command line overrides `file`. Every numeric dataset carries a `units` attribute (the text datasets, /scene/source and /scene/description, none); /scene holds gravity and the central field, /scene/parameters/units each parameter's unit. Once per file and outside a run's callbacks: a file this simulation already opened, the scene file, the checkpoint being continued or the simulation's checkpoint file is refused (opened again it would be emptied).",
  {{"file", "string", "", false, "default: -o, else <scene>.h5"},
-  {"snapshot_every", "number", "s", false, "particle snapshots this often, the first of the initial state (t = 0); 0 (default) = the first and the last"},
+  {"snapshot_every", "number", "s", false, "particle snapshots this often, the first of the initial state (t = 0); 0 (default) = the first and the last; none while the scene has no particles (sim:snapshot writes one anyway)"},
   {"series_every", "number", "s", false, "rows of /series this often; 0 (default) = every 100 steps; also a row at step 0 and at the end of each run"},
   {"xdmf", "boolean", "", false, "keep <file>.xmf (for ParaView) beside the HDF5 file; default true"},
   {"forces", "boolean", "", false, "every snapshot with force [N] and torque [N m] per particle (the last step's); default false"},

@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "core/errors.hpp"
+#include "core/plain_name.hpp"
 #include "io/run_output.hpp"
 #include "io/same_file.hpp"
 #include "lua/journal.hpp"
@@ -151,6 +152,7 @@ int l_result(lua_State* L) {
       throw InputError(
           "result: every value needs a name (sim:result { name = value }); one without would "
           "be lost");
+    for (const auto& key : names) check_plain_name(key, "result");  // a column of /results
     for (const auto& key : names) out.write_result(key, t.number(key.c_str()));
     return 0;
   });

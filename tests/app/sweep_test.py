@@ -64,6 +64,8 @@ def check_results(row, radius=RADIUS):
     check(close(float(row["flight_time"]), t), f"case {row['case']}: flight time {row['flight_time']} != {t}")
     check(close(float(row["mass"]), mass), f"case {row['case']}: mass {row['mass']} != {mass}")
     check(close(float(row["momentum"]), mass * v), f"case {row['case']}: momentum {row['momentum']} != m v")
+    check(close(float(row["result_speed"]), v) and row["result_status"] == "1",
+          f"case {row['case']}: results named as a parameter and as status kept beside them: {row}")
 
 
 def serial():
@@ -99,6 +101,8 @@ def serial():
         speeds = sorted(f["sweep/speed"][:])
         check(speeds == [1, 1, 2, 2], f"the HDF5 summary holds the 4 finished cases, got {speeds}")
         check(f["sweep/distance"].shape == (4,), "the HDF5 summary has the results as columns")
+        check(sorted(f["sweep/result_speed"][:]) == [1, 1, 2, 2] and list(f["sweep/case"][:]) == [0, 1, 2, 3],
+              "a result named as a parameter or as case keeps its own column in /sweep")
     with open(os.path.join(out_dir, "sweep_case.sweep.md")) as f:
         check(f.read().count("| ok |") == 4, "the markdown summary lists the finished cases")
 
