@@ -20,6 +20,7 @@ local p = parameters {
   angles = { default = "15,30,45,60,75", unit = "deg", doc = "comma-separated impact angles" },
   surface_energies = { default = "0,0.2", unit = "J/m^2", doc = "comma-separated Gamma values" },
   dimension = { default = 2 },
+  steps_per_contact = { default = 40, unit = "-", doc = "n of the time-step rule (8 T_R / n for Hertz's laws)" },
 }
 
 local function list(text)
@@ -28,7 +29,7 @@ local function list(text)
   return out
 end
 
-local sim = simulation { dimension = p.dimension, record_contacts = true }
+local sim = simulation { dimension = p.dimension, record_contacts = true, steps_per_contact = p.steps_per_contact }
 local out = sim:output {}
 local r = p.radius
 local function v(x, y) if p.dimension == 3 then return { x, y, 0 } end return { x, y } end

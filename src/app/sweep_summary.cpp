@@ -34,16 +34,20 @@ std::string number(double v) {
 
 // The column a result takes in the summaries: its own name, or
 // "result_<name>" where that names a parameter or one of the summaries' own
-// columns, so that neither is lost (a result `x` beside a swept `x`).
-std::string result_column(const std::string& name, const Settings& s) {
+// columns (prefixed again while it names another result), so that none is
+// lost (a result `x` beside a swept `x`).
+std::string result_column(const std::string& name, const Settings& s,
+                          const std::vector<std::string>& results) {
   static const std::set<std::string> own{"case",         "status", "rank", "wall_s",
                                          "wall_seconds", "file",   "error"};
   auto taken = [&](const std::string& column) {
     return own.count(column) > 0 || std::any_of(s.axes.begin(), s.axes.end(),
                                                 [&](const auto& a) { return a.name == column; });
   };
-  std::string column = name;
-  while (taken(column)) column = "result_" + column;
+  if (!taken(name)) return name;
+  std::string column = "result_" + name;
+  while (taken(column) || std::find(results.begin(), results.end(), column) != results.end())
+    column = "result_" + column;
   return column;
 }
 
@@ -83,7 +87,7 @@ Summary tabulate(const Settings& s, const std::vector<Case>& cases,
   t.header.push_back("case");
   for (const auto& a : s.axes) t.header.push_back(a.name);
   t.header.push_back("status");
-  for (const auto& r : result_names) t.header.push_back(result_column(r, s));
+  for (const auto& r : result_names) t.header.push_back(result_column(r, s, result_names));
   t.header.insert(t.header.end(), {"rank", "wall_s", "file", "error"});
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const Outcome& o = outcomes[i];
@@ -171,9 +175,9 @@ void write_h5_file(const std::string& path, const Settings& s, const std::vector
       return !finished(o) || (it != o.results.end() && std::isfinite(it->second));
     });
     if (!everywhere)
-      partial.push_back(r);
+      partial.push_back(result_column(r, s, result_names));
     else
-      columns.push_back(result_column(r, s));
+      columns.push_back(result_column(r, s, result_names));
   }
   columns.insert(columns.end(), {"rank", "wall_seconds"});
   out.series_declare("/sweep", columns);
@@ -184,7 +188,7 @@ void write_h5_file(const std::string& path, const Settings& s, const std::vector
         {"case", double(i)}, {"rank", double(o.rank)}, {"wall_seconds", o.wall_seconds}};
     for (auto a : numeric_axes)
       values[s.axes[a].name] = std::strtod(cases[i].values[a].second.c_str(), nullptr);
-    for (const auto& [name, v] : o.results) values[result_column(name, s)] = v;
+    for (const auto& [name, v] : o.results) values[result_column(name, s, result_names)] = v;
     std::vector<double> row;
     for (const auto& c : columns) row.push_back(values.at(c));
     out.series_append("/sweep", row);

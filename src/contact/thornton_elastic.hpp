@@ -20,17 +20,16 @@
 // Thornton and Yin 1991): the first increment loads; a reversal while loading
 // starts unloading with T* = T; a reversal while unloading starts reloading with
 // T** = T; a reversal while reloading starts a new unloading with T* = T (inner
-// loops are not nested further). A reversal counts only once the branch has
-// slipped (theta < 1 on some step of it): until then the contact has stuck, its
-// path is the elastic line, which it retraces, and there is no slip annulus for
-// a reversal point to remember. (Were every sign change of the slip a reversal,
-// a vanishing slip would set T* = T ~ 0, Eq. 6.11 would carry T* out by mu dN a
-// step while N rises, and as N falls Eq. 6.6's mu dN (1 - theta), theta < 1 by
-// Eq. 6.9 with T* - T ~ mu N, would pull T out to a finite force: a 1e-12 m/s
-// slip rebounding at 7e-4 m/s, and mirror-symmetric scenes losing symmetry.) Reloading that gets
-// back to T*, or unloading that gets to -T* (where the unloading curve meets the virgin curve of
-// the other side), continues as loading. Eq. 6.11 moves the reversal points outwards by mu dN along
-// the direction in which they were reached.
+// loops are not nested further). Reloading that gets back to T*, or unloading that
+// gets to -T* (where the unloading curve meets the virgin curve of the other
+// side), continues as loading. Eq. 6.11 moves the reversal points outwards by
+// mu dN along the direction in which they were reached, on the steps that slip
+// (theta < 1): the memory of a slip annulus moves with the annulus, and a step
+// in Eq. 6.7's no-slip solution changes neither. (Moved on every step, a
+// reversal reached without slip, T* = T ~ 0, runs out by mu dN a step while N
+// rises, and as N falls Eq. 6.6's mu dN (1 - theta), theta < 1 by Eq. 6.9 with
+// T* - T near mu N, pulls T out to a finite force whatever the slip:
+// docs/contact_models.md gives the numbers.)
 #pragma once
 
 #include <fmt/format.h>
@@ -111,10 +110,10 @@ struct ThorntonElastic {
     Vec<D> reversal2 = Vec<D>::Zero();       // T**: where unloading turned to reloading (Eq. 6.10)
     Vec<D> load_direction = Vec<D>::Zero();  // u: unit sense of the last increment on T's line
     int branch = loading;
-    // 1 once the branch has slipped (theta < 1): a reversal then starts a new one.
-    // (An int32, so that the history's bytes before the next double are all
-    // members: checkpoints and output write them, zeros rather than the heap's.)
-    std::int32_t slipped = 0;
+    // Histories are written to checkpoints and output as their bytes: the gap
+    // before the next double is a member, so that it holds zeros, not whatever
+    // the heap held (the same run then writes the same file).
+    std::int32_t zero_padding = 0;
     double previous_normal = 0;  // N of the last step, for dN
   };
 
@@ -145,7 +144,6 @@ struct ThorntonElastic {
       h.reversal2.setZero();
       h.load_direction.setZero();
       h.branch = loading;
-      h.slipped = 0;
       return h.tangential;
     }
     // Carry T, T*, T** and u onto the current tangent plane (Eqs. 3.7-3.8).
@@ -177,13 +175,10 @@ struct ThorntonElastic {
       u = previous_u.dot(line) < 0 ? Vec<D>(-line) : line;
 
     int branch = h.branch;
-    bool slipped = h.slipped != 0;
     if (slip_par != 0) {
       if (previous_u.squaredNorm() == 0) {
-        branch = loading;  // first increment of this contact
-        slipped = false;
-      } else if (u.dot(previous_u) < 0 && slipped) {  // the displacement reversed after slip
-        slipped = false;
+        branch = loading;                  // first increment of this contact
+      } else if (u.dot(previous_u) < 0) {  // the displacement reversed
         if (branch == unloading) {
           branch = reloading;
           star2 = t;
@@ -210,15 +205,16 @@ struct ThorntonElastic {
       cube = cube < 0 ? 0.0 : (cube > 1 ? 1.0 : cube);
       theta = std::cbrt(cube);
     }
-    slipped = slipped || theta < 1;
     // Eqs. 6.5-6.6 along u; the perpendicular part of the increment does not slip.
     Vec<D> t_new = t + (k0 * theta * std::abs(slip_par) + mu_dn * (1 - theta)) * u + k0 * slip_perp;
 
     // Eq. 6.11: the reversal points move outwards by mu dN (T* was reached moving
-    // against u while unloading, along u while reloading; T** against u).
-    if (branch == unloading) {
+    // against u while unloading, along u while reloading; T** against u), on a
+    // step that slips (theta < 1; the header says why).
+    const bool slips = theta < 1;
+    if (slips && branch == unloading) {
       star -= mu_dn * u;
-    } else if (branch == reloading) {
+    } else if (slips && branch == reloading) {
       star += mu_dn * u;
       star2 -= mu_dn * u;
     }
@@ -236,7 +232,6 @@ struct ThorntonElastic {
     h.reversal2 = star2;
     if (u.squaredNorm() > 0) h.load_direction = u;
     h.branch = branch;
-    h.slipped = slipped ? 1 : 0;
     return t_new;
   }
 
@@ -268,13 +263,13 @@ struct ThorntonElastic {
     alignas(64) double rx[lanes], ry[lanes], rz[lanes];  // T*
     alignas(64) double qx[lanes], qy[lanes], qz[lanes];  // T**
     alignas(64) double ux[lanes], uy[lanes], uz[lanes];  // u
-    alignas(64) double branch[lanes], previous_normal[lanes], slipped[lanes];
+    alignas(64) double branch[lanes], previous_normal[lanes];
     void load(int l, const History<3>& h) {
       tx[l] = h.tangential.x(), ty[l] = h.tangential.y(), tz[l] = h.tangential.z();
       rx[l] = h.reversal.x(), ry[l] = h.reversal.y(), rz[l] = h.reversal.z();
       qx[l] = h.reversal2.x(), qy[l] = h.reversal2.y(), qz[l] = h.reversal2.z();
       ux[l] = h.load_direction.x(), uy[l] = h.load_direction.y(), uz[l] = h.load_direction.z();
-      branch[l] = h.branch, previous_normal[l] = h.previous_normal, slipped[l] = h.slipped;
+      branch[l] = h.branch, previous_normal[l] = h.previous_normal;
     }
     void store(int l, History<3>& h) const {
       h.tangential = Vec<3>(tx[l], ty[l], tz[l]);
@@ -282,12 +277,11 @@ struct ThorntonElastic {
       h.reversal2 = Vec<3>(qx[l], qy[l], qz[l]);
       h.load_direction = Vec<3>(ux[l], uy[l], uz[l]);
       h.branch = static_cast<int>(branch[l]), h.previous_normal = previous_normal[l];
-      h.slipped = static_cast<std::int32_t>(slipped[l]);
     }
     void pad(int l) {
       tx[l] = ty[l] = tz[l] = rx[l] = ry[l] = rz[l] = 0;
       qx[l] = qy[l] = qz[l] = ux[l] = uy[l] = uz[l] = 0;
-      branch[l] = loading, previous_normal[l] = 0, slipped[l] = 0;
+      branch[l] = loading, previous_normal[l] = 0;
     }
   };
   // 2D: the vectors as History<2> keeps them (the batch reads them along t).
@@ -297,13 +291,13 @@ struct ThorntonElastic {
     alignas(64) double rx[lanes], ry[lanes];  // T*
     alignas(64) double qx[lanes], qy[lanes];  // T**
     alignas(64) double ux[lanes], uy[lanes];  // u
-    alignas(64) double branch[lanes], previous_normal[lanes], slipped[lanes];
+    alignas(64) double branch[lanes], previous_normal[lanes];
     void load(int l, const History<2>& h) {
       tx[l] = h.tangential.x(), ty[l] = h.tangential.y();
       rx[l] = h.reversal.x(), ry[l] = h.reversal.y();
       qx[l] = h.reversal2.x(), qy[l] = h.reversal2.y();
       ux[l] = h.load_direction.x(), uy[l] = h.load_direction.y();
-      branch[l] = h.branch, previous_normal[l] = h.previous_normal, slipped[l] = h.slipped;
+      branch[l] = h.branch, previous_normal[l] = h.previous_normal;
     }
     void store(int l, History<2>& h) const {
       h.tangential = Vec<2>(tx[l], ty[l]);
@@ -311,11 +305,10 @@ struct ThorntonElastic {
       h.reversal2 = Vec<2>(qx[l], qy[l]);
       h.load_direction = Vec<2>(ux[l], uy[l]);
       h.branch = static_cast<int>(branch[l]), h.previous_normal = previous_normal[l];
-      h.slipped = static_cast<std::int32_t>(slipped[l]);
     }
     void pad(int l) {
       tx[l] = ty[l] = rx[l] = ry[l] = qx[l] = qy[l] = ux[l] = uy[l] = 0;
-      branch[l] = loading, previous_normal[l] = 0, slipped[l] = 0;
+      branch[l] = loading, previous_normal[l] = 0;
     }
   };
   template <bool Uniform>
@@ -330,7 +323,7 @@ struct ThorntonElastic {
   }
 };
 
-// No gap the compiler fills: a history's bytes are all members (slipped).
+// No gap the compiler fills: a history's bytes are all members (zero_padding).
 static_assert(sizeof(ThorntonElastic::History<2>) == 4 * sizeof(Vec<2>) + 16);
 static_assert(sizeof(ThorntonElastic::History<3>) == 4 * sizeof(Vec<3>) + 16);
 

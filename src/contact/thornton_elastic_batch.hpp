@@ -131,7 +131,7 @@ inline void lanes_3d(const P& q, ThorntonElastic::BatchHistory3& h, ContactBatch
   // What the first loop leaves for the last: u, the slip perpendicular to T's
   // line, |slip along it|, k0, mu N, mu dN; and for the roots the cubes.
   alignas(64) double ux[L], uy[L], uz[L], px[L], py[L], pz[L], par[L];
-  alignas(64) double k0s[L], mu_ns[L], mu_dns[L], cube[L], theta[L], was_slipping[L];
+  alignas(64) double k0s[L], mu_ns[L], mu_dns[L], cube[L], theta[L];
   for (int l = 0; l < L; ++l) {
     double k0, mu_n, mu_dn;
     const double normal = normal_force(q, c, l, h.previous_normal[l], k0, mu_n, mu_dn);
@@ -163,10 +163,7 @@ inline void lanes_3d(const P& q, ThorntonElastic::BatchHistory3& h, ContactBatch
     ux[l] = vx, uy[l] = vy, uz[l] = vz;
     const bool moving = slip_par != 0;
     const bool first = pux[l] * pux[l] + puy[l] * puy[l] + puz[l] * puz[l] == 0;
-    // A reversal once the branch has slipped (mindlin_deresiewicz()).
-    const bool reversed =
-        moving && !first && vx * pux[l] + vy * puy[l] + vz * puz[l] < 0 && h.slipped[l] != 0;
-    was_slipping[l] = (moving && first) || reversed ? 0.0 : h.slipped[l];
+    const bool reversed = moving && !first && vx * pux[l] + vy * puy[l] + vz * puz[l] < 0;
     bool to_unloading, to_reloading;
     double branch = next_branch(h.branch[l], moving, first, reversed, to_unloading, to_reloading);
     rx[l] = to_unloading ? tx[l] : rx[l], ry[l] = to_unloading ? ty[l] : ry[l];
@@ -192,9 +189,10 @@ inline void lanes_3d(const P& q, ThorntonElastic::BatchHistory3& h, ContactBatch
     double nx = tx[l] + along * vx + k0 * px[l], ny = ty[l] + along * vy + k0 * py[l],
            nz = tz[l] + along * vz + k0 * pz[l];
     // Eq. 6.11: the reversal points move outwards by mu dN (T* was reached moving
-    // against u while unloading, along u while reloading; T** against u).
+    // against u while unloading, along u while reloading; T** against u), on a
+    // step that slips (mindlin_deresiewicz()).
     const double branch = h.branch[l];
-    const bool un = branch == unloading, re = branch == reloading;
+    const bool un = branch == unloading && th < 1, re = branch == reloading && th < 1;
     double sx = un ? rx[l] - mu_dn * vx : (re ? rx[l] + mu_dn * vx : rx[l]);
     double sy = un ? ry[l] - mu_dn * vy : (re ? ry[l] + mu_dn * vy : ry[l]);
     double sz = un ? rz[l] - mu_dn * vz : (re ? rz[l] + mu_dn * vz : rz[l]);
@@ -222,7 +220,6 @@ inline void lanes_3d(const P& q, ThorntonElastic::BatchHistory3& h, ContactBatch
     h.ux[l] = free ? 0.0 : (new_u ? vx : h.ux[l]);
     h.uy[l] = free ? 0.0 : (new_u ? vy : h.uy[l]);
     h.uz[l] = free ? 0.0 : (new_u ? vz : h.uz[l]);
-    h.slipped[l] = free ? 0.0 : (th < 1 ? 1.0 : was_slipping[l]);
     c.ftx[l] = free ? 0.0 : nx, c.fty[l] = free ? 0.0 : ny, c.ftz[l] = free ? 0.0 : nz;
   }
 }
@@ -236,7 +233,6 @@ inline void lanes_2d(const P& q, ThorntonElastic::BatchHistory2& h, ContactBatch
   // roots the cubes.
   alignas(64) double tx[L], ty[L], rx[L], ry[L], r2x[L], r2y[L], ux[L], uy[L];
   alignas(64) double px[L], py[L], par[L], k0s[L], mu_ns[L], mu_dns[L], cube[L], theta[L];
-  alignas(64) double was_slipping[L];
   for (int l = 0; l < L; ++l) {
     double k0, mu_n, mu_dn;
     const double normal = normal_force(q, c, l, h.previous_normal[l], k0, mu_n, mu_dn);
@@ -279,8 +275,7 @@ inline void lanes_2d(const P& q, ThorntonElastic::BatchHistory2& h, ContactBatch
     ux[l] = vx, uy[l] = vy;
     const bool moving = slip_par != 0;
     const bool first = pux * pux + puy * puy == 0;
-    const bool reversed = moving && !first && vx * pux + vy * puy < 0 && h.slipped[l] != 0;
-    was_slipping[l] = (moving && first) || reversed ? 0.0 : h.slipped[l];
+    const bool reversed = moving && !first && vx * pux + vy * puy < 0;
     bool to_unloading, to_reloading;
     double branch = next_branch(h.branch[l], moving, first, reversed, to_unloading, to_reloading);
     sx = to_unloading ? t_x : sx, sy = to_unloading ? t_y : sy;
@@ -304,7 +299,7 @@ inline void lanes_2d(const P& q, ThorntonElastic::BatchHistory2& h, ContactBatch
     double nx = tx[l] + along * vx + k0 * px[l], ny = ty[l] + along * vy + k0 * py[l];
     // Eq. 6.11, as in 3D.
     const double branch = h.branch[l];
-    const bool un = branch == unloading, re = branch == reloading;
+    const bool un = branch == unloading && th < 1, re = branch == reloading && th < 1;
     double sx = un ? rx[l] - mu_dn * vx : (re ? rx[l] + mu_dn * vx : rx[l]);
     double sy = un ? ry[l] - mu_dn * vy : (re ? ry[l] + mu_dn * vy : ry[l]);
     double s2x = re ? r2x[l] - mu_dn * vx : r2x[l];
@@ -328,7 +323,6 @@ inline void lanes_2d(const P& q, ThorntonElastic::BatchHistory2& h, ContactBatch
     const bool new_u = vx * vx + vy * vy > 0;
     h.ux[l] = free ? 0.0 : (new_u ? vx : h.ux[l]);
     h.uy[l] = free ? 0.0 : (new_u ? vy : h.uy[l]);
-    h.slipped[l] = free ? 0.0 : (th < 1 ? 1.0 : was_slipping[l]);
     // The force along t (the engine applies it along t).
     c.tangential_force[l] = free ? 0.0 : nx * -c.ny[l] + ny * c.nx[l];
   }

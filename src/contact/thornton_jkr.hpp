@@ -259,7 +259,6 @@ struct ThorntonJkr {
       const double keep = std::min(t_c, slide);
       t_new *= keep / t_mag;
       h.md.branch = ThorntonElastic::loading;
-      h.md.slipped = 1;  // peeled: a reversal now starts Masing's unloading
       h.md.load_direction =
           t_new.squaredNorm() > 0 ? Vec<D>(t_new / t_new.norm()) : Vec<D>(Vec<D>::Zero());
       h.md.reversal.setZero();

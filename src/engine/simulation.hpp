@@ -354,6 +354,10 @@ class Simulation final : public SimulationBase {
   void zero_forces();
   ContactLog<D> log_;
   std::vector<AttachedDiagnostic> diagnostics_;
+  // Each label attached while the output is this sink's, with its diagnostic's
+  // options: a label comes back (after remove_diagnostic) only with the same
+  // options, or its group's rows and attributes would describe two diagnostics.
+  std::vector<std::pair<std::string, std::string>> labels_used_;
   int next_diagnostic_id_ = 1;
   bool tracking_ = false;  // an attached diagnostic needs contact events
   OutputSink* sink_ = nullptr;

@@ -286,12 +286,25 @@ int Simulation<D>::attach(std::unique_ptr<Diagnostic<D>> diagnostic, const std::
   a.needs = a.diagnostic->needs();
   a.every = a.diagnostic->every();
   if (a.every < 1) throw InputError(fmt::format("diagnostic '{}': every must be >= 1", name));
+  const std::string& label = a.diagnostic->label();
   for (const auto& d : diagnostics_)
-    if (d.diagnostic->label() == a.diagnostic->label())
+    if (d.diagnostic->label() == label)
       throw InputError(fmt::format(
           "diagnostic '{}': label '{}' is taken by diagnostic '{}' (id {}), whose rows under "
           "/diagnostics/{} would mix with these: give each its own `label`",
-          name, a.diagnostic->label(), d.name, d.id, d.diagnostic->label()));
+          name, label, d.name, d.id, label));
+  const std::string options = a.diagnostic->options();
+  bool known = false;
+  for (const auto& [used, with] : labels_used_) {
+    known = known || used == label;
+    if (used == label && with != options)
+      throw InputError(fmt::format(
+          "diagnostic '{}': label '{}' was used in this output by a removed diagnostic with other "
+          "options ({}), whose rows are under /diagnostics/{}: give this one its own `label` "
+          "(these options: {})",
+          name, label, with, label, options));
+  }
+  if (!known && sink_) labels_used_.emplace_back(label, options);
   a.id = next_diagnostic_id_++;
   if (sink_) a.diagnostic->attach_output(sink_);
   diagnostics_.push_back(std::move(a));
@@ -339,6 +352,7 @@ std::map<std::string, std::vector<double>> Simulation<D>::diagnostic_arrays(int 
 
 template <int D>
 void Simulation<D>::set_output_sink(OutputSink* sink) {
+  if (sink != sink_) labels_used_.clear();  // what went to another file (or none) mixes nothing
   sink_ = sink;
   for (auto& d : diagnostics_) d.diagnostic->attach_output(sink);
 }

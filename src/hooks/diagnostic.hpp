@@ -251,6 +251,8 @@ class Diagnostic {
   virtual std::string describe() const = 0;
   // Its group under /diagnostics: one diagnostic's, or their rows would mix.
   virtual const std::string& label() const = 0;
+  // Its options, trigger and window included, as one line.
+  std::string options() const { return fingerprint() + "; " + sampling_.fingerprint(); }
 
   // Checkpoints: the window's state and every accumulator (anything sample()
   // or on_events() changes) under "<prefix><name>", with a fingerprint of the

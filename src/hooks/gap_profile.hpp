@@ -224,17 +224,19 @@ class GapProfileDiagnostic final : public Diagnostic<D> {
           name, sector_deg_, std::asin(std::min(1.0, inner_radius_ / offset_)) * 180 / pi,
           inner_radius_, offset_));
     // The moving particles' mean diameter at the first sample, as zones takes
-    // it (4.3.2): the depth in 2D. Saved, so that a restart keeps it.
+    // it (4.3.2): the depth in 2D when none is given. Saved, so that a restart
+    // keeps it.
     if (diameter_ == 0) {
       double sum = 0;
       int n = 0;
       for (std::size_t i = 0; i < v.particles.size(); ++i)
         if (!v.particles.fixed[i]) sum += 2 * v.particles.radius[i], ++n;
-      if (n == 0)
+      if (n == 0 && D == 2 && !(depth_ > 0))
         throw InputError(fmt::format(
-            "diagnostic '{}': no moving particles to set the mean diameter (the depth in 2D)",
+            "diagnostic '{}': no moving particles to set the depth (their mean diameter in 2D); "
+            "give 'depth' (m)",
             name));
-      diameter_ = sum / n;
+      diameter_ = n > 0 ? sum / n : 0.0;
     }
     const double depth = depth_ > 0 ? depth_ : (D == 2 ? diameter_ : 0.0);
     if (!(depth > 0))

@@ -2,11 +2,11 @@
 // append and result write into it, close finishes it (io/run_output.hpp).
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <memory>
 
 #include "core/errors.hpp"
-#include "core/plain_name.hpp"
 #include "io/run_output.hpp"
 #include "io/same_file.hpp"
 #include "lua/journal.hpp"
@@ -152,7 +152,15 @@ int l_result(lua_State* L) {
       throw InputError(
           "result: every value needs a name (sim:result { name = value }); one without would "
           "be lost");
-    for (const auto& key : names) check_plain_name(key, "result");  // a column of /results
+    for (const auto& key : names) {  // each a column of /results and of a sweep's summary
+      const bool control = std::any_of(key.begin(), key.end(),
+                                       [](unsigned char c) { return c < 0x20 || c == 0x7f; });
+      if (key.empty() || key == "." || key == ".." || key.find('/') != std::string::npos || control)
+        throw InputError(fmt::format(
+            "result: the name '{}' cannot name a column of /results (empty, '.', '..', or holding "
+            "a '/' or a control character)",
+            key));
+    }
     for (const auto& key : names) out.write_result(key, t.number(key.c_str()));
     return 0;
   });

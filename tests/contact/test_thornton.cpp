@@ -369,8 +369,37 @@ TEST_CASE("thornton: unloading and reloading follow Masing's curves and the memo
   CHECK(worst < 2e-3);
 }
 
-TEST_CASE("thornton: the reversal values T* and T** move outwards by mu dN (Eq. 6.11)",
-          "[thornton]") {
+// A slip that turns back and forth by one step at constant N stays on the
+// elastic line of each reversal, whatever T is: the loop closes every cycle, so
+// a contact jittering in a packing keeps its load. (Were a reversal that has
+// not yet slipped ignored, the next step would read the virgin curve at T near
+// T*: T fell from 0.81 to 0.18 mu N in 200 such cycles.)
+TEST_CASE("thornton: a slip turning back and forth every step keeps T", "[thornton]") {
+  const auto p = elastic_params(mu);
+  const double r_eff = radius / 2, alpha = 1e-8, dt = 1e-9;
+  const double a = std::sqrt(alpha * r_eff), k0 = 8 * p.g_star * a;
+  const double mu_n = mu * 4.0 / 3.0 * p.e_star * a * alpha;
+  const double step = 0.01 * mu_n / k0;  // 1 % of mu N, elastically
+  for (const double load : {0.3, 0.81}) {
+    ThorntonElastic::History<3> h;
+    auto c = state<3>(Eigen::Vector3d(1, 0, 0), alpha, Eigen::Vector3d(0, step / dt, 0), dt, 1e-8,
+                      r_eff);
+    while (h.tangential.y() < load * mu_n) ThorntonElastic::force<3>(p, h, c);
+    const double loaded = h.tangential.y();
+    for (int cycle = 0; cycle < 200; ++cycle) {
+      c.tangential_velocity = Eigen::Vector3d(0, -step / dt, 0);
+      ThorntonElastic::force<3>(p, h, c);
+      c.tangential_velocity = Eigen::Vector3d(0, step / dt, 0);
+      ThorntonElastic::force<3>(p, h, c);
+    }
+    INFO("loaded to " << loaded / mu_n << " mu N, after 200 cycles " << h.tangential.y() / mu_n);
+    CHECK(h.tangential.y() == Approx(loaded).epsilon(1e-9));
+  }
+}
+
+TEST_CASE(
+    "thornton: the reversal values T* and T** move outwards by mu dN on slipping steps (Eq. 6.11)",
+    "[thornton]") {
   const auto p = elastic_params(mu);
   const double r_eff = radius / 2, dt = 1e-9;
   const auto mu_n = [&](double alpha) {
@@ -387,25 +416,34 @@ TEST_CASE("thornton: the reversal values T* and T** move outwards by mu dN (Eq. 
   REQUIRE(h.branch == ThorntonElastic::unloading);
   const double star = h.reversal.y();
   CHECK(star == Approx(mu_n(1e-8)).epsilon(1e-12));
-  // Raise N with no slip: T* moves out by mu dN, T stays (no slip, Eq. 6.7).
+  // Raise N with no slip (Eq. 6.7's no-slip solution, theta = 1): the slip
+  // annulus does not change, nor does T* (Eq. 6.11 acts on the steps that
+  // slip), nor T.
   c.tangential_velocity.setZero();
   const double t_before = h.tangential.y();
   c.overlap = 1.5e-8;
   ThorntonElastic::force<2>(p, h, c);
-  CHECK(h.reversal.y() == Approx(star + mu_n(1.5e-8) - mu_n(1e-8)).epsilon(1e-12));
+  CHECK(h.reversal.y() == star);
   CHECK(h.tangential.y() == t_before);
-  // Unload some more, then reload: T** = T; lowering N moves T** up and T* down.
+  // Unload some more (slipping, theta < 1 by Eq. 6.9); raising N a little on
+  // such a step (mu dN below 8 G* a |slip|: no Eq. 6.7) moves T* out by mu dN.
   c.tangential_velocity = Eigen::Vector2d(0, -step / dt);
   for (int k = 0; k < 2000; ++k) ThorntonElastic::force<2>(p, h, c);
-  c.tangential_velocity = Eigen::Vector2d(0, step / dt);
+  REQUIRE(h.branch == ThorntonElastic::unloading);
+  const double star0 = h.reversal.y();
+  c.overlap = 1.5001e-8;
   ThorntonElastic::force<2>(p, h, c);
+  CHECK(h.reversal.y() == Approx(star0 + mu_n(1.5001e-8) - mu_n(1.5e-8)).epsilon(1e-12));
+  CHECK(h.reversal.y() > star0);
+  // Reload: T** = T; a slipping step that lowers N moves T** up and T* down.
+  c.tangential_velocity = Eigen::Vector2d(0, step / dt);
+  for (int k = 0; k < 500; ++k) ThorntonElastic::force<2>(p, h, c);
   REQUIRE(h.branch == ThorntonElastic::reloading);
   const double star1 = h.reversal.y(), star2 = h.reversal2.y();
   REQUIRE(star2 < 0.5 * star1);
-  c.tangential_velocity.setZero();
-  c.overlap = 1.2e-8;
+  c.overlap = 1.5e-8;
   ThorntonElastic::force<2>(p, h, c);
-  const double mu_dn = mu_n(1.2e-8) - mu_n(1.5e-8);
+  const double mu_dn = mu_n(1.5e-8) - mu_n(1.5001e-8);
   CHECK(h.reversal.y() == Approx(star1 + mu_dn).epsilon(1e-12));
   CHECK(h.reversal2.y() == Approx(star2 - mu_dn).epsilon(1e-12));
 }

@@ -636,6 +636,13 @@ case("diagnostic_label_taken", "two diagnostics under one label: their rows woul
      r"{at}.*label 'zones' is taken by diagnostic 'zones'",
      after={"output": ['sim:diagnostic("zones", {})', wrong('sim:diagnostic("zones", { mean = "cartesian" })')]})
 
+case("diagnostic_label_reused", "a label back after remove_diagnostic with other options",
+     r"{at}.*label 'zones' was used in this output by a removed diagnostic with other options",
+     after={"output": ['sim:remove_diagnostic(sim:diagnostic("zones", {}))',
+                       wrong('sim:diagnostic("zones", { mean = "cartesian" })')]})
+case("result_name_slash", "a result name with a '/' (a column of /results)",
+     r"{at}.*result: the name 'a/b' cannot name a column of /results",
+     after={"output": [wrong('sim:result { ["a/b"] = 1 }')]})
 case("set_position_outside_wall", "set_position puts a particle outside the drum",
      r"{at}.*would lie outside wall 'drum'",
      after={"output": [wrong("sim:set_position(sim:particles()[1], { 0.05, 0 })")]})
