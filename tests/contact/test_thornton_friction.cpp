@@ -1,11 +1,9 @@
 // Thornton's elastic law is elastic: an impact may lose energy to micro-slip
 // but gains none beyond the time step's own error, which falls with the step.
-// (Eq. 6.11 moves the reversal points T* and T** by mu dN a step. Were a
-// reversal reached without slip a Masing reversal, T* would run out to the
-// Coulomb limit near the normal force's peak and the unloading branch would do
-// work: at mu = 30 a 2 degree impact gained 1.2 % at 160 steps a contact and
-// 1.6 % at 2560. A reversal counts once the branch has slipped.) Friction is
-// bounded at ThorntonElastic::friction_limit all the same.
+// (Eq. 6.11 moves the reversal points T* and T** by mu dN on the steps that
+// slip. Moved on every step, a reversal reached without slip ran out towards
+// the Coulomb limit near the normal force's peak, and the unloading branch
+// did work.) Friction is bounded at ThorntonElastic::friction_limit.
 #include <catch2/catch.hpp>
 #include <cmath>
 
@@ -120,8 +118,7 @@ double tangential_rebound(double angle_deg, bool wall, bool batched) {
 
 // A slip a million times smaller gives a tangential response a million times
 // smaller: Eq. 6.11 moves the reversal points only on steps that slip, so a
-// reversal reached without slip cannot pull T out to mu dN as N falls (it
-// did: 7e-4 m/s out of 1.7e-12 m/s in).
+// reversal reached without slip cannot pull T out to mu dN as N falls.
 TEST_CASE("thornton: the tangential response vanishes with the tangential slip", "[thornton]") {
   for (const bool wall : {true, false})
     for (const bool batched : {true, false}) {
