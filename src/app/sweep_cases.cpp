@@ -42,6 +42,12 @@ void add_axis(Settings& s, const std::string& arg) {
   Axis axis{arg.substr(0, eq), split_values(arg.substr(eq + 1))};
   for (const auto& other : s.axes)
     if (other.name == axis.name) throw UsageError("-D " + axis.name + " given twice");
+  for (const char* own : {"case", "status", "rank", "wall_s", "wall_seconds", "file", "error"})
+    if (axis.name == own)
+      throw UsageError(fmt::format(
+          "-D {}: '{}' names a column of the sweep's summary (case, status, rank, wall_s, "
+          "wall_seconds, file, error); rename the scene's parameter",
+          arg, axis.name));
   std::set<std::string> seen;
   for (std::size_t k = 0; k < axis.values.size(); ++k) {
     if (axis.values[k].empty())

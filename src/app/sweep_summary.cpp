@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <ostream>
 #include <set>
 #include <stdexcept>
@@ -32,22 +33,24 @@ std::string number(double v) {
   return fmt::format("{:.10g}", v);
 }
 
-// The column a result takes in the summaries: its own name, or
+// The column each result takes in the summaries: its own name, or
 // "result_<name>" where that names a parameter or one of the summaries' own
-// columns (prefixed again while it names another result), so that none is
-// lost (a result `x` beside a swept `x`).
-std::string result_column(const std::string& name, const Settings& s,
-                          const std::vector<std::string>& results) {
-  static const std::set<std::string> own{"case",         "status", "rank", "wall_s",
-                                         "wall_seconds", "file",   "error"};
-  auto taken = [&](const std::string& column) {
-    return own.count(column) > 0 || std::any_of(s.axes.begin(), s.axes.end(),
-                                                [&](const auto& a) { return a.name == column; });
-  };
-  if (!taken(name)) return name;
-  std::string column = "result_" + name;
-  while (taken(column) || std::find(results.begin(), results.end(), column) != results.end())
-    column = "result_" + column;
+// columns (prefixed again while that is some other column's), so that none
+// is lost (a result `x` beside a swept `x`) and no two share a name.
+std::map<std::string, std::string> result_columns(const Settings& s,
+                                                  const std::vector<std::string>& results) {
+  std::set<std::string> used{"case", "status", "rank", "wall_s", "wall_seconds", "file", "error"};
+  for (const auto& a : s.axes) used.insert(a.name);
+  const std::set<std::string> reserved = used;
+  std::map<std::string, std::string> column;
+  for (const auto& r : results)
+    if (!reserved.count(r)) column[r] = r, used.insert(r);
+  for (const auto& r : results) {
+    if (!reserved.count(r)) continue;
+    std::string c = "result_" + r;
+    while (used.count(c)) c = "result_" + c;
+    column[r] = c, used.insert(c);
+  }
   return column;
 }
 
@@ -87,7 +90,8 @@ Summary tabulate(const Settings& s, const std::vector<Case>& cases,
   t.header.push_back("case");
   for (const auto& a : s.axes) t.header.push_back(a.name);
   t.header.push_back("status");
-  for (const auto& r : result_names) t.header.push_back(result_column(r, s, result_names));
+  const auto column = result_columns(s, result_names);
+  for (const auto& r : result_names) t.header.push_back(column.at(r));
   t.header.insert(t.header.end(), {"rank", "wall_s", "file", "error"});
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const Outcome& o = outcomes[i];
@@ -167,6 +171,7 @@ void write_h5_file(const std::string& path, const Settings& s, const std::vector
   auto finished = [&](const Outcome& o) {
     return o.status == Status::ok || o.status == Status::reused;
   };
+  const auto column = result_columns(s, result_names);
   std::vector<std::string> columns{"case"}, partial;
   for (auto a : numeric_axes) columns.push_back(s.axes[a].name);
   for (const auto& r : result_names) {
@@ -175,9 +180,9 @@ void write_h5_file(const std::string& path, const Settings& s, const std::vector
       return !finished(o) || (it != o.results.end() && std::isfinite(it->second));
     });
     if (!everywhere)
-      partial.push_back(result_column(r, s, result_names));
+      partial.push_back(column.at(r));
     else
-      columns.push_back(result_column(r, s, result_names));
+      columns.push_back(column.at(r));
   }
   columns.insert(columns.end(), {"rank", "wall_seconds"});
   out.series_declare("/sweep", columns);
@@ -188,7 +193,7 @@ void write_h5_file(const std::string& path, const Settings& s, const std::vector
         {"case", double(i)}, {"rank", double(o.rank)}, {"wall_seconds", o.wall_seconds}};
     for (auto a : numeric_axes)
       values[s.axes[a].name] = std::strtod(cases[i].values[a].second.c_str(), nullptr);
-    for (const auto& [name, v] : o.results) values[result_column(name, s, result_names)] = v;
+    for (const auto& [name, v] : o.results) values[column.at(name)] = v;
     std::vector<double> row;
     for (const auto& c : columns) row.push_back(values.at(c));
     out.series_append("/sweep", row);

@@ -25,7 +25,7 @@
 // side), continues as loading. Eq. 6.11 moves the reversal points outwards by
 // mu dN along the direction in which they were reached, on the steps that slip
 // (theta < 1): the memory of a slip annulus moves with the annulus, and a step
-// in Eq. 6.7's no-slip solution changes neither. (Moved on every step, a
+// with theta = 1 (Eq. 6.7, or a cube of 1 or more) changes neither. (Moved on every step, a
 // reversal reached without slip, T* = T ~ 0, runs out by mu dN a step while N
 // rises, and as N falls Eq. 6.6's mu dN (1 - theta), theta < 1 by Eq. 6.9 with
 // T* - T near mu N, pulls T out to a finite force whatever the slip:

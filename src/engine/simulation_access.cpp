@@ -352,7 +352,12 @@ std::map<std::string, std::vector<double>> Simulation<D>::diagnostic_arrays(int 
 
 template <int D>
 void Simulation<D>::set_output_sink(OutputSink* sink) {
-  if (sink != sink_) labels_used_.clear();  // what went to another file (or none) mixes nothing
+  if (sink != sink_) {  // what went to another file (or none) mixes nothing
+    labels_used_.clear();
+    if (sink)  // but the attached diagnostics write to this one from now on
+      for (const auto& d : diagnostics_)
+        labels_used_.emplace_back(d.diagnostic->label(), d.diagnostic->options());
+  }
   sink_ = sink;
   for (auto& d : diagnostics_) d.diagnostic->attach_output(sink);
 }

@@ -370,10 +370,9 @@ TEST_CASE("thornton: unloading and reloading follow Masing's curves and the memo
 }
 
 // A slip that turns back and forth by one step at constant N stays on the
-// elastic line of each reversal, whatever T is: the loop closes every cycle, so
-// a contact jittering in a packing keeps its load. (A reversal ignored before
-// its branch has slipped would send the next step to the virgin curve at T
-// near T*, and each cycle would shed load.)
+// elastic line of each reversal, whatever T is: the loop closes every cycle. (A reversal ignored
+// before its branch has slipped would send the next step to the virgin curve at T near T*, and each
+// cycle would shed load.)
 TEST_CASE("thornton: a slip turning back and forth every step keeps T", "[thornton]") {
   const auto p = elastic_params(mu);
   const double r_eff = radius / 2, alpha = 1e-8, dt = 1e-9;

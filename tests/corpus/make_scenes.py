@@ -640,6 +640,10 @@ case("diagnostic_label_reused", "a label back after remove_diagnostic with other
      r"{at}.*label 'zones' was used in this output by a removed diagnostic with other options",
      after={"output": ['sim:remove_diagnostic(sim:diagnostic("zones", {}))',
                        wrong('sim:diagnostic("zones", { mean = "cartesian" })')]})
+case("diagnostic_label_reused_late_output", "a label back with other options, the output opened after the first",
+     r"{at}.*label 'zones' was used in this output by a removed diagnostic with other options",
+     before={"output": ['local first = sim:diagnostic("zones", {})']},
+     after={"output": ["sim:remove_diagnostic(first)", wrong('sim:diagnostic("zones", { mean = "cartesian" })')]})
 case("result_name_slash", "a result name with a '/' (a column of /results)",
      r"{at}.*result: the name 'a/b' cannot name a column of /results",
      after={"output": [wrong('sim:result { ["a/b"] = 1 }')]})
