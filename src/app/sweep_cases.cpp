@@ -42,7 +42,7 @@ void add_axis(Settings& s, const std::string& arg) {
   Axis axis{arg.substr(0, eq), split_values(arg.substr(eq + 1))};
   for (const auto& other : s.axes)
     if (other.name == axis.name) throw UsageError("-D " + axis.name + " given twice");
-  for (const char* own : {"case", "status", "rank", "wall_s", "wall_seconds", "file", "error"})
+  for (const char* own : summary_columns)
     if (axis.name == own)
       throw UsageError(fmt::format(
           "-D {}: '{}' names a column of the sweep's summary (case, status, rank, wall_s, "

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <functional>
 #include <map>
 #include <ostream>
@@ -39,7 +40,7 @@ std::string number(double v) {
 // is lost (a result `x` beside a swept `x`) and no two share a name.
 std::map<std::string, std::string> result_columns(const Settings& s,
                                                   const std::vector<std::string>& results) {
-  std::set<std::string> used{"case", "status", "rank", "wall_s", "wall_seconds", "file", "error"};
+  std::set<std::string> used(std::begin(summary_columns), std::end(summary_columns));
   for (const auto& a : s.axes) used.insert(a.name);
   const std::set<std::string> reserved = used;
   std::map<std::string, std::string> column;

@@ -20,6 +20,11 @@ struct Axis {
   std::vector<std::string> values;
 };
 
+// The summaries' own columns (CSV, markdown, HDF5 /sweep): no parameter may
+// take these names, and a result named so takes result_<name>.
+inline constexpr const char* summary_columns[] = {"case",         "status", "rank", "wall_s",
+                                                  "wall_seconds", "file",   "error"};
+
 struct Settings {
   std::string scene, directory;
   std::string scene_digest;  // io::source_digest of the scene's text, read once
