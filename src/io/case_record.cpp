@@ -13,6 +13,7 @@
 
 #include "core/fnv1a.hpp"
 #include "io/h5_handle.hpp"
+#include "io/journalled_file.hpp"
 #include "io/rank_files.hpp"
 
 namespace granule::io {
@@ -37,6 +38,7 @@ hid_t open_file(const std::string& path, unsigned flags, bool create = false) {
 #ifdef GRANULE_HAVE_FILE_LOCKING_PLIST
   H5Pset_file_locking(fapl.get(), 0, 1);
 #endif
+  use_journalled_driver(fapl.get());  // the output's driver: one file, one driver
   if (create) return H5Fcreate(writable_path(path).c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get());
   if (flags & H5F_ACC_RDWR) return H5Fopen(writable_path(path, true).c_str(), flags, fapl.get());
   return H5Fopen(readable_path(path).c_str(), flags, fapl.get());

@@ -11,6 +11,7 @@
 
 #include "io/h5_handle.hpp"
 #include "io/h5_output.hpp"
+#include "io/journalled_file.hpp"
 #include "io/rank_files.hpp"
 #include "io/same_file.hpp"
 
@@ -189,6 +190,16 @@ StateBlob read_blob(hid_t root, const std::string& path) {
   return s;
 }
 
+// Through the driver the run's output is open with (io/journalled_file.hpp), so that
+// HDF5 sees a file this process has open already as that file (and refuses to write
+// to the open output: its locking setting differs).
+hid_t open_existing(const std::string& file, unsigned flags) {
+  Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+  if (fapl.get() < 0) return H5I_INVALID_HID;
+  use_journalled_driver(fapl.get());
+  return H5Fopen(file.c_str(), flags, fapl.get());
+}
+
 void write_file(const std::string& path, const std::string& tmp, const StateBlob& s,
                 const std::map<std::string, std::string>& attributes) {
   Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
@@ -244,7 +255,7 @@ StateBlob read_checkpoint(const std::string& path, std::map<std::string, std::st
   silence_hdf5();
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) fail(path, "no such file");
-  Handle file(H5Fopen(readable_path(path).c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  Handle file(open_existing(readable_path(path), H5F_ACC_RDONLY), H5Fclose);
   if (file.get() < 0) fail(path, "not an HDF5 file");
   if (H5Lexists(file.get(), "/checkpoint", H5P_DEFAULT) <= 0)
     fail(path, "not a Granule checkpoint (no /checkpoint group)");
@@ -270,7 +281,7 @@ StateBlob read_checkpoint(const std::string& path, std::map<std::string, std::st
 
 std::string read_checkpoint_text(const std::string& path, const std::string& key) {
   silence_hdf5();
-  Handle file(H5Fopen(readable_path(path).c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  Handle file(open_existing(readable_path(path), H5F_ACC_RDONLY), H5Fclose);
   if (file.get() < 0) fail(path, "not an HDF5 file");
   const std::string name = "/checkpoint/texts/" + key;
   if (H5Lexists(file.get(), "/checkpoint", H5P_DEFAULT) <= 0 ||
@@ -282,7 +293,7 @@ std::string read_checkpoint_text(const std::string& path, const std::string& key
 
 void add_state_group(const std::string& path, const std::string& group, const StateBlob& s) {
   silence_hdf5();
-  Handle file(H5Fopen(writable_path(path, true).c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
+  Handle file(open_existing(writable_path(path, true), H5F_ACC_RDWR), H5Fclose);
   if (file.get() < 0)
     fail_h5(path, "cannot open for writing (not an HDF5 file, or still open by its run?)");
   if (H5Lexists(file.get(), group.c_str(), H5P_DEFAULT) > 0) fail(path, group + " exists already");
@@ -302,14 +313,14 @@ bool has_state_group(const std::string& path, const std::string& group) {
   silence_hdf5();
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) fail(path, "no such file");
-  Handle file(H5Fopen(readable_path(path).c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  Handle file(open_existing(readable_path(path), H5F_ACC_RDONLY), H5Fclose);
   if (file.get() < 0) fail(path, "not an HDF5 file");
   return H5Lexists(file.get(), group.c_str(), H5P_DEFAULT) > 0;
 }
 
 StateBlob read_state_group(const std::string& path, const std::string& group) {
   silence_hdf5();
-  Handle file(H5Fopen(readable_path(path).c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  Handle file(open_existing(readable_path(path), H5F_ACC_RDONLY), H5Fclose);
   if (file.get() < 0) fail(path, "not an HDF5 file");
   if (H5Lexists(file.get(), group.c_str(), H5P_DEFAULT) <= 0) fail(path, "has no " + group);
   Handle root(check(H5Gopen2(file.get(), group.c_str(), H5P_DEFAULT), path, "open " + group),

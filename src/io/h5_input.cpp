@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "io/h5_handle.hpp"
+#include "io/journalled_file.hpp"
 #include "io/rank_files.hpp"
 
 namespace granule::io {
@@ -42,6 +43,8 @@ struct File {
     // Files from other writers may hold a lock; reading the flushed part is safe regardless.
     if (H5Pset_file_locking(fapl.get(), 0, 1) < 0) fail_h5("open", "/");
 #endif
+    // The output's driver: HDF5 knows a file this process writes only through it.
+    use_journalled_driver(fapl.get());
     hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, fapl.get());
     if (f < 0)
       throw std::runtime_error(fmt::format("cannot open HDF5 file {}: {}", p, h5_error_detail()));

@@ -16,6 +16,7 @@
 #include <utility>
 
 #include "io/h5_output_impl.hpp"
+#include "io/journalled_file.hpp"
 #include "io/output_units.hpp"
 #include "io/rank_files.hpp"
 
@@ -54,11 +55,16 @@ H5Output::H5Output(const std::string& path) : impl_(std::make_unique<Impl>()) {
     throw std::runtime_error(
         fmt::format("cannot create HDF5 file {}: {}", path, h5_error_detail()));
 #endif
-  hid_t f = H5Fcreate(writable_path(path).c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get());
+  use_journalled_driver(fapl.get());
+  impl_->disk_path = writable_path(path);
+  // A journal left by another file of this name would put this one back wrong.
+  remove_journal(impl_->disk_path);
+  hid_t f = H5Fcreate(impl_->disk_path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get());
   if (f < 0)
     throw std::runtime_error(
         fmt::format("cannot create HDF5 file {}: {}", path, h5_error_detail()));
   impl_->file = Handle(f, H5Fclose);
+  impl_->file_id = new_file_id();
   impl_->string_attribute("/", "format", "granule-1");
   impl_->string_attribute("/", "created", iso_time_now());
   unsigned major = 0, minor = 0, release = 0;
@@ -81,6 +87,7 @@ H5Output::~H5Output() {
   m.series.clear();  // their datasets close before the file
   if (m.health != Impl::Health::broken && m.file.get() >= 0 && H5Fclose(m.file.get()) >= 0) {
     m.file.release();
+    if (m.health == Impl::Health::ok && !m.keep_journal) remove_journal(m.disk_path);
     return;
   }
   // A file whose writes failed is not closed: HDF5 would flush its cache into it again
@@ -408,6 +415,26 @@ void H5Output::flush() {
   impl_->usable("flush", impl_->path);
   impl_->write_all_series();
   impl_->flush_file();
+}
+
+std::uint64_t H5Output::mark() {
+  flush();
+  try {
+    mark_journal(impl_->file.get(), impl_->file_id);
+  } catch (const std::exception& e) {
+    const std::string full = disk_full_note(impl_->disk_path, e.what());
+    impl_->fail("mark for a restart", "/", full.empty() ? e.what() : full + " (" + e.what() + ")");
+  }
+  return impl_->file_id;
+}
+
+void H5Output::forget_journal(const std::string& path) {
+  remove_journal(path);
+}
+
+bool H5Output::restore(const std::string& original, const std::string& target,
+                       std::uint64_t file_id) {
+  return restore_journal(original, target, file_id);
 }
 
 }  // namespace granule::io

@@ -124,6 +124,17 @@ class H5Output {
 
   // Writes buffered series rows and pushes everything to disk (H5Fflush).
   void flush();
+  // flush(), then the file as it is now becomes what a restart can put it back to,
+  // whatever moment the process dies after (io/journalled_file.hpp). Returns the
+  // file's id, which restore() asks for.
+  std::uint64_t mark();
+  // Puts `target` (the file `original` or a copy of it) back as `original` stood at
+  // its last mark(), when its journal is there and is of the file `file_id`; false
+  // (nothing changed) when there is none.
+  static bool restore(const std::string& original, const std::string& target,
+                      std::uint64_t file_id);
+  // Removes the journal beside `path` (a file about to be replaced).
+  static void forget_journal(const std::string& path);
 
   std::size_t snapshot_count() const;
 
@@ -137,10 +148,12 @@ class H5Output {
   // Opens an existing file written by H5Output and cuts it back to a mark: the first
   // `snapshots` snapshots, each listed series at its row count (series not listed are
   // removed), and on `attribute_group` only the attributes `attributes` (others removed).
+  // Marked (mark()) before it is cut, under `file_id` (0: a new id).
   static std::unique_ptr<H5Output> reopen(const std::string& path, std::size_t snapshots,
                                           const std::map<std::string, std::int64_t>& series_rows,
                                           const std::string& attribute_group,
-                                          const std::vector<std::string>& attributes);
+                                          const std::vector<std::string>& attributes,
+                                          std::uint64_t file_id);
 
  private:
   H5Output();

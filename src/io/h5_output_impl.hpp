@@ -50,7 +50,10 @@ struct H5Output::Impl {
   };
 
   std::string path;
-  Handle file;  // declared first: destroyed last, after every object opened in it
+  std::string disk_path;      // where this process writes it (io/rank_files.hpp)
+  std::uint64_t file_id = 0;  // names the file to its undo journal (io/journalled_file.hpp)
+  bool keep_journal = false;  // even when the file closes cleanly
+  Handle file;                // declared first: destroyed last, after every object opened in it
   // After a failed write (a full disk, an I/O error) HDF5's cache no longer matches the
   // file, and flushing or closing it again can write half of its metadata or crash in
   // the library. So the first failure is kept, every later call is refused with it, and

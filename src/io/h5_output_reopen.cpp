@@ -5,6 +5,7 @@
 
 #include "io/h5_output.hpp"
 #include "io/h5_output_impl.hpp"
+#include "io/journalled_file.hpp"
 #include "io/rank_files.hpp"
 
 namespace granule::io {
@@ -50,7 +51,8 @@ std::vector<std::string> H5Output::attribute_names(const std::string& group_path
 std::unique_ptr<H5Output> H5Output::reopen(const std::string& path, std::size_t snapshots,
                                            const std::map<std::string, std::int64_t>& series_rows,
                                            const std::string& attribute_group,
-                                           const std::vector<std::string>& attributes) {
+                                           const std::vector<std::string>& attributes,
+                                           std::uint64_t file_id) {
   silence_hdf5();
   std::unique_ptr<H5Output> out(new H5Output());
   Impl& m = *out->impl_;
@@ -59,7 +61,14 @@ std::unique_ptr<H5Output> H5Output::reopen(const std::string& path, std::size_t 
 #ifdef GRANULE_HAVE_FILE_LOCKING_PLIST
   if (fapl.get() >= 0) H5Pset_file_locking(fapl.get(), 0, 1);
 #endif
-  hid_t f = H5Fopen(writable_path(path, true).c_str(), H5F_ACC_RDWR, fapl.get());
+  // Journalled from the open on, before HDF5 writes a byte: a kill while the file is
+  // cut back puts it back as it is now. (Kept until the cut is done: closing a file
+  // cut half-way leaves what its journal can undo.)
+  m.file_id = file_id != 0 ? file_id : new_file_id();
+  use_journalled_driver(fapl.get(), m.file_id);
+  m.keep_journal = true;
+  m.disk_path = writable_path(path, true);
+  hid_t f = H5Fopen(m.disk_path.c_str(), H5F_ACC_RDWR, fapl.get());
   if (f < 0)
     throw std::runtime_error(
         fmt::format("cannot open {} to continue it: {}", path, h5_error_detail()));
@@ -149,6 +158,7 @@ std::unique_ptr<H5Output> H5Output::reopen(const std::string& path, std::size_t 
   }
   m.materials_written = false;  // written again at the next snapshot
   m.flush_file();
+  m.keep_journal = false;
   return out;
 }
 

@@ -89,7 +89,9 @@ void RunOutput::restore_effects(const std::string& text) {
 
 void RunOutput::save_mark(StateBlob& state) {
   if (!file_) return;
-  file_->flush();
+  // The file as it is now is what a restart from this checkpoint continues, whenever
+  // this process dies: a write after this is undone from the file's journal first.
+  state.integers["output.file_id"] = {static_cast<std::int64_t>(file_->mark())};
   // Absolute: a restart may run in another folder.
   std::error_code ec;
   const auto absolute = std::filesystem::absolute(settings_.path, ec);
@@ -200,14 +202,29 @@ void RunOutput::resume(const StateBlob& state) {
   // (Under mpirun a rank other than 0 copies it into its scratch folder: io/rank_files.hpp.)
   const std::string here = writable_path(settings_.path);
   if (!std::filesystem::equivalent(original, here, ec)) {
+    H5Output::forget_journal(here);  // of a file that was there
     std::filesystem::copy_file(original, here, std::filesystem::copy_options::overwrite_existing,
                                ec);
     if (ec)
       throw std::runtime_error(
           fmt::format("restart: cannot copy {} to {}: {}", original, settings_.path, ec.message()));
   }
+  // Written on after the checkpoint (by a run that may have died mid-write): put back as
+  // it stood at the checkpoint, or at a later one, which reopen() cuts back to this.
+  // (Checkpoints written before files were journalled have no id.)
+  std::uint64_t file_id = 0;
+  if (state.integers.count("output.file_id")) {
+    const auto& id = state.i("output.file_id");
+    if (id.size() != 1 || id[0] <= 0) damaged_mark("output.file_id");
+    file_id = static_cast<std::uint64_t>(id[0]);
+    try {
+      H5Output::restore(original, here, file_id);
+    } catch (const std::exception& e) {
+      throw std::runtime_error(fmt::format("restart: {}", e.what()));
+    }
+  }
   file_ = H5Output::reopen(settings_.path, static_cast<std::size_t>(progress[0]), series,
-                           "/results", results);
+                           "/results", results, file_id);
   if (settings_.xdmf) {
     xdmf_ = std::make_unique<XdmfIndex>(settings_.path);
     xdmf_->restore(std::move(index));

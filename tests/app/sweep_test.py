@@ -166,7 +166,9 @@ def serial():
     check(p.returncode == 0 and status == ["ok"] * 3, f"the rerun finishes them all: {status}",
           p.stdout + p.stderr)
 
-    # --case-timeout stops a case that runs too long; the sweep goes on.
+    # --case-timeout stops a case that runs too long; the sweep goes on. (A fresh folder:
+    # a rerun would continue the stopped case from its checkpoint.)
+    shutil.rmtree(os.path.join(WORK, "sweep_timeout"), ignore_errors=True)
     rc, out = sweep("-D", "speed=1,2", "-D", "busy=20", "-D", "fail_speed=2", "--case-timeout", "0.5",
                     "-o", os.path.join(WORK, "sweep_timeout"))
     rows = table(os.path.join(WORK, "sweep_timeout"))

@@ -644,6 +644,10 @@ case("diagnostic_label_reused_late_output", "a label back with other options, th
      r"{at}.*label 'zones' was used in this output by a removed diagnostic with other options",
      before={"output": ['local first = sim:diagnostic("zones", {})']},
      after={"output": ["sim:remove_diagnostic(first)", wrong('sim:diagnostic("zones", { mean = "cartesian" })')]})
+case("contact_histories_into_open_output", "contact histories saved into the run's own output, still open",
+     r"{at}.*still open by its run",
+     replace={"output": 'sim:output { file = "open_output.h5" }'},
+     after={"run": [wrong('sim:save_contact_histories { file = "open_output.h5", material = "glass" }')]})
 case("result_name_slash", "a result name with a '/' (a column of /results)",
      r"{at}.*result: the name 'a/b' cannot name a column of /results",
      after={"output": [wrong('sim:result { ["a/b"] = 1 }')]})

@@ -8,6 +8,7 @@ local p = parameters {
   stage_steps = { default = 60000, doc = "steps in each stage" },
   checkpoint_every = { default = 5000 },
   busy = { default = 0, doc = "iterations of Lua arithmetic between stages one and two" },
+  snapshot_every = { default = 2e-3, unit = "s" },
 }
 local sim = simulation { dimension = 2 }
 sim:material { name = "powder", density = 1200 }
@@ -22,7 +23,7 @@ sim:wall_disk { name = "plate", center = { 0, -4e-3 }, normal = { 0, 1 }, radius
 sim:fill { region = { circle = { center = { 0, 0 }, radius = 6e-3 } }, count = 600, radius = 0.2e-3,
            material = "powder", seed = 3, max_speed = 0.05 }
 sim:gravity { 0, -9.81 }
-sim:output { snapshot_every = 2e-3 }
+sim:output { snapshot_every = p.snapshot_every }
 sim:checkpoint { file = p.checkpoint, every_steps = p.checkpoint_every }
 sim:series("stage_log", { "time", "kinetic_energy", "peak" })
 -- A diagnostic whose averaging windows (3.3e-4 s) straddle the checkpoints.

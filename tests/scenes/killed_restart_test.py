@@ -1,0 +1,113 @@
+#!/usr/bin/python3
+"""A run killed at any moment after a checkpoint, even in the middle of a write
+to its output file, restarts from that checkpoint into the same file and ends
+as a run never stopped: the same lines printed, the output identical bit for
+bit (compare_runs.py).
+
+HDF5 changes a file's metadata in place, so a kill between two of its writes
+can leave a file whose links point past its recorded end; the restart puts the
+file back from its journal (src/io/journalled_file.hpp) before continuing it.
+The kill falls on chosen writes: GRANULE_KILL_AT_JOURNALLED_WRITE=N makes the
+program kill itself in its N-th write (or truncation) after a checkpoint, half
+of the file's bytes written (odd N) or half of the journal record that saves
+them (even N). Kills land on every one of the first 71 writes (where, without
+the journal, kills at writes 21-22 and 55-68 left a file the restart could not
+continue), then more and more sparsely up to the run's end; every third
+restart is killed again while it cuts the file back.
+
+    killed_restart_test.py GRANULE SOURCE_DIR
+"""
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+
+GRANULE, SOURCE = sys.argv[1], sys.argv[2]
+COMPARE = os.path.join(SOURCE, "tests", "scenes", "compare_runs.py")
+SCENE = os.path.join(SOURCE, "tests", "scenes", "restart_stages.lua")
+ARGS = ["-D", "stage_steps=900", "-D", "checkpoint_every=250", "-D", "snapshot_every=2e-4",
+        "-D", "checkpoint=run.chk.h5"]
+ENV = dict(os.environ, GRANULE_PROGRESS_AFTER="1e9")
+KILL = "GRANULE_KILL_AT_JOURNALLED_WRITE"
+
+
+def run(cwd, extra=(), kill_at=None):
+    env = dict(ENV)
+    if kill_at is not None:
+        env[KILL] = str(kill_at)
+    return subprocess.run([GRANULE, "run", SCENE, *ARGS, *extra, "-o", "out.h5"], cwd=cwd,
+                          env=env, capture_output=True, text=True, timeout=300)
+
+
+def same_output(a, b):
+    r = subprocess.run(["/usr/bin/python3", COMPARE, a, b], capture_output=True, text=True)
+    return r.returncode == 0, r.stdout + r.stderr
+
+
+def main():
+    failures, kills = 0, 0
+    with tempfile.TemporaryDirectory() as work:
+        whole_dir = os.path.join(work, "whole")
+        os.makedirs(whole_dir)
+        whole = run(whole_dir)
+        if whole.returncode != 0:
+            sys.exit(f"the whole run failed ({whole.returncode}): {whole.stderr}")
+        if os.path.exists(os.path.join(whole_dir, "out.h5.journal")):
+            print("FAIL: a run that ended cleanly left its journal")
+            failures += 1
+        points = list(range(1, 72))
+        while points[-1] < 100000:
+            points.append(int(points[-1] * 1.3) + 1)
+        ran_through = False
+        for n in points:
+            cwd = os.path.join(work, f"kill_{n}")
+            os.makedirs(cwd)
+            killed = run(cwd, kill_at=n)
+            if killed.returncode == 0:
+                ran_through = True  # fewer writes than n after the first checkpoint
+                break
+            if killed.returncode != -signal.SIGKILL:
+                print(f"FAIL kill at write {n}: exit status {killed.returncode}\n{killed.stderr}")
+                failures += 1
+                continue
+            kills += 1
+            if not os.path.exists(os.path.join(cwd, "run.chk.h5")):
+                print(f"FAIL kill at write {n}: no checkpoint before the kill")
+                failures += 1
+                continue
+            # Every third point: the restart is killed too, on its first writes (cutting
+            # the file back to the checkpoint), then restarted again.
+            if n % 3 == 0:
+                again = run(cwd, ["--restart", "run.chk.h5"], kill_at=1 + n % 4)
+                if again.returncode != -signal.SIGKILL:
+                    print(f"FAIL kill at write {n}, restart killed: exit {again.returncode}\n"
+                          f"{again.stderr}")
+                    failures += 1
+                    continue
+                kills += 1
+            resumed = run(cwd, ["--restart", "run.chk.h5"])
+            if resumed.returncode != 0:
+                print(f"FAIL kill at write {n}: the restart exits {resumed.returncode}\n"
+                      f"{resumed.stderr}")
+                failures += 1
+                continue
+            if resumed.stdout != whole.stdout:
+                print(f"FAIL kill at write {n}: the restart prints\n{resumed.stdout}\n"
+                      f"the whole run\n{whole.stdout}")
+                failures += 1
+            ok, why = same_output(os.path.join(whole_dir, "out.h5"), os.path.join(cwd, "out.h5"))
+            if not ok:
+                print(f"FAIL kill at write {n}: the output differs from the whole run's: {why}")
+                failures += 1
+            shutil.rmtree(cwd)
+        if not ran_through:
+            print("FAIL: no kill point lay past the run's last write")
+            failures += 1
+    if failures or kills < 15:
+        sys.exit(f"{failures} failures, {kills} kills")
+    print(f"killed restarts identical ({kills} kills)")
+
+
+main()
