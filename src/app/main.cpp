@@ -273,6 +273,11 @@ void join_ranks(Options& o) {
   MPI_Comm_rank(MPI_COMM_WORLD, &o.ctx.rank);
   MPI_Comm_size(MPI_COMM_WORLD, &o.ctx.ranks);
   o.ctx.spread = granule::parallel::spread_over(MPI_COMM_WORLD);
+  o.ctx.all_ranks = [](bool mine) {
+    int in = mine ? 1 : 0, out = 0;
+    MPI_Allreduce(&in, &out, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+    return out != 0;
+  };
   if (o.ctx.rank > 0) {
     o.ctx.quiet = true;
     o.ctx.progress = false;

@@ -153,9 +153,10 @@ void Simulation<D>::step() {
   if (bonds_.intact > 0) apply_bonds();  // simulation_bonds.cpp
   if (observed) list_logged_slots();     // simulation_log.cpp
   // One comparison a step; the contacts are looked at only when it fails.
+  last_pair_overlap_ratio_ = pair_overlap_ratio;
   if (pair_overlap_ratio > overlap_warning_)
     check_overlaps(pair_overlap_ratio);
-  else
+  else if (!external_overlap_grace_)
     scene_overlaps_ = false;
   auto t2 = Clock::now();
   stage_times_.force += std::chrono::duration<double>(t2 - t1).count();

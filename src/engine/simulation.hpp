@@ -163,6 +163,16 @@ class Simulation final : public SimulationBase {
   // early never changes a result: a pruned candidate cannot touch before the
   // next note).
   void note_pruned_lists_with(bool another_rank_notes) { prune_with_others_ = another_rank_notes; }
+  // The grace of the scene's own overlaps (check_overlaps) ends at the first step whose
+  // pairs are all under overlap_warning: on a distributed run, all ranks' pairs. The run
+  // then ends it (set_external_overlap_grace), handing every rank the deepest pair
+  // overlap / smaller radius of the last step anywhere, so that every rank fails on
+  // the pass-throughs one process fails on, and on no other.
+  double last_pair_overlap_ratio() const { return last_pair_overlap_ratio_; }
+  void set_external_overlap_grace(bool on) { external_overlap_grace_ = on; }
+  void end_overlap_grace_with(double deepest_pair_ratio_anywhere) {
+    if (!(deepest_pair_ratio_anywhere > overlap_warning_)) scene_overlaps_ = false;
+  }
   void widen_prune_travel(double fastest_speed_sq_anywhere) {
     if (fastest_speed_sq_anywhere > last_fastest_speed_sq_)
       prune_travel_ +=
@@ -407,6 +417,16 @@ class Simulation final : public SimulationBase {
   std::int64_t contacts_wall_batched_ = 0;
   std::int64_t candidates_visited_ = 0;  // by the pair loops' listing passes
   double max_overlap_ratio_ = 0;
+  // Of this rank's pairs, the last step; infinite until a step has followed the
+  // last arm_overlap_grace(), so that no verdict older than the grace ends it.
+  double last_pair_overlap_ratio_ = INFINITY;
+  bool external_overlap_grace_ = false;  // set_external_overlap_grace
+  // The scene made overlaps (placed particles): pushed apart, not stopped, until a
+  // step has all pairs under overlap_warning (check_overlaps).
+  void arm_overlap_grace(bool on = true) {
+    scene_overlaps_ = on;
+    last_pair_overlap_ratio_ = INFINITY;
+  }
   std::size_t non_finite_index_ = SIZE_MAX;
   std::string dt_governing_pair_;  // the pair whose rule sets the automatic time step
   bool dt_per_contact_ = true;     // its rule is t_c / n (else 8 T_R / n)

@@ -535,9 +535,9 @@ class SimulationBase {
   double skin_set_ = 0;
   double overlap_warning_ = 0.1;
   bool overlap_warned_ = false;
-  // Set by prepare() and set_position(): overlaps deeper than a radius are then the
-  // scene's (coincident particles, an overlapping fill) until every pair is back
-  // under overlap_warning (check_overlaps).
+  // Set by what places particles (Simulation::arm_overlap_grace): overlaps deeper than
+  // a radius are then the scene's (coincident particles, an overlapping fill) until
+  // every pair is back under overlap_warning (check_overlaps).
   bool scene_overlaps_ = false;
   Periodicity periodic_;
   bool record_contacts_ = false;

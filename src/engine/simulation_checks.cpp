@@ -75,8 +75,11 @@ void Simulation<D>::check_escapes() {
 //
 // Overlaps the scene made (coincident centres, an overlapping fill, a particle
 // moved by set_position) are warned of, not stopped: until every pair is back
-// under overlap_warning after prepare() (scene_overlaps_, cleared in step()),
-// the particles they launched are still flying into one another. (An
+// under overlap_warning after the scene placed them (arm_overlap_grace; ended in
+// step(), or on a distributed run by the run, once every rank's pairs are), the
+// particles they launched are still flying into one another. A setting changed
+// mid-run (a wall, a law, the skin) places nothing: what the steps do after it
+// is the run's. (An
 // overlapping fill of the Mechanofusion chamber throws particles together at
 // 30-150 m/s for hundreds of steps, some pairs over a radius deep: that is the
 // start the scene asked for, and the warning names its launch speed.)

@@ -198,6 +198,7 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
   }
   lists_valid_ = false;
   unprepare();
+  arm_overlap_grace();  // as add_particle: an overlapping fill's overlaps are the scene's
   return ids;
 }
 

@@ -341,7 +341,12 @@ void Simulation<D>::prepare() {
   }
   choose_time_step();
   rebuild_lists();
-  scene_overlaps_ = true;
+  // The starting configuration's overlaps are the scene's (simulation_checks.cpp); later
+  // the calls that place particles mark theirs (add_particle, fill, set_position). A
+  // prepare() for a changed wall or law marks nothing: overlaps the steps made are the
+  // run's, and one past a radius (a particle pressed through another by a wall moving
+  // into the bed) fails as a pass-through.
+  if (step_ == 0) arm_overlap_grace();
   prepared_ = true;
   lists_kept_ = false;
 }

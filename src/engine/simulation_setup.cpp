@@ -117,7 +117,7 @@ std::int64_t Simulation<D>::add_particle(const ParticleSpec& s) {
   position_at_rebuild_.push_back(p_.position.back());
   lists_valid_ = false;
   unprepare();
-  scene_overlaps_ = true;  // as set_position: a deep overlap made here is the scene's
+  arm_overlap_grace();  // as set_position: a deep overlap made here is the scene's
   return id;
 }
 
@@ -294,7 +294,7 @@ void Simulation<D>::set_position(std::int64_t id, const Triple& x) {
   }
   p_.position[i] = at;
   lists_valid_ = false;
-  scene_overlaps_ = true;  // a deep overlap made here is the scene's, not a pass-through
+  arm_overlap_grace();  // a deep overlap made here is the scene's, not a pass-through
 }
 template <int D>
 void Simulation<D>::set_velocity(std::int64_t id, const Triple& v) {

@@ -461,7 +461,7 @@ void Simulation<D>::load_state(const StateBlob& s) {
 
   lists_valid_ = meta[5] != 0;
   list_indices_stale_ = false;  // save_state wrote live entries
-  scene_overlaps_ = s.i("guards")[0] != 0;
+  arm_overlap_grace(s.i("guards")[0] != 0);
   overlap_warned_ = s.i("guards")[1] != 0;
   dt_governing_pair_ = s.t("time_step.governing_pair");
   const auto canonical = s.integers.find("canonical_order");  // checked by check_state

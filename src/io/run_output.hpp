@@ -5,6 +5,7 @@
 // keeps what was written before it.
 #pragma once
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <set>
@@ -62,8 +63,12 @@ class RunOutput final : public OutputSink {
   // Checkpoints: how far the file has got (flushed first), under "output.*" keys; and,
   // for a muted output, the file of the run that wrote the checkpoint copied to this
   // output's path and cut back to that mark, then written on as if never stopped.
+  // `copies_made`: under mpirun, whether every rank made its copy (all ranks call
+  // resume, and pass it): the ranks that write scratch copies copy the first run's
+  // file (and put their copies back) before rank 0 puts the file itself back and
+  // cuts it.
   void save_mark(StateBlob& state);
-  void resume(const StateBlob& state);
+  void resume(const StateBlob& state, const std::function<bool(bool)>& copies_made = {});
 
   // OutputSink: where the scene's diagnostics write.
   void declare_series(const std::string& group, const std::vector<std::string>& columns) override;

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <exception>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -136,7 +137,7 @@ void RunOutput::save_mark(StateBlob& state) {
   state.integers["output.xdmf.connectivity"] = connectivity;
 }
 
-void RunOutput::resume(const StateBlob& state) {
+void RunOutput::resume(const StateBlob& state, const std::function<bool(bool)>& copies_made) {
   if (!settings_.muted) throw std::logic_error("RunOutput::resume: the output is not muted");
   const std::string original = state.t("output.path");
   std::map<std::string, std::int64_t> series;
@@ -199,16 +200,6 @@ void RunOutput::resume(const StateBlob& state) {
         "restart: the output {} of the run that wrote the checkpoint is missing; a restart "
         "continues that file",
         original));
-  // (Under mpirun a rank other than 0 copies it into its scratch folder: io/rank_files.hpp.)
-  const std::string here = writable_path(settings_.path);
-  if (!std::filesystem::equivalent(original, here, ec)) {
-    H5Output::forget_journal(here);  // of a file that was there
-    std::filesystem::copy_file(original, here, std::filesystem::copy_options::overwrite_existing,
-                               ec);
-    if (ec)
-      throw std::runtime_error(
-          fmt::format("restart: cannot copy {} to {}: {}", original, settings_.path, ec.message()));
-  }
   // Written on after the checkpoint (by a run that may have died mid-write): put back as
   // it stood at the checkpoint, or at a later one, which reopen() cuts back to this.
   // (Checkpoints written before files were journalled have no id.)
@@ -217,12 +208,38 @@ void RunOutput::resume(const StateBlob& state) {
     const auto& id = state.i("output.file_id");
     if (id.size() != 1 || id[0] <= 0) damaged_mark("output.file_id");
     file_id = static_cast<std::uint64_t>(id[0]);
+  }
+  auto put_back = [&](const std::string& target) {
+    if (file_id == 0) return;
     try {
-      H5Output::restore(original, here, file_id);
+      H5Output::restore(original, target, file_id);
     } catch (const std::exception& e) {
       throw std::runtime_error(fmt::format("restart: {}", e.what()));
     }
+  };
+  // (Under mpirun a rank other than 0 copies it into its scratch folder: io/rank_files.hpp.)
+  const std::string here = writable_path(settings_.path);
+  const bool in_place = std::filesystem::equivalent(original, here, ec);
+  std::exception_ptr copy_failed;
+  if (!in_place) {
+    try {
+      H5Output::forget_journal(here);  // of a file that was there
+      std::filesystem::copy_file(original, here, std::filesystem::copy_options::overwrite_existing,
+                                 ec);
+      if (ec)
+        throw std::runtime_error(fmt::format("restart: cannot copy {} to {}: {}", original,
+                                             settings_.path, ec.message()));
+      put_back(here);
+    } catch (...) {
+      copy_failed = std::current_exception();
+    }
   }
+  const bool all_copied = !copies_made || copies_made(copy_failed == nullptr);
+  if (copy_failed) std::rethrow_exception(copy_failed);
+  if (!all_copied)
+    throw std::runtime_error(
+        fmt::format("restart: another rank could not copy {} (its message says why)", original));
+  if (in_place) put_back(original);
   file_ = H5Output::reopen(settings_.path, static_cast<std::size_t>(progress[0]), series,
                            "/results", results, file_id);
   if (settings_.xdmf) {

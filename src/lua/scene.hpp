@@ -70,6 +70,9 @@ struct SceneContext {
   // that spread the scene over them (app/main.cpp; empty on one process).
   int rank = 0, ranks = 1;
   SpreadRunMaker spread;
+  // Whether every rank says true (MPI_Allreduce; empty on one process): all ranks
+  // pass it, whatever each says, so that none waits for a rank that failed.
+  std::function<bool(bool)> all_ranks;
 };
 
 // The message parameters{...} stops a scene with when SceneContext::parameters_only is set.

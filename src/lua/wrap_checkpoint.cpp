@@ -64,7 +64,7 @@ void apply_restart(SceneContext& ctx) {
   s.sim->load_state(*r.state);
   s.sim->load_diagnostics(*r.state);  // after the state: it needs the contact lists
   if (r.output_index > 0 && r.output_index == s.output_calls && s.output) {
-    s.output->resume(*r.state);
+    s.output->resume(*r.state, ctx.all_ranks);
     ctx.outputs_written.push_back(s.output->path());
   } else {
     s.output.reset();  // an output the scene had closed before the checkpoint

@@ -112,6 +112,9 @@ DistributedRun<D>::DistributedRun(Simulation<D>& sim, MPI_Comm comm, double reba
   shared_ = std::make_unique<SharedForward<D>>(comm_);
   if (shared_->usable()) shared_->fit(plan_, step_maxima);
   install();
+  // Last, past every check that can throw: a scene left by a refused run keeps ending
+  // the grace itself.
+  sim_.set_external_overlap_grace(true);
   times_.rebuild += since(t0);
 }
 
@@ -304,8 +307,9 @@ void DistributedRun<D>::advance(std::int64_t steps) {
     // the pruned lists' travel (a ghost moves as fast as its owner lets it).
     // And whether any rank notes its pruned lists this step, so that all do.
     const double mine[step_maxima] = {sim_.lists_due() ? 1.0 : 0.0, sim_.last_fastest_speed_sq(),
-                                      sim_.prune_due_next() ? 1.0 : 0.0};
-    double anywhere[step_maxima] = {mine[0], mine[1], mine[2]};
+                                      sim_.prune_due_next() ? 1.0 : 0.0,
+                                      sim_.last_pair_overlap_ratio()};
+    double anywhere[step_maxima] = {mine[0], mine[1], mine[2], mine[3]};
     // Few ranks: the ghosts' states sent at once, with the flag and the speed
     // (wasted on a rebuild step, which sends them again).
     const bool folded = size_ > 1 && size_ <= fold_ranks;
@@ -316,6 +320,7 @@ void DistributedRun<D>::advance(std::int64_t steps) {
     const bool any = anywhere[0] > 0;
     sim_.widen_prune_travel(anywhere[1]);
     sim_.note_pruned_lists_with(anywhere[2] > 0);
+    sim_.end_overlap_grace_with(anywhere[3]);
     auto t1 = Clock::now();
     (folded ? times_.exchange : times_.waiting) += std::chrono::duration<double>(t1 - t0).count();
     if (any) {
@@ -338,6 +343,12 @@ void DistributedRun<D>::dissolve() {
   if (dissolved_) return;
   dissolved_ = true;
   const auto t0 = Clock::now();
+  // The last step's verdict on the scene's overlaps, given before the whole scene
+  // steps again (the next distributed step would have given it).
+  double deepest = sim_.last_pair_overlap_ratio();
+  MPI_Allreduce(MPI_IN_PLACE, &deepest, 1, MPI_DOUBLE, MPI_MAX, comm_);
+  sim_.end_overlap_grace_with(deepest);
+  sim_.set_external_overlap_grace(false);
   take_records();
   sync_bonds();
   const Particles<D>& p = sim_.share();

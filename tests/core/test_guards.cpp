@@ -121,6 +121,52 @@ TEST_CASE("guards: overlaps the scene made are pushed apart, not stopped", "[gua
   CHECK(count_containing(warnings, "overlap by") == 1);
 }
 
+TEST_CASE("guards: a setting changed mid-run does not make the steps' overlaps the scene's",
+          "[guards]") {
+  // A sphere pressed 0.3 r into a fixed one by gravity stays above overlap_warning. A
+  // setting changed then (the skin: a whole prepare) must not excuse what the steps do
+  // after it: two spheres that then pass through each other still stop the run.
+  for (bool change_skin : {false, true}) {
+    Simulation<3> sim;
+    std::vector<std::string> warnings;
+    linear_pair_scene(sim, warnings);
+    const double depth = 0.3 * r;
+    sim.set_gravity({0, -k * depth / mass, 0});  // k depth = m g: at rest 0.3 r deep
+    ParticleSpec base;
+    base.radius = r, base.material = 0, base.fixed = true;
+    sim.add_particle(base);
+    ParticleSpec resting = base;
+    resting.fixed = false, resting.position = {0, 2 * r, 0};  // touching: no overlap yet
+    sim.add_particle(resting);
+    // Two free spheres far off, resting 0.3 r deep on a floor (a wall's overlap is not a
+    // pair's).
+    sim.add_material({"floor", 0, 0, 0, 0});
+    sim.set_contact("m", "floor", "linear", {{"k_normal", k}, {"restitution", 0.85}});
+    WallSpec floor;
+    floor.name = "floor";
+    floor.material = 1;
+    floor.normal = {0, 1, 0};
+    floor.point = {0, -r + depth, 0};
+    sim.add_wall(floor);
+    const std::int64_t a = particle(sim, 0.01 - 2 * r, 0, 0), b = particle(sim, 0.01 + 2 * r, 0, 0);
+    sim.advance(3000);  // the resting sphere settles 0.3 r deep
+    REQUIRE(count_containing(warnings, "overlap by") == 1);
+    if (change_skin) sim.set_skin(0.6 * r);
+    const double v = 10 * r * omega;
+    sim.set_velocity(a, {v / 2, 0, 0});
+    sim.set_velocity(b, {-v / 2, 0, 0});
+    std::string message;
+    try {
+      sim.advance(100);
+    } catch (const RunError& e) {
+      message = e.what();
+    }
+    INFO("skin changed: " << change_skin << ": " << message);
+    CHECK_THAT(message,
+               Catch::Contains(fmt::format("particles {} and {} pass through each other", a, b)));
+  }
+}
+
 TEST_CASE("guards: overlap_warning outside 0 < w <= 1 is refused", "[guards]") {
   Simulation<2> sim;
   for (double bad : {0.0, -0.1, 1.5, std::nan("")})
