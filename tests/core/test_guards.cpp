@@ -105,6 +105,34 @@ TEST_CASE("guards: two particles passing through each other stop the run, naming
   provoke(solid);
 }
 
+TEST_CASE("guards: a law too soft for an impact is named so, whatever energy is left at the stop",
+          "[guards]") {
+  // Head-on at 1.3 r omega: the spring would stop them 1.3 r deep; when the overlap
+  // passes r it has taken 1 / 1.69 of the energy, and what is left (0.35 k r^2) is
+  // below what it stores there (0.5 k r^2). Each step closes 0.1 r: the step
+  // follows the approach, and only a stiffer law stops them (as at 4000 steps a
+  // contact, where the same stop comes).
+  for (double steps_per_contact : {40.0, 4000.0}) {
+    Simulation<3> sim;
+    std::vector<std::string> warnings;
+    linear_pair_scene(sim, warnings);
+    sim.set_contact("m", "m", "linear", {{"k_normal", k}, {"restitution", 1.0}});
+    sim.set_steps_per_contact(steps_per_contact);
+    const double v = 1.3 * r * omega;
+    particle(sim, -1.001 * r, 0, v / 2), particle(sim, 1.001 * r, 0, -v / 2);
+    std::string message;
+    try {
+      sim.advance(static_cast<std::int64_t>(steps_per_contact));
+    } catch (const RunError& e) {
+      message = e.what();
+    }
+    INFO(steps_per_contact << " steps a contact: " << message);
+    CHECK_THAT(message, Catch::Contains("pass through each other"));
+    CHECK_THAT(message, Catch::Contains("too soft for this impact"));
+    CHECK_THAT(message, !Catch::Contains("reduce time_step"));
+  }
+}
+
 TEST_CASE("guards: overlaps the scene made are pushed apart, not stopped", "[guards]") {
   // Coincident centres (overlap 2 r), then, after they separated, one particle moved
   // onto the other with set_position: neither is a pass-through.
