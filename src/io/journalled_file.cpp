@@ -185,6 +185,20 @@ bool save(State& s, std::uint64_t from, std::uint64_t to) {
   return true;
 }
 
+// One writer a file: an open file description lock (fcntl F_OFD_SETLK, whole
+// file), which a second writer, in another process or this one, cannot take,
+// and which goes with the descriptor (and with a killed process). HDF5's own
+// lock (flock) is off for our files, so that readers such as h5py can open a
+// running simulation's output; the two kinds of lock do not meet.
+bool lock_for_writing(int fd) {
+  struct flock lock {};
+  lock.l_type = F_WRLCK;
+  lock.l_whence = SEEK_SET;
+  lock.l_start = 0;
+  lock.l_len = 0;
+  return ::fcntl(fd, F_OFD_SETLK, &lock) == 0;
+}
+
 // A fresh journal for `s` as it is now: written whole beside the file, then renamed
 // over the last one, so that a journal on the disk is always a whole one.
 void start_journal(State& s, std::uint64_t file_id) {
@@ -218,13 +232,24 @@ void start_journal(State& s, std::uint64_t file_id) {
 H5FD_t* driver_open(const char* name, unsigned flags, hid_t fapl, haddr_t maxaddr) {
   if (!name || !*name || maxaddr == 0 || maxaddr > kMaxAddress) return nullptr;
   int o = (flags & H5F_ACC_RDWR) ? O_RDWR : O_RDONLY;
-  if (flags & H5F_ACC_TRUNC) o |= O_TRUNC;
   if (flags & H5F_ACC_CREAT) o |= O_CREAT;
   if (flags & H5F_ACC_EXCL) o |= O_EXCL;
+  // (Truncated only once it is ours: a file another process writes is left whole.)
   const int fd = ::open(name, o | O_CLOEXEC, 0666);
   if (fd < 0) {
     const int error = errno;
     push_error(H5E_CANTOPENFILE, fmt::format("unable to open file: name = '{}'", name), error);
+    return nullptr;
+  }
+  if ((flags & H5F_ACC_RDWR) &&
+      (!lock_for_writing(fd) || ((flags & H5F_ACC_TRUNC) && ::ftruncate(fd, 0) != 0))) {
+    const int error = errno;
+    push_error(H5E_CANTOPENFILE,
+               error == EAGAIN || error == EACCES
+                   ? fmt::format("'{}' is open for writing elsewhere (another process?)", name)
+                   : fmt::format("unable to lock or truncate file: name = '{}'", name),
+               error);
+    ::close(fd);
     return nullptr;
   }
   struct stat st {};
@@ -472,6 +497,11 @@ bool restore_journal(const std::string& original, const std::string& target,
     throw std::runtime_error(
         fmt::format("cannot open {} to put it back: {}", target, std::strerror(errno)));
   Closer close_target{fd};
+  if (!lock_for_writing(fd))
+    throw std::runtime_error(fmt::format(
+        "{} is being written by another process (is the run that wrote the checkpoint still "
+        "going?); a restart continues a file no run writes",
+        target));
   auto fail_write = [&]() {
     throw std::runtime_error(
         fmt::format("cannot put {} back as it stood: {}", target, std::strerror(errno)));

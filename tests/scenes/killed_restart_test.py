@@ -28,6 +28,7 @@ import signal
 import subprocess
 import sys
 import tempfile
+import time
 
 GRANULE, SOURCE = sys.argv[1], sys.argv[2]
 MPIRUN = sys.argv[3] if len(sys.argv) > 3 else None
@@ -39,8 +40,8 @@ ENV = dict(os.environ, GRANULE_PROGRESS_AFTER="1e9")
 KILL = "GRANULE_KILL_AT_JOURNALLED_WRITE"
 
 
-def run(cwd, extra=(), kill_at=None):
-    command = [GRANULE, "run", SCENE, *ARGS, *extra, "-o", "out.h5"]
+def run(cwd, extra=(), kill_at=None, args=ARGS):
+    command = [GRANULE, "run", SCENE, *args, *extra, "-o", "out.h5"]
     env = dict(ENV)
     if MPIRUN:
         # Two ranks; rank 0 alone (the one writing the file) kills itself mid-write,
@@ -63,6 +64,37 @@ def was_killed(result):
 def same_output(a, b):
     r = subprocess.run(["/usr/bin/python3", COMPARE, a, b], capture_output=True, text=True)
     return r.returncode == 0, r.stdout + r.stderr
+
+
+def restart_beside_live_run(work):
+    """A restart started while the run that wrote the checkpoint still writes its
+    output is refused before it touches the file; the run ends as if alone."""
+    longer = ["-D", "stage_steps=12000", "-D", "checkpoint_every=2000", "-D", "snapshot_every=2e-4",
+              "-D", "checkpoint=run.chk.h5"]
+    alone = os.path.join(work, "alone")
+    os.makedirs(alone)
+    reference = run(alone, args=longer)
+    cwd = os.path.join(work, "live")
+    os.makedirs(cwd)
+    command = [GRANULE, "run", SCENE, *longer, "-o", "out.h5"]
+    live = subprocess.Popen(command, cwd=cwd, env=ENV, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    checkpoint = os.path.join(cwd, "run.chk.h5")
+    deadline = time.time() + 120
+    while not os.path.exists(checkpoint) and live.poll() is None and time.time() < deadline:
+        time.sleep(0.02)
+    second = run(cwd, ["--restart", "run.chk.h5"], args=longer)
+    out, err = live.communicate(timeout=300)
+    failures = 0
+    if live.returncode is None or second.returncode == 0 or \
+            "being written by another process" not in second.stderr:
+        print(f"FAIL: a restart beside the live run: exit {second.returncode}\n{second.stderr}")
+        failures += 1
+    ok, why = same_output(os.path.join(alone, "out.h5"), os.path.join(cwd, "out.h5"))
+    if live.returncode != 0 or out != reference.stdout or not ok:
+        print(f"FAIL: the live run, beside a refused restart: exit {live.returncode}, {why}\n{err}")
+        failures += 1
+    return failures
 
 
 def main():
@@ -127,6 +159,8 @@ def main():
         if not ran_through:
             print("FAIL: no kill point lay past the run's last write")
             failures += 1
+        if not MPIRUN:
+            failures += restart_beside_live_run(work)
     if failures or kills < (4 if MPIRUN else 15):
         sys.exit(f"{failures} failures, {kills} kills")
     print(f"killed restarts identical ({kills} kills{' on 2 ranks' if MPIRUN else ''})")
