@@ -57,13 +57,14 @@ H5Output::H5Output(const std::string& path) : impl_(std::make_unique<Impl>()) {
 #endif
   use_journalled_driver(fapl.get());
   impl_->disk_path = writable_path(path);
-  // A journal left by another file of this name would put this one back wrong.
-  remove_journal(impl_->disk_path);
   hid_t f = H5Fcreate(impl_->disk_path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get());
   if (f < 0)
     throw std::runtime_error(
         fmt::format("cannot create HDF5 file {}: {}", path, h5_error_detail()));
   impl_->file = Handle(f, H5Fclose);
+  // A journal left by an earlier file of this name would put this one back wrong.
+  // (Removed once the file is ours: one another process writes keeps its own.)
+  remove_journal(impl_->disk_path);
   impl_->file_id = new_file_id();
   impl_->string_attribute("/", "format", "granule-1");
   impl_->string_attribute("/", "created", iso_time_now());

@@ -189,14 +189,16 @@ bool save(State& s, std::uint64_t from, std::uint64_t to) {
 // file), which a second writer, in another process or this one, cannot take,
 // and which goes with the descriptor (and with a killed process). HDF5's own
 // lock (flock) is off for our files, so that readers such as h5py can open a
-// running simulation's output; the two kinds of lock do not meet.
+// running simulation's output; the two kinds of lock do not meet. False only
+// when another holds it (EAGAIN, EACCES): a file system without such locks (some
+// network ones) writes unlocked, as HDF5 does with its own lock off.
 bool lock_for_writing(int fd) {
   struct flock lock {};
   lock.l_type = F_WRLCK;
   lock.l_whence = SEEK_SET;
   lock.l_start = 0;
   lock.l_len = 0;
-  return ::fcntl(fd, F_OFD_SETLK, &lock) == 0;
+  return ::fcntl(fd, F_OFD_SETLK, &lock) == 0 || (errno != EAGAIN && errno != EACCES);
 }
 
 // A fresh journal for `s` as it is now: written whole beside the file, then renamed

@@ -68,7 +68,8 @@ def same_output(a, b):
 
 def restart_beside_live_run(work):
     """A restart started while the run that wrote the checkpoint still writes its
-    output is refused before it touches the file; the run ends as if alone."""
+    output is refused before it touches the file, and so is a new run into that
+    file (the live run's journal kept); the run ends as if alone."""
     longer = ["-D", "stage_steps=12000", "-D", "checkpoint_every=2000", "-D", "snapshot_every=2e-4",
               "-D", "checkpoint=run.chk.h5"]
     alone = os.path.join(work, "alone")
@@ -84,8 +85,16 @@ def restart_beside_live_run(work):
     while not os.path.exists(checkpoint) and live.poll() is None and time.time() < deadline:
         time.sleep(0.02)
     second = run(cwd, ["--restart", "run.chk.h5"], args=longer)
+    # A new run into the same file: refused, the live run's journal kept.
+    fresh = run(cwd, args=[a.replace("run.chk.h5", "other.chk.h5") for a in longer])
+    journal_kept = os.path.exists(os.path.join(cwd, "out.h5.journal"))
     out, err = live.communicate(timeout=300)
     failures = 0
+    if fresh.returncode == 0 or "open for writing elsewhere" not in fresh.stderr or \
+            not journal_kept:
+        print(f"FAIL: a new run into the live run's file: exit {fresh.returncode}, journal kept "
+              f"{journal_kept}\n{fresh.stderr}")
+        failures += 1
     if live.returncode is None or second.returncode == 0 or \
             "being written by another process" not in second.stderr:
         print(f"FAIL: a restart beside the live run: exit {second.returncode}\n{second.stderr}")
