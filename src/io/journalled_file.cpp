@@ -468,11 +468,14 @@ void remove_journal(const std::string& file_path) {
 bool restore_journal(const std::string& original, const std::string& target,
                      std::uint64_t file_id) {
   const std::string path = journal_path(original);
+  auto fail_read = [&]() {
+    throw std::runtime_error(
+        fmt::format("cannot read the journal {}: {}", path, std::strerror(errno)));
+  };
   const int journal = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (journal < 0) {
     if (errno == ENOENT) return false;
-    throw std::runtime_error(
-        fmt::format("cannot read the journal {}: {}", path, std::strerror(errno)));
+    fail_read();
   }
   struct Closer {
     int fd;
@@ -480,9 +483,7 @@ bool restore_journal(const std::string& original, const std::string& target,
   } close_journal{journal};
   unsigned char header[kHeaderBytes];
   std::size_t got = 0;
-  if (!read_all(journal, header, sizeof header, 0, got))
-    throw std::runtime_error(
-        fmt::format("cannot read the journal {}: {}", path, std::strerror(errno)));
+  if (!read_all(journal, header, sizeof header, 0, got)) fail_read();
   if (got < sizeof header || std::memcmp(header, kMagic, sizeof kMagic) != 0)
     throw std::runtime_error(fmt::format(
         "{} is not a Granule journal (or was cut short); the output {} cannot be put back "
@@ -512,9 +513,7 @@ bool restore_journal(const std::string& original, const std::string& target,
   std::vector<unsigned char> bytes;
   while (true) {
     unsigned char head[16];
-    if (!read_all(journal, head, sizeof head, at, got))
-      throw std::runtime_error(
-          fmt::format("cannot read the journal {}: {}", path, std::strerror(errno)));
+    if (!read_all(journal, head, sizeof head, at, got)) fail_read();
     if (got < sizeof head) break;  // the end, or a record cut short (its bytes never changed)
     const std::uint64_t offset = get_u64(head), size = get_u64(head + 8);
     if (offset + size > length || size > length)
@@ -525,8 +524,7 @@ bool restore_journal(const std::string& original, const std::string& target,
     for (std::uint64_t done = 0; done < size && whole; done += got) {
       bytes.resize(static_cast<std::size_t>(std::min<std::uint64_t>(size - done, kPiece)));
       if (!read_all(journal, bytes.data(), bytes.size(), at + 16 + static_cast<off_t>(done), got))
-        throw std::runtime_error(
-            fmt::format("cannot read the journal {}: {}", path, std::strerror(errno)));
+        fail_read();
       if (!write_all(fd, bytes.data(), got, static_cast<off_t>(offset + done))) fail_write();
       whole = got == bytes.size();
     }
