@@ -166,6 +166,9 @@ int run_scene(Options& o) {
     err = granule::lua::run_file(L, o.scene);
   }
   lua_close(L);  // closes output files (their final snapshot) even after an error
+  // A restart that could not take over failed the scene wherever the journal ended
+  // (inside a callback, or a call the scene caught): say so as the restart's error.
+  if (!o.ctx.restart_failure.empty()) err = o.ctx.restart_failure;
   if (!err.empty()) {
     if (o.ctx.ranks > 1)
       std::cerr << fmt::format("granule: rank {} of {}: ", o.ctx.rank, o.ctx.ranks);

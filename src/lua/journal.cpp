@@ -438,6 +438,10 @@ int journaled_call(lua_State* L) {
     return lua_gettop(L);
   };
   if (!j) return call_inner(false);
+  if (!ctx->restart_failure.empty()) {
+    lua_pushstring(L, ctx->restart_failure.c_str());
+    return lua_error(L);
+  }
   if (ctx->begin_replay) {  // --restart: the replay starts before the first journaled call
     if (failed_with_message(L, [&] {
           auto begin = std::move(ctx->begin_replay);

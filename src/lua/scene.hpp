@@ -58,6 +58,10 @@ struct SceneContext {
   std::shared_ptr<Journal> journal;    // what the scene saw of the engine (journal.hpp)
   std::shared_ptr<Restart> restart;    // --restart: the checkpoint being continued
   std::function<void()> begin_replay;  // run before the scene's first journaled call
+  // Why the checkpoint's state could not be taken over at the journal's end: the
+  // scene's error whatever call or callback it surfaced in, and every later call
+  // fails with it (a pcall in the scene must not run on from a state half restored).
+  std::string restart_failure;
   // `granule sweep` checks each case's -D values against the scene before running any:
   // parameters{...} validates the overrides, records the declared names and then stops
   // the scene; so does simulation{...}, should a scene make one before (or without)

@@ -55,7 +55,7 @@ std::size_t first_differing_line(const std::string& a, const std::string& b) {
 }
 
 // The journal's end: the checkpoint's state, diagnostics and output take over.
-void apply_restart(SceneContext& ctx) {
+void take_over(SceneContext& ctx) {
   Restart& r = *ctx.restart;
   if (!r.target)
     throw InputError(fmt::format(
@@ -75,6 +75,20 @@ void apply_restart(SceneContext& ctx) {
   if (!ctx.quiet)
     std::cerr << fmt::format("granule: continuing from {} at step {} (t = {:.6g} s)\n", r.path,
                              s.sim->step_count(), s.sim->time());
+}
+
+// The journal's end may come inside any call of the scene, a callback's too: a failure
+// here is the restart's, not that call's (SceneContext::restart_failure).
+void apply_restart(SceneContext& ctx) {
+  try {
+    take_over(ctx);
+  } catch (const std::exception& e) {
+    const std::string what = e.what();
+    ctx.restart_failure = what.rfind("restart", 0) == 0
+                              ? what
+                              : fmt::format("restart from {}: {}", ctx.restart->path, what);
+    throw InputError(ctx.restart_failure);
+  }
 }
 
 }  // namespace

@@ -231,6 +231,21 @@ def check_refusals(scene, args):
             failures += 1
         else:
             print("ok: a restart may give a default explicitly")
+        # The first run's output moved away: the restart fails as a restart, wherever in
+        # the scene (a callback's call) its journal ended, and not as that callback's error.
+        os.rename(os.path.join(cwd, "out.h5"), os.path.join(cwd, "moved.h5"))
+        r = subprocess.run([GRANULE, "run", scene, *args, "--restart", chk, "-o", "out.h5"],
+                           cwd=cwd, env=ENV, capture_output=True, text=True, timeout=300)
+        error = [line for line in r.stderr.splitlines() if line.startswith("error:")]
+        if (r.returncode == 0 or not error or not error[0].startswith("error: restart:")
+                or "out.h5 of the run that wrote the checkpoint is missing" not in error[0]
+                or "callback" in r.stderr):
+            print(f"FAIL refusal: a restart without the first run's output ({r.returncode}): "
+                  f"{r.stderr}")
+            failures += 1
+        else:
+            print(f"ok refusal: the first run's output missing: {error[0]}")
+        os.rename(os.path.join(cwd, "moved.h5"), os.path.join(cwd, "out.h5"))
         edited = os.path.join(cwd, os.path.basename(scene))
         lines = open(scene).read().split("\n")
         lines[20] += "  -- edited"
