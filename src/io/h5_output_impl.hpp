@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <ctime>
 #include <filesystem>
 #include <map>
@@ -18,6 +19,7 @@
 
 #include "io/h5_handle.hpp"
 #include "io/h5_output.hpp"
+#include "io/journalled_file.hpp"
 #include "io/output_units.hpp"
 
 namespace granule::io {
@@ -97,17 +99,26 @@ struct H5Output::Impl {
   // Refuses a write of about `bytes` before HDF5 starts it when the disk lacks the room
   // (with 64 KiB for the metadata written with it): a write that fails halfway through
   // HDF5 leaves its cache out of step with the file.
+  // The room is then set aside in the file (reserve_space), so that another writer
+  // cannot take it between this check and HDF5's writes.
   void ensure_space(double bytes, const std::string& what, const std::string& object) {
     std::filesystem::path dir = std::filesystem::path(path).parent_path();
     if (dir.empty()) dir = ".";
+    const double needed = bytes + 65536.0;
     struct statvfs fs {};
-    if (statvfs(dir.c_str(), &fs) != 0) return;  // cannot tell: let the write find out
-    const double free_bytes = double(fs.f_bavail) * double(fs.f_frsize);
-    if (free_bytes >= bytes + 65536.0) return;
+    double free_bytes = -1;  // unknown
+    if (statvfs(dir.c_str(), &fs) == 0) free_bytes = double(fs.f_bavail) * double(fs.f_frsize);
+    int error = 0;
+    if ((free_bytes < 0 || free_bytes >= needed) &&
+        reserve_space(file.get(), static_cast<std::uint64_t>(needed), error))
+      return;
     health = Health::full;
-    failure =
-        fmt::format("no space left on the disk holding {} ({:.0f} KiB free, {:.0f} KiB needed)",
-                    dir.string(), free_bytes / 1024, (bytes + 65536.0) / 1024);
+    failure = free_bytes >= 0
+                  ? fmt::format(
+                        "no space left on the disk holding {} ({:.0f} KiB free, {:.0f} KiB needed)",
+                        dir.string(), free_bytes / 1024, needed / 1024)
+                  : fmt::format("no space left on the disk holding {} ({:.0f} KiB needed: {})",
+                                dir.string(), needed / 1024, std::strerror(error));
     fail(what, object, failure);
   }
 
@@ -251,7 +262,13 @@ struct H5Output::Impl {
     s.last_write = std::chrono::steady_clock::now();
     if (rows == 0) return;
     const hsize_t total = s.written + rows;
-    ensure_space(double(rows) * double(ncol) * sizeof(double), "write", group_path);
+    // Each column's chunks are written whole (series_chunk_rows rows), each new one
+    // with an entry in the column's chunk index.
+    const hsize_t chunks = (total + series_chunk_rows - 1) / series_chunk_rows -
+                           (s.written + series_chunk_rows - 1) / series_chunk_rows;
+    ensure_space(
+        double(ncol) * (double(chunks) * double(series_chunk_rows) * sizeof(double) + 4096.0),
+        "write", group_path);
     // Extend every column before writing any, and forget the rows only when all are
     // written: a failed batch can then be retried whole, leaving the columns equally long.
     for (std::size_t c = 0; c < ncol; ++c)
@@ -278,7 +295,11 @@ struct H5Output::Impl {
     for (auto& [name, s] : series) write_series(name, s);
   }
 
-  void flush_file() { check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "flush", "/"); }
+  // Room for the metadata a flush writes, set aside first (ensure_space).
+  void flush_file() {
+    ensure_space(0, "flush", "/");
+    check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "flush", "/");
+  }
 };
 
 }  // namespace granule::io

@@ -111,6 +111,7 @@ struct State {
   std::uint64_t mark_end = 0;
   std::map<std::uint64_t, std::uint64_t> saved;  // start -> end, disjoint, of [0, mark_end)
   bool failed = false;                           // a journal write failed: no more writes
+  std::uint64_t reserved_to = 0;                 // disk set aside up to here (reserve_space)
 };
 struct File {
   H5FD_t pub;
@@ -292,6 +293,8 @@ herr_t driver_close(H5FD_t* file) {
   State& s = state_of(file);
   int status = 0;
   if (s.journal >= 0) ::close(s.journal);
+  // The room set aside and not written goes back to the disk (a file's length is kept).
+  if (s.reserved_to > s.eof) (void)::ftruncate(s.fd, static_cast<off_t>(s.eof));
   if (::close(s.fd) != 0) {
     const int error = errno;
     push_error(H5E_CANTCLOSEFILE, "unable to close file", error);
@@ -383,6 +386,7 @@ herr_t driver_truncate(H5FD_t* file, hid_t, hbool_t) {
     return -1;
   }
   s.eof = s.eoa;
+  s.reserved_to = std::min<std::uint64_t>(s.reserved_to, s.eoa);  // cut with the file
   return 0;
 }
 
@@ -446,8 +450,9 @@ std::string journal_path(const std::string& file_path) {
   return file_path + ".journal";
 }
 
-void mark_journal(hid_t file, std::uint64_t file_id) {
-  // Only a file of this driver has a State behind its handle.
+namespace {
+// Only a file of this driver has a State behind its handle (else null).
+State* state_of_file(hid_t file) {
   hid_t driver = -1;
   if (const hid_t fapl = H5Fget_access_plist(file); fapl >= 0) {
     driver = H5Pget_driver(fapl);
@@ -456,8 +461,35 @@ void mark_journal(hid_t file, std::uint64_t file_id) {
   void* handle = nullptr;
   if (driver < 0 || driver != driver_id() ||
       H5Fget_vfd_handle(file, H5P_FILE_ACCESS_DEFAULT, &handle) < 0 || !handle)
+    return nullptr;
+  return static_cast<State*>(handle);
+}
+}  // namespace
+
+void mark_journal(hid_t file, std::uint64_t file_id) {
+  State* s = state_of_file(file);
+  if (!s)
     throw std::logic_error("mark_journal: the file was not opened through the journalled driver");
-  start_journal(*static_cast<State*>(handle), file_id);
+  start_journal(*s, file_id);
+}
+
+bool reserve_space(hid_t file, std::uint64_t bytes, int& error) {
+  State* const found = state_of_file(file);
+  if (!found) return true;  // another driver's file: the free space was only checked
+  State& s = *found;
+  const std::uint64_t from = std::max<std::uint64_t>(s.eoa, s.eof);
+  if (from + bytes <= s.reserved_to) return true;
+  // The file's length stays (FALLOC_FL_KEEP_SIZE): HDF5 sees the file it wrote.
+  if (::fallocate(s.fd, FALLOC_FL_KEEP_SIZE, static_cast<off_t>(from), static_cast<off_t>(bytes)) ==
+      0) {
+    s.reserved_to = from + bytes;
+    return true;
+  }
+  if (errno == ENOSPC || errno == EDQUOT || errno == EFBIG) {
+    error = errno;
+    return false;
+  }
+  return true;  // EOPNOTSUPP and the like: no reservation on this file system
 }
 
 void remove_journal(const std::string& file_path) {
