@@ -21,6 +21,7 @@ local p = parameters {
   surface_energies = { default = "0,0.2", unit = "J/m^2", doc = "comma-separated Gamma values" },
   dimension = { default = 2 },
   steps_per_contact = { default = 40, unit = "-", doc = "n of the time-step rule (8 T_R / n for Hertz's laws)" },
+  shrink_rescale = { default = 0, unit = "-", doc = "1: T, T*, T** scale with the contact radius while N falls (docs/contact_models.md)" },
 }
 
 local function list(text)
@@ -40,7 +41,7 @@ for _, gamma in ipairs(list(p.surface_energies)) do
   local quartz = string.format("quartz_%g", gamma)
   sim:material { name = quartz, density = p.density, young = p.young, poisson = p.poisson }
   local model = gamma > 0 and "thornton_jkr" or "thornton_elastic"
-  local law = { quartz, quartz, model = model, friction = p.friction }
+  local law = { quartz, quartz, model = model, friction = p.friction, shrink_rescale = p.shrink_rescale }
   if gamma > 0 then law.surface_energy = gamma end
   sim:contact(law)
   for _, angle in ipairs(list(p.angles)) do

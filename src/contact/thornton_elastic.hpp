@@ -61,17 +61,40 @@ struct ThorntonElastic {
         // powder has a friction coefficient near it.
         {"friction", "-", 0.0, 0, ThorntonElastic::friction_limit, true,
          "Coulomb friction coefficient mu (at most 10)"},
+        shrink_rescale_parameter(),
     };
+  }
+  // Shared with thornton_jkr, whose tangential law this is.
+  static ParamSpec shrink_rescale_parameter() {
+    return {"shrink_rescale",
+            "-",
+            0,
+            0,
+            1,
+            true,
+            "1: while N falls, T, T* and T** scale with the contact radius (a / a_prev) in place "
+            "of Eq. 6.6's mu dN terms and Eq. 6.11 (Thornton, Cummins and Cleary 2013), which "
+            "converges with the step at any friction; 0: Eqs. 6.6-6.11 as the dissertation "
+            "writes them",
+            true};
+  }
+
+  // Off unless given (make() is also called with a law's values alone).
+  static bool shrink_rescale_in(const ParamValues& v) {
+    const auto it = v.find("shrink_rescale");
+    return it != v.end() && it->second != 0;
   }
 
   struct Params {
-    double e_star;    // Pa, 1/E* = (1-nu1^2)/E1 + (1-nu2^2)/E2
-    double g_star;    // Pa, 1/G* = (2-nu1)/G1 + (2-nu2)/G2
-    double friction;  // mu
+    double e_star;        // Pa, 1/E* = (1-nu1^2)/E1 + (1-nu2^2)/E2
+    double g_star;        // Pa, 1/G* = (2-nu1)/G1 + (2-nu2)/G2
+    double friction;      // mu
+    bool shrink_rescale;  // shrink_rescale_parameter()
   };
 
   // E* and G* of a material pair. `model` names the model in error messages.
-  static Params from_materials(double friction, const PairMaterials& m, const char* model) {
+  static Params from_materials(double friction, bool shrink_rescale, const PairMaterials& m,
+                               const char* model) {
     for (const Material* mat : {&m.a, &m.b}) {
       if (!(mat->young > 0))
         throw InputError(fmt::format(
@@ -93,11 +116,12 @@ struct ThorntonElastic {
     // (Johnson 1985, Eq. 7.30; Thornton and Yin 1991), which is what we use.
     p.g_star = 1.0 / ((2 - a.poisson) / g_a + (2 - b.poisson) / g_b);
     p.friction = friction;
+    p.shrink_rescale = shrink_rescale;
     return p;
   }
 
   static Params make(const ParamValues& v, const PairMaterials& m) {
-    return from_materials(v.at("friction"), m, name);
+    return from_materials(v.at("friction"), ThorntonElastic::shrink_rescale_in(v), m, name);
   }
 
   // Branches of Eqs. 6.8-6.10.
@@ -135,9 +159,16 @@ struct ThorntonElastic {
   // stiffness), mu_n = mu N of Eqs. 6.8-6.10, mu_dn = mu dN, cap = the sliding force
   // |T| may not exceed (mu N here; thornton_jkr passes N + 2Nc and Eq. 6.23/6.25).
   // Needs N of the current step (the dissertation updates N and a first).
+  // shrink_rescale: while N falls, T, T* and T** are scaled by a / a_prev, which is
+  // (N / N_prev)^(1/3) for the N of mu_n (Hertz, and N + 2Nc of Eq. 6.22), and the
+  // increment follows Eqs. 6.6-6.10 at dN = 0, Eq. 6.11 idle. Without it, a falling N
+  // releases T only where the step's mu |dN| exceeds a finite force (Eq. 6.7's and the
+  // clamped cube's test), a threshold that shrinks with the step: near-normal impacts
+  // at high friction then need a step finer than 1 / Psi_1 contacts' worth to converge
+  // (docs/contact_models.md).
   template <int D>
   static Vec<D> mindlin_deresiewicz(History<D>& h, const ContactState<D>& c, double k0, double mu_n,
-                                    double mu_dn, double cap) {
+                                    double mu_dn, double cap, bool shrink_rescale = false) {
     if (!(mu_n > 0) || !(cap > 0)) {  // no friction, or N = 0: |T| <= 0
       h.tangential.setZero();
       h.reversal.setZero();
@@ -151,6 +182,11 @@ struct ThorntonElastic {
     Vec<D> star = rotate_onto_plane<D>(h.reversal, c.normal);
     Vec<D> star2 = rotate_onto_plane<D>(h.reversal2, c.normal);
     const Vec<D> previous_u = rotate_onto_plane<D>(h.load_direction, c.normal);
+    if (shrink_rescale && mu_dn < 0) {  // the contact shrinks: a / a_prev
+      const double shrink = std::cbrt(mu_n / (mu_n - mu_dn));
+      t *= shrink, star *= shrink, star2 *= shrink;
+      mu_dn = 0;
+    }
 
     const Vec<D> slip = c.tangential_velocity * c.dt;  // d(delta), Eq. 3.10
     const double t_mag = t.norm(), slip_mag = slip.norm();
@@ -249,8 +285,8 @@ struct ThorntonElastic {
     const double dn = normal - h.previous_normal;  // previous N = 0 for a new contact
     h.previous_normal = normal;
     const double mu = p.friction;
-    out.tangential =
-        mindlin_deresiewicz<D>(h, c, 8 * p.g_star * a, mu * normal, mu * dn, mu * normal);
+    out.tangential = mindlin_deresiewicz<D>(h, c, 8 * p.g_star * a, mu * normal, mu * dn,
+                                            mu * normal, p.shrink_rescale);
     return out;
   }
 

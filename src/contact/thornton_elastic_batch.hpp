@@ -39,13 +39,17 @@ namespace granule {
 template <>
 struct ThorntonElastic::LaneParams<true> {
   double hertz_, shear_, mu_;  // 4/3 E* (Eq. 6.3), 8 G* (no-slip stiffness 8 G* a), mu
+  bool shrink_;                // shrink_rescale
   explicit LaneParams(const Params* const lane[]) {
     const Params& p = *lane[0];
     hertz_ = 4.0 / 3.0 * p.e_star, shear_ = 8 * p.g_star, mu_ = p.friction;
+    shrink_ = p.shrink_rescale;
   }
   double hertz(int) const { return hertz_; }
   double shear(int) const { return shear_; }
   double mu(int) const { return mu_; }
+  bool shrink(int) const { return shrink_; }
+  bool any_shrink() const { return shrink_; }
 };
 
 // Lanes under different laws (material pairs): each value as an array over the lanes.
@@ -53,15 +57,21 @@ template <>
 struct ThorntonElastic::LaneParams<false> {
   static constexpr int L = batch_lanes;
   alignas(64) double hertz_[L], shear_[L], mu_[L];
+  bool shrink_[L];
+  bool any_shrink_ = false;
   explicit LaneParams(const Params* const lane[]) {
     for (int l = 0; l < L; ++l) {
       const Params& p = *lane[l];
       hertz_[l] = 4.0 / 3.0 * p.e_star, shear_[l] = 8 * p.g_star, mu_[l] = p.friction;
+      shrink_[l] = p.shrink_rescale;
+      any_shrink_ = any_shrink_ || p.shrink_rescale;
     }
   }
   double hertz(int l) const { return hertz_[l]; }
   double shear(int l) const { return shear_[l]; }
   double mu(int l) const { return mu_[l]; }
+  bool shrink(int l) const { return shrink_[l]; }
+  bool any_shrink() const { return any_shrink_; }
 };
 
 namespace thornton_elastic_lanes {
@@ -100,6 +110,26 @@ inline double cube_of_theta(double branch, double t_u, double star_u, double sta
   return k0 * slip_mag < mu_dn ? -1.0 : cube;
 }
 
+// shrink_rescale (mindlin_deresiewicz()): where a lane's law asks for it and N
+// falls, `shrink` = a / a_prev = (N / N_prev)^(1/3) and `still` = 1 (its mu dN is
+// then taken as 0); elsewhere 1 and 0. The roots in a loop of their own, as theta's.
+template <typename P, typename Batch, typename History>
+inline void shrink_ratios(const P& q, const Batch& c, const History& h, double* shrink,
+                          double* still) {
+  if (!q.any_shrink()) {
+    for (int l = 0; l < batch_lanes; ++l) shrink[l] = 1.0, still[l] = 0.0;
+    return;
+  }
+  for (int l = 0; l < batch_lanes; ++l) {
+    double k0, mu_n, mu_dn;
+    normal_force(q, c, l, h.previous_normal[l], k0, mu_n, mu_dn);
+    const bool on = q.shrink(l) && mu_dn < 0 && mu_n > 0 && c.overlap[l] > 0;
+    shrink[l] = on ? mu_n / (mu_n - mu_dn) : 1.0;
+    still[l] = on ? 1.0 : 0.0;
+  }
+  for (int l = 0; l < batch_lanes; ++l) shrink[l] = std::cbrt(shrink[l]);
+}
+
 // Theta lane by lane from cube_of_theta(): the cube root where the increment
 // slips partially, 1 elsewhere.
 inline void roots(const double* cube, double* theta) {
@@ -131,10 +161,16 @@ inline void lanes_3d(const P& q, ThorntonElastic::BatchHistory3& h, ContactBatch
   // What the first loop leaves for the last: u, the slip perpendicular to T's
   // line, |slip along it|, k0, mu N, mu dN; and for the roots the cubes.
   alignas(64) double ux[L], uy[L], uz[L], px[L], py[L], pz[L], par[L];
-  alignas(64) double k0s[L], mu_ns[L], mu_dns[L], cube[L], theta[L];
+  alignas(64) double k0s[L], mu_ns[L], mu_dns[L], cube[L], theta[L], shrink[L], still[L];
+  shrink_ratios(q, c, h, shrink, still);
   for (int l = 0; l < L; ++l) {
     double k0, mu_n, mu_dn;
     const double normal = normal_force(q, c, l, h.previous_normal[l], k0, mu_n, mu_dn);
+    // shrink_rescale: T, T*, T** with the contact radius, and dN taken as 0.
+    const double sh = shrink[l];
+    tx[l] *= sh, ty[l] *= sh, tz[l] *= sh, rx[l] *= sh, ry[l] *= sh, rz[l] *= sh;
+    r2x[l] *= sh, r2y[l] *= sh, r2z[l] *= sh;
+    mu_dn = still[l] != 0 ? 0.0 : mu_dn;
     // No overlap (force() clears the history there; the engine only passes
     // contacts that touch, and padded lanes): N = 0, and mu N = 0 clears the rest.
     const bool touching = c.overlap[l] > 0;
@@ -233,9 +269,13 @@ inline void lanes_2d(const P& q, ThorntonElastic::BatchHistory2& h, ContactBatch
   // roots the cubes.
   alignas(64) double tx[L], ty[L], rx[L], ry[L], r2x[L], r2y[L], ux[L], uy[L];
   alignas(64) double px[L], py[L], par[L], k0s[L], mu_ns[L], mu_dns[L], cube[L], theta[L];
+  alignas(64) double shrink[L], still[L];
+  shrink_ratios(q, c, h, shrink, still);
   for (int l = 0; l < L; ++l) {
     double k0, mu_n, mu_dn;
     const double normal = normal_force(q, c, l, h.previous_normal[l], k0, mu_n, mu_dn);
+    mu_dn = still[l] != 0 ? 0.0 : mu_dn;  // shrink_rescale, as in 3D
+    const double sh = shrink[l];
     const bool touching = c.overlap[l] > 0;  // as in 3D
     c.normal_force[l] = touching ? normal : 0.0;
     h.previous_normal[l] = touching ? normal : 0.0;
@@ -252,9 +292,9 @@ inline void lanes_2d(const P& q, ThorntonElastic::BatchHistory2& h, ContactBatch
     };
     const double t = onto_line(h.tx[l], h.ty[l]), star = onto_line(h.rx[l], h.ry[l]);
     const double star2 = onto_line(h.qx[l], h.qy[l]), pu = onto_line(h.ux[l], h.uy[l]);
-    const double t_x = t * ax, t_y = t * ay;  // used from registers below (see the top)
+    const double t_x = t * ax * sh, t_y = t * ay * sh;  // used from registers below (see the top)
     tx[l] = t_x, ty[l] = t_y;
-    double sx = star * ax, sy = star * ay, s2x = star2 * ax, s2y = star2 * ay;
+    double sx = star * ax * sh, sy = star * ay * sh, s2x = star2 * ax * sh, s2y = star2 * ay * sh;
     const double pux = pu * ax, puy = pu * ay;
     // d(delta), Eq. 3.10: the slip velocity along t as the vector force() is given.
     const double v_t = c.tangential_velocity[l];

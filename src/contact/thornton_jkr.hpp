@@ -67,6 +67,7 @@ struct ThorntonJkr {
         {"surface_energy", "J/m^2", -1.0, -1, unbounded, true,
          "interface energy Gamma (Nc = 1.5 pi Gamma R*); -1: the mean of the two materials' "
          "surface_energy"},
+        ThorntonElastic::shrink_rescale_parameter(),
     };
   }
 
@@ -83,7 +84,8 @@ struct ThorntonJkr {
 
   static Params make(const ParamValues& v, const PairMaterials& m) {
     Params p;
-    p.elastic = ThorntonElastic::from_materials(v.at("friction"), m, name);
+    p.elastic = ThorntonElastic::from_materials(v.at("friction"),
+                                                ThorntonElastic::shrink_rescale_in(v), m, name);
     const double given = v.at("surface_energy");
     const double gamma = given == -1.0 ? 0.5 * (m.a.surface_energy + m.b.surface_energy) : given;
     if (!(gamma >= 0) || !std::isfinite(gamma))
@@ -240,8 +242,8 @@ struct ThorntonJkr {
 
     if (h.peeled) {
       const double a_p = std::cbrt(3 * r * n_eff / (4 * e));  // Eq. 6.22
-      out.tangential =
-          ThorntonElastic::mindlin_deresiewicz<D>(h.md, c, 8 * g * a_p, mu * n_eff, mu * dn, slide);
+      out.tangential = ThorntonElastic::mindlin_deresiewicz<D>(
+          h.md, c, 8 * g * a_p, mu * n_eff, mu * dn, slide, p.elastic.shrink_rescale);
       return out;
     }
     // Peeling, Eqs. 6.18-6.21.
