@@ -27,6 +27,9 @@ local p = parameters {
   poisson = { default = 0.0, unit = "-", doc = "Poisson's ratio (Thornton models)" },
   surface_energy = { default = 0.0, unit = "J/m^2", doc = "surface energy (JKR model)" },
   steps_per_contact = { default = 40, unit = "-", doc = "n of Eq. 4.1" },
+  allow_tension = { default = 1, unit = "-", doc = "linear: 1 the dashpot may pull at the end of an impact; 0 N >= 0" },
+  calibrate_restitution = { default = 1, unit = "-", doc = "hertz_mindlin: 1 damping solved for e; 0 the EDEM/LIGGGHTS formula" },
+  shrink_rescale = { default = 0, unit = "-", doc = "Thornton models: 1 scales T, T*, T** with the contact radius while N falls" },
 }
 
 assert(p.angle >= 0 and p.angle < 90, "angle must be in [0, 90) degrees")
@@ -46,13 +49,15 @@ local function law(model)
              tangential_ratio = p.tangential_ratio }
   elseif model == "linear" then
     return { model = model, k_normal = p.k_load, restitution = p.restitution, friction = p.friction,
-             tangential_ratio = p.tangential_ratio }
+             tangential_ratio = p.tangential_ratio, allow_tension = p.allow_tension }
   elseif model == "hertz_mindlin" then   -- E*, G* from young and poisson (-D young=... -D poisson=...)
-    return { model = model, restitution = p.restitution, friction = p.friction }
+    return { model = model, restitution = p.restitution, friction = p.friction,
+             calibrate_restitution = p.calibrate_restitution }
   elseif model == "thornton_elastic" then  -- Hertz + Mindlin-Deresiewicz (6.3.2), elastic: e = 1
-    return { model = model, friction = p.friction }
+    return { model = model, friction = p.friction, shrink_rescale = p.shrink_rescale }
   elseif model == "thornton_jkr" then      -- JKR + Savkoor-Briggs (6.3.3), Gamma = surface_energy
-    return { model = model, friction = p.friction, surface_energy = p.surface_energy }
+    return { model = model, friction = p.friction, surface_energy = p.surface_energy,
+             shrink_rescale = p.shrink_rescale }
   end
   error("unknown model '" .. model .. "' (walton_braun, linear, hertz_mindlin, thornton_elastic, thornton_jkr)")
 end

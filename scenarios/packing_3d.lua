@@ -25,9 +25,11 @@ for _, pair in ipairs { { "glass", "glass" }, { "glass", "steel" } } do
 end
 local half = p.box / 2
 sim:wall_plane { name = "floor", point = { 0, 0, 0 }, normal = { 0, 1, 0 }, material = "steel" }
-for name, wall in pairs { west = { { -half, 0, 0 }, { 1, 0, 0 } }, east = { { half, 0, 0 }, { -1, 0, 0 } },
-                          south = { { 0, 0, -half }, { 0, 0, 1 } }, north = { { 0, 0, half }, { 0, 0, -1 } } } do
-  sim:wall_plane { name = name, point = wall[1], normal = wall[2], material = "steel" }
+-- In a fixed order (a list, not pairs over names): the walls' order is their
+-- contacts' order, and with it the order of the sums, so the run repeats bit for bit.
+for _, wall in ipairs { { "west", { -half, 0, 0 }, { 1, 0, 0 } }, { "east", { half, 0, 0 }, { -1, 0, 0 } },
+                        { "south", { 0, 0, -half }, { 0, 0, 1 } }, { "north", { 0, 0, half }, { 0, 0, -1 } } } do
+  sim:wall_plane { name = wall[1], point = wall[2], normal = wall[3], material = "steel" }
 end
 -- A loose cloud four times the bed's height, without overlaps.
 local height = 4 * p.particles * (4 / 3 * math.pi * p.radius ^ 3) / 0.6 / p.box ^ 2

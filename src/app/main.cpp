@@ -9,6 +9,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
+#include <thread>
 #include <cmath>
 #include <csignal>
 #include <cstdint>
@@ -48,7 +50,7 @@ const char* usage =
     "              [--restart CHECKPOINT.h5] [--checkpoint FILE.h5] [--checkpoint-every SECONDS]\n"
     "              [--progress SECONDS]\n"
     "  granule run SCENE.lua --help   the scene's parameters: defaults, units, docs\n"
-    "  granule repl [SCENE.lua] [-D name=value ...]\n"
+    "  granule repl [SCENE.lua] [-D name=value ...] [-o OUT.h5]\n"
     "  granule sweep SCENE.lua -D name=v1,v2,... [-D ...] [-o DIR] [--threads N] [-q]\n"
     "              [--case-timeout SECONDS] [--checkpoint-every SECONDS] [--list]\n"
     "  granule models\n"
@@ -296,8 +298,23 @@ int run_scene_over_ranks(Options& o) {
   join_ranks(o);
   const int status = run_scene(o);
   granule::io::remove_scratch();
-  // A rank that failed alone (the others still step) ends them all, with its status.
-  if (status != 0 && !o.ctx.interrupted) MPI_Abort(MPI_COMM_WORLD, status);
+  // Every rank meets here at its end. A scene that fails alike on every rank (an
+  // error before its first run) ends each with its status; a rank that failed alone
+  // (the others still step, or wait for it in a run) ends them all, with its status,
+  // when the others have not come within a few seconds.
+  MPI_Request met;
+  MPI_Ibarrier(MPI_COMM_WORLD, &met);
+  int all_here = 0;
+  if (status == 0 || o.ctx.interrupted) {
+    MPI_Wait(&met, MPI_STATUS_IGNORE);
+  } else {
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(3);
+    while (!all_here && std::chrono::steady_clock::now() < until) {
+      MPI_Test(&met, &all_here, MPI_STATUS_IGNORE);
+      if (!all_here) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    if (!all_here) MPI_Abort(MPI_COMM_WORLD, status);
+  }
   MPI_Finalize();
   return status;
 }
@@ -408,6 +425,9 @@ int run_command(const std::vector<std::string>& args) {
       const std::string& v = args[++k];
       if (a == "-o") {
         if (v.empty()) return fail_usage("-o needs a file name");
+        if (v[0] == '-')
+          return fail_usage("-o needs a file name, got the option '" + v +
+                            "' (a file whose name starts with '-': ./" + v + ")");
         if (!o.ctx.output_path.empty()) return fail_usage("-o given twice");
         o.ctx.output_path = v;
       } else if (std::string err = add_override(o, v); !err.empty()) {
@@ -459,6 +479,8 @@ int run_command(const std::vector<std::string>& args) {
     }
   }
   if (scene_help_asked && o.command != "run") return fail_usage("--help goes with run SCENE.lua");
+  if (!o.ctx.restart_path.empty() && o.command != "run")
+    return fail_usage("--restart goes with run SCENE.lua (a checkpoint continues a scene file)");
   o.ctx.scene_path = o.scene;
   // On a terminal the progress line rewrites itself with \r; in a batch log (stderr a
   // file or a pipe) it is a line every tenth of the run, or every --progress seconds.

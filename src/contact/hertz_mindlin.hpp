@@ -42,7 +42,7 @@ struct HertzMindlin {
         {"restitution", "-", required, 0, 1, false, "normal coefficient of restitution e"},
         {"friction", "-", 0.0, 0, unbounded, true, "Coulomb friction coefficient mu"},
         {"calibrate_restitution", "-", 1, 0, 1, true,
-         "1: damping chosen so the restitution is exactly e; 0: the EDEM/LIGGGHTS formula"},
+         "1: damping chosen so the restitution is exactly e; 0: the EDEM/LIGGGHTS formula", true},
     };
   }
 

@@ -40,7 +40,8 @@ struct LinearSpringDashpot {
         {"tangential_damping_ratio", "-", 0.5, 0, unbounded, true,
          "c_t / c_n (LAMMPS' default 0.5)"},
         {"allow_tension", "-", 1, 0, 1, true,
-         "1: the dashpot may pull at the end of an impact (closed-form restitution); 0: N >= 0"},
+         "1: the dashpot may pull at the end of an impact (closed-form restitution); 0: N >= 0",
+         true},
     };
   }
 

@@ -81,6 +81,7 @@ bool given_by_name(const ParamSpec& p) {
 
 std::string parameter_range(const ParamSpec& p) {
   if (given_by_name(p)) return "\"epsd\" or \"constant\"";
+  if (p.is_switch) return "0 or 1";
   // resolve_parameters: v < min (or <= min) and v > max are refused.
   return fmt::format("{}{}, {}{}", p.min_inclusive ? "[" : "(", number(p.min), number(p.max),
                      std::isinf(p.max) ? ")" : "]");

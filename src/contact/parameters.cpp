@@ -35,6 +35,9 @@ ParamValues resolve_parameters(const std::vector<ParamSpec>& spec, const ParamVa
       throw InputError(fmt::format("{}: parameter '{}' = {} [{}] is outside {}{}, {}{}", context,
                                    p.name, v, p.unit, p.min_inclusive ? "[" : "(", p.min, p.max,
                                    std::isinf(p.max) ? ")" : "]"));
+    if (p.is_switch && v != 0 && v != 1)
+      throw InputError(
+          fmt::format("{}: parameter '{}' = {} is a switch: give 0 or 1", context, p.name, v));
     out[p.name] = v;
   }
   return out;

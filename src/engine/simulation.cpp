@@ -174,6 +174,7 @@ void Simulation<D>::step() {
   if (non_finite_index_ != SIZE_MAX) report_non_finite(non_finite_index_);
   if (last_fastest_speed_sq_ * (dt_ * dt_) > smallest_radius_ * smallest_radius_)
     report_step_over();
+  if (last_wall_travel_ > smallest_radius_) report_wall_step_over();
   time_ += dt_;
   ++step_;
   // Schedules (ramps): their targets set to the values of the next step's time.
@@ -345,14 +346,21 @@ void Simulation<D>::integrate() {
   const std::int64_t bad = result.first_non_finite;
   if (bad != std::numeric_limits<std::int64_t>::max() && non_finite_index_ == SIZE_MAX)
     non_finite_index_ = static_cast<std::size_t>(bad);
-  for (auto& wall : walls_) {
+  double wall_travel = 0;
+  int fastest_wall = -1;
+  for (std::size_t w = 0; w < walls_.size(); ++w) {
+    Wall<D>& wall = walls_[w];
     if (!wall.velocity.isZero()) {  // planes and finite walls translate
       wall.point += wall.velocity * dt_;
       wall.center += wall.velocity * dt_;
       wall.moved_since_rebuild += wall.velocity * dt_;
+      const double travel = (wall.velocity * dt_).stableNorm();  // 1e300 m/s: no overflow
+      if (travel > wall_travel) wall_travel = travel, fastest_wall = static_cast<int>(w);
     }
   }
-  meshes_.move(walls_, dt_);
+  meshes_.move(walls_, dt_, wall_travel, fastest_wall);
+  last_wall_travel_ = wall_travel;
+  fastest_wall_ = fastest_wall;
 }
 
 template <int D>

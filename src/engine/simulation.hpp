@@ -318,6 +318,18 @@ class Simulation final : public SimulationBase {
   void integrate();
   // The parallel bonds' loads onto their particles, in bond order (simulation_bonds.cpp).
   void apply_bonds();
+  // The stiffest particle's bonded mode (simulation_bonds.cpp).
+  struct BondMode {
+    double omega_sq = 0;  // 1/s^2
+    std::size_t particle = 0;
+    int bonds = 0;
+  };
+  BondMode stiffest_bond_mode(const std::vector<std::pair<std::int64_t, std::int64_t>>& fresh,
+                              const std::vector<BondProperties>& made) const;
+  void check_bond_step();
+  // What check_bond_step() last found stable: a ramp re-prepares every step.
+  double bond_step_checked_ = 0;
+  std::size_t bond_count_checked_ = 0, bonds_intact_checked_ = 0;
   void save_bonds(StateBlob& s) const;
   // The checkpoint's bonds, checked (InputError naming the entry); none in one without them.
   ParallelBonds<D> read_bonds(const StateBlob& s) const;
@@ -383,6 +395,10 @@ class Simulation final : public SimulationBase {
   // (report_step_over, simulation_checks.cpp).
   double smallest_radius_ = INFINITY;
   void report_step_over();
+  // Nor may a wall (the farthest any point of it went in the last step, and which wall).
+  double last_wall_travel_ = 0;
+  int fastest_wall_ = -1;
+  void report_wall_step_over();
   // Before storage indices change between steps: the last step's contacts kept by id.
   void keep_contacts_by_id();
   // RunError naming `what` while list_indices_stale_.

@@ -137,9 +137,10 @@ void SimulationBase::set_periodic(int axis, double origin, double length) {
   unprepare();
 }
 
-void SimulationBase::set_threads(int threads) {
+void SimulationBase::set_threads(std::int64_t threads) {
   if (threads < 0 || threads > 4096)
-    throw InputError(fmt::format("threads must be >= 0 (0 = all cores), got {}", threads));
+    throw InputError(fmt::format(
+        "threads must be from 0 to 4096 (0: OMP_NUM_THREADS where set, else 1), got {}", threads));
   // More threads than cores only take turns on them: every pair-loop barrier
   // then waits for a thread that is not running.
   const unsigned cores = std::thread::hardware_concurrency();
@@ -148,7 +149,7 @@ void SimulationBase::set_threads(int threads) {
         fmt::format("threads = {} is far above the {} cores of this machine: the threads will "
                     "wait for one another; give at most {}",
                     threads, cores, cores));
-  threads_ = threads;
+  threads_ = static_cast<int>(threads);
 }
 
 int SimulationBase::thread_count() const {

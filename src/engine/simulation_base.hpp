@@ -276,7 +276,7 @@ class SimulationBase {
   // summed in a fixed order. 0 (the default) means OMP_NUM_THREADS if it is set,
   // else 1: on a shared machine a second thread that is not scheduled stalls
   // every parallel loop, so using more cores is the user's explicit choice.
-  void set_threads(int threads);
+  void set_threads(std::int64_t threads);  // (wide: a script's 2^32 + 3 is refused, not 3)
   int threads() const { return threads_; }
   int thread_count() const;  // what the loops use
   // Below these sizes a loop runs on one thread whatever set_threads() says: a

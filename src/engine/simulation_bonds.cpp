@@ -26,6 +26,57 @@ void require_positive(double v, const char* name, const char* unit) {
 
 }  // namespace
 
+// The stiffest particle's bonded mode, omega^2 bounded by the row sums of the
+// bonds' stiffness (Gershgorin): the intact bonds and the `fresh` ones about to be made.
+template <int D>
+typename Simulation<D>::BondMode Simulation<D>::stiffest_bond_mode(
+    const std::vector<std::pair<std::int64_t, std::int64_t>>& fresh,
+    const std::vector<BondProperties>& made) const {
+  std::vector<double> row_sum(p_.size(), 0.0);
+  std::vector<int> bonds_of(p_.size(), 0);
+  auto load_ends = [&](int i, int j, const BondProperties& bp) {
+    for (const int k : {i, j}) {
+      const double r = p_.radius[k];
+      const double mode =
+          std::max({bp.normal_stiffness * bp.area * p_.inv_mass[k],
+                    bp.shear_stiffness * bp.area * (p_.inv_mass[k] + r * r * p_.inv_inertia[k]),
+                    bp.normal_stiffness * bp.inertia * p_.inv_inertia[k],
+                    bp.shear_stiffness * bp.polar * p_.inv_inertia[k]});
+      row_sum[static_cast<std::size_t>(k)] += 2 * mode;
+      ++bonds_of[static_cast<std::size_t>(k)];
+    }
+  };
+  for (std::size_t k = 0; k < bonds_.size(); ++k) {
+    if (bonds_.broken[k]) continue;
+    const int i = p_.index(bonds_.id_a[k]), j = p_.index(bonds_.id_b[k]);
+    if (i >= 0 && j >= 0) load_ends(i, j, bonds_.properties[k]);
+  }
+  for (std::size_t k = 0; k < fresh.size(); ++k)
+    load_ends(p_.index(fresh[k].first), p_.index(fresh[k].second), made[k]);
+  BondMode out;
+  for (std::size_t k = 0; k < row_sum.size(); ++k)
+    if (row_sum[k] > out.omega_sq) out = {row_sum[k], k, bonds_of[k]};
+  return out;
+}
+
+// A time step set after the bonds were made (sim:set, a changed law) meets their limit too.
+template <int D>
+void Simulation<D>::check_bond_step() {
+  if (bonds_.intact == 0) return;
+  if (dt_ == bond_step_checked_ && bonds_.size() == bond_count_checked_ &&
+      static_cast<std::size_t>(bonds_.intact) == bonds_intact_checked_)
+    return;
+  const BondMode mode = stiffest_bond_mode({}, {});
+  if (mode.omega_sq > 0 && !(dt_ * std::sqrt(mode.omega_sq) < 1))
+    throw InputError(fmt::format(
+        "time step {:.4g} s is above the bonds' stability limit 1/omega = {:.4g} s (particle {} "
+        "with {} bonds is the stiffest): set a time_step below the limit or soften the bonds",
+        dt_, 1 / std::sqrt(mode.omega_sq), p_.id[mode.particle], mode.bonds));
+  bond_step_checked_ = dt_;
+  bond_count_checked_ = bonds_.size();
+  bonds_intact_checked_ = static_cast<std::size_t>(bonds_.intact);
+}
+
 template <int D>
 std::int64_t Simulation<D>::create_bonds(const BondSpec& spec) {
   require_positive(spec.normal_stiffness, "normal_stiffness", "Pa/m");
@@ -104,38 +155,14 @@ std::int64_t Simulation<D>::create_bonds(const BondSpec& spec) {
             spec.radius_multiplier, bp.radius));
     made.push_back(bp);
   }
-  std::vector<double> row_sum(p_.size(), 0.0);
-  std::vector<int> bonds_of(p_.size(), 0);
-  auto load_ends = [&](int i, int j, const BondProperties& bp) {
-    for (const int k : {i, j}) {
-      const double r = p_.radius[k];
-      const double mode =
-          std::max({bp.normal_stiffness * bp.area * p_.inv_mass[k],
-                    bp.shear_stiffness * bp.area * (p_.inv_mass[k] + r * r * p_.inv_inertia[k]),
-                    bp.normal_stiffness * bp.inertia * p_.inv_inertia[k],
-                    bp.shear_stiffness * bp.polar * p_.inv_inertia[k]});
-      row_sum[static_cast<std::size_t>(k)] += 2 * mode;
-      ++bonds_of[static_cast<std::size_t>(k)];
-    }
-  };
-  for (std::size_t k = 0; k < bonds_.size(); ++k) {
-    if (bonds_.broken[k]) continue;
-    const int i = p_.index(bonds_.id_a[k]), j = p_.index(bonds_.id_b[k]);
-    if (i >= 0 && j >= 0) load_ends(i, j, bonds_.properties[k]);
-  }
-  for (std::size_t k = 0; k < fresh.size(); ++k)
-    load_ends(p_.index(fresh[k].first), p_.index(fresh[k].second), made[k]);
-  std::size_t stiffest = 0;
-  for (std::size_t k = 1; k < row_sum.size(); ++k)
-    if (row_sum[k] > row_sum[stiffest]) stiffest = k;
-  const double omega_sq = row_sum.empty() ? 0.0 : row_sum[stiffest];
-  if (omega_sq > 0 && !(dt_ * std::sqrt(omega_sq) < 1))
+  const BondMode mode = stiffest_bond_mode(fresh, made);
+  if (mode.omega_sq > 0 && !(dt_ * std::sqrt(mode.omega_sq) < 1))
     throw InputError(fmt::format(
         "bond: normal_stiffness = {:.4g} Pa/m and shear_stiffness = {:.4g} Pa/m make the bonds' "
         "stability limit 1/omega = {:.4g} s shorter than the time step {:.4g} s (particle {} "
         "with {} bonds is the stiffest): soften the bonds or set a time_step below the limit",
-        spec.normal_stiffness, spec.shear_stiffness, 1 / std::sqrt(omega_sq), dt_, p_.id[stiffest],
-        bonds_of[stiffest]));
+        spec.normal_stiffness, spec.shear_stiffness, 1 / std::sqrt(mode.omega_sq), dt_,
+        p_.id[mode.particle], mode.bonds));
   for (std::size_t k = 0; k < fresh.size(); ++k)
     bonds_.add(fresh[k].first, fresh[k].second, made[k]);
   return static_cast<std::int64_t>(fresh.size());

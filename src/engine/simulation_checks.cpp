@@ -184,6 +184,25 @@ void Simulation<D>::report_step_over() {
       smallest_radius_ / std::max(speed, 1e-300)));
 }
 
+// A wall that moves farther in one step than the smallest radius can step over a
+// particle (a finite wall is thin, and two-sided) or press one past its centre, which
+// no contact law resolves; as for particles, one comparison a step.
+template <int D>
+void Simulation<D>::report_wall_step_over() {
+  const std::string name =
+      fastest_wall_ >= 0 ? walls_[static_cast<std::size_t>(fastest_wall_)].name : std::string("?");
+  const double shorter = dt_ * smallest_radius_ / last_wall_travel_;
+  fail(fmt::format(
+      "step {} (t = {:.6g} s): wall '{}' moves {:.4g} m in one step (time step {:.4g} s), more "
+      "than the smallest radius {:.4g} m: it can step over a particle or press one through; "
+      "slow the wall (its velocity, angular_velocity or their schedule){}; the output keeps this "
+      "state",
+      step_, time_, name, last_wall_travel_, dt_, smallest_radius_,
+      shorter > 0 && std::isfinite(last_wall_travel_)
+          ? fmt::format(" or reduce time_step below {:.4g} s", shorter)
+          : std::string()));
+}
+
 template class Simulation<2>;
 template class Simulation<3>;
 

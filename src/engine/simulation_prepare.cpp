@@ -187,6 +187,7 @@ void Simulation<D>::choose_time_step() {
     dt_ = dt_fixed_;
   }
   if (!(dt_ > 0)) throw InputError("no time step: the scene has no particles and no time_step");
+  check_bond_step();
 }
 
 // Only a law's parameters changed since the last prepare() (lists_kept_): the

@@ -18,6 +18,7 @@
 
 #include <sstream>
 
+#include "contact/models.hpp"
 #include "core/errors.hpp"
 #include "core/names.hpp"
 #include "core/state.hpp"
@@ -38,6 +39,8 @@ std::string line_of(const ScheduleSpec& s) {
     out += fmt::format(" {:.17g} {:.17g}", s.schedule.times()[k], s.schedule.values()[k]);
   return out;
 }
+
+bool sets_again(ScheduleSpec& s, double now, double dt);
 
 std::string lines_of(const std::vector<ScheduleSpec>& list) {
   std::string out;
@@ -71,6 +74,32 @@ int SimulationBase::add_schedule(ScheduleSpec spec) {
           what));
     material_id(spec.a);  // throws naming a material not declared
     material_id(spec.b);
+    // A switch (0 or 1) may only jump: a ramp's values in between are no setting.
+    for (const auto& model : contact_model_catalogue())
+      for (const ParamSpec& p : model.parameters)
+        if (p.is_switch && spec.target == p.name) {
+          const auto &t = spec.schedule.times(), &v = spec.schedule.values();
+          for (std::size_t k = 0; k < v.size(); ++k)
+            if ((v[k] != 0 && v[k] != 1) || (k > 0 && v[k] != v[k - 1] && t[k] != t[k - 1]))
+              throw InputError(fmt::format(
+                  "{}: '{}' is a switch (0 or 1): a schedule of it may only jump between them "
+                  "(two points at one time, as {{ t, 1, t, 0 }}), not ramp",
+                  what, spec.target));
+        }
+  }
+  // One schedule a target while it sets: two would each set their own value, the last
+  // to change winning at every step. (One past its last point sets nothing again.)
+  for (ScheduleSpec& s : schedules_) {
+    const bool same_pair = (s.a == spec.a && s.b == spec.b) || (s.a == spec.b && s.b == spec.a);
+    if (s.target == spec.target && same_pair && sets_again(s, time_, dt_))
+      throw InputError(fmt::format(
+          "{}: schedule {} already sets it{} until t = {} s (now t = {} s); one schedule a target "
+          "(sim:remove_schedule({}) ends the other; a piecewise schedule holds several ramps)",
+          what, s.id,
+          s.a.empty()   ? std::string()
+          : s.b.empty() ? fmt::format(" for '{}'", s.a)
+                        : fmt::format(" for '{}'-'{}'", s.a, s.b),
+          s.schedule.times().back(), time_, s.id));
   }
   spec.id = next_schedule_id_;
   schedules_.push_back(std::move(spec));

@@ -111,9 +111,10 @@ struct MeshSet {
       return false;
     }
   }
-  // One step of rigid motion for every mesh; returns nothing, adds a bound on
-  // any vertex's travel to its wall's moved_since_rebuild.
-  void move(std::vector<Wall<D>>& walls, double dt) {
+  // One step of rigid motion for every mesh; adds a bound on any vertex's
+  // travel to its wall's moved_since_rebuild, and raises `farthest` (the step's
+  // largest travel of a wall, m) and `which` (that wall) where a mesh went further.
+  void move(std::vector<Wall<D>>& walls, double dt, double& farthest, int& which) {
     for (auto& m : meshes) {
       Wall<D>& w = walls[m.wall];
       if (w.velocity.isZero() && w.angular_velocity == 0) continue;
@@ -121,8 +122,10 @@ struct MeshSet {
       if (w.angular_velocity != 0) m.set_angle(m.angle + w.angular_velocity * dt, w.axis);
       w.center = m.axis_point_in_scene();
       w.point = m.offset;
-      w.moved_since_rebuild[0] +=
+      const double travel =
           (w.velocity * dt).norm() + std::abs(w.angular_velocity * dt) * m.turn_reach;
+      w.moved_since_rebuild[0] += travel;
+      if (travel > farthest) farthest = travel, which = m.wall;
     }
   }
 };

@@ -73,8 +73,7 @@ class ContactPeaksDiagnostic final : public Diagnostic<D> {
     if (!(force_max_ > 0) || !(velocity_max_ > 0) || !(c_ > 0))
       throw InputError(fmt::format("{}: force_max, velocity_max and force_per_velocity must be > 0",
                                    o.context()));
-    bins_ = static_cast<int>(o.integer("bins", 50, 1));
-    if (bins_ > 100000) throw InputError(fmt::format("{}: 'bins' must be <= 100000", o.context()));
+    bins_ = static_cast<int>(o.integer("bins", 50, 1, 100000));
     const std::string which = o.string("contacts", "all");
     if (which == "all") {
       which_ = 0;

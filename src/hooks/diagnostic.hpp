@@ -80,7 +80,9 @@ class DiagnosticOptions {
   // A number checked against [min, max] (inclusive), naming the unit in the message.
   double number_in(const std::string& key, double fallback, double min, double max,
                    const char* unit);
-  std::int64_t integer(const std::string& key, std::int64_t fallback, std::int64_t min);
+  // An integer from min to max (checked before any narrowing: 2^32 + 3 is not 3).
+  std::int64_t integer(const std::string& key, std::int64_t fallback, std::int64_t min,
+                       std::int64_t max = std::int64_t(9e15));
   bool boolean(const std::string& key, bool fallback);  // numbers 0/1 (Lua booleans arrive so)
   std::string string(const std::string& key, const std::string& fallback);
   std::vector<double> list(const std::string& key, const std::vector<double>& fallback);

@@ -75,11 +75,14 @@ double DiagnosticOptions::number_in(const std::string& key, double fallback, dou
 }
 
 std::int64_t DiagnosticOptions::integer(const std::string& key, std::int64_t fallback,
-                                        std::int64_t min) {
+                                        std::int64_t min, std::int64_t max) {
   double v = number(key, static_cast<double>(fallback));
-  if (v != std::floor(v) || v < static_cast<double>(min) || v > 9e15)
+  if (v != std::floor(v) || v < static_cast<double>(min) || v > static_cast<double>(max))
     throw InputError(
-        fmt::format("{}: '{}' must be an integer >= {}, got {}", context_, key, min, v));
+        max < std::int64_t(9e15)
+            ? fmt::format("{}: '{}' must be an integer from {} to {}, got {}", context_, key, min,
+                          max, v)
+            : fmt::format("{}: '{}' must be an integer >= {}, got {}", context_, key, min, v));
   return static_cast<std::int64_t>(v);
 }
 

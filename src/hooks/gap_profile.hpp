@@ -63,8 +63,7 @@ class GapProfileDiagnostic final : public Diagnostic<D> {
     sector_deg_ = o.number_in("sector", 10, 0, 90, "deg");
     if (!(sector_deg_ > 0))
       throw InputError(fmt::format("{}: sector must be > 0 [deg]", o.context()));
-    bins_ = static_cast<int>(o.integer("bins", 8, 1));
-    if (bins_ > 1000) throw InputError(fmt::format("{}: 'bins' must be <= 1000", o.context()));
+    bins_ = static_cast<int>(o.integer("bins", 8, 1, 1000));
     depth_ = o.number_in("depth", 0, 0, 1e9, "m");
     this->sampling_.read(o, {10, 0.01});
     label_ = o.string("label", "gap_profile");

@@ -88,8 +88,7 @@ class ZonesDiagnostic final : public Diagnostic<D> {
 
   explicit ZonesDiagnostic(DiagnosticOptions& o) : Diagnostic<D>(name) {
     frame_.read(o, false);
-    zones_ = static_cast<int>(o.integer("zones", 7, 1));
-    if (zones_ > 1000) throw InputError(fmt::format("{}: 'zones' must be <= 1000", o.context()));
+    zones_ = static_cast<int>(o.integer("zones", 7, 1, 1000));
     depth_ = o.number_in("depth", 0, 0, 1e3, "m");
     depth_option_ = depth_;
     if (D == 3 && !(depth_ > 0))

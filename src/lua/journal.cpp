@@ -446,7 +446,12 @@ int journaled_call(lua_State* L) {
     if (failed_with_message(L, [&] {
           auto begin = std::move(ctx->begin_replay);
           ctx->begin_replay = nullptr;
-          begin();
+          try {
+            begin();
+          } catch (const std::exception& e) {
+            ctx->restart_failure = e.what();  // the restart's error, not this call's
+            throw;
+          }
         }))
       return lua_error(L);
   }

@@ -125,7 +125,10 @@ int l_simulation(lua_State* L) {
     }
     if (lua_isnoneornil(L, 1)) lua_newtable(L), lua_replace(L, 1);
     TableReader t(L, 1, "simulation");
-    int d = static_cast<int>(t.integer("dimension", 3));
+    const std::int64_t dimension = t.integer("dimension", 3);
+    if (dimension != 2 && dimension != 3)
+      throw InputError(fmt::format("simulation: dimension must be 2 or 3, got {}", dimension));
+    const int d = static_cast<int>(dimension);
     auto sim = make_simulation(d);
     // Before the settings, so that their warnings (threads) follow --quiet.
     bool quiet = context(L) && context(L)->quiet;
@@ -137,7 +140,7 @@ int l_simulation(lua_State* L) {
     sim->set_skin(t.number("skin", 0));
     sim->set_record_contacts(t.boolean("record_contacts", false));
     if (t.has("overlap_warning")) sim->set_overlap_warning(t.number("overlap_warning"));
-    sim->set_threads(static_cast<int>(t.integer("threads", 0)));
+    sim->set_threads(t.integer("threads", 0));
     if (context(L) && context(L)->threads > 0) sim->set_threads(context(L)->threads);
     if (t.push_table("periodic")) {
       TableReader p(L, -1, "simulation.periodic");

@@ -84,6 +84,9 @@ void write_checkpoint_now(LuaSim& s, const std::string& path, bool in_run);
 // InputError when `path` is the simulation's output or its scene file: a
 // checkpoint written there would replace it.
 void refuse_checkpoint_over(const LuaSim& s, const std::string& path);
+// A checkpoint file the scene or the command line names must lie in a folder that
+// exists and may be written (checked when it is named, not at the first signal).
+void refuse_unwritable_checkpoint(const std::string& path);
 // --restart: reads the checkpoint, checks the -D values and the scene against it and
 // starts the journal's replay (before the scene's first journaled call).
 void begin_restart(SceneContext& ctx);

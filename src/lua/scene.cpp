@@ -380,6 +380,14 @@ std::string run_file(lua_State* L, const std::string& path) {
     if (ctx && !ctx->parameters_declared && !ctx->overrides.empty())
       err = fmt::format("{}: -D {} given, but the scene declares no parameters{{...}}", path,
                         ctx->overrides.begin()->first);
+    // A scene that ends before its journal does never reached the checkpoint's point:
+    // the checkpoint is another scene's, and nothing was continued.
+    if (err.empty() && ctx && !ctx->restart_path.empty() && !ctx->parameters_only &&
+        !restart_applied(*ctx))
+      err = fmt::format(
+          "restart: the scene ended before it reached the point where {} was written (the "
+          "checkpoint's journal holds calls this scene did not make); nothing was continued",
+          ctx->restart_path);
   }
   return err;
 }

@@ -124,5 +124,8 @@ std::string checkpoint_between_runs(SceneContext& ctx);
 std::string interrupt_checkpoint_path(const LuaSim& s);
 // "; checkpoint written to P; continue with: granule run SCENE -D ... --restart P".
 std::string continue_hint(const SceneContext* ctx, const std::string& checkpoint);
+// --restart: whether the checkpoint's state has taken over (the scene's journal reached
+// its end; wrap_checkpoint.cpp).
+bool restart_applied(const SceneContext& ctx);
 
 }  // namespace granule::lua

@@ -2,6 +2,7 @@
 // sim:save_checkpoint(file): checkpoint files that `granule run --restart`
 // continues bit-identically (see LuaSim in lua_simulation.hpp).
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -93,6 +94,10 @@ void apply_restart(SceneContext& ctx) {
 
 }  // namespace
 
+bool restart_applied(const SceneContext& ctx) {
+  return ctx.restart && ctx.restart->applied;
+}
+
 void refuse_checkpoint_over(const LuaSim& s, const std::string& path) {
   if (s.output && io::same_file(path, s.output->path()))
     throw InputError(fmt::format(
@@ -108,6 +113,24 @@ void refuse_checkpoint_over(const LuaSim& s, const std::string& path) {
         "checkpoint {}: that is not a plain file (a device, a pipe or a folder); a checkpoint "
         "replaces its file: give a file's name",
         path));
+}
+
+void refuse_unwritable_checkpoint(const std::string& path) {
+  // Known before the run, not when a signal's checkpoint finds no folder to write in.
+  // (Under mpirun every rank checks rank 0's folder, the ranks other than 0 writing
+  // into scratch folders: the scene then fails alike on every rank.)
+  std::filesystem::path folder = std::filesystem::path(path).parent_path();
+  if (folder.empty()) folder = ".";
+  std::error_code ec;
+  if (!std::filesystem::is_directory(folder, ec))
+    throw InputError(
+        fmt::format("checkpoint {}: the folder {} does not exist; create it or name another file",
+                    path, folder.string()));
+  if (::access(folder.c_str(), W_OK) != 0)
+    throw InputError(fmt::format(
+        "checkpoint {}: the folder {} is not writable; name a file in a folder this run may "
+        "write in",
+        path, folder.string()));
 }
 
 std::string interrupt_checkpoint_path(const LuaSim& s) {
@@ -155,6 +178,9 @@ void write_checkpoint_now(LuaSim& s, const std::string& path, bool in_run) {
   if (ctx && ctx->journal) state.bytes["lua.journal"] = ctx->journal->bytes();
   state.texts["lua.overrides"] = ctx ? overrides_text(*ctx) : std::string();
   state.texts["lua.scene_source"] = ctx ? ctx->scene_source : std::string();
+  // At the REPL the journal holds what was typed at the prompt too, which no scene file
+  // replays (begin_restart refuses such a checkpoint by name).
+  if (ctx && ctx->repl) state.texts["lua.written_at"] = "repl";
   state.integers["lua.current"] = {in_run ? 1 : 0, s.run_start_step, s.run_total_steps};
   // The run's end time, if it is a run of a duration: {1, t, dt its steps were
   // counted with}; else {0, 0, 0}.
@@ -223,6 +249,12 @@ void begin_restart(SceneContext& ctx) {
           "checkpoint {}: no '{}' (written by an older granule, which kept no journal of the "
           "scene; rerun the scene to write a new checkpoint)",
           ctx.restart_path, key));
+  if (st.has("lua.written_at") && st.t("lua.written_at") == "repl")
+    throw InputError(fmt::format(
+        "restart: {} was written at the granule repl prompt; its journal holds what was typed "
+        "there, which no scene replays, so it cannot be continued (it keeps the state at that "
+        "moment; a scene that does what the session did continues from its own checkpoints)",
+        ctx.restart_path));
   // The same scene with the same parameters, or the past cannot be replayed.
   const auto recorded = parse_overrides(st.t("lua.overrides"));
   std::set<std::string> names;
@@ -318,6 +350,7 @@ int l_checkpoint(lua_State* L) {
     // case its own) wins over the scene's, which every case of a sweep shares.
     if (!s.checkpoint_path_fixed) s.checkpoint.path = file;
     refuse_checkpoint_over(s, s.checkpoint.path);
+    refuse_unwritable_checkpoint(s.checkpoint.path);
     s.checkpoint.every_steps = every_steps;
     s.checkpoint.every_seconds = every_seconds;
     // And a wall-clock period given there (--checkpoint-every) holds too: the sooner wins.

@@ -233,7 +233,10 @@ int l_run(lua_State* L) {
     }
     if (interrupt_path.empty()) interrupt_path = interrupt_checkpoint_path(s);
     // Before any step: a checkpoint, periodic or at a signal, never over the output.
-    if (!s.checkpoint.path.empty()) refuse_checkpoint_over(s, s.checkpoint.path);
+    if (!s.checkpoint.path.empty()) {
+      refuse_checkpoint_over(s, s.checkpoint.path);
+      refuse_unwritable_checkpoint(s.checkpoint.path);
+    }
     refuse_checkpoint_over(s, interrupt_path);
     RunPlan plan;
     plan.steps = steps;
@@ -370,7 +373,7 @@ int l_set(lua_State* L) {
     if (t.has("skin")) s.sim->set_skin(t.number("skin"));
     if (t.has("time_step")) s.sim->set_time_step(t.number("time_step"));
     if (t.has("steps_per_contact")) s.sim->set_steps_per_contact(t.number("steps_per_contact"));
-    if (t.has("threads")) s.sim->set_threads(static_cast<int>(t.integer("threads")));
+    if (t.has("threads")) s.sim->set_threads(t.integer("threads"));
     if (t.has("pruning")) s.sim->set_pruning(t.boolean("pruning", true));
     if (t.has("canonical_order")) s.sim->set_canonical_order(t.boolean("canonical_order", false));
     t.finish();

@@ -305,6 +305,16 @@ TEMPLATE_TEST_CASE_SIG("bond: bad parameters and a step too long for the bonds a
     CHECK_THAT(e.what(), Catch::Contains("stability limit"));
   }
   CHECK(other.bond_counts().intact == 0);
+  // A bond made under a short step, then the step lengthened past its limit (sim:set).
+  s = spec(), s.normal_stiffness = 1e12;
+  REQUIRE(other.create_bonds(s) == 1);
+  other.set_time_step(3e-5);  // within the contact's limit, 20 times the bonds'
+  try {
+    other.advance(1);
+    FAIL("a time step beyond the bonds' stability limit was taken");
+  } catch (const InputError& e) {
+    CHECK_THAT(e.what(), Catch::Contains("bonds' stability limit"));
+  }
 }
 
 namespace {
@@ -493,5 +503,20 @@ TEMPLATE_TEST_CASE_SIG("bond: a removed particle's bonds break at once", "[bond]
   CHECK(sim->bond_counts().intact == 0);  // not only at the next step's apply_bonds
   CHECK(sim->bond_counts().broken == 1);
   sim->advance(1);
+  CHECK(sim->bond_counts().broken == 1);
+}
+
+TEMPLATE_TEST_CASE_SIG("bond: a particle moved away by set_position breaks its bonds", "[bond]",
+                       ((int D), D), 2, 3) {
+  auto sim = bonded_pair<D>(heavy, dt, particle({0, 0, 0}), particle({2 * radius, 0, 0}), spec());
+  sim->advance(1);
+  REQUIRE(sim->bond_counts().intact == 1);
+  const std::int64_t moved = sim->particle_ids().back();
+  // A small move (a dilation, a nudge) keeps the bond and its load.
+  sim->set_position(moved, {2.5 * radius, 0, 0});
+  CHECK(sim->bond_counts().intact == 1);
+  // A gap wider than the smaller radius: the bond holds nothing and breaks at once.
+  sim->set_position(moved, {50 * radius, 0, 0});
+  CHECK(sim->bond_counts().intact == 0);
   CHECK(sim->bond_counts().broken == 1);
 }

@@ -144,15 +144,19 @@ for n in (2, 3, 4):
     assert a["diagnostics"][s][:].tobytes() == b["diagnostics"][s][:].tobytes(), (n, s)
 print(f"mechanofusion: {len(ra)} results and {len(series)} diagnostic columns bit-identical on 1 and 2-4 ranks")
 PY
-# A checkpoint rank 0 cannot write (its folder is missing; the other ranks
-# write theirs into scratch) ends every rank with rank 0's reason, no hang.
+# A checkpoint into a missing folder: refused on every rank where the scene names
+# it (the ranks other than 0 would write into scratch), each ending with the
+# reason and its scratch folder removed, no hang and no abort.
 if timeout 120 $mpirun -np 2 "$granule" run "$scene" -D case=wb -D checkpoint=missing/x.chk.h5 \
      -o failing.h5 --quiet > failing.txt 2> failing.err; then
   echo "a checkpoint into a missing folder did not fail"; exit 1
 fi
-grep -q "rank 0 of 2: error: checkpoint missing/x.chk.h5: cannot create" failing.err || { cat failing.err; exit 1; }
+grep -q "rank 0 of 2: error: .*checkpoint missing/x.chk.h5: the folder missing does not exist" failing.err ||
+  { cat failing.err; exit 1; }
 rm -f failing.h5 failing.xmf failing_walls.xmf
-echo "a failure on one rank ends them all"
+grep -q "rank 1 of 2: error: .*the folder missing does not exist" failing.err || { cat failing.err; exit 1; }
+! grep -q "MPI_ABORT" failing.err || { echo "a failure on every rank aborted"; cat failing.err; exit 1; }
+echo "a failure on every rank ends them all"
 # Nothing but rank 0's files where the scene writes; no scratch folder left.
 test -z "$(ls scratch)" || { echo "scratch left behind: $(ls scratch)"; exit 1; }
 for f in *.h5; do

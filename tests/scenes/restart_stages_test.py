@@ -260,8 +260,56 @@ def check_refusals(scene, args):
     return failures
 
 
+BRANCHING_SCENE = """
+local p = parameters { more = { default = 0 } }
+local sim = simulation { dimension = 2 }
+sim:material { name = "glass", density = 2500 }
+sim:contact { "glass", "glass", model = "linear", k_normal = 1e4, restitution = 0.8 }
+sim:fill { region = { box = { lo = { 0, 0 }, hi = { 0.01, 0.01 } } }, count = 20, radius = 4e-4,
+           material = "glass", seed = 3, overlap = false }
+sim:run { steps = 100 }
+if os.getenv("GRANULE_TEST_MORE") then
+  sim:save_checkpoint("late.chk.h5")
+  sim:run { steps = 100 }
+end
+print("done")
+"""
+
+
+def check_unreachable():
+    """A checkpoint the scene never reaches (it ends first: another path, or a checkpoint
+    written at the REPL's prompt) is refused by name, not passed over in silence."""
+    failures = 0
+    with tempfile.TemporaryDirectory() as work:
+        scene = os.path.join(work, "branch.lua")
+        open(scene, "w").write(BRANCHING_SCENE)
+        subprocess.run([GRANULE, "run", scene, "-q"], cwd=work, check=True, capture_output=True,
+                       env={**ENV, "GRANULE_TEST_MORE": "1"}, timeout=120)
+        r = subprocess.run([GRANULE, "run", scene, "-q", "--restart", "late.chk.h5"], cwd=work,
+                           env=ENV, capture_output=True, text=True, timeout=120)
+        if r.returncode == 0 or "the scene ended before it reached the point" not in r.stderr:
+            print(f"FAIL unreachable: a scene ending before its checkpoint ran ({r.returncode}): "
+                  f"{r.stderr}")
+            failures += 1
+        else:
+            print("ok unreachable: a scene that ends before the checkpoint's point")
+        subprocess.run([GRANULE, "repl", scene, "-q"], cwd=work, env=ENV, capture_output=True,
+                       input='sim:run { steps = 10 }\nsim:save_checkpoint("repl.chk.h5")\n',
+                       text=True, timeout=120, check=True)
+        r = subprocess.run([GRANULE, "run", scene, "-q", "--restart", "repl.chk.h5"], cwd=work,
+                           env=ENV, capture_output=True, text=True, timeout=120)
+        if r.returncode == 0 or "written at the granule repl prompt" not in r.stderr:
+            print(f"FAIL unreachable: a checkpoint written at the REPL was continued "
+                  f"({r.returncode}): {r.stderr}")
+            failures += 1
+        else:
+            print("ok unreachable: a checkpoint written at the REPL's prompt")
+    return failures
+
+
 def main():
     failures = 0
+    failures += check_unreachable()
     stages = os.path.join(SOURCE, "tests", "scenes", "restart_stages.lua")
     # The stage scene prints each stage's start with its step; stage k spans
     # [k * stage_steps, (k + 1) * stage_steps).

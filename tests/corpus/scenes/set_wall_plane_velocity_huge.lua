@@ -1,5 +1,5 @@
 -- a plane moved at 1e300 m/s
--- expect: escaped through wall 'floor'
+-- expect: wall 'floor' moves 1\.6\d*e\+294 m in one step.*slow the wall
 local sim = simulation { dimension = 3 }
 sim:material { name = "glass", density = 2500, young = 1e8, poisson = 0.3, surface_energy = 0.05 }
 sim:material { name = "steel", density = 0, young = 2e8, poisson = 0.3, surface_energy = 0.05 }

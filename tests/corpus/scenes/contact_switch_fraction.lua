@@ -1,0 +1,11 @@
+-- a switch given a value between 0 and 1
+-- expect: contact_switch_fraction\.lua:6\b.*'allow_tension' = 0.5 is a switch: give 0 or 1
+local sim = simulation { dimension = 2 }
+sim:material { name = "glass", density = 2500 }
+sim:material { name = "steel", density = 0 }
+sim:contact { "glass", "glass", model = "linear", k_normal = 1e4, restitution = 0.8, friction = 0.3, allow_tension = 0.5 }  -- <- wrong
+sim:contact { "glass", "steel", model = "linear", k_normal = 1e4, restitution = 0.8, friction = 0.3 }
+sim:wall_cylinder { name = "drum", center = { 0, 0 }, radius = 0.01, material = "steel" }
+sim:fill { region = { circle = { center = { 0, 0 }, radius = 0.008 } }, count = 5, radius = 3e-4, material = "glass", seed = 2 }
+sim:output {}
+sim:run { steps = 10 }

@@ -1,0 +1,11 @@
+-- threads = 2^32 + 3 (it must not wrap to 3)
+-- expect: threads_past_int\.lua:3\b.*threads must be from 0 to 4096.*got 4294967299
+local sim = simulation { dimension = 2, threads = 2^32 + 3 }  -- <- wrong
+sim:material { name = "glass", density = 2500 }
+sim:material { name = "steel", density = 0 }
+sim:contact { "glass", "glass", model = "linear", k_normal = 1e4, restitution = 0.8, friction = 0.3 }
+sim:contact { "glass", "steel", model = "linear", k_normal = 1e4, restitution = 0.8, friction = 0.3 }
+sim:wall_cylinder { name = "drum", center = { 0, 0 }, radius = 0.01, material = "steel" }
+sim:fill { region = { circle = { center = { 0, 0 }, radius = 0.008 } }, count = 5, radius = 3e-4, material = "glass", seed = 2 }
+sim:output {}
+sim:run { steps = 10 }
