@@ -224,7 +224,7 @@ return {
 // ---- particles ----
 {"sim:particle", "simulation", P,
  "sim:particle(id) -> { id =, position =, velocity =, spin =, force =, radius =, mass =, material =, fixed = }",
- "One particle's state (SI units: m, m/s, rad/s, N, kg).", {{"1", "integer", "", true, "particle id"}}, "3"},
+ "One particle's state (SI units: m, m/s, rad/s, N, kg). Leap-frog (Eqs. 4.8-4.9) keeps velocity and spin half a step behind the position: at t they are v(t - dt/2), and a velocity given (sim:add_particle, sim:set_velocity) is taken as that half-step value (a projectile's height is then off by g dt t / 2 from the closed form started at v).", {{"1", "integer", "", true, "particle id"}}, "3"},
 {"sim:particles", "simulation", P, "sim:particles() -> { id, ... }", "The ids of the particles present, in increasing order (the same in every run of a scene, whatever the storage order or the ranks).", {}, ""},
 {"sim:set_position", "simulation", P, "sim:set_position(id, { x, y[, z] })", "Moves a particle: into the periodic box (wrapped), refused outside a wall, warned of overlapping one, as an added particle. Its contacts carry on if it stays within the skin of its partners; one it leaves further ends without an end event (overlaps and contact_peaks do not count it). Its parallel bonds keep their load, except one the move leaves spanning a gap wider than the smaller radius, which breaks (warned): a bond's load follows the particles' motion, which a move skips.",
  {{"1", "integer", "", true, "particle id"}, {"2", "vector", "m", true, "new centre"}}, "3, { 0, 0 }"},
