@@ -10,7 +10,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <thread>
 #include <cmath>
 #include <csignal>
 #include <cstdint>
@@ -21,6 +20,7 @@
 #include <lua.hpp>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "app/interrupt.hpp"
