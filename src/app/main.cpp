@@ -272,12 +272,16 @@ int run_command(const std::vector<std::string>& args);
 // prints, and writes the files; the others write into scratch folders of their own.
 // This process as one of the ranks a scene is spread over: rank 0 writes the
 // files and prints; the others write into a scratch folder of their own.
+// Where the ranks meet at their end (run_scene_over_ranks).
+MPI_Comm exit_comm = MPI_COMM_NULL;
+
 void join_ranks(Options& o) {
   int provided = 0;
   MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
   MPI_Comm_rank(MPI_COMM_WORLD, &o.ctx.rank);
   MPI_Comm_size(MPI_COMM_WORLD, &o.ctx.ranks);
   o.ctx.spread = granule::parallel::spread_over(MPI_COMM_WORLD);
+  MPI_Comm_dup(MPI_COMM_WORLD, &exit_comm);
   o.ctx.all_ranks = [](bool mine) {
     int in = mine ? 1 : 0, out = 0;
     MPI_Allreduce(&in, &out, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
@@ -301,20 +305,22 @@ int run_scene_over_ranks(Options& o) {
   // Every rank meets here at its end. A scene that fails alike on every rank (an
   // error before its first run) ends each with its status; a rank that failed alone
   // (the others still step, or wait for it in a run) ends them all, with its status,
-  // when the others have not come within a few seconds.
+  // when the others have not come within 20 s (rank 0 may still be closing its files).
+  // (On a communicator of its own: it must not meet a run's collectives.)
   MPI_Request met;
-  MPI_Ibarrier(MPI_COMM_WORLD, &met);
-  int all_here = 0;
-  if (status == 0 || o.ctx.interrupted) {
+  MPI_Ibarrier(exit_comm, &met);
+  if (status == 0) {
     MPI_Wait(&met, MPI_STATUS_IGNORE);
   } else {
-    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(3);
+    int all_here = 0;
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(20);
     while (!all_here && std::chrono::steady_clock::now() < until) {
       MPI_Test(&met, &all_here, MPI_STATUS_IGNORE);
       if (!all_here) std::this_thread::sleep_for(std::chrono::milliseconds(2));
     }
     if (!all_here) MPI_Abort(MPI_COMM_WORLD, status);
   }
+  MPI_Comm_free(&exit_comm);
   MPI_Finalize();
   return status;
 }

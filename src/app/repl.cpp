@@ -262,6 +262,7 @@ int run_repl(const std::string& scene, lua::SceneContext& ctx, const ReplInput& 
     }
     bind_sim(L, ctx.rank == 0);
   }
+  ctx.repl_prompt = true;  // from here the journal holds what is typed (checkpoints say so)
   report_undefined_globals(L);
 #ifdef GRANULE_HAVE_READLINE
   if (interactive) setup_readline(L);

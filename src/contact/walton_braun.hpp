@@ -14,6 +14,8 @@
 // through zero and its own direction flips.
 #pragma once
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <type_traits>
 #include <vector>
@@ -21,6 +23,7 @@
 #include "contact/contact_batch.hpp"
 #include "contact/contact_state.hpp"
 #include "contact/parameters.hpp"
+#include "core/errors.hpp"
 
 namespace granule {
 
@@ -58,6 +61,11 @@ struct WaltonBraun {
     p.k_load = v.at("k_load");
     double e = v.at("restitution");
     p.k_unload = p.k_load / (e * e);  // Eq. 3.1
+    if (!std::isfinite(p.k_unload))
+      throw InputError(fmt::format(
+          "walton_braun contact: restitution = {:.4g} makes the unloading stiffness K2 = K1 / e^2 "
+          "(Eq. 3.1) overflow for k_load = {:.4g} N/m; give a larger restitution",
+          e, p.k_load));
     p.friction = v.at("friction");
     p.tangential_ratio = v.at("tangential_ratio");
     p.slip_exponent = v.at("slip_exponent");

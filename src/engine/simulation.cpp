@@ -39,6 +39,7 @@ inline double seconds_since(Clock::time_point t0) {
 // ----------------------------------------------------------------------------
 template <int D>
 void Simulation<D>::step() {
+  if (!moved_bond_gaps_.empty()) settle_moved_bonds();  // sim:set_position's, before the forces
   // A callback that changed what the time step and the lists depend on (a law's
   // parameters, particles added) is prepared for at the very next step, not at
   // the next chunk of steps, whose length follows the wall clock: the same scene
@@ -346,21 +347,24 @@ void Simulation<D>::integrate() {
   const std::int64_t bad = result.first_non_finite;
   if (bad != std::numeric_limits<std::int64_t>::max() && non_finite_index_ == SIZE_MAX)
     non_finite_index_ = static_cast<std::size_t>(bad);
-  double wall_travel = 0;
-  int fastest_wall = -1;
+  wall_travel_.assign(walls_.size(), 0.0);
   for (std::size_t w = 0; w < walls_.size(); ++w) {
     Wall<D>& wall = walls_[w];
     if (!wall.velocity.isZero()) {  // planes and finite walls translate
-      wall.point += wall.velocity * dt_;
-      wall.center += wall.velocity * dt_;
-      wall.moved_since_rebuild += wall.velocity * dt_;
-      const double travel = (wall.velocity * dt_).stableNorm();  // 1e300 m/s: no overflow
-      if (travel > wall_travel) wall_travel = travel, fastest_wall = static_cast<int>(w);
+      const V step = wall.velocity * dt_;
+      wall.point += step;
+      wall.center += step;
+      wall.moved_since_rebuild += step;
+      // An infinite plane steps over nothing moving away or along itself: only its
+      // advance towards the particles' side counts. (stableNorm: 1e300 m/s gives no inf.)
+      wall_travel_[w] = wall.type == WallType::plane && !wall.bounded
+                            ? std::max(0.0, step.dot(wall.normal))
+                            : step.stableNorm();
     }
   }
-  meshes_.move(walls_, dt_, wall_travel, fastest_wall);
-  last_wall_travel_ = wall_travel;
-  fastest_wall_ = fastest_wall;
+  meshes_.move(walls_, dt_, wall_travel_);
+  last_wall_travel_ = 0;
+  for (const double t : wall_travel_) last_wall_travel_ = std::max(last_wall_travel_, t);
 }
 
 template <int D>

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cmath>
+#include <map>
 #include <optional>
 #include <tuple>
 #include <vector>
@@ -124,6 +125,7 @@ class Simulation final : public SimulationBase {
   // The complete state, for checkpoints (simulation_state.cpp). load_state()
   // needs the scene to have declared the same materials and walls.
   StateBlob save_state() const override;
+  void settle_moved_bonds() override;
   void load_state(const StateBlob& state) override;
   // The diagnostics' accumulators and the contact tracking their events come
   // from (simulation_diagnostics.cpp).
@@ -327,6 +329,9 @@ class Simulation final : public SimulationBase {
   BondMode stiffest_bond_mode(const std::vector<std::pair<std::int64_t, std::int64_t>>& fresh,
                               const std::vector<BondProperties>& made) const;
   void check_bond_step();
+  // set_position's bonds: bond index -> the pair's surface gap before its first move
+  // since the last step (settle_moved_bonds).
+  std::map<std::size_t, double> moved_bond_gaps_;
   // What check_bond_step() last found stable: a ramp re-prepares every step.
   double bond_step_checked_ = 0;
   std::size_t bond_count_checked_ = 0, bonds_intact_checked_ = 0;
@@ -395,9 +400,10 @@ class Simulation final : public SimulationBase {
   // (report_step_over, simulation_checks.cpp).
   double smallest_radius_ = INFINITY;
   void report_step_over();
-  // Nor may a wall (the farthest any point of it went in the last step, and which wall).
+  // Nor may a wall come that far towards a particle (each wall's farthest point's travel
+  // in the last step, and their largest; checked against the particles only past it).
+  std::vector<double> wall_travel_;
   double last_wall_travel_ = 0;
-  int fastest_wall_ = -1;
   void report_wall_step_over();
   // Before storage indices change between steps: the last step's contacts kept by id.
   void keep_contacts_by_id();

@@ -413,6 +413,11 @@ class SimulationBase {
 
   // ---- checkpoints ----
   virtual StateBlob save_state() const = 0;
+  // Bonds whose particles sim:set_position moved since the last step: each that the
+  // moves widened by more than the pair's smaller radius breaks (warned). Done at
+  // the next step and before a checkpoint, so that moving a bonded cluster one
+  // particle at a time keeps its bonds.
+  virtual void settle_moved_bonds() = 0;
   virtual void load_state(const StateBlob& state) = 0;
   // The attached diagnostics' accumulators (simulation_diagnostics.cpp).
   // load_diagnostics() needs the same diagnostics attached, in the same order
@@ -443,6 +448,10 @@ class SimulationBase {
   void claim_scheduled_wall(int w, const std::string& key);
   void claim_scheduled_contact(const std::string& a, const std::string& b, const std::string& key);
   void claim_scheduled_field();
+  // A new schedule of a target another schedule still sets (before its last point):
+  // refused (InputError), as each would set its own value. Not while a restart
+  // replays: the replay's engine is not at the time the first run checked it.
+  void claim_schedule_target(const ScheduleSpec& spec);
   // Sets every scheduled value to its value at the current time.
   void apply_schedules();
   const std::vector<ScheduleSpec>& schedules() const { return schedules_; }

@@ -59,6 +59,25 @@ typename Simulation<D>::BondMode Simulation<D>::stiffest_bond_mode(
   return out;
 }
 
+template <int D>
+void Simulation<D>::settle_moved_bonds() {
+  for (const auto& [k, before] : moved_bond_gaps_) {
+    if (bonds_.broken[k]) continue;
+    const int a = p_.index(bonds_.id_a[k]), b = p_.index(bonds_.id_b[k]);
+    if (a < 0 || b < 0) continue;
+    const double gap =
+        separation(p_.position[a], p_.position[b]).norm() - p_.radius[a] - p_.radius[b];
+    if (gap - before > std::min(p_.radius[a], p_.radius[b])) {
+      bonds_.break_bond(k);
+      warn(fmt::format(
+          "set_position: the bond of particles {} and {} broke: the moves widened the gap "
+          "between them by {:.3g} m, more than the smaller radius",
+          bonds_.id_a[k], bonds_.id_b[k], gap - before));
+    }
+  }
+  moved_bond_gaps_.clear();
+}
+
 // A time step set after the bonds were made (sim:set, a changed law) meets their limit too.
 template <int D>
 void Simulation<D>::check_bond_step() {

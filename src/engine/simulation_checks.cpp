@@ -186,21 +186,31 @@ void Simulation<D>::report_step_over() {
 
 // A wall that moves farther in one step than the smallest radius can step over a
 // particle (a finite wall is thin, and two-sided) or press one past its centre, which
-// no contact law resolves; as for particles, one comparison a step.
+// no contact law resolves; as for particles, one comparison a step, and only then
+// a look for a particle within the wall's reach (a gate pulled away fast, or a
+// piston still far off, steps over nothing). A mesh's or a polyline's distance is
+// not measured here: any of their particles counts as within reach.
 template <int D>
 void Simulation<D>::report_wall_step_over() {
-  const std::string name =
-      fastest_wall_ >= 0 ? walls_[static_cast<std::size_t>(fastest_wall_)].name : std::string("?");
-  const double shorter = dt_ * smallest_radius_ / last_wall_travel_;
-  fail(fmt::format(
-      "step {} (t = {:.6g} s): wall '{}' moves {:.4g} m in one step (time step {:.4g} s), more "
-      "than the smallest radius {:.4g} m: it can step over a particle or press one through; "
-      "slow the wall (its velocity, angular_velocity or their schedule){}; the output keeps this "
-      "state",
-      step_, time_, name, last_wall_travel_, dt_, smallest_radius_,
-      shorter > 0 && std::isfinite(last_wall_travel_)
-          ? fmt::format(" or reduce time_step below {:.4g} s", shorter)
-          : std::string()));
+  for (std::size_t w = 0; w < walls_.size(); ++w) {
+    const double travel = wall_travel_[w];
+    if (!(travel > smallest_radius_)) continue;
+    const Wall<D>& wall = walls_[w];
+    bool within = is_surface_wall(wall.type) && p_.size() > 0;
+    for (std::size_t i = 0; i < p_.size() && !within; ++i)
+      within = !(wall.clearance(p_.position[i], p_.radius[i]) > travel);
+    if (!within) continue;
+    const double shorter = dt_ * smallest_radius_ / travel;
+    fail(fmt::format(
+        "step {} (t = {:.6g} s): wall '{}' moves {:.4g} m in one step (time step {:.4g} s), "
+        "more than the smallest radius {:.4g} m, with particles within that reach: it can step "
+        "over a particle or press one through; slow the wall (its velocity, angular_velocity or "
+        "their schedule){}; the output keeps this state",
+        step_, time_, wall.name, travel, dt_, smallest_radius_,
+        shorter > 0 && std::isfinite(travel)
+            ? fmt::format(" or reduce time_step below {:.4g} s", shorter)
+            : std::string()));
+  }
 }
 
 template class Simulation<2>;

@@ -40,8 +40,6 @@ std::string line_of(const ScheduleSpec& s) {
   return out;
 }
 
-bool sets_again(ScheduleSpec& s, double now, double dt);
-
 std::string lines_of(const std::vector<ScheduleSpec>& list) {
   std::string out;
   for (const auto& s : list) out += line_of(s) + "\n";
@@ -83,23 +81,9 @@ int SimulationBase::add_schedule(ScheduleSpec spec) {
             if ((v[k] != 0 && v[k] != 1) || (k > 0 && v[k] != v[k - 1] && t[k] != t[k - 1]))
               throw InputError(fmt::format(
                   "{}: '{}' is a switch (0 or 1): a schedule of it may only jump between them "
-                  "(two points at one time, as {{ t, 1, t, 0 }}), not ramp",
+                  "(two points at one time, as piecewise = {{ t, 1, t, 0 }}), not ramp",
                   what, spec.target));
         }
-  }
-  // One schedule a target while it sets: two would each set their own value, the last
-  // to change winning at every step. (One past its last point sets nothing again.)
-  for (ScheduleSpec& s : schedules_) {
-    const bool same_pair = (s.a == spec.a && s.b == spec.b) || (s.a == spec.b && s.b == spec.a);
-    if (s.target == spec.target && same_pair && sets_again(s, time_, dt_))
-      throw InputError(fmt::format(
-          "{}: schedule {} already sets it{} until t = {} s (now t = {} s); one schedule a target "
-          "(sim:remove_schedule({}) ends the other; a piecewise schedule holds several ramps)",
-          what, s.id,
-          s.a.empty()   ? std::string()
-          : s.b.empty() ? fmt::format(" for '{}'", s.a)
-                        : fmt::format(" for '{}'-'{}'", s.a, s.b),
-          s.schedule.times().back(), time_, s.id));
   }
   spec.id = next_schedule_id_;
   schedules_.push_back(std::move(spec));
@@ -140,6 +124,23 @@ bool sets_again(ScheduleSpec& s, double now, double dt) {
   return false;
 }
 }  // namespace
+
+void SimulationBase::claim_schedule_target(const ScheduleSpec& spec) {
+  const std::string what = fmt::format("schedule '{}'", spec.target);
+  // Two schedules would each set their own value, the last to change winning.
+  for (ScheduleSpec& s : schedules_) {
+    const bool same_pair = (s.a == spec.a && s.b == spec.b) || (s.a == spec.b && s.b == spec.a);
+    if (s.target == spec.target && same_pair && sets_again(s, time_, dt_))
+      throw InputError(fmt::format(
+          "{}: schedule {} already sets it{} until t = {} s (now t = {} s); one schedule a target "
+          "(sim:remove_schedule({}) ends the other; a piecewise schedule holds several ramps)",
+          what, s.id,
+          s.a.empty()   ? std::string()
+          : s.b.empty() ? fmt::format(" for '{}'", s.a)
+                        : fmt::format(" for '{}'-'{}'", s.a, s.b),
+          s.schedule.times().back(), time_, s.id));
+  }
+}
 
 void SimulationBase::claim_scheduled_wall(int w, const std::string& key) {
   const std::string target = "wall_" + key;

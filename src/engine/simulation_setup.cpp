@@ -292,25 +292,20 @@ void Simulation<D>::set_position(std::int64_t id, const Triple& x) {
     if (c < 0 && !p_.fixed[i])
       warn(fmt::format("set_position: particle {} overlaps wall '{}' by {:.3g} m", id, w.name, -c));
   }
+  // A bond's load follows the particles' motion (parallel_bond.hpp), which a move
+  // skips: its gap before the move is kept for settle_moved_bonds().
+  for (std::size_t k = 0; k < bonds_.size(); ++k) {
+    if (bonds_.broken[k] || (bonds_.id_a[k] != id && bonds_.id_b[k] != id) ||
+        moved_bond_gaps_.count(k))
+      continue;
+    const int a = p_.index(bonds_.id_a[k]), b = p_.index(bonds_.id_b[k]);
+    if (a >= 0 && b >= 0)
+      moved_bond_gaps_[k] =
+          separation(p_.position[a], p_.position[b]).norm() - p_.radius[a] - p_.radius[b];
+  }
   p_.position[i] = at;
   lists_valid_ = false;
   arm_overlap_grace();  // a deep overlap made here is the scene's, not a pass-through
-  // A bond's load follows the particles' motion (parallel_bond.hpp), which a move skips:
-  // a bond left spanning a gap wider than the smaller radius holds nothing and breaks.
-  for (std::size_t k = 0; k < bonds_.size(); ++k) {
-    if (bonds_.broken[k] || (bonds_.id_a[k] != id && bonds_.id_b[k] != id)) continue;
-    const int a = p_.index(bonds_.id_a[k]), b = p_.index(bonds_.id_b[k]);
-    if (a < 0 || b < 0) continue;
-    const double gap =
-        separation(p_.position[a], p_.position[b]).norm() - p_.radius[a] - p_.radius[b];
-    if (gap > std::min(p_.radius[a], p_.radius[b])) {
-      bonds_.break_bond(k);
-      warn(fmt::format(
-          "set_position: the bond of particles {} and {} broke: the move left {:.3g} m between "
-          "them, more than the smaller radius",
-          bonds_.id_a[k], bonds_.id_b[k], gap));
-    }
-  }
 }
 template <int D>
 void Simulation<D>::set_velocity(std::int64_t id, const Triple& v) {

@@ -112,9 +112,8 @@ struct MeshSet {
     }
   }
   // One step of rigid motion for every mesh; adds a bound on any vertex's
-  // travel to its wall's moved_since_rebuild, and raises `farthest` (the step's
-  // largest travel of a wall, m) and `which` (that wall) where a mesh went further.
-  void move(std::vector<Wall<D>>& walls, double dt, double& farthest, int& which) {
+  // travel to its wall's moved_since_rebuild and sets it as the wall's `travel` (m).
+  void move(std::vector<Wall<D>>& walls, double dt, std::vector<double>& travel_of) {
     for (auto& m : meshes) {
       Wall<D>& w = walls[m.wall];
       if (w.velocity.isZero() && w.angular_velocity == 0) continue;
@@ -125,7 +124,7 @@ struct MeshSet {
       const double travel =
           (w.velocity * dt).norm() + std::abs(w.angular_velocity * dt) * m.turn_reach;
       w.moved_since_rebuild[0] += travel;
-      if (travel > farthest) farthest = travel, which = m.wall;
+      travel_of[static_cast<std::size_t>(m.wall)] = travel;
     }
   }
 };

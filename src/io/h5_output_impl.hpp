@@ -6,6 +6,7 @@
 #include <hdf5.h>
 #include <sys/statvfs.h>
 
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -105,20 +106,19 @@ struct H5Output::Impl {
     std::filesystem::path dir = std::filesystem::path(path).parent_path();
     if (dir.empty()) dir = ".";
     const double needed = bytes + 65536.0;
+    const int reserved = reserve_space(file.get(), static_cast<std::uint64_t>(needed));
+    if (reserved == 0) return;
     struct statvfs fs {};
-    double free_bytes = -1;  // unknown
-    if (statvfs(dir.c_str(), &fs) == 0) free_bytes = double(fs.f_bavail) * double(fs.f_frsize);
-    int error = 0;
-    if ((free_bytes < 0 || free_bytes >= needed) &&
-        reserve_space(file.get(), static_cast<std::uint64_t>(needed), error))
-      return;
+    const bool measured = statvfs(dir.c_str(), &fs) == 0;
+    const double free_bytes = measured ? double(fs.f_bavail) * double(fs.f_frsize) : -1;
+    // Without a reservation (the file system has none) the free space is all there is.
+    if (reserved < 0 && (!measured || free_bytes >= needed)) return;
     health = Health::full;
-    failure = free_bytes >= 0
-                  ? fmt::format(
-                        "no space left on the disk holding {} ({:.0f} KiB free, {:.0f} KiB needed)",
-                        dir.string(), free_bytes / 1024, needed / 1024)
-                  : fmt::format("no space left on the disk holding {} ({:.0f} KiB needed: {})",
-                                dir.string(), needed / 1024, std::strerror(error));
+    const std::string why = reserved > 0 ? std::string(": ") + std::strerror(reserved) : "";
+    failure =
+        fmt::format("no space left on the disk holding {} ({}{:.0f} KiB needed{})", dir.string(),
+                    measured ? fmt::format("{:.0f} KiB free, ", free_bytes / 1024) : std::string(),
+                    needed / 1024, reserved == EDQUOT ? why + " (a disk quota)" : why);
     fail(what, object, failure);
   }
 

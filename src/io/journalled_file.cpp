@@ -294,7 +294,7 @@ herr_t driver_close(H5FD_t* file) {
   int status = 0;
   if (s.journal >= 0) ::close(s.journal);
   // The room set aside and not written goes back to the disk (a file's length is kept).
-  if (s.reserved_to > s.eof) (void)::ftruncate(s.fd, static_cast<off_t>(s.eof));
+  if (s.reserved_to > 0) (void)::ftruncate(s.fd, static_cast<off_t>(s.eof));
   if (::close(s.fd) != 0) {
     const int error = errno;
     push_error(H5E_CANTCLOSEFILE, "unable to close file", error);
@@ -385,8 +385,9 @@ herr_t driver_truncate(H5FD_t* file, hid_t, hbool_t) {
     push_error(H5E_SEEKERROR, "unable to extend file properly", error);
     return -1;
   }
+  // A cut frees what was set aside past the new end; a growth keeps it (freed at close).
+  if (s.eoa < s.eof) s.reserved_to = std::min<std::uint64_t>(s.reserved_to, s.eoa);
   s.eof = s.eoa;
-  s.reserved_to = std::min<std::uint64_t>(s.reserved_to, s.eoa);  // cut with the file
   return 0;
 }
 
@@ -473,23 +474,31 @@ void mark_journal(hid_t file, std::uint64_t file_id) {
   start_journal(*s, file_id);
 }
 
-bool reserve_space(hid_t file, std::uint64_t bytes, int& error) {
+int reserve_space(hid_t file, std::uint64_t bytes) {
   State* const found = state_of_file(file);
-  if (!found) return true;  // another driver's file: the free space was only checked
+  if (!found) return -1;
   State& s = *found;
-  const std::uint64_t from = std::max<std::uint64_t>(s.eoa, s.eof);
-  if (from + bytes <= s.reserved_to) return true;
-  // The file's length stays (FALLOC_FL_KEEP_SIZE): HDF5 sees the file it wrote.
-  if (::fallocate(s.fd, FALLOC_FL_KEEP_SIZE, static_cast<off_t>(from), static_cast<off_t>(bytes)) ==
-      0) {
-    s.reserved_to = from + bytes;
-    return true;
+  // From the end of file: space HDF5 allocated but has not written yet is a hole too.
+  const std::uint64_t from = s.eof, to = std::max<std::uint64_t>(s.eoa, s.eof) + bytes;
+  auto reserve = [](int fd, std::uint64_t at, std::uint64_t size) {
+    if (::fallocate(fd, FALLOC_FL_KEEP_SIZE, static_cast<off_t>(at), static_cast<off_t>(size)) == 0)
+      return 0;
+    return errno == ENOSPC || errno == EDQUOT || errno == EFBIG ? errno : -1;
+  };
+  if (to > s.reserved_to) {
+    const int result = reserve(s.fd, from, to - from);
+    if (result != 0) return result;
+    s.reserved_to = to;
   }
-  if (errno == ENOSPC || errno == EDQUOT || errno == EFBIG) {
-    error = errno;
-    return false;
+  if (s.journal >= 0) {
+    struct stat journal_stat {};
+    const std::uint64_t want = std::min<std::uint64_t>(bytes, s.mark_end);
+    if (::fstat(s.journal, &journal_stat) == 0 && want > 0) {
+      const int result = reserve(s.journal, static_cast<std::uint64_t>(journal_stat.st_size), want);
+      if (result > 0) return result;
+    }
   }
-  return true;  // EOPNOTSUPP and the like: no reservation on this file system
+  return 0;
 }
 
 void remove_journal(const std::string& file_path) {

@@ -43,13 +43,15 @@ std::string journal_path(const std::string& file_path);
 // journal cannot be written.
 void mark_journal(hid_t file, std::uint64_t file_id);
 
-// For a file opened through the driver: `bytes` of disk set aside past its end
-// of allocation (fallocate, keeping the file's size), where HDF5's next writes
-// land, so that a write HDF5 starts cannot find the disk full half-way (which
-// leaves its metadata out of step with the file). False with `error` set
-// (ENOSPC) when the disk lacks the room; true where reserved, or where the file
-// system cannot reserve (the statvfs check before it is then all there is).
-bool reserve_space(hid_t file, std::uint64_t bytes, int& error);
+// For a file opened through the driver: disk set aside from its end of file to
+// `bytes` past its end of allocation (fallocate, keeping the file's size), where
+// HDF5's next writes land, and as much again in its journal when it has one (the
+// bytes a write overwrites are saved there first), so that a write HDF5 starts
+// cannot find the disk full half-way (which leaves its metadata out of step with
+// the file). Returns 0 where reserved, the errno (ENOSPC, EDQUOT, EFBIG) where the
+// disk lacks the room, and -1 where the file system cannot reserve (or the file is
+// another driver's): then only a check of the free space is left.
+int reserve_space(hid_t file, std::uint64_t bytes);
 
 // After the file was closed cleanly: its journal is not needed.
 void remove_journal(const std::string& file_path);

@@ -54,6 +54,7 @@ struct SceneContext {
   // granule repl: the output stays open until the session ends (sim:close() only flushes)
   // and Ctrl-C stops a run without an error, keeping its state for the prompt.
   bool repl = false;
+  bool repl_prompt = false;  // the REPL has begun to journal what is typed at its prompt
   std::vector<std::string> outputs_written;
   std::shared_ptr<Journal> journal;    // what the scene saw of the engine (journal.hpp)
   std::shared_ptr<Restart> restart;    // --restart: the checkpoint being continued
@@ -111,6 +112,9 @@ std::string run_string(lua_State* L, const std::string& chunk, const std::string
 // Registers simulation{...}, simulations() and the methods (lua_simulation.cpp).
 void open_simulation(lua_State* L);
 SceneContext* context(lua_State* L);
+// A restart is replaying the scene's past (journal.hpp): checks made against the
+// engine's time are the first run's, which it passed at its own time.
+bool replaying(lua_State* L);
 
 // A signal stopped the scene's own Lua code between runs: writes the first
 // simulation's checkpoint where a run's signal would have (the scene is whole

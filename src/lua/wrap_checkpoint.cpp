@@ -170,6 +170,7 @@ std::string checkpoint_between_runs(SceneContext& ctx) {
 
 void write_checkpoint_now(LuaSim& s, const std::string& path, bool in_run) {
   refuse_checkpoint_over(s, path);
+  s.sim->settle_moved_bonds();  // as the next step would: the restart does not replay the moves
   StateBlob state = s.sim->save_state();
   s.sim->save_diagnostics(state);
   // The scene's record: what it saw (the journal), what it was given (-D, its source),
@@ -180,7 +181,7 @@ void write_checkpoint_now(LuaSim& s, const std::string& path, bool in_run) {
   state.texts["lua.scene_source"] = ctx ? ctx->scene_source : std::string();
   // At the REPL the journal holds what was typed at the prompt too, which no scene file
   // replays (begin_restart refuses such a checkpoint by name).
-  if (ctx && ctx->repl) state.texts["lua.written_at"] = "repl";
+  if (ctx && ctx->repl_prompt) state.texts["lua.written_at"] = "repl";
   state.integers["lua.current"] = {in_run ? 1 : 0, s.run_start_step, s.run_total_steps};
   // The run's end time, if it is a run of a duration: {1, t, dt its steps were
   // counted with}; else {0, 0, 0}.

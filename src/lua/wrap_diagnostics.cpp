@@ -4,6 +4,8 @@
 // strings become comma-joined strings, booleans become 0/1.
 #include <fmt/format.h>
 
+#include <cstdint>
+#include <limits>
 #include <string>
 
 #include "core/errors.hpp"
@@ -105,11 +107,19 @@ int l_diagnostic(lua_State* L) {
   });
 }
 
+// A diagnostic id as the engine keeps it: one past an int names none (not id mod 2^32).
+int read_diagnostic_id(lua_State* L) {
+  const std::int64_t id = read_integer(L, 2, "diagnostic id");
+  if (id < 0 || id > std::numeric_limits<int>::max())
+    throw InputError(fmt::format("no diagnostic with id {}", id));
+  return static_cast<int>(id);
+}
+
 // sim:diagnostic_results(id) -> { scalar = value, ..., array = { ... } }
 int l_diagnostic_results(lua_State* L) {
   return protect(L, [](lua_State* L) {
     LuaSim& s = self(L);
-    int id = static_cast<int>(read_integer(L, 2, "diagnostic id"));
+    int id = read_diagnostic_id(L);
     auto scalars = s.sim->diagnostic_results(id);
     auto arrays = s.sim->diagnostic_arrays(id);
     lua_newtable(L);
@@ -132,7 +142,7 @@ int l_diagnostic_results(lua_State* L) {
 int l_remove_diagnostic(lua_State* L) {
   return protect(L, [](lua_State* L) {
     LuaSim& s = self(L);
-    s.sim->detach_diagnostic(static_cast<int>(read_integer(L, 2, "diagnostic id")));
+    s.sim->detach_diagnostic(read_diagnostic_id(L));
     return 0;
   });
 }

@@ -15,6 +15,7 @@
 #include "fields/schedule.hpp"
 #include "lua/lua_simulation.hpp"
 #include "lua/lua_util.hpp"
+#include "lua/scene.hpp"
 
 namespace granule::lua {
 
@@ -125,6 +126,8 @@ int l_schedule(lua_State* L) {
       spec.schedule = Schedule::piecewise(times, values, what + ", points");
     }
     t.finish();
+    // As set_contact's claim: the replay's engine is not at the first run's time.
+    if (!replaying(L)) s.sim->claim_schedule_target(spec);
     lua_pushinteger(L, s.sim->add_schedule(std::move(spec)));
     return 1;
   });

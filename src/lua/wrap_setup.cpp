@@ -68,14 +68,12 @@ int l_contact(lua_State* L) {
   });
 }
 
-// set_contact("a", "b", { friction = 0.25 }): change parameters during a run.
-namespace {
-// A restart is replaying the scene's past (journal.hpp).
 bool replaying(lua_State* L) {
   const SceneContext* ctx = context(L);
   return ctx && ctx->journal && ctx->journal->replaying();
 }
-}  // namespace
+
+// set_contact("a", "b", { friction = 0.25 }): change parameters during a run.
 
 int l_set_contact(lua_State* L) {
   return protect(L, [](lua_State* L) {

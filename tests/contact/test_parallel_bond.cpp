@@ -511,12 +511,22 @@ TEMPLATE_TEST_CASE_SIG("bond: a particle moved away by set_position breaks its b
   auto sim = bonded_pair<D>(heavy, dt, particle({0, 0, 0}), particle({2 * radius, 0, 0}), spec());
   sim->advance(1);
   REQUIRE(sim->bond_counts().intact == 1);
-  const std::int64_t moved = sim->particle_ids().back();
+  const std::int64_t first = sim->particle_ids().front(), moved = sim->particle_ids().back();
   // A small move (a dilation, a nudge) keeps the bond and its load.
   sim->set_position(moved, {2.5 * radius, 0, 0});
+  sim->advance(1);
   CHECK(sim->bond_counts().intact == 1);
-  // A gap wider than the smaller radius: the bond holds nothing and breaks at once.
-  sim->set_position(moved, {50 * radius, 0, 0});
+  // The pair moved one particle at a time, far, as a rigid cluster: kept.
+  const Triple a = sim->position(first), b = sim->position(moved);
+  sim->set_position(first, {a[0] + 50 * radius, a[1], a[2]});
+  sim->set_position(moved, {b[0] + 50 * radius, b[1], b[2]});
+  sim->advance(1);
+  CHECK(sim->bond_counts().intact == 1);
+  // One moved away, its gap widened by more than the smaller radius: the bond holds
+  // nothing and breaks before the next step's forces.
+  sim->set_position(moved, {b[0] + 100 * radius, b[1], b[2]});
+  CHECK(sim->bond_counts().intact == 1);
+  sim->advance(1);
   CHECK(sim->bond_counts().intact == 0);
   CHECK(sim->bond_counts().broken == 1);
 }

@@ -628,6 +628,7 @@ for name, line, expect in [
     ("diagnostic_peaks_force_max_negative", 'sim:diagnostic("contact_peaks", { force_max = -1 })', r"{at}.*force_max"),
     ("diagnostic_options_not_table", 'sim:diagnostic("wall_force", "drum")', r"{at}.*(table|option)"),
     ("diagnostic_results_unknown_id", "sim:diagnostic_results(999)", r"{at}.*999"),
+    ("diagnostic_results_id_past_int", "sim:diagnostic_results(2^32 + 1)", r"{at}.*no diagnostic with id 4294967297"),
     ("remove_diagnostic_unknown_id", "sim:remove_diagnostic(999)", r"{at}.*999"),
 ]:
     case(name, name.replace("_", " "), expect, after={"output": [wrong(line)]})
@@ -746,6 +747,9 @@ case("output_in_callback", "an output opened from inside a run's callback",
 case("particle_steps_over", "a particle at 1e4 m/s moves farther in one step than its radius",
      r"particle 5 moves .* more than the smallest radius",
      after={"fill": [wrong('sim:add_particle { position = { 0, 0 }, radius = 3e-4, material = "glass", velocity = { 1e4, 0 } }')]})
+case("walton_braun_restitution_underflow", "restitution 1e-300: K2 = K1 / e^2 overflows",
+     r"{at}.*restitution = 1e-300 makes the unloading stiffness K2 = K1 / e\^2 \(Eq. 3.1\) overflow",
+     replace={"contact": wrong('sim:contact { "glass", "glass", model = "walton_braun", k_load = 1e4, restitution = 1e-300, friction = 0.3 }')})
 case("wall_steps_over", "a wall at 1e4 m/s moves farther in one step than the smallest radius",
      r"wall 'floor' moves .* more than the smallest radius", base=BASE3,
      replace={"wall": wrong('sim:wall_plane { name = "floor", point = { 0, 0, 0 }, normal = { 0, 0, 1 }, velocity = { 0, 0, 1e4 }, material = "steel" }')})

@@ -381,3 +381,36 @@ TEST_CASE("walls: surely_apart never skips a touching candidate") {
   check(std::integral_constant<int, 2>{});
   check(std::integral_constant<int, 3>{});
 }
+
+// A wall moving farther than the smallest radius in one step stops the run only
+// with a particle within that reach: a rectangle sweeping through one does, one
+// far off does not, nor an infinite plane moving away from the particles.
+TEST_CASE("walls: a wall that would step over a particle stops the run, one far off does not",
+          "[walls]") {
+  auto run = [](bool bounded, Triple velocity, double distance) {
+    Simulation<3> sim;
+    sim.set_warning_handler([](const std::string&) {});
+    sim.add_material({"g", 2500, 0, 0, 0});
+    sim.add_material({"w", 0, 0, 0, 0});
+    sim.set_contact("g", "g", "linear", {{"k_normal", 1e4}, {"restitution", 0.5}});
+    sim.set_contact("g", "w", "linear", {{"k_normal", 1e4}, {"restitution", 0.5}});
+    sim.set_time_step(1e-5);
+    WallSpec w;
+    w.name = "plate", w.material = 1, w.normal = {0, 0, 1}, w.velocity = velocity;
+    w.point = {0, 0, -distance};
+    w.bounded = bounded, w.size_a = w.size_b = 0.01;
+    sim.add_wall(w);
+    ParticleSpec p;
+    p.radius = 1e-3, p.material = 0;
+    sim.add_particle(p);
+    sim.advance(1);
+  };
+  // 500 m/s: 5 mm a step, five radii.
+  CHECK_THROWS_WITH(run(true, {0, 0, 500}, 2e-3), Contains("wall 'plate' moves") &&
+                                                      Contains("more than the smallest radius"));
+  CHECK_NOTHROW(run(true, {0, 0, 500}, 1.0));         // a metre off
+  CHECK_NOTHROW(run(false, {0, 0, -500}, 1.1e-3));    // an infinite floor pulled away
+  CHECK_NOTHROW(run(false, {500, 0, 0}, 1.1e-3));     // sliding along itself
+  CHECK_THROWS_WITH(run(false, {0, 0, 500}, 1.1e-3),  // pushed up into the particle
+                    Contains("wall 'plate' moves"));
+}
