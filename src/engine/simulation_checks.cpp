@@ -186,30 +186,37 @@ void Simulation<D>::report_step_over() {
 
 // A wall that moves farther in one step than the smallest radius can step over a
 // particle (a finite wall is thin, and two-sided) or press one past its centre, which
-// no contact law resolves; as for particles, one comparison a step, and only then
-// a look for a particle within the wall's reach (a gate pulled away fast, or a
-// piston still far off, steps over nothing). A mesh's or a polyline's distance is
-// not measured here: any of their particles counts as within reach.
+// no contact law resolves; as for particles, one comparison a step, and only then a
+// look at the particles: a particle is at risk where the wall, as it stood before
+// the step, advanced towards it (along the normal from its nearest point to the
+// particle) by more than the smallest radius and by more than the gap between them.
+// A gate pulled away, a plate sliding along itself or a wall far off steps over
+// nothing. Meshes and polylines are not looked at (their nearest point is the
+// contact kernels' business).
 template <int D>
 void Simulation<D>::report_wall_step_over() {
   for (std::size_t w = 0; w < walls_.size(); ++w) {
-    const double travel = wall_travel_[w];
-    if (!(travel > smallest_radius_)) continue;
     const Wall<D>& wall = walls_[w];
-    bool within = is_surface_wall(wall.type) && p_.size() > 0;
-    for (std::size_t i = 0; i < p_.size() && !within; ++i)
-      within = !(wall.clearance(p_.position[i], p_.radius[i]) > travel);
-    if (!within) continue;
-    const double shorter = dt_ * smallest_radius_ / travel;
-    fail(fmt::format(
-        "step {} (t = {:.6g} s): wall '{}' moves {:.4g} m in one step (time step {:.4g} s), "
-        "more than the smallest radius {:.4g} m, with particles within that reach: it can step "
-        "over a particle or press one through; slow the wall (its velocity, angular_velocity or "
-        "their schedule){}; the output keeps this state",
-        step_, time_, wall.name, travel, dt_, smallest_radius_,
-        shorter > 0 && std::isfinite(travel)
-            ? fmt::format(" or reduce time_step below {:.4g} s", shorter)
-            : std::string()));
+    if (!(wall_travel_[w] > smallest_radius_) || is_surface_wall(wall.type)) continue;
+    // The wall before the step, seen from a particle at x, is the wall now seen from
+    // x + step (a translation).
+    const V step = wall.velocity * dt_;
+    for (std::size_t i = 0; i < p_.size(); ++i) {
+      V normal, surface_velocity, lever;
+      const double overlap =
+          wall.contact(V(p_.position[i] + step), p_.radius[i], normal, surface_velocity, lever);
+      const double advance = step.dot(normal);
+      if (!(advance > smallest_radius_) || !(-overlap < advance)) continue;
+      fail(fmt::format(
+          "step {} (t = {:.6g} s): wall '{}' moves {:.4g} m in one step (time step {:.4g} s) "
+          "towards particle {}, more than the smallest radius {:.4g} m and the gap {:.4g} m "
+          "between them: it can step over the particle or press it through; slow the wall (its "
+          "velocity or its schedule){}; the output keeps this state",
+          step_, time_, wall.name, advance, dt_, p_.id[i], smallest_radius_, -overlap,
+          std::isfinite(advance)
+              ? fmt::format(" or reduce time_step below {:.4g} s", dt_ * smallest_radius_ / advance)
+              : std::string()));
+    }
   }
 }
 

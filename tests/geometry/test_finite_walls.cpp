@@ -409,6 +409,8 @@ TEST_CASE("walls: a wall that would step over a particle stops the run, one far 
   CHECK_THROWS_WITH(run(true, {0, 0, 500}, 2e-3),
                     Contains("wall 'plate' moves") && Contains("more than the smallest radius"));
   CHECK_NOTHROW(run(true, {0, 0, 500}, 1.0));         // a metre off
+  CHECK_NOTHROW(run(true, {0, 0, -500}, 1.0e-3));     // a gate it rests on pulled away
+  CHECK_NOTHROW(run(true, {500, 0, 0}, 1.0e-3));      // a plate sliding along under it
   CHECK_NOTHROW(run(false, {0, 0, -500}, 1.1e-3));    // an infinite floor pulled away
   CHECK_NOTHROW(run(false, {500, 0, 0}, 1.1e-3));     // sliding along itself
   CHECK_THROWS_WITH(run(false, {0, 0, 500}, 1.1e-3),  // pushed up into the particle
