@@ -7,20 +7,21 @@
 --   granule run scenarios/adhesive_restitution.lua -D surface_energy=0.2
 --   /usr/bin/python3 tools/plot_series.py adhesive_restitution.h5 --group /sweep --x velocity
 local p = parameters {
-  radius = { default = 5e-6, unit = "m" },
-  density = { default = 3970, unit = "kg/m^3", doc = "Al2O3 (dissertation 7.3)" },
-  young = { default = 345e9, unit = "Pa" },
-  poisson = { default = 0.26 },
-  wall_young = { default = 1000e9, unit = "Pa" },
-  wall_poisson = { default = 0.45 },
-  surface_energy = { default = 1.0, unit = "J/m^2" },
-  friction = { default = 0.25 },
-  v_min = { default = 0.01, unit = "m/s" },
-  v_max = { default = 3.0, unit = "m/s" },
-  count = { default = 12, doc = "number of velocities, log-spaced" },
-  dimension = { default = 3 },
-  steps_per_contact = { default = 40, doc = "n of Eq. 4.1 (the step is 8 T_R / n, T_R the sphere's Rayleigh time); above ~3 m/s the Hertz contact is shorter than 8 T_R, so raise n with v_max" },
+  radius = { default = 5e-6, above = 0, unit = "m" },
+  density = { default = 3970, above = 0, unit = "kg/m^3", doc = "Al2O3 (dissertation 7.3)" },
+  young = { default = 345e9, above = 0, unit = "Pa" },
+  poisson = { default = 0.26 , above = -1, max = 0.5},
+  wall_young = { default = 1000e9, above = 0, unit = "Pa" },
+  wall_poisson = { default = 0.45 , above = -1, max = 0.5},
+  surface_energy = { default = 1.0, min = 0, unit = "J/m^2" },
+  friction = { default = 0.25 , min = 0},
+  v_min = { default = 0.01, above = 0, unit = "m/s" },
+  v_max = { default = 3.0, above = 0, max = 1e4, unit = "m/s" },
+  count = { default = 12, integer = true, min = 2, max = 10000, doc = "number of velocities, log-spaced" },
+  dimension = { default = 3 , integer = true, min = 2, max = 3},
+  steps_per_contact = { default = 40, above = 0, doc = "n of Eq. 4.1 (the step is 8 T_R / n, T_R the sphere's Rayleigh time); above ~3 m/s the Hertz contact is shorter than 8 T_R, so raise n with v_max" },
 }
+assert(p.v_min < p.v_max, string.format("v_min (%g m/s) must be below v_max (%g m/s)", p.v_min, p.v_max))
 -- The -D values, checked before anything runs.
 local checks = require "granule.checks"
 for name, unit in pairs { radius = "m", v_min = "m/s", v_max = "m/s" } do

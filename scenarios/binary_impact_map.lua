@@ -22,15 +22,15 @@ local p = parameters {
   angles = { default = "0,15,30,45,60,75", unit = "deg", doc = "impact angles, comma-separated" },
   velocities = { default = "0.1,0.25,0.5,0.75,1,1.5,2", unit = "m/s", doc = "relative impact speeds" },
   model = { default = "walton_braun", doc = "walton_braun | linear" },
-  dimension = { default = 2, doc = "2 or 3" },
-  radius = { default = 0.2e-3, unit = "m", doc = "Table 3.1" },
-  density = { default = 1200, unit = "kg/m^3", doc = "Table 3.1" },
-  k_load = { default = 20000, unit = "N/m", doc = "Table 3.1 loading stiffness" },
-  restitution = { default = 0.85, unit = "-", doc = "Table 3.1" },
-  friction = { default = 0.4, unit = "-", doc = "Table 3.1" },
-  tangential_ratio = { default = 0.8, unit = "-", doc = "initial tangential / normal stiffness" },
+  dimension = { default = 2, integer = true, min = 2, max = 3, doc = "2 or 3" },
+  radius = { default = 0.2e-3, above = 0, unit = "m", doc = "Table 3.1" },
+  density = { default = 1200, above = 0, unit = "kg/m^3", doc = "Table 3.1" },
+  k_load = { default = 20000, above = 0, unit = "N/m", doc = "Table 3.1 loading stiffness" },
+  restitution = { default = 0.85, above = 0, max = 1, unit = "-", doc = "Table 3.1" },
+  friction = { default = 0.4, min = 0, unit = "-", doc = "Table 3.1" },
+  tangential_ratio = { default = 0.8, min = 0, unit = "-", doc = "initial tangential / normal stiffness" },
   spin = { default = 0.0, unit = "rad/s", doc = "initial spin of each sphere" },
-  steps_per_contact = { default = 40, unit = "-", doc = "n of Eq. 4.1" },
+  steps_per_contact = { default = 40, above = 0, unit = "-", doc = "n of Eq. 4.1" },
 }
 
 local function numbers(text, name)

@@ -10,17 +10,17 @@
 local granule = require "granule"
 local p = parameters {
   rpm = { default = 30, unit = "1/min", doc = "drum speed" },
-  particles = { default = 400, doc = "number of beads (the random fill places up to about 30 % of the drum's volume)" },
-  radius = { default = 1e-3, unit = "m", doc = "bead radius" },
-  drum_radius = { default = 15e-3, unit = "m" },
-  length = { default = 8e-3, unit = "m", doc = "drum length along its axis" },
-  friction = { default = 0.4, doc = "bead-bead and bead-wall friction" },
-  settle = { default = 0.5, unit = "s", doc = "longest time allowed to settle" },
-  duration = { default = 1.0, unit = "s", doc = "time the drum turns" },
+  particles = { default = 400, integer = true, min = 1, max = 1e6, doc = "number of beads (the random fill places up to about 30 % of the drum's volume)" },
+  radius = { default = 1e-3, above = 0, unit = "m", doc = "bead radius" },
+  drum_radius = { default = 15e-3, above = 0, unit = "m" },
+  length = { default = 8e-3, above = 0, unit = "m", doc = "drum length along its axis" },
+  friction = { default = 0.4, min = 0, doc = "bead-bead and bead-wall friction" },
+  settle = { default = 0.5, min = 0, unit = "s", doc = "longest time allowed to settle" },
+  duration = { default = 1.0, min = 0, unit = "s", doc = "time the drum turns" },
   drum = { default = "analytic", doc = "analytic (sim:wall_cylinder) | mesh (the shell as a triangle mesh)" },
-  facets = { default = 96, doc = "mesh drum: flat facets around the shell" },
+  facets = { default = 96, integer = true, min = 3, max = 100000, doc = "mesh drum: flat facets around the shell" },
   flat_angle = { default = 20, unit = "deg", doc = "mesh drum: contacts closer in normal than this are one (sim:wall_mesh)" },
-  seed = { default = 1, doc = "seed of the random fill" },
+  seed = { default = 1, integer = true, doc = "seed of the random fill" },
 }
 local sim = simulation { dimension = 3 }
 sim:material { name = "glass", density = 2500, young = 5e7, poisson = 0.25 }

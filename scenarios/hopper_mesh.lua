@@ -10,15 +10,15 @@
 local granule = require "granule"
 local p = parameters {
   file = { default = "hopper.stl", doc = "the hopper (tools/make_hopper_stl.py), in metres" },
-  bin_radius = { default = 0.03, unit = "m" },
-  bin_height = { default = 0.04, unit = "m" },
-  outlet_radius = { default = 0.008, unit = "m" },
-  half_angle = { default = 30, unit = "deg", doc = "the cone's, from the axis" },
-  particles = { default = 1500 },
-  radius = { default = 1.5e-3, unit = "m", doc = "sphere radius" },
-  friction = { default = 0.4 },
-  settle = { default = 0.3, unit = "s", doc = "longest time allowed to settle on the gate" },
-  duration = { default = 1.0, unit = "s", doc = "time allowed to discharge" },
+  bin_radius = { default = 0.03, above = 0, unit = "m" },
+  bin_height = { default = 0.04, above = 0, unit = "m" },
+  outlet_radius = { default = 0.008, above = 0, unit = "m" },
+  half_angle = { default = 30, above = 0, below = 90, unit = "deg", doc = "the cone's, from the axis" },
+  particles = { default = 1500 , integer = true, min = 1, max = 1e6},
+  radius = { default = 1.5e-3, above = 0, unit = "m", doc = "sphere radius" },
+  friction = { default = 0.4 , min = 0},
+  settle = { default = 0.3, min = 0, unit = "s", doc = "longest time allowed to settle on the gate" },
+  duration = { default = 1.0, min = 0, unit = "s", doc = "time allowed to discharge" },
 }
 local sim = simulation { dimension = 3 }
 sim:material { name = "glass", density = 2500, young = 5e7, poisson = 0.25 }

@@ -9,25 +9,26 @@
 local granule = require "granule"
 
 local p = parameters {
-  duration = { default = 0.01, unit = "s", doc = "simulated time" },
-  particles = { default = 1500, doc = "number of powder particles" },
+  duration = { default = 0.01, min = 0, unit = "s", doc = "simulated time" },
+  particles = { default = 1500, integer = true, min = 1, max = 1e6, doc = "number of powder particles" },
   rpm = { default = 2000, unit = "1/min", doc = "chamber speed" },
-  radius = { default = 0.2e-3, unit = "m" },
-  density = { default = 1200, unit = "kg/m^3" },
-  chamber_radius = { default = 12.5e-3, unit = "m" },
-  inner_radius = { default = 5e-3, unit = "m" },
-  gap = { default = 1.6e-3, unit = "m", doc = "narrowest gap between inner piece and chamber" },
-  k_load = { default = 20000, unit = "N/m" },
-  restitution = { default = 0.85 },
-  friction_particle = { default = 0.4 },
-  friction_wall = { default = 0.5 },
+  radius = { default = 0.2e-3, above = 0, unit = "m" },
+  density = { default = 1200, above = 0, unit = "kg/m^3" },
+  chamber_radius = { default = 12.5e-3, above = 0, unit = "m" },
+  inner_radius = { default = 5e-3, above = 0, unit = "m" },
+  gap = { default = 1.6e-3, above = 0, unit = "m", doc = "narrowest gap between inner piece and chamber" },
+  k_load = { default = 20000, above = 0, unit = "N/m" },
+  restitution = { default = 0.85 , above = 0, max = 1},
+  friction_particle = { default = 0.4 , min = 0},
+  friction_wall = { default = 0.5 , min = 0},
   scraper = { default = true, doc = "add the scraper (a row of fixed particles)" },
   scraper_angle = { default = 100, unit = "deg", doc = "position downstream of the inner piece" },
   scraper_tilt = { default = 70, unit = "deg", doc = "angle to the wall's tangent (70 jams no particle against the wall: docs/mechanofusion.md)" },
-  scraper_length = { default = 4.4e-3, unit = "m" },
-  seed = { default = 1 },
-  snapshot_every = { default = 0.002, unit = "s" },
+  scraper_length = { default = 4.4e-3, above = 0, unit = "m" },
+  seed = { default = 1 , integer = true},
+  snapshot_every = { default = 0.002, min = 0, unit = "s" },
 }
+assert(p.inner_radius + p.gap < p.chamber_radius, string.format("inner_radius + gap (%g m) must be below chamber_radius (%g m): the inner piece must fit in the chamber", p.inner_radius + p.gap, p.chamber_radius))
 
 local sim = simulation { dimension = 2 }
 sim:material { name = "powder", density = p.density }

@@ -11,17 +11,17 @@
 local granule = require "granule"
 
 local p = parameters {
-  radius = { default = 100e-6, unit = "m" },
-  density = { default = 2650, unit = "kg/m^3" },
-  young = { default = 70e9, unit = "Pa" },
-  poisson = { default = 0.3 },
-  friction = { default = 0.35 },
-  speed = { default = 0.05, unit = "m/s", doc = "speed of each sphere" },
+  radius = { default = 100e-6, above = 0, unit = "m" },
+  density = { default = 2650, above = 0, unit = "kg/m^3" },
+  young = { default = 70e9, above = 0, unit = "Pa" },
+  poisson = { default = 0.3 , above = -1, max = 0.5},
+  friction = { default = 0.35 , min = 0},
+  speed = { default = 0.05, above = 0, unit = "m/s", doc = "speed of each sphere" },
   angles = { default = "15,30,45,60,75", unit = "deg", doc = "comma-separated impact angles" },
   surface_energies = { default = "0,0.2", unit = "J/m^2", doc = "comma-separated Gamma values" },
-  dimension = { default = 2 },
-  steps_per_contact = { default = 40, unit = "-", doc = "n of the time-step rule (8 T_R / n for Hertz's laws)" },
-  shrink_rescale = { default = 0, unit = "-", doc = "1: T, T*, T** scale with the contact radius while N falls (docs/contact_models.md)" },
+  dimension = { default = 2 , integer = true, min = 2, max = 3},
+  steps_per_contact = { default = 40, above = 0, unit = "-", doc = "n of the time-step rule (8 T_R / n for Hertz's laws)" },
+  shrink_rescale = { default = 0, integer = true, min = 0, max = 1, unit = "-", doc = "1: T, T*, T** scale with the contact radius while N falls (docs/contact_models.md)" },
 }
 
 local function list(text)
@@ -82,6 +82,9 @@ for _, gamma in ipairs(list(p.surface_energies)) do
     local vn0 = granule.vec.dot(granule.vec.sub(sim:particle(b).velocity, sim:particle(a).velocity), n0)
     sim:run { duration = 1e-3, check_every = 10, stop_when = function() return ended end }
     sim:remove_hook(hook)
+    -- A restitution from an impact that never ended (or never began) would be a number of nothing.
+    assert(ended, string.format("angle %g, gamma %g: the spheres made no whole contact within 1 ms " ..
+      "(speed, radius, density and young decide when they meet and part)", angle, gamma))
     local pa, pb = sim:particle(a), sim:particle(b)
     local n = granule.vec.unit(granule.vec.sub(pa.position, pb.position))
     local rel = granule.vec.sub(pb.velocity, pa.velocity)

@@ -9,12 +9,12 @@
 --   build/granule run scenarios/packing_3d.lua -D particles=4000 -D friction=0.1 -o packing.h5
 local granule = require "granule"
 local p = parameters {
-  particles = { default = 800, doc = "number of beads" },
-  radius = { default = 1e-3, unit = "m", doc = "bead radius" },
-  box = { default = 16e-3, unit = "m", doc = "side of the square box" },
-  friction = { default = 0.3, doc = "bead-bead and bead-wall friction coefficient" },
-  restitution = { default = 0.5, doc = "coefficient of restitution (damped Hertz-Mindlin)" },
-  settle = { default = 1.0, unit = "s", doc = "longest time allowed to settle" },
+  particles = { default = 800, integer = true, min = 1, max = 1e6, doc = "number of beads" },
+  radius = { default = 1e-3, above = 0, unit = "m", doc = "bead radius" },
+  box = { default = 16e-3, above = 0, unit = "m", doc = "side of the square box" },
+  friction = { default = 0.3, min = 0, doc = "bead-bead and bead-wall friction coefficient" },
+  restitution = { default = 0.5, above = 0, max = 1, doc = "coefficient of restitution (damped Hertz-Mindlin)" },
+  settle = { default = 1.0, min = 0, unit = "s", doc = "longest time allowed to settle" },
 }
 local sim = simulation { dimension = 3 }
 sim:material { name = "glass", density = 2500, young = 5e7, poisson = 0.25 }  -- a soft glass: larger steps

@@ -11,14 +11,14 @@
 local granule = require "granule"
 
 local p = parameters {
-  rolling_friction = { default = 0.1, doc = "mu_r of every pair (0: none)" },
+  rolling_friction = { default = 0.1, min = 0, doc = "mu_r of every pair (0: none)" },
   rolling_model = { default = "epsd", doc = "epsd | constant" },
-  particles = { default = 200, doc = "number of spheres" },
-  radius_min = { default = 0.8e-3, unit = "m" },
-  radius_max = { default = 1.2e-3, unit = "m" },
-  width = { default = 20e-3, unit = "m", doc = "column width" },
-  seed = { default = 1, doc = "seed of the fill" },
-  duration = { default = 1.5, unit = "s", doc = "longest time allowed to collapse and settle" },
+  particles = { default = 200, integer = true, min = 1, max = 1e6, doc = "number of spheres" },
+  radius_min = { default = 0.8e-3, min = 1e-9, unit = "m" },
+  radius_max = { default = 1.2e-3, min = 1e-9, unit = "m" },
+  width = { default = 20e-3, above = 0, unit = "m", doc = "column width" },
+  seed = { default = 1, integer = true, doc = "seed of the fill" },
+  duration = { default = 1.5, above = 0, unit = "s", doc = "longest time allowed to collapse and settle" },
 }
 
 local sim = simulation { dimension = 2 }

@@ -12,15 +12,15 @@
 --   build/granule run scenarios/shear_cell.lua -D speed=0.2 -D friction=0.5 -o shear.h5
 local granule = require "granule"
 local p = parameters {
-  particles = { default = 200, doc = "number of beads" },
-  radius = { default = 1e-3, unit = "m", doc = "bead radius" },
-  length = { default = 12e-3, unit = "m", doc = "periodic length along x" },
-  width = { default = 8e-3, unit = "m", doc = "distance between the smooth side walls (z)" },
-  pressure = { default = 1000, unit = "Pa", doc = "normal stress the lid holds" },
-  speed = { default = 0.1, unit = "m/s", doc = "relative speed U of the walls" },
-  friction = { default = 0.4, doc = "bead-bead friction" },
-  wall_friction = { default = 0.9, doc = "bead-wall friction (rough walls drive the shear)" },
-  duration = { default = 0.5, unit = "s", doc = "time sheared" },
+  particles = { default = 200, integer = true, min = 1, max = 1e6, doc = "number of beads" },
+  radius = { default = 1e-3, above = 0, unit = "m", doc = "bead radius" },
+  length = { default = 12e-3, above = 0, unit = "m", doc = "periodic length along x" },
+  width = { default = 8e-3, above = 0, unit = "m", doc = "distance between the smooth side walls (z)" },
+  pressure = { default = 1000, above = 0, unit = "Pa", doc = "normal stress the lid holds" },
+  speed = { default = 0.1, above = 0, unit = "m/s", doc = "relative speed U of the walls" },
+  friction = { default = 0.4, min = 0, doc = "bead-bead friction" },
+  wall_friction = { default = 0.9, min = 0, doc = "bead-wall friction (rough walls drive the shear)" },
+  duration = { default = 0.5, above = 0, unit = "s", doc = "time sheared" },
 }
 local sim = simulation { dimension = 3, periodic = { axis = "x", origin = 0, length = p.length } }
 sim:material { name = "glass", density = 2500, young = 5e7, poisson = 0.25 }
@@ -75,7 +75,7 @@ local function middle_shear_rate(s)
       syy, syv = syy + y * y, syv + y * b.velocity[1]
     end
   end
-  if n < 3 then return 0 / 0 end
+  if n < 3 then return nil end  -- too few beads in the middle third to fit a slope
   return (n * syv - sy * sv) / (n * syy - sy * sy)
 end
 sim:series("shear", { "time", "lid_force_x", "lid_force_y", "gap", "middle_shear_rate" })
@@ -83,6 +83,7 @@ local started = sim:time()
 sim:every { time = 0.01, function(s)
   local f = s:wall("lid").force
   local rate = middle_shear_rate(s)
+  if not rate then return end
   s:append("shear", { s:time(), f[1], f[2], gap_now(s), rate })
   if s:time() > started + 0.4 * p.duration then  -- past the start-up of the flow
     sums.fx, sums.fy = sums.fx + f[1], sums.fy + f[2]
@@ -91,6 +92,8 @@ sim:every { time = 0.01, function(s)
   end
 end }
 granule.stage(sim, { name = "shear", duration = p.duration })
+assert(sums.n >= 3, string.format("too few samples of the sheared flow (%d; one every 0.01 s after 40 %% " ..
+  "of the run, with 3 beads or more in the middle third of the gap): raise duration or particles", sums.n))
 
 local gap = sums.gap / sums.n
 local mu_eff = math.abs(sums.fx / sums.fy)
@@ -102,7 +105,6 @@ sim:result { mu_eff = mu_eff, middle_shear_rate = rate, nominal_shear_rate = p.s
 print(string.format("shear_cell: gap %.3g m, mu_eff %.3f, shear rate in the middle %.3g 1/s " ..
   "(U / gap %.3g 1/s), pressure %.3g Pa, inertial number %.3g (%d samples)",
   gap, mu_eff, rate, p.speed / gap, pressure, inertial, sums.n))
-assert(sums.n >= 3, "too few samples of the sheared flow")
 assert(mu_eff > 0.05 and mu_eff < 1.0, "effective friction outside what sheared beads give")
 assert(rate > 0, "the middle of the gap is not sheared in the walls' sense")
 print("results written to " .. file)

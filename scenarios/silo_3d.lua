@@ -11,17 +11,17 @@
 --   build/granule run scenarios/silo_3d.lua -D orifice=0.02 -D window_end=2.5
 local granule = require "granule"
 local p = parameters {
-  orifice = { default = 0.03, unit = "m", doc = "orifice diameter D" },
-  particles = { default = 6000, doc = "number of spheres" },
-  diameter = { default = 4e-3, unit = "m", doc = "sphere diameter d" },
-  silo_diameter = { default = 0.08, unit = "m", doc = "silo (tube) diameter" },
-  friction = { default = 0.5, doc = "sphere-sphere and sphere-wall friction coefficient" },
-  restitution = { default = 0.5, doc = "coefficient of restitution" },
-  young = { default = 1e7, unit = "Pa", doc = "Young's modulus (soft, for larger steps)" },
-  settle = { default = 0.6, unit = "s", doc = "time the poured bed settles on the shutter" },
+  orifice = { default = 0.03, above = 0, unit = "m", doc = "orifice diameter D" },
+  particles = { default = 6000, integer = true, min = 1, max = 1e7, doc = "number of spheres" },
+  diameter = { default = 4e-3, above = 0, unit = "m", doc = "sphere diameter d" },
+  silo_diameter = { default = 0.08, above = 0, unit = "m", doc = "silo (tube) diameter" },
+  friction = { default = 0.5, min = 0, doc = "sphere-sphere and sphere-wall friction coefficient" },
+  restitution = { default = 0.5, above = 0, max = 1, doc = "coefficient of restitution" },
+  young = { default = 1e7, above = 0, unit = "Pa", doc = "Young's modulus (soft, for larger steps)" },
+  settle = { default = 0.6, min = 0, unit = "s", doc = "time the poured bed settles on the shutter" },
   window_start = { default = 0.3, unit = "s", doc = "steady window start, after the opening" },
   window_end = { default = 1.2, unit = "s", doc = "steady window end, after the opening" },
-  count_every = { default = 100, doc = "steps between counts of discharged spheres" },
+  count_every = { default = 100, integer = true, min = 1, doc = "steps between counts of discharged spheres" },
 }
 local d, D, Rs = p.diameter, p.orifice, p.silo_diameter / 2
 assert(D > 2 * d and D < 2 * Rs, "orifice must lie between two sphere diameters and the silo's")

@@ -10,11 +10,11 @@ local granule = require "granule"
 -- 1. Parameters: what someone may want to change from the command line (-D name=value).
 local p = parameters {
   rpm = { default = 30, unit = "1/min", doc = "drum speed" },
-  particles = { default = 100, doc = "number of beads" },
-  radius = { default = 1e-3, unit = "m", doc = "bead radius" },
-  drum_radius = { default = 20e-3, unit = "m" },
-  settle = { default = 0.5, unit = "s", doc = "longest time allowed to settle" },
-  duration = { default = 1.0, unit = "s", doc = "time the drum turns" },
+  particles = { default = 100, integer = true, min = 1, max = 1e6, doc = "number of beads" },
+  radius = { default = 1e-3, above = 0, unit = "m", doc = "bead radius" },
+  drum_radius = { default = 20e-3, above = 0, unit = "m" },
+  settle = { default = 0.5, min = 0, unit = "s", doc = "longest time allowed to settle" },
+  duration = { default = 1.0, min = 0, unit = "s", doc = "time the drum turns" },
 }
 
 -- 2. The simulation and its materials.

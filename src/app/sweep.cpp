@@ -296,6 +296,11 @@ int sweep(const Settings& s, Ranks& ranks) {
 }  // namespace
 
 int run_sweep(const std::vector<std::string>& args) {
+  for (const std::string& a : args)
+    if (a == "--help" || a == "-h") {
+      std::cout << sweep_usage;
+      return 0;
+    }
   Settings settings;
   try {
     settings = parse(args);

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -76,6 +77,36 @@ int open_names_module(lua_State* L) {
   return 1;
 }
 
+// What parameters { name = { min =, max =, above =, below =, integer = } } allows.
+struct ParameterRange {
+  bool integer = false;
+  std::optional<double> min, max, above, below;
+  void read(TableReader& r) {
+    if (r.has("min")) min = r.number("min");
+    if (r.has("max")) max = r.number("max");
+    if (r.has("above")) above = r.number("above");
+    if (r.has("below")) below = r.number("below");
+    integer = r.boolean("integer", false);
+  }
+  bool any() const { return integer || min || max || above || below; }
+  bool holds(double v) const {
+    return (!integer || v == std::floor(v)) && (!min || v >= *min) && (!max || v <= *max) &&
+           (!above || v > *above) && (!below || v < *below);
+  }
+  // "a whole number >= 1 and <= 100000", "> 0"
+  std::string text() const {
+    std::vector<std::string> parts;
+    if (min) parts.push_back(fmt::format(">= {}", *min));
+    if (above) parts.push_back(fmt::format("> {}", *above));
+    if (max) parts.push_back(fmt::format("<= {}", *max));
+    if (below) parts.push_back(fmt::format("< {}", *below));
+    std::string out = integer ? "a whole number" : "";
+    for (std::size_t k = 0; k < parts.size(); ++k)
+      out += (k == 0 ? (integer ? " " : "") : " and ") + parts[k];
+    return out;
+  }
+};
+
 // parameters { name = default, other = { default = 1.0, unit = "m/s", doc = "..." } }
 // Returns a read-only table of values; -D name=value overrides a default.
 int l_parameters(lua_State* L) {
@@ -97,11 +128,15 @@ int l_parameters(lua_State* L) {
       names.push_back(name);
       int spec = lua_gettop(L);
       ParameterDoc described{name, "", "", ""};
+      // { min =, max =, above =, below =, integer = }: the values a -D may give (a count
+      // of 1e300 would run for ever, a negative radius make nonsense).
+      ParameterRange range;
       if (lua_istable(L, spec)) {
         // { default =, unit =, doc = }: a misspelt key would silently drop its value.
         TableReader r(L, spec, fmt::format("parameters: '{}'", name));
         described.unit = r.string("unit", "");
         described.doc = r.string("doc", "");
+        range.read(r);
         r.mark("default");
         r.finish();
         lua_pushliteral(L, "default");
@@ -116,6 +151,16 @@ int l_parameters(lua_State* L) {
       if (t == LUA_TNUMBER && !std::isfinite(lua_tonumber(L, spec)))
         throw std::runtime_error(
             fmt::format("parameters: '{}' has a default that is not finite", name));
+      if (range.any() && t != LUA_TNUMBER)
+        throw std::runtime_error(fmt::format(
+            "parameters: '{}' has a range (min, max, above, below, integer) but a default that "
+            "is not a number",
+            name));
+      if (range.any() && !range.holds(lua_tonumber(L, spec)))
+        throw std::runtime_error(fmt::format("parameters: '{}' has a default {} that is not {}",
+                                             name, lua_tonumber(L, spec), range.text()));
+      if (range.any())
+        described.doc += (described.doc.empty() ? "" : " ") + ("(" + range.text() + ")");
       described.default_value = t == LUA_TBOOLEAN  ? (lua_toboolean(L, spec) ? "true" : "false")
                                 : t == LUA_TNUMBER ? fmt::format("{}", lua_tonumber(L, spec))
                                                    : lua_tostring(L, spec);
@@ -130,6 +175,9 @@ int l_parameters(lua_State* L) {
                 fmt::format("-D {}={}: '{}' expects a number", name, text, name));
           if (!std::isfinite(lua_tonumber(L, -1)))
             throw std::runtime_error(fmt::format("-D {}={}: must be finite", name, text));
+          if (!range.holds(lua_tonumber(L, -1)))
+            throw std::runtime_error(
+                fmt::format("-D {}={}: '{}' must be {}", name, text, name, range.text()));
           // A value written as not zero that reads as zero (1e-400) is a slip, not a zero.
           if (lua_tonumber(L, -1) == 0 && text.find_first_of("123456789") != std::string::npos &&
               text.find_first_of("eE") != std::string::npos)

@@ -712,6 +712,10 @@ for name, text, args, expect in [
     ("param_minus_d_empty", "count = 5", "-D count=", r"count"),
     ("param_minus_d_fraction_count", "count = 5", "-D count=2.5", r"{at}.*count"),
     ("param_minus_d_negative_count", "count = 5", "-D count=-3", r"{at}.*count"),
+    ("param_minus_d_outside_range", "count = { default = 5, integer = true, min = 1, max = 1000 }",
+     "-D count=1e300", r"-D count=1e300: 'count' must be a whole number >= 1 and <= 1000"),
+    ("param_minus_d_below_exclusive", "count = { default = 5, above = 0 }", "-D count=0",
+     r"-D count=0: 'count' must be > 0"),
 ]:
     fill = FILL % ('count = p.count, radius = 3e-4, material = "glass"' if "overlap" not in text
                    else 'count = 5, radius = 3e-4, material = "glass", overlap = p.overlap')
@@ -722,6 +726,8 @@ for name, text, expect in [
     ("param_default_nil_table", "count = { unit = 'm' }", r"{at}.*count"),
     ("param_misspelled_field", "count = { default = 5, unti = '-' }", r"{at}.*unti"),
     ("param_default_nan", "count = 0/0", r"{at}.*count"),
+    ("param_default_outside_range", "count = { default = 0, min = 1 }", r"{at}.*'count' has a default 0 that is not >= 1"),
+    ("param_range_on_text", "mode = { default = 'fast', min = 1 }", r"{at}.*'mode' has a range .* not a number"),
     ("param_not_a_table", '"count"', r"{at}.*parameters"),
     ("param_name_number", "[1] = 5", r"{at}.*(name|parameter)"),
 ]:
