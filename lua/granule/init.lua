@@ -74,6 +74,12 @@ end)
 
 --- Eq. 4.1: dt = pi e sqrt(m / (2 K)) / n for two equal spheres of mass m.
 granule.walton_braun_time_step = export("granule.walton_braun_time_step", function(mass, k_load, restitution, steps_per_contact)
+  if not (mass > 0) or not (k_load > 0) or not (restitution > 0 and restitution <= 1) or
+     not ((steps_per_contact or 40) > 0) then
+    error(string.format("granule.walton_braun_time_step: mass (%s kg) and k_load (%s N/m) must be > 0, " ..
+      "restitution (%s) in (0, 1] and steps_per_contact (%s) > 0", tostring(mass), tostring(k_load),
+      tostring(restitution), tostring(steps_per_contact or 40)), 2)
+  end
   return math.pi * restitution * math.sqrt(mass / (2 * k_load)) / (steps_per_contact or 40)
 end)
 
@@ -135,15 +141,22 @@ end)
 --- Returns the table sim:run returns (steps, time, stopped).
 local stage_keys = { name = true, duration = true, steps = true, stop_when = true, check_every = true, quiet = true }
 granule.stage = export("granule.stage", function(sim, spec)
+  if type(sim) ~= "userdata" then
+    error("granule.stage: the first argument must be the simulation, got " .. type(sim), 2)
+  end
   for key in pairs(spec) do
-    if not stage_keys[key] then error("granule.stage: unknown key '" .. tostring(key) .. "'", 3) end
+    if not stage_keys[key] then error("granule.stage: unknown key '" .. tostring(key) .. "'", 2) end
+  end
+  if (spec.steps == nil) == (spec.duration == nil) then
+    error("granule.stage: give exactly one of steps = N or duration = T [s]", 2)
   end
   local run = { check_every = spec.check_every, stop_when = spec.stop_when }
   if spec.steps then run.steps = spec.steps else run.duration = spec.duration end
   local result = sim:run(run)
   if not spec.quiet then
     io.stderr:write(string.format("stage %-20s t = %.6g s after %d steps (%s)\n", spec.name or "?",
-      result.time, result.steps, result.stopped and "criterion met" or "time limit"))
+      result.time, result.steps,
+      result.interrupted and "interrupted" or result.stopped and "criterion met" or "time limit"))
   end
   return result
 end)

@@ -445,7 +445,7 @@ return {
  "{ a = 1, b = 'x' }, { 'a', 'b' }"},
 {"granule.stage", "library", P,
  "granule.stage(sim, { name =, duration = | steps =, stop_when =, check_every =, quiet = }) -> run result",
- "Runs one stage of a protocol and reports on stderr how it ended.",
+ "Runs one stage of a protocol and reports on stderr how it ended (criterion met, time limit or interrupted); exactly one of duration and steps.",
  {{"1", "any", "", true, "the simulation"},
   {"2", "table", "", true, "name, duration [s] or steps, stop_when, check_every, quiet"}},
  "sim, { name = 'settle', steps = 10, quiet = true }"},
