@@ -113,12 +113,13 @@ inline double cube_of_theta(double branch, double t_u, double star_u, double sta
 // shrink_rescale (mindlin_deresiewicz()): where a lane's law asks for it and N
 // falls, `shrink` = a / a_prev = (N / N_prev)^(1/3) and `still` = 1 (its mu dN is
 // then taken as 0); elsewhere 1 and 0. The roots in a loop of their own, as theta's.
+// Returns whether any lane's law asks for it (else the lanes need no scaling).
 template <typename P, typename Batch, typename History>
-inline void shrink_ratios(const P& q, const Batch& c, const History& h, double* shrink,
+inline bool shrink_ratios(const P& q, const Batch& c, const History& h, double* shrink,
                           double* still) {
   if (!q.any_shrink()) {
     for (int l = 0; l < batch_lanes; ++l) shrink[l] = 1.0, still[l] = 0.0;
-    return;
+    return false;
   }
   for (int l = 0; l < batch_lanes; ++l) {
     double k0, mu_n, mu_dn;
@@ -128,6 +129,7 @@ inline void shrink_ratios(const P& q, const Batch& c, const History& h, double* 
     still[l] = on ? 1.0 : 0.0;
   }
   for (int l = 0; l < batch_lanes; ++l) shrink[l] = std::cbrt(shrink[l]);
+  return true;
 }
 
 // Theta lane by lane from cube_of_theta(): the cube root where the increment
@@ -162,14 +164,16 @@ inline void lanes_3d(const P& q, ThorntonElastic::BatchHistory3& h, ContactBatch
   // line, |slip along it|, k0, mu N, mu dN; and for the roots the cubes.
   alignas(64) double ux[L], uy[L], uz[L], px[L], py[L], pz[L], par[L];
   alignas(64) double k0s[L], mu_ns[L], mu_dns[L], cube[L], theta[L], shrink[L], still[L];
-  shrink_ratios(q, c, h, shrink, still);
+  // shrink_rescale: T, T*, T** with the contact radius (and dN taken as 0, below).
+  if (shrink_ratios(q, c, h, shrink, still))
+    for (int l = 0; l < L; ++l) {
+      const double sh = shrink[l];
+      tx[l] *= sh, ty[l] *= sh, tz[l] *= sh, rx[l] *= sh, ry[l] *= sh, rz[l] *= sh;
+      r2x[l] *= sh, r2y[l] *= sh, r2z[l] *= sh;
+    }
   for (int l = 0; l < L; ++l) {
     double k0, mu_n, mu_dn;
     const double normal = normal_force(q, c, l, h.previous_normal[l], k0, mu_n, mu_dn);
-    // shrink_rescale: T, T*, T** with the contact radius, and dN taken as 0.
-    const double sh = shrink[l];
-    tx[l] *= sh, ty[l] *= sh, tz[l] *= sh, rx[l] *= sh, ry[l] *= sh, rz[l] *= sh;
-    r2x[l] *= sh, r2y[l] *= sh, r2z[l] *= sh;
     mu_dn = still[l] != 0 ? 0.0 : mu_dn;
     // No overlap (force() clears the history there; the engine only passes
     // contacts that touch, and padded lanes): N = 0, and mu N = 0 clears the rest.

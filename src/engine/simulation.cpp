@@ -363,8 +363,9 @@ void Simulation<D>::integrate() {
     }
   }
   meshes_.move(walls_, dt_, wall_travel_);
-  last_wall_travel_ = 0;
-  for (const double t : wall_travel_) last_wall_travel_ = std::max(last_wall_travel_, t);
+  // Their largest, for step()'s one comparison.
+  last_wall_travel_ =
+      wall_travel_.empty() ? 0.0 : *std::max_element(wall_travel_.begin(), wall_travel_.end());
 }
 
 template <int D>
