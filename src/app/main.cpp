@@ -172,15 +172,17 @@ int run_scene(Options& o) {
   // (inside a callback, or a call the scene caught): say so as the restart's error.
   if (!o.ctx.restart_failure.empty()) err = o.ctx.restart_failure;
   if (!err.empty()) {
-    if (o.ctx.ranks > 1)
-      std::cerr << fmt::format("granule: rank {} of {}: ", o.ctx.rank, o.ctx.ranks);
-    std::cerr << "error: " << err << "\n";
+    std::string message;
+    if (o.ctx.ranks > 1) message = fmt::format("granule: rank {} of {}: ", o.ctx.rank, o.ctx.ranks);
+    message += "error: " + err + "\n";
     std::vector<std::string> shown;  // a scene may reopen one file many times
     for (const auto& f : o.ctx.outputs_written)
       if (std::find(shown.begin(), shown.end(), f) == shown.end()) {
-        std::cerr << "partial results kept in " << f << "\n";
+        message += "partial results kept in " + f + "\n";
         shown.push_back(f);
       }
+    // One write: ranks failing together must not interleave their lines.
+    std::cerr << message << std::flush;
     if (o.ctx.interrupted) {
       // 128 + the signal, as a shell reports a program it ended: 130 Ctrl-C, 143 SIGTERM,
       // 129 SIGHUP; a scheduler or `granule sweep` reads the cause from the status.
