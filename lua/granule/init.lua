@@ -27,6 +27,17 @@ local checks = {
   any = function() return true end,
 }
 
+-- What a refused argument was, down to the bad component of a vector.
+local function describe_value(v)
+  if type(v) == "number" then return v ~= v and "nan" or tostring(v) end
+  if type(v) ~= "table" then return type(v) end
+  if #v < 2 or #v > 3 then return string.format("a table of %d component%s", #v, #v == 1 and "" or "s") end
+  for i = 1, #v do
+    if not finite(v[i]) then return string.format("component %d = %s", i, describe_value(v[i])) end
+  end
+  return "a table"
+end
+
 local function export(name, fn)
   local d = assert(docs[name], "granule library: no documentation entry for " .. name)
   local most, least = #d.args, 0
@@ -42,7 +53,8 @@ local function export(name, fn)
       if v ~= nil or a.required then
         if not checks[a.type](v) then
           error(string.format("%s: argument %d (%s) must be a %s%s, got %s", name, i, a.doc, a.type,
-            a.type == "number" and " (finite)" or "", type(v) == "number" and tostring(v) or type(v)), 2)
+            a.type == "number" and " (finite)" or a.type == "vector" and " (2 or 3 finite numbers)" or "",
+            describe_value(v)), 2)
         end
       end
     end
@@ -115,6 +127,7 @@ vec.polar = export("granule.vec.polar", function(angle, length) length = length 
 --- starts (first centre) at `start` and runs along `direction`.
 granule.particle_row = export("granule.particle_row", function(start, direction, count, radius)
   if count < 0 or count > 1e7 then error("granule.particle_row: count must be 0..1e7, got " .. count, 3) end
+  if not (radius > 0) then error("granule.particle_row: radius must be > 0 [m], got " .. radius, 3) end
   local u = vec.unit(direction)
   local positions = {}
   for k = 0, count - 1 do positions[#positions + 1] = vec.add(start, vec.scale(u, 2 * radius * k)) end

@@ -49,11 +49,21 @@ void add_axis(Settings& s, const std::string& arg) {
           "wall_seconds, file, error); rename the scene's parameter",
           arg, axis.name));
   std::set<std::string> seen;
+  std::map<double, std::string> numbers;  // "1" and "1.0" are one case, run twice
   for (std::size_t k = 0; k < axis.values.size(); ++k) {
-    if (axis.values[k].empty())
+    const std::string& v = axis.values[k];
+    if (v.empty())
       throw UsageError(fmt::format("-D {}: value {} of '{}' is empty", arg, k + 1, axis.name));
-    if (!seen.insert(axis.values[k]).second)
-      throw UsageError(fmt::format("-D {}: '{}' lists {} twice", arg, axis.name, axis.values[k]));
+    if (!seen.insert(v).second)
+      throw UsageError(fmt::format("-D {}: '{}' lists {} twice", arg, axis.name, v));
+    char* end = nullptr;
+    const double number = std::strtod(v.c_str(), &end);
+    if (end == v.c_str() + v.size() && std::isfinite(number)) {
+      auto [at, fresh] = numbers.emplace(number, v);
+      if (!fresh)
+        throw UsageError(fmt::format("-D {}: '{}' lists {} and {}, the same number, twice", arg,
+                                     axis.name, at->second, v));
+    }
   }
   s.axes.push_back(std::move(axis));
 }

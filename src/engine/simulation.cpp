@@ -172,12 +172,25 @@ void Simulation<D>::step() {
 
   // 4. Body forces and leap-frog (Eqs. 4.8-4.9).
   integrate();
-  if (non_finite_index_ != SIZE_MAX) report_non_finite(non_finite_index_);
-  if (last_fastest_speed_sq_ * (dt_ * dt_) > smallest_radius_ * smallest_radius_)
-    report_step_over();
-  if (last_wall_travel_ > smallest_radius_) report_wall_step_over();
+  // The clock moves with the particles before the checks, so that a failing
+  // step leaves (for the failure's snapshot, or a scene that catches the error
+  // and goes on) positions and time that belong together.
   time_ += dt_;
   ++step_;
+  if (non_finite_index_ != SIZE_MAX || last_wall_travel_ > smallest_radius_ ||
+      last_fastest_speed_sq_ * (dt_ * dt_) > smallest_radius_ * smallest_radius_) {
+    // The wall check reads the walls' velocities of the step just taken, so
+    // the schedules move on only after it (and also when it fails).
+    try {
+      if (non_finite_index_ != SIZE_MAX) report_non_finite(non_finite_index_);
+      if (last_fastest_speed_sq_ * (dt_ * dt_) > smallest_radius_ * smallest_radius_)
+        report_step_over();
+      if (last_wall_travel_ > smallest_radius_) report_wall_step_over();
+    } catch (...) {
+      if (!schedules_.empty()) apply_schedules();
+      throw;
+    }
+  }
   // Schedules (ramps): their targets set to the values of the next step's time.
   if (!schedules_.empty()) apply_schedules();
   auto t4 = Clock::now();

@@ -185,7 +185,8 @@ def serial():
                          (["-D", "speed=1,,2"], "value 2 of 'speed' is empty"),
                          (["-D", "speed=1", "-D", "speed=2"], "-D speed given twice"),
                          (["-D", "speed=1,fast"], "'speed' expects a number"),
-                         (["-D", "speed=1,1"], "'speed' lists 1 twice")):
+                         (["-D", "speed=1,1"], "'speed' lists 1 twice"),
+                         (["-D", "speed=1,2,1.0"], "'speed' lists 1 and 1.0, the same number")):
         rc, out = sweep(*bad, "-o", os.path.join(WORK, "sweep_bad"))
         check(rc == 2 and message in out, f"{' '.join(bad)}: exit 2 with '{message}', got {rc}", out)
     check(not os.path.exists(os.path.join(WORK, "sweep_bad")), "a refused sweep runs nothing")

@@ -341,3 +341,27 @@ TEST_CASE("guards: set_position wraps into the periodic box and refuses a place 
     CHECK(count_containing(warnings, "overlaps wall 'drum'") == 1);
   }
 }
+
+// A step that fails a check after the particles moved (one moving farther than
+// the smallest radius) leaves the clock with them: the failure's snapshot, and a
+// scene that catches the error and goes on, see positions and time that belong
+// together.
+TEST_CASE("guards: a failing step leaves positions and time together", "[guards]") {
+  Simulation<3> sim;
+  std::vector<std::string> warnings;
+  linear_pair_scene(sim, warnings);
+  const double dt = 1e-6, speed = 400;  // 0.4 mm a step, twice the radius
+  sim.set_time_step(dt);
+  particle(sim, 0, 0, speed);
+  double time_seen = -1, x_seen = 0;
+  sim.set_failure_handler([&](const std::string&) {
+    time_seen = sim.time();
+    x_seen = sim.position(0)[0];
+  });
+  CHECK_THROWS_WITH(sim.advance(3), Catch::Contains("more than the smallest radius"));
+  CHECK(sim.step_count() == 1);
+  CHECK(sim.time() == Approx(dt));
+  CHECK(time_seen == Approx(dt));
+  CHECK(x_seen == Approx(speed * dt));
+  CHECK(sim.position(0)[0] == Approx(speed * sim.time()));
+}

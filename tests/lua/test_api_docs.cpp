@@ -147,3 +147,20 @@ TEST_CASE("api docs: short names, help and the arity check", "[docs]") {
              Catch::Contains("did you mean 'run'"));
   CHECK_THAT(s.run("simulation({}, 1)"), Catch::Contains("simulation expects one table"));
 }
+
+// The library's argument check names what was wrong, down to a vector's component.
+TEST_CASE("api docs: a refused library argument is named, a vector's bad component too", "[docs]") {
+  State s;
+  CHECK_THAT(
+      s.run("local g = require 'granule' g.vec.add({ 1, 0 / 0 }, { 1, 2 })"),
+      Catch::Contains("argument 1 (a) must be a vector") && Catch::Contains("component 2 = nan"));
+  CHECK_THAT(s.run("local g = require 'granule' g.vec.dot({ 1, 2 }, { 1, nil, 3 })"),
+             Catch::Contains("argument 2 (b)") && Catch::Contains("component 2 = nil"));
+  CHECK_THAT(s.run("local g = require 'granule' g.vec.norm({ 1 })"),
+             Catch::Contains("a table of 1 component"));
+  CHECK_THAT(s.run("local g = require 'granule' g.particle_row({ 0, 0 }, { 1, 0 }, 3, -1e-3)"),
+             Catch::Contains("radius must be > 0"));
+  CHECK(
+      s.run("local g = require 'granule' assert(g.particle_row({ 0, 0 }, { 1, 0 }, 3, 1e-3)[3][1] "
+            "== 4e-3)") == "");
+}
