@@ -240,6 +240,15 @@ struct ThorntonJkr {
     h.md.previous_normal = normal;
     const double slide = sliding_force(mu, normal, nc);
 
+    // A contact that carried T under Gamma = 0 (a surface energy ramped up from
+    // zero while it lasts) is past peeling where T already reaches Tc of the new
+    // Gamma (Eq. 6.21): it goes on as a peeled contact from its Mindlin-
+    // Deresiewicz state, whose limit mu (N + 2Nc) only grew, rather than taking
+    // peeling's first step, which would cut T to Tc in one step.
+    if (fresh && !h.peeled && h.md.tangential.squaredNorm() > 0) {
+      const double t_c = 4 * std::sqrt(std::max(0.0, g / e * nc * (normal + nc)));
+      h.peeled = rotate_onto_plane<D>(h.md.tangential, c.normal).norm() >= t_c;
+    }
     if (h.peeled) {
       const double a_p = std::cbrt(3 * r * n_eff / (4 * e));  // Eq. 6.22
       out.tangential = ThorntonElastic::mindlin_deresiewicz<D>(

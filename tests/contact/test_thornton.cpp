@@ -989,3 +989,39 @@ TEST_CASE("thornton: adhesive contacts outlast zero overlap, so the skin must co
   automatic.prepare();
   CHECK(automatic.skin() > 1.5 * reach);
 }
+
+// A surface energy ramped up from zero while a contact carries T (the
+// agglomerate preparation's ramps): where T already reaches Tc of the new Gamma
+// (Eq. 6.21) the contact counts as peeled and keeps T, with the sliding limit
+// mu (N + 2Nc) of Eq. 6.25 ahead of it; below Tc it goes on peeling from T.
+// Taken as a fresh contact it lost T down to Tc in one step.
+TEST_CASE("thornton: a surface energy switched on under a sheared contact keeps its T",
+          "[thornton][jkr]") {
+  const double r_eff = radius / 2, dt = 1e-9, overlap = 1e-8;
+  for (double gamma : {1e-4, 0.2}) {
+    const auto p0 = jkr_params(mu, 0.0), p1 = jkr_params(mu, gamma);
+    ThorntonJkr::History<3> h;
+    auto c = state<3>(Eigen::Vector3d(0, 0, -1), overlap, Eigen::Vector3d::Zero(), dt, 1e-8, r_eff);
+    auto f = ThorntonJkr::force<3>(p0, h, c);
+    const double limit = mu * f.normal;
+    c.tangential_velocity = Eigen::Vector3d(1e-3, 0, 0);
+    for (int k = 0; k < 100000 && f.tangential.norm() < 0.5 * limit; ++k)
+      f = ThorntonJkr::force<3>(p0, h, c);
+    const double t0 = f.tangential.norm();
+    REQUIRE(t0 == Approx(0.5 * limit).epsilon(0.05));
+    c.tangential_velocity.setZero();
+    f = ThorntonJkr::force<3>(p1, h, c);
+    const double nc = 1.5 * pi * gamma * r_eff;
+    const double t_c = 4 * std::sqrt(p1.elastic.g_star / p1.elastic.e_star * nc * (f.normal + nc));
+    INFO("gamma " << gamma << ": T " << t0 << " N, Tc " << t_c << " N");
+    CHECK(h.peeled == (t0 >= t_c));
+    CHECK(f.tangential.norm() == Approx(t0).epsilon(1e-12));
+    // Sheared on, it reaches the sliding force of the adhesive contact.
+    c.tangential_velocity = Eigen::Vector3d(1e-3, 0, 0);
+    for (int k = 0; k < 200000; ++k) f = ThorntonJkr::force<3>(p1, h, c);
+    CHECK(h.peeled);
+    CHECK(f.tangential.norm() ==
+          Approx(std::min(mu * (f.normal + 2 * nc), h.peeled && t0 < t_c ? t_c : 1e300))
+              .epsilon(1e-9));
+  }
+}
