@@ -194,8 +194,11 @@ int l_run(lua_State* L) {
         spread->run_script(call);
       else
         call();
-      const bool stop = lua_toboolean(L, -1);
+      bool stop = lua_toboolean(L, -1);
       lua_pop(L, 1);
+      // Ranks whose criteria disagree (one reading the wall clock) stop together,
+      // when any of them says so: one rank stepping on alone would wait forever.
+      if (spread) stop = spread->any(stop);
       return stop;
     };
     hooks.write_checkpoint = [&](const std::string& path) {

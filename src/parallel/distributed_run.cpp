@@ -161,7 +161,12 @@ void DistributedRun<D>::cut(const std::vector<double>& cost, bool whole_scene_he
       domain.lo = domain.lo.cwiseMin(x), domain.hi = domain.hi.cwiseMax(x);
   }
   // Half the reach beyond the outermost centres: a box's edge never sits on one.
-  for (int a = 0; a < D; ++a) domain.lo[a] -= 0.5 * reach_, domain.hi[a] += 0.5 * reach_;
+  // A scene with no particles yet (a feeder's), or none that can touch, still
+  // gets a box of some size to cut; its outer faces go to infinity below.
+  for (int a = 0; a < D; ++a) {
+    domain.lo[a] -= 0.5 * reach_, domain.hi[a] += 0.5 * reach_;
+    if (!(domain.hi[a] > domain.lo[a])) domain.lo[a] -= 0.5, domain.hi[a] += 0.5;
+  }
   // A periodic axis: the domain is the period, where the scene keeps every centre.
   const Periodicity& periodic = sim_.periodicity();
   std::array<bool, D> wraps{};

@@ -121,13 +121,16 @@ class SceneOverRanks final : public SpreadRun {
 
   void run_script(const std::function<void()>& script) override {
     if (run_ && !run_->dissolved()) gather_when_needed();
+    // An error on one rank alone (a criterion reading the wall clock, or this
+    // rank's environment) ends them all with its message, as a hook's does.
+    std::exception_ptr error;
     try {
       script();
     } catch (...) {
-      end_firing();
-      throw;
+      error = std::current_exception();
     }
     end_firing();
+    settle(error);
   }
 
   void gather() override {
