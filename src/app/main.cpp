@@ -98,7 +98,7 @@ int rank_path_call(lua_State* L) {
   // io.open(path, mode): its path, written or read; io.lines(path): read;
   // os.remove(path), os.rename(from, to): every path, written.
   const bool opens = kind != 0;
-  const bool writes = kind == 0 || (kind == 1 && std::strpbrk(mode, "wa+"));
+  const bool writes = kind == 0 || kind == 3 || (kind == 1 && std::strpbrk(mode, "wa+"));
   const int paths = opens ? std::min(n, 1) : n;
   for (int k = 1; k <= paths; ++k)
     if (lua_type(L, k) == LUA_TSTRING) {
@@ -140,10 +140,19 @@ void keep_files_on_rank(lua_State* L) {
   lua_pop(L, 1);
   struct Wrapped {
     const char *library, *name;
-    int kind;  // rank_path_call: 0 every argument written, 1 io.open, 2 io.lines
+    int kind;  // rank_path_call: 0 every argument written, 1 io.open, 2 read (io.lines,
+               // io.input), 3 written (io.output)
   };
-  for (const Wrapped w : {Wrapped{"io", "open", 1}, Wrapped{"io", "lines", 2},
-                          Wrapped{"os", "remove", 0}, Wrapped{"os", "rename", 0}}) {
+  // io.write goes where print goes: nowhere on these ranks (io.stdout and
+  // io.output's default are /dev/null, set before io.output itself is wrapped;
+  // a scene's io.output(path) then opens its scratch copy).
+  if (luaL_dostring(L,
+                    "local null = io.open('/dev/null', 'w') "
+                    "if null then io.stdout = null io.output(null) end") != LUA_OK)
+    lua_pop(L, 1);
+  for (const Wrapped w :
+       {Wrapped{"io", "open", 1}, Wrapped{"io", "lines", 2}, Wrapped{"io", "input", 2},
+        Wrapped{"io", "output", 3}, Wrapped{"os", "remove", 0}, Wrapped{"os", "rename", 0}}) {
     lua_getglobal(L, w.library);
     if (!lua_istable(L, -1)) {
       lua_pop(L, 1);
@@ -176,11 +185,13 @@ int run_scene(Options& o) {
     if (o.ctx.ranks > 1) message = fmt::format("granule: rank {} of {}: ", o.ctx.rank, o.ctx.ranks);
     message += "error: " + err + "\n";
     std::vector<std::string> shown;  // a scene may reopen one file many times
-    for (const auto& f : o.ctx.outputs_written)
-      if (std::find(shown.begin(), shown.end(), f) == shown.end()) {
-        message += "partial results kept in " + f + "\n";
-        shown.push_back(f);
-      }
+    // Rank 0 names the files kept; the other ranks' copies go with their scratch.
+    if (o.ctx.rank == 0)
+      for (const auto& f : o.ctx.outputs_written)
+        if (std::find(shown.begin(), shown.end(), f) == shown.end()) {
+          message += "partial results kept in " + f + "\n";
+          shown.push_back(f);
+        }
     // One write: ranks failing together must not interleave their lines.
     std::cerr << message << std::flush;
     if (o.ctx.interrupted) {

@@ -142,6 +142,8 @@ std::string interrupt_checkpoint_path(const LuaSim& s) {
 }
 
 std::string continue_hint(const SceneContext* ctx, const std::string& checkpoint) {
+  // Spread over ranks, rank 0 names the checkpoint; the others wrote a scratch copy.
+  if (ctx && ctx->rank > 0) return "";
   // The command that continues it: the same -D values (a restart refuses others)
   // and the same -o, which the restart then continues rather than writing beside it;
   // its later checkpoints where this run's went (a scene's own sim:checkpoint is

@@ -2,7 +2,9 @@
 # Spread runs where the ranks' scenes start empty or their scripts disagree.
 # Usage: ranks_disagree_test.sh GRANULE SOURCE_DIR MPIRUN
 # - a scene with no particles at the start (a feeder adding them from a
-#   callback) runs on 2 and 3 ranks to the plain run's state, bit for bit;
+#   callback) runs on 2 and 3 ranks to the plain run's state, bit for bit,
+#   printing once what it prints (print, io.write, sim:table) and writing a
+#   file through io.output from rank 0 alone;
 # - a stop criterion that says stop on one rank only stops every rank at that
 #   check (no rank left waiting in a collective);
 # - a stop criterion that fails on one rank only ends every rank with that
@@ -21,6 +23,7 @@ test "$(grep -c '^state' plain.txt)" -gt 20 || { cat plain.txt; exit 1; }
 for n in 2 3; do
   $mpirun -np $n "$granule" run "$scene" -q > np$n.txt
   cmp plain.txt np$n.txt || { diff plain.txt np$n.txt | head; exit 1; }
+  test "$(cat io_output.txt)" = "written by rank 0" || { cat io_output.txt; exit 1; }
 done
 echo "an empty start: 2 and 3 ranks bit-identical to the plain run"
 $mpirun -np 2 "$granule" run "$scene" -D mode=stop_on_rank1 -q > stop.txt

@@ -1,7 +1,8 @@
 -- A feeder over ranks: the scene starts with no particles and a callback adds
 -- one every 50 steps onto a floor; its run's stop criterion may answer
 -- differently on one rank (mode = "stop_on_rank1") or fail there
--- ("error_on_rank1"). Prints every particle's final state in hex.
+-- ("error_on_rank1"). Prints every particle's final state in hex, writes a
+-- file through io.output and a table through sim:table.
 local p = parameters {
   mode = { default = "feed", doc = "feed | stop_on_rank1 | error_on_rank1" },
   canonical = { default = 0, min = 0, max = 1, integer = true, doc = "1: canonical order (as ranks)" },
@@ -33,4 +34,11 @@ for _, id in ipairs(sim:particles()) do
   print(string.format("state %d %a %a %a %a %a", id, q.position[1], q.position[2], q.velocity[1],
     q.velocity[2], q.spin))
 end
+-- What a scene writes besides print: rank 0 alone writes it where named.
+local f = io.output("io_output.txt")
+io.write("written by rank ", rank, "\n")
+io.close(f)
+io.output(io.stdout)
+io.write("io.write to the terminal\n")
+sim:table { ids = { 0, 1 }, fields = { "id", "x" } }
 print("done", sim:step_count())
