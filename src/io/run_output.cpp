@@ -96,6 +96,13 @@ RunOutput::RunOutput(SimulationBase& sim, RunOutputSettings settings)
   hook_ids_.push_back(sim_.add_hook(snap));
   sim_.set_failure_handler([this](const std::string& m) { write_failure(m); });
   sim_.set_output_sink(this);
+  // Opened after the scene has stepped (a later stage's file, at the REPL): the
+  // state it was opened at, as a run from t = 0 records its start, now, since
+  // the start's hooks fire only before step 0.
+  if (file_ && sim_.step_count() > 0) {
+    write_series_row();
+    if (sim_.particle_count() > 0) write_snapshot();
+  }
 }
 
 RunOutput::~RunOutput() {
@@ -114,7 +121,8 @@ void RunOutput::finish() {
   finished_ = true;
   write_header();
   write_new_walls();
-  sim_.flush_diagnostics();  // partly filled windows, while the file is open
+  // Partly filled windows, while the file is open (not those a failure just cut).
+  if (failure_step_ != sim_.step_count()) sim_.flush_diagnostics();
   if (sim_.step_count() != last_snapshot_step_ && sim_.particle_count() > 0) write_snapshot();
   file_->flush();
 }
@@ -483,8 +491,10 @@ void RunOutput::write_failure(const std::string& message) {
   file_->write_attribute(group, "failure", message);
   index_snapshot(group, kept);
   file_->write_attribute("/", "failure", message);
+  // The file stays open: a scene that catches the error (pcall, the REPL) goes
+  // on recording into it; the end writes no second snapshot of this step.
   last_snapshot_step_ = sim_.step_count();
-  finished_ = true;  // do not append a normal final snapshot after a failure
+  failure_step_ = sim_.step_count();
   file_->flush();
 }
 

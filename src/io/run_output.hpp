@@ -104,6 +104,10 @@ class RunOutput final : public OutputSink {
   std::int64_t last_series_step_ = -1;      // the step of /series' last row
   std::int64_t last_snapshot_digest_ = -1;  // of the last snapshot's particles (state_digest)
   bool finished_ = false;
+  // The step a run into this file failed at (-1: none): the diagnostics'
+  // windows open then, holding that step's samples, are not written at the end
+  // unless the scene went on (a REPL session, a pcall) and stepped since.
+  std::int64_t failure_step_ = -1;
   bool header_written_ = false;
   int walls_written_ = 0;               // walls 0 .. walls_written_ - 1 are in /walls
   std::size_t materials_written_ = 0;   // materials 0 .. materials_written_ - 1 are in /materials

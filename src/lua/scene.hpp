@@ -30,6 +30,9 @@ struct SceneContext {
   std::string scene_path;
   std::string scene_source;
   std::string output_path;  // from -o; empty = the scene's own choice or <scene>.h5
+  // sim:output calls -o has named so far: the first takes -o's path, each later
+  // one -o's stem and its own file's (a scene writing two files, in a sweep).
+  int outputs_under_o = 0;
   std::map<std::string, std::string> overrides;  // -D name=value
   std::set<std::string> consumed;
   bool parameters_declared = false;

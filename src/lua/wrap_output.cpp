@@ -36,8 +36,19 @@ int l_output(lua_State* L) {
       fallback = ctx->scene_path.empty()
                      ? "granule.h5"
                      : std::filesystem::path(ctx->scene_path).stem().string() + ".h5";
-    // -o on the command line wins over the scene's own choice.
+    // -o on the command line wins over the scene's own choice: the first output
+    // is -o's file, a later one (the scene's second file) -o's stem joined to
+    // its own, so that every case of a sweep writes files of its own.
     o.path = ctx->output_path.empty() ? t.string("file", fallback) : ctx->output_path;
+    if (!ctx->output_path.empty() && ctx->outputs_under_o++ > 0) {
+      const std::filesystem::path named(ctx->output_path);
+      const std::string own = t.has("file")
+                                  ? std::filesystem::path(t.string("file")).stem().string()
+                                  : std::to_string(ctx->outputs_under_o);
+      o.path =
+          (named.parent_path() / (named.stem().string() + "_" + own + named.extension().string()))
+              .string();
+    }
     // A restarted run writes beside the original's output, never over it (unless -o says so).
     if (!ctx->restart_path.empty() && ctx->output_path.empty()) {
       std::filesystem::path p(o.path);
