@@ -54,6 +54,12 @@ struct PairScale {
   double effective_mass;    // kg
   double effective_radius;  // m (a flat wall counts as infinite)
   double rayleigh_time;     // s, Eq. 6.1 for the smallest particle; infinity if E is not given
+  // m* / m_t: how much lighter the contact's tangential slip is than its normal
+  // approach, since the slip turns the particles too. Each particle adds
+  // 1/m + r^2/I to 1/m_t: 3.5/m for a solid sphere (I = 2/5 m r^2), 3/m for a
+  // disk (I = 1/2 m r^2), so 3.5 in 3D and 3 in 2D. A tangential spring k_t
+  // then oscillates at omega_t^2 = factor k_t / m*.
+  double tangential_mass_factor = 3.5;
 };
 
 template <int D>
