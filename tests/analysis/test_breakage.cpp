@@ -69,7 +69,7 @@ TEST_CASE("fragments are the connected clusters of the contact graph", "[breakag
   CHECK(f.label[0] == 2);  // id 10
 }
 
-TEST_CASE("an isolated primary is a fragment of its own; equal masses order by lowest id",
+TEST_CASE("an isolated primary is a fragment of its own, equal masses order by lowest id",
           "[breakage]") {
   const std::vector<std::int64_t> ids{7, 3, 5, 1};
   const Fragments f = find_fragments(ids, {1, 1, 1, 1}, normalized_bonds({{3, 7}}));

@@ -486,7 +486,7 @@ TEST_CASE(
 }
 
 TEMPLATE_TEST_CASE_SIG(
-    "thornton: oblique elastic impacts keep |T| <= mu N; the tangential force "
+    "thornton: oblique elastic impacts keep |T| <= mu N, the tangential force "
     "reverses above the friction angle unless the spheres slide throughout",
     "[thornton]", ((int D), D), 2, 3) {
   // Dissertation 6.4: friction angle atan(0.35) = 19 degrees. At 15 degrees sliding
@@ -543,7 +543,7 @@ TEMPLATE_TEST_CASE_SIG(
 }
 
 TEMPLATE_TEST_CASE_SIG(
-    "thornton: oblique JKR impacts peel, then slide; |T| stays below Tc while "
+    "thornton: oblique JKR impacts peel, then slide, |T| stays below Tc while "
     "peeling and below the sliding force after",
     "[thornton][jkr]", ((int D), D), 2, 3) {
   // Dissertation 6.4 with gamma = 0.2 J/m^2: except at small angles (15 degrees)
@@ -603,7 +603,7 @@ TEMPLATE_TEST_CASE_SIG(
 }
 
 TEST_CASE(
-    "thornton: JKR contact radius at zero load is a0 = (9 pi Gamma R*^2/(2 E*))^{1/3}; the "
+    "thornton: JKR contact radius at zero load is a0 = (9 pi Gamma R*^2/(2 E*))^{1/3}, the "
     "contact snaps on at -8/9 Nc",
     "[thornton][jkr]") {
   const auto p = jkr_params(mu, 0.2);
@@ -645,7 +645,7 @@ TEST_CASE(
 }
 
 TEST_CASE(
-    "thornton: JKR pull-off force is -Nc = -1.5 pi Gamma R*; the contact separates at "
+    "thornton: JKR pull-off force is -Nc = -1.5 pi Gamma R*, the contact separates at "
     "alpha_f = -(3/4)(pi^2 Gamma^2 R*/E*^2)^{1/3} where N = -5/9 Nc",
     "[thornton][jkr]") {
   for (double gamma : {0.2, 0.02, 2.0}) {

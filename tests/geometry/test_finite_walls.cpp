@@ -87,7 +87,7 @@ TEST_CASE("finite walls: clearance and normal at a disk's face, rim and hole edg
   CHECK(d.effective_radius(Vec<3>(0.13, 0, 0.002), r) == r);
 }
 
-TEST_CASE("finite walls: a rectangle's face, edge and corner; a tube's faces and rim") {
+TEST_CASE("finite walls: a rectangle's face, edge and corner, a tube's faces and rim") {
   Simulation<3> sim;
   scene(sim, 0.5, 0);
   WallSpec p;

@@ -163,7 +163,7 @@ TEST_CASE("mesh surface: edge contacts are not merged, however alike their norma
   CHECK(sum.z() == Approx(4 * h / std::sqrt(a * a + h * h)).epsilon(1e-12));
 }
 
-TEST_CASE("mesh surface: a shallow concave fold gives one contact, the nearer; a steep one two",
+TEST_CASE("mesh surface: a shallow concave fold gives one contact, the nearer, a steep one two",
           "[mesh]") {
   // Two faces meeting along the y axis, each tilted up by `tilt` from the floor z = 0
   // (a V of 180 - 2 tilt degrees), and a sphere pressed into the fold, a little to the

@@ -67,7 +67,7 @@ TEST_CASE("zones: the spherical-cap split (4.3-4.6) matches a quadrature of the 
   CHECK(zone_inner_fraction(5e-3, 5e-3, r) == Approx(0.5));  // centre on the boundary
 }
 
-TEST_CASE("zones: equal volumes that sum to the chamber's; each particle counted once",
+TEST_CASE("zones: equal volumes that sum to the chamber's, each particle counted once",
           "[diagnostics][mechanofusion]") {
   Simulation<2> sim;
   chamber(sim, 0);

@@ -136,7 +136,7 @@ TEST_CASE("a schedule with an unknown target, wall or parameter is refused namin
   CHECK(sim.schedules().size() == 1);
 }
 
-TEST_CASE("a checkpoint holds the schedules; a restart with other ones is refused", "[schedule]") {
+TEST_CASE("a checkpoint holds the schedules, a restart with other ones is refused", "[schedule]") {
   Simulation<2> a;
   drum(a);
   a.prepare();

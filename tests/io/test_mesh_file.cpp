@@ -105,7 +105,7 @@ TEST_CASE("mesh file: a binary STL square, scaled, rotated and translated", "[me
   std::filesystem::remove(path);
 }
 
-TEST_CASE("mesh file: an OBJ cube of quads is triangulated; Euler angles turn it", "[mesh]") {
+TEST_CASE("mesh file: an OBJ cube of quads is triangulated, Euler angles turn it", "[mesh]") {
   const auto path = temp_path("cube.obj");
   {
     std::ofstream f(path);

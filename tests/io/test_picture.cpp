@@ -166,7 +166,7 @@ TEST_CASE("picture: in 3D the highest particle is drawn on top", "[picture]") {
   std::filesystem::remove(o.path);
 }
 
-TEST_CASE("picture: SVG holds the same discs; bad options are refused", "[picture]") {
+TEST_CASE("picture: SVG holds the same discs, bad options are refused", "[picture]") {
   auto sim = scene(2);
   auto o = options(temp("scene.svg"));
   o.legend = true;

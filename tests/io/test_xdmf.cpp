@@ -22,7 +22,7 @@ TEST_CASE("xdmf: file name beside the HDF5 file", "[xdmf]") {
   CHECK(io::xdmf_walls_path_for("dir/run.1.h5") == "dir/run.1_walls.xmf");
 }
 
-TEST_CASE("xdmf: a 2D drum is a closed polygon on its circle; a plane a segment on its line",
+TEST_CASE("xdmf: a 2D drum is a closed polygon on its circle, a plane a segment on its line",
           "[xdmf]") {
   WallSpec drum;
   drum.name = "drum";
