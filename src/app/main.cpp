@@ -223,7 +223,11 @@ int scene_help(Options& o) {
   }
   auto docs = o.ctx.parameter_docs;
   if (docs.empty()) {
-    std::cout << o.scene << " declares no parameters{...} (nothing to set with -D)\n";
+    // The scene ran as far as its simulation{...}: parameters declared after it
+    // are not seen here (nor by granule sweep), though run -D still sets them.
+    std::cout << o.scene
+              << " declares no parameters{...} before its simulation{...}, which is as far as "
+                 "--help reads (declare them first to have them listed and swept)\n";
     return 0;
   }
   std::sort(docs.begin(), docs.end(), [](const auto& a, const auto& b) { return a.name < b.name; });
@@ -407,6 +411,11 @@ int run_command(const std::vector<std::string>& args) {
     std::cout << usage;
     return 0;
   }
+  // `granule COMMAND --help` (without a scene): the usage, as `granule --help`.
+  if (args.size() == 2 && (args[1] == "--help" || args[1] == "-h") && o.command != "sweep") {
+    std::cout << usage;
+    return 0;
+  }
   if (o.command == "models") {
     if (args.size() > 1) return fail_usage("models takes no arguments");
     return list_models();
@@ -497,7 +506,7 @@ int run_command(const std::vector<std::string>& args) {
       return fail_usage("more than one scene file given ('" + o.scene + "', '" + a + "')");
     }
   }
-  if (scene_help_asked && o.command != "run") return fail_usage("--help goes with run SCENE.lua");
+
   if (!o.ctx.restart_path.empty() && o.command != "run")
     return fail_usage("--restart goes with run SCENE.lua (a checkpoint continues a scene file)");
   o.ctx.scene_path = o.scene;
@@ -505,9 +514,12 @@ int run_command(const std::vector<std::string>& args) {
   // file or a pipe) it is a line every tenth of the run, or every --progress seconds.
   o.ctx.progress = !o.ctx.quiet || o.ctx.progress_every > 0;
   o.ctx.progress_log = !isatty(2) || o.ctx.progress_every > 0;
+  if (scene_help_asked) {  // run or repl SCENE --help: the scene's parameters
+    if (o.scene.empty()) return fail_usage("--help with other options goes with a scene file");
+    return scene_help(o);
+  }
   if (o.command == "run") {
     if (o.scene.empty()) return fail_usage("run needs a scene file");
-    if (scene_help_asked) return scene_help(o);
 #ifdef GRANULE_HAVE_MPI
     if (launched_ranks > 0) return run_scene_over_ranks(o);
 #endif

@@ -290,7 +290,14 @@ int run_repl(const std::string& scene, lua::SceneContext& ctx, const ReplInput& 
       lua_pop(L, 1);
       if (msg.size() >= 5 && msg.compare(msg.size() - 5, 5, "<eof>") == 0) {
         std::string more;
-        if (!read_line(">> ", more)) break;
+        if (!read_line(">> ", more)) {
+          // The input ended inside a statement (a piped script cut short): said,
+          // and counted as a failing line, not run half.
+          std::cout << "error: the input ended inside an unfinished statement, which was not run: "
+                    << msg << "\n";
+          ++failures;
+          break;
+        }
         chunk += "\n" + more;
         continue;
       }

@@ -103,7 +103,8 @@ std::string check_parameters(const Settings& s, const Case& c) {
   if (ctx.stopped_after_parameters) {
     if (ctx.declared_parameters.empty() && !c.values.empty())
       return fmt::format(
-          "-D {}: the scene makes its simulation before declaring any parameters{{...}}",
+          "-D {}: the scene declares no parameters{{...}} before its simulation{{...}} (a sweep "
+          "sets only parameters declared before it)",
           c.values.front().first);
     return "";
   }

@@ -425,10 +425,11 @@ void RunOutput::declare_series(const std::string& name, const std::vector<std::s
       !name.empty() && name[0] != '/' && name.back() != '/' && name.find("//") == std::string::npos;
   for (const char* r : reserved) ok = ok && first != r;
   if (first != "diagnostics") ok = ok && name.find('/') == std::string::npos;
+  ok = ok && name != "diagnostics";  // the diagnostics' group, not a series
   if (!ok)
     throw InputError(fmt::format(
         "series name '{}' must be a plain word (or 'diagnostics/<label>') other than series, "
-        "snapshots, scene, materials, contacts, walls and results",
+        "snapshots, scene, materials, contacts, walls, results and diagnostics",
         name));
   if (!units.empty() && units.size() != columns.size())
     throw InputError(fmt::format("series '{}': {} units given for {} columns", name, units.size(),

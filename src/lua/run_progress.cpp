@@ -77,7 +77,8 @@ void RunProgress::update(std::int64_t steps_done, double time) {
   const double now = clock_();
   const double elapsed = now - started_;
   if (elapsed < delay_) return;
-  const double fraction = std::min(1.0, static_cast<double>(steps_done) / total_steps_);
+  const double fraction = std::min(1.0, static_cast<double>(steps_before_ + steps_done) /
+                                            static_cast<double>(steps_before_ + total_steps_));
   if (style_ == Style::log) {
     if (every_seconds_ > 0) {
       if (now - last_drawn_ < every_seconds_) return;

@@ -9,6 +9,7 @@
 // chunks and calls update() between them; the engine's step loop never sees it.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <ostream>
@@ -35,6 +36,14 @@ class RunProgress {
   void update(std::int64_t steps_done, double time);
   // The run's length counted again (a shorter time step on the way).
   void retarget(std::int64_t total_steps) { total_steps_ = total_steps; }
+  // A run continued from a checkpoint: `steps` of it were taken before, so the
+  // percentage is of the whole run, as the times beside it are (the rate and the
+  // time left count this process's steps).
+  void continued_after(std::int64_t steps) {
+    steps_before_ = std::max<std::int64_t>(0, steps);
+    last_tenth_ = static_cast<int>(10 * static_cast<double>(steps_before_) /
+                                   static_cast<double>(steps_before_ + total_steps_));
+  }
   void finish();  // erases the line (once)
   bool shown() const { return shown_; }
   // Erases the terminal line now (it is redrawn at the next update), so that what
@@ -57,7 +66,8 @@ class RunProgress {
   Style style_;
   double every_seconds_;
   double started_ = 0, last_drawn_ = -1e300;
-  int last_tenth_ = 0;  // log style: the last tenth of the run reported
+  int last_tenth_ = 0;             // log style: the last tenth of the run reported
+  std::int64_t steps_before_ = 0;  // of a continued run, taken before it was continued
   bool shown_ = false, finished_ = false;
 };
 

@@ -37,14 +37,14 @@ int l_output(lua_State* L) {
                      ? "granule.h5"
                      : std::filesystem::path(ctx->scene_path).stem().string() + ".h5";
     // -o on the command line wins over the scene's own choice: the first output
-    // is -o's file, a later one (the scene's second file) -o's stem joined to
-    // its own, so that every case of a sweep writes files of its own.
+    // is -o's file, a later one that names its own (the scene's second file)
+    // -o's stem joined to its own, so that every case of a sweep writes files of
+    // its own; a later one that names none is -o's again, refused below as the
+    // scene's default name would be.
     o.path = ctx->output_path.empty() ? t.string("file", fallback) : ctx->output_path;
-    if (!ctx->output_path.empty() && ctx->outputs_under_o++ > 0) {
+    if (!ctx->output_path.empty() && ctx->outputs_under_o++ > 0 && t.has("file")) {
       const std::filesystem::path named(ctx->output_path);
-      const std::string own = t.has("file")
-                                  ? std::filesystem::path(t.string("file")).stem().string()
-                                  : std::to_string(ctx->outputs_under_o);
+      const std::string own = std::filesystem::path(t.string("file")).stem().string();
       o.path =
           (named.parent_path() / (named.stem().string() + "_" + own + named.extension().string()))
               .string();
@@ -166,10 +166,13 @@ int l_result(lua_State* L) {
     for (const auto& key : names) {  // each a column of /results and of a sweep's summary
       const bool control = std::any_of(key.begin(), key.end(),
                                        [](unsigned char c) { return c < 0x20 || c == 0x7f; });
-      if (key.empty() || key == "." || key == ".." || key.find('/') != std::string::npos || control)
+      // A comma would split the name in the lists that join result names (a
+      // sweep's partial_results attribute, its CSV header).
+      if (key.empty() || key == "." || key == ".." ||
+          key.find_first_of("/,") != std::string::npos || control)
         throw InputError(fmt::format(
             "result: the name '{}' cannot name a column of /results (empty, '.', '..', or holding "
-            "a '/' or a control character)",
+            "a '/', a ',' or a control character)",
             key));
     }
     for (const auto& key : names) out.write_result(key, t.number(key.c_str()));

@@ -181,6 +181,7 @@ int l_run(lua_State* L) {
                        stop_ref != LUA_NOREF, RunProgress::Clock{}, delay, 0.25,
                        ctx->progress_log ? RunProgress::Style::log : RunProgress::Style::terminal,
                        ctx->progress_every);
+      if (done > 0) progress->continued_after(done);
     }
     // The engine's runner takes the steps; the scene's criterion, its checkpoints and the
     // user's interrupt are served between its chunks.

@@ -652,6 +652,9 @@ case("contact_histories_into_open_output", "contact histories saved into the run
 case("result_name_slash", "a result name with a '/' (a column of /results)",
      r"{at}.*result: the name 'a/b' cannot name a column of /results",
      after={"output": [wrong('sim:result { ["a/b"] = 1 }')]})
+case("result_name_comma", "a result name with a ',' (it would split in a sweep's lists of names)",
+     r"{at}.*result: the name 'x,y' cannot name a column of /results",
+     after={"output": [wrong('sim:result { ["x,y"] = 1 }')]})
 case("set_position_outside_wall", "set_position puts a particle outside the drum",
      r"{at}.*would lie outside wall 'drum'",
      after={"output": [wrong("sim:set_position(sim:particles()[1], { 0.05, 0 })")]})

@@ -98,3 +98,18 @@ TEST_CASE("progress: clear() erases the terminal line until the next update", "[
   CHECK(p.shown());
   CHECK_THAT(out.str(), Catch::EndsWith("10.1%  100 steps/s  ETA 0:09\033[K"));
 }
+
+// A run continued from a checkpoint counts its percentage over the whole run, as
+// its times (t of the end time) do; rate and time left are this process's.
+TEST_CASE("progress: a continued run's percentage is of the whole run", "[progress]") {
+  double now = 0;
+  std::ostringstream out;
+  RunProgress p(
+      out, 600, 1.0, false, [&] { return now; }, 0.0, 0.25, RunProgress::Style::log);
+  p.continued_after(400);
+  now = 1;
+  p.update(50, 0.45);  // 45 %: the tenth it began in, no line
+  CHECK(out.str().empty());
+  p.update(100, 0.5);  // 50 %
+  CHECK(out.str() == "progress: " + RunProgress::format(0.5, 1.0, 0.5, 100, 5, false) + "\n");
+}

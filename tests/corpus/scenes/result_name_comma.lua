@@ -1,0 +1,12 @@
+-- a result name with a ',' (it would split in a sweep's lists of names)
+-- expect: result_name_comma\.lua:11\b.*result: the name 'x,y' cannot name a column of /results
+local sim = simulation { dimension = 2 }
+sim:material { name = "glass", density = 2500 }
+sim:material { name = "steel", density = 0 }
+sim:contact { "glass", "glass", model = "linear", k_normal = 1e4, restitution = 0.8, friction = 0.3 }
+sim:contact { "glass", "steel", model = "linear", k_normal = 1e4, restitution = 0.8, friction = 0.3 }
+sim:wall_cylinder { name = "drum", center = { 0, 0 }, radius = 0.01, material = "steel" }
+sim:fill { region = { circle = { center = { 0, 0 }, radius = 0.008 } }, count = 5, radius = 3e-4, material = "glass", seed = 2 }
+sim:output {}
+sim:result { ["x,y"] = 1 }  -- <- wrong
+sim:run { steps = 10 }
