@@ -44,7 +44,7 @@ refused "--progress without a value" run "$scene" --progress
 refused "--progress zero" run "$scene" --progress 0
 refused "--progress NaN" run "$scene" --progress nan
 refused "--progress text" run "$scene" --progress often
-refused "--help with repl" repl "$scene" --help
+refused "--help with options but no scene" repl --help -q
 refused "--help with -D unknown" run "$scene" --help -D velocty=1
 refused "-D without a value" run "$scene" -D
 refused "-D without =" run "$scene" -D velocity
