@@ -412,7 +412,9 @@ int run_command(const std::vector<std::string>& args) {
     return 0;
   }
   // `granule COMMAND --help` (without a scene): the usage, as `granule --help`.
-  if (args.size() == 2 && (args[1] == "--help" || args[1] == "-h") && o.command != "sweep") {
+  const bool known =
+      o.command == "run" || o.command == "repl" || o.command == "models" || o.command == "api";
+  if (known && args.size() == 2 && (args[1] == "--help" || args[1] == "-h")) {
     std::cout << usage;
     return 0;
   }

@@ -2,6 +2,7 @@
 // lists, each with its file names (docs/performance.md, "Parameter sweeps").
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -49,22 +50,33 @@ void add_axis(Settings& s, const std::string& arg) {
           "wall_seconds, file, error); rename the scene's parameter",
           arg, axis.name));
   std::set<std::string> seen;
-  std::map<double, std::string> numbers;  // "1" and "1.0" are one case, run twice
   for (std::size_t k = 0; k < axis.values.size(); ++k) {
     const std::string& v = axis.values[k];
     if (v.empty())
       throw UsageError(fmt::format("-D {}: value {} of '{}' is empty", arg, k + 1, axis.name));
     if (!seen.insert(v).second)
       throw UsageError(fmt::format("-D {}: '{}' lists {} twice", arg, axis.name, v));
+  }
+  // "1" and "1.0" are one case, run twice, where every value is a number (as the
+  // summary takes the axis; a text parameter's "1" and "01" differ) and a double
+  // holds each exactly (no integer of more than 15 digits).
+  std::map<double, std::string> numbers;
+  bool numeric = true;
+  for (const auto& v : axis.values) {
     char* end = nullptr;
     const double number = std::strtod(v.c_str(), &end);
-    if (end == v.c_str() + v.size() && std::isfinite(number)) {
-      auto [at, fresh] = numbers.emplace(number, v);
-      if (!fresh)
-        throw UsageError(fmt::format("-D {}: '{}' lists {} and {}, the same number, twice", arg,
-                                     axis.name, at->second, v));
-    }
+    const auto digits =
+        std::count_if(v.begin(), v.end(), [](char c) { return c >= '0' && c <= '9'; });
+    numeric = numeric && end == v.c_str() + v.size() && std::isfinite(number) && digits <= 15;
+    if (numeric) numbers.emplace(number, v);
   }
+  if (numeric && numbers.size() < axis.values.size())
+    for (std::size_t k = 0; k < axis.values.size(); ++k) {
+      const std::string& first = numbers.at(std::strtod(axis.values[k].c_str(), nullptr));
+      if (first != axis.values[k])
+        throw UsageError(fmt::format("-D {}: '{}' lists {} and {}, the same number, twice", arg,
+                                     axis.name, first, axis.values[k]));
+    }
   s.axes.push_back(std::move(axis));
 }
 

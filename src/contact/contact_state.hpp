@@ -50,16 +50,17 @@ struct PairMaterials {
 
 // The scale of the shortest contacts a material pair can have in this scene
 // (smallest particles), for the time-step rule and the stability limit.
+// m* / m_t: how much lighter a contact's tangential slip is than its normal
+// approach, since the slip turns the particles too. Each particle adds
+// 1/m + r^2/I to 1/m_t, 3.5/m for a solid sphere (I = 2/5 m r^2, in 2D as in
+// 3D: a 2D particle is a sphere moving in a plane), so a tangential spring k_t
+// oscillates at omega_t^2 = 3.5 k_t / m*.
+inline constexpr double tangential_mass_factor = 3.5;
+
 struct PairScale {
   double effective_mass;    // kg
   double effective_radius;  // m (a flat wall counts as infinite)
   double rayleigh_time;     // s, Eq. 6.1 for the smallest particle; infinity if E is not given
-  // m* / m_t: how much lighter the contact's tangential slip is than its normal
-  // approach, since the slip turns the particles too. Each particle adds
-  // 1/m + r^2/I to 1/m_t: 3.5/m for a solid sphere (I = 2/5 m r^2), 3/m for a
-  // disk (I = 1/2 m r^2), so 3.5 in 3D and 3 in 2D. A tangential spring k_t
-  // then oscillates at omega_t^2 = factor k_t / m*.
-  double tangential_mass_factor = 3.5;
 };
 
 template <int D>

@@ -100,14 +100,16 @@ struct LinearSpringDashpot {
   }
   // For the rolling stiffness (rolling.hpp).
   static double normal_stiffness(const Params& p, double, double) { return p.k_normal; }
+  // 2 / omega of the normal spring alone (the rolling term scales this one).
+  static double normal_stability_limit(const Params& p, const PairScale& s) {
+    return 2.0 / std::sqrt(p.k_normal / s.effective_mass);
+  }
   // 2 / omega of the stiffer of the contact's modes: the normal spring's, and
-  // with friction the tangential spring's, omega_t^2 = 3.5 k_t / m* in 3D (3 in
-  // 2D; PairScale::tangential_mass_factor). The default k_t = 2/7 k_n makes the
-  // two equal in 3D.
+  // with friction the tangential spring's, omega_t^2 = 3.5 k_t / m*
+  // (tangential_mass_factor). The default k_t = 2/7 k_n makes the two equal.
   static double stability_limit(const Params& p, const PairScale& s) {
-    const double k = p.friction > 0
-                         ? std::max(p.k_normal, s.tangential_mass_factor * p.k_tangential)
-                         : p.k_normal;
+    const double k =
+        p.friction > 0 ? std::max(p.k_normal, tangential_mass_factor * p.k_tangential) : p.k_normal;
     return 2.0 / std::sqrt(k / s.effective_mass);
   }
 

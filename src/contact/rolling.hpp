@@ -77,9 +77,20 @@ struct RollingParams {
 // (`static double normal_stiffness(const Params&, double r_star, double overlap)`).
 template <typename M, typename = void>
 struct has_normal_stiffness : std::false_type {};
+
 template <typename M>
 struct has_normal_stiffness<M, std::void_t<decltype(M::normal_stiffness(
                                    std::declval<const typename M::Params&>(), 0.0, 0.0))>>
+    : std::true_type {};
+
+// Whether a law gives its normal mode's limit apart from its stability_limit
+// (which may count its tangential spring's mode too).
+template <class M, class = void>
+struct has_normal_stability_limit : std::false_type {};
+template <class M>
+struct has_normal_stability_limit<
+    M, std::void_t<decltype(M::normal_stability_limit(std::declval<const typename M::Params&>(),
+                                                      std::declval<const PairScale&>()))>>
     : std::true_type {};
 
 // Whether a model carries the rolling term (the kernels add its torque).
@@ -143,11 +154,18 @@ struct WithRolling {
   static double rule_time_step(const Params& p, const PairScale& s, double steps_per_contact) {
     return M::rule_time_step(p.base, s, steps_per_contact);
   }
+  // The law's own limit, and the rolling spring's: omega_r up to `ratio` times the
+  // normal mode's omega_n, so its limit is the normal one's over ratio (a law
+  // whose limit also counts its tangential spring says its normal one apart).
   static double stability_limit(const Params& p, const PairScale& s) {
     const double base = M::stability_limit(p.base, s);
     if (p.roll.model != rolling_model::epsd) return base;
     const double ratio = std::sqrt(p.roll.stiffness / 1.4) * p.roll.friction;  // omega_r / omega_n
-    return ratio > 1 ? base / ratio : base;
+    if (!(ratio > 1)) return base;
+    double normal = base;
+    if constexpr (has_normal_stability_limit<M>::value)
+      normal = M::normal_stability_limit(p.base, s);
+    return std::min(base, normal / ratio);
   }
 
   template <int D>

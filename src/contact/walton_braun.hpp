@@ -114,15 +114,19 @@ struct WaltonBraun {
            (std::sqrt(effective_mass / p.k_load) + std::sqrt(effective_mass / p.k_unload));
   }
   // Leap-frog is stable for dt < 2/omega; omega from the stiffer unloading spring.
-  // 2 / omega of the stiffer of the contact's modes: the unloading spring K2's,
-  // and with friction the tangential spring's at its stiffest, tau K2 (Eq. 3.4
-  // on the unloading branch), at omega_t^2 = 3.5 tau K2 / m* in 3D (3 in 2D):
-  // the default tau = 0.8 needs n > pi sqrt(2.8) = 5.26 steps per contact in 3D,
-  // pi sqrt(2.4) = 4.87 in 2D, where frictionless contacts need n > pi.
+  // 2 / omega of the unloading spring K2 alone (the rolling term scales this one).
+  static double normal_stability_limit(const Params& p, const PairScale& s) {
+    return 2.0 / std::sqrt(p.k_unload / s.effective_mass);
+  }
+  // 2 / omega of the stiffer of the contact's modes: K2's, and with friction the
+  // tangential spring's at its stiffest, tau K2 (Eq. 3.4 on the unloading
+  // branch), at omega_t^2 = 3.5 tau K2 / m* (tangential_mass_factor): the
+  // default tau = 0.8 needs n > pi sqrt(2.8) = 5.26 steps per contact, where
+  // frictionless contacts need n > pi.
   static double stability_limit(const Params& p, const PairScale& s) {
     const double k =
         p.friction > 0
-            ? std::max(p.k_unload, s.tangential_mass_factor * p.tangential_ratio * p.k_unload)
+            ? std::max(p.k_unload, tangential_mass_factor * p.tangential_ratio * p.k_unload)
             : p.k_unload;
     return 2.0 / std::sqrt(k / s.effective_mass);
   }

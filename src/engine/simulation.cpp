@@ -187,7 +187,12 @@ void Simulation<D>::step() {
         report_step_over();
       if (last_wall_travel_ > smallest_radius_) report_wall_step_over();
     } catch (...) {
-      if (!schedules_.empty()) apply_schedules();
+      // The step's failure is the error to report: a schedule that fails to
+      // apply now (a ramp refused at its next value) waits for the next step.
+      if (!schedules_.empty()) try {
+          apply_schedules();
+        } catch (...) {
+        }
       throw;
     }
   }

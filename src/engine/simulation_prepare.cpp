@@ -88,7 +88,6 @@ TimeStepReport Simulation<D>::time_step_rule() {
     for (int b = 0; b < nm; ++b) {
       if (!used[b]) continue;
       PairScale scale;
-      scale.tangential_mass_factor = D == 2 ? 3.0 : 3.5;
       double mb = free_used[b] ? min_mass[b] : INFINITY;
       scale.effective_mass = std::isinf(mb) ? min_mass[a] : min_mass[a] * mb / (min_mass[a] + mb);
       double ra = min_radius[a], rb = min_radius_any[b];
@@ -99,7 +98,7 @@ TimeStepReport Simulation<D>::time_step_rule() {
     }
     for (int w = 0; w < nm; ++w)
       if (wall_material[w]) {
-        PairScale scale{min_mass[a], min_radius[a], rayleigh(a, min_radius[a]), D == 2 ? 3.0 : 3.5};
+        PairScale scale{min_mass[a], min_radius[a], rayleigh(a, min_radius[a])};
         consider(a, w, scale, "particle-wall");
       }
   }

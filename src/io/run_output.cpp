@@ -97,12 +97,23 @@ RunOutput::RunOutput(SimulationBase& sim, RunOutputSettings settings)
   sim_.set_failure_handler([this](const std::string& m) { write_failure(m); });
   sim_.set_output_sink(this);
   // Opened after the scene has stepped (a later stage's file, at the REPL): the
-  // state it was opened at, as a run from t = 0 records its start, now, since
-  // the start's hooks fire only before step 0.
-  if (file_ && sim_.step_count() > 0) {
+  // start's hooks fire only before step 0, so the next run (or the end, if none
+  // follows) records the state it starts from (record_opening).
+  opening_due_ = file_ && sim_.step_count() > 0;
+}
+
+void RunOutput::record_opening() {
+  if (!opening_due_ || !file_) return;
+  opening_due_ = false;
+  recording_opening_ = true;  // a row that is not finite is left out, as step 0's
+  try {
     write_series_row();
-    if (sim_.particle_count() > 0) write_snapshot();
+  } catch (...) {
+    recording_opening_ = false;
+    throw;
   }
+  recording_opening_ = false;
+  if (sim_.particle_count() > 0) write_snapshot();
 }
 
 RunOutput::~RunOutput() {
@@ -119,6 +130,7 @@ RunOutput::~RunOutput() {
 void RunOutput::finish() {
   if (finished_ || !file_) return;
   finished_ = true;
+  record_opening();  // opened after the scene had stepped, and no run since
   write_header();
   write_new_walls();
   // Partly filled windows, while the file is open (not those a failure just cut).
@@ -398,7 +410,7 @@ void RunOutput::write_series_row() {
   // The row before the first step comes before the step's checks: a scene given
   // a speed of 1e300 m/s (a kinetic energy of inf) gets their error, which names
   // the particle, rather than the file's refusal of the row.
-  if (g.step == 0 &&
+  if ((g.step == 0 || recording_opening_) &&
       !std::all_of(row.begin(), row.end(), [](double v) { return std::isfinite(v); }))
     return;
   file_->series_append("/series", row);

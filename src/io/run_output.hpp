@@ -51,6 +51,10 @@ class RunOutput final : public OutputSink {
   // The end of a run (sim:run returned, not interrupted): a /series row of the
   // final state, unless the cadence has just written one.
   void end_of_run();
+  // An output opened after the scene had stepped: the first /series row and
+  // snapshot, of the state the run about to start begins from (once; sim:run
+  // calls it, and finish() where no run followed).
+  void record_opening();
   // What the runs written so far simulated, into /scene/effects (run_output_header.cpp).
   void note_effects();
   void write_result(const std::string& name, double value);  // /results attributes
@@ -108,6 +112,10 @@ class RunOutput final : public OutputSink {
   // windows open then, holding that step's samples, are not written at the end
   // unless the scene went on (a REPL session, a pcall) and stepped since.
   std::int64_t failure_step_ = -1;
+  // Opened after the scene had stepped: its first series row and snapshot, of the
+  // state the next run starts from, are still to be written (record_opening).
+  bool opening_due_ = false;
+  bool recording_opening_ = false;
   bool header_written_ = false;
   int walls_written_ = 0;               // walls 0 .. walls_written_ - 1 are in /walls
   std::size_t materials_written_ = 0;   // materials 0 .. materials_written_ - 1 are in /materials

@@ -108,7 +108,9 @@ void RunOutput::save_mark(StateBlob& state) {
                                        last_snapshot_step_,
                                        wall_extent_set_ ? 1 : 0,
                                        last_snapshot_digest_,
-                                       last_series_step_};
+                                       last_series_step_,
+                                       failure_step_,
+                                       opening_due_ ? 1 : 0};
   state.doubles["output.wall_extent"] = {wall_extent_.begin(), wall_extent_.end()};
   // The materials and laws written: their count, then the laws' groups.
   std::vector<std::string> laws{std::to_string(materials_written_)};
@@ -149,9 +151,10 @@ void RunOutput::resume(const StateBlob& state, const std::function<bool(bool)>& 
   const auto results = lines_of(state.t("output.results"));
   const auto& progress = state.i("output.progress");
   const auto& extent = state.d("output.wall_extent");
-  // (Five or six entries in checkpoints written before the last snapshot's digest
-  // and the last series row's step were kept.)
-  if (progress.size() < 5 || progress.size() > 7) damaged_mark("output.progress");
+  // (Five to seven entries in checkpoints written before the last snapshot's
+  // digest, the last series row's step, the failure's step and the opening's
+  // record were kept.)
+  if (progress.size() < 5 || progress.size() > 9) damaged_mark("output.progress");
   if (extent.size() != 6) damaged_mark("output.wall_extent");
   // The XDMF index as it stood.
   std::vector<XdmfSnapshot> index;
@@ -252,6 +255,8 @@ void RunOutput::resume(const StateBlob& state, const std::function<bool(bool)>& 
   wall_extent_set_ = progress[4] != 0;
   last_snapshot_digest_ = progress.size() > 5 ? progress[5] : 0;
   last_series_step_ = progress.size() > 6 ? progress[6] : -1;
+  failure_step_ = progress.size() > 7 ? progress[7] : -1;
+  opening_due_ = progress.size() > 8 && progress[8] != 0;
   // (Checkpoints written before the effects were noted: they are noted from here on.)
   if (state.has("output.effects")) restore_effects(state.t("output.effects"));
   // A checkpoint written before the laws' record: what the scene holds now counts

@@ -42,7 +42,7 @@ int l_output(lua_State* L) {
     // its own; a later one that names none is -o's again, refused below as the
     // scene's default name would be.
     o.path = ctx->output_path.empty() ? t.string("file", fallback) : ctx->output_path;
-    if (!ctx->output_path.empty() && ctx->outputs_under_o++ > 0 && t.has("file")) {
+    if (!ctx->output_path.empty() && ctx->outputs_under_o > 0 && t.has("file")) {
       const std::filesystem::path named(ctx->output_path);
       const std::string own = std::filesystem::path(t.string("file")).stem().string();
       o.path =
@@ -97,6 +97,7 @@ int l_output(lua_State* L) {
     s.output.reset();
     s.output = std::make_unique<io::RunOutput>(*s.sim, o);
     ++s.output_calls;
+    if (!ctx->output_path.empty()) ++ctx->outputs_under_o;  // opened: the next is a second file
     s.output_paths.push_back(o.path);
     if (!o.muted) ctx->outputs_written.push_back(o.path);
     lua_pushstring(L, o.path.c_str());

@@ -122,6 +122,9 @@ int l_run(lua_State* L) {
     // This run's effects beside the earlier runs', from the whole scene (before it is
     // spread over ranks); a resumed run's were noted before its checkpoint.
     if (s.output && !resuming) s.output->note_effects();
+    // An output opened after the scene had stepped records the state this run
+    // starts from, as one opened at t = 0 records step 0's (RunOutput).
+    if (s.output && !resuming) s.output->record_opening();
     // Under mpirun the steps are spread over the ranks (engine/spread_run.hpp);
     // the scene is whole again on every rank when a callback, a stop check or
     // a checkpoint looks at it, and when the run ends.

@@ -168,17 +168,19 @@ int l_plot(lua_State* L) {
       for (auto& ch : stem)
         if (ch == '/') ch = '_';
       file = (out.parent_path() / (out.stem().string() + "_" + stem + ".png")).string();
-    } else {
-      file = io::writable_path(file);  // a rank other than 0 draws into its scratch folder
     }
+    // A rank other than 0 draws into its scratch folder, from its own copy of the
+    // output (the path the output names is rank 0's file).
+    file = io::writable_path(file);
+    const std::string source = io::readable_path(out.string());
     const char* lua_dir = std::getenv("GRANULE_LUA_PATH");
     const std::filesystem::path tools =
         std::filesystem::path(lua_dir ? lua_dir : GRANULE_LUA_DIR).parent_path() / "tools";
     const char* python_env = std::getenv("GRANULE_PYTHON");
     const std::string python = python_env && *python_env ? python_env : "/usr/bin/python3";
     std::vector<std::string> args{
-        python,      (tools / "plot_series.py").string(),       out.string(), "--group", group,
-        "--columns", fmt::format("{}", fmt::join(chosen, ",")), "-o",         file};
+        python,      (tools / "plot_series.py").string(),       source, "--group", group,
+        "--columns", fmt::format("{}", fmt::join(chosen, ",")), "-o",   file};
     std::vector<char*> argv;
     for (auto& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
@@ -200,7 +202,7 @@ int l_plot(lua_State* L) {
     }
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
       throw std::runtime_error(fmt::format("plot: {} failed for {} (its message is above)",
-                                           (tools / "plot_series.py").string(), out.string()));
+                                           (tools / "plot_series.py").string(), source));
     if (!on_other_rank(L)) {
       clear_progress_line();
       std::cout << "plot: " << fmt::format("{}", fmt::join(chosen, ", ")) << " in " << file << "\n"

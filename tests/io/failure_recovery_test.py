@@ -41,7 +41,20 @@ sim:wall_plane { name = "lid", point = { 0, 5e-3 }, normal = { 0, -1 }, material
 sim:run { steps = 120 }
 print("ended at", sim:step_count())
 sim:output { file = "second.h5", snapshot_every = 50e-6 }
+-- Set up after opening, before the run: the file records the state the run starts from.
+sim:add_particle { position = { 20e-3, 1e-3 }, radius = 0.4e-3, material = "grain" }
+sim:gravity { 0, -5 }
 sim:run { steps = 100 }
+-- A failure that leaves an infinite kinetic energy (a particle at 1e308 m/s), caught; a
+-- third file opened then records from the next run on, whose rows are finite again.
+sim:set_velocity(3, { 0, 1e308 })
+assert(not pcall(function() sim:run { steps = 5 } end))
+sim:set_velocity(3, { 0, 0 })
+sim:set_position(3, { 3e-3, 1e-3 })
+local ok, err = pcall(function() sim:output { file = "third.h5" } end)
+assert(ok, tostring(err))
+sim:run { steps = 20 }
+print("third ended at", sim:step_count())
 """
 
 
@@ -67,15 +80,28 @@ def main():
     ended_at = int(r.stdout.split("ended at")[1].split()[0])
     if failed_at != 51 or ended_at != failed_at + 120:
         fail(f"failed at step {failed_at} (expected 51, the step taken), ended at {ended_at}")
-    if sorted(n for n in os.listdir(".") if n.endswith(".h5")) != ["first.h5", "first_second.h5"]:
-        fail(f"-o first.h5 should name first.h5 and first_second.h5: {os.listdir('.')}")
+    third_end = int(r.stdout.split("third ended at")[1].split()[0])
+    names = sorted(n for n in os.listdir(".") if n.endswith(".h5"))
+    if names != ["first.h5", "first_second.h5", "first_third.h5"]:
+        fail(f"-o first.h5 should name first.h5, first_second.h5 and first_third.h5: {names}")
     with h5py.File("first_second.h5", "r") as f:
         snaps = f["snapshots"]
         steps = [int(snaps["%06d" % k].attrs["step"]) for k in range(snaps.attrs["count"])]
         series_steps = list(f["series/step"][:])
-        if steps[0] != ended_at or series_steps[0] != ended_at or steps[-1] != ended_at + 100:
+        if steps[0] != ended_at or series_steps[0] != ended_at or ended_at + 100 not in steps:
             fail(f"the second file should start at step {ended_at}: snapshots {steps}, "
                  f"series {series_steps}")
+        if len(snaps["000000/id"]) != 11 or list(f["scene"].attrs["gravity"]) != [0, -5]:
+            fail(f"the second file's start is not the state its run began from: "
+                 f"{len(snaps['000000/id'])} particles, gravity {list(f['scene'].attrs['gravity'])}")
+    with h5py.File("first_third.h5", "r") as f:
+        snaps = f["snapshots"]
+        steps = [int(snaps["%06d" % k].attrs["step"]) for k in range(snaps.attrs["count"])]
+        if steps[-1] != third_end or steps[0] != third_end - 20:
+            fail(f"the third file should hold steps {third_end - 20} to {third_end}: {steps}")
+        for name in f["series"]:
+            if not np.isfinite(f["series"][name][:]).all():
+                fail(f"non-finite series column {name} in the third file")
     with h5py.File("first.h5", "r") as f:
         snaps = f["snapshots"]
         groups = [snaps["%06d" % k] for k in range(snaps.attrs["count"])]
@@ -85,8 +111,8 @@ def main():
             fail(f"one failure snapshot at step {failed_at} expected: steps {steps}")
         if abs(float(failed[0].attrs["time"]) - failed_at * 1e-6) > 1e-12:
             fail(f"the failure snapshot's time {failed[0].attrs['time']} is not its step's")
-        if steps[-1] != ended_at:
-            fail(f"no final snapshot at step {ended_at}: steps {steps}")
+        if ended_at not in steps:
+            fail(f"no snapshot at the end of the recovered run, step {ended_at}: steps {steps}")
         if len(set(steps)) != len(steps):
             fail(f"two snapshots of one step: {steps}")
         series_steps = f["series/step"][:]
