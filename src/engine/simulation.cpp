@@ -178,7 +178,8 @@ void Simulation<D>::step() {
   time_ += dt_;
   ++step_;
   if (non_finite_index_ != SIZE_MAX || last_wall_travel_ > smallest_radius_ ||
-      last_fastest_speed_sq_ * (dt_ * dt_) > smallest_radius_ * smallest_radius_) {
+      last_fastest_speed_sq_ * (dt_ * dt_) > smallest_radius_ * smallest_radius_ ||
+      periodic_walls_move_) {
     // The wall check reads the walls' velocities of the step just taken, so
     // the schedules move on only after it (and also when it fails).
     try {
@@ -186,6 +187,7 @@ void Simulation<D>::step() {
       if (last_fastest_speed_sq_ * (dt_ * dt_) > smallest_radius_ * smallest_radius_)
         report_step_over();
       if (last_wall_travel_ > smallest_radius_) report_wall_step_over();
+      if (periodic_walls_move_) report_walls_leave_period();
     } catch (...) {
       // The step's failure is the error to report: a schedule that fails to
       // apply now (a ramp refused at its next value) waits for the next step.
@@ -298,7 +300,7 @@ void Simulation<D>::track_contacts() {
 
 template <int D>
 void Simulation<D>::observe(bool contacts_logged) {
-  StepView<D> view{p_, walls_, log_, time_, dt_, step_};
+  StepView<D> view{p_, walls_, log_, time_, dt_, step_, body_.active() ? &body_ : nullptr};
   for (auto& d : diagnostics_) {
     if (d.needs.events) d.diagnostic->on_events(view);
     if (step_ % d.every == 0) {
@@ -381,6 +383,12 @@ void Simulation<D>::integrate() {
     }
   }
   meshes_.move(walls_, dt_, wall_travel_);
+  // (In 2D no wall is checked against the period: check_walls_repeat.)
+  if (D == 3 && periodic_.on()) {
+    periodic_walls_move_ = false;
+    for (const auto& wall : walls_)
+      periodic_walls_move_ = periodic_walls_move_ || wall.moves_along(periodic_.axis);
+  }
   // Their largest, for step()'s one comparison.
   last_wall_travel_ =
       wall_travel_.empty() ? 0.0 : *std::max_element(wall_travel_.begin(), wall_travel_.end());

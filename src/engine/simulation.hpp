@@ -456,10 +456,15 @@ class Simulation final : public SimulationBase {
   std::string automatic_step_rule() const;
   std::string dt_warned_;  // the last warning of a time_step above the rule
   // Parts of prepare() (simulation_prepare.cpp).
-  double adhesive_reach() const;      // m, contact_reach_ for the particles and laws now
-  void choose_time_step();            // dt_ by Eq. 4.1 or time_step, against the stability limit
-  bool prepare_parameters();          // after a law's parameters alone changed; false: prepare all
-  void check_walls_repeat() const;    // with a periodic axis: every wall the same along it
+  double adhesive_reach() const;  // m, contact_reach_ for the particles and laws now
+  void choose_time_step();        // dt_ by Eq. 4.1 or time_step, against the stability limit
+  bool prepare_parameters();      // after a law's parameters alone changed; false: prepare all
+  // With a periodic axis: every wall the same along it (or, moving_only, the
+  // walls whose motion carries them along it: a rectangle or mesh that spanned
+  // the period when the run began uncovers its seam as it slides).
+  void check_walls_repeat(bool moving_only = false) const;
+  void report_walls_leave_period();   // check_walls_repeat(true) as a run's failure
+  bool periodic_walls_move_ = false;  // some wall's motion carries it along the periodic axis
   double contact_reach_ = 0;          // m, how far apart adhesive contacts persist (<= skin)
   bool keep_wall_reactions_ = false;  // set_keep_wall_reactions
   std::optional<GlobalStats> stats_override_;                    // set_stats_override

@@ -213,7 +213,7 @@ bool Simulation<D>::prepare_parameters() {
 // Planes must contain the axis, cylinders lie along it; a mesh or a rectangle
 // must span the period and a particle's radius beyond both of its ends.
 template <int D>
-void Simulation<D>::check_walls_repeat() const {
+void Simulation<D>::check_walls_repeat(bool moving_only) const {
   const int a = periodic_.axis;
   const double r_max = largest(p_.radius);
   const double from = periodic_.origin - r_max, to = periodic_.origin + periodic_.length + r_max;
@@ -227,10 +227,12 @@ void Simulation<D>::check_walls_repeat() const {
   };
   auto spans = [&](const Wall<D>& w, double lo, double hi) {
     if (lo > from || hi < to)
-      refuse(w, fmt::format("reaches only from {:.6g} to {:.6g} m along the axis", lo, hi));
+      refuse(w, fmt::format("{}reaches only from {:.6g} to {:.6g} m along the axis",
+                            moving_only ? "has moved along the axis and now " : "", lo, hi));
   };
   for (std::size_t k = 0; k < walls_.size(); ++k) {
     const Wall<D>& w = walls_[k];
+    if (moving_only && !w.moves_along(a)) continue;
     if constexpr (D == 3) {
       switch (w.type) {
         case WallType::plane:
@@ -259,6 +261,17 @@ void Simulation<D>::check_walls_repeat() const {
           refuse(w, "is a disk or a cone");
       }
     }
+  }
+}
+
+// A run's wall moved along the periodic axis (integrate() notes it): where it no
+// longer spans the period, the run stops as for any failure, the state kept.
+template <int D>
+void Simulation<D>::report_walls_leave_period() {
+  try {
+    check_walls_repeat(true);
+  } catch (const InputError& e) {
+    fail(fmt::format("step {} (t = {:.6g} s): {}", step_, time_, e.what()));
   }
 }
 

@@ -32,6 +32,8 @@ class SpreadRun {
   virtual bool any(bool mine) = 0;
   // Rank 0's value, on every rank (a chunk length chosen from a clock).
   virtual std::int64_t agreed(std::int64_t mine) = 0;
+  // The largest of the ranks' values, on every rank (the signal that stops a run).
+  virtual std::int64_t largest(std::int64_t mine) = 0;
   // Ends every rank after an error that may have reached only this one.
   [[noreturn]] virtual void abandon(const std::string& message) = 0;
   // After what every rank did alike (a hook, a checkpoint), with what it

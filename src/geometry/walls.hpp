@@ -78,6 +78,15 @@ struct Wall {
   }
 
   // Signed clearance between the particle surface and the wall (negative: overlap).
+  // Whether the wall's motion carries it along `axis`: a translation with a
+  // component along it, or a turn about an axis not parallel to it.
+  bool moves_along(int a) const {
+    if (velocity[a] != 0) return true;
+    if (angular_velocity == 0) return false;
+    if constexpr (D == 3) return std::abs(std::abs(axis[a]) - 1) > 1e-12;
+    return false;
+  }
+
   double clearance(const V& x, double r) const {
     if (is_surface_wall(type)) return std::numeric_limits<double>::infinity();
     if (finite()) return nearest(x).distance - r;

@@ -21,6 +21,7 @@
 #include "core/errors.hpp"
 #include "core/particles.hpp"
 #include "core/state.hpp"
+#include "fields/body_forces.hpp"
 #include "geometry/walls.hpp"
 #include "hooks/contact_log.hpp"
 #include "hooks/sampling.hpp"
@@ -108,6 +109,9 @@ struct StepView {
   double time;                    // s
   double dt;                      // s
   std::int64_t step;
+  // Gravity and the central field, which integration adds to the contact forces
+  // above (nullptr: none).
+  const BodyForces<D>* body = nullptr;
 };
 
 // A diagnostic's accumulators in a checkpoint, each under "<prefix><name>":

@@ -162,7 +162,24 @@ class ZonesDiagnostic final : public Diagnostic<D> {
       double branch = p.radius[a] - log.overlap[s];
       if (!ContactLog<D>::is_wall(log.b[s])) branch += p.radius[log.b[s]];
       at(pressure_virial, z) += log.normal_force[s] * branch;
-      at(collision_work_rate, z) += log.normal_force[s] * log.overlap_rate[s];
+      // d(alpha)/dt at step n, where N acts: the logged rate is of leap-frog's
+      // velocities v(n-1/2), half a step behind, which biases the work by O(dt)
+      // (an elastic impact did 8.8 % of its energy as "work" at 40 steps per
+      // contact, and a particle carried round by the turning chamber, its
+      // overlap steady, did N omega^2 r dt / 2). Half a step of each particle's
+      // acceleration (this step's contact and body forces over m) brings it to
+      // step n, as (alpha(n+1) - alpha(n-1)) / 2 dt, whose sum over an elastic
+      // impact cancels.
+      auto acceleration = [&](int i) -> double {
+        if (p.fixed[i]) return 0.0;
+        Vec<D> f = p.force_torque[i].force;
+        if (v.body) f += v.body->force(p.mass[i], p.position[i]);
+        return p.inv_mass[i] * f.dot(log.normal[s]);
+      };
+      double half_step = -acceleration(a);
+      if (!ContactLog<D>::is_wall(log.b[s])) half_step += acceleration(log.b[s]);
+      at(collision_work_rate, z) +=
+          log.normal_force[s] * (log.overlap_rate[s] + 0.5 * v.dt * half_step);
     }
     for (int z = 0; z < zones_; ++z) {
       const double vk = volume_[z];

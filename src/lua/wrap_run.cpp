@@ -226,7 +226,15 @@ int l_run(lua_State* L) {
       hooks.any = [&](bool mine) { return spread->any(mine); };
       hooks.agreed = [&](std::int64_t mine) { return spread->agreed(mine); };
     }
-    hooks.interrupt_pending = [] { return interrupt_pending(); };
+    // Spread over ranks, a signal that reached some ranks only stops every rank, each
+    // naming that signal (its exit status too), not the Ctrl-C it would assume.
+    hooks.interrupt_pending = [&] {
+      const bool mine = interrupt_pending();
+      if (!spread) return mine;
+      const std::int64_t signal_number = spread->largest(mine ? interrupt_signal() : 0);
+      if (signal_number > 0 && !mine) request_interrupt(static_cast<int>(signal_number));
+      return signal_number > 0;
+    };
     if (progress) hooks.progress = [&](std::int64_t n, double time) { progress->update(n, time); };
     std::string interrupt_path = s.checkpoint.path;
     const bool at_prompt = ctx && ctx->repl;

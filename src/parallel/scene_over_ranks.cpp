@@ -151,6 +151,12 @@ class SceneOverRanks final : public SpreadRun {
     return mine;
   }
 
+  std::int64_t largest(std::int64_t mine) override {
+    std::int64_t out = mine;
+    MPI_Allreduce(&mine, &out, 1, MPI_INT64_T, MPI_MAX, comm_);
+    return out;
+  }
+
   [[noreturn]] void abandon(const std::string& message) override {
     std::cerr << fmt::format("granule: rank {} of {}: error: {}\n", rank_, size_, message);
     std::cerr.flush();

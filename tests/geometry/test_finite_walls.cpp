@@ -416,3 +416,40 @@ TEST_CASE("walls: a wall that would step over a particle stops the run, one far 
   CHECK_THROWS_WITH(run(false, {0, 0, 500}, 1.1e-3),  // pushed up into the particle
                     Contains("wall 'plate' moves"));
 }
+
+// A periodic axis repeats the walls only while they span it: a rectangle that
+// spans the period when the run begins and slides along the axis uncovers the
+// seam, and particles fell through it unseen. The run stops once it does; a
+// rectangle at rest and an infinite floor sliding along itself run on.
+TEST_CASE(
+    "walls: a finite floor sliding along the periodic axis stops the run once it "
+    "uncovers the seam",
+    "[walls]") {
+  const double period = 0.01, radius = 1e-3;
+  auto run = [&](bool bounded, double speed) {
+    Simulation<3> sim;
+    sim.set_warning_handler([](const std::string&) {});
+    sim.add_material({"g", 2500, 0, 0, 0});
+    sim.add_material({"w", 0, 0, 0, 0});
+    sim.set_contact("g", "g", "linear", {{"k_normal", 1e4}, {"restitution", 0.5}});
+    sim.set_contact("g", "w", "linear", {{"k_normal", 1e4}, {"restitution", 0.5}});
+    sim.set_periodic(0, 0, period);
+    sim.set_gravity({0, -9.81, 0});
+    WallSpec w;
+    w.name = "belt", w.material = 1, w.normal = {0, 1, 0}, w.side = {1, 0, 0};
+    w.point = {period / 2, 0, 0}, w.velocity = {speed, 0, 0};
+    w.bounded = bounded, w.size_a = period + 2 * radius + 1e-6, w.size_b = 0.02;
+    sim.add_wall(w);
+    ParticleSpec p;
+    p.radius = radius, p.material = 0, p.position = {period / 2, radius, 0};
+    sim.add_particle(p);
+    sim.prepare();
+    // (span - period) / speed = 0.02 s at 0.1 m/s: run for 0.05 s.
+    while (sim.time() < 0.05) sim.advance(100);
+    return sim.wall_force(0)[1];
+  };
+  CHECK_THROWS_WITH(run(true, 0.1), Catch::Contains("wall 'belt' has moved along the axis") &&
+                                        Catch::Contains("periodic along x"));
+  CHECK_NOTHROW(run(true, 0));
+  CHECK_NOTHROW(run(false, 0.1));
+}

@@ -8,7 +8,9 @@
 # - a stop criterion that says stop on one rank only stops every rank at that
 #   check (no rank left waiting in a collective);
 # - a stop criterion that fails on one rank only ends every rank with that
-#   rank's error, not an MPI error alone.
+#   rank's error, not an MPI error alone;
+# - SIGTERM sent to rank 1 alone stops every rank, each naming SIGTERM, and
+#   the run exits with 143.
 set -eu
 granule=$1
 src=$2
@@ -34,4 +36,22 @@ if $mpirun -np 2 "$granule" run "$scene" -D mode=error_on_rank1 -q > error.txt 2
 fi
 grep -q "rank 1 of 2: error: .*the criterion failed on rank 1" error.err || { cat error.err; exit 1; }
 echo "one rank's failing criterion ends them all, with its error"
+# SIGTERM to rank 1 alone: every rank stops, naming SIGTERM, with its exit status.
+$mpirun -np 2 "$granule" run "$scene" -D mode=long -q > signal.txt 2> signal.err &
+launched=$!
+pid=
+for _ in $(seq 1 200); do
+  pid=$(sed -n 's/^pid of rank 1: //p' signal.err)
+  [ -n "$pid" ] && break
+  sleep 0.1
+done
+test -n "$pid" || { echo "rank 1 never named its process"; cat signal.err; exit 1; }
+sleep 1
+kill -TERM "$pid"
+status=0
+wait $launched || status=$?
+test "$status" = 143 || { echo "exit status $status, expected 143"; cat signal.err; exit 1; }
+grep -q "rank 0 of 2: .*SIGTERM" signal.err || { cat signal.err; exit 1; }
+! grep -q "Ctrl-C" signal.err || { echo "a rank named Ctrl-C"; cat signal.err; exit 1; }
+echo "a signal to one rank stops them all, named"
 echo "ranks_disagree ok"
