@@ -87,8 +87,10 @@ end }
 granule.stage(sim, { name = "rotate", duration = p.duration })
 
 -- 10. Results: a scalar for parameter sweeps, a picture, a summary line.
-sim:result { mean_kinetic_energy = energy / math.max(samples, 1) }
+-- (A run of duration 0, to explore at the REPL, has no samples: no mean then.)
+local mean = samples > 0 and energy / samples or nil
+if mean then sim:result { mean_kinetic_energy = mean } end
 sim:picture { file = file:gsub("%.h5$", "") .. ".png", color_by = "speed" }
-print(string.format("tutorial_drum: t = %.3f s, centre height %.4g m, mean kinetic energy %.3g J",
-  sim:time(), centre_height(sim), energy / math.max(samples, 1)))
+print(string.format("tutorial_drum: t = %.3f s, centre height %.4g m, mean kinetic energy %s",
+  sim:time(), centre_height(sim), mean and string.format("%.3g J", mean) or "none (no samples)"))
 print("results written to " .. file)  -- closed, with a last snapshot, when the program ends
