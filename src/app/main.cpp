@@ -89,7 +89,7 @@ std::string add_override(Options& o, const std::string& v) {
 // On ranks other than 0 a scene's own files (io.open for writing, os.remove,
 // os.rename) go to the rank's scratch folder, as the engine's do (io/rank_files.hpp),
 // and a file read (io.open, io.lines) is the rank's own copy where it wrote one
-// (a scene that writes a file and reads it back); print() prints nothing: rank
+// (a scene that writes a file and reads it back); its standard output goes nowhere: rank
 // 0 writes and prints for all.
 int rank_path_call(lua_State* L) {
   const int n = lua_gettop(L);
@@ -115,8 +115,10 @@ int rank_path_call(lua_State* L) {
 }
 
 void keep_files_on_rank(lua_State* L) {
-  lua_pushcfunction(L, [](lua_State*) { return 0; });
-  lua_setglobal(L, "print");
+  // What the scene prints (print, io.write, sim:table, a plotting script's
+  // lines) rank 0 prints for all: this rank's standard output goes nowhere.
+  if (!std::freopen("/dev/null", "w", stdout))
+    throw std::runtime_error("rank's standard output cannot be closed");
   // os.tmpname's files in the rank's scratch folder, which goes at exit (a
   // scene's os.remove of one goes to its scratch copy, and would leave it).
   lua_getglobal(L, "os");
@@ -143,13 +145,6 @@ void keep_files_on_rank(lua_State* L) {
     int kind;  // rank_path_call: 0 every argument written, 1 io.open, 2 read (io.lines,
                // io.input), 3 written (io.output)
   };
-  // io.write goes where print goes: nowhere on these ranks (io.stdout and
-  // io.output's default are /dev/null, set before io.output itself is wrapped;
-  // a scene's io.output(path) then opens its scratch copy).
-  if (luaL_dostring(L,
-                    "local null = io.open('/dev/null', 'w') "
-                    "if null then io.stdout = null io.output(null) end") != LUA_OK)
-    lua_pop(L, 1);
   for (const Wrapped w :
        {Wrapped{"io", "open", 1}, Wrapped{"io", "lines", 2}, Wrapped{"io", "input", 2},
         Wrapped{"io", "output", 3}, Wrapped{"os", "remove", 0}, Wrapped{"os", "rename", 0}}) {
@@ -351,8 +346,6 @@ int run_scene_over_ranks(Options& o) {
 int repl_over_ranks(Options& o) {
   join_ranks(o);
   const bool root = o.ctx.rank == 0;
-  if (!root && !std::freopen("/dev/null", "w", stdout))
-    throw std::runtime_error("repl: rank's standard output cannot be closed");
   granule::app::ReplInput input = granule::app::terminal_input();
   int interactive = root && input.interactive ? 1 : 0;
   MPI_Bcast(&interactive, 1, MPI_INT, 0, MPI_COMM_WORLD);

@@ -57,26 +57,20 @@ void add_axis(Settings& s, const std::string& arg) {
     if (!seen.insert(v).second)
       throw UsageError(fmt::format("-D {}: '{}' lists {} twice", arg, axis.name, v));
   }
-  // "1" and "1.0" are one case, run twice, where every value is a number (as the
-  // summary takes the axis; a text parameter's "1" and "01" differ) and a double
-  // holds each exactly (no integer of more than 15 digits).
-  std::map<double, std::string> numbers;
-  bool numeric = true;
-  for (const auto& v : axis.values) {
-    char* end = nullptr;
-    const double number = std::strtod(v.c_str(), &end);
-    const auto digits =
-        std::count_if(v.begin(), v.end(), [](char c) { return c >= '0' && c <= '9'; });
-    numeric = numeric && end == v.c_str() + v.size() && std::isfinite(number) && digits <= 15;
-    if (numeric) numbers.emplace(number, v);
-  }
-  if (numeric && numbers.size() < axis.values.size())
-    for (std::size_t k = 0; k < axis.values.size(); ++k) {
-      const std::string& first = numbers.at(std::strtod(axis.values[k].c_str(), nullptr));
-      if (first != axis.values[k])
+  // "1" and "1.0" are one case, run twice, on an axis of numbers (a text
+  // parameter's "1" and "01" differ); an integer of more than 15 digits is past
+  // what a double tells apart.
+  if (axis.numeric()) {
+    std::map<double, std::string> numbers;
+    for (const auto& v : axis.values) {
+      if (std::count_if(v.begin(), v.end(), [](char c) { return c >= '0' && c <= '9'; }) > 15)
+        continue;
+      auto [at, fresh] = numbers.emplace(std::strtod(v.c_str(), nullptr), v);
+      if (!fresh)
         throw UsageError(fmt::format("-D {}: '{}' lists {} and {}, the same number, twice", arg,
-                                     axis.name, first, axis.values[k]));
+                                     axis.name, at->second, v));
     }
+  }
   s.axes.push_back(std::move(axis));
 }
 

@@ -157,15 +157,8 @@ void write_h5_file(const std::string& path, const Settings& s, const std::vector
                    const std::vector<std::string>& result_names, const std::string& csv_text) {
   io::H5Output out(path);
   std::vector<std::size_t> numeric_axes;
-  for (std::size_t a = 0; a < s.axes.size(); ++a) {
-    bool numeric = true;
-    for (const auto& v : s.axes[a].values) {
-      char* end = nullptr;
-      double x = std::strtod(v.c_str(), &end);
-      numeric = numeric && *end == 0 && std::isfinite(x);
-    }
-    if (numeric) numeric_axes.push_back(a);
-  }
+  for (std::size_t a = 0; a < s.axes.size(); ++a)
+    if (s.axes[a].numeric()) numeric_axes.push_back(a);
   // A row per finished case: the results every one of them reported are its
   // columns; one that some cases lack (a scene reporting it only sometimes)
   // stays in /sweep_table and is named in the attribute partial_results.

@@ -2,7 +2,9 @@
 // (its values and files) and what became of it.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
+#include <cstdlib>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -18,6 +20,15 @@ struct UsageError : std::runtime_error {
 struct Axis {
   std::string name;
   std::vector<std::string> values;
+  // Every value a finite number: the summary gives the axis a column of numbers.
+  bool numeric() const {
+    for (const auto& v : values) {
+      char* end = nullptr;
+      const double x = std::strtod(v.c_str(), &end);
+      if (v.empty() || *end != 0 || !std::isfinite(x)) return false;
+    }
+    return true;
+  }
 };
 
 // The summaries' own columns (CSV, markdown, HDF5 /sweep): no parameter may

@@ -164,9 +164,9 @@ class ZonesDiagnostic final : public Diagnostic<D> {
       at(pressure_virial, z) += log.normal_force[s] * branch;
       // d(alpha)/dt at step n, where N acts: the logged rate is of leap-frog's
       // velocities v(n-1/2), half a step behind, which biases the work by O(dt)
-      // (an elastic impact did 8.8 % of its energy as "work" at 40 steps per
-      // contact, and a particle carried round by the turning chamber, its
-      // overlap steady, did N omega^2 r dt / 2). Half a step of each particle's
+      // (an elastic impact "did" a share of its energy falling as 1/n at n steps
+      // per contact, and a particle carried round by the turning chamber, its
+      // overlap steady, N omega^2 r dt / 2). Half a step of each particle's
       // acceleration (this step's contact and body forces over m) brings it to
       // step n, as (alpha(n+1) - alpha(n-1)) / 2 dt, whose sum over an elastic
       // impact cancels.

@@ -105,14 +105,7 @@ RunOutput::RunOutput(SimulationBase& sim, RunOutputSettings settings)
 void RunOutput::record_opening() {
   if (!opening_due_ || !file_) return;
   opening_due_ = false;
-  recording_opening_ = true;  // a row that is not finite is left out, as step 0's
-  try {
-    write_series_row();
-  } catch (...) {
-    recording_opening_ = false;
-    throw;
-  }
-  recording_opening_ = false;
+  write_series_row(true);
   if (sim_.particle_count() > 0) write_snapshot();
 }
 
@@ -390,7 +383,7 @@ void RunOutput::index_snapshot(const std::string& group, const SimulationBase::F
   xdmf_->add(std::move(x));
 }
 
-void RunOutput::write_series_row() {
+void RunOutput::write_series_row(bool first_row) {
   if (!file_) return;
   write_header();
   // One row a step: a run of no steps wrote the start's row at its end.
@@ -410,7 +403,7 @@ void RunOutput::write_series_row() {
   // The row before the first step comes before the step's checks: a scene given
   // a speed of 1e300 m/s (a kinetic energy of inf) gets their error, which names
   // the particle, rather than the file's refusal of the row.
-  if ((g.step == 0 || recording_opening_) &&
+  if ((g.step == 0 || first_row) &&
       !std::all_of(row.begin(), row.end(), [](double v) { return std::isfinite(v); }))
     return;
   file_->series_append("/series", row);

@@ -47,7 +47,8 @@ class RunOutput final : public OutputSink {
 
   void write_snapshot();  // with the settings' forces and contacts
   void write_snapshot(bool forces, bool contacts);
-  void write_series_row();
+  // first_row: the file's first (as at step 0), left out where not finite.
+  void write_series_row(bool first_row = false);
   // The end of a run (sim:run returned, not interrupted): a /series row of the
   // final state, unless the cadence has just written one.
   void end_of_run();
@@ -115,7 +116,6 @@ class RunOutput final : public OutputSink {
   // Opened after the scene had stepped: its first series row and snapshot, of the
   // state the next run starts from, are still to be written (record_opening).
   bool opening_due_ = false;
-  bool recording_opening_ = false;
   bool header_written_ = false;
   int walls_written_ = 0;               // walls 0 .. walls_written_ - 1 are in /walls
   std::size_t materials_written_ = 0;   // materials 0 .. materials_written_ - 1 are in /materials

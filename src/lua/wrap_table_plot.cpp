@@ -1,6 +1,5 @@
 // A look at a simulation from the prompt: sim:table prints particles as a table,
 // sim:plot draws a series of the output as a PNG (through tools/plot_series.py).
-#include <fcntl.h>
 #include <fmt/format.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -19,7 +18,6 @@
 #include "io/run_output.hpp"
 #include "lua/lua_util.hpp"
 #include "lua/run_progress.hpp"
-#include "lua/scene.hpp"
 #include "lua/shown.hpp"
 #include "lua/wrap_simulation.hpp"
 
@@ -28,13 +26,6 @@ extern char** environ;
 namespace granule::lua {
 
 namespace {
-
-// A rank other than 0 of a spread run: it draws and tabulates as rank 0 does,
-// so that errors are the same everywhere, but prints nothing.
-bool on_other_rank(lua_State* L) {
-  const SceneContext* ctx = context(L);
-  return ctx && ctx->rank > 0;
-}
 
 // The value of one field of particle `id`, and its column heading.
 const char* const table_fields[] = {"id", "x",  "y",  "z",  "vx", "vy",     "vz",       "wx",
@@ -106,11 +97,8 @@ int l_table(lua_State* L) {
       }
       text += "\n";
     }
-    // Spread over ranks, rank 0 prints for all (as print does).
-    if (!on_other_rank(L)) {
-      clear_progress_line();
-      std::cout << text << std::flush;
-    }
+    clear_progress_line();
+    std::cout << text << std::flush;
     lua_pushlstring(L, text.data(), text.size());
     mark_shown(L);
     return 1;
@@ -186,15 +174,7 @@ int l_plot(lua_State* L) {
     argv.push_back(nullptr);
     // No shell: file names with spaces or quotes reach the script as they are.
     pid_t pid = 0;
-    // On a rank other than 0 the script's own lines (the file it wrote) go nowhere.
-    posix_spawn_file_actions_t quiet;
-    posix_spawn_file_actions_init(&quiet);
-    const bool mute = on_other_rank(L);
-    if (mute) posix_spawn_file_actions_addopen(&quiet, 1, "/dev/null", O_WRONLY, 0);
-    const int spawned =
-        posix_spawn(&pid, argv[0], mute ? &quiet : nullptr, nullptr, argv.data(), environ);
-    posix_spawn_file_actions_destroy(&quiet);
-    if (spawned != 0)
+    if (posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ) != 0)
       throw std::runtime_error(
           fmt::format("plot: cannot run {} (GRANULE_PYTHON names another)", python));
     int status = 0;
@@ -203,11 +183,9 @@ int l_plot(lua_State* L) {
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
       throw std::runtime_error(fmt::format("plot: {} failed for {} (its message is above)",
                                            (tools / "plot_series.py").string(), source));
-    if (!on_other_rank(L)) {
-      clear_progress_line();
-      std::cout << "plot: " << fmt::format("{}", fmt::join(chosen, ", ")) << " in " << file << "\n"
-                << std::flush;
-    }
+    clear_progress_line();
+    std::cout << "plot: " << fmt::format("{}", fmt::join(chosen, ", ")) << " in " << file << "\n"
+              << std::flush;
     lua_pushstring(L, file.c_str());
     mark_shown(L);
     return 1;

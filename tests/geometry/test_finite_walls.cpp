@@ -53,6 +53,16 @@ double static_overlap() {
   return std::pow(3 * mass() * g / (4 * e_star * std::sqrt(rp)), 2.0 / 3.0);
 }
 
+// Grains ("g") and a massless wall material ("w"), a stiff linear law between them:
+// the moving-wall checks' scenes, where only positions matter.
+void linear_grains(Simulation<3>& sim) {
+  sim.set_warning_handler([](const std::string&) {});
+  sim.add_material({"g", 2500, 0, 0, 0});
+  sim.add_material({"w", 0, 0, 0, 0});
+  sim.set_contact("g", "g", "linear", {{"k_normal", 1e4}, {"restitution", 0.5}});
+  sim.set_contact("g", "w", "linear", {{"k_normal", 1e4}, {"restitution", 0.5}});
+}
+
 void check_normal(const Vec<3>& n, const Vec<3>& expected) {
   CHECK((n - expected).norm() < 1e-12);
 }
@@ -389,11 +399,7 @@ TEST_CASE("walls: a wall that would step over a particle stops the run, one far 
           "[walls]") {
   auto run = [](bool bounded, Triple velocity, double distance) {
     Simulation<3> sim;
-    sim.set_warning_handler([](const std::string&) {});
-    sim.add_material({"g", 2500, 0, 0, 0});
-    sim.add_material({"w", 0, 0, 0, 0});
-    sim.set_contact("g", "g", "linear", {{"k_normal", 1e4}, {"restitution", 0.5}});
-    sim.set_contact("g", "w", "linear", {{"k_normal", 1e4}, {"restitution", 0.5}});
+    linear_grains(sim);
     sim.set_time_step(1e-5);
     WallSpec w;
     w.name = "plate", w.material = 1, w.normal = {0, 0, 1}, w.velocity = velocity;
@@ -428,11 +434,7 @@ TEST_CASE(
   const double period = 0.01, radius = 1e-3;
   auto run = [&](bool bounded, double speed) {
     Simulation<3> sim;
-    sim.set_warning_handler([](const std::string&) {});
-    sim.add_material({"g", 2500, 0, 0, 0});
-    sim.add_material({"w", 0, 0, 0, 0});
-    sim.set_contact("g", "g", "linear", {{"k_normal", 1e4}, {"restitution", 0.5}});
-    sim.set_contact("g", "w", "linear", {{"k_normal", 1e4}, {"restitution", 0.5}});
+    linear_grains(sim);
     sim.set_periodic(0, 0, period);
     sim.set_gravity({0, -9.81, 0});
     WallSpec w;
