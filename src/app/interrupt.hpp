@@ -47,6 +47,7 @@ inline void stop_hook(lua_State* L, lua_Debug*) {
       } catch (const std::exception& e) {
         message += std::string("; no checkpoint written: ") + e.what();
       }
+      ctx->interrupt_message = message;
     }
     luaL_where(L, 1);
     lua_pushstring(L, message.c_str());

@@ -39,6 +39,7 @@
 
 #include <filesystem>
 
+#include "parallel/gathering.hpp"
 #include "parallel/scene_over_ranks.hpp"
 #endif
 
@@ -66,10 +67,24 @@ const char* usage =
     "  --checkpoint FILE.h5      where the run's checkpoints go (periodic, and on a signal)\n"
     "  --checkpoint-every S      a checkpoint every S seconds of wall time\n";
 
+// A failed scene's report: its error, the same text on every rank that failed
+// alike, and what rank 0 alone adds (the files kept, the signal's exit status).
+struct FailureReport {
+  std::string error, extra;
+};
+
 struct Options {
   std::string command, scene;
   granule::lua::SceneContext ctx;
+  // Under mpirun the report waits until the ranks have met, so that an error every
+  // rank raised is printed once (run_scene_over_ranks); otherwise run_scene prints it.
+  bool hold_report = false;
+  FailureReport report;
 };
+
+std::string rank_prefix(const Options& o) {
+  return o.ctx.ranks > 1 ? fmt::format("granule: rank {} of {}: ", o.ctx.rank, o.ctx.ranks) : "";
+}
 
 int fail_usage(const std::string& message) {
   std::cerr << "granule: " << message << "\n" << usage;
@@ -175,28 +190,31 @@ int run_scene(Options& o) {
   // A restart that could not take over failed the scene wherever the journal ended
   // (inside a callback, or a call the scene caught): say so as the restart's error.
   if (!o.ctx.restart_failure.empty()) err = o.ctx.restart_failure;
+  // A scene that caught its stop (pcall) and ended still ends as stopped.
+  if (err.empty() && o.ctx.interrupted)
+    err = o.ctx.interrupt_message + " (the scene caught the stop and ended)";
   if (!err.empty()) {
-    std::string message;
-    if (o.ctx.ranks > 1) message = fmt::format("granule: rank {} of {}: ", o.ctx.rank, o.ctx.ranks);
-    message += "error: " + err + "\n";
+    FailureReport& report = o.report;
+    report = {"error: " + err + "\n", ""};
     std::vector<std::string> shown;  // a scene may reopen one file many times
     // Rank 0 names the files kept; the other ranks' copies go with their scratch.
     if (o.ctx.rank == 0)
       for (const auto& f : o.ctx.outputs_written)
         if (std::find(shown.begin(), shown.end(), f) == shown.end()) {
-          message += "partial results kept in " + f + "\n";
+          report.extra += "partial results kept in " + f + "\n";
           shown.push_back(f);
         }
-    // One write: ranks failing together must not interleave their lines.
-    std::cerr << message << std::flush;
+    int status = 1;
     if (o.ctx.interrupted) {
       // 128 + the signal, as a shell reports a program it ended: 130 Ctrl-C, 143 SIGTERM,
       // 129 SIGHUP; a scheduler or `granule sweep` reads the cause from the status.
-      std::cerr << "granule: stopped by " << granule::lua::interrupt_cause() << " (exit status "
-                << 128 + granule::lua::interrupt_signal() << ")\n";
-      return 128 + granule::lua::interrupt_signal();
+      status = 128 + granule::lua::interrupt_signal();
+      report.extra += fmt::format("granule: stopped by {} (exit status {})\n",
+                                  granule::lua::interrupt_cause(), status);
     }
-    return 1;
+    // One write: ranks failing together must not interleave their lines.
+    if (!o.hold_report) std::cerr << rank_prefix(o) + report.error + report.extra << std::flush;
+    return status;
   }
   return 0;
 }
@@ -310,14 +328,51 @@ void join_ranks(Options& o) {
   }
 }
 
+// The ranks' reports, once they have all met: rank 0 prints each distinct error once,
+// naming the ranks that raised it, then its own files and status.
+void print_reports_together(const Options& o) {
+  // Each report as "<failed 0/1><error>\0" (a NUL in the error's text read as a space).
+  std::string error = o.report.error;
+  std::replace(error.begin(), error.end(), '\0', ' ');
+  const std::string mine = (error.empty() ? "0" : "1") + error + std::string(1, '\0');
+  const std::string all = granule::parallel::all_gather(mine, exit_comm);
+  if (o.ctx.rank != 0) return;
+  std::vector<std::pair<std::string, std::vector<int>>> errors;  // in order of first rank
+  std::size_t at = 0;
+  for (int rank = 0; rank < o.ctx.ranks; ++rank) {
+    const std::size_t end = all.find('\0', at);
+    const std::string report = all.substr(at, end - at);
+    at = end + 1;
+    if (report.empty() || report[0] == '0') continue;
+    const std::string error = report.substr(1);
+    auto same =
+        std::find_if(errors.begin(), errors.end(), [&](const auto& e) { return e.first == error; });
+    if (same == errors.end())
+      errors.push_back({error, {rank}});
+    else
+      same->second.push_back(rank);
+  }
+  std::string message;
+  for (const auto& [error, ranks] : errors) {
+    if (static_cast<int>(ranks.size()) == o.ctx.ranks)
+      message += fmt::format("granule: all {} ranks: {}", o.ctx.ranks, error);
+    else
+      message += fmt::format("granule: rank{} {} of {}: {}", ranks.size() > 1 ? "s" : "",
+                             fmt::join(ranks, ", "), o.ctx.ranks, error);
+  }
+  std::cerr << message + o.report.extra << std::flush;
+}
+
 int run_scene_over_ranks(Options& o) {
   join_ranks(o);
+  o.hold_report = true;
   const int status = run_scene(o);
   granule::io::remove_scratch();
   // Every rank meets here at its end. A scene that fails alike on every rank (an
-  // error before its first run) ends each with its status; a rank that failed alone
-  // (the others still step, or wait for it in a run) ends them all, with its status,
-  // when the others have not come within 20 s (rank 0 may still be closing its files).
+  // error before its first run) ends each with its status, its error printed once;
+  // a rank that failed alone (the others still step, or wait for it in a run) ends
+  // them all, with its status, when the others have not come within 20 s (rank 0 may
+  // still be closing its files).
   // (On a communicator of its own: it must not meet a run's collectives.)
   MPI_Request met;
   MPI_Ibarrier(exit_comm, &met);
@@ -330,8 +385,15 @@ int run_scene_over_ranks(Options& o) {
       MPI_Test(&met, &all_here, MPI_STATUS_IGNORE);
       if (!all_here) std::this_thread::sleep_for(std::chrono::milliseconds(2));
     }
-    if (!all_here) MPI_Abort(MPI_COMM_WORLD, status);
+    if (!all_here) {
+      std::cerr << rank_prefix(o) + o.report.error + o.report.extra << std::flush;
+      MPI_Abort(MPI_COMM_WORLD, status);
+    }
   }
+  // Every rank is here: a failure is known to all; the reports meet at rank 0.
+  int failed = status != 0 ? 1 : 0, any_failed = 0;
+  MPI_Allreduce(&failed, &any_failed, 1, MPI_INT, MPI_MAX, exit_comm);
+  if (any_failed) print_reports_together(o);
   MPI_Comm_free(&exit_comm);
   MPI_Finalize();
   return status;

@@ -2,12 +2,15 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <cstring>
 #include <iterator>
 #include <lua.hpp>
 #include <stdexcept>
 
+#include "core/fnv1a.hpp"
 #include "lua/lua_util.hpp"
+#include "lua/ordered_pairs.hpp"
 #include "lua/scene.hpp"
 
 namespace granule::lua {
@@ -27,8 +30,16 @@ constexpr int max_depth = 64;
 
 }  // namespace
 
-void Journal::start_replay(std::vector<std::uint8_t> recorded, std::function<void()> apply) {
+void Journal::start_replay(std::vector<std::uint8_t> recorded, int recorded_format,
+                           std::function<void()> apply) {
+  if (recorded_format < 1 || recorded_format > format)
+    throw std::runtime_error(fmt::format(
+        "restart: the checkpoint's journal has format {}, which this granule does not know "
+        "(it reads 1 to {}); continue it with the granule that wrote it",
+        recorded_format, format));
   bytes_ = std::move(recorded);
+  replay_digests_ = recorded_format >= 2;
+  calls_replayed_ = 0;
   cursor_ = 0;
   apply_ = std::move(apply);
   replaying_ = true;
@@ -117,10 +128,89 @@ void Journal::put_value(lua_State* L, int index, int depth) {
   }
 }
 
-void Journal::record_call(const char* name) {
+namespace {
+
+void add_byte(Fnv1a& f, unsigned char b) {
+  f.add(&b, 1);
+}
+
+// Tables already digested, by the order they were met: a table given twice (or holding
+// itself) counts by that number the second time, so the work stays the tables' size.
+using Seen = std::unordered_map<const void*, std::uint64_t>;
+
+void add_value(Fnv1a& f, lua_State* L, int index, Seen& seen, int depth) {
+  index = lua_absindex(L, index);
+  const int type = lua_type(L, index);
+  add_byte(f, static_cast<unsigned char>('a' + type + 1));
+  switch (type) {
+    case LUA_TBOOLEAN:
+      add_byte(f, lua_toboolean(L, index) ? 1 : 0);
+      break;
+    case LUA_TNUMBER: {
+      // By value, as Lua compares numbers (5000 == 5000.0), and so as a restart compares
+      // -D values: a parameter given as 5e3 where the first run took its default of 5000
+      // is the same run.
+      lua_Integer i = 0;
+      const lua_Number x = lua_tonumber(L, index);
+      const bool integral = lua_isinteger(L, index)
+                                ? (i = lua_tointeger(L, index), true)
+                                : x == std::floor(x) && lua_numbertointeger(x, &i);
+      if (integral) {
+        add_byte(f, 'i');
+        f.add(&i, sizeof i);
+      } else {
+        f.add(&x, sizeof x);
+      }
+      break;
+    }
+    case LUA_TSTRING: {
+      std::size_t n = 0;
+      const char* s = lua_tolstring(L, index, &n);
+      f.add(&n, sizeof n);
+      f.add(s, n);
+      break;
+    }
+    case LUA_TTABLE: {
+      if (depth >= max_depth) break;  // nested deeper: its place counts, not its contents
+      const auto [at, first_time] = seen.emplace(lua_topointer(L, index), seen.size());
+      if (!first_time) {
+        add_byte(f, '^');
+        f.add(&at->second, sizeof at->second);
+        break;
+      }
+      luaL_checkstack(L, 4, "journal: a call's arguments nest too deep");
+      push_ordered_keys(L, index);
+      const lua_Integer n = static_cast<lua_Integer>(lua_rawlen(L, -1));
+      for (lua_Integer k = 1; k <= n; ++k) {
+        lua_rawgeti(L, -1, k);
+        add_value(f, L, -1, seen, depth + 1);
+        lua_rawget(L, index);
+        add_value(f, L, -1, seen, depth + 1);
+        lua_pop(L, 1);
+      }
+      lua_pop(L, 1);
+      add_byte(f, '}');
+      break;
+    }
+    default:  // functions, userdata, threads: made anew by the replayed scene
+      break;
+  }
+}
+
+}  // namespace
+
+std::uint64_t Journal::digest(lua_State* L, int first, int count) {
+  Fnv1a f;
+  Seen seen;
+  for (int k = 0; k < count; ++k) add_value(f, L, first + k, seen, 0);
+  return f.value();
+}
+
+void Journal::record_call(const char* name, std::uint64_t arguments) {
   took_results_ = false;  // this call's results are new: they are journaled
   put_byte(tag_call);
   put_interned(name, std::strlen(name));
+  for (int k = 0; k < 8; ++k) put_byte(static_cast<std::uint8_t>(arguments >> (8 * k)));
   ++entries_;
 }
 
@@ -294,11 +384,11 @@ namespace {
 constexpr const char* another_path_why =
     "the scene's choices depend on something the journal does not keep: values read through "
     "sim:arrays() or sim:contact_arrays(), which read NaN while a restart replays (take them "
-    "from sim:particle, sim:stats or sim:contacts to decide), or a file the scene reads that "
-    "changed";
+    "from sim:particle, sim:stats or sim:contacts to decide), a file the scene reads that "
+    "changed, an environment variable, or the order of `next` over a table";
 }  // namespace
 
-void Journal::expect_call(const char* name) {
+void Journal::expect_call(const char* name, std::uint64_t arguments, bool check_arguments) {
   if (cursor_ >= bytes_.size()) damaged("it ended");
   const std::size_t at = cursor_;
   const std::uint8_t tag = get_byte();
@@ -317,6 +407,17 @@ void Journal::expect_call(const char* name) {
         "restart: the scene took another path than the run that wrote the checkpoint: it "
         "called {} where that run called {} ({})",
         name, recorded, another_path_why));
+  ++calls_replayed_;
+  if (replay_digests_) {
+    std::uint64_t recorded_arguments = 0;
+    for (int k = 0; k < 8; ++k)
+      recorded_arguments |= static_cast<std::uint64_t>(get_byte()) << (8 * k);
+    if (check_arguments && recorded_arguments != arguments)
+      throw std::runtime_error(fmt::format(
+          "restart: the scene took another path than the run that wrote the checkpoint: its "
+          "call {}, {}, was given other values than in that run ({})",
+          calls_replayed_, name, another_path_why));
+  }
   check_end();
 }
 
@@ -418,6 +519,18 @@ int journaled_call(lua_State* L) {
   SceneContext* ctx = context(L);
   Journal* j = ctx ? ctx->journal.get() : nullptr;
   const int nargs = lua_gettop(L);
+  // A scene a signal stopped makes no more engine calls, even one that caught the stop
+  // (pcall): it would go on computing what its checkpoint no longer holds, and end with
+  // status 0 when a scheduler asked it to stop. (The clocks stay readable; the REPL goes
+  // on after a stop by design.)
+  if (ctx && ctx->interrupted && !ctx->repl && std::strncmp(call->name, "os.", 3) != 0 &&
+      std::strcmp(call->name, "wall_time") != 0) {
+    push_script_where(L);
+    lua_pushfstring(L, "%s: the scene was stopped (%s); it makes no more engine calls", call->name,
+                    ctx->interrupt_message.c_str());
+    lua_concat(L, 2);
+    return lua_error(L);
+  }
   // Calls the wrapped function below the arguments, protected, so that an error can be
   // journaled before it goes on; journals the outcome when `record` and the journal is
   // recording (and the results were not the journal's own).
@@ -456,11 +569,18 @@ int journaled_call(lua_State* L) {
       return lua_error(L);
   }
   if (!j->replaying()) {
-    if (failed_with_message(L, [&] { j->record_call(call->name); })) return lua_error(L);
+    if (failed_with_message(L, [&] { j->record_call(call->name, Journal::digest(L, 1, nargs)); }))
+      return lua_error(L);
     return call_inner(true);
   }
   if (failed_with_message(
-          L, [&] { j->expect_call(call->name); }, true))
+          L,
+          [&] {
+            // Once the replay has read views (NaN there, and warned), the values the
+            // scene computes from them differ from the first run's by design.
+            j->expect_call(call->name, Journal::digest(L, 1, nargs), !ctx->views_read_in_replay);
+          },
+          true))
     return lua_error(L);
   // The journal ended with this call's start: it executes for real, and is journaled.
   if (!j->replaying()) return call_inner(true);

@@ -50,20 +50,31 @@ class Journal {
   bool took_results() const { return took_results_; }
   void forget_took_results() { took_results_ = false; }
 
-  // Starts replaying `recorded`; `apply` is called once, at the moment the journal is
-  // used up (then recording resumes, appending to the same journal).
-  void start_replay(std::vector<std::uint8_t> recorded, std::function<void()> apply);
+  // The journal's format: 2 keeps each call's argument digest (1, without, is replayed
+  // by the name of each call alone).
+  static constexpr int format = 2;
+
+  // Starts replaying `recorded`, a journal of format `recorded_format`; `apply` is
+  // called once, at the moment the journal is used up (then recording resumes,
+  // appending to the same journal, in this format).
+  void start_replay(std::vector<std::uint8_t> recorded, int recorded_format,
+                    std::function<void()> apply);
+
+  // A digest of the values at first..first+count-1 (tables by their contents, keys in
+  // pairs() order; functions and userdata by their type alone): what a call was given.
+  static std::uint64_t digest(lua_State* L, int first, int count);
 
   // ---- recording ----
-  void record_call(const char* name);
+  void record_call(const char* name, std::uint64_t arguments);
   void record_results(lua_State* L, int first, int count);  // the values at first..first+count-1
   void record_no_results();                                 // a build call: results not kept
   void record_error(lua_State* L, int index);
   void record_callback(std::int64_t hook_id);  // a hook fired (-1: the run's stop_when)
 
   // ---- replaying ----
-  // The next entry must be a call of `name`; throws std::runtime_error naming both if not.
-  void expect_call(const char* name);
+  // The next entry must be a call of `name`, given the same arguments where
+  // `check_arguments`; throws std::runtime_error naming both if not.
+  void expect_call(const char* name, std::uint64_t arguments, bool check_arguments);
   enum class Next { results, error, callback, end };
   // What comes next inside a call being replayed (end: the journal is used up).
   Next peek();
@@ -96,7 +107,9 @@ class Journal {
   std::vector<std::uint8_t> bytes_;
   std::size_t cursor_ = 0;
   std::size_t entries_ = 0;
+  std::size_t calls_replayed_ = 0;
   bool replaying_ = false;
+  bool replay_digests_ = true;  // the journal being replayed keeps argument digests
   bool took_results_ = false;
   std::function<void()> apply_;
   std::unordered_map<std::string, std::uint64_t> interned_;  // recording: string -> number

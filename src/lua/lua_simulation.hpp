@@ -34,6 +34,7 @@ struct Restart {
   std::string path;
   std::unique_ptr<StateBlob> state;
   std::vector<std::uint8_t> journal;
+  int journal_format = 1;  // Journal::format of the run that wrote it (1: no argument digests)
   std::int64_t run_start_step = 0;   // the run in progress: where it began
   std::int64_t run_total_steps = 0;  // and how many steps it was to take
   double run_end_time = std::numeric_limits<double>::quiet_NaN();  // its end [s], if a duration's

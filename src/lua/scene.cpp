@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -15,9 +16,11 @@
 
 #include "contact/parameters.hpp"
 #include "core/names.hpp"
+#include "io/case_record.hpp"
 #include "lua/api_docs.hpp"
 #include "lua/journal.hpp"
 #include "lua/lua_util.hpp"
+#include "lua/ordered_pairs.hpp"
 
 namespace granule::lua {
 
@@ -324,10 +327,35 @@ SceneContext* context(lua_State* L) {
   return ctx;
 }
 
+namespace {
+
+// package.searchers[2] with Lua's own as upvalue 1: a module's file, once found, is
+// read and its digest noted for the checkpoints (the text is what `require` loads).
+int noting_searcher(lua_State* L) {
+  const int given = lua_gettop(L);
+  lua_pushvalue(L, lua_upvalueindex(1));
+  lua_insert(L, 1);
+  lua_call(L, given, LUA_MULTRET);
+  SceneContext* ctx = context(L);
+  if (ctx && lua_gettop(L) >= 2 && lua_isfunction(L, 1) && lua_type(L, 2) == LUA_TSTRING) {
+    const std::string path = lua_tostring(L, 2);
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream text;
+    text << in.rdbuf();
+    auto& noted = ctx->module_sources;
+    if (std::none_of(noted.begin(), noted.end(), [&](const auto& m) { return m.first == path; }))
+      noted.emplace_back(path, io::source_digest(text.str()));
+  }
+  return lua_gettop(L);
+}
+
+}  // namespace
+
 lua_State* new_state(SceneContext* ctx) {
   lua_State* L = luaL_newstate();
   if (!L) throw std::runtime_error("cannot create a Lua state (out of memory)");
   luaL_openlibs(L);
+  open_ordered_pairs(L);
   // os.exit(code) would end the program with the scene's simulations open, and
   // their files would lose what is still buffered (the last rows of a series):
   // it closes the Lua state, and so the simulations and their files, first, as
@@ -374,6 +402,12 @@ lua_State* new_state(SceneContext* ctx) {
   }
   lua_pushstring(L, cpath.c_str());
   lua_setfield(L, -2, "cpath");
+  // Lua's searcher of Lua files, wrapped to note each file it finds (module_sources).
+  lua_getfield(L, -1, "searchers");
+  lua_rawgeti(L, -1, 2);
+  lua_pushcclosure(L, noting_searcher, 1);
+  lua_rawseti(L, -2, 2);
+  lua_pop(L, 1);
   // The C++ half of the Lua library (lua/granule/checks.lua).
   lua_getfield(L, -1, "preload");
   lua_pushcfunction(L, open_names_module);

@@ -29,6 +29,9 @@ struct ParameterDoc {
 struct SceneContext {
   std::string scene_path;
   std::string scene_source;
+  // The Lua files the scene loaded with require: path and io::source_digest of the text
+  // loaded, which a restart checks as it checks the scene's own source.
+  std::vector<std::pair<std::string, std::string>> module_sources;
   std::string output_path;  // from -o; empty = the scene's own choice or <scene>.h5
   // sim:output calls -o has named so far: the first takes -o's path, each later
   // one -o's stem and its own file's (a scene writing two files, in a sweep).
@@ -46,8 +49,10 @@ struct SceneContext {
   // scene names, and how often by wall time when the scene asks for none.
   std::string checkpoint_path;
   double checkpoint_every_seconds = 0;
-  bool checkpoint_assigned = false;  // the first simulation has taken checkpoint_path
-  bool interrupted = false;          // a run stopped on a signal (the program exits with 128 + it)
+  bool checkpoint_assigned = false;   // the first simulation has taken checkpoint_path
+  bool interrupted = false;           // a run stopped on a signal (the program exits with 128 + it)
+  std::string interrupt_message;      // how it stopped: every later engine call raises it again
+  bool views_read_in_replay = false;  // sim:arrays() read NaN while a restart replayed (warned)
   // The scene's first simulation (while it lives): a signal while the scene's
   // own Lua code runs, between runs, checkpoints it (checkpoint_between_runs).
   LuaSim* first_simulation = nullptr;

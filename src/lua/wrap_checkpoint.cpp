@@ -8,11 +8,14 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <set>
+#include <sstream>
 
 #include "core/errors.hpp"
+#include "io/case_record.hpp"
 #include "io/checkpoint.hpp"
 #include "io/same_file.hpp"
 #include "lua/journal.hpp"
@@ -165,6 +168,11 @@ std::string checkpoint_between_runs(SceneContext& ctx) {
   // Ranks would each stop at another point of the script: no common state to keep.
   if (!s || !s->sim || ctx.repl || ctx.ranks > 1 || (ctx.journal && ctx.journal->replaying()))
     return "";
+  // Before the first step there is nothing computed to keep: the scene run again
+  // gets as far in as long (and a restart would replay a half-made setup, a fill cut
+  // short, that no journal holds).
+  if (s->sim->step_count() == 0)
+    return "; nothing was computed yet, so no checkpoint was written: run the scene again";
   const std::string path = interrupt_checkpoint_path(*s);
   write_checkpoint_now(*s, path, false);  // refuses the output's or the scene's file
   return continue_hint(&ctx, path);
@@ -179,8 +187,14 @@ void write_checkpoint_now(LuaSim& s, const std::string& path, bool in_run) {
   // which run was going on, and how far the open output had got.
   SceneContext* ctx = s.context;
   if (ctx && ctx->journal) state.bytes["lua.journal"] = ctx->journal->bytes();
+  state.integers["lua.journal_format"] = {Journal::format};
   state.texts["lua.overrides"] = ctx ? overrides_text(*ctx) : std::string();
   state.texts["lua.scene_source"] = ctx ? ctx->scene_source : std::string();
+  if (ctx) {  // "digest path" lines, in the order the scene required them
+    std::string modules;
+    for (const auto& [file, digest] : ctx->module_sources) modules += digest + " " + file + "\n";
+    state.texts["lua.modules"] = modules;
+  }
   // At the REPL the journal holds what was typed at the prompt too, which no scene file
   // replays (begin_restart refuses such a checkpoint by name).
   if (ctx && ctx->repl_prompt) state.texts["lua.written_at"] = "repl";
@@ -299,6 +313,24 @@ void begin_restart(SceneContext& ctx) {
         "replays the scene that wrote the checkpoint",
         ctx.scene_path, ctx.restart_path,
         first_differing_line(st.t("lua.scene_source"), ctx.scene_source)));
+  if (st.has("lua.modules")) {
+    std::istringstream lines(st.t("lua.modules"));
+    for (std::string line; std::getline(lines, line);) {
+      const std::size_t space = line.find(' ');
+      if (space == std::string::npos)
+        throw InputError(fmt::format("checkpoint {}: 'lua.modules' is damaged", ctx.restart_path));
+      const std::string digest = line.substr(0, space), file = line.substr(space + 1);
+      std::ifstream in(file, std::ios::binary);
+      const bool opened = in.is_open();
+      std::stringstream text;
+      if (opened) text << in.rdbuf();
+      if (!opened || io::source_digest(text.str()) != digest)
+        throw InputError(fmt::format(
+            "restart: the module {} that the scene required {} since {} was written; a restart "
+            "replays the code that wrote the checkpoint",
+            file, opened ? "changed" : "is gone", ctx.restart_path));
+    }
+  }
   const auto& current = st.i("lua.current");
   if (current.size() != 3)
     throw InputError(fmt::format("checkpoint {}: 'lua.current' must hold 3 values, has {}",
@@ -327,9 +359,17 @@ void begin_restart(SceneContext& ctx) {
     throw InputError(fmt::format("checkpoint {}: 'lua.output' is damaged", ctx.restart_path));
   r->output_index = output[0];
   r->journal = st.b("lua.journal");
+  // Checkpoints from before the journal kept the calls' argument digests have no format.
+  if (st.has("lua.journal_format")) {
+    const auto& format = st.i("lua.journal_format");
+    if (format.size() != 1)
+      throw InputError(
+          fmt::format("checkpoint {}: 'lua.journal_format' is damaged", ctx.restart_path));
+    r->journal_format = static_cast<int>(format[0]);
+  }
   ctx.restart = r;
   SceneContext* c = &ctx;
-  ctx.journal->start_replay(r->journal, [c] { apply_restart(*c); });
+  ctx.journal->start_replay(r->journal, r->journal_format, [c] { apply_restart(*c); });
 }
 
 namespace {

@@ -294,10 +294,11 @@ int l_run(lua_State* L) {
             "written to {}\n",
             s.sim->time(), s.sim->step_count(), done, steps, interrupt_path);
       } else {
-        if (ctx) ctx->interrupted = true;
-        throw std::runtime_error(fmt::format(
+        std::string message = fmt::format(
             "run interrupted ({}) after {} of {} steps, at t = {} s (step {}){}", interrupt_cause(),
-            done, steps, s.sim->time(), s.sim->step_count(), continue_hint(ctx, interrupt_path)));
+            done, steps, s.sim->time(), s.sim->step_count(), continue_hint(ctx, interrupt_path));
+        if (ctx) ctx->interrupted = true, ctx->interrupt_message = message;
+        throw std::runtime_error(message);
       }
     }
     if (progress) progress->finish();

@@ -354,10 +354,10 @@ int l_fill(lua_State* L) {
     f.stop_requested = [] { return interrupt_pending(); };
     std::vector<std::int64_t> ids = s.sim->fill(f);
     if (interrupt_pending()) {
-      if (SceneContext* ctx = context(L)) ctx->interrupted = true;
-      throw std::runtime_error(
-          fmt::format("interrupted ({}) during fill, {} of {} particles placed", interrupt_cause(),
-                      ids.size(), f.count));
+      std::string message = fmt::format("interrupted ({}) during fill, {} of {} particles placed",
+                                        interrupt_cause(), ids.size(), f.count);
+      if (SceneContext* ctx = context(L)) ctx->interrupted = true, ctx->interrupt_message = message;
+      throw std::runtime_error(message);
     }
     lua_createtable(L, static_cast<int>(ids.size()), 0);
     for (std::size_t k = 0; k < ids.size(); ++k) {

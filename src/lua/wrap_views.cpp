@@ -8,13 +8,15 @@
 //
 // Reads are not journaled (that would cost more than the diagnostic): a restarted
 // scene living through its past, whose engine is not at the state the first run's
-// callbacks saw, reads NaN from every view. What a callback computes from views and
-// writes with sim:append is not written again in replay, so a diagnostic that keeps
-// no state of its own across calls continues bit-identically; one that accumulates
-// (a running sum) carries NaN on, which sim:result and the series refuse, loudly.
+// callbacks saw, reads NaN from every view (and lengths of the scene being rebuilt).
+// What a callback computes from views and writes with sim:append is not written again
+// in replay, so a diagnostic that keeps no state of its own across calls continues
+// bit-identically; one that accumulates (a running sum) carries NaN on, which
+// sim:result and the series refuse, loudly, and the restart warns at the first read.
 #include <fmt/format.h>
 
 #include <cstring>
+#include <iostream>
 #include <limits>
 #include <lua.hpp>
 #include <stdexcept>
@@ -155,6 +157,27 @@ double contact_value(const LuaSim& s, int field, std::size_t k) {
   }
 }
 
+// Whether a restart is replaying the scene's past, when views read NaN (and their
+// lengths the scene being rebuilt, not the first run's): said once, whatever -q says,
+// since what the scene keeps from these reads differs from the first run's (results it
+// wrote with sim:append meanwhile are that run's).
+bool read_in_replay(lua_State* L, const Column& c) {
+  SceneContext* scene = c.sim->context;
+  if (!scene || !scene->journal || !scene->journal->replaying()) return false;
+  if (!scene->views_read_in_replay && scene->rank == 0) {
+    push_script_where(L);
+    std::cerr << fmt::format(
+        "granule: warning: restart: {}the scene read sim:arrays() or sim:contact_arrays() "
+        "while it replayed its past, when views read NaN and their lengths are not the first "
+        "run's (a checkpoint does not keep what they showed); a value the scene keeps from "
+        "them (a running sum, a printed line) differs from the first run's from here on\n",
+        lua_tostring(L, -1));
+    lua_pop(L, 1);
+  }
+  scene->views_read_in_replay = true;
+  return true;
+}
+
 std::size_t rows(const Column& c) {
   c.sim->sim->ensure_whole();  // a view kept from an earlier callback of a spread scene
   return c.contacts ? contact_rows(*c.sim) : particle_rows(*c.sim);
@@ -168,8 +191,7 @@ int column_index(lua_State* L) {
   const std::size_t n = rows(*c);
   const char* name = c->contacts ? contact_fields[c->field] : particle_fields[c->field];
   if (!is_integer) return luaL_error(L, "array '%s': index must be an integer 1..#", name);
-  const SceneContext* ctx = c->sim->context;
-  if (ctx && ctx->journal && ctx->journal->replaying()) {  // see the top of this file
+  if (read_in_replay(L, *c)) {  // see the top of this file
     lua_pushnumber(L, std::numeric_limits<double>::quiet_NaN());
     return 1;
   }
@@ -192,6 +214,7 @@ int column_index(lua_State* L) {
 
 int column_len(lua_State* L) {
   const auto* c = static_cast<const Column*>(luaL_checkudata(L, 1, column_mt));
+  read_in_replay(L, *c);
   lua_pushinteger(L, static_cast<lua_Integer>(rows(*c)));
   return 1;
 }
@@ -240,6 +263,7 @@ int contact_view_index(lua_State* L) {
 }
 int view_len(lua_State* L) {
   const auto* v = static_cast<const Column*>(lua_touserdata(L, 1));
+  read_in_replay(L, *v);
   lua_pushinteger(L, static_cast<lua_Integer>(rows(*v)));
   return 1;
 }

@@ -1,0 +1,74 @@
+-- Scenes whose restart must either continue the first run or be refused by name
+-- (tests/scenes/restart_trust_test.py runs each case).
+local p = parameters {
+  case = { default = "pairs", doc = "pairs | args | module | pcall | prerun | views" },
+}
+local sim = simulation { dimension = 2 }
+sim:material { name = "g", density = 2500 }
+sim:contact { "g", "g", model = "walton_braun", k_load = 2e4, restitution = 0.8, friction = 0.3 }
+sim:wall_cylinder { name = "drum", center = { 0, 0 }, radius = 4e-3, material = "g" }
+sim:gravity { 0, -9.81 }
+
+local function fill(count, seed, y)
+  return sim:fill { region = { box = { lo = { -1.5e-3, y }, hi = { 1.5e-3, y + 0.8e-3 } } }, count = count,
+                    radius = 0.15e-3, material = "g", seed = seed, overlap = false }
+end
+
+if p.case == "pairs" then
+  -- One group per key of a table with string keys: made in pairs() order, which must not
+  -- change from one process to the next (Lua's own order does).
+  local groups = { top = 2, middle = 3, bottom = 4, left = 5, right = 6, far = 7, near = 3 }
+  local ids, order = {}, {}
+  local y = -3e-3
+  for name, count in pairs(groups) do
+    ids[name] = fill(count, count, y)
+    order[#order + 1] = name
+    y = y + 0.85e-3
+  end
+  print("order " .. table.concat(order, " "))
+  sim:run { duration = 2e-3 }
+  sim:save_checkpoint("trust.chk.h5")
+  sim:run { duration = 2e-3 }
+  local first = sim:particle(ids.top[1])
+  print(string.format("top %d first y %.17g", #ids.top, first.position[2]))
+elseif p.case == "args" then
+  -- A call's arguments read from the environment, which the journal does not keep.
+  fill(tonumber(os.getenv("GRANULE_TRUST_COUNT") or "10"), 1, -2e-3)
+  sim:run { duration = 2e-3 }
+  sim:save_checkpoint("trust.chk.h5")
+  sim:run { duration = 2e-3 }
+  print("args done")
+elseif p.case == "module" then
+  local helper = require "trust_helper"  -- written by the test into its folder
+  fill(helper.count, 1, -2e-3)
+  sim:run { duration = 2e-3 }
+  sim:save_checkpoint("trust.chk.h5")
+  sim:run { duration = 2e-3 }
+  print("module done")
+elseif p.case == "pcall" then
+  -- A scene that catches its run's errors: a signal must still end it.
+  fill(12, 1, -2e-3)
+  for stage = 1, 3 do
+    print("stage " .. stage)
+    io.stdout:flush()
+    local ok, err = pcall(sim.run, sim, { duration = 5 })
+    print("stage " .. stage .. (ok and " ran" or " failed: " .. tostring(err):sub(1, 80)))
+  end
+  print("pcall went on to its end")
+elseif p.case == "prerun" then
+  fill(10, 1, -2e-3)
+  print("busy")
+  io.stdout:flush()
+  local x = 0
+  for k = 1, 1e10 do x = x + math.sin(k) end
+  sim:run { duration = 1e-3 }
+elseif p.case == "views" then
+  fill(12, 1, -2e-3)
+  local P = sim:arrays()
+  local sum = 0
+  sim:every { steps = 50, function() for i = 1, #P do sum = sum + P.vy[i] end end }
+  sim:run { duration = 2e-3 }
+  sim:save_checkpoint("trust.chk.h5")
+  sim:run { duration = 2e-3 }
+  print(string.format("views sum %.6g", sum))
+end
