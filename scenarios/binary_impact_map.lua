@@ -17,6 +17,7 @@
 --   /usr/bin/python3 tools/plot_impact_map.py binary_impact_map.h5 -o impact_map.png
 local granule = require "granule"
 local coating = require "granule.coating"
+local impact = require "granule.impact"
 
 local p = parameters {
   angles = { default = "0,15,30,45,60,75", unit = "deg", doc = "impact angles, comma-separated" },
@@ -28,7 +29,7 @@ local p = parameters {
   k_load = { default = 20000, above = 0, unit = "N/m", doc = "Table 3.1 loading stiffness" },
   restitution = { default = 0.85, above = 0, max = 1, unit = "-", doc = "Table 3.1" },
   friction = { default = 0.4, min = 0, unit = "-", doc = "Table 3.1" },
-  tangential_ratio = { default = 0.8, min = 0, unit = "-", doc = "initial tangential / normal stiffness" },
+  tangential_ratio = { default = 0.8, above = 0, unit = "-", doc = "initial tangential / normal stiffness (walton_braun: tau of Eq. 3.4, > 0)" },
   spin = { default = 0.0, unit = "rad/s", doc = "initial spin of each sphere" },
   steps_per_contact = { default = 40, above = 0, unit = "-", doc = "n of Eq. 4.1" },
 }
@@ -45,17 +46,31 @@ local function numbers(text, name)
 end
 local angles, velocities = numbers(p.angles, "angles"), numbers(p.velocities, "velocities")
 for _, a in ipairs(angles) do assert(a >= 0 and a < 90, "angles must be in [0, 90) degrees, got " .. a) end
-for _, v in ipairs(velocities) do assert(v > 0, "velocities must be > 0, got " .. v) end
+-- The free line F = c v + b needs two distinct velocities; a repeated one
+-- would make its normal equations singular (0/0) once it is the only one.
+local seen_velocity = {}
+for _, v in ipairs(velocities) do
+  assert(v > 0, "velocities must be > 0, got " .. v)
+  if seen_velocity[v] then error(string.format("velocities: %g is given twice; give distinct values", v)) end
+  seen_velocity[v] = true
+end
 assert(p.model == "walton_braun" or p.model == "linear", "model must be walton_braun or linear")
 
 local r = p.radius
 local mass = granule.sphere_mass(r, p.density)
 
 -- One impact: A from the left, B from the right, relative velocity `velocity`
--- at `angle` to the line of centres. Each sphere starts a short time back
--- along its path from the touching position (+-r, 0), so at first contact the
--- line of centres is x and the angle is the nominal one.
-local function impact(angle, velocity)
+-- at `angle` to the line of centres. Each sphere starts back along its path
+-- from the touching position (+-r, 0) (granule.impact.start), so at first
+-- contact the line of centres is x and the angle is the nominal one; the pair
+-- closes 2 % of r along x first, in at most the time allowed for the contact.
+local one_contact = math.pi * math.sqrt(mass / 2 / p.k_load)
+if p.model == "walton_braun" then   -- loading, unloading and the latched overlap (Eqs. 3.1-3.2)
+  one_contact = math.max(one_contact, impact.walton_braun_duration { mass = mass / 2, k_load = p.k_load,
+                                                                     restitution = p.restitution })
+end
+local contact_time = math.max(20 * math.pi * math.sqrt(mass / p.k_load), 20 * one_contact)
+local function impact_run(angle, velocity)
   local sim = simulation { dimension = p.dimension, steps_per_contact = p.steps_per_contact,
                            record_contacts = true }
   sim:material { name = "particle", density = p.density }
@@ -64,14 +79,17 @@ local function impact(angle, velocity)
   if p.model == "walton_braun" then law.k_load = p.k_load else law.k_normal = p.k_load end
   sim:contact(law)
   local u = { math.cos(math.rad(angle)), math.sin(math.rad(angle)) }
-  local lead_time = 0.02 * r / (velocity * u[1])     -- 1 % of r of approach along x
-  local half = velocity / 2
-  local function vec(x, y) if p.dimension == 3 then return { x, y, 0 } end return { x, y } end
+  local lead_time = impact.lead_time { gap = 0.02 * r, velocity = velocity, angle_deg = angle, cap = contact_time }
+  local start = impact.start { radius = r, velocity = velocity, angle_deg = angle, lead_time = lead_time,
+                               dimension = p.dimension }
   local spin = p.dimension == 3 and { 0, 0, p.spin } or p.spin
-  local a = sim:add_particle { position = vec(-r - u[1] * half * lead_time, -u[2] * half * lead_time), radius = r,
-                               material = "particle", velocity = vec(u[1] * half, u[2] * half), spin = spin }
-  local b = sim:add_particle { position = vec(r + u[1] * half * lead_time, u[2] * half * lead_time), radius = r,
-                               material = "particle", velocity = vec(-u[1] * half, -u[2] * half), spin = spin }
+  local a = sim:add_particle { position = start.a.position, radius = r, material = "particle",
+                               velocity = start.a.velocity, spin = spin }
+  local b = sim:add_particle { position = start.b.position, radius = r, material = "particle",
+                               velocity = start.b.velocity, spin = spin }
+  impact.check_steps("binary_impact_map", (lead_time + one_contact) / sim:time_step(), 1e8,
+    string.format("raise restitution (%g; the time step of Eq. 4.1 falls with e) or lower steps_per_contact (%g)",
+                  p.restitution, p.steps_per_contact))
   local f_max, overlap_max, touching_steps, seen, ended = 0, 0, 0, false, false
   sim:every { steps = 1, function(s)
     local list = s:contacts()
@@ -85,7 +103,6 @@ local function impact(angle, velocity)
     f_max = math.max(f_max, c.normal_force)
     overlap_max = math.max(overlap_max, c.overlap)
   end }
-  local contact_time = 20 * math.pi * math.sqrt(mass / p.k_load)
   sim:run { duration = lead_time * 1.5 + contact_time, check_every = 1, stop_when = function() return ended end }
   assert(seen and ended, string.format("impact at %g deg, %g m/s did not complete", angle, velocity))
   -- Normal rebound speed along the final line of centres, for the restitution.
@@ -105,7 +122,7 @@ local head_on_slope
 for _, angle in ipairs(angles) do
   local sum_vf, sum_vv, sum_v, sum_f, rows = 0, 0, 0, 0, {}
   for _, v in ipairs(velocities) do
-    local result = impact(angle, v)
+    local result = impact_run(angle, v)
     record:append("impacts", { angle, v, result.max_normal_force, result.max_overlap, result.restitution,
                                result.contact_duration })
     rows[#rows + 1] = { v, result.max_normal_force }

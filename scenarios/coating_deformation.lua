@@ -30,7 +30,7 @@ local p = parameters {
   hard_host_young = { default = 6.6e9, above = 0, unit = "Pa", doc = "Young's modulus of the harder host (Fig. 4.30)" },
   young_min = { default = 1e9, above = 0, unit = "Pa", doc = "first host modulus of the hardness sweep" },
   young_max = { default = 30e9, above = 0, unit = "Pa", doc = "last host modulus of the hardness sweep" },
-  packing_ratio = { default = coating.DEFAULT_PACKING_RATIO, unit = "-", doc = "guest coverage (B.6)" },
+  packing_ratio = { default = coating.DEFAULT_PACKING_RATIO, above = 0, max = 1, unit = "-", doc = "guest coverage (B.6), in (0, 1]" },
   points = { default = 41, integer = true, min = 2, max = 10000, unit = "-", doc = "points per sweep (log-spaced)" },
 }
 

@@ -28,6 +28,31 @@ for _, pair in ipairs { { "glass", "glass" }, { "glass", "steel" } } do
 end
 local cone_height = (p.bin_radius - p.outlet_radius) / math.tan(math.rad(p.half_angle))
 sim:wall_mesh { name = "hopper", file = p.file, material = "steel" }
+-- The parameters place the fill and the gate; the file is the hopper. Every
+-- vertex must lie on the surface they describe (radius outlet_radius + z
+-- tan(half_angle) up the cone, bin_radius up the bin, z from 0 to the bin's
+-- top), within 0.1 % of bin_radius (an STL stores single precision), else the
+-- beads would be filled through the wall or beside it.
+do
+  local top = cone_height + p.bin_height
+  local tolerance = 1e-3 * p.bin_radius
+  local worst, at = 0, nil
+  local z_low, z_high = math.huge, -math.huge
+  for _, v in ipairs(require("granule.mesh_shapes").vertices(p.file)) do
+    local z = v[3]
+    z_low, z_high = math.min(z_low, z), math.max(z_high, z)
+    local expected = z < cone_height and p.outlet_radius + z * math.tan(math.rad(p.half_angle)) or p.bin_radius
+    local off = math.abs(math.sqrt(v[1] ^ 2 + v[2] ^ 2) - expected)
+    if off > worst then worst, at = off, v end
+  end
+  if worst > tolerance or math.abs(z_low) > tolerance or math.abs(z_high - top) > tolerance then
+    error(string.format("hopper_mesh: file '%s' is not the hopper of bin_radius=%g m, bin_height=%g m, " ..
+      "outlet_radius=%g m, half_angle=%g deg (outlet at z = 0, top at z = %.4g m): its vertices span z = %.4g to " ..
+      "%.4g m, and the one at (%.4g, %.4g, %.4g) lies %.3g m off that surface; give the parameters the file " ..
+      "was made with (tools/make_hopper_stl.py)", p.file, p.bin_radius, p.bin_height, p.outlet_radius,
+      p.half_angle, top, z_low, z_high, at and at[1] or 0, at and at[2] or 0, at and at[3] or 0, worst))
+  end
+end
 sim:wall_plane { name = "gate", point = { 0, 0, 0 }, normal = { 0, 0, 1 }, material = "steel" }
 sim:fill { region = { cylinder = { center = { 0, 0, 0 }, radius = p.bin_radius - p.radius,
                                    z_min = cone_height, z_max = cone_height + p.bin_height } },

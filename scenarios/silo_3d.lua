@@ -23,6 +23,11 @@ local p = parameters {
   window_end = { default = 1.2, unit = "s", doc = "steady window end, after the opening" },
   count_every = { default = 100, integer = true, min = 1, doc = "steps between counts of discharged spheres" },
 }
+-- The window is checked before the run: the discharge stage lasts until its end.
+if not (p.window_start >= 0 and p.window_start < p.window_end) then
+  error(string.format("window_start=%g s and window_end=%g s: need 0 <= window_start < window_end",
+    p.window_start, p.window_end))
+end
 local d, D, Rs = p.diameter, p.orifice, p.silo_diameter / 2
 assert(D > 2 * d and D < 2 * Rs, "orifice must lie between two sphere diameters and the silo's")
 local density, g = 2500, 9.81

@@ -10,7 +10,7 @@ local granule = require "granule"
 -- 1. Parameters: what someone may want to change from the command line (-D name=value).
 local p = parameters {
   rpm = { default = 30, unit = "1/min", doc = "drum speed" },
-  particles = { default = 100, integer = true, min = 1, max = 1e6, doc = "number of beads" },
+  particles = { default = 100, integer = true, min = 1, max = 500, doc = "number of beads (the fill overlaps them: more burst out of the drum)" },
   radius = { default = 1e-3, above = 0, unit = "m", doc = "bead radius" },
   drum_radius = { default = 20e-3, above = 0, unit = "m" },
   settle = { default = 0.5, min = 0, unit = "s", doc = "longest time allowed to settle" },
@@ -75,9 +75,12 @@ sim:every { steps = 100, function(s)
   s:append("profile", profile_row)
 end }
 
--- 9. Settle until the beads are nearly at rest, then turn the drum.
+-- 9. Settle until the beads are nearly at rest, then turn the drum. Beads let go
+-- at rest are calm before they fall: not before a bead from the top of the drum
+-- could have fallen its diameter, in sqrt(2 * 2R / g).
+local fall_time = math.sqrt(4 * p.drum_radius / 9.81)
 granule.stage(sim, { name = "settle", duration = p.settle, check_every = 500,
-                     stop_when = function(s) return s:stats().kinetic_energy < 1e-7 end })
+                     stop_when = function(s) return s:time() > fall_time and s:stats().kinetic_energy < 1e-7 end })
 sim:set_wall("drum", { angular_velocity = granule.rpm(p.rpm) })
 local energy, samples = 0, 0
 sim:every { steps = 100, function(s)

@@ -17,13 +17,19 @@ local p = parameters {
   host_radius = { default = 200e-6, unit = "m", doc = "host particle radius (Table 4.2: 400 um diameter)" },
   guest_radius = { default = 2.5e-6, unit = "m", doc = "guest particle radius (5 um diameter)" },
   velocity = { default = 1.0, unit = "m/s", doc = "relative impact velocity of the two hosts" },
-  packing_ratio = { default = coating.DEFAULT_PACKING_RATIO, unit = "-", doc = "guest coverage of the host surface (B.6)" },
+  packing_ratio = { default = coating.DEFAULT_PACKING_RATIO, above = 0, max = 1, unit = "-", doc = "guest coverage of the host surface (B.6), in (0, 1]" },
   host_young = { default = 0, unit = "Pa", doc = "override the host's Young's modulus (0: material's)" },
   host_yield = { default = 0, unit = "Pa", doc = "override the host's yield stress (0: material's)" },
   collisions = { default = "", doc = "CSV of host-host collisions for the minimum coating time (4.7)" },
-  hosts = { default = 1500, unit = "-", doc = "number of host particles N (4.7)" },
-  patches_per_contact = { default = 1, unit = "-", doc = "contact patches counted per collision (4.7: 1)" },
+  hosts = { default = 1500, integer = true, min = 1, unit = "-", doc = "number of host particles N (4.7; with collisions)" },
+  patches_per_contact = { default = 1, above = 0, unit = "-", doc = "contact patches counted per collision (4.7: 1; with collisions)" },
 }
+-- hosts and patches_per_contact only enter the minimum coating time, which
+-- needs the collisions file: given without it they would change nothing.
+if p.collisions == "" and (p.hosts ~= 1500 or p.patches_per_contact ~= 1) then
+  error(string.format("hosts=%g and patches_per_contact=%g are for the minimum coating time: give " ..
+    "-D collisions=FILE.csv with them", p.hosts, p.patches_per_contact))
+end
 
 local host = materials.get(p.host)
 if p.host_young ~= 0 then host.young_modulus_pa = p.host_young end

@@ -22,6 +22,7 @@ that is still going can be inspected up to its last flush.
 
 import argparse
 import os
+import re
 import sys
 
 import h5py
@@ -234,9 +235,17 @@ def column_list(text):
     return [c.strip() for c in text.split(",") if c.strip()]
 
 
+NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
+
+
 def run_tool(parser, work):
     """Runs work(args) with parsed arguments, prints the files it returns, and turns a
     GranuleH5Error into a one-line message and exit status 1."""
+    # argparse takes "-1e-3" for an option, its pattern for negative numbers
+    # knowing no exponent (Python 3.11): --slab -1e-3 1e-3 would be refused.
+    # No tool has an option that looks like a number, so a value may be any
+    # negative number.
+    parser._negative_number_matcher = NEGATIVE_NUMBER
     args = parser.parse_args()
     try:
         written = work(args)

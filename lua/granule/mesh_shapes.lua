@@ -87,4 +87,44 @@ function shapes.box(o)
   return write(o.file or temp_path("box"), vertices, faces)
 end
 
+--- shapes.vertices(path) -> { { x, y, z }, ... }
+--- The vertices of a mesh file as sim:wall_mesh reads it (STL binary or
+--- ASCII, OBJ), one entry per triangle corner for an STL, in the file's
+--- units: for a scene to check that a CAD file is the geometry its
+--- parameters describe.
+function shapes.vertices(path)
+  local where = "mesh_shapes.vertices"
+  need(type(path) == "string", where, "path must be a string")
+  local f, err = io.open(path, "rb")
+  need(f, where, "cannot open '" .. path .. "': " .. tostring(err))
+  local data = f:read("a")
+  f:close()
+  local vertices = {}
+  -- A binary STL: an 80-byte header, a count n, then n records of 50 bytes
+  -- (normal, three corners as little-endian floats, an attribute word).
+  if #data >= 84 then
+    local n = string.unpack("<I4", data, 81)
+    if #data == 84 + 50 * n then
+      for t = 0, n - 1 do
+        local at = 84 + 50 * t + 12 + 1
+        for corner = 0, 2 do
+          local x, y, z = string.unpack("<fff", data, at + 12 * corner)
+          vertices[#vertices + 1] = { x, y, z }
+        end
+      end
+      return vertices
+    end
+  end
+  local number = "([-+]?[%d%.]+[eE]?[-+]?%d*)"
+  local stl = "^%s*vertex%s+" .. number .. "%s+" .. number .. "%s+" .. number
+  local obj = "^%s*v%s+" .. number .. "%s+" .. number .. "%s+" .. number
+  for line in data:gmatch("[^\r\n]+") do
+    local x, y, z = line:match(stl)
+    if not x then x, y, z = line:match(obj) end
+    if x then vertices[#vertices + 1] = { tonumber(x), tonumber(y), tonumber(z) } end
+  end
+  need(#vertices > 0, where, "no vertices in '" .. path .. "' (STL binary or ASCII, OBJ)")
+  return vertices
+end
+
 return shapes
