@@ -110,7 +110,7 @@ struct ThorntonJkr {
     double separation_overlap = 0;   // alpha_f of this contact (<= 0)
     bool peeled = false;             // Eq. 6.21 reached: Mindlin-Deresiewicz from now on
     char zero_padding[7] = {};       // written as bytes: zeros, not the heap's (thornton_elastic)
-    double cbrt_radius = 0;          // cbrt(R*), once per contact (R* is the pair's)
+    double cbrt_radius = 0;          // cbrt(R*), taken again only when R* changes (a wall's)
   };
 
   template <int D>
@@ -219,7 +219,11 @@ struct ThorntonJkr {
       h = History<D>{};
       return out;
     }
-    if (fresh || !(h.cbrt_radius > 0)) h.cbrt_radius = std::cbrt(r);
+    // A pair's R* is constant; a sphere sliding along a cone, or from a polyline's
+    // segment onto its arc, meets another one, and the separation overlap alpha_f and
+    // the solver's brackets (Eqs. 6.14-6.17) go with the R* of the step.
+    const double cube = h.cbrt_radius * h.cbrt_radius * h.cbrt_radius;
+    if (fresh || !(std::abs(cube - r) <= 1e-12 * r)) h.cbrt_radius = std::cbrt(r);
     const double cbrt_r = h.cbrt_radius;
     const double alpha_f = -p.alpha_coef * cbrt_r;  // separation_overlap(gamma, r, e)
     if (!(c.overlap > alpha_f)) {                   // no longer in contact

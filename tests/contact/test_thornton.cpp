@@ -702,6 +702,55 @@ TEST_CASE(
 }
 
 TEST_CASE(
+    "thornton: a JKR contact whose R* changes (a sphere along a cone) separates at the "
+    "alpha_f of its present R*, with the force of that R*",
+    "[thornton][jkr]") {
+  const double gamma = 0.2;
+  const auto p = jkr_params(mu, gamma);
+  const double e = p.elastic.e_star;
+  const double r_big = radius, r_small = radius / 2;
+  const double f_big = ThorntonJkr::separation_overlap(gamma, r_big, e);
+  const double f_small = ThorntonJkr::separation_overlap(gamma, r_small, e);
+  REQUIRE(f_big < f_small);  // alpha_f ~ -R*^{1/3}: a larger R* holds on to a wider gap
+  const double between = 0.5 * (f_big + f_small);
+  // Touches at R* = r_first and is pulled out to `to` in 100 steps.
+  auto touch_then_pull = [&](double r_first, double to, ThorntonJkr::History<3>& h) {
+    auto c = state<3>(Eigen::Vector3d(0, 1, 0), 1e-8, Eigen::Vector3d::Zero(), 1e-9, 1e-8, r_first);
+    ThorntonJkr::force<3>(p, h, c);
+    for (int k = 1; k <= 100; ++k) {
+      c.overlap = 1e-8 + k * (to - 1e-8) / 100;
+      ThorntonJkr::force<3>(p, h, c);
+    }
+    return c;
+  };
+  // Moving onto a smaller R*: at `between` the contact is past its new alpha_f, so it ends.
+  ThorntonJkr::History<3> shrinking;
+  auto c = touch_then_pull(r_big, between, shrinking);
+  REQUIRE(shrinking.contact_radius > 0);
+  c.effective_radius = r_small;
+  const auto gone = ThorntonJkr::force<3>(p, shrinking, c);
+  CHECK(gone.normal == 0);
+  CHECK(shrinking.contact_radius == 0);
+  CHECK_FALSE(ThorntonJkr::touching(p, shrinking, between));
+  // Moving onto a larger R*, then pulled to a gap the first R* could not hold: it lasts,
+  // its force that of a contact of the larger R* all along (the same path at r_big).
+  ThorntonJkr::History<3> growing, direct;
+  auto g = touch_then_pull(r_small, 0.5 * f_small, growing);
+  auto d = touch_then_pull(r_big, 0.5 * f_small, direct);
+  REQUIRE(growing.contact_radius > 0);
+  g.effective_radius = r_big;
+  for (int k = 1; k <= 50; ++k) {
+    g.overlap = d.overlap = 0.5 * f_small + k * (between - 0.5 * f_small) / 50;
+    REQUIRE(ThorntonJkr::touching(p, growing, g.overlap));
+    const auto fg = ThorntonJkr::force<3>(p, growing, g);
+    const auto fd = ThorntonJkr::force<3>(p, direct, d);
+    CHECK(fg.normal == Approx(fd.normal).epsilon(1e-9));
+  }
+  CHECK(growing.contact_radius > 0);
+  CHECK(growing.separation_overlap == Approx(f_big).epsilon(1e-14));
+}
+
+TEST_CASE(
     "thornton: a JKR impact loses the work of the separation loop, 7.09 (Gamma^5 R*^4/E*^2)^{1/3}, "
     "and sticks below the matching velocity",
     "[thornton][jkr]") {
