@@ -4,7 +4,7 @@ run. Usage: corrupt_checkpoints.py GRANULE SOURCE_DIR WORK_DIR
 Makes one good checkpoint of tests/scenes/restart.lua, then copies of it with one entry
 damaged each (an index table out of range, a negative inverse mass, a time step above
 the stability limit, a short array, NaN, an entry left out, an array of another shape or
-type) and two files that are not checkpoints (truncated, garbage); prints
+type, a bit flipped on disk) and two files that are not checkpoints (truncated, garbage); prints
 "corrupt_checkpoints ok" when every one was refused as it must be.
 """
 import os
@@ -81,6 +81,19 @@ cases = [  # (file, the text the message must hold)
     (damaged("history_bytes", replace("bytes", "pairs.walton_braun.history", lambda d: d[:-3])),
      "'pairs.walton_braun.history'"),
 ]
+# One bit of a position flipped on disk, past HDF5 (a bad sector): the value is still a
+# plausible number, so only the array's checksum tells.
+flipped = os.path.join(work, "flipped_bit.chk.h5")
+shutil.copy(good, flipped)
+with h5py.File(flipped, "r") as f:
+    dataset = f["checkpoint/doubles/particles.position"]
+    offset = dataset.id.get_chunk_info(0).byte_offset
+with open(flipped, "r+b") as f:
+    f.seek(offset + 8 * 3 + 2)  # the fourth double's third byte: its mantissa
+    byte = f.read(1)[0]
+    f.seek(offset + 8 * 3 + 2)
+    f.write(bytes([byte ^ 0x10]))
+cases.append((flipped, "particles.position"))
 truncated = os.path.join(work, "truncated.chk.h5")
 with open(good, "rb") as f:
     data = f.read()
