@@ -75,6 +75,11 @@ PolylineSurface::PolylineSurface(Polyline line) : x_(std::move(line.points)), cl
           "has radius 0)",
           s + 1, R));
   }
+  lo_ = hi_ = x_[0];
+  for (std::size_t s = 0; s < seg_.size(); ++s) {  // a segment lies within its chord's circle
+    lo_ = lo_.cwiseMin(middle_[s] - Eigen::Vector2d::Constant(half_chord_[s]));
+    hi_ = hi_.cwiseMax(middle_[s] + Eigen::Vector2d::Constant(half_chord_[s]));
+  }
 }
 
 double PolylineSurface::reach_from(const Eigen::Vector2d& point) const {
@@ -159,8 +164,18 @@ PolylineHit PolylineSurface::closest(std::uint32_t s, const Eigen::Vector2d& x) 
   return h;
 }
 
+PolylineHit PolylineSurface::nearest(const Eigen::Vector2d& x) const {
+  PolylineHit best = closest(0, x);
+  for (std::uint32_t s = 1; s < seg_.size(); ++s) {
+    const PolylineHit h = closest(s, x);
+    if (h.distance < best.distance) best = h;
+  }
+  return best;
+}
+
 bool PolylineSurface::encloses(const Eigen::Vector2d& x) const {
   if (!closed_) return false;
+  if (!(x.x() >= lo_.x() && x.x() <= hi_.x() && x.y() >= lo_.y() && x.y() <= hi_.y())) return false;
   bool inside = false;
   for (std::size_t s = 0; s < seg_.size(); ++s) {
     const Eigen::Vector2d &a = x_[seg_[s][0]], &b = x_[seg_[s][1]];

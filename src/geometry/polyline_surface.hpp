@@ -78,8 +78,11 @@ class PolylineSurface {
 
   // Whether x lies inside a closed chain (false for an open one): inside the
   // polygon of its chords, changed wherever an arc's bulge (the part of its
-  // disk between chord and arc) covers x.
+  // disk between chord and arc) covers x. Outside the chain's bounding box at
+  // the cost of four comparisons.
   bool encloses(const Eigen::Vector2d& x) const;
+  // The point of the whole chain nearest x (its normal from the chain to x).
+  PolylineHit nearest(const Eigen::Vector2d& x) const;
 
   // The closest point of segment s to x.
   PolylineHit closest(std::uint32_t s, const Eigen::Vector2d& x) const;
@@ -106,6 +109,7 @@ class PolylineSurface {
   // The segments that end at each point (before it) and start there (after
   // it); -1 where the open chain ends.
   std::vector<std::array<std::int64_t, 2>> around_;
+  Eigen::Vector2d lo_, hi_;  // a box holding every segment (arcs by their chord's circle)
   bool closed_ = false;
 };
 

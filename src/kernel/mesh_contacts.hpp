@@ -43,7 +43,21 @@ void resolve_mesh_contacts(WallBucket<D, M>& b, const Particles<D>& p,
     const std::uint32_t i = b.particle[k0];
     const double r = p.radius[i];
     Hit hit[K];
-    const int found = m->surface->contacts(m->to_mesh(p.position[i]), r, r + reach, hit, &tested);
+    int found = m->surface->contacts(m->to_mesh(p.position[i]), r, r + reach, hit, &tested);
+    if constexpr (D == 2) {
+      // A disk whose centre got inside a solid polyline (a hard impact carried it over
+      // the line, as an overlapping fill's first steps can) is pushed back out through
+      // the nearest point of the chain, as an analytic cylinder pushes it out from its
+      // axis: one contact, its normal outward, its overlap r + the centre's depth. A
+      // chain's contacts alone would push it on inwards once the centre crossed.
+      if (m->solid && m->surface->encloses(m->to_mesh(p.position[i]))) {
+        hit[0] = m->surface->nearest(m->to_mesh(p.position[i]));
+        hit[0].normal = -hit[0].normal;
+        hit[0].distance = -hit[0].distance;
+        hit[0].curvature_radius = 0;  // flat: the push-out's stiffness no arc's R* sets
+        found = 1;
+      }
+    }
     const Wall<D>& w = walls[b.wall[k0]];
     bool taken[K] = {};
     int part_of[K];

@@ -146,7 +146,7 @@ return {
   {"material", "string", "", true, "what the wall is made of"},
   {"points", "list", "m", true, "{ {x, y}, ... }: at least 2; segment k joins points k and k + 1"},
   {"closed", "boolean", "", false, "true: a last segment joins the last point to the first; default false"},
-  {"solid", "boolean", "", false, "closed only: its inside is a body, where sim:fill places no particle; default false (a closed polyline may hold particles)"},
+  {"solid", "boolean", "", false, "closed only: its inside is a body, where sim:fill places no particle and out of which a particle whose centre got in (a hard impact) is pushed through the nearest point of the line; default false (a closed polyline may hold particles)"},
   {"arcs", "list", "", false, "{ { segment = k, radius = R }, ... }: segment k is a circular arc of signed radius R (m; > 0 bulges to the left of the segment's direction, |R| >= half the chord); default none"},
   {"velocity", "vector", "m/s", false, "translation velocity; default zero"},
   {"angular_velocity", "number", "rad/s", false, "counter-clockwise about axis_point; default 0"},

@@ -171,7 +171,11 @@ void list_walls(WallBucket<D, M>& bucket, int model, const Particles<D>& p,
       if (e.model != model) continue;
       int parts = 1;
       if (is_surface_wall(walls[w].type)) {
-        if (!meshes.near(w, p.position[i], p.radius[i] + skin)) continue;
+        // (A centre inside a solid polyline, whatever its distance from the chain, is
+        // pushed out: resolve_mesh_contacts.)
+        if (!meshes.near(w, p.position[i], p.radius[i] + skin) &&
+            !meshes.inside_solid(w, p.position[i]))
+          continue;
         parts = MeshSet<D>::Shape::max_hits;
       } else if (walls[w].clearance(p.position[i], p.radius[i]) >= skin) {
         continue;
