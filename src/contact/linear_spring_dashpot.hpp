@@ -107,10 +107,26 @@ struct LinearSpringDashpot {
   // 2 / omega of the stiffer of the contact's modes: the normal spring's, and
   // with friction the tangential spring's, omega_t^2 = 3.5 k_t / m*
   // (tangential_mass_factor). The default k_t = 2/7 k_n makes the two equal.
+  // And the dashpots': an explicit dashpot c stops the relative motion of mass m
+  // in one step at c dt / m = 1 and reverses it beyond (an impact at e -> 0 then
+  // rebounds faster than it came: t_c grows as 1/sqrt(1 - zeta^2), so the rule's
+  // t_c / n does too). The engine accepts half of this limit, so 2 m / c here:
+  // 1 / (zeta omega_n) for c_n = 2 zeta sqrt(k_n m*), and with friction
+  // 1 / (3.5 r_t zeta omega_n) for c_t = r_t c_n on the tangential mode's mass
+  // m* / 3.5. (Held to c dt / m <= 1 with omega dt <= 1, leap-frog's damped
+  // oscillator, omega^2 dt^2 + 4 zeta omega dt < 4, is stable too.)
   static double stability_limit(const Params& p, const PairScale& s) {
     const double k =
         p.friction > 0 ? std::max(p.k_normal, tangential_mass_factor * p.k_tangential) : p.k_normal;
-    return 2.0 / std::sqrt(k / s.effective_mass);
+    double limit = 2.0 / std::sqrt(k / s.effective_mass);
+    const double zeta_omega = p.damping_ratio * std::sqrt(p.k_normal / s.effective_mass);
+    if (zeta_omega > 0) {
+      limit = std::min(limit, 1.0 / zeta_omega);
+      if (p.friction > 0 && p.tangential_damping_ratio > 0)
+        limit = std::min(limit,
+                         1.0 / (tangential_mass_factor * p.tangential_damping_ratio * zeta_omega));
+    }
+    return limit;
   }
 
   template <int D>

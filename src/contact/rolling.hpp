@@ -219,7 +219,14 @@ struct WithRolling {
     }
     h.rolling = spring;
     if (r.damping == 0) return spring;
-    const S total = spring - (2 * r.damping * std::sqrt(inertia * k_r)) * w_r;
+    // The dashpot C_r = 2 eta_r sqrt(I_r k_r) acts on the particles' own inertia: at
+    // C_r dt (1/I_i + 1/I_j) > 1 one step would more than stop w_r and, past 2, make
+    // it grow step by step (a resting sphere spun up to the torque cap). Held at 1, a
+    // dashpot too strong for the step stops the relative spin in one step, as the
+    // constant model's torque does.
+    const double c_r =
+        std::min(2 * r.damping * std::sqrt(inertia * k_r), 1.0 / (inv_inertia_sum * c.dt));
+    const S total = spring - c_r * w_r;
     const double total_sq = Dim<D>::spin_sq(total);
     return total_sq > cap * cap ? S(total * (cap / std::sqrt(total_sq))) : total;
   }
