@@ -51,7 +51,7 @@ return {
  "The simulations created in this session, oldest first (the REPL binds the last one to `sim`).", {}, ""},
 {"pairs", "global", P, "pairs(t) -> next, t, nil",
  "Lua's pairs, in an order fixed by the keys: numbers by value, then false, true, then strings by their bytes, then keys of other types (tables, functions) in Lua's own order; a table with a __pairs metamethod is iterated by it. Lua 5.4 seeds its string hashes anew in every process, so its own order would make a scene that builds one group per key of a table build them in another order each run (and a restart replay them out of order).",
- {{"1", "table", "", true, "the table"}}, "for name, count in pairs { top = 2, bottom = 3 } do print(name, count) end"},
+ {{"1", "table", "", true, "the table"}}, "{ top = 2, bottom = 3 }"},
 {"wall_time", "global", P, "wall_time() -> s",
  "Seconds of wall-clock time from an arbitrary origin, for timing runs (os.clock counts the CPU time of every thread).", {}, ""},
 {"GRANULE_VERSION", "global", V, "GRANULE_VERSION", "The program's version, a string.", {}},

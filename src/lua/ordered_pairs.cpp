@@ -64,6 +64,8 @@ int ordered_next(lua_State* L) {
 
 int ordered_pairs(lua_State* L) {
   luaL_checkany(L, 1);
+  if (lua_gettop(L) > 1)
+    return luaL_error(L, "pairs takes one table, got %d arguments", lua_gettop(L));
   if (luaL_getmetafield(L, 1, "__pairs") != LUA_TNIL) {  // as Lua's own pairs
     lua_pushvalue(L, 1);
     lua_call(L, 1, 3);
