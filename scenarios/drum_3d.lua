@@ -58,6 +58,8 @@ local filled, why = pcall(sim.fill, sim, {
   region = { cylinder = { center = { 0, 0, 0 }, radius = fill_radius, z_min = 0, z_max = p.length } },
   count = p.particles, radius = p.radius, material = "glass", seed = p.seed, overlap = false })
 if not filled then
+  -- A stop (Ctrl-C, SIGTERM) during the fill is the stop, not a drum too small.
+  if tostring(why):find("interrupted", 1, true) then error(why, 0) end
   error(string.format("drum_3d: particles=%d beads of radius=%g m do not fit a drum of drum_radius=%g m, " ..
     "length=%g m%s (%s)", p.particles, p.radius, p.drum_radius, p.length,
     p.drum == "mesh" and string.format(", facets=%d", p.facets) or "", tostring(why)))

@@ -49,24 +49,25 @@ local file = sim:output { snapshot_every = 0.05 }
 -- error, v = -(P - P_lid) A / (k_servo), capped at 0.2 m/s; k_servo is the
 -- stiffness of a layer of beads under that load, so the lid settles within a
 -- few of its oscillations without bouncing. P_lid is the mean over those 20
--- steps, not the last step's force: a lid closing on the beads at constant
+-- steps (sampled every 4th: each sample is a journaled call, kept in the
+-- checkpoints), not the last step's force: a lid closing on the beads at constant
 -- speed for 20 steps feels its largest force at the end of them, and where its
 -- contacts come and go (low pressure, fast shear) a servo on that last force
 -- held the mean stress well under `pressure` (63 Pa for 100 Pa).
 local area = p.length * p.width
 local lid_speed_x = 0
 local servo_gain = 0.02 / (p.pressure * area)  -- m/s per N of stress error
-local servo_steps, force_sum, force_steps = 20, 0, 0
+local servo_samples, sample_every, force_sum, force_steps = 5, 4, 0, 0
 local function servo(s)
   force_sum, force_steps = force_sum + s:wall("lid").force[2], force_steps + 1
-  if force_steps < servo_steps then return end
+  if force_steps < servo_samples then return end
   local stress = force_sum / force_steps / area  -- the beads push the lid up: force +y
   force_sum, force_steps = 0, 0
   local v = servo_gain * (stress - p.pressure) * area
   v = math.max(-0.2, math.min(0.2, v))
   s:set_wall("lid", { velocity = { lid_speed_x, v, 0 } })
 end
-sim:every { steps = 1, servo }
+sim:every { steps = sample_every, servo }
 -- The lid starts at the loose fill's height and closes at 0.02 m/s while it
 -- touches nothing: the stage allows that travel and half a second more.
 granule.stage(sim, { name = "compress", duration = fill_height / 0.02 + 0.5, check_every = 2000, stop_when = function(s)

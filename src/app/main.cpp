@@ -31,6 +31,7 @@
 #include "io/h5_output.hpp"
 #include "io/rank_files.hpp"
 #include "lua/api_docs.hpp"
+#include "lua/journal.hpp"
 #include "lua/run_progress.hpp"
 #include "lua/scene.hpp"
 
@@ -152,6 +153,8 @@ void keep_files_on_rank(lua_State* L) {
           return 1;
         },
         1);
+    // Journaled as rank 0's is (journal_clocks): a restart replays one journal.
+    granule::lua::push_journaled(L, "os.tmpname", granule::lua::Journal::Kind::observe);
     lua_setfield(L, -2, "tmpname");
   }
   lua_pop(L, 1);

@@ -148,9 +148,9 @@ void Simulation<D>::choose_time_step() {
       dt_ = dt_fixed_;
       if (dt_ >= rule.stability_limit)
         throw InputError(fmt::format(
-            "time_step {:.4g} s is above the stability limit 1/omega = {:.4g} s of {} (half of "
-            "leap-frog's 2/omega: with fewer than pi steps per contact an impact gains energy): "
-            "refused{}",
+            "time_step {:.4g} s is above the stability limit {:.4g} s of {} (half of leap-frog's "
+            "2/omega for its stiffest mode, less where a dashpot would more than stop the pair in "
+            "one step: beyond it an impact gains energy): refused{}",
             dt_, rule.stability_limit, rule.limit_pair, rolling_hint));
       if (dt_ > rule.rule * (1 + 1e-9)) {
         // Said once per rule: a ramp re-checks it every step it changes a law.
@@ -174,13 +174,15 @@ void Simulation<D>::choose_time_step() {
     // The automatic dt is t_c / n (Eq. 4.1): a small n puts it beyond the limit
     // as surely as a time_step does (n = 1 gives restitution 3 with Walton-Braun,
     // 17 with Hertz), so it is refused the same way. The limit is 1/omega, so
-    // linear and Walton-Braun laws accept n > pi; Hertz and Thornton, whose rule
-    // is 8 T_R / n against a limit of T_R / 2, n > 16.
+    // undamped linear and Walton-Braun laws accept n > pi; Hertz and Thornton, whose
+    // rule is 8 T_R / n against a limit of T_R / 2, n > 16. A linear law's dashpots
+    // lower the limit near e = 0 (linear_spring_dashpot.hpp).
     if (!(dt_fixed_ > 0) && dt_ >= rule.stability_limit)
       throw InputError(fmt::format(
           "steps_per_contact = {} gives a time step {:.4g} s (Eq. 4.1 for {}), above the "
-          "stability limit 1/omega = {:.4g} s of {} (half of leap-frog's 2/omega: with fewer than "
-          "pi steps per contact an impact gains energy): refused; raise steps_per_contact{}",
+          "stability limit {:.4g} s of {} (half of leap-frog's 2/omega for its stiffest mode, "
+          "less where a dashpot would more than stop the pair in one step: beyond it an impact "
+          "gains energy): refused; raise steps_per_contact{}",
           steps_per_contact_, dt_, rule.governing_pair, rule.stability_limit, rule.limit_pair,
           rolling_hint));
   } else if (dt_ == 0) {

@@ -473,9 +473,9 @@ void Simulation<D>::load_state(const StateBlob& s) {
     const TimeStepReport rule = time_step_rule();
     if (!(dt_ < rule.stability_limit))
       throw InputError(fmt::format(
-          "checkpoint: 'meta' time_step {:.4g} s is above the stability limit 1/omega = {:.4g} s "
-          "of {}: refused",
-          dt_, rule.stability_limit, rule.governing_pair));
+          "checkpoint: 'meta' time_step {:.4g} s is above the stability limit {:.4g} s of {}: "
+          "refused",
+          dt_, rule.stability_limit, rule.limit_pair));
   }
   smallest_radius_ = INFINITY;
   for (const double r : p_.radius) smallest_radius_ = std::min(smallest_radius_, r);

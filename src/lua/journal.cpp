@@ -38,7 +38,7 @@ void Journal::start_replay(std::vector<std::uint8_t> recorded, int recorded_form
         "(it reads 1 to {}); continue it with the granule that wrote it",
         recorded_format, format));
   bytes_ = std::move(recorded);
-  replay_digests_ = recorded_format >= 2;
+  format_in_use_ = recorded_format;
   calls_replayed_ = 0;
   cursor_ = 0;
   apply_ = std::move(apply);
@@ -181,14 +181,23 @@ void add_value(Fnv1a& f, lua_State* L, int index, Seen& seen, int depth) {
       luaL_checkstack(L, 4, "journal: a call's arguments nest too deep");
       push_ordered_keys(L, index);
       const lua_Integer n = static_cast<lua_Integer>(lua_rawlen(L, -1));
+      // Keys that are tables, functions or userdata come in an order their addresses set,
+      // which differs between processes: they count by their number alone.
+      std::uint64_t by_address = 0;
       for (lua_Integer k = 1; k <= n; ++k) {
-        lua_rawgeti(L, -1, k);
+        const int key_type = lua_rawgeti(L, -1, k);
+        if (key_type != LUA_TNUMBER && key_type != LUA_TSTRING && key_type != LUA_TBOOLEAN) {
+          ++by_address;
+          lua_pop(L, 1);
+          continue;
+        }
         add_value(f, L, -1, seen, depth + 1);
         lua_rawget(L, index);
         add_value(f, L, -1, seen, depth + 1);
         lua_pop(L, 1);
       }
       lua_pop(L, 1);
+      f.add(&by_address, sizeof by_address);
       add_byte(f, '}');
       break;
     }
@@ -210,7 +219,8 @@ void Journal::record_call(const char* name, std::uint64_t arguments) {
   took_results_ = false;  // this call's results are new: they are journaled
   put_byte(tag_call);
   put_interned(name, std::strlen(name));
-  for (int k = 0; k < 8; ++k) put_byte(static_cast<std::uint8_t>(arguments >> (8 * k)));
+  if (format_in_use_ >= 2)
+    for (int k = 0; k < 8; ++k) put_byte(static_cast<std::uint8_t>(arguments >> (8 * k)));
   ++entries_;
 }
 
@@ -408,7 +418,7 @@ void Journal::expect_call(const char* name, std::uint64_t arguments, bool check_
         "called {} where that run called {} ({})",
         name, recorded, another_path_why));
   ++calls_replayed_;
-  if (replay_digests_) {
+  if (format_in_use_ >= 2) {
     std::uint64_t recorded_arguments = 0;
     for (int k = 0; k < 8; ++k)
       recorded_arguments |= static_cast<std::uint64_t>(get_byte()) << (8 * k);
@@ -668,7 +678,9 @@ void journal_clocks(lua_State* L) {
   // The clocks are inputs like the engine's results; a restarted scene sees the times
   // the first run saw.
   lua_getglobal(L, "os");
-  for (const char* name : {"time", "clock", "date"}) {
+  // os.tmpname too: a new name in every process, which a call's arguments then hold
+  // (granule.mesh_shapes writes its meshes there).
+  for (const char* name : {"time", "clock", "date", "tmpname"}) {
     lua_getfield(L, -1, name);
     push_journaled(L, (std::string("os.") + name).c_str(), Journal::Kind::observe);
     lua_setfield(L, -2, name);

@@ -53,6 +53,9 @@ class Journal {
   // The journal's format: 2 keeps each call's argument digest (1, without, is replayed
   // by the name of each call alone).
   static constexpr int format = 2;
+  // The format of these bytes: a journal continued from a format-1 checkpoint goes on
+  // in format 1, since its checkpoints hold the old entries and the new together.
+  int format_in_use() const { return format_in_use_; }
 
   // Starts replaying `recorded`, a journal of format `recorded_format`; `apply` is
   // called once, at the moment the journal is used up (then recording resumes,
@@ -109,7 +112,7 @@ class Journal {
   std::size_t entries_ = 0;
   std::size_t calls_replayed_ = 0;
   bool replaying_ = false;
-  bool replay_digests_ = true;  // the journal being replayed keeps argument digests
+  int format_in_use_ = format;  // of bytes_: the recorded journal's, once replaying
   bool took_results_ = false;
   std::function<void()> apply_;
   std::unordered_map<std::string, std::uint64_t> interned_;  // recording: string -> number
@@ -121,7 +124,7 @@ class Journal {
 void push_journaled(lua_State* L, const char* name, Journal::Kind kind);
 // How the method `name` of a simulation is journaled (build, observe, run, checkpoint).
 Journal::Kind journal_kind(const std::string& method);
-// Journals the scene's clocks (os.time, os.clock, os.date, wall_time) and seeds
+// Journals the scene's clocks (os.time, os.clock, os.date, wall_time) and os.tmpname, and seeds
 // math.random with a fixed seed, so that a scene's run depends on nothing unjournaled.
 void journal_clocks(lua_State* L);
 

@@ -338,7 +338,8 @@ int noting_searcher(lua_State* L) {
   lua_call(L, given, LUA_MULTRET);
   SceneContext* ctx = context(L);
   if (ctx && lua_gettop(L) >= 2 && lua_isfunction(L, 1) && lua_type(L, 2) == LUA_TSTRING) {
-    const std::string path = lua_tostring(L, 2);
+    // Absolute: a restart run from another folder finds the same file.
+    const std::string path = std::filesystem::absolute(lua_tostring(L, 2)).string();
     std::ifstream in(path, std::ios::binary);
     std::stringstream text;
     text << in.rdbuf();

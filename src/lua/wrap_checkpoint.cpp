@@ -187,7 +187,8 @@ void write_checkpoint_now(LuaSim& s, const std::string& path, bool in_run) {
   // which run was going on, and how far the open output had got.
   SceneContext* ctx = s.context;
   if (ctx && ctx->journal) state.bytes["lua.journal"] = ctx->journal->bytes();
-  state.integers["lua.journal_format"] = {Journal::format};
+  state.integers["lua.journal_format"] = {ctx && ctx->journal ? ctx->journal->format_in_use()
+                                                              : Journal::format};
   state.texts["lua.overrides"] = ctx ? overrides_text(*ctx) : std::string();
   state.texts["lua.scene_source"] = ctx ? ctx->scene_source : std::string();
   if (ctx) {  // "digest path" lines, in the order the scene required them

@@ -1,8 +1,26 @@
 -- Scenes whose restart must either continue the first run or be refused by name
 -- (tests/scenes/restart_trust_test.py runs each case).
 local p = parameters {
-  case = { default = "pairs", doc = "pairs | args | module | pcall | prerun | views" },
+  case = { default = "pairs", doc = "pairs | args | module | mesh | pcall | prerun | views" },
 }
+if p.case == "mesh" then
+  -- A mesh written to a file os.tmpname names (another name in every process), which
+  -- sim:wall_mesh is given: the restart replays the first run's name.
+  local shapes = require "granule.mesh_shapes"
+  local sim = simulation { dimension = 3 }
+  sim:material { name = "g", density = 2500 }
+  sim:contact { "g", "g", model = "linear", k_normal = 1e3, restitution = 0.5 }
+  local path = shapes.prism { center = { 0, 0 }, radius = 5e-3, facets = 12, z_min = 0, z_max = 2e-3 }
+  sim:wall_mesh { name = "drum", file = path, material = "g" }
+  os.remove(path)
+  sim:add_particle { position = { 0, -3e-3, 1e-3 }, radius = 0.5e-3, material = "g" }
+  sim:gravity { 0, -9.81, 0 }
+  sim:run { duration = 2e-3 }
+  sim:save_checkpoint("trust.chk.h5")
+  sim:run { duration = 2e-3 }
+  print(string.format("mesh done, y %.17g", sim:particle(0).position[2]))
+  return
+end
 local sim = simulation { dimension = 2 }
 sim:material { name = "g", density = 2500 }
 sim:contact { "g", "g", model = "walton_braun", k_load = 2e4, restitution = 0.8, friction = 0.3 }

@@ -8,6 +8,7 @@ Cases of tests/scenes/restart_trust.lua, each in a folder of its own:
 - args: a call given other values at the restart than in the run that wrote the
   checkpoint (a count read from the environment) is refused, naming the call;
 - module: a module the scene requires, changed after the checkpoint, is refused;
+- mesh: a mesh written to a file os.tmpname names restarts (the name is journaled);
 - pcall: a scene that catches its runs' errors still stops on SIGTERM (status 143);
 - prerun: a signal before the first step writes no checkpoint and says so;
 - views: a restart whose replayed past reads sim:arrays() warns that the values kept
@@ -90,6 +91,17 @@ def module_case(work):
     print("module: a module changed since the checkpoint is refused")
 
 
+def mesh_case(work):
+    d = case_folder(work, "mesh")
+    whole = run(d, "mesh")
+    if whole.returncode != 0:
+        fail("mesh: the whole run failed", whole)
+    r = run(d, "mesh", "--restart", "trust.chk.h5")
+    if r.returncode != 0 or r.stdout != whole.stdout:
+        fail(f"mesh: the restart did not print the whole run's line {whole.stdout!r}", r)
+    print("mesh: a mesh file named by os.tmpname restarts (the name is journaled)")
+
+
 def pcall_case(work):
     d = case_folder(work, "pcall")
     p = subprocess.Popen([GRANULE, "run", SCENE, "-D", "case=pcall", "-q"], cwd=d, env=ENV,
@@ -141,6 +153,7 @@ def views_case(work):
 
 
 with tempfile.TemporaryDirectory() as work:
-    for case in (pairs_case, args_case, module_case, pcall_case, prerun_case, views_case):
+    for case in (pairs_case, args_case, module_case, mesh_case, pcall_case, prerun_case,
+                 views_case):
         case(work)
 print("restart trust: all passed")
