@@ -165,6 +165,12 @@ std::string continue_hint(const SceneContext* ctx, const std::string& checkpoint
 
 std::string checkpoint_between_runs(SceneContext& ctx) {
   LuaSim* s = ctx.first_simulation;
+  // A restart stopped while it still replays the scene's past has nothing new to keep.
+  if (ctx.journal && ctx.journal->replaying() && !ctx.restart_path.empty() && ctx.rank == 0)
+    return fmt::format(
+        "; the restart was still replaying the scene's past, so no checkpoint was written: "
+        "continue from {} again",
+        ctx.restart_path);
   // Ranks would each stop at another point of the script: no common state to keep.
   if (!s || !s->sim || ctx.repl || ctx.ranks > 1 || (ctx.journal && ctx.journal->replaying()))
     return "";

@@ -1,7 +1,7 @@
 -- Scenes whose restart must either continue the first run or be refused by name
 -- (tests/scenes/restart_trust_test.py runs each case).
 local p = parameters {
-  case = { default = "pairs", doc = "pairs | args | module | mesh | pcall | prerun | views" },
+  case = { default = "pairs", doc = "pairs | args | module | mesh | pcall | prerun | replay_stop | views" },
 }
 if p.case == "mesh" then
   -- A mesh written to a file os.tmpname names (another name in every process), which
@@ -80,6 +80,18 @@ elseif p.case == "prerun" then
   local x = 0
   for k = 1, 1e10 do x = x + math.sin(k) end
   sim:run { duration = 1e-3 }
+elseif p.case == "replay_stop" then
+  -- Lua work in the past the restart replays (as long as the environment says: it is no
+  -- engine call's argument), stopped there by the test.
+  fill(12, 1, -2e-3)
+  sim:run { duration = 1e-3 }
+  print("busy")
+  io.stdout:flush()
+  local x = 0
+  for k = 1, tonumber(os.getenv("GRANULE_TRUST_LOOP") or "10") do x = x + math.sin(k) end
+  sim:save_checkpoint("trust.chk.h5")
+  sim:run { duration = 1e-3 }
+  print("replay_stop done")
 elseif p.case == "views" then
   fill(12, 1, -2e-3)
   local P = sim:arrays()

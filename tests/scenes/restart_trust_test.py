@@ -11,6 +11,8 @@ Cases of tests/scenes/restart_trust.lua, each in a folder of its own:
 - mesh: a mesh written to a file os.tmpname names restarts (the name is journaled);
 - pcall: a scene that catches its runs' errors still stops on SIGTERM (status 143);
 - prerun: a signal before the first step writes no checkpoint and says so;
+- replay_stop: a signal while a restart replays the past says to continue from the same
+  checkpoint, which then continues;
 - views: a restart whose replayed past reads sim:arrays() warns that the values kept
   from them differ.
 
@@ -141,6 +143,28 @@ def prerun_case(work):
     print("prerun: a stop before the first step writes no checkpoint and says so")
 
 
+def replay_stop_case(work):
+    d = case_folder(work, "replay_stop")
+    r = run(d, "replay_stop")
+    if r.returncode != 0:
+        fail("replay_stop: the whole run failed", r)
+    p = subprocess.Popen([GRANULE, "run", SCENE, "-D", "case=replay_stop", "-q", "--restart",
+                          "trust.chk.h5"], cwd=d, env=dict(ENV, GRANULE_TRUST_LOOP="1e10"),
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    if p.stdout.readline().strip() != "busy":
+        p.kill()
+        sys.exit("replay_stop: the restart did not reach its busy loop")
+    time.sleep(0.3)
+    p.send_signal(signal.SIGINT)
+    out, err = p.communicate(timeout=60)
+    if p.returncode != 130 or "continue from trust.chk.h5 again" not in err:
+        sys.exit(f"replay_stop: status {p.returncode}, stderr: {err}")
+    r = run(d, "replay_stop", "--restart", "trust.chk.h5")
+    if r.returncode != 0 or "replay_stop done" not in r.stdout:
+        fail("replay_stop: the same checkpoint did not continue afterwards", r)
+    print("replay_stop: a stop while a restart replays says to continue from the same file")
+
+
 def views_case(work):
     d = case_folder(work, "views")
     r = run(d, "views")
@@ -154,6 +178,6 @@ def views_case(work):
 
 with tempfile.TemporaryDirectory() as work:
     for case in (pairs_case, args_case, module_case, mesh_case, pcall_case, prerun_case,
-                 views_case):
+                 replay_stop_case, views_case):
         case(work)
 print("restart trust: all passed")
