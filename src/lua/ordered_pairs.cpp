@@ -62,6 +62,41 @@ int ordered_next(lua_State* L) {
   }
 }
 
+// Whether the keys of the table at `index` are exactly 1..#t: that order is already
+// fixed by the keys, and the walk needs neither a list of them nor a sort.
+bool is_sequence(lua_State* L, int index, lua_Integer& n) {
+  n = static_cast<lua_Integer>(lua_rawlen(L, index));
+  lua_Integer count = 0;
+  lua_pushnil(L);
+  while (lua_next(L, index) != 0) {
+    lua_pop(L, 1);
+    const lua_Integer k = lua_isinteger(L, -1) ? lua_tointeger(L, -1) : 0;
+    if (k < 1 || k > n) {
+      lua_pop(L, 1);
+      return false;
+    }
+    ++count;
+  }
+  return count == n;
+}
+
+// upvalue 1: the last index handed out; upvalue 2: the sequence's length at the start.
+int sequence_next(lua_State* L) {
+  luaL_checktype(L, 1, LUA_TTABLE);
+  const lua_Integer n = lua_tointeger(L, lua_upvalueindex(2));
+  for (lua_Integer at = lua_tointeger(L, lua_upvalueindex(1)) + 1; at <= n; ++at) {
+    if (lua_rawgeti(L, 1, at) != LUA_TNIL) {  // a field the loop set to nil is skipped
+      lua_pushinteger(L, at);
+      lua_copy(L, -1, lua_upvalueindex(1));
+      lua_insert(L, -2);
+      return 2;
+    }
+    lua_pop(L, 1);
+  }
+  lua_pushnil(L);
+  return 1;
+}
+
 int ordered_pairs(lua_State* L) {
   luaL_checkany(L, 1);
   if (lua_gettop(L) > 1)
@@ -72,9 +107,16 @@ int ordered_pairs(lua_State* L) {
     return 3;
   }
   luaL_checktype(L, 1, LUA_TTABLE);
-  push_ordered_keys(L, 1);
-  lua_pushinteger(L, 0);
-  lua_pushcclosure(L, ordered_next, 2);
+  lua_Integer n = 0;
+  if (is_sequence(L, 1, n)) {
+    lua_pushinteger(L, 0);
+    lua_pushinteger(L, n);
+    lua_pushcclosure(L, sequence_next, 2);
+  } else {
+    push_ordered_keys(L, 1);
+    lua_pushinteger(L, 0);
+    lua_pushcclosure(L, ordered_next, 2);
+  }
   lua_pushvalue(L, 1);
   lua_pushnil(L);
   return 3;
