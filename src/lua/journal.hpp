@@ -53,6 +53,8 @@ class Journal {
   // The journal's format: 2 keeps each call's argument digest (1, without, is replayed
   // by the name of each call alone).
   static constexpr int format = 2;
+  // Tables nested deeper than this are neither kept nor digested.
+  static constexpr int max_depth = 64;
   // The format of these bytes: a journal continued from a format-1 checkpoint goes on
   // in format 1, since its checkpoints hold the old entries and the new together.
   int format_in_use() const { return format_in_use_; }

@@ -39,6 +39,22 @@ def fail(what, r):
     sys.exit(f"{what} (status {r.returncode})\nstdout: {r.stdout}\nstderr: {r.stderr}")
 
 
+def signal_after(cwd, case, line, signum, delay, *extra, env=None):
+    """Runs the case until it prints `line`, waits `delay` s, sends `signum`; returns
+    the status and everything it printed (stdout from that line on, stderr)."""
+    p = subprocess.Popen([GRANULE, "run", SCENE, "-D", f"case={case}", "-q", *extra], cwd=cwd,
+                         env=env or ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                         text=True)
+    first = p.stdout.readline()
+    if first.strip() != line:
+        p.kill()
+        sys.exit(f"{case}: expected {line!r}, got {first!r}")
+    time.sleep(delay)
+    p.send_signal(signum)
+    out, err = p.communicate(timeout=120)
+    return p.returncode, first + out, err
+
+
 def case_folder(work, name):
     path = os.path.join(work, name)
     os.makedirs(path)
@@ -106,38 +122,22 @@ def mesh_case(work):
 
 def pcall_case(work):
     d = case_folder(work, "pcall")
-    p = subprocess.Popen([GRANULE, "run", SCENE, "-D", "case=pcall", "-q"], cwd=d, env=ENV,
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    first = p.stdout.readline()
-    if first.strip() != "stage 1":
-        p.kill()
-        sys.exit(f"pcall: expected 'stage 1', got {first!r}")
-    time.sleep(1.0)
-    p.send_signal(signal.SIGTERM)
-    out, err = p.communicate(timeout=120)
-    out = first + out
+    status, out, err = signal_after(d, "pcall", "stage 1", signal.SIGTERM, 1.0)
     # The scene's own Lua goes on to its end; its engine calls after the stop fail.
     later = [line for line in out.splitlines() if line.startswith(("stage 2 ", "stage 3 "))]
-    if p.returncode != 143 or len(later) != 2 or \
+    if status != 143 or len(later) != 2 or \
             not all("sim:run: the scene was stopped" in line for line in later):
         sys.exit(f"pcall: a caught SIGTERM did not stop the scene's runs (status "
-                 f"{p.returncode})\nstdout: {out}\nstderr: {err}")
+                 f"{status})\nstdout: {out}\nstderr: {err}")
     print("pcall: a scene that catches its run's stop runs no more and ends with status 143")
 
 
 def prerun_case(work):
     d = case_folder(work, "prerun")
-    p = subprocess.Popen([GRANULE, "run", SCENE, "-D", "case=prerun", "-q", "--checkpoint",
-                          "pre.chk.h5"], cwd=d, env=ENV, stdout=subprocess.PIPE,
-                         stderr=subprocess.PIPE, text=True)
-    if p.stdout.readline().strip() != "busy":
-        p.kill()
-        sys.exit("prerun: the scene did not reach its busy loop")
-    time.sleep(0.3)
-    p.send_signal(signal.SIGINT)
-    out, err = p.communicate(timeout=60)
-    if p.returncode != 130 or "no checkpoint was written" not in err:
-        sys.exit(f"prerun: status {p.returncode}, stderr: {err}")
+    status, _, err = signal_after(d, "prerun", "busy", signal.SIGINT, 0.3, "--checkpoint",
+                                  "pre.chk.h5")
+    if status != 130 or "no checkpoint was written" not in err:
+        sys.exit(f"prerun: status {status}, stderr: {err}")
     if os.path.exists(os.path.join(d, "pre.chk.h5")):
         sys.exit("prerun: a checkpoint was written before the first step")
     print("prerun: a stop before the first step writes no checkpoint and says so")
@@ -148,17 +148,10 @@ def replay_stop_case(work):
     r = run(d, "replay_stop")
     if r.returncode != 0:
         fail("replay_stop: the whole run failed", r)
-    p = subprocess.Popen([GRANULE, "run", SCENE, "-D", "case=replay_stop", "-q", "--restart",
-                          "trust.chk.h5"], cwd=d, env=dict(ENV, GRANULE_TRUST_LOOP="1e10"),
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    if p.stdout.readline().strip() != "busy":
-        p.kill()
-        sys.exit("replay_stop: the restart did not reach its busy loop")
-    time.sleep(0.3)
-    p.send_signal(signal.SIGINT)
-    out, err = p.communicate(timeout=60)
-    if p.returncode != 130 or "continue from trust.chk.h5 again" not in err:
-        sys.exit(f"replay_stop: status {p.returncode}, stderr: {err}")
+    status, _, err = signal_after(d, "replay_stop", "busy", signal.SIGINT, 0.3, "--restart",
+                                  "trust.chk.h5", env=dict(ENV, GRANULE_TRUST_LOOP="1e10"))
+    if status != 130 or "continue from trust.chk.h5 again" not in err:
+        sys.exit(f"replay_stop: status {status}, stderr: {err}")
     r = run(d, "replay_stop", "--restart", "trust.chk.h5")
     if r.returncode != 0 or "replay_stop done" not in r.stdout:
         fail("replay_stop: the same checkpoint did not continue afterwards", r)
