@@ -70,7 +70,9 @@ elseif p.case == "pcall" then
     print("stage " .. stage)
     io.stdout:flush()
     local ok, err = pcall(sim.run, sim, { duration = 5 })
-    print("stage " .. stage .. (ok and " ran" or " failed: " .. tostring(err):sub(1, 80)))
+    -- The message without its "file:line: " (its length depends on where the tree is).
+    local message = tostring(err):gsub("^.-:%d+: ", ""):match("[^\n]*")
+    print("stage " .. stage .. (ok and " ran" or " failed: " .. message))
   end
   print("pcall went on to its end")
 elseif p.case == "prerun" then
