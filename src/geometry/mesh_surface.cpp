@@ -50,6 +50,7 @@ MeshSurface::MeshSurface(Triangles mesh)
   compress(x_.size(), vertex_tri, vertex_start_, vertex_tris_);
   lo_ = hi_ = x_[0];
   for (const auto& v : x_) lo_ = lo_.cwiseMin(v), hi_ = hi_.cwiseMax(v);
+  seam_ = 1e-6 * (hi_ - lo_).norm();
 }
 
 double MeshSurface::reach_from(const Eigen::Vector3d& point) const {
@@ -168,7 +169,8 @@ void MeshSurface::build_grid(double reach) {
       for (std::int64_t j = a[1]; j <= b[1]; ++j)
         for (std::int64_t k = a[2]; k <= b[2]; ++k) {
           const Eigen::Vector3d centre = lo_ + cell * Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5);
-          if (closest(t, centre).distance > half_diagonal) continue;
+          // (with slack for the rounding of cells far larger than the triangle)
+          if (closest(t, centre).distance > half_diagonal * (1 + 1e-9)) continue;
           cell_tri.push_back(
               {static_cast<std::uint32_t>((i * grid_.n[1] + j) * grid_.n[2] + k), t});
         }
@@ -212,6 +214,14 @@ bool MeshSurface::near(const Eigen::Vector3d& x, double within) const {
   return false;
 }
 
+bool MeshSurface::shares(std::uint32_t t, const MeshHit& h) const {
+  const bool edge = h.feature == MeshFeature::edge;
+  const auto& start = edge ? edge_start_ : vertex_start_;
+  const auto& around = edge ? edge_tris_ : vertex_tris_;
+  return std::find(around.begin() + start[h.element], around.begin() + start[h.element + 1], t) !=
+         around.begin() + start[h.element + 1];
+}
+
 int MeshSurface::contacts(const Eigen::Vector3d& x, double radius, double within, MeshHit* out,
                           std::int64_t* tested) const {
   thread_local std::vector<std::uint32_t> near_tris;
@@ -234,21 +244,26 @@ int MeshSurface::contacts(const Eigen::Vector3d& x, double radius, double within
   // Two closest points closer than this are one contact (the same point found
   // by two triangles of a flat patch, rounded differently).
   const double same = 1e-6 * radius;
-  for (const MeshHit& h : hits) {
+  // A surface passing this near an edge or corner point touches it: a crack
+  // narrower than this, or a corner of a T-junction a rounding off the long
+  // edge, is joined (a thousandth of the radius, far inside a contact's patch,
+  // or the single-precision rounding of the mesh's size; never a tenth of the
+  // radius, at which a hole's rim holds distinct contacts).
+  const double touching = std::min(0.1 * radius, std::max(1e-3 * radius, seam_));
+  for (std::size_t i = 0; i < hits.size(); ++i) {
+    const MeshHit& h = hits[i];
     if (h.feature != MeshFeature::face) {
-      // An edge or corner point belongs to every triangle around it: each of
-      // those is at least as near, and the first of them owns the contact (if
-      // its closest point is elsewhere, this point is no minimum at all).
-      const bool edge = h.feature == MeshFeature::edge;
-      const auto& start = edge ? edge_start_ : vertex_start_;
-      const auto& around = edge ? edge_tris_ : vertex_tris_;
-      const std::uint32_t* begin = around.data() + start[h.element];
-      const std::uint32_t* end = around.data() + start[h.element + 1];
+      // An edge or corner point belongs to every triangle that passes through
+      // it: each of those is at least as near, and the first of them owns the
+      // contact (if its closest point is elsewhere, this point is no minimum
+      // at all). Those are the nearer hits: the triangles around the edge or
+      // corner by the mesh's topology, and any other that touches the point
+      // (an unjoined seam, a T-junction, the hole a removed sliver left).
       bool owned = false;
-      for (const std::uint32_t* s = begin; s != end && !owned; ++s) {
-        if (*s == h.triangle) continue;
-        const MeshHit other = closest(*s, x);
-        owned = before(other, h);
+      for (std::size_t k = 0; k < i && !owned; ++k) {
+        if (hits[k].triangle == h.triangle) continue;
+        owned =
+            shares(hits[k].triangle, h) || closest(hits[k].triangle, h.point).distance <= touching;
       }
       if (owned) continue;
     }

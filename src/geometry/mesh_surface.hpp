@@ -97,6 +97,8 @@ class MeshSurface {
   // The triangles listed in the cells a sphere of radius `within` at x overlaps,
   // each once, in increasing order.
   void candidates(const Eigen::Vector3d& x, double within, std::vector<std::uint32_t>& out) const;
+  // Whether triangle t is one of those around h's edge or corner.
+  bool shares(std::uint32_t t, const MeshHit& h) const;
   std::vector<Eigen::Vector3d> x_;
   std::vector<std::array<std::uint32_t, 3>> tri_;
   std::vector<Eigen::Vector3d> normal_;
@@ -108,6 +110,7 @@ class MeshSurface {
   TriangleGrid grid_;
   double flat_angle_ = default_flat_angle;
   double flat_cos_ = 0;  // cos(flat_angle_); above 1 when no two contacts are merged
+  double seam_ = 0;      // 1e-6 of the mesh's diagonal: its single-precision rounding, about
 };
 
 }  // namespace granule

@@ -80,6 +80,7 @@ PolylineSurface::PolylineSurface(Polyline line) : x_(std::move(line.points)), cl
     lo_ = lo_.cwiseMin(middle_[s] - Eigen::Vector2d::Constant(half_chord_[s]));
     hi_ = hi_.cwiseMax(middle_[s] + Eigen::Vector2d::Constant(half_chord_[s]));
   }
+  seam_ = 1e-6 * (hi_ - lo_).norm();
 }
 
 double PolylineSurface::reach_from(const Eigen::Vector2d& point) const {
@@ -224,15 +225,23 @@ int PolylineSurface::contacts(const Eigen::Vector2d& x, double radius, double wi
   // Two closest points closer than this are one contact (a joint of a
   // straight chain found by both its segments, rounded differently).
   const double same = 1e-6 * radius;
-  for (const PolylineHit& h : hits) {
+  // A segment passing this near a joint touches it (an end placed on another
+  // segment up to a rounding): as MeshSurface::contacts.
+  const double touching = std::min(0.1 * radius, std::max(1e-3 * radius, seam_));
+  for (std::size_t i = 0; i < hits.size(); ++i) {
+    const PolylineHit& h = hits[i];
     if (h.feature == MeshFeature::vertex) {
       // A joint belongs to both segments there: the other is at least as
       // near, and if it is nearer (or as near with a lower index) it owns
-      // the contact, or this point is no minimum at all.
+      // the contact, or this point is no minimum at all. So does any nearer
+      // segment that passes through the point without being joined to it.
       bool owned = false;
-      for (const std::int64_t other : around_[h.element])
-        if (other >= 0 && other != h.triangle)
-          owned = owned || before(closest(static_cast<std::uint32_t>(other), x), h);
+      for (std::size_t k = 0; k < i && !owned; ++k) {
+        const std::uint32_t other = hits[k].triangle;
+        if (other == h.triangle) continue;
+        owned = other == around_[h.element][0] || other == around_[h.element][1] ||
+                closest(other, h.point).distance <= touching;
+      }
       if (owned) continue;
     }
     bool repeated = false;

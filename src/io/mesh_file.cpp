@@ -24,7 +24,8 @@ std::vector<std::string> MeshFileReport::warnings(const std::string& path) const
                               degenerate_removed, triangles_read));
   if (open_edges)
     out.push_back(
-        fmt::format("mesh '{}': {} open edge(s) (the surface is not closed; harmless for a wall)",
+        fmt::format("mesh '{}': {} open edge(s) (the surface is not closed, or has seams or "
+                    "T-junctions, which act as joined; harmless for a wall)",
                     path, open_edges));
   if (non_manifold_edges)
     out.push_back(fmt::format(

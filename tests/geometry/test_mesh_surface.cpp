@@ -207,3 +207,66 @@ TEST_CASE("mesh surface: a shallow concave fold gives one contact, the nearer, a
   CHECK_THROWS_WITH(s.set_flat_angle(90), Catch::Contains("flat_angle must be in [0, 90)"));
   CHECK_THROWS_WITH(s.set_flat_angle(-1), Catch::Contains("flat_angle"));
 }
+
+TEST_CASE("mesh surface: an unjoined seam, a T-junction and a crack give the plane's one contact",
+          "[mesh]") {
+  // A floor z = 0, [-1, 1] x [-1, 1], cut along x = 0 into a left and a right
+  // half whose corners on the cut are not shared: moved apart by `gap` (a
+  // crack), or the right half's edge split at y = 0.3 (a T-junction). A sphere
+  // anywhere near the cut rests on one contact at the plane's depth, as on the
+  // joined floor; a sphere over a crack wider than the contact can feel holds
+  // two.
+  auto floor = [](double gap, bool t_junction) {
+    Triangles m;
+    m.vertices = {{-1, -1, 0}, {-gap, -1, 0}, {-gap, 1, 0}, {-1, 1, 0},
+                  {0, -1, 0},  {1, -1, 0},    {1, 1, 0},    {0, 1, 0}};
+    m.triangles = {{0, 1, 2}, {0, 2, 3}};
+    if (t_junction) {
+      m.vertices.push_back({0, 0.3, 0});  // 8: on the left half's long edge
+      m.triangles.insert(m.triangles.end(), {{4, 5, 8}, {5, 6, 8}, {8, 6, 7}});
+    } else {
+      m.triangles.insert(m.triangles.end(), {{4, 5, 6}, {4, 6, 7}});
+    }
+    MeshSurface s(m);
+    s.build_grid(0.2);
+    return s;
+  };
+  const double r = 0.1, depth = 1e-4;
+  MeshHit hits[MeshSurface::max_hits];
+  for (const double gap : {0.0, 1e-12, 1e-9, 0.5e-3 * r}) {
+    for (const bool t_junction : {false, true}) {
+      if (t_junction && gap > 0) continue;
+      const MeshSurface s = floor(gap, t_junction);
+      // Across the cut, over the T's corner and beside it.
+      for (const double x : {-0.02, -0.004, -gap / 2, 0.0, 0.004, 0.02})
+        for (const double y : {-0.5, 0.3, 0.301, 0.7}) {
+          INFO("gap " << gap << " T " << t_junction << " at " << x << ", " << y);
+          REQUIRE(s.contacts(Vector3d(x, y, r - depth), r, r, hits) == 1);
+          // Over the crack itself the sphere dips into it: gap^2 / (8 r) deeper at most.
+          CHECK(hits[0].distance == Approx(r - depth).epsilon(1e-7));
+        }
+    }
+  }
+  // A crack of a tenth of the radius is a real gap: a sphere sunk into it rests on both lips.
+  const double half = 0.05 * r;
+  const MeshSurface wide = floor(2 * half, false);
+  REQUIRE(wide.contacts(Vector3d(-half, 0, std::sqrt(r * r - half * half) - depth), r, r, hits) ==
+          2);
+  for (int k = 0; k < 2; ++k) CHECK(hits[k].feature == MeshFeature::edge);
+}
+
+TEST_CASE("mesh surface: a far stray vertex does not hide the rest of the mesh", "[mesh]") {
+  // A 2 cm floor at the origin and one triangle 10^28 m away, in single
+  // precision as an STL file holds them: the grid's cells grow to ~10^21 m,
+  // and the floor, in the corner of the first, must stay listed there.
+  const double L = static_cast<float>(0.01), far = static_cast<float>(1e28);
+  Triangles m;
+  m.vertices = {{-L, -L, 0}, {L, -L, 0},  {L, L, 0},  {-L, L, 0},
+                {far, 0, 0}, {far, 1, 0}, {far, 0, 1}};
+  m.triangles = {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}};
+  MeshSurface s(m);
+  s.build_grid(1e-3);
+  MeshHit hits[MeshSurface::max_hits];
+  REQUIRE(s.contacts(Vector3d(0.001, 0.0013, 0.9e-3), 1e-3, 1e-3, hits) == 1);
+  CHECK(hits[0].distance == Approx(0.9e-3).epsilon(1e-12));
+}

@@ -483,3 +483,24 @@ TEST_CASE("polyline walls: bad input is refused naming the parameter", "[polylin
   in3.material = 0;
   CHECK_THROWS_WITH(s3.add_polyline_wall(in3), Contains("wall_mesh"));
 }
+
+TEST_CASE("polyline surface: a chain's end resting on its own floor is no second contact",
+          "[polyline]") {
+  // A floor from (-1, 0) to (1, 0), down, back under it and up to end on, or
+  // a rounding below, the floor's middle (an outline drawn without closing it
+  // exactly): a disk on the floor beside that end rests on the floor alone, as
+  // on a plain floor, not also on the end's corner.
+  const double r = 0.1, depth = 1e-4;
+  for (const double below : {0.0, 1e-13, 1e-9, 0.5e-3 * r}) {
+    Polyline line;
+    line.points = {{-1, 0}, {1, 0}, {1, -1}, {0, -1}, {0, -below}};
+    PolylineSurface s(line);
+    PolylineHit hits[PolylineSurface::max_hits];
+    for (const double x : {0.0, 0.002, 0.01}) {
+      INFO("end " << below << " m below the floor, disk at x = " << x);
+      REQUIRE(s.contacts(Vector2d(x, r - depth), r, r, hits) == 1);
+      CHECK(hits[0].distance == Approx(r - depth).epsilon(1e-12));
+      CHECK(hits[0].feature == MeshFeature::face);
+    }
+  }
+}
