@@ -82,12 +82,18 @@ struct ThorntonJkr {
     double s_hi_coef;   // cbrt(2 k): an upper bracket s_hi = s_hi_coef cbrt(R*)
   };
 
+  // The pair's Gamma: its own value, or (-1) the mean of its materials' values.
+  static double surface_energy_in(const ParamValues& v, const PairMaterials& m) {
+    const double given = v.at("surface_energy");
+    return given == -1.0 ? 0.5 * (m.a.surface_energy + m.b.surface_energy) : given;
+  }
+
   static Params make(const ParamValues& v, const PairMaterials& m) {
     Params p;
     p.elastic = ThorntonElastic::from_materials(v.at("friction"),
                                                 ThorntonElastic::shrink_rescale_in(v), m, name);
     const double given = v.at("surface_energy");
-    const double gamma = given == -1.0 ? 0.5 * (m.a.surface_energy + m.b.surface_energy) : given;
+    const double gamma = surface_energy_in(v, m);
     if (!(gamma >= 0) || !std::isfinite(gamma))
       throw InputError(fmt::format(
           "{} contact: 'surface_energy' must be >= 0 [J/m^2] (got {}{}); give it in the contact "

@@ -283,10 +283,7 @@ void Simulation<D>::prepare() {
   // Every position inside the periodic box: the force loops take minimum images
   // of separations between two positions in the box (Periodicity::wrap).
   if (periodic_.on())
-    for (auto& x : p_.position) {
-      double& c = x[periodic_.axis];
-      c -= periodic_.length * std::floor((c - periodic_.origin) / periodic_.length);
-    }
+    for (auto& x : p_.position) x[periodic_.axis] = periodic_.into_box(x[periodic_.axis]);
   // Particles must start inside every wall (their centres on the allowed side).
   for (std::size_t i = 0; i < p_.size(); ++i) {
     for (const auto& w : walls_) {

@@ -112,7 +112,10 @@ void Simulation<D>::refuse_beyond_memory(std::int64_t particles, const char* wha
 template <int D>
 std::int64_t Simulation<D>::add_particle(const ParticleSpec& s) {
   check_particle_input(s, "particle");
-  std::int64_t id = p_.add(to_vec(s.position), to_vec(s.velocity), to_spin(s.spin), s.radius,
+  V at = to_vec(s.position);
+  // Into the periodic box now, as set_position (and prepare(), for a box declared later).
+  if (periodic_.on()) at[periodic_.axis] = periodic_.into_box(at[periodic_.axis]);
+  std::int64_t id = p_.add(at, to_vec(s.velocity), to_spin(s.spin), s.radius,
                            materials_[s.material].density, s.material, s.fixed);
   position_at_rebuild_.push_back(p_.position.back());
   lists_valid_ = false;
@@ -279,10 +282,7 @@ void Simulation<D>::set_position(std::int64_t id, const Triple& x) {
   V at = to_vec(x);
   // Into the periodic box, as prepare() puts every particle: the force loops'
   // minimum images shift by one period only.
-  if (periodic_.on()) {
-    double& c = at[periodic_.axis];
-    c -= periodic_.length * std::floor((c - periodic_.origin) / periodic_.length);
-  }
+  if (periodic_.on()) at[periodic_.axis] = periodic_.into_box(at[periodic_.axis]);
   // Inside every wall, as prepare() holds an added particle to.
   for (const auto& w : walls_) {
     const double c = w.clearance(at, p_.radius[i]);

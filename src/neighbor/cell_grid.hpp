@@ -9,6 +9,7 @@
 // An optional periodic axis wraps the cell grid and uses the minimum image.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -22,6 +23,8 @@ struct Periodicity {
   double origin = 0;  // lower bound of the periodic box along `axis`, m
   double length = 0;  // m
   bool on() const { return axis >= 0; }
+  // A coordinate along `axis` moved into [origin, origin + length).
+  double into_box(double c) const { return c - length * std::floor((c - origin) / length); }
   // The minimum image of a separation d along the periodic axis, for |d| < 1.5
   // length (positions are kept inside the box, so any two differ by less than
   // one length). Branches instead of nearbyint, which is a library call on

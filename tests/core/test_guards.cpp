@@ -302,8 +302,10 @@ TEST_CASE("fill: along a periodic axis no particle overlaps one across the seam"
 // inside every wall. It used to place it anywhere: a particle moved 1.5
 // periods out missed its contact for a step; one moved outside a drum was
 // shot back in by the wall.
-TEST_CASE("guards: set_position wraps into the periodic box and refuses a place outside a wall",
-          "[guards]") {
+TEST_CASE(
+    "guards: set_position and add_particle wrap into the periodic box, a place outside a wall is "
+    "refused",
+    "[guards]") {
   std::vector<std::string> warnings;
   {
     Simulation<3> sim;
@@ -318,6 +320,13 @@ TEST_CASE("guards: set_position wraps into the periodic box and refuses a place 
     // 1.9 r from a, two periods out: overlapping a.
     sim.set_position(b, {0.5 * r + 1.9 * r + 2 * period, 0, 0});
     CHECK(sim.position(b)[0] == Approx(2.4 * r).epsilon(1e-12));
+    // So is an added particle, at once (not only when the next run prepares).
+    const std::int64_t c = particle(sim, 10 * r - 3 * period, 0, 0);
+    CHECK(sim.position(c)[0] == Approx(10 * r).epsilon(1e-12));
+    const std::int64_t d = particle(sim, -5 * r, 0, 0);
+    CHECK(sim.position(d)[0] == Approx(15 * r).epsilon(1e-12));
+    sim.remove_particle(c);
+    sim.remove_particle(d);
     sim.advance(1);
     CHECK(sim.stats().contacts_particle == 1);
     CHECK(sim.force(a)[0] < 0);  // b, on a's +x side, pushes a to -x

@@ -501,3 +501,21 @@ assert(sim:time_step() == big, "chosen afresh: " .. sim:time_step() .. " against
 )");
   CHECK(r.error == "");
 }
+
+TEST_CASE("lua: sim:contact_parameters reports the surface energy in effect", "[lua][contact]") {
+  // A JKR pair given no surface_energy takes the mean of its materials' values
+  // (ThorntonJkr::surface_energy_in); its own value, when given, is reported as given.
+  auto r = run_scene(R"(
+local sim = simulation { dimension = 3 }
+sim:material { name = "a", density = 2500, young = 1e8, poisson = 0.3, surface_energy = 0.1 }
+sim:material { name = "b", density = 2500, young = 1e8, poisson = 0.3, surface_energy = 0.3 }
+sim:contact { "a", "a", model = "thornton_jkr", friction = 0.3 }
+sim:contact { "a", "b", model = "thornton_jkr", friction = 0.3 }
+sim:contact { "b", "b", model = "thornton_jkr", friction = 0.3, surface_energy = 0.05 }
+local function gamma(x, y) return sim:contact_parameters(x, y).surface_energy end
+assert(gamma("a", "a") == 0.1, "a-a: " .. gamma("a", "a"))
+assert(math.abs(gamma("b", "a") - 0.2) < 1e-15, "a-b, the materials' mean: " .. gamma("b", "a"))
+assert(gamma("b", "b") == 0.05, "b-b, its own: " .. gamma("b", "b"))
+)");
+  CHECK(r.error == "");
+}
