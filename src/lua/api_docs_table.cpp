@@ -188,7 +188,7 @@ return {
 {"sim:add_particle", "simulation", T,
  "sim:add_particle { position =, radius =, material =, velocity =, spin =, fixed = } -> id",
  "Adds one particle and returns its persistent id.",
- {{"position", "vector", "m", true, "centre"},
+ {{"position", "vector", "m", true, "centre (along a periodic axis, wrapped into the box)"},
   {"radius", "number", "m", true, "> 0"},
   {"material", "string", "", true, "a declared material with density > 0"},
   {"velocity", "vector", "m/s", false, "default zero"},
