@@ -9,9 +9,19 @@
 // must not turn a clean stop into a kill. SIGTERM and SIGHUP are what a
 // scheduler sends at the end of a job's time and a closed terminal sends: a
 // run they stop keeps its checkpoint, as one stopped by Ctrl-C does.
+//
+// Under mpirun a rank's standard output is a pipe or terminal the launcher reads; once
+// mpirun itself is signalled it stops reading, and a scene that prints fills
+// the pipe and blocks in a write until mpirun kills it: no checkpoint. So on
+// the first signal such a rank's standard output stops blocking, and what the
+// scene prints after it may be lost instead.
 #pragma once
 
+#include <fcntl.h>
+#include <sys/stat.h>
+
 #include <csignal>
+#include <cstdlib>
 #include <ctime>
 #include <exception>
 #include <lua.hpp>
@@ -24,6 +34,18 @@ namespace granule::app {
 inline constexpr int interrupt_signals[] = {SIGINT, SIGTERM, SIGHUP};
 
 inline lua_State* interrupted_state = nullptr;
+inline volatile std::sig_atomic_t stdout_to_launcher = 0;
+
+// Started by a launcher (its variables set) with standard output a pipe, a socket or a
+// terminal (Open MPI gives rank 0 a pseudo-terminal it reads), not a file.
+inline bool stdout_read_by_launcher() {
+  bool launched = false;
+  for (const char* variable : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_SIZE"})
+    launched = launched || std::getenv(variable) != nullptr;
+  struct stat out {};
+  return launched && fstat(1, &out) == 0 &&
+         (S_ISFIFO(out.st_mode) || S_ISSOCK(out.st_mode) || S_ISCHR(out.st_mode));
+}
 inline volatile std::sig_atomic_t first_signal_seconds = 0;
 inline volatile std::sig_atomic_t first_signal_nanoseconds = 0;
 
@@ -69,6 +91,10 @@ inline void on_interrupt_signal(int signal_number) {
   first_signal_seconds = std::sig_atomic_t(t.tv_sec);
   first_signal_nanoseconds = std::sig_atomic_t(t.tv_nsec);
   lua::request_interrupt(signal_number);
+  if (stdout_to_launcher) {  // (fcntl is async-signal-safe)
+    const int flags = fcntl(1, F_GETFL);
+    if (flags >= 0) fcntl(1, F_SETFL, flags | O_NONBLOCK);
+  }
   // A run stops between two chunks of steps by itself; only script code outside runs
   // needs the Lua hook to stop.
   if (interrupted_state && !lua::run_active())
@@ -81,6 +107,7 @@ class InterruptScope {
   explicit InterruptScope(lua_State* L) {
     lua::clear_interrupt();
     interrupted_state = L;
+    stdout_to_launcher = stdout_read_by_launcher() ? 1 : 0;
     for (int s : interrupt_signals) std::signal(s, on_interrupt_signal);
   }
   ~InterruptScope() {
