@@ -69,6 +69,7 @@ RunOutcome run_in_chunks(SimulationBase& sim, const RunPlan& plan, CheckpointPla
     if (hooks.agreed) chunk = hooks.agreed(chunk);
     count_again();
     if (hooks.progress) hooks.progress(out.done - plan.done, sim.time());
+    if (hooks.between_chunks) hooks.between_chunks();
     if (check_every > 0 && (out.done % check_every == 0 || out.done == steps) &&
         hooks.stop_when()) {
       out.stopped = true;

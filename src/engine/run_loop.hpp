@@ -45,6 +45,7 @@ struct RunHooks {
   std::function<void(const std::string& path)> write_checkpoint;
   std::function<bool()> interrupt_pending;  // the user asked to stop (a signal)
   std::function<void(std::int64_t done, double time)> progress;
+  std::function<void()> between_chunks;  // after each chunk (the output's rows to disk)
   // A run spread over MPI ranks (engine/spread_run.hpp): the steps, and the
   // decisions every rank must take alike although each takes them from its own
   // clock or signals: "any rank says yes", and rank 0's chunk length. Empty:

@@ -137,6 +137,12 @@ void RunOutput::flush() {
   write_header();
   write_new_walls();
   file_->flush();
+  last_flush_ = std::chrono::steady_clock::now();
+}
+
+void RunOutput::flush_if_due() {
+  const auto now = std::chrono::steady_clock::now();
+  if (std::chrono::duration<double>(now - last_flush_).count() >= 1.0) flush();
 }
 
 SnapshotView RunOutput::view(const SimulationBase::FlatState& s,

@@ -1,10 +1,12 @@
 // Attaches HDF5 output to a running simulation: the scene's provenance
 // (source text, parameters, what is simulated), a time series of global
 // quantities, particle snapshots at set intervals, scene-declared series, and
-// the state at a failure. Everything is flushed as it is written, so a crash
-// keeps what was written before it.
+// the state at a failure. Snapshots reach the disk as they are written, series
+// rows at least once a second of a run (flush_if_due, between its chunks), so
+// a crash or a kill loses at most the last second's rows.
 #pragma once
 
+#include <chrono>
 #include <functional>
 #include <map>
 #include <memory>
@@ -62,6 +64,7 @@ class RunOutput final : public OutputSink {
   void write_failure(const std::string& message);            // finite particles + message
   void finish();                                             // final snapshot + flush
   void flush();  // everything written so far on disk; the file stays open for more
+  void flush_if_due();  // flush(), if a second of wall time has passed since the last
   const std::string& path() const { return settings_.path; }
   const RunOutputSettings& settings() const { return settings_; }
 
@@ -109,6 +112,7 @@ class RunOutput final : public OutputSink {
   std::int64_t last_series_step_ = -1;      // the step of /series' last row
   std::int64_t last_snapshot_digest_ = -1;  // of the last snapshot's particles (state_digest)
   bool finished_ = false;
+  std::chrono::steady_clock::time_point last_flush_ = std::chrono::steady_clock::now();
   // The step a run into this file failed at (-1: none): the diagnostics'
   // windows open then, holding that step's samples, are not written at the end
   // unless the scene went on (a REPL session, a pcall) and stepped since.

@@ -236,6 +236,7 @@ int l_run(lua_State* L) {
       return signal_number > 0;
     };
     if (progress) hooks.progress = [&](std::int64_t n, double time) { progress->update(n, time); };
+    if (s.output) hooks.between_chunks = [&] { s.output->flush_if_due(); };
     std::string interrupt_path = s.checkpoint.path;
     const bool at_prompt = ctx && ctx->repl;
     if (interrupt_path.empty() && at_prompt) {
