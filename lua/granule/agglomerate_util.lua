@@ -184,13 +184,35 @@ function agglomerate.random_positions(dimension, center, region_radius, radii, c
     for k = 1, dimension do parts[k] = math.floor(x[k] / cell) + (offset and offset[k] or 0) end
     return table.concat(parts, ",")
   end
-  for sweep = 1, max_sweeps do
+  local function build_grid()
     local grid = {}
     for i = 1, n do
       local name = cell_name(positions[i])
       grid[name] = grid[name] or {}
       table.insert(grid[name], i)
     end
+    return grid
+  end
+  -- Whether any two primaries overlap where they stand now (a sweep's pushes and
+  -- its clamp back into the region move pairs it has already passed).
+  local function any_overlap()
+    local grid = build_grid()
+    for i = 1, n do
+      local xi = positions[i]
+      for _, offset in ipairs(offsets) do
+        for _, j in ipairs(grid[cell_name(xi, offset)] or {}) do
+          if j > i then
+            local dist2 = 0
+            for k = 1, dimension do dist2 = dist2 + (positions[j][k] - xi[k]) ^ 2 end
+            if dist2 < (radii[i] + radii[j]) ^ 2 then return true end
+          end
+        end
+      end
+    end
+    return false
+  end
+  for sweep = 1, max_sweeps do
+    local grid = build_grid()
     local overlapping = false
     for i = 1, n do
       local xi = positions[i]
@@ -226,7 +248,7 @@ function agglomerate.random_positions(dimension, center, region_radius, radii, c
         for k = 1, dimension do x[k] = x[k] * reach / math.sqrt(r2) end
       end
     end
-    if not overlapping then
+    if not overlapping and not any_overlap() then
       for i = 1, n do
         for k = 1, dimension do positions[i][k] = positions[i][k] + center[k] end
       end
