@@ -312,6 +312,8 @@ class SimulationBase {
   bool canonical_order() const { return canonical_order_; }
   bool record_contacts() const { return record_contacts_; }
   void set_warning_handler(std::function<void(const std::string&)> f) { warn_ = std::move(f); }
+  // A warning through the handler (the bindings' too: what a file they read holds).
+  void warn(const std::string& message) const;
 
   // body forces
   virtual void set_gravity(const Triple& g) = 0;
@@ -528,7 +530,6 @@ class SimulationBase {
   const StageTimes& stage_times() const { return stage_times_; }
 
  protected:
-  void warn(const std::string& message) const;
   void fire_hooks();
   void fail(const std::string& message);  // calls the failure handler, throws RunError
 

@@ -4,6 +4,7 @@
 #include <hdf5.h>
 
 #include <filesystem>
+#include <limits>
 #include <stdexcept>
 #include <utility>
 
@@ -237,6 +238,16 @@ SnapshotData read_snapshot(const std::string& path, long index) {
   s.fixed = f.numbers<std::uint8_t>(g + "/fixed", H5T_NATIVE_UINT8, {n});
   if (f.has_attribute("/materials", "names"))
     s.material_names = f.string_attribute("/materials", "names");
+  for (const std::string& name : s.material_names) {
+    std::array<double, 3> properties;
+    const char* keys[] = {"density", "young", "poisson"};
+    for (int k = 0; k < 3; ++k)
+      properties[k] =
+          f.has_attribute("/materials/" + name, keys[k])
+              ? f.scalar_attribute<double>("/materials/" + name, keys[k], H5T_NATIVE_DOUBLE)
+              : std::numeric_limits<double>::quiet_NaN();
+    s.material_properties.push_back(properties);
+  }
   return s;
 }
 

@@ -5,6 +5,7 @@
 // flush. Every failure throws std::runtime_error naming the file and object.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -21,6 +22,9 @@ struct SnapshotData {
   std::vector<std::int32_t> material;
   std::vector<std::uint8_t> fixed;
   std::vector<std::string> material_names;  // from /materials attr names; empty if absent
+  // Each named material's density [kg/m^3], young [Pa] and poisson as the file
+  // recorded them (/materials/<name>); NaN where it did not.
+  std::vector<std::array<double, 3>> material_properties;
 };
 
 // Number of complete snapshots (the /snapshots attr count); 0 if the file has none.

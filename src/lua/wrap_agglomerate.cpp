@@ -216,6 +216,24 @@ int load_particles(lua_State* L, SimulationBase& sim) {
             "declare it or map it with material_map = {{ {} = \"...\" }}",
             saved_name, e.what(), saved_name));
       }
+      // Another density or elasticity gives the loaded particles other masses and
+      // their saved overlaps other forces: not the saved state (a prepared
+      // agglomerate out of balance). Said, not refused: a packing may be reused so.
+      if (static_cast<std::size_t>(saved) < s.material_properties.size()) {
+        const auto& was = s.material_properties[static_cast<std::size_t>(saved)];
+        const Material& now = sim.materials()[static_cast<std::size_t>(m)];
+        const double is[] = {now.density, now.young, now.poisson};
+        bool differs = false;
+        for (int k = 0; k < 3; ++k)
+          differs = differs || (std::isfinite(was[k]) &&
+                                std::abs(was[k] - is[k]) > 1e-12 * std::max(std::abs(was[k]), 1.0));
+        if (differs)
+          sim.warn(fmt::format(
+              "load_particles: {} saved '{}' with density {:g} kg/m^3, young {:g} Pa, poisson "
+              "{:g}; loaded as '{}' with density {:g}, young {:g}, poisson {:g}: the particles' "
+              "masses and their contacts' forces are not the saved state's",
+              file, saved_name, was[0], was[1], was[2], name, is[0], is[1], is[2]));
+      }
     }
     return m;
   };
