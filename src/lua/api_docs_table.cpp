@@ -355,7 +355,7 @@ return {
 {"sim:breakage", "simulation", T,
  "sim:breakage { initial_bonds =, particles = | material =, initial_mass =, initial_count =, large =, debris =, fines =, labels =, graph = }",
  "Damage and debris ratios and fragment classes against the initial bonds (dissertation 7.4-7.7); with parallel bonds (sim:bond) also parallel_bonds, parallel_bonds_broken and parallel_damage_ratio = broken / made.",
- {{"initial_bonds", "table", "", true, "sim:bonds {...} at the start"},
+ {{"initial_bonds", "table", "", true, "sim:bonds {...} at the start (a bond to a particle outside the selection that is still in the scene is left out; one to a particle since removed counts, broken)"},
   {"particles", "list", "", false, "only these ids"}, {"material", "string", "", false, "or only this material"},
   {"initial_mass", "number", "kg", false, "default: the mass of the particles now"},
   {"initial_count", "integer", "", false, "primaries before the test, for the classes by size; default: those selected"},

@@ -351,8 +351,19 @@ int fragments(lua_State* L, SimulationBase& sim) {
 
 int breakage(lua_State* L, SimulationBase& sim) {
   TableReader t(L, 2, "breakage");
-  const std::vector<Bond> initial = read_bonds(L, t, "initial_bonds");
+  std::vector<Bond> initial = read_bonds(L, t, "initial_bonds");
   const std::vector<std::int64_t> ids = selected_particles(t, sim);
+  // A bond to a particle outside the selection (another material's, still in the
+  // scene) is no bond of the selection's, and could never be found again among
+  // its contacts: left out, as the parallel bonds' count leaves it. One to a
+  // particle since removed counts, broken.
+  {
+    std::unordered_set<std::int64_t> selected(ids.begin(), ids.end());
+    auto outside = [&](std::int64_t id) { return !selected.count(id) && sim.has_particle(id); };
+    initial.erase(std::remove_if(initial.begin(), initial.end(),
+                                 [&](const Bond& b) { return outside(b.a) || outside(b.b); }),
+                  initial.end());
+  }
   const std::vector<double> masses = masses_of(sim, ids);
   double present = 0;
   for (double m : masses) present += m;

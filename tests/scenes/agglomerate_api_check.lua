@@ -43,7 +43,16 @@ local tiny = sim:breakage { initial_bonds = bonds, large = 0.7, debris = 0.25, f
 assert(tiny.medium == 1 and tiny.small == 2 and tiny.fines == 2 and math.abs(tiny.debris_ratio - 0.4) < 1e-12,
   "custom classes")
 local only_chain = sim:breakage { initial_bonds = bonds, particles = { ids[1], ids[2], ids[3] } }
-assert(only_chain.fragments == 1 and only_chain.broken_bonds == 1, "selection by ids")
+-- The pair's broken bond is not the chain's (both its particles are still in the scene,
+-- outside the selection): the chain has 2 bonds, none broken.
+assert(only_chain.fragments == 1 and only_chain.initial_bonds == 2 and only_chain.broken_bonds == 0,
+  "selection by ids: " .. only_chain.initial_bonds .. " bonds, " .. only_chain.broken_bonds .. " broken")
+-- A particle removed since counts its bonds broken.
+local removed_sim, removed_ids = build(true)
+local removed_bonds = removed_sim:bonds { material = "glass" }
+removed_sim:remove_particle(removed_ids[5])
+local without = removed_sim:breakage { initial_bonds = removed_bonds }
+assert(without.initial_bonds == 3 and without.broken_bonds == 1, "a removed particle's bond is broken")
 
 -- Round trip: write a snapshot, load it into a new scene under another material name.
 sim:output { file = "agglomerate_api_check.h5" }
