@@ -35,6 +35,7 @@ inline constexpr int interrupt_signals[] = {SIGINT, SIGTERM, SIGHUP};
 
 inline lua_State* interrupted_state = nullptr;
 inline volatile std::sig_atomic_t stdout_to_launcher = 0;
+inline volatile std::sig_atomic_t stdout_flags_before = -1;  // -1: left as they were
 
 // Started by a launcher (its variables set) with standard output a pipe, a socket or a
 // terminal (Open MPI gives rank 0 a pseudo-terminal it reads), not a file.
@@ -93,7 +94,7 @@ inline void on_interrupt_signal(int signal_number) {
   lua::request_interrupt(signal_number);
   if (stdout_to_launcher) {  // (fcntl is async-signal-safe)
     const int flags = fcntl(1, F_GETFL);
-    if (flags >= 0) fcntl(1, F_SETFL, flags | O_NONBLOCK);
+    if (flags >= 0 && fcntl(1, F_SETFL, flags | O_NONBLOCK) == 0) stdout_flags_before = flags;
   }
   // A run stops between two chunks of steps by itself; only script code outside runs
   // needs the Lua hook to stop.
@@ -112,6 +113,8 @@ class InterruptScope {
   }
   ~InterruptScope() {
     for (int s : interrupt_signals) std::signal(s, SIG_DFL);
+    if (stdout_flags_before >= 0) fcntl(1, F_SETFL, int(stdout_flags_before));  // blocking again
+    stdout_flags_before = -1;
     lua_sethook(interrupted_state, nullptr, 0, 0);
     interrupted_state = nullptr;
     lua::clear_interrupt();

@@ -4,7 +4,7 @@
 -- ("error_on_rank1"). Prints every particle's final state in hex, writes a
 -- file through io.output and a table through sim:table.
 local p = parameters {
-  mode = { default = "feed", doc = "feed | stop_on_rank1 | error_on_rank1 | long (a run to be signalled) | chatty (long, printing at every check)" },
+  mode = { default = "feed", doc = "feed | stop_on_rank1 | error_on_rank1 | long (a run to be signalled)" },
   canonical = { default = 0, min = 0, max = 1, integer = true, doc = "1: canonical order (as ranks)" },
 }
 local rank = tonumber(os.getenv("OMPI_COMM_WORLD_RANK") or "0")
@@ -22,14 +22,12 @@ sim:every { steps = 50, function(s)
   s:add_particle { position = { (fed % 7) * 0.6e-3, 3e-3 }, radius = 0.25e-3, material = "grain",
                    velocity = { 0, -0.5 } }
 end }
-local long = p.mode == "long" or p.mode == "chatty"
-if long then  -- each rank names its process, for a test to signal one
+if p.mode == "long" then  -- each rank names its process, for a test to signal one
   local stat = io.open("/proc/self/stat")
   io.stderr:write(string.format("pid of rank %d: %d\n", rank, stat:read("n")))
   stat:close()
 end
-sim:run { steps = long and 100000000 or 1500, check_every = 100, stop_when = function(s)
-  if p.mode == "chatty" then print(string.rep("step " .. s:step_count() .. " ", 20)) end
+sim:run { steps = p.mode == "long" and 100000000 or 1500, check_every = 100, stop_when = function(s)
   if rank == 1 and s:step_count() >= 500 then
     if p.mode == "stop_on_rank1" then return true end
     if p.mode == "error_on_rank1" then error("the criterion failed on rank 1") end
