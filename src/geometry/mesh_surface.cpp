@@ -222,6 +222,25 @@ bool MeshSurface::shares(std::uint32_t t, const MeshHit& h) const {
          around.begin() + start[h.element + 1];
 }
 
+// Near an edge's point, the other side of a seam or a T-junction runs along
+// the edge: it passes within `touching` of the point and of the edge a little
+// further one way or the other. A triangle that only comes near at a corner
+// (the next rim of a hole, a notch) does not, and leaves the point its contact.
+bool MeshSurface::touches(std::uint32_t t, const MeshHit& h, double touching) const {
+  if (closest(t, h.point).distance > touching) return false;
+  if (h.feature != MeshFeature::edge) return true;
+  const auto& e = edge_vertex_[h.element];
+  const Eigen::Vector3d &p = x_[e[0]], &q = x_[e[1]];
+  const double length = (q - p).norm();
+  const double at = (h.point - p).dot(q - p) / length;
+  const double step = std::min(16 * touching, 0.5 * length);  // one way stays on the edge
+  for (const double along : {at - step, at + step})
+    if (along >= 0 && along <= length &&
+        closest(t, p + (along / length) * (q - p)).distance <= touching)
+      return true;
+  return false;
+}
+
 int MeshSurface::contacts(const Eigen::Vector3d& x, double radius, double within, MeshHit* out,
                           std::int64_t* tested) const {
   thread_local std::vector<std::uint32_t> near_tris;
@@ -247,8 +266,8 @@ int MeshSurface::contacts(const Eigen::Vector3d& x, double radius, double within
   // A surface passing this near an edge or corner point touches it: a crack
   // narrower than this, or a corner of a T-junction a rounding off the long
   // edge, is joined (a thousandth of the radius, far inside a contact's patch,
-  // or the single-precision rounding of the mesh's size; never a tenth of the
-  // radius, at which a hole's rim holds distinct contacts).
+  // or the single-precision rounding of the mesh's size; at most a tenth of
+  // the radius, at which a hole's rim holds distinct contacts).
   const double touching = std::min(0.1 * radius, std::max(1e-3 * radius, seam_));
   for (std::size_t i = 0; i < hits.size(); ++i) {
     const MeshHit& h = hits[i];
@@ -260,11 +279,10 @@ int MeshSurface::contacts(const Eigen::Vector3d& x, double radius, double within
       // corner by the mesh's topology, and any other that touches the point
       // (an unjoined seam, a T-junction, the hole a removed sliver left).
       bool owned = false;
-      for (std::size_t k = 0; k < i && !owned; ++k) {
-        if (hits[k].triangle == h.triangle) continue;
-        owned =
-            shares(hits[k].triangle, h) || closest(hits[k].triangle, h.point).distance <= touching;
-      }
+      for (std::size_t k = 0; k < i && !owned; ++k)
+        owned = hits[k].triangle != h.triangle && shares(hits[k].triangle, h);
+      for (std::size_t k = 0; k < i && !owned; ++k)
+        owned = hits[k].triangle != h.triangle && touches(hits[k].triangle, h, touching);
       if (owned) continue;
     }
     // A point already found (two triangles of a flat patch), or the farther

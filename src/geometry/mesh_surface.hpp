@@ -99,6 +99,8 @@ class MeshSurface {
   void candidates(const Eigen::Vector3d& x, double within, std::vector<std::uint32_t>& out) const;
   // Whether triangle t is one of those around h's edge or corner.
   bool shares(std::uint32_t t, const MeshHit& h) const;
+  // Whether triangle t touches h's point, not joined to it (a seam, a T-junction).
+  bool touches(std::uint32_t t, const MeshHit& h, double touching) const;
   std::vector<Eigen::Vector3d> x_;
   std::vector<std::array<std::uint32_t, 3>> tri_;
   std::vector<Eigen::Vector3d> normal_;

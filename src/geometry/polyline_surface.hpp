@@ -110,7 +110,7 @@ class PolylineSurface {
   // it); -1 where the open chain ends.
   std::vector<std::array<std::int64_t, 2>> around_;
   Eigen::Vector2d lo_, hi_;  // a box holding every segment (arcs by their chord's circle)
-  double seam_ = 0;          // 1e-6 of the box's diagonal: its single-precision rounding, about
+  double seam_ = 0;          // 1e-6 of the box's diagonal (as MeshSurface's)
   bool closed_ = false;
 };
 

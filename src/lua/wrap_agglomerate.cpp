@@ -231,7 +231,8 @@ int load_particles(lua_State* L, SimulationBase& sim) {
           sim.warn(fmt::format(
               "load_particles: {} saved '{}' with density {:g} kg/m^3, young {:g} Pa, poisson "
               "{:g}; loaded as '{}' with density {:g}, young {:g}, poisson {:g}: the particles' "
-              "masses and their contacts' forces are not the saved state's",
+              "masses, or the forces of laws that take young and poisson, are not the saved "
+              "state's",
               file, saved_name, was[0], was[1], was[2], name, is[0], is[1], is[2]));
       }
     }

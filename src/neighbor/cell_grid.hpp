@@ -23,7 +23,8 @@ struct Periodicity {
   double origin = 0;  // lower bound of the periodic box along `axis`, m
   double length = 0;  // m
   bool on() const { return axis >= 0; }
-  // A coordinate along `axis` moved into [origin, origin + length).
+  // A coordinate along `axis` moved into the box [origin, origin + length] (a
+  // rounding below origin comes back as origin + length).
   double into_box(double c) const { return c - length * std::floor((c - origin) / length); }
   // The minimum image of a separation d along the periodic axis, for |d| < 1.5
   // length (positions are kept inside the box, so any two differ by less than

@@ -270,3 +270,28 @@ TEST_CASE("mesh surface: a far stray vertex does not hide the rest of the mesh",
   REQUIRE(s.contacts(Vector3d(0.001, 0.0013, 0.9e-3), 1e-3, 1e-3, hits) == 1);
   CHECK(hits[0].distance == Approx(0.9e-3).epsilon(1e-12));
 }
+
+TEST_CASE("mesh surface: a sphere over a hole's corner keeps both rims' contacts", "[mesh]") {
+  // A plate z = 0 with a square hole [0, H]^2 (its corner V at the origin) and a
+  // sphere sunk into the hole beside the rim x = 0, a little past V: it rests on
+  // the rims y = 0 and x = 0, whose triangles meet only at V. However close the
+  // centre comes to the corner's plane x = 0 (a from 0.5e-3 r to 2e-3 r), both
+  // contacts stay: the seam tolerance must not join a corner's two rims.
+  const double r = 1.0, H = 1.6 * r, L = 5 * r;
+  Triangles m;
+  m.vertices = {{-L, -L, 0}, {L, -L, 0}, {L, L, 0}, {-L, L, 0},
+                {0, 0, 0},   {H, 0, 0},  {H, H, 0}, {0, H, 0}};
+  m.triangles = {{0, 1, 5}, {0, 5, 4}, {1, 2, 6}, {1, 6, 5},
+                 {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
+  MeshSurface s(m);
+  s.build_grid(1.5 * r);
+  MeshHit hits[MeshSurface::max_hits];
+  for (const double a : {0.5e-3 * r, 0.99e-3 * r, 1.01e-3 * r, 2e-3 * r}) {
+    INFO("centre " << a / r << " r from the corner's plane");
+    const int n = s.contacts(Vector3d(a, 0.5 * r, 0.8 * r), r, r, hits);
+    REQUIRE(n == 2);
+    // One on each rim: the nearer is the rim x = 0 (a away), the other y = 0.
+    CHECK(hits[0].point.x() == Approx(0).margin(1e-15));
+    CHECK(hits[1].point.y() == Approx(0).margin(1e-15));
+  }
+}
