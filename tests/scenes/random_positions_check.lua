@@ -1,8 +1,8 @@
 -- agglomerate.random_positions leaves no two primaries overlapping and every
 -- one inside its region, whatever the draw: 217 primaries of 5 um +- 5 % in a
--- 100 um circle (the dissertation's agglomerate, 7.2), seeds 31-60 (seeds 35
--- and 51 used to end with a pair overlapping by up to 11 % of a radius after a
--- sweep's last pushes), and a wider spread in 3D.
+-- 100 um circle (the dissertation's agglomerate, 7.2), seeds 31-60 (among them
+-- draws whose last sweep's pushes and clamp leave a pair overlapping unless
+-- checked again: 35 and 51), and a wider spread in 3D.
 local agglomerate = require "granule.agglomerate"
 local function check(dimension, count, spread, region, seed)
   math.randomseed(seed)
