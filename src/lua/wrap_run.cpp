@@ -236,7 +236,27 @@ int l_run(lua_State* L) {
       return signal_number > 0;
     };
     if (progress) hooks.progress = [&](std::int64_t n, double time) { progress->update(n, time); };
-    if (s.output) hooks.between_chunks = [&] { s.output->flush_if_due(); };
+    std::int64_t chunks_taken = 0;
+    if (s.output) {
+      hooks.between_chunks = [&] {
+        if (!spread) {
+          s.output->flush_if_due();
+          return;
+        }
+        // A flush that fails on some ranks only (rank 0's disk full) ends them all at
+        // once, as a checkpoint's does, rather than leave the others in the next step:
+        // at every 8th chunk (every rank takes the same chunks), so that runs whose
+        // chunks are single steps (a stop check each step) meet no more often.
+        if (++chunks_taken % 8 != 0) return;
+        std::exception_ptr error;
+        try {
+          s.output->flush_if_due();
+        } catch (...) {
+          error = std::current_exception();
+        }
+        spread->settle(error);
+      };
+    }
     std::string interrupt_path = s.checkpoint.path;
     const bool at_prompt = ctx && ctx->repl;
     if (interrupt_path.empty() && at_prompt) {
