@@ -58,4 +58,12 @@ void PairTable::update(int a, int b, const ParamValues& changes, const std::stri
   set(a, b, e.model, resolved, materials);
 }
 
+ParamValues PairTable::values_in_effect(int a, int b,
+                                        const std::vector<Material>& materials) const {
+  ParamValues v = values(a, b);
+  if (auto it = v.find("surface_energy"); it != v.end())
+    it->second = ThorntonJkr::surface_energy_in(v, {materials.at(a), materials.at(b)});
+  return v;
+}
+
 }  // namespace granule

@@ -50,6 +50,10 @@ class PairTable {
   void update(int a, int b, const ParamValues& changes, const std::string& context,
               const PairMaterials& materials);
   const ParamValues& values(int a, int b) const { return values_[key(a, b)]; }
+  // The same as they act, for reports (a header, sim:contact_parameters): a value
+  // that stands for one taken from the materials (thornton_jkr's surface_energy -1)
+  // replaced by it. `materials` indexed as the table's.
+  ParamValues values_in_effect(int a, int b, const std::vector<Material>& materials) const;
 
   template <int I>
   const std::vector<typename ContactModelAt<I>::Params>& params() const {

@@ -383,7 +383,7 @@ std::vector<std::string> Simulation<D>::describe() const {
       const auto& e = pairs_.at(a, b);
       if (e.model < 0) continue;
       std::vector<std::string> kv;
-      for (const auto& [k, v] : pairs_.values(a, b))
+      for (const auto& [k, v] : pairs_.values_in_effect(a, b, materials_))
         kv.push_back(k == "rolling_model" ? fmt::format("{}={}", k, rolling_model_name(v))
                                           : fmt::format("{}={}", k, v));
       lines.push_back(fmt::format("contact {}-{}: {} ({})", materials_[a].name, materials_[b].name,

@@ -63,7 +63,7 @@ class RunOutput final : public OutputSink {
   void write_result(const std::string& name, double value);  // /results attributes
   void write_failure(const std::string& message);            // finite particles + message
   void finish();                                             // final snapshot + flush
-  void flush();  // everything written so far on disk; the file stays open for more
+  void flush();         // everything written so far on disk; the file stays open for more
   void flush_if_due();  // flush(), if a second of wall time has passed since the last
   const std::string& path() const { return settings_.path; }
   const RunOutputSettings& settings() const { return settings_; }

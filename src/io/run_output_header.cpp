@@ -82,7 +82,7 @@ void RunOutput::write_new_laws() {
       std::string g = fmt::format("/contacts/{}-{}", mats[a].name, mats[b].name);
       if (!laws_written_.insert(g).second) continue;
       f.write_attribute(g, "model", catalogue[e.model].name);
-      for (const auto& [k, v] : table.values(a, b)) {
+      for (const auto& [k, v] : table.values_in_effect(a, b, mats)) {
         if (k == "rolling_model")
           f.write_attribute(g, k, std::string(rolling_model_name(v)));
         else

@@ -6,7 +6,6 @@
 #include "contact/models.hpp"
 #include "contact/pair_table.hpp"
 #include "contact/rolling.hpp"
-#include "contact/thornton_jkr.hpp"
 #include "core/errors.hpp"
 #include "engine/simulation_base.hpp"
 #include "lua/lua_util.hpp"
@@ -265,13 +264,9 @@ int l_contact_parameters(lua_State* L) {
     lua_newtable(L);
     lua_pushstring(L, contact_model_catalogue()[e.model].name.c_str());
     lua_setfield(L, -2, "model");
-    const ParamValues& values = table.values(ia, ib);
-    const auto& mats = s.sim->materials();
-    for (const auto& [name, value] : values) {
+    for (const auto& [name, value] : table.values_in_effect(ia, ib, s.sim->materials())) {
       if (name == "rolling_model")
         lua_pushstring(L, rolling_model_name(value));
-      else if (name == "surface_energy")  // the value in effect, not the "from materials" mark
-        lua_pushnumber(L, ThorntonJkr::surface_energy_in(values, {mats[ia], mats[ib]}));
       else
         lua_pushnumber(L, value);
       lua_setfield(L, -2, name.c_str());

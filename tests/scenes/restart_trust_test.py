@@ -55,6 +55,14 @@ def signal_after(cwd, case, line, signum, delay, *extra, env=None):
     return p.returncode, first + out, err
 
 
+def whole_run(d, case, env=None):
+    """The case run whole, from its start; any failure ends the test."""
+    r = run(d, case, env=env)
+    if r.returncode != 0:
+        fail(f"{case}: the whole run failed", r)
+    return r
+
+
 def case_folder(work, name):
     path = os.path.join(work, name)
     os.makedirs(path)
@@ -81,9 +89,7 @@ def pairs_case(work):
 
 def args_case(work):
     d = case_folder(work, "args")
-    r = run(d, "args", env=dict(ENV, GRANULE_TRUST_COUNT="10"))
-    if r.returncode != 0:
-        fail("args: the whole run failed", r)
+    whole_run(d, "args", env=dict(ENV, GRANULE_TRUST_COUNT="10"))
     r = run(d, "args", "--restart", "trust.chk.h5", env=dict(ENV, GRANULE_TRUST_COUNT="11"))
     if r.returncode == 0 or "sim:fill, was given other values than in that run" not in r.stderr:
         fail("args: a call given other values at the restart was not refused by name", r)
@@ -98,9 +104,7 @@ def module_case(work):
     helper = os.path.join(d, "trust_helper.lua")
     with open(helper, "w") as f:
         f.write("return { count = 10 }\n")
-    r = run(d, "module")
-    if r.returncode != 0:
-        fail("module: the whole run failed", r)
+    whole_run(d, "module")
     with open(helper, "w") as f:
         f.write("return { count = 10 } -- edited\n")
     r = run(d, "module", "--restart", "trust.chk.h5")
@@ -111,9 +115,7 @@ def module_case(work):
 
 def mesh_case(work):
     d = case_folder(work, "mesh")
-    whole = run(d, "mesh")
-    if whole.returncode != 0:
-        fail("mesh: the whole run failed", whole)
+    whole = whole_run(d, "mesh")
     r = run(d, "mesh", "--restart", "trust.chk.h5")
     if r.returncode != 0 or r.stdout != whole.stdout:
         fail(f"mesh: the restart did not print the whole run's line {whole.stdout!r}", r)
@@ -145,9 +147,7 @@ def prerun_case(work):
 
 def replay_stop_case(work):
     d = case_folder(work, "replay_stop")
-    r = run(d, "replay_stop")
-    if r.returncode != 0:
-        fail("replay_stop: the whole run failed", r)
+    whole_run(d, "replay_stop")
     status, _, err = signal_after(d, "replay_stop", "busy", signal.SIGINT, 0.3, "--restart",
                                   "trust.chk.h5", env=dict(ENV, GRANULE_TRUST_LOOP="1e10"))
     if status != 130 or "continue from trust.chk.h5 again" not in err:
@@ -160,9 +160,7 @@ def replay_stop_case(work):
 
 def views_case(work):
     d = case_folder(work, "views")
-    r = run(d, "views")
-    if r.returncode != 0:
-        fail("views: the whole run failed", r)
+    whole_run(d, "views")
     r = run(d, "views", "--restart", "trust.chk.h5")
     if r.returncode != 0 or "warning: restart:" not in r.stderr or "sim:arrays()" not in r.stderr:
         fail("views: no warning that the replayed past read sim:arrays()", r)
