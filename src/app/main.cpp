@@ -189,6 +189,9 @@ int run_scene(Options& o) {
     granule::app::InterruptScope interrupt(L);
     err = granule::lua::run_file(L, o.scene);
   }
+  // A file the scene leaves open on an error says so (RunOutput::note_scene_error); a
+  // stopped run's file is continued by its restart, which must find it as it was.
+  if (!err.empty() && !o.ctx.interrupted) o.ctx.scene_error = err;
   lua_close(L);  // closes output files (their final snapshot) even after an error
   // A restart that could not take over failed the scene wherever the journal ended
   // (inside a callback, or a call the scene caught): say so as the restart's error.

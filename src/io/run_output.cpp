@@ -120,6 +120,20 @@ RunOutput::~RunOutput() {
   sim_.set_output_sink(nullptr);
 }
 
+void RunOutput::note_scene_error(const std::string& message) noexcept {
+  if (finished_ || !file_ || failure_step_ == sim_.step_count()) return;
+  try {
+    write_header();
+    // The reason without Lua's traceback, which names the scene's lines, not the file's state.
+    const std::string reason = message.substr(0, message.find("\nstack traceback:"));
+    file_->write_attribute("/", "failure",
+                           fmt::format("the scene ended on an error at t = {} s (step {}): {}",
+                                       sim_.time(), sim_.step_count(), reason));
+  } catch (...) {
+    // The error itself is reported on the terminal; finish() reports a file it cannot write.
+  }
+}
+
 void RunOutput::finish() {
   if (finished_ || !file_) return;
   finished_ = true;

@@ -62,7 +62,10 @@ class RunOutput final : public OutputSink {
   void note_effects();
   void write_result(const std::string& name, double value);  // /results attributes
   void write_failure(const std::string& message);            // finite particles + message
-  void finish();                                             // final snapshot + flush
+  // The scene ended on an error of its own (a callback's, its Lua's): the reason as
+  // the file's `failure`, unless a step's failure at this step is already the cause.
+  void note_scene_error(const std::string& message) noexcept;
+  void finish();        // final snapshot + flush
   void flush();         // everything written so far on disk; the file stays open for more
   void flush_if_due();  // flush(), if a second of wall time has passed since the last
   const std::string& path() const { return settings_.path; }

@@ -96,6 +96,8 @@ int l_simulations(lua_State* L) {
 int l_gc(lua_State* L) {
   auto* s = static_cast<LuaSim*>(luaL_testudata(L, 1, metatable_name));
   if (s && s->context && s->context->first_simulation == s) s->context->first_simulation = nullptr;
+  if (s && s->context && s->output && !s->context->scene_error.empty())
+    s->output->note_scene_error(s->context->scene_error);
   if (s) s->~LuaSim();  // output first (member order reversed), then the simulation
   return 0;
 }

@@ -64,6 +64,9 @@ struct SceneContext {
   bool repl = false;
   bool repl_prompt = false;  // the REPL has begun to journal what is typed at its prompt
   std::vector<std::string> outputs_written;
+  // The error the scene ended on (not a stop by signal), set before its
+  // simulations close: each open output records it as its `failure` attribute.
+  std::string scene_error;
   std::shared_ptr<Journal> journal;    // what the scene saw of the engine (journal.hpp)
   std::shared_ptr<Restart> restart;    // --restart: the checkpoint being continued
   std::function<void()> begin_replay;  // run before the scene's first journaled call

@@ -12,6 +12,10 @@ opens a second file and runs on: under `-o first.h5` the first output is
 first.h5 and the second first_second.h5, whose first snapshot and series row
 are of the step it was opened at.
 
+A scene that ends on an error of its own (in a callback, or in its Lua after a
+run) leaves `failure` on its file's root, naming the error and the step; a
+scene that ends well leaves none.
+
 Usage: failure_recovery_test.py GRANULE WORK_DIR
 """
 import os
@@ -55,6 +59,21 @@ local ok, err = pcall(function() sim:output { file = "third.h5" } end)
 assert(ok, tostring(err))
 sim:run { steps = 20 }
 print("third ended at", sim:step_count())
+"""
+
+
+ENDING = r"""
+local sim = simulation { dimension = 2, time_step = 1e-6 }
+sim:material { name = "grain", density = 2500 }
+sim:contact { "grain", "grain", model = "linear", k_normal = 1e3, restitution = 0.5 }
+sim:wall_plane { name = "floor", point = { 0, 0 }, normal = { 0, 1 }, material = "grain" }
+for k = 0, 4 do sim:add_particle { position = { k * 1e-3, 1e-3 }, radius = 0.4e-3, material = "grain" } end
+sim:gravity { 0, -9.81 }
+sim:output { file = "ending.h5", snapshot_every = 0 }
+local how = os.getenv("ENDING")
+sim:every { steps = 30, function(s) if how == "callback" and s:step_count() >= 60 then error("callback gave up") end end }
+sim:run { steps = 100 }
+if how == "lua" then error("scene gave up") end
 """
 
 
@@ -127,6 +146,25 @@ def main():
         for name in f["series"]:
             if not np.isfinite(f["series"][name][:]).all():
                 fail(f"non-finite series column {name}")
+    with open("ending.lua", "w") as f:
+        f.write(ENDING)
+    for how, status, words, step in (("callback", 1, "callback gave up", 60),
+                                     ("lua", 1, "scene gave up", 100), ("none", 0, None, None)):
+        if os.path.exists("ending.h5"):
+            os.remove("ending.h5")
+        r = subprocess.run([granule, "run", "ending.lua", "-q"], capture_output=True, text=True,
+                           timeout=60, env=dict(os.environ, ENDING=how))
+        if r.returncode != status:
+            fail(f"ending {how}: exit status {r.returncode}, expected {status}:\n{r.stderr}")
+        with h5py.File("ending.h5", "r") as f:
+            failure = f.attrs.get("failure")
+        if words is None and failure is not None:
+            fail(f"a scene that ended well has a failure: {failure}")
+        if words is not None and (failure is None or words not in failure
+                                  or f"(step {step})" not in failure
+                                  or "traceback" in failure):
+            fail(f"ending {how}: the file's failure should name '{words}' at step {step} "
+                 f"(without the traceback): {failure!r}")
     print("failure_recovery_test ok")
 
 
