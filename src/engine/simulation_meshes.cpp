@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "core/errors.hpp"
+#include "core/fnv1a.hpp"
 #include "core/plain_name.hpp"
 #include "engine/simulation.hpp"
 #include "kernel/mesh_contacts.hpp"
@@ -126,12 +127,41 @@ void Simulation<D>::resolve_meshes() {
   });
 }
 
+namespace {
+// A mesh's shape as the scene placed it (vertices and triangles): a restart whose
+// scene read another file (edited since) would run the checkpoint's state in it.
+std::int64_t shape_digest(const MeshSurface& surface) {
+  Fnv1a digest;
+  for (const auto& v : surface.vertices()) digest.add(v.data(), 3 * sizeof(double));
+  for (const auto& t : surface.triangles()) digest.add(t.data(), sizeof t);
+  return static_cast<std::int64_t>(digest.value() >> 1);  // >= 0 as a signed integer
+}
+// A polyline's (2D): its points, each segment's ends and arc radius, closed or not.
+std::int64_t shape_digest(const PolylineSurface& surface) {
+  Fnv1a digest;
+  for (const auto& v : surface.points()) digest.add(v.data(), 2 * sizeof(double));
+  for (std::size_t s = 0; s < surface.segment_count(); ++s) {
+    const auto ends = surface.ends(s);
+    const double radius = surface.arc_radius(s);
+    digest.add(ends.data(), sizeof ends);
+    digest.add(&radius, sizeof radius);
+  }
+  const bool closed = surface.closed();
+  digest.add(&closed, sizeof closed);
+  return static_cast<std::int64_t>(digest.value() >> 1);
+}
+}  // namespace
+
 template <int D>
 void Simulation<D>::save_meshes(StateBlob& s) const {
   std::vector<double> pose;
-  for (const auto& m : meshes_.meshes)
+  std::vector<std::int64_t> shapes;
+  for (const auto& m : meshes_.meshes) {
     pose.insert(pose.end(), {m.offset.x(), m.offset.y(), D == 3 ? m.offset[D - 1] : 0.0, m.angle});
+    shapes.push_back(shape_digest(*m.surface));
+  }
   s.doubles["meshes.pose"] = pose;
+  s.integers["meshes.shape"] = shapes;
 }
 
 template <int D>
@@ -144,6 +174,18 @@ void Simulation<D>::load_meshes(const StateBlob& s) {
   for (double x : pose)
     if (!std::isfinite(x))
       throw InputError(fmt::format("checkpoint: 'meshes.pose' holds {}: not a pose", x));
+  const auto& shapes = s.i("meshes.shape");
+  if (shapes.size() != meshes_.meshes.size())
+    throw InputError(fmt::format(
+        "checkpoint: 'meshes.shape' has {} values, expected one for each of the scene's {} mesh "
+        "walls",
+        shapes.size(), meshes_.meshes.size()));
+  for (std::size_t k = 0; k < meshes_.meshes.size(); ++k)
+    if (shapes[k] != shape_digest(*meshes_.meshes[k].surface))
+      throw InputError(fmt::format(
+          "checkpoint: 'meshes.shape': the mesh wall '{}' is not the mesh the checkpoint was "
+          "written with (its file, or how the scene places it, changed since)",
+          walls_[meshes_.meshes[k].wall].name));
   for (std::size_t k = 0; k < meshes_.meshes.size(); ++k) {
     auto& m = meshes_.meshes[k];
     for (int d = 0; d < D; ++d) m.offset[d] = pose[4 * k + d];

@@ -67,6 +67,10 @@ H5Output::H5Output(const std::string& path) : impl_(std::make_unique<Impl>()) {
   remove_journal(impl_->disk_path);
   impl_->file_id = new_file_id();
   impl_->string_attribute("/", "format", "granule-1");
+  // Which file this is, for a restart continuing it (reopen): another run writing
+  // a file of the same name gives it another id.
+  const auto id = static_cast<std::int64_t>(impl_->file_id);
+  impl_->attribute("/", "file_id", H5T_STD_I64LE, H5T_NATIVE_INT64, {}, &id);
   impl_->string_attribute("/", "created", iso_time_now());
   unsigned major = 0, minor = 0, release = 0;
   H5get_libversion(&major, &minor, &release);

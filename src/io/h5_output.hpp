@@ -145,15 +145,25 @@ class H5Output {
   std::vector<std::string> series_columns(const std::string& group_path) const;
   // Names of the attributes on an existing group ("/results"); empty if it is absent.
   std::vector<std::string> attribute_names(const std::string& group_path) const;
+  // Names of the objects at the file's top ("snapshots", "series", ...).
+  std::vector<std::string> top_level_names() const;
+  // What the file held at a mark, beyond its snapshots and series: its top-level
+  // objects and the attributes on its root and on `attribute_group` ("/results").
+  struct Kept {
+    std::vector<std::string> top_level, root_attributes;
+    std::string attribute_group;
+    std::vector<std::string> attributes;
+  };
   // Opens an existing file written by H5Output and cuts it back to a mark: the first
   // `snapshots` snapshots, each listed series at its row count (series not listed are
-  // removed), and on `attribute_group` only the attributes `attributes` (others removed).
-  // Marked (mark()) before it is cut, under `file_id` (0: a new id).
+  // removed), and the top-level objects and attributes `kept` lists (others removed:
+  // what a run wrote after the mark, as a scene's save_contact_histories or a
+  // failure). Refused unless the file is the one the mark's run wrote: its root's
+  // `file_id` is `file_id` (another run may have written a new file there since).
+  // Marked (mark()) before it is cut, under `file_id`.
   static std::unique_ptr<H5Output> reopen(const std::string& path, std::size_t snapshots,
                                           const std::map<std::string, std::int64_t>& series_rows,
-                                          const std::string& attribute_group,
-                                          const std::vector<std::string>& attributes,
-                                          std::uint64_t file_id);
+                                          const Kept& kept, std::uint64_t file_id);
 
  private:
   H5Output();

@@ -48,11 +48,18 @@ std::vector<std::string> H5Output::attribute_names(const std::string& group_path
   return names;
 }
 
+std::vector<std::string> H5Output::top_level_names() const {
+  std::vector<std::string> names;
+  Handle g(impl_->check(H5Gopen2(impl_->file.get(), "/", H5P_DEFAULT), "open", "/"), H5Gclose);
+  hsize_t at = 0;
+  impl_->check(H5Literate(g.get(), H5_INDEX_NAME, H5_ITER_INC, &at, collect_link_name, &names),
+               "list", "/");
+  return names;
+}
+
 std::unique_ptr<H5Output> H5Output::reopen(const std::string& path, std::size_t snapshots,
                                            const std::map<std::string, std::int64_t>& series_rows,
-                                           const std::string& attribute_group,
-                                           const std::vector<std::string>& attributes,
-                                           std::uint64_t file_id) {
+                                           const Kept& kept, std::uint64_t file_id) {
   silence_hdf5();
   std::unique_ptr<H5Output> out(new H5Output());
   Impl& m = *out->impl_;
@@ -65,6 +72,33 @@ std::unique_ptr<H5Output> H5Output::reopen(const std::string& path, std::size_t 
   // cut back puts it back as it is now. (Kept until the cut is done: closing a file
   // cut half-way leaves what its journal can undo.)
   m.file_id = file_id != 0 ? file_id : new_file_id();
+  // Which file it is, read before the journalled open below (which starts a journal
+  // under the checkpoint's id: one left beside another run's file would refuse that
+  // run's own restart later).
+  if (file_id != 0) {
+    std::int64_t on_file = 0;
+    Handle plain(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+#ifdef GRANULE_HAVE_FILE_LOCKING_PLIST
+    if (plain.get() >= 0) H5Pset_file_locking(plain.get(), 0, 1);
+#endif
+    use_journalled_driver(plain.get());  // no journal: only read
+    const std::string disk = writable_path(path, true);
+    const hid_t r = H5Fopen(disk.c_str(), H5F_ACC_RDONLY, plain.get());
+    if (r < 0)
+      throw std::runtime_error(
+          fmt::format("cannot open {} to continue it: {}", path, h5_error_detail()));
+    Handle read_only(r, H5Fclose);
+    if (H5Aexists_by_name(r, "/", "file_id", H5P_DEFAULT) > 0) {
+      Handle a(H5Aopen_by_name(r, "/", "file_id", H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+      if (a.get() < 0 || H5Aread(a.get(), H5T_NATIVE_INT64, &on_file) < 0) on_file = 0;
+    }
+    if (on_file != static_cast<std::int64_t>(file_id))
+      throw std::runtime_error(fmt::format(
+          "cannot continue {}: it is not the file the checkpoint's run wrote (its file_id is {}, "
+          "the checkpoint's {}): another run has written a file of that name since; put the "
+          "first run's file back there or restart with -o naming another file",
+          path, on_file, file_id));
+  }
   use_journalled_driver(fapl.get(), m.file_id);
   m.keep_journal = true;
   m.disk_path = writable_path(path, true);
@@ -73,6 +107,20 @@ std::unique_ptr<H5Output> H5Output::reopen(const std::string& path, std::size_t 
     throw std::runtime_error(
         fmt::format("cannot open {} to continue it: {}", path, h5_error_detail()));
   m.file = Handle(f, H5Fclose);
+  // Objects and root attributes written after the mark go (a run that went on past it
+  // and saved contact histories, or failed).
+  for (const auto& name : out->top_level_names())
+    if (std::find(kept.top_level.begin(), kept.top_level.end(), name) == kept.top_level.end()) {
+      const std::string g = "/" + name;
+      m.check(H5Ldelete(m.file.get(), g.c_str(), H5P_DEFAULT), "remove", g);
+    }
+  {
+    Handle root(m.check(H5Oopen(m.file.get(), "/", H5P_DEFAULT), "open", "/"), H5Oclose);
+    for (const auto& name : out->attribute_names("/"))
+      if (std::find(kept.root_attributes.begin(), kept.root_attributes.end(), name) ==
+          kept.root_attributes.end())
+        m.check(H5Adelete(root.get(), name.c_str()), "remove attribute", "/@" + name);
+  }
   // Snapshots written after the mark go; the count readers trust is set back.
   for (std::size_t k = snapshots;; ++k) {
     const std::string g = fmt::format("/snapshots/{:06d}", k);
@@ -148,12 +196,12 @@ std::unique_ptr<H5Output> H5Output::reopen(const std::string& path, std::size_t 
   for (const auto& [group, rows] : series_rows)
     if (!m.series.count(group)) m.fail("continue", group, "the series is not in the file");
   // Attributes written after the mark (results) go.
-  const std::string ag = m.normalise(attribute_group, "continue");
+  const std::string ag = m.normalise(kept.attribute_group, "continue");
   if (m.exists(ag)) {
     std::vector<std::string> now = out->attribute_names(ag);
     Handle obj(m.check(H5Oopen(m.file.get(), ag.c_str(), H5P_DEFAULT), "open", ag), H5Oclose);
     for (const auto& name : now)
-      if (std::find(attributes.begin(), attributes.end(), name) == attributes.end())
+      if (std::find(kept.attributes.begin(), kept.attributes.end(), name) == kept.attributes.end())
         m.check(H5Adelete(obj.get(), name.c_str()), "remove attribute", ag + "@" + name);
   }
   m.materials_written = false;  // written again at the next snapshot

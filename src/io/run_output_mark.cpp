@@ -102,6 +102,8 @@ void RunOutput::save_mark(StateBlob& state) {
     series.push_back(fmt::format("{}\t{}", group, rows));
   state.texts["output.series"] = join_lines(series);
   state.texts["output.results"] = join_lines(file_->attribute_names("/results"));
+  state.texts["output.top_level"] = join_lines(file_->top_level_names());
+  state.texts["output.root_attributes"] = join_lines(file_->attribute_names("/"));
   state.integers["output.progress"] = {static_cast<std::int64_t>(file_->snapshot_count()),
                                        header_written_ ? 1 : 0,
                                        walls_written_,
@@ -148,7 +150,11 @@ void RunOutput::resume(const StateBlob& state, const std::function<bool(bool)>& 
     if (f.size() != 2) damaged_mark("output.series");
     series[f[0]] = to_count(f[1], "output.series");
   }
-  const auto results = lines_of(state.t("output.results"));
+  H5Output::Kept kept;
+  kept.attribute_group = "/results";
+  kept.attributes = lines_of(state.t("output.results"));
+  kept.top_level = lines_of(state.t("output.top_level"));
+  kept.root_attributes = lines_of(state.t("output.root_attributes"));
   const auto& progress = state.i("output.progress");
   const auto& extent = state.d("output.wall_extent");
   // (Five to seven entries in checkpoints written before the last snapshot's
@@ -243,8 +249,8 @@ void RunOutput::resume(const StateBlob& state, const std::function<bool(bool)>& 
     throw std::runtime_error(
         fmt::format("restart: another rank could not copy {} (its message says why)", original));
   if (in_place) put_back(original);
-  file_ = H5Output::reopen(settings_.path, static_cast<std::size_t>(progress[0]), series,
-                           "/results", results, file_id);
+  file_ = H5Output::reopen(settings_.path, static_cast<std::size_t>(progress[0]), series, kept,
+                           file_id);
   if (settings_.xdmf) {
     xdmf_ = std::make_unique<XdmfIndex>(settings_.path);
     xdmf_->restore(std::move(index));

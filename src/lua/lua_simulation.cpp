@@ -35,6 +35,11 @@ LuaSim& open_self(lua_State* L) {
   if (!p) throw std::runtime_error("expected a simulation: call methods as sim:method(...)");
   auto* s = static_cast<LuaSim*>(p);
   if (!s->sim) throw std::runtime_error("this simulation has been closed");
+  if (s->rebuilt_without_state && s->context && restart_applied(*s->context))
+    throw InputError(
+        "restart: this is not the scene's first simulation, whose state the checkpoint holds: "
+        "the restart rebuilt it without its particles and state, so it cannot be used after the "
+        "point the checkpoint was written (a scene restarts its first simulation only)");
   return *s;
 }
 }  // namespace
@@ -162,6 +167,8 @@ int l_simulation(lua_State* L) {
     // The scene's first simulation continues the checkpoint.
     if (SceneContext* ctx = context(L); ctx && ctx->restart && !ctx->restart->target)
       ctx->restart->target = s;
+    else if (ctx && ctx->restart && !ctx->restart->applied)
+      s->rebuilt_without_state = true;
     if (SceneContext* ctx = context(L); ctx && !ctx->first_simulation) ctx->first_simulation = s;
     // And writes its checkpoints where the command line says.
     if (SceneContext* ctx = context(L);

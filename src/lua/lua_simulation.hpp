@@ -67,6 +67,10 @@ struct LuaSim {
   std::map<int, LuaHook> lua_hooks;  // sim:every hook id -> its function
   CheckpointPlan checkpoint;
   bool checkpoint_path_fixed = false;  // --checkpoint named the file: sim:checkpoint keeps it
+  // Made while a restart replayed the scene, and not the simulation it continues:
+  // its calls were answered from the journal, so its engine holds no state, and
+  // any call after the restart took over is refused rather than run on nothing.
+  bool rebuilt_without_state = false;
 };
 
 // Calls the Lua function at registry `function_ref` with the simulation at `self_ref`,

@@ -11,7 +11,7 @@ import h5py
 import numpy as np
 
 # Provenance that legitimately differs between two runs of one scene.
-IGNORED_ATTRIBUTES = {"created"}
+IGNORED_ATTRIBUTES = {"created", "file_id"}
 
 
 def items(f):

@@ -1,7 +1,7 @@
 -- Scenes whose restart must either continue the first run or be refused by name
 -- (tests/scenes/restart_trust_test.py runs each case).
 local p = parameters {
-  case = { default = "pairs", doc = "pairs | args | module | mesh | pcall | prerun | replay_stop | views" },
+  case = { default = "pairs", doc = "pairs | args | module | mesh | pcall | prerun | replay_stop | views | second | history | other_file | mesh_file" },
 }
 if p.case == "mesh" then
   -- A mesh written to a file os.tmpname names (another name in every process), which
@@ -19,6 +19,19 @@ if p.case == "mesh" then
   sim:save_checkpoint("trust.chk.h5")
   sim:run { duration = 2e-3 }
   print(string.format("mesh done, y %.17g", sim:particle(0).position[2]))
+  return
+elseif p.case == "mesh_file" then
+  -- A mesh file the test writes, and edits after the checkpoint: the restart is refused.
+  local sim = simulation { dimension = 3 }
+  sim:material { name = "g", density = 2500 }
+  sim:contact { "g", "g", model = "linear", k_normal = 1e3, restitution = 0.5 }
+  sim:wall_mesh { name = "floor", file = "trust_floor.obj", material = "g" }
+  sim:add_particle { position = { 0, 0, 0.6e-3 }, radius = 0.5e-3, material = "g" }
+  sim:gravity { 0, 0, -9.81 }
+  sim:run { duration = 2e-3 }
+  sim:save_checkpoint("trust.chk.h5")
+  sim:run { duration = 2e-3 }
+  print("mesh_file done")
   return
 end
 local sim = simulation { dimension = 2 }
@@ -103,4 +116,38 @@ elseif p.case == "views" then
   sim:save_checkpoint("trust.chk.h5")
   sim:run { duration = 2e-3 }
   print(string.format("views sum %.6g", sum))
+elseif p.case == "second" then
+  -- A second simulation, used again after the checkpoint: the restart rebuilds it without
+  -- its state, so its use after the checkpoint's point is refused.
+  fill(12, 1, -2e-3)
+  local other = simulation { dimension = 2 }
+  other:material { name = "g", density = 2500 }
+  other:contact { "g", "g", model = "linear", k_normal = 1e3, restitution = 0.5 }
+  other:add_particle { position = { 0, 0 }, radius = 1e-3, material = "g" }
+  other:gravity { 0, -9.81 }
+  sim:run { duration = 1e-3 }
+  other:run { duration = 1e-3 }
+  sim:save_checkpoint("trust.chk.h5")
+  sim:run { duration = 1e-3 }
+  other:run { duration = 1e-3 }
+  print(string.format("second done, y %.6g", other:particle(0).position[2]))
+elseif p.case == "history" then
+  -- The output gets contact histories after the run (as an agglomerate's preparation): a
+  -- restart from a checkpoint before them, after the whole run ended, writes them again.
+  fill(12, 1, -2e-3)
+  local out = sim:output { file = "history.h5", snapshot_every = 5e-4 }
+  sim:run { duration = 1e-3 }
+  sim:save_checkpoint("trust.chk.h5")
+  sim:run { duration = 1e-3 }
+  sim:close()
+  sim:save_contact_histories { file = out }
+  print("history done")
+elseif p.case == "other_file" then
+  -- Another run writes the output's file anew after the checkpoint: the restart is refused.
+  fill(12, 1, -2e-3)
+  sim:output { file = "other.h5" }
+  sim:run { duration = 1e-3 }
+  sim:save_checkpoint(os.getenv("GRANULE_TRUST_CHECKPOINT") or "trust.chk.h5")
+  sim:run { duration = 1e-3 }
+  print("other_file done")
 end

@@ -14,7 +14,13 @@ Cases of tests/scenes/restart_trust.lua, each in a folder of its own:
 - replay_stop: a signal while a restart replays the past says to continue from the same
   checkpoint, which then continues;
 - views: a restart whose replayed past reads sim:arrays() warns that the values kept
-  from them differ.
+  from them differ;
+- second: a second simulation used after the checkpoint's point is refused (the restart
+  rebuilds it without its particles);
+- history: a restart from a checkpoint before the output got contact histories, after the
+  whole run ended, writes them again and ends with the whole run's file;
+- other_file: an output file another run wrote anew since the checkpoint is refused;
+- mesh_file: a mesh file edited since the checkpoint is refused.
 
     restart_trust_test.py GRANULE SOURCE_DIR
 """
@@ -167,8 +173,67 @@ def views_case(work):
     print("views: the restart warns that the replay read sim:arrays()")
 
 
+def second_case(work):
+    d = case_folder(work, "second")
+    whole_run(d, "second")
+    r = run(d, "second", "--restart", "trust.chk.h5")
+    if r.returncode == 0 or "not the scene's first simulation" not in r.stderr:
+        fail("second: a second simulation used after the checkpoint was not refused", r)
+    print("second: a second simulation used after the checkpoint's point is refused")
+
+
+def history_case(work):
+    d = case_folder(work, "history")
+    whole_run(d, "history")
+    os.replace(os.path.join(d, "history.h5"), os.path.join(d, "whole.h5"))
+    whole_run(d, "history")  # the file as the first run left it: contact histories in it
+    r = run(d, "history", "--restart", "trust.chk.h5")
+    if r.returncode != 0 or "history done" not in r.stdout:
+        fail("history: the restart after the whole run ended failed", r)
+    compare = subprocess.run([sys.executable, os.path.join(SOURCE, "tests", "scenes",
+                                                          "compare_runs.py"),
+                              os.path.join(d, "whole.h5"),
+                              os.path.join(d, "history_restarted.h5")],
+                             capture_output=True, text=True)
+    if compare.returncode != 0:
+        sys.exit(f"history: the restarted file differs from the whole run's:\n{compare.stdout}"
+                 f"{compare.stderr}")
+    print("history: a restart after the run ended writes the contact histories again")
+
+
+def other_file_case(work):
+    d = case_folder(work, "other_file")
+    whole_run(d, "other_file")
+    whole_run(d, "other_file", env=dict(ENV, GRANULE_TRUST_CHECKPOINT="second.chk.h5"))
+    r = run(d, "other_file", "--restart", "trust.chk.h5")
+    if r.returncode == 0 or "not the file the checkpoint's run wrote" not in r.stderr:
+        fail("other_file: a restart into another run's file was not refused", r)
+    print("other_file: an output another run wrote since the checkpoint is refused")
+
+
+def mesh_file_case(work):
+    d = case_folder(work, "mesh_file")
+
+    def floor(z):
+        with open(os.path.join(d, "trust_floor.obj"), "w") as f:
+            f.write(f"v -0.01 -0.01 {z}\nv 0.01 -0.01 {z}\nv 0.01 0.01 {z}\nv -0.01 0.01 {z}\n"
+                    "f 1 2 3\nf 1 3 4\n")
+    floor(0)
+    whole_run(d, "mesh_file")
+    floor(-1e-4)
+    r = run(d, "mesh_file", "--restart", "trust.chk.h5")
+    if r.returncode == 0 or "is not the mesh the checkpoint was written with" not in r.stderr:
+        fail("mesh_file: a mesh file edited since the checkpoint was not refused", r)
+    floor(0)
+    r = run(d, "mesh_file", "--restart", "trust.chk.h5")
+    if r.returncode != 0 or "mesh_file done" not in r.stdout:
+        fail("mesh_file: the restart with the mesh as it was failed", r)
+    print("mesh_file: a mesh file edited since the checkpoint is refused")
+
+
 with tempfile.TemporaryDirectory() as work:
     for case in (pairs_case, args_case, module_case, mesh_case, pcall_case, prerun_case,
-                 replay_stop_case, views_case):
+                 replay_stop_case, views_case, second_case, history_case, other_file_case,
+                 mesh_file_case):
         case(work)
 print("restart trust: all passed")
