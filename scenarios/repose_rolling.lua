@@ -27,7 +27,8 @@ sim:material { name = "steel", density = 7800 }
 local function law(mu)
   local l = { model = "linear", k_normal = 2e3, restitution = 0.5, friction = mu }
   if p.rolling_friction > 0 then
-    l.rolling_friction, l.rolling_model, l.rolling_damping = p.rolling_friction, p.rolling_model, 0.3
+    l.rolling_friction, l.rolling_model = p.rolling_friction, p.rolling_model
+    if p.rolling_model == "epsd" then l.rolling_damping = 0.3 end  -- the constant torque has no dashpot
   end
   return l
 end

@@ -62,7 +62,7 @@ inline double normal_force(const P& q, const Batch& c, int l, double& s_t, doubl
   const double normal = ((2.0 / 3.0) * s_n * c.overlap[l] + c_n * c.normal_velocity[l]) /
                         (1 + k + std::max(0.0, k - 1));
   s_t = 8 * q.shear(l) * root;
-  c_t = c_n * q.ratio(l);
+  c_t = HertzMindlin::tangential_damping(c_n * q.ratio(l), c.dt, c.inv_mass_sum[l]);
   return normal < 0 ? 0.0 : normal;
 }
 

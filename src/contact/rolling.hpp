@@ -38,6 +38,8 @@
 // rolling resistance).
 #pragma once
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -47,6 +49,7 @@
 
 #include "contact/contact_state.hpp"
 #include "contact/parameters.hpp"
+#include "core/errors.hpp"
 
 namespace granule {
 
@@ -136,6 +139,13 @@ struct WithRolling {
     p.roll.friction = v.at("rolling_friction");
     p.roll.model = static_cast<int>(v.at("rolling_model"));
     p.roll.damping = v.at("rolling_damping");
+    // The constant torque has no dashpot: a damping given with it would be echoed in
+    // the run header and do nothing.
+    if (p.roll.model == rolling_model::constant && p.roll.damping != 0)
+      throw InputError(
+          fmt::format("rolling_damping = {} acts only with rolling_model = \"epsd\" (the constant "
+                      "torque has no dashpot)",
+                      p.roll.damping));
     return p;
   }
 

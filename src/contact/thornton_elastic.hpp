@@ -74,8 +74,8 @@ struct ThorntonElastic {
             true,
             "1: while N falls, T, T* and T** scale with the contact radius (a / a_prev) in place "
             "of Eq. 6.6's mu dN terms and Eq. 6.11 (Thornton, Cummins and Cleary 2013), which "
-            "converges with the step at any friction; 0: Eqs. 6.6-6.11 as the dissertation "
-            "writes them",
+            "converges with the step at any friction (and thornton_jkr's peeling T of Eq. 6.19 "
+            "with a_t); 0: Eqs. 6.6-6.11 and 6.19 as the dissertation writes them",
             true};
   }
 

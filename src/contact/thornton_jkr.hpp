@@ -266,10 +266,23 @@ struct ThorntonJkr {
       return out;
     }
     // Peeling, Eqs. 6.18-6.21.
-    const Vec<D> t = rotate_onto_plane<D>(h.md.tangential, c.normal);
-    const double adhesion_sq = 4 * nc * (normal + nc);  // 4 N Nc + 4 Nc^2
-    const double root = std::sqrt(std::max(0.0, adhesion_sq - t.squaredNorm() * e / (4 * g)));
-    const double a_t = std::cbrt(3 * r / (4 * e) * (n_eff + root));               // Eq. 6.20
+    Vec<D> t = rotate_onto_plane<D>(h.md.tangential, c.normal);
+    // Eq. 6.20's contact radius under N (and N + 2Nc) and T.
+    auto radius_under = [&](double n, const Vec<D>& t_of) {
+      const double under =
+          std::sqrt(std::max(0.0, 4 * nc * (n + nc) - t_of.squaredNorm() * e / (4 * g)));
+      return std::cbrt(3 * r / (4 * e) * (std::max(0.0, n + 2 * nc) + under));
+    };
+    if (p.elastic.shrink_rescale && !fresh) {
+      // As in mindlin_deresiewicz: a shrinking contact's T scales with its radius,
+      // a_t / a_t of the last step. Eq. 6.19 alone unloads T built on the larger
+      // contact at the smaller one's stiffness, which returns more work than it
+      // stored: a closed path of (overlap, displacement) ends at another T, and an
+      // oblique adhesive impact gains tangential energy.
+      const double before = radius_under(normal - dn, t), now = radius_under(normal, t);
+      if (now < before && before > 0) t *= now / before;
+    }
+    const double a_t = radius_under(normal, t);                                   // Eq. 6.20
     const double t_c = 4 * std::sqrt(std::max(0.0, g / e * nc * (normal + nc)));  // Eq. 6.21
     const Vec<D> slip = c.tangential_velocity * c.dt;
     Vec<D> t_new = t + 8 * g * a_t * slip;  // Eq. 6.19

@@ -1074,3 +1074,53 @@ TEST_CASE("thornton: a surface energy switched on under a sheared contact keeps 
               .epsilon(1e-9));
   }
 }
+
+TEST_CASE("thornton_jkr: with shrink_rescale a peeling contact's closed path returns its T",
+          "[thornton][jkr]") {
+  // Driven without peeling: overlap 0 -> a1, slide +d, overlap -> a2 < a1, slide -d,
+  // overlap -> a1: the contact is back where it was. Eq. 6.19 alone (dT = 8 G* a_t
+  // d(delta)) unloads at the shrunk contact's smaller stiffness what it loaded at the
+  // larger one, so T ends near T1 (1 - a_t2 / a_t1) and the path gave the driver
+  // energy; scaled with a_t as the contact shrinks, T ends near 0 and none is given.
+  const Vec<3> nz = Vec<3>::UnitZ();
+  const double dt = 1e-9, a1 = 10e-9, a2 = 1.5e-9;
+  const int n = 2000;
+  auto drive = [&](bool rescale, double d, double& t1, double& work, bool& peeled) {
+    const auto p = ThorntonJkr::make(
+        {{"friction", mu}, {"surface_energy", 0.2}, {"shrink_rescale", rescale ? 1.0 : 0.0}},
+        {glass, glass});
+    ThorntonJkr::History<3> h{};
+    work = 0, peeled = false;
+    double t = 0;
+    auto step = [&](double overlap, double slip) {
+      const ContactForce<3> f =
+          ThorntonJkr::force<3>(p, h, state<3>(nz, overlap, planar<3>(slip / dt, 0), dt));
+      // The work the driver does on the contact over this step (trapezoid).
+      work += 0.5 * (t + f.tangential[0]) * slip;
+      t = f.tangential[0];
+      peeled = peeled || h.peeled;
+    };
+    for (int k = 1; k <= n; ++k) step(a1 * k / n, 0);
+    for (int k = 1; k <= n; ++k) step(a1, d / n);
+    t1 = t;
+    for (int k = 1; k <= n; ++k) step(a1 + (a2 - a1) * k / n, 0);
+    for (int k = 1; k <= n; ++k) step(a2, -d / n);
+    for (int k = 1; k <= n; ++k) step(a2 + (a1 - a2) * k / n, 0);
+    return t;
+  };
+  double t1 = 0, work = 0;
+  bool peeled = false;
+  // d such that T1 is well below peeling's Tc at the smaller overlap.
+  const double d = 2e-11;
+  const double plain = drive(false, d, t1, work, peeled);
+  INFO("Eq. 6.19 as written: T1 " << t1 << " N, T at the end " << plain << " N, work " << work);
+  REQUIRE(!peeled);
+  REQUIRE(t1 > 0);
+  CHECK(plain > 0.2 * t1);
+  CHECK(work < -0.05 * t1 * d);
+  const double scaled = drive(true, d, t1, work, peeled);
+  INFO("shrink_rescale: T at the end " << scaled << " N, work " << work);
+  REQUIRE(!peeled);
+  CHECK(std::abs(scaled) < 0.02 * t1);
+  CHECK(work > -0.01 * t1 * d);
+}
