@@ -159,6 +159,9 @@ void Simulation<D>::step() {
     check_overlaps(pair_overlap_ratio);
   else if (!external_overlap_grace_)
     scene_overlaps_ = false;
+  // (While the scene's own overlaps relax, as after an overlapping fill, its
+  // particles are thrown at the walls that hard by design: check_overlaps.)
+  if (wall_tally.max_ratio > wall_through_ratio && !scene_overlaps_) report_pressed_through_wall();
   auto t2 = Clock::now();
   stage_times_.force += std::chrono::duration<double>(t2 - t1).count();
 
@@ -175,8 +178,9 @@ void Simulation<D>::step() {
   // The clock moves with the particles before the checks, so that a failing
   // step leaves (for the failure's snapshot, or a scene that catches the error
   // and goes on) positions and time that belong together.
-  time_ += dt_;
+  if (dt_ != clock_dt_) clock_time_ = time_, clock_step_ = step_, clock_dt_ = dt_;
   ++step_;
+  time_ = clock_time_ + static_cast<double>(step_ - clock_step_) * dt_;
   if (non_finite_index_ != SIZE_MAX || last_wall_travel_ > smallest_radius_ ||
       last_fastest_speed_sq_ * (dt_ * dt_) > smallest_radius_ * smallest_radius_ ||
       periodic_walls_move_) {
@@ -243,6 +247,10 @@ void Simulation<D>::track_bucket(Bucket& b) {
   auto visit = [&](std::size_t k) {
     const std::size_t s = b.offset + k;
     ContactTrack<D>& t = b.track[k];
+    if (t.begin_time == ContactTrack<D>::ongoing) {
+      if (!log_.active[s]) t = ContactTrack<D>{};  // its end: no event either
+      return;
+    }
     if (log_.active[s]) {
       const double fn = log_.normal_force[s], a = log_.overlap[s];
       if (t.begin_time < 0) {

@@ -344,6 +344,11 @@ class Simulation final : public SimulationBase {
   // Steps whose deepest pair overlap exceeds overlap_warning: warns once, stops
   // a pass-through (simulation_checks.cpp).
   void check_overlaps(double pair_ratio);
+  // A step whose deepest wall contact is over wall_through_ratio of the particle's
+  // radius: stops the run where such a particle goes on into the wall, naming it
+  // and the wall (simulation_checks.cpp).
+  static constexpr double wall_through_ratio = 0.9;
+  void report_pressed_through_wall();
   Diagnostic<D>& diagnostic(int id) const;
 
   struct AttachedDiagnostic {

@@ -169,7 +169,7 @@ int SimulationBase::add_hook(Hook hook) {
     throw InputError(fmt::format("hook '{}': give every_steps > 0 or every_time > 0", hook.name));
   if (!hook.fire) throw InputError(fmt::format("hook '{}': no function", hook.name));
   hook.id = next_hook_id_++;
-  if (hook.every_time > 0) hook.next_time = time_ + hook.every_time;
+  if (hook.every_time > 0) hook.origin_time = time_, hook.periods = 1;
   hooks_.push_back(std::move(hook));
   return hooks_.back().id;
 }
@@ -198,11 +198,15 @@ void SimulationBase::fire_hooks() {
     bool due = false;
     if (h.every_steps > 0) {
       due = step_ % h.every_steps == 0;
-    } else if (time_ >= h.next_time - 1e-9 * dt_) {
+    } else if (const double next = h.next_time();
+               time_ >= next - (1e-6 * dt_ + 1e-15 * std::abs(next))) {
+      // Due within round-off (both sides are products, so a few units in the last
+      // place apart where dt divides the period); a step that only comes within
+      // a millionth of dt of a period that dt does not divide fires for it too.
       due = true;
-      // Next multiple strictly after now, robust to dt not dividing every_time.
-      h.next_time +=
-          h.every_time * std::max(1.0, std::floor((time_ - h.next_time) / h.every_time) + 1);
+      // The next period strictly after now, robust to dt not dividing every_time.
+      h.periods +=
+          static_cast<std::int64_t>(std::max(1.0, std::floor((time_ - next) / h.every_time) + 1));
     }
     if (!due) {
       ++k;

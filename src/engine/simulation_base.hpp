@@ -167,7 +167,12 @@ struct Hook {
   std::string name;
   std::int64_t every_steps = 0;  // fire when step % every_steps == 0 (if > 0)
   double every_time = 0;         // or every this many simulated seconds (if > 0)
-  double next_time = 0;
+  // A time hook is next due at origin_time + periods * every_time: counted from
+  // when it was added, as a product rather than a running sum, whose round-off
+  // would move a firing by a step over a long run.
+  double origin_time = 0;
+  std::int64_t periods = 0;
+  double next_time() const { return origin_time + static_cast<double>(periods) * every_time; }
   // Also fires once before the first step of a run that starts at step 0 (the
   // snapshot of the initial state, t = 0).
   bool at_start = false;
@@ -539,6 +544,13 @@ class SimulationBase {
   double dt_ = 0;
   std::int64_t dt_from_step_ = 0;
   double dt_from_time_ = 0;
+  // The clock: time_ = clock_time_ + (step_ - clock_step_) dt_, taken afresh
+  // from where the step changed (clock_dt_: the step it was taken with). A
+  // running sum of dt would drift by round-off, ~1e-7 dt after 1e5 steps,
+  // enough to move a firing at a time that dt divides by a step.
+  double clock_time_ = 0;
+  std::int64_t clock_step_ = 0;
+  double clock_dt_ = 0;
   double dt_fixed_ = 0;
   double steps_per_contact_ = 40;  // Eq. 4.1, n = 40 in the dissertation
   double skin_ = 0;

@@ -164,6 +164,61 @@ void Simulation<D>::check_overlaps(double pair_ratio) {
                  : ""));
 }
 
+// A contact with a thin wall (a finite one: a plate, a disk, a tube, a cone; a mesh
+// or a polyline) deeper than nine tenths of the particle's radius, the particle
+// still moving into the wall: its centre is at the wall's surface and going on, and
+// the wall will push it on through and out of the other side. (A half-space holds
+// it: check_escapes stops one whose centre is a radius beyond.)
+// Slow pressing does this as well as fast impacts: a piston squeezing a particle
+// through a floor at 0.02 % of its radius a step. A particle on its way out (the
+// scene placed it that deep, and the contact pushes it back) is let be: the test
+// reads only this step's state, so it is the same on every rank and after a
+// restart.
+template <int D>
+void Simulation<D>::report_pressed_through_wall() {
+  double worst = -1, approach = 0;
+  std::size_t particle = 0, wall = 0;
+  for_each_model([&](auto index) {
+    constexpr int I = decltype(index)::value;
+    const auto& b = std::get<I>(wall_buckets_);
+    for (std::size_t k = 0; k < b.size(); ++k) {
+      const std::uint32_t i = b.particle[k], w = b.wall[k];
+      // A half-space holds a particle past its surface (check_escapes stops one whose
+      // centre is a radius beyond); a thin wall does not.
+      if (!walls_[w].finite() && !is_surface_wall(walls_[w].type)) continue;
+      // A solid polyline pushes a disk whose centre got inside it back out (by design:
+      // kernel/mesh_contacts.hpp); a body, not a thin wall.
+      if constexpr (D == 2)
+        if (const auto* shape = meshes_.of_wall(w); shape && shape->solid) continue;
+      double overlap = -1;
+      V n = V::Zero(), surface_velocity = V::Zero(), lever;
+      if (is_surface_wall(walls_[w].type)) {
+        if (b.touch.size() != b.size()) continue;
+        overlap = b.touch[k].overlap;
+        n = b.touch[k].normal, surface_velocity = b.touch[k].surface_velocity;
+      } else {
+        overlap = walls_[w].contact(p_.position[i], p_.radius[i], n, surface_velocity, lever);
+      }
+      const double ratio = overlap / p_.radius[i];
+      const double into = (p_.velocity[i] - surface_velocity).dot(n);  // < 0: going in
+      if (ratio > wall_through_ratio && into < 0 && ratio > worst)
+        worst = ratio, particle = i, wall = w, approach = -into;
+    }
+  });
+  if (worst < 0) return;
+  const double per_step = approach * dt_;
+  fail(fmt::format(
+      "step {} (t = {:.6g} s): particle {} (radius {:.4g} m) is pressed through wall '{}': its "
+      "contact is {:.0f} % of its radius deep, its centre at the wall's surface, and it goes on "
+      "into the wall at {:.3g} m/s ({:.3g} m a step); {}; the output keeps this state",
+      step_, time_, p_.id[particle], p_.radius[particle], walls_[wall].name, 100 * worst, approach,
+      per_step,
+      per_step < 0.25 * p_.radius[particle]
+          ? "the contact is too soft for what presses it (a load, a moving wall): stiffen it "
+            "(k_normal, young) or lighten the load"
+          : "it came in too fast for the contact to stop it: reduce time_step or the speed"));
+}
+
 // A particle that moves farther in one step than the smallest radius can step
 // over a contact: two such particles closing head-on cross the depth at which
 // check_overlaps() sees them pass through (about three radii) within one

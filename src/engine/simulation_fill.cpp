@@ -194,7 +194,16 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
       mass += p_.mass[i];
     }
     V mean = momentum / mass;
-    for (auto id : ids) p_.velocity[p_.index(id)] -= mean;
+    double fastest = 0;
+    for (auto id : ids) {
+      V& v = p_.velocity[p_.index(id)];
+      v -= mean;
+      fastest = std::max(fastest, v.norm());
+    }
+    // Taking the mean off can push a speed past max_speed (few particles, unequal
+    // masses): all scaled back by one factor, which keeps the momentum zero.
+    if (fastest > f.max_speed)
+      for (auto id : ids) p_.velocity[p_.index(id)] *= f.max_speed / fastest;
   }
   lists_valid_ = false;
   unprepare();

@@ -179,7 +179,8 @@ void SimulationBase::apply_schedules() {
     const double v = s.schedule.at(time_);
     if (v == s.applied) continue;
     if (s.target == "central_strength") {
-      set_central_strength(v);
+      // A field the scene removed while its schedule runs: nothing to set.
+      if (body_fields().central_on) set_central_strength(v);
     } else if (s.target == "wall_angular_velocity") {
       set_wall_angular_velocity(s.wall, v);
     } else if (s.target == "wall_velocity") {

@@ -252,6 +252,10 @@ void Simulation<D>::set_central_field(const Triple& point, double strength) {
 }
 template <int D>
 void Simulation<D>::set_central_strength(double strength) {
+  // Without a field there is nothing to set: the call would change nothing, silently.
+  if (!body_.central_on)
+    throw InputError(
+        "set_central_strength: the scene has no central field (sim:central_field declares one)");
   if (!std::isfinite(strength) || strength < 0)
     throw InputError(fmt::format("central field strength must be >= 0 [m/s^2], got {}", strength));
   body_.central_strength = strength;

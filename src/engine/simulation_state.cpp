@@ -21,7 +21,7 @@
 namespace granule {
 
 namespace {
-constexpr std::int64_t state_version = 1;
+constexpr std::int64_t state_version = 2;
 
 template <typename T, typename A>
 std::vector<std::uint8_t> raw_bytes(const std::vector<T, A>& v) {
@@ -119,6 +119,9 @@ StateBlob Simulation<D>::save_state() const {
                        periodic_.origin,
                        periodic_.length,
                        contact_reach_};
+  // The clock's origin (time_ is computed from it, so a restart must take it over).
+  s.doubles["clock"] = {clock_time_, clock_dt_};
+  s.integers["clock"] = {clock_step_};
   // Materials and contact laws (their values printed exactly, %.17g).
   std::string names;
   std::vector<double> props;
@@ -235,13 +238,16 @@ StateBlob Simulation<D>::save_state() const {
   });
   // Hooks: when each fires next (matched by name and order on load).
   std::string hook_names;
-  std::vector<double> next;
+  std::vector<double> origin;
+  std::vector<std::int64_t> periods;
   for (const auto& h : hooks_) {
     hook_names += h.name + "\n";
-    next.push_back(h.next_time);
+    origin.push_back(h.origin_time);
+    periods.push_back(h.periods);
   }
   s.texts["hooks"] = hook_names;
-  s.doubles["hooks.next_time"] = next;
+  s.doubles["hooks.origin_time"] = origin;
+  s.integers["hooks.periods"] = periods;
   save_schedules(s);  // simulation_schedules.cpp
   // The guards' memory: whether deep overlaps are still the scene's own (an overlapping
   // fill relaxing, not a pass-through) and whether the one overlap warning was given;
@@ -289,6 +295,7 @@ void Simulation<D>::load_state(const StateBlob& s) {
   const auto& md = s.d("meta");
   time_ = md[0], dt_ = md[1], dt_fixed_ = md[2], steps_per_contact_ = md[3];
   dt_from_time_ = time_;
+  clock_time_ = s.d("clock")[0], clock_dt_ = s.d("clock")[1], clock_step_ = s.i("clock")[0];
   skin_ = md[4], skin_set_ = md[5], max_displacement_sq_ = md[6];
   periodic_ = {static_cast<int>(md[7]), md[8], md[9]};
   contact_reach_ = md[10];
@@ -454,9 +461,25 @@ void Simulation<D>::load_state(const StateBlob& s) {
   build_slots();
 
   const auto hook_names = split_lines(s.t("hooks"));
-  const auto& next = s.d("hooks.next_time");
-  for (std::size_t h = 0; h < hooks_.size() && h < hook_names.size() && h < next.size(); ++h)
-    if (hooks_[h].name == hook_names[h]) hooks_[h].next_time = next[h];
+  const auto& origin = s.d("hooks.origin_time");
+  const auto& periods = s.i("hooks.periods");
+  for (std::size_t h = 0; h < hooks_.size() && h < hook_names.size(); ++h)
+    if (hooks_[h].name == hook_names[h]) {
+      // A time hook due past its next period (or a step hook with a period) is no state
+      // this build writes: refused, naming the entry, rather than a callback silenced.
+      const Hook& hook = hooks_[h];
+      const bool timed = hook.every_time > 0;
+      const double next = origin[h] + static_cast<double>(periods[h]) * hook.every_time;
+      if (timed
+              ? periods[h] < 1 || !(origin[h] <= time_) || !(next <= time_ + hook.every_time + dt_)
+              : periods[h] != 0 || origin[h] != 0)
+        refuse_entry("hooks.periods",
+                     fmt::format("hook '{}' next due at {} s (origin {} s, {} periods): not "
+                                 "within a period of the time, {} s",
+                                 hook.name, next, origin[h], periods[h], time_));
+      hooks_[h].origin_time = origin[h];
+      hooks_[h].periods = periods[h];
+    }
   load_schedules(s);  // simulation_schedules.cpp
 
   lists_valid_ = meta[5] != 0;

@@ -299,9 +299,43 @@ void check_state(const StateBlob& s, std::size_t material_count, std::size_t wal
         slot_ranges[k - 1].first + slot_ranges[k - 1].second > slot_ranges[k].first &&
         slot_ranges[k].second > 0)
       refuse_entry("layout", "the contact lists' slot ranges overlap");
-  const auto& next = s.d("hooks.next_time");
-  for (std::size_t k = 0; k < next.size(); ++k)
-    if (std::isnan(next[k])) refuse_entry("hooks.next_time", fmt::format("value {} is NaN", k));
+  const std::string& hook_names = s.t("hooks");  // one line each
+  const auto hook_count =
+      static_cast<std::size_t>(std::count(hook_names.begin(), hook_names.end(), '\n'));
+  const auto& origin = s.d("hooks.origin_time");
+  const auto& periods = s.i("hooks.periods");
+  if (origin.size() != hook_count)
+    refuse_entry("hooks.origin_time",
+                 fmt::format("has {} values for {} hooks", origin.size(), hook_count));
+  if (periods.size() != hook_count)
+    refuse_entry("hooks.periods",
+                 fmt::format("has {} values for {} hooks", periods.size(), hook_count));
+  for (std::size_t k = 0; k < origin.size(); ++k)
+    if (!std::isfinite(origin[k]))
+      refuse_entry("hooks.origin_time", fmt::format("value {} is {}", k, origin[k]));
+  // The clock's origin: time = origin time + (step - origin step) dt, with the dt
+  // the origin was taken with (0 before the first step).
+  const auto& clock = s.d("clock");
+  const auto& clock_step = s.i("clock");
+  if (clock.size() != 2) refuse_entry("clock", fmt::format("has {} doubles, not 2", clock.size()));
+  if (clock_step.size() != 1)
+    refuse_entry("clock", fmt::format("has {} integers, not 1", clock_step.size()));
+  {
+    const auto& md = s.d("meta");
+    const double time = md[0], dt = md[1];
+    const std::int64_t step = s.i("meta")[2];
+    if (!std::isfinite(clock[0]) || !(clock[0] >= 0) || !(clock[0] <= time) ||
+        !std::isfinite(clock[1]) || !(clock[1] >= 0) || clock_step[0] < 0 || clock_step[0] > step)
+      refuse_entry("clock",
+                   fmt::format("origin t = {} s at step {} (step {} s) does not lie before "
+                               "the state's t = {} s, step {}",
+                               clock[0], clock_step[0], clock[1], time, step));
+    const double on_clock = clock[0] + static_cast<double>(step - clock_step[0]) * clock[1];
+    if (clock[1] == dt && step > clock_step[0] &&
+        !(std::abs(on_clock - time) <= 1e-6 * dt + 1e-12 * std::abs(time)))
+      refuse_entry("clock", fmt::format("gives t = {} s at step {}, the state says {} s", on_clock,
+                                        step, time));
+  }
   const auto& guards = s.i("guards");
   if (guards.size() != 2)
     refuse_entry("guards", fmt::format("has {} values, not 2", guards.size()));

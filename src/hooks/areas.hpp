@@ -9,7 +9,8 @@
 //   mean number of particles;
 //   cumulative collisions particle-particle and particle-boundary (walls and
 //     fixed particles), counted when a contact begins, in the area of its
-//     first contact point (Figs. 4.22-4.23);
+//     first contact point (Figs. 4.22-4.23); contacts going on when event
+//     tracking starts (a diagnostic attached to a settled bed) are not counted;
 //   collision ratio = cumulative collisions / mean number of particles in the
 //     area (Eq. 4.14; Figs. 4.24-4.25).
 #pragma once

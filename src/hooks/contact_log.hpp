@@ -32,7 +32,11 @@ struct ContactEvent {
 // Per-slot tracking state, carried across neighbour-list rebuilds like a history.
 template <int D>
 struct ContactTrack {
-  double begin_time = -1;  // < 0: not in contact
+  // A contact already going on when tracking began (a diagnostic attached to a
+  // bed at rest): neither its beginning nor its end is an event, as neither its
+  // impact nor its whole peak was seen.
+  static constexpr double ongoing = -2;
+  double begin_time = -1;  // < 0: not in contact (or `ongoing`)
   double impact_velocity = 0;
   double peak_normal_force = 0;
   double peak_overlap = 0;

@@ -168,6 +168,7 @@ int l_parameters(lua_State* L) {
                                 : t == LUA_TNUMBER ? fmt::format("{}", lua_tonumber(L, spec))
                                                    : lua_tostring(L, spec);
       ctx->parameter_docs.push_back(described);  // granule run SCENE --help
+      const bool default_is_integer = t == LUA_TNUMBER && lua_isinteger(L, spec);
       auto ov = ctx->overrides.find(name);
       if (ov != ctx->overrides.end()) {
         ctx->consumed.insert(name);
@@ -196,6 +197,16 @@ int l_parameters(lua_State* L) {
           lua_pushstring(L, text.c_str());
         }
         lua_replace(L, spec);
+      }
+      // A number's Lua type follows the declaration, not how -D wrote it: a whole
+      // number (integer = true) is an integer ("run_" .. n gives run_10, not
+      // run_10.0, for -D n=1e1), and a parameter with a fractional default a float.
+      if (t == LUA_TNUMBER && !(range.integer && lua_isinteger(L, spec))) {
+        const lua_Number value = lua_tonumber(L, spec);
+        if (range.integer && std::abs(value) < 9.2e18)
+          lua_pushinteger(L, static_cast<lua_Integer>(value)), lua_replace(L, spec);
+        else if (!range.integer && !default_is_integer)
+          lua_pushnumber(L, value), lua_replace(L, spec);
       }
       // record for provenance
       std::string shown;

@@ -48,6 +48,11 @@ std::vector<std::int64_t> selected_particles(TableReader& t, const SimulationBas
                                      t.context(), id));
       ids.push_back(id);
     }
+    // A particle named twice would be scaled twice, counted twice: a slip, refused.
+    std::vector<std::int64_t> sorted = ids;
+    std::sort(sorted.begin(), sorted.end());
+    if (auto twice = std::adjacent_find(sorted.begin(), sorted.end()); twice != sorted.end())
+      throw InputError(fmt::format("{}: 'particles' lists particle {} twice", t.context(), *twice));
   } else if (by_material) {
     const int m = sim.material_id(t.string("material"));
     for (std::int64_t id : sim.particle_ids())

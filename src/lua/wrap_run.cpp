@@ -75,6 +75,12 @@ int l_run(lua_State* L) {
     LuaSim& s = self(L);
     if (s.running)
       throw std::runtime_error("run: cannot run a simulation from inside its own callback");
+    // A -D that nothing reads: refused before the run, not after it (run_file checks
+    // again at the end, for a scene that never runs).
+    if (SceneContext* ctx = context(L); ctx && !ctx->parameters_declared && !ctx->overrides.empty())
+      throw std::runtime_error(fmt::format(
+          "run: -D {} given, but the scene declares no parameters{{...}} (before its first run)",
+          ctx->overrides.begin()->first));
     TableReader t(L, 2, "run");
     bool has_duration = t.has("duration"), has_steps = t.has("steps");
     if (has_duration == has_steps)

@@ -195,6 +195,55 @@ TEST_CASE("guards: a setting changed mid-run does not make the steps' overlaps t
   }
 }
 
+TEST_CASE("guards: a particle pressed through a wall by a slow piston stops the run", "[guards]") {
+  // A 1 mm sphere on a floor under a piston that comes down at 0.1 m/s (0.02 % of
+  // the radius a step) onto a soft linear contact: it is squeezed to its centre. A
+  // 20 mm plate as the floor (under a plane) would push it on through and out below
+  // at 12 m/s; a 5 mm disk as the piston (over a half-space) would pass through it
+  // and throw it out above. Either way the run stops while its centre is still
+  // between the two, naming the particle and the thin wall.
+  const double r = 1e-3;
+  for (bool plate : {true, false}) {
+    Simulation<3> sim;
+    sim.set_warning_handler([](const std::string&) {});
+    sim.add_material({"ball", 2500, 0, 0, 0});
+    sim.add_material({"wall", 0, 0, 0, 0});
+    const ParamValues law{{"k_normal", 1e4}, {"restitution", 0.3}, {"friction", 0.5}};
+    sim.set_contact("ball", "ball", "linear", law);
+    sim.set_contact("ball", "wall", "linear", law);
+    ParticleSpec ball;
+    ball.position = {0, r, 0}, ball.radius = r, ball.material = 0;
+    const std::int64_t id = sim.add_particle(ball);
+    WallSpec floor;
+    floor.name = "floor", floor.material = 1, floor.normal = {0, 1, 0};
+    if (plate) floor.bounded = true, floor.size_a = floor.size_b = 0.02;
+    sim.add_wall(floor);
+    WallSpec lid;
+    lid.name = "lid", lid.material = 1, lid.velocity = {0, -0.1, 0};
+    if (plate) {
+      lid.normal = {0, -1, 0}, lid.point = {0, 2.1 * r, 0};
+    } else {
+      lid.type = WallType::disk, lid.center = {0, 2.1 * r, 0}, lid.normal = {0, 1, 0};
+      lid.radius = 5 * r;
+    }
+    sim.add_wall(lid);
+    sim.prepare();
+    std::string message;
+    try {
+      sim.advance(static_cast<std::int64_t>(0.04 / sim.time_step()));
+    } catch (const RunError& e) {
+      message = e.what();
+    }
+    INFO("plate " << plate << ": " << message);
+    CHECK_THAT(message, Catch::Contains(fmt::format("particle {} (radius", id)) &&
+                            Catch::Contains(plate ? "is pressed through wall 'floor'"
+                                                  : "is pressed through wall 'lid'") &&
+                            Catch::Contains("too soft"));
+    CHECK(sim.position(id)[1] > 0);
+    CHECK(sim.position(id)[1] < 2.1 * r - 0.1 * sim.time());  // below the piston's face
+  }
+}
+
 TEST_CASE("guards: overlap_warning outside 0 < w <= 1 is refused", "[guards]") {
   Simulation<2> sim;
   for (double bad : {0.0, -0.1, 1.5, std::nan("")})
@@ -247,6 +296,43 @@ TEST_CASE("fill: small particles beside far larger ones are placed, none overlap
       const Triple x = sim.position(a), y = sim.position(b);
       const double d = std::hypot(x[0] - y[0], x[1] - y[1], x[2] - y[2]);
       CHECK(d >= sim.radius(a) + sim.radius(b));
+    }
+}
+
+TEST_CASE("fill: max_speed bounds every speed after the net momentum is taken off", "[guards]") {
+  // Few particles of unequal sizes, in 2D and 3D over 20 seeds: taking the mean
+  // velocity off alone gives speeds up to 1.7 max_speed here.
+  auto check = [](auto& sim, int seed, int count) {
+    sim.set_warning_handler([](const std::string&) {});
+    sim.add_material({"p", 2500, 0, 0, 0});
+    sim.set_contact("p", "p", "linear", {{"k_normal", 1e3}, {"restitution", 0.5}});
+    FillSpec fill;
+    fill.shape = RegionShape::box;
+    fill.lo = {-0.05, -0.05, -0.05};
+    fill.hi = {0.05, 0.05, 0.05};
+    fill.count = count;
+    fill.radius_min = 0.5e-3, fill.radius_max = 2e-3;
+    fill.material = 0;
+    fill.seed = seed;
+    fill.max_speed = 1.0;
+    sim.fill(fill);
+    double fastest = 0;
+    Triple momentum{};
+    for (std::int64_t a = 0; a < count; ++a) {
+      const Triple v = sim.velocity(a);
+      fastest = std::max(fastest, std::hypot(v[0], v[1], v[2]));
+      for (int k = 0; k < 3; ++k) momentum[k] += sim.mass(a) * v[k];
+    }
+    CHECK(fastest <= 1.0 + 1e-12);
+    CHECK(fastest > 0);
+    for (int k = 0; k < 3; ++k) CHECK(std::abs(momentum[k]) < 1e-15);
+  };
+  for (int seed = 1; seed <= 20; ++seed)
+    for (int count : {2, 3, 5}) {
+      Simulation<2> flat;
+      check(flat, seed, count);
+      Simulation<3> solid;
+      check(solid, seed, count);
     }
 }
 

@@ -100,7 +100,7 @@ H5_CASES = [
     ("nan_density", "a NaN material density", set_at(D + "materials", 0, np.nan), r"density|materials"),
     ("nan_wall_angular_velocity", "a NaN wall angular velocity", set_at(D + "walls", 6, np.nan), r"walls|angular_velocity"),
     ("nan_gravity", "a NaN gravity", set_at(D + "body", 2, np.nan), r"body|gravity"),
-    ("nan_hook_time", "a NaN time for a hook's next call", set_at(D + "hooks.next_time", 1, np.nan), r"hooks"),
+    ("nan_hook_time", "a NaN origin for a hook's period count", set_at(D + "hooks.origin_time", 1, np.nan), r"hooks"),
     ("contact_value_not_number", "a contact law value that is not a number", set_text(T + "contacts", lambda s: s.replace("k_normal=10000", "k_normal=stiff")), r"contacts.*(k_normal|stiff)"),
     ("contact_unknown_model", "a contact law of a model that does not exist", set_text(T + "contacts", lambda s: s.replace("\tlinear\t", "\thooke\t")), r"hooke"),
     ("missing_velocity", "particles.velocity missing", delete(D + "particles.velocity"), r"particles\.velocity"),

@@ -410,6 +410,8 @@ for name, text, expect in [
     ("fill_misspelled_radius", 'count = 5, radis = 3e-4, material = "glass"', r"{at}.*unknown key 'radis'"),
 ]:
     case(name, "sim:fill: " + text, expect, replace={"fill": wrong(FILL % text)})
+case("scale_velocities_listed_twice", "sim:scale_velocities names one particle twice (it would be scaled twice)",
+     r"{at}.*lists particle 1 twice", after={"fill": [wrong("sim:scale_velocities { factor = 2, particles = { 1, 2, 1 } }")]})
 for name, line, expect in [
     ("fill_region_missing", 'sim:fill { count = 5, radius = 3e-4, material = "glass" }', r"{at}.*region"),
     ("fill_region_unknown_shape", 'sim:fill { region = { hexagon = { center = { 0, 0 }, radius = 0.008 } }, count = 5, radius = 3e-4, material = "glass" }', r"{at}.*fill\.region"),
@@ -724,6 +726,12 @@ for name, text, args, expect in [
                    else 'count = 5, radius = 3e-4, material = "glass", overlap = p.overlap')
     case(name, f"-D value of the wrong kind ({args})", expect, args=args,
          before={"sim": [P % text]}, replace={"fill": wrong(fill)})
+case("rolling_damping_with_constant", "rolling_damping given to the constant rolling torque, which has no dashpot",
+     r"{at}.*rolling_damping = 0.3 acts only with rolling_model", replace={"contact": wrong('sim:contact { "glass", "glass", model = "linear", k_normal = 1e4, restitution = 0.8, friction = 0.3, rolling_friction = 0.1, rolling_model = "constant", rolling_damping = 0.3 }')})
+case("central_strength_without_field", "sim:set_central_strength where the scene has no central field (it would change nothing)",
+     r"{at}.*no central field", after={"fill": [wrong("sim:set_central_strength(2)")]})
+case("param_minus_d_without_parameters", "-D given to a scene that declares no parameters{...}: refused at its run, before any step",
+     r"{at}.*-D count given, but the scene declares no parameters", args="-D count=6", replace={"run": wrong("sim:run { steps = 10 }")})
 for name, text, expect in [
     ("param_default_function", "count = function() return 5 end", r"{at}.*count"),
     ("param_default_nil_table", "count = { unit = 'm' }", r"{at}.*count"),

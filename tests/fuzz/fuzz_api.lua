@@ -34,6 +34,7 @@ local function fixture(with_output)
   sim:wall_plane { name = "floor", point = { 0, -0.009 }, normal = { 0, 1 }, material = "steel" }
   sim:fill { region = { circle = { center = { 0, 0 }, radius = 0.008 } }, count = 20, radius = 5e-4,
              material = "glass", seed = 1 }
+  sim:central_field { point = { 0, 0 }, strength = 0 }  -- for sim:set_central_strength's example
   if with_output then
     sim:output { file = fixture_file }
     sim:series("probe", { "time", "value" })

@@ -220,6 +220,31 @@ TEST_CASE("areas: forces per particle and per contact, collisions and their rati
   CHECK(res.at("collision_ratio_particle_free_diffusion") == Approx(0.5));
 }
 
+TEST_CASE("areas: contacts going on when it is attached are no collisions, later ones are",
+          "[diagnostics][mechanofusion]") {
+  Simulation<2> sim;
+  chamber(sim, 0, true);
+  // A pair pressed together in the input area, stepped before the diagnostic comes.
+  const double delta = 2e-6, l = 9e-3, a = 280 * pi / 180;
+  const double cx = l * std::cos(a), cy = l * std::sin(a);
+  particle(sim, cx - (r - delta / 2), cy);
+  particle(sim, cx + (r - delta / 2), cy);
+  // Two particles that meet after it is attached, in the free-diffusion area.
+  const double c = 200 * pi / 180, lc = 8e-3, gap = 2e-6, v = 0.2;
+  particle(sim, lc * std::cos(c) - r - gap, lc * std::sin(c), v, 0);
+  particle(sim, lc * std::cos(c) + r + gap, lc * std::sin(c), -v, 0);
+  sim.advance(3);
+  DiagnosticOptions o;
+  o.numbers["every"] = 1;
+  o.numbers["window"] = 1;
+  const int id = attach(sim, "areas", o);
+  sim.advance(static_cast<std::int64_t>(2 * gap / v / sim.time_step()) + 10);
+  auto res = sim.diagnostic_results(id);
+  CHECK(res.at("particles_input") == 2);  // still pressed together, but no new collision
+  CHECK(res.at("collisions_particle_input") == 0);
+  CHECK(res.at("collisions_particle_free_diffusion") == 1);
+}
+
 TEST_CASE("areas: sectors count from the inner piece and must not overlap",
           "[diagnostics][mechanofusion]") {
   AreaSectors s;

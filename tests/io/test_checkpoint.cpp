@@ -208,8 +208,7 @@ std::vector<Corruption> corruptions(const StateBlob& valid, double stability_lim
     s.texts.erase(k);
     add(k + " (text) left out", k, s);
   }
-  // Sizes: one short (or one over when empty). The hooks' times are matched by name and
-  // may be fewer than the scene's hooks.
+  // Sizes: one short (or one over when empty).
   auto resize = [&](auto&& map, const std::string& k, const StateBlob& base, const char* kind) {
     StateBlob s = base;
     auto& v = map(s).at(k);
@@ -220,9 +219,8 @@ std::vector<Corruption> corruptions(const StateBlob& valid, double stability_lim
     add(k + " (" + kind + ") resized to " + std::to_string(v.size()), k, s);
   };
   for (const auto& [k, v] : valid.doubles)
-    if (k != "hooks.next_time")
-      resize(
-          [](StateBlob & s) -> auto& { return s.doubles; }, k, valid, "doubles");
+    resize(
+        [](StateBlob & s) -> auto& { return s.doubles; }, k, valid, "doubles");
   for (const auto& [k, v] : valid.integers)
     resize(
         [](StateBlob & s) -> auto& { return s.integers; }, k, valid, "integers");

@@ -168,6 +168,26 @@ assert(p.flag == true)
   CHECK_THAT(read_unknown.error, Catch::Contains("unknown parameter 'b'"));
 }
 
+TEST_CASE("lua: a parameter's number type follows its declaration, not the -D text",
+          "[lua][parameters]") {
+  // A whole number is an integer however -D writes it; a fractional default's
+  // parameter is a float; an integer default without a range keeps what -D gives.
+  const std::string scene =
+      R"(local p = parameters { n = { default = 10, integer = true }, x = 1.5, k = 3 }
+assert(math.type(p.n) == "integer" and "run_" .. p.n == "run_" .. N, "n: " .. tostring(p.n))
+assert(math.type(p.x) == "float" and p.x == X, "x: " .. tostring(p.x))
+assert(math.type(p.k) == K, "k: " .. tostring(p.k))
+)";
+  auto expecting = [&](const char* values) {
+    return std::string("local N, X, K = ") + values + "\n" + scene;
+  };
+  CHECK(
+      run_scene(expecting("12, 2.0, 'integer'"), {{"n", "1.2e1"}, {"x", "2"}, {"k", "4"}}).error ==
+      "");
+  CHECK(run_scene(expecting("12, 1.5, 'float'"), {{"n", "12.0"}, {"k", "2.5"}}).error == "");
+  CHECK(run_scene(expecting("10, 1.5, 'integer'")).error == "");
+}
+
 TEST_CASE("lua: a second contact law for a pair names both declarations", "[lua][errors]") {
   // The header declares glass-steel on line 5; again here, in the other order, on line 6.
   auto r = run_scene(std::string(header) +
@@ -405,6 +425,51 @@ assert(count.a == 2, "a fired " .. count.a)
 assert(count.b == 6, "b fired " .. count.b)
 assert(count.c == 3, "c fired " .. count.c)
 assert(count.d == 3, "d fired " .. count.d)
+)");
+  CHECK(r.error == "");
+}
+
+TEST_CASE("lua: time hooks and the clock keep to the steps a fixed time step divides", "[lua]") {
+  // dt = 1e-5 s and hooks every 1e-4 s and 1e-3 s over 1e5 steps: every firing on a
+  // multiple of 10 (100) steps, the last at the last step, and the clock at 1 s to the
+  // last place. A clock summed step by step drifts ~1e-7 dt and fires ~40 % of them a
+  // step late, the last not at all; two runs of half the time end at the same time.
+  auto r = run_scene(std::string(header) + R"(
+sim:set { time_step = 1e-5 }
+sim:add_particle { position = { 0, 0 }, radius = 1e-3, material = "glass" }
+local fired, late, fired_ms, late_ms = 0, 0, 0, 0
+sim:every { time = 1e-4, function(s)
+  fired = fired + 1
+  if s:step_count() % 10 ~= 0 then late = late + 1 end
+end }
+sim:every { time = 1e-3, function(s)
+  fired_ms = fired_ms + 1
+  if s:step_count() % 100 ~= 0 then late_ms = late_ms + 1 end
+end }
+sim:run { duration = 0.5 }
+sim:run { duration = 1 - sim:time() }
+assert(sim:step_count() == 100000, "steps " .. sim:step_count())
+assert(sim:time() == 1.0, string.format("t = %.17g", sim:time()))
+assert(fired == 10000 and late == 0, "every 1e-4 s: " .. fired .. " firings, " .. late .. " off their step")
+assert(fired_ms == 1000 and late_ms == 0, "every 1e-3 s: " .. fired_ms .. " firings, " .. late_ms .. " off")
+)");
+  CHECK(r.error == "");
+}
+
+TEST_CASE("lua: set_central_strength needs a field, and a schedule outlives its removal",
+          "[lua]") {
+  // Without a field the call would change nothing: refused. A field removed while a
+  // schedule of its strength runs: the schedule has nothing to set, and the run goes on.
+  auto r = run_scene(std::string(header) + R"(
+sim:add_particle { position = { 0, 0 }, radius = 1e-3, material = "glass" }
+local ok, err = pcall(sim.set_central_strength, sim, 2)
+assert(not ok and tostring(err):find("no central field"), tostring(err))
+sim:central_field { point = { 0, 0.01 }, strength = 1 }
+sim:schedule { "central_strength", linear = { 0, 1, 1, 2 } }
+sim:run { steps = 10 }
+sim:remove_central_field()
+sim:run { steps = 10 }
+assert(sim:central_strength() == 0)
 )");
   CHECK(r.error == "");
 }
