@@ -1,7 +1,7 @@
 -- Scenes whose restart must either continue the first run or be refused by name
 -- (tests/scenes/restart_trust_test.py runs each case).
 local p = parameters {
-  case = { default = "pairs", doc = "pairs | args | module | mesh | pcall | prerun | replay_stop | views | second | history | other_file | mesh_file" },
+  case = { default = "pairs", doc = "pairs | args | module | mesh | pcall | prerun | replay_stop | views | second | history | other_file | mesh_file | attach" },
 }
 if p.case == "mesh" then
   -- A mesh written to a file os.tmpname names (another name in every process), which
@@ -150,4 +150,19 @@ elseif p.case == "other_file" then
   sim:save_checkpoint(os.getenv("GRANULE_TRUST_CHECKPOINT") or "trust.chk.h5")
   sim:run { duration = 1e-3 }
   print("other_file done")
+elseif p.case == "attach" then
+  -- A diagnostic that follows contacts, attached after the checkpoint's point to a
+  -- settled bed: the restart takes over first, and must count what the whole run counts.
+  fill(12, 1, -3.0e-3)
+  fill(12, 2, -2.15e-3)
+  sim:wall_cylinder { name = "inner_piece", center = { 1.5e-3, 0 }, radius = 1e-3, inside = false, material = "g" }
+  sim:output { file = "attach.h5", snapshot_every = 0 }
+  sim:run { duration = 30e-3 }
+  sim:save_checkpoint("trust.chk.h5")
+  local id = sim:diagnostic("areas", { chamber = "drum", inner_piece = "inner_piece", every = 1, window = 1e-3 })
+  sim:set_wall("drum", { angular_velocity = 100 })
+  sim:run { duration = 5e-3 }
+  local r = sim:diagnostic_results(id)
+  print(string.format("attach collisions %g %g %g", r.collisions_particle_input, r.collisions_particle_free_diffusion,
+                      r.collisions_boundary_scraper))
 end

@@ -20,11 +20,14 @@ Cases of tests/scenes/restart_trust.lua, each in a folder of its own:
 - history: a restart from a checkpoint before the output got contact histories, after the
   whole run ended, writes them again and ends with the whole run's file;
 - other_file: an output file another run wrote anew since the checkpoint is refused;
-- mesh_file: a mesh file edited since the checkpoint is refused.
+- mesh_file: a mesh file edited since the checkpoint is refused;
+- attach: a diagnostic that follows contacts, attached after the checkpoint's point to a
+  bed in contact, counts in the restart what it counts in the whole run.
 
     restart_trust_test.py GRANULE SOURCE_DIR
 """
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -231,9 +234,26 @@ def mesh_file_case(work):
     print("mesh_file: a mesh file edited since the checkpoint is refused")
 
 
+def attach_case(work):
+    d = case_folder(work, "attach")
+    whole = whole_run(d, "attach")
+    shutil.copyfile(os.path.join(d, "attach.h5"), os.path.join(d, "whole.h5"))
+    r = run(d, "attach", "--restart", "trust.chk.h5")
+    if r.returncode != 0 or r.stdout != whole.stdout:
+        fail(f"attach: the restart did not print the whole run's line {whole.stdout!r}", r)
+    compare = subprocess.run([sys.executable, os.path.join(SOURCE, "tests", "scenes",
+                                                          "compare_runs.py"),
+                              os.path.join(d, "whole.h5"), os.path.join(d, "attach_restarted.h5")],
+                             capture_output=True, text=True)
+    if compare.returncode != 0:
+        sys.exit(f"attach: the restarted file differs from the whole run's:\n{compare.stdout}"
+                 f"{compare.stderr}")
+    print("attach: a diagnostic attached after the checkpoint counts as in the whole run")
+
+
 with tempfile.TemporaryDirectory() as work:
     for case in (pairs_case, args_case, module_case, mesh_case, pcall_case, prerun_case,
                  replay_stop_case, views_case, second_case, history_case, other_file_case,
-                 mesh_file_case):
+                 mesh_file_case, attach_case):
         case(work)
 print("restart trust: all passed")
