@@ -37,6 +37,11 @@ sim:contact { "powder", "powder", model = "walton_braun", k_load = p.k_load,
               restitution = p.restitution, friction = p.friction_particle }
 sim:contact { "powder", "steel", model = "walton_braun", k_load = p.k_load,
               restitution = p.restitution, friction = p.friction_wall }
+-- The scraper is powder-sized fixed particles with the wall's friction (4.2.1; 4.5
+-- counts them as solid boundary), as granule.mechanofusion builds it.
+sim:material { name = "scraper", density = p.density }
+sim:contact { "powder", "scraper", model = "walton_braun", k_load = p.k_load,
+              restitution = p.restitution, friction = p.friction_wall }
 
 local omega = granule.rpm(p.rpm)
 local inner_offset = p.chamber_radius - p.gap - p.inner_radius   -- 5.9 mm (SPEC 4.1)
@@ -59,7 +64,7 @@ if p.scraper then
                                     granule.vec.scale(tangent, -math.cos(tilt)))
   local count = math.floor(p.scraper_length / (2 * p.radius) + 0.5)
   for _, x in ipairs(granule.particle_row(first, direction, count, p.radius)) do
-    sim:add_particle { position = x, radius = p.radius, material = "powder", fixed = true }
+    sim:add_particle { position = x, radius = p.radius, material = "scraper", fixed = true }
   end
 end
 

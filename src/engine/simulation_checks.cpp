@@ -209,8 +209,8 @@ void Simulation<D>::report_pressed_through_wall() {
   const double per_step = approach * dt_;
   fail(fmt::format(
       "step {} (t = {:.6g} s): particle {} (radius {:.4g} m) is pressed through wall '{}': its "
-      "contact is {:.0f} % of its radius deep, its centre at the wall's surface, and it goes on "
-      "into the wall at {:.3g} m/s ({:.3g} m a step); {}; the output keeps this state",
+      "contact is {:.0f} % of its radius deep, its centre all but at the wall's surface, and it "
+      "goes on into the wall at {:.3g} m/s ({:.3g} m a step); {}; the output keeps this state",
       step_, time_, p_.id[particle], p_.radius[particle], walls_[wall].name, 100 * worst, approach,
       per_step,
       per_step < 0.25 * p_.radius[particle]
