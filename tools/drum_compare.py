@@ -39,7 +39,7 @@ def main():
     parser.add_argument("summary")
     parser.add_argument("--out", default="docs/data/drum_mesh.csv")
     a = parser.parse_args()
-    rows = [r for r in csv.DictReader(open(a.summary)) if r["status"] == "ok"]
+    rows = [r for r in csv.DictReader(open(a.summary)) if r["status"] in ("ok", "reused")]
     if not rows:
         sys.exit(f"{a.summary}: no finished case")
     groups = {}

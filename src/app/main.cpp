@@ -62,9 +62,10 @@ const char* usage =
     "  -D name=value   override a parameter the scene declares (repeatable)\n"
     "  -o OUT.h5       output file (an OUT.xmf for ParaView is written beside it)\n"
     "  -q, --quiet     no run header, warnings or progress line\n"
-    "  --progress S    a progress line every S seconds of wall time, each a line of its own\n"
-    "                  (without it: on a terminal one line redrawn in place; otherwise a\n"
-    "                  line at every tenth of a run that lasts over 2 s)\n"
+    "  --progress S    a progress line every S seconds of wall time once a run has taken\n"
+    "                  2 s, each a line of its own (without it: on a terminal one line\n"
+    "                  redrawn in place; otherwise a line at every tenth of a run that\n"
+    "                  lasts over 2 s)\n"
     "  --checkpoint FILE.h5      where the run's checkpoints go (periodic, and on a signal)\n"
     "  --checkpoint-every S      a checkpoint every S seconds of wall time\n";
 

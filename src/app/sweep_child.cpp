@@ -46,19 +46,21 @@ std::string self_executable() {
   return p.string();
 }
 
-// The first line of the error the run printed ("error: ..." from the scene, "granule:
-// error: ..." from the program), else its last line; from byte `start` on (a
-// continued case appends to the log of its earlier attempts).
+// The first line of the error the run ended on ("error: ..." from the scene, "granule:
+// error: ..." from the program): the last such line of the log, as the program reports
+// its error after everything the scene printed (which may hold such lines of its
+// own); else the log's last line. From byte `start` on (a continued case appends to
+// the log of its earlier attempts).
 std::string error_from_log(const std::string& log, std::uintmax_t start) {
   std::ifstream in(log);
   in.seekg(static_cast<std::streamoff>(start));
-  std::string line, last;
+  std::string line, last, error;
   while (std::getline(in, line)) {
     for (const char* prefix : {"error: ", "granule: error: "})
-      if (line.rfind(prefix, 0) == 0) return line.substr(std::strlen(prefix));
+      if (line.rfind(prefix, 0) == 0) error = line.substr(std::strlen(prefix));
     if (!line.empty()) last = line;
   }
-  return last;
+  return error.empty() ? last : error;
 }
 
 // Why an earlier sweep's checkpoint of this case's file names cannot be

@@ -134,9 +134,17 @@ void write_markdown(const std::string& path, const Settings& s, const Summary& t
 void markdown(std::ostream& out, const Settings& s, const Summary& t) {
   out << "# Sweep of " << s.scene << "\n\n";
   auto cell = [](std::string text) {
-    if (text.size() > 100) text = text.substr(0, 97) + "...";
+    if (text.size() > 100) {
+      // Cut at a character's start: a UTF-8 continuation byte is 10xxxxxx.
+      std::size_t cut = 97;
+      while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;
+      text = text.substr(0, cut) + "...";
+    }
     std::string out;
-    for (char c : text) out += (c == '|') ? std::string("\\|") : std::string(1, c);
+    for (char c : text)
+      out += c == '|'                 ? std::string("\\|")
+             : c == '\n' || c == '\r' ? std::string(" ")
+                                      : std::string(1, c);
     return out;
   };
   for (const auto& h : t.header) out << "| " << cell(h) << " ";

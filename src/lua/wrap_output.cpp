@@ -86,6 +86,13 @@ int l_output(lua_State* L) {
     o.forces = t.boolean("forces", false);
     o.contacts = t.boolean("contacts", false);
     t.finish();
+    // The XDMF names its data "file.h5:/path": a reader splits that at its first ':'.
+    if (o.xdmf && std::filesystem::path(o.path).filename().string().find(':') != std::string::npos)
+      s.sim->warn(fmt::format(
+          "output {}: the file's name holds a ':', where XDMF readers (ParaView) split a data "
+          "reference, so the .xmf beside it will not open; name the file without ':' (or give "
+          "xdmf = false)",
+          o.path));
     o.scene_path = ctx->scene_path;
     o.scene_source = ctx->scene_source;
     o.parameters = ctx->parameter_values;
