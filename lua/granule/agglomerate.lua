@@ -434,7 +434,8 @@ end
 --- stage 3 ramp, its fixed duration) and the
 --- /results attributes.
 function agglomerate.write_preparation(sim, report)
-  sim:series("preparation", { "stage", "start_time", "duration", "steps", "criterion_met" })
+  sim:series("preparation", { "stage", "start_time", "duration", "steps", "criterion_met" },
+             { "-", "s", "s", "-", "-" })
   for k, stage in ipairs(report.stages) do
     sim:append("preparation", { k, stage.start, stage.duration, stage.steps, stage.ended_by == "criterion" and 1 or 0 })
   end

@@ -225,6 +225,9 @@ tests.series_columns = { "time", "damage_ratio", "debris_ratio", "fines_ratio", 
                          "largest_fraction_bonds", "fragments_bonds", "kinetic_energy", "target_force",
                          "in_contact", "wall_travel", "debris_ratio_by_size", "singles_ratio", "bonded_debris_ratio",
                          "debris_ratio_by_size_bonds", "bonded_debris_ratio_bonds", "approach_speed" }
+-- Their units, column by column (counts and ratios '-').
+local series_units = { time = "s", kinetic_energy = "J", target_force = "N", wall_travel = "m",
+                       approach_speed = "m/s" }
 
 -- Kinetic energy of one particle (translation + rotation, I = m d^2 / 10, SPEC 2).
 local function particle_kinetic_energy(p)
@@ -308,6 +311,18 @@ function tests.run(sim, kind, given)
   end
   local shape = agglomerate.geometry(sim, ids)
   local height = shape.high[2] - shape.low[2]
+  if kind == "compression" then
+    -- The platens may not come closer than the largest primary's diameter: squeezed
+    -- past it, every primary is pressed into both and thrown out sideways.
+    local largest = 0
+    for _, id in ipairs(ids) do largest = math.max(largest, sim:particle(id).radius) end
+    local most = 1 - 2 * largest / height
+    if o.strain > most then
+      error(string.format("%s: 'strain' %g would bring the platens closer than the largest primary's "
+        .. "diameter %g m (the agglomerate is %g m high): at most %.3g", context, o.strain, 2 * largest,
+        height, most), 2)
+    end
+  end
 
   -- (2) The target, below the agglomerate (along -y), and the velocities.
   local target = {}
@@ -388,7 +403,9 @@ function tests.run(sim, kind, given)
     columns[#columns + 1] = "parallel_bonds_broken"
     columns[#columns + 1] = "parallel_damage_ratio"
   end
-  sim:series("breakage", columns)
+  local units = {}
+  for k, c in ipairs(columns) do units[k] = series_units[c] or "-" end
+  sim:series("breakage", columns, units)
   local history = {}
   -- The damage counts a pair that parted and touches again as intact, so it can
   -- fall after its peak: the largest sample is reported beside the last.

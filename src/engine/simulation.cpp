@@ -55,6 +55,12 @@ void Simulation<D>::step() {
     else
       rebuild_lists();
   }
+  if (ongoing_marks_due_) mark_ongoing_contacts();
+  // Whether deep overlaps are still the scene's own, as the step begins: the pairs'
+  // check below may end that grace within this step on one process, where a spread
+  // run learns it from every rank at the next step's start; the wall check reads
+  // this, the same on both.
+  const bool overlaps_the_scenes = scene_overlaps_;
   auto t1 = Clock::now();
   stage_times_.neighbor += std::chrono::duration<double>(t1 - t0).count();
 
@@ -161,7 +167,8 @@ void Simulation<D>::step() {
     scene_overlaps_ = false;
   // (While the scene's own overlaps relax, as after an overlapping fill, its
   // particles are thrown at the walls that hard by design: check_overlaps.)
-  if (wall_tally.max_ratio > wall_through_ratio && !scene_overlaps_) report_pressed_through_wall();
+  if (wall_tally.max_ratio > wall_through_ratio && !overlaps_the_scenes)
+    report_pressed_through_wall();
   auto t2 = Clock::now();
   stage_times_.force += std::chrono::duration<double>(t2 - t1).count();
 
@@ -293,6 +300,39 @@ void Simulation<D>::track_bucket(Bucket& b) {
   } else {
     for (std::size_t k = 0; k < b.size(); ++k) visit(k);
   }
+}
+
+// The contacts going on when event tracking begins (a diagnostic attached to a bed
+// in contact) began before it: marked `ongoing`, they give no events. Told by the
+// particles' overlap at the start of the first step after the attach, when the
+// lists are built (after particles were added, removed or moved, on every rank of
+// a spread run alike): the state alone decides, as on one process, and after a
+// restart (the due mark travels in the checkpoint). Pairs and analytic walls; a
+// mesh's contacts are found within the step (their first step begins them).
+template <int D>
+void Simulation<D>::mark_ongoing_contacts() {
+  ongoing_marks_due_ = false;
+  if (!tracking_) return;
+  for_each_model([&](auto index) {
+    constexpr int I = decltype(index)::value;
+    auto& pairs = std::get<I>(pair_buckets_);
+    pairs.track.assign(pairs.size(), ContactTrack<D>{});
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+      const std::uint32_t i = pairs.i[k], j = pairs.j[k];
+      const V d = separation(p_.position[i], p_.position[j]);
+      const double reach = p_.radius[i] + p_.radius[j];
+      if (d.squaredNorm() < reach * reach) pairs.track[k].begin_time = ContactTrack<D>::ongoing;
+    }
+    auto& walls = std::get<I>(wall_buckets_);
+    walls.track.assign(walls.size(), ContactTrack<D>{});
+    for (std::size_t k = 0; k < walls.size(); ++k) {
+      const std::uint32_t i = walls.particle[k], w = walls.wall[k];
+      if (is_surface_wall(walls_[w].type)) continue;
+      V n, surface_velocity, lever;
+      if (walls_[w].contact(p_.position[i], p_.radius[i], n, surface_velocity, lever) > 0)
+        walls.track[k].begin_time = ContactTrack<D>::ongoing;
+    }
+  });
 }
 
 template <int D>

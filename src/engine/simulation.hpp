@@ -349,6 +349,10 @@ class Simulation final : public SimulationBase {
   // and the wall (simulation_checks.cpp).
   static constexpr double wall_through_ratio = 0.9;
   void report_pressed_through_wall();
+  // Event tracking began since the last step: its contacts going on are to be marked
+  // (mark_ongoing_contacts, simulation.cpp), at the next step.
+  bool ongoing_marks_due_ = false;
+  void mark_ongoing_contacts();
   Diagnostic<D>& diagnostic(int id) const;
 
   struct AttachedDiagnostic {

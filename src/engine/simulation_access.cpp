@@ -312,30 +312,8 @@ int Simulation<D>::attach(std::unique_ptr<Diagnostic<D>> diagnostic, const std::
   tracking_ = false;
   for (const auto& d : diagnostics_) tracking_ = tracking_ || d.needs.events;
   // Contacts going on as tracking begins did not begin now: not counted as collisions.
-  // Told by the particles' overlap now (the state alone, so the same after a restart,
-  // whose slots' flags say only "may touch"): pairs and analytic walls. A mesh's
-  // contacts are found in the step (their first step here begins them).
-  if (tracking_ && !was_tracking && lists_valid_ && !list_indices_stale_)
-    for_each_model([&](auto index) {
-      constexpr int I = decltype(index)::value;
-      auto& pairs = std::get<I>(pair_buckets_);
-      pairs.track.assign(pairs.size(), ContactTrack<D>{});
-      for (std::size_t k = 0; k < pairs.size(); ++k) {
-        const std::uint32_t i = pairs.i[k], j = pairs.j[k];
-        const V d = separation(p_.position[i], p_.position[j]);
-        const double reach = p_.radius[i] + p_.radius[j];
-        if (d.squaredNorm() < reach * reach) pairs.track[k].begin_time = ContactTrack<D>::ongoing;
-      }
-      auto& walls = std::get<I>(wall_buckets_);
-      walls.track.assign(walls.size(), ContactTrack<D>{});
-      for (std::size_t k = 0; k < walls.size(); ++k) {
-        const std::uint32_t i = walls.particle[k], w = walls.wall[k];
-        if (is_surface_wall(walls_[w].type)) continue;
-        V n, surface_velocity, lever;
-        if (walls_[w].contact(p_.position[i], p_.radius[i], n, surface_velocity, lever) > 0)
-          walls.track[k].begin_time = ContactTrack<D>::ongoing;
-      }
-    });
+  // Marked at the next step, once its lists are built (mark_ongoing_contacts).
+  if (tracking_ && !was_tracking) ongoing_marks_due_ = true;
   return diagnostics_.back().id;
 }
 
@@ -354,6 +332,7 @@ void Simulation<D>::detach_diagnostic(int id) {
       diagnostics_.erase(it);
       tracking_ = false;
       for (const auto& d : diagnostics_) tracking_ = tracking_ || d.needs.events;
+      if (!tracking_) ongoing_marks_due_ = false;
       if (!tracking_) {  // nobody tracks events any more: drop the per-contact state
         for_each_model([&](auto index) {
           constexpr int I = decltype(index)::value;

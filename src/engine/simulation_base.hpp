@@ -379,6 +379,9 @@ class SimulationBase {
   // Whether a change since the last prepare() still waits for one (step() makes it).
   bool prepared() const { return prepared_; }
   void set_external_rebuilds(bool on) { external_rebuilds_ = on; }
+  // Whether this process holds its share of a scene spread over ranks (a step of a
+  // distributed run is under way), not the whole scene.
+  bool holds_share() const { return external_rebuilds_; }
   void ensure_prepared() {
     if (!prepared_) prepare();
   }

@@ -56,7 +56,7 @@ void Simulation<D>::save_diagnostics(StateBlob& s) const {
   for (std::size_t k = 0; k < diagnostics_.size(); ++k)
     diagnostics_[k].diagnostic->save_state(s, prefix_of(k));
   s.integers["diagnostics.track.layout"] = {static_cast<std::int64_t>(sizeof(ContactTrack<D>)),
-                                            tracking_ ? 1 : 0};
+                                            tracking_ ? 1 : 0, ongoing_marks_due_ ? 1 : 0};
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
     using M = ContactModelAt<I>;
@@ -96,10 +96,14 @@ void Simulation<D>::load_diagnostics(const StateBlob& s) {
 
   // The tracking first: it needs the contact lists load_state() restored.
   const auto& layout = s.i("diagnostics.track.layout");
-  if (layout.size() != 2 || layout[0] != static_cast<std::int64_t>(sizeof(ContactTrack<D>)))
+  if (layout.size() != 3 || layout[0] != static_cast<std::int64_t>(sizeof(ContactTrack<D>)) ||
+      (layout[2] != 0 && layout[2] != 1))
     throw InputError(
         "checkpoint: 'diagnostics.track.layout' differs from this build's contact tracking "
         "(written by another build?)");
+  // Whether the contacts going on were still to be marked (a checkpoint between an
+  // attach and the next step): the tracks below are then not yet the run's.
+  ongoing_marks_due_ = tracking_ && layout[2] != 0;
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
     using M = ContactModelAt<I>;

@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -72,6 +73,11 @@ std::string hdf5_error_text();
 // closing one would flush a cache that no longer matches it. Call before any other
 // HDF5 function (first thing in main).
 void keep_hdf5_files_at_exit();
+
+// reopen()'s refusal of a file another run wrote in the first run's place.
+struct OutputOfAnotherRun : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
 
 class H5Output {
  public:

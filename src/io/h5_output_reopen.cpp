@@ -61,20 +61,9 @@ std::unique_ptr<H5Output> H5Output::reopen(const std::string& path, std::size_t 
                                            const std::map<std::string, std::int64_t>& series_rows,
                                            const Kept& kept, std::uint64_t file_id) {
   silence_hdf5();
-  std::unique_ptr<H5Output> out(new H5Output());
-  Impl& m = *out->impl_;
-  m.path = path;
-  Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
-#ifdef GRANULE_HAVE_FILE_LOCKING_PLIST
-  if (fapl.get() >= 0) H5Pset_file_locking(fapl.get(), 0, 1);
-#endif
-  // Journalled from the open on, before HDF5 writes a byte: a kill while the file is
-  // cut back puts it back as it is now. (Kept until the cut is done: closing a file
-  // cut half-way leaves what its journal can undo.)
-  m.file_id = file_id != 0 ? file_id : new_file_id();
-  // Which file it is, read before the journalled open below (which starts a journal
-  // under the checkpoint's id: one left beside another run's file would refuse that
-  // run's own restart later).
+  // Which file it is, read before anything is made of it and before the journalled
+  // open below (which starts a journal under the checkpoint's id: one left beside
+  // another run's file would refuse that run's own restart later).
   if (file_id != 0) {
     std::int64_t on_file = 0;
     Handle plain(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
@@ -93,12 +82,22 @@ std::unique_ptr<H5Output> H5Output::reopen(const std::string& path, std::size_t 
       if (a.get() < 0 || H5Aread(a.get(), H5T_NATIVE_INT64, &on_file) < 0) on_file = 0;
     }
     if (on_file != static_cast<std::int64_t>(file_id))
-      throw std::runtime_error(fmt::format(
+      throw OutputOfAnotherRun(fmt::format(
           "cannot continue {}: it is not the file the checkpoint's run wrote (its file_id is {}, "
-          "the checkpoint's {}): another run has written a file of that name since; put the "
-          "first run's file back there or restart with -o naming another file",
+          "the checkpoint's {})",
           path, on_file, file_id));
   }
+  std::unique_ptr<H5Output> out(new H5Output());
+  Impl& m = *out->impl_;
+  m.path = path;
+  Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+#ifdef GRANULE_HAVE_FILE_LOCKING_PLIST
+  if (fapl.get() >= 0) H5Pset_file_locking(fapl.get(), 0, 1);
+#endif
+  // Journalled from the open on, before HDF5 writes a byte: a kill while the file is
+  // cut back puts it back as it is now. (Kept until the cut is done: closing a file
+  // cut half-way leaves what its journal can undo.)
+  m.file_id = file_id != 0 ? file_id : new_file_id();
   use_journalled_driver(fapl.get(), m.file_id);
   m.keep_journal = true;
   m.disk_path = writable_path(path, true);

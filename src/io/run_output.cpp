@@ -490,6 +490,17 @@ void RunOutput::write_result(const std::string& name, double value) {
 void RunOutput::write_failure(const std::string& message) {
   if (!file_) return;
   write_header();
+  if (sim_.holds_share()) {
+    // A spread run failing in a step: this rank holds its share of the scene and its
+    // neighbours' ghosts, which a snapshot would pass off as the scene. The reason only.
+    file_->write_attribute("/", "failure",
+                           message + " (spread over ranks: the state at the failure is not "
+                                     "written, as each rank holds only its share of the scene)");
+    last_snapshot_step_ = sim_.step_count();
+    failure_step_ = sim_.step_count();
+    file_->flush();
+    return;
+  }
   // Keep what can be kept: the particles whose state is still finite, and the reason.
   SimulationBase::FlatState s = sim_.flat_state();
   const int d = sim_.dimension(), sc = d == 2 ? 1 : 3;

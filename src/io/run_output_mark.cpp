@@ -249,8 +249,17 @@ void RunOutput::resume(const StateBlob& state, const std::function<bool(bool)>& 
     throw std::runtime_error(
         fmt::format("restart: another rank could not copy {} (its message says why)", original));
   if (in_place) put_back(original);
-  file_ = H5Output::reopen(settings_.path, static_cast<std::size_t>(progress[0]), series, kept,
-                           file_id);
+  try {
+    file_ = H5Output::reopen(settings_.path, static_cast<std::size_t>(progress[0]), series, kept,
+                             file_id);
+  } catch (const OutputOfAnotherRun& e) {
+    // A copy refused is no file of this run's: not left behind.
+    if (!in_place) std::filesystem::remove(here, ec);
+    throw std::runtime_error(fmt::format(
+        "restart: {}; {} was written anew by another run since the checkpoint (a restart "
+        "continues the first run's file: put that file back there)",
+        e.what(), original));
+  }
   if (settings_.xdmf) {
     xdmf_ = std::make_unique<XdmfIndex>(settings_.path);
     xdmf_->restore(std::move(index));

@@ -44,6 +44,15 @@ do
     tostring(message))
   sim:close()
 end
+-- A compression whose platens would come closer than a primary's diameter is refused.
+do
+  local sim = simulation { dimension = 2, record_contacts = true }
+  local ok, message = pcall(tests.run, sim, "compression", { file = "agglomerate_test.h5", velocity = 1,
+                                                             strain = 0.95, quiet = true })
+  assert(not ok and message:find("closer than the largest primary's diameter", 1, true),
+    "strain 0.95: " .. tostring(message))
+  sim:close()
+end
 local prepared = wall_impact(0.005, -1, "agglomerate_wall_prepared.h5")
 assert(prepared.surface_energy == 1.0, "left out, surface_energy is the file's 1 J/m^2: " .. prepared.surface_energy)
 print("agglomerate_wall_check ok")

@@ -209,8 +209,11 @@ def other_file_case(work):
     whole_run(d, "other_file")
     whole_run(d, "other_file", env=dict(ENV, GRANULE_TRUST_CHECKPOINT="second.chk.h5"))
     r = run(d, "other_file", "--restart", "trust.chk.h5")
-    if r.returncode == 0 or "not the file the checkpoint's run wrote" not in r.stderr:
-        fail("other_file: a restart into another run's file was not refused", r)
+    if r.returncode == 0 or "not the file the checkpoint's run wrote" not in r.stderr \
+            or "written anew by another run" not in r.stderr or "warning" in r.stderr:
+        fail("other_file: a restart into another run's file was not refused, or not cleanly", r)
+    if os.path.exists(os.path.join(d, "other_restarted.h5")):
+        sys.exit("other_file: the refused restart left its copy of the file behind")
     print("other_file: an output another run wrote since the checkpoint is refused")
 
 
