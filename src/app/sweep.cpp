@@ -87,7 +87,8 @@ class DirectoryLock {
 // Loads the scene with this case's values as far as its parameters{...}, in this
 // process: a name the scene does not declare, or a value of the wrong kind, is
 // refused before any case runs, with the same message `granule run` gives.
-std::string check_parameters(const Settings& s, const Case& c) {
+std::string check_parameters(const Settings& s, const Case& c,
+                             std::map<std::string, std::string>* units = nullptr) {
   lua::SceneContext ctx;
   ctx.scene_path = s.scene;
   ctx.quiet = true;
@@ -100,6 +101,8 @@ std::string check_parameters(const Settings& s, const Case& c) {
   lua::make_globals_strict(L);
   std::string err = lua::run_file(L, s.scene);
   lua_close(L);
+  if (units)
+    for (const auto& d : ctx.parameter_docs) (*units)[d.name] = d.unit;
   if (ctx.stopped_after_parameters) {
     if (ctx.declared_parameters.empty() && !c.values.empty())
       return fmt::format(
@@ -121,11 +124,12 @@ std::string describe(const Case& c) {
 
 // ---- the sweep ----
 
-int sweep(const Settings& s, Ranks& ranks) {
+int sweep(const Settings& given, Ranks& ranks) {
   const bool lead = ranks.rank() == 0;
+  Settings s = given;
   std::vector<Case> cases = make_cases(s);
   for (const Case& c : cases) {
-    std::string err = check_parameters(s, c);
+    std::string err = check_parameters(s, c, &s.parameter_units);
     if (!err.empty()) {
       if (lead) std::cerr << "granule sweep: " << err.substr(0, err.find('\n')) << "\n";
       return 2;

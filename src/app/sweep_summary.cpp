@@ -188,6 +188,17 @@ void write_h5_file(const std::string& path, const Settings& s, const std::vector
   }
   columns.insert(columns.end(), {"rank", "wall_seconds"});
   out.series_declare("/sweep", columns);
+  // Each column's unit: a parameter's as its parameters{...} declares it, the wall time's
+  // seconds, the case index and rank none; a result's is not known here ('').
+  std::vector<std::string> units;
+  for (const auto& c : columns) {
+    auto declared = s.parameter_units.find(c);
+    units.push_back(c == "wall_seconds"                   ? "s"
+                    : c == "case" || c == "rank"          ? "-"
+                    : declared != s.parameter_units.end() ? declared->second
+                                                          : "");
+  }
+  out.set_series_units("/sweep", units);
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const Outcome& o = outcomes[i];
     if (!finished(o)) continue;

@@ -47,6 +47,8 @@ struct Settings {
   // Each case writes a checkpoint this often (s of wall time; 0: none but the one a
   // signal writes), and a case that did not finish continues from it on the next sweep.
   double checkpoint_every = 600;
+  // Each declared parameter's unit (from its parameters{...}), for the summary's columns.
+  std::map<std::string, std::string> parameter_units;
 };
 
 struct Case {

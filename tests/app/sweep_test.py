@@ -103,6 +103,9 @@ def serial():
         check(f["sweep/distance"].shape == (4,), "the HDF5 summary has the results as columns")
         check(sorted(f["sweep/result_speed"][:]) == [1, 1, 2, 2] and list(f["sweep/case"][:]) == [0, 1, 2, 3],
               "a result named as a parameter or as case keeps its own column in /sweep")
+        units = {c: f["sweep"][c].attrs.get("units") for c in ("speed", "wall_seconds", "case")}
+        check(units == {"speed": "m/s", "wall_seconds": "s", "case": "-"},
+              f"/sweep's columns carry the parameters' declared units, got {units}")
     with open(os.path.join(out_dir, "sweep_case.sweep.md")) as f:
         check(f.read().count("| ok |") == 4, "the markdown summary lists the finished cases")
 
