@@ -320,7 +320,7 @@ function tests.run(sim, kind, given)
     if o.strain > most then
       error(string.format("%s: 'strain' %g would bring the platens closer than the largest primary's "
         .. "diameter %g m (the agglomerate is %g m high): at most %.3g", context, o.strain, 2 * largest,
-        height, most), 2)
+        height, math.max(0, most)), 2)
     end
   end
 

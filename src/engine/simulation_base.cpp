@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <iostream>
 #include <thread>
@@ -251,7 +252,16 @@ void SimulationBase::warn(const std::string& message) const {
     std::cerr << "warning: " << message << "\n";
 }
 
-void SimulationBase::fail(const std::string& message) {
+void SimulationBase::fail(const std::string& raw) {
+  // Spread over ranks, the output keeps the reason only (RunOutput::write_failure).
+  std::string message = raw;
+  if (holds_share())
+    for (const char* promise :
+         {"the output keeps this state", "the output keeps its last finite state"})
+      if (auto at = message.rfind(promise); at != std::string::npos)
+        message.replace(
+            at, std::strlen(promise),
+            "the output keeps the reason only (each rank holds its share of the scene)");
   if (on_failure_) {
     try {
       on_failure_(message);

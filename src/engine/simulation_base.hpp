@@ -379,9 +379,10 @@ class SimulationBase {
   // Whether a change since the last prepare() still waits for one (step() makes it).
   bool prepared() const { return prepared_; }
   void set_external_rebuilds(bool on) { external_rebuilds_ = on; }
-  // Whether this process holds its share of a scene spread over ranks (a step of a
-  // distributed run is under way), not the whole scene.
-  bool holds_share() const { return external_rebuilds_; }
+  // Whether this process holds its share of a scene spread over several ranks (a step
+  // of a distributed run is under way), not the whole scene.
+  void set_holds_share(bool on) { holds_share_ = on; }
+  bool holds_share() const { return holds_share_; }
   void ensure_prepared() {
     if (!prepared_) prepare();
   }
@@ -580,6 +581,7 @@ class SimulationBase {
   bool lists_kept_ = false;
   void unprepare() { prepared_ = false, lists_kept_ = false; }
   bool external_rebuilds_ = false;  // a distributed run rebuilds the lists (install_share)
+  bool holds_share_ = false;        // holds_share()
   double time_ = 0;
   std::int64_t step_ = 0;
   std::vector<Hook> hooks_;

@@ -21,7 +21,7 @@
 namespace granule {
 
 namespace {
-constexpr std::int64_t state_version = 2;
+constexpr std::int64_t state_version = 3;
 
 template <typename T, typename A>
 std::vector<std::uint8_t> raw_bytes(const std::vector<T, A>& v) {

@@ -493,9 +493,7 @@ void RunOutput::write_failure(const std::string& message) {
   if (sim_.holds_share()) {
     // A spread run failing in a step: this rank holds its share of the scene and its
     // neighbours' ghosts, which a snapshot would pass off as the scene. The reason only.
-    file_->write_attribute("/", "failure",
-                           message + " (spread over ranks: the state at the failure is not "
-                                     "written, as each rank holds only its share of the scene)");
+    file_->write_attribute("/", "failure", message);
     last_snapshot_step_ = sim_.step_count();
     failure_step_ = sim_.step_count();
     file_->flush();

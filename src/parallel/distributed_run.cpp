@@ -70,6 +70,7 @@ DistributedRun<D>::DistributedRun(Simulation<D>& sim, MPI_Comm comm, double reba
   // anew (histories carried by id) before they are packed below.
   sim_.renew_lists_if_indices_stale();
   sim_.set_external_rebuilds(true);
+  sim_.set_holds_share(size_ > 1);
   sim_.set_keep_wall_reactions(true);
   // The bonds of particles a script removed break now, on the whole scene, as
   // the next step would break them (no rank can tell a removed particle from
@@ -435,6 +436,7 @@ void DistributedRun<D>::dissolve() {
     axial[r.wall] -= r.axial;
   }
   sim_.set_external_rebuilds(false);
+  sim_.set_holds_share(false);
   sim_.set_keep_wall_reactions(false);
   sim_.install_share(std::move(whole), histories);
   sim_.set_step_tallies(sum.pair_contacts, sum.pair_batched, sum.wall_contacts, sum.wall_batched,
