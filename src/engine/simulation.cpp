@@ -563,11 +563,11 @@ void Simulation<D>::report_non_finite(std::size_t index) {
                            p_.id[other], M::name, overlap);
     }
   });
-  fail(fmt::format(
-      "step {} (t = {:.6g} s): particle {} has a non-finite position, velocity or "
-      "spin (force {} {}){}; time step {:.4g} s; the output keeps its last finite state",
-      step_, time_, pid, p_.force_torque[index].force[0], p_.force_torque[index].force[1], detail,
-      dt_));
+  fail(fmt::format("step {} (t = {:.6g} s): particle {} has a non-finite position, velocity or "
+                   "spin (force {} {}){}; time step {:.4g} s",
+                   step_, time_, pid, p_.force_torque[index].force[0],
+                   p_.force_torque[index].force[1], detail, dt_),
+       "its last finite state");
 }
 
 template <int D>

@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <cstring>
 #include <fstream>
 #include <iostream>
 #include <thread>
@@ -252,16 +251,13 @@ void SimulationBase::warn(const std::string& message) const {
     std::cerr << "warning: " << message << "\n";
 }
 
-void SimulationBase::fail(const std::string& raw) {
-  // Spread over ranks, the output keeps the reason only (RunOutput::write_failure).
-  std::string message = raw;
-  if (holds_share())
-    for (const char* promise :
-         {"the output keeps this state", "the output keeps its last finite state"})
-      if (auto at = message.rfind(promise); at != std::string::npos)
-        message.replace(
-            at, std::strlen(promise),
-            "the output keeps the reason only (each rank holds its share of the scene)");
+void SimulationBase::fail(const std::string& what, const char* kept) {
+  // What the output keeps of it (RunOutput::write_failure): spread over ranks, the
+  // reason only.
+  const std::string message =
+      what + "; the output keeps " +
+      (holds_share() ? std::string("the reason only (each rank holds its share of the scene)")
+                     : std::string(kept));
   if (on_failure_) {
     try {
       on_failure_(message);

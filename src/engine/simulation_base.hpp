@@ -540,7 +540,9 @@ class SimulationBase {
 
  protected:
   void fire_hooks();
-  void fail(const std::string& message);  // calls the failure handler, throws RunError
+  // Calls the failure handler and throws RunError: `what` went wrong, then what the
+  // output keeps of the state ("this state", or the particles' "last finite state").
+  void fail(const std::string& what, const char* kept = "this state");
 
   std::vector<Material> materials_;
   PairTable pairs_;

@@ -45,8 +45,7 @@ void Simulation<D>::check_escapes() {
                     "reduce time_step or raise the skin");
       fail(fmt::format(
           "step {} (t = {:.6g} s): particle {} (radius {:.4g} m) escaped through wall '{}' (its "
-          "centre is {:.4g} m beyond it; position ({:.6g}), velocity ({:.6g}) m/s): {}; the "
-          "output keeps this state",
+          "centre is {:.4g} m beyond it; position ({:.6g}), velocity ({:.6g}) m/s): {}",
           step_, time_, p_.id[i], p_.radius[i], wall.name, -(c + p_.radius[i]),
           fmt::join(x.begin(), x.begin() + D, ", "), fmt::join(v.begin(), v.begin() + D, ", "),
           cause));
@@ -149,7 +148,7 @@ void Simulation<D>::check_overlaps(double pair_ratio) {
     fail(fmt::format(
         "step {} (t = {:.6g} s): particles {} and {} pass through each other: they overlap by "
         "{:.4g} m, {:.0f} % of the smaller radius {:.4g} m (centres {:.4g} m apart; speeds "
-        "{:.4g} and {:.4g} m/s, closing at {:.4g} m/s): {}; the output keeps this state",
+        "{:.4g} and {:.4g} m/s, closing at {:.4g} m/s): {}",
         step_, time_, p_.id[wi], p_.id[wj], overlap, 100 * worst, r_min, d.norm(),
         p_.velocity[wi].norm(), p_.velocity[wj].norm(), closing, why));
   overlap_warned_ = true;
@@ -210,7 +209,7 @@ void Simulation<D>::report_pressed_through_wall() {
   fail(fmt::format(
       "step {} (t = {:.6g} s): particle {} (radius {:.4g} m) is pressed through wall '{}': its "
       "contact is {:.0f} % of its radius deep, its centre all but at the wall's surface, and it "
-      "goes on into the wall at {:.3g} m/s ({:.3g} m a step); {}; the output keeps this state",
+      "goes on into the wall at {:.3g} m/s ({:.3g} m a step); {}",
       step_, time_, p_.id[particle], p_.radius[particle], walls_[wall].name, 100 * worst, approach,
       per_step,
       per_step < 0.25 * p_.radius[particle]
@@ -234,7 +233,7 @@ void Simulation<D>::report_step_over() {
       "step {} (t = {:.6g} s): particle {} moves {:.4g} m in one step ({:.4g} m/s, time step "
       "{:.4g} s), more than the smallest radius {:.4g} m: it can step over a contact, or two such "
       "particles pass through each other unseen; reduce time_step (or raise steps_per_contact) "
-      "below {:.4g} s; the output keeps this state",
+      "below {:.4g} s",
       step_, time_, p_.size() ? p_.id[fastest] : -1, speed * dt_, speed, dt_, smallest_radius_,
       smallest_radius_ / std::max(speed, 1e-300)));
 }
@@ -266,7 +265,7 @@ void Simulation<D>::report_wall_step_over() {
           "step {} (t = {:.6g} s): wall '{}' moves {:.4g} m in one step (time step {:.4g} s) "
           "towards particle {}, more than the smallest radius {:.4g} m and the gap {:.4g} m "
           "between them: it can step over the particle or press it through; slow the wall (its "
-          "velocity or its schedule){}; the output keeps this state",
+          "velocity or its schedule){}",
           step_, time_, wall.name, advance, dt_, p_.id[i], smallest_radius_, -overlap,
           std::isfinite(advance)
               ? fmt::format(" or reduce time_step below {:.4g} s", dt_ * smallest_radius_ / advance)

@@ -48,6 +48,14 @@ int particle(Simulation<2>& sim, double x, double y, double vx = 0, double vy = 
 int attach(Simulation<2>& sim, const char* name, DiagnosticOptions o) {
   return sim.attach_diagnostic(name, o);
 }
+
+// A pair pressed `delta` into each other in the input area (280 deg, about -80).
+void pressed_pair_in_input(Simulation<2>& sim, double delta) {
+  const double l = 9e-3, a = 280 * pi / 180;
+  const double cx = l * std::cos(a), cy = l * std::sin(a);
+  particle(sim, cx - (r - delta / 2), cy);
+  particle(sim, cx + (r - delta / 2), cy);
+}
 }  // namespace
 
 TEST_CASE("zones: the spherical-cap split (4.3-4.6) matches a quadrature of the sphere",
@@ -182,10 +190,8 @@ TEST_CASE("areas: forces per particle and per contact, collisions and their rati
   Simulation<2> sim;
   chamber(sim, 0, true);
   // A resting overlapping pair in the input area (angle 280 deg, about -80).
-  const double delta = 2e-6, l = 9e-3, a = 280 * pi / 180;
-  const double cx = l * std::cos(a), cy = l * std::sin(a);
-  particle(sim, cx - (r - delta / 2), cy);
-  particle(sim, cx + (r - delta / 2), cy);
+  const double delta = 2e-6;
+  pressed_pair_in_input(sim, delta);
   // A particle flying at the chamber wall in the scraper area (100 deg).
   const double b = 100 * pi / 180, gap = 1e-6, v = 0.2;
   const double lw = R - r - gap;
@@ -226,10 +232,8 @@ TEST_CASE("areas: contacts going on when it is attached are no collisions, later
   Simulation<2> sim;
   chamber(sim, 0, true);
   // A pair pressed together in the input area, stepped before the diagnostic comes.
-  const double delta = 2e-6, l = 9e-3, a = 280 * pi / 180;
-  const double cx = l * std::cos(a), cy = l * std::sin(a);
-  particle(sim, cx - (r - delta / 2), cy);
-  particle(sim, cx + (r - delta / 2), cy);
+  const double delta = 2e-6;
+  pressed_pair_in_input(sim, delta);
   // Two particles that meet after it is attached, in the free-diffusion area.
   const double c = 200 * pi / 180, lc = 8e-3, gap = 2e-6, v = 0.2;
   particle(sim, lc * std::cos(c) - r - gap, lc * std::sin(c), v, 0);

@@ -456,8 +456,7 @@ assert(fired_ms == 1000 and late_ms == 0, "every 1e-3 s: " .. fired_ms .. " firi
   CHECK(r.error == "");
 }
 
-TEST_CASE("lua: set_central_strength needs a field, and a schedule outlives its removal",
-          "[lua]") {
+TEST_CASE("lua: set_central_strength needs a field, and a schedule outlives its removal", "[lua]") {
   // Without a field the call would change nothing: refused. A field removed while a
   // schedule of its strength runs: the schedule has nothing to set, and the run goes on.
   auto r = run_scene(std::string(header) + R"(

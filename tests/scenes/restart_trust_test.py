@@ -72,6 +72,18 @@ def whole_run(d, case, env=None):
     return r
 
 
+def same_as_whole(d, case):
+    """The restart's file (<case>_restarted.h5) equals the whole run's (whole.h5), bit for
+    bit (compare_runs.py); any difference ends the test."""
+    compare = subprocess.run([sys.executable, os.path.join(SOURCE, "tests", "scenes",
+                                                          "compare_runs.py"),
+                              os.path.join(d, "whole.h5"), os.path.join(d, f"{case}_restarted.h5")],
+                             capture_output=True, text=True)
+    if compare.returncode != 0:
+        sys.exit(f"{case}: the restarted file differs from the whole run's:\n{compare.stdout}"
+                 f"{compare.stderr}")
+
+
 def case_folder(work, name):
     path = os.path.join(work, name)
     os.makedirs(path)
@@ -193,14 +205,7 @@ def history_case(work):
     r = run(d, "history", "--restart", "trust.chk.h5")
     if r.returncode != 0 or "history done" not in r.stdout:
         fail("history: the restart after the whole run ended failed", r)
-    compare = subprocess.run([sys.executable, os.path.join(SOURCE, "tests", "scenes",
-                                                          "compare_runs.py"),
-                              os.path.join(d, "whole.h5"),
-                              os.path.join(d, "history_restarted.h5")],
-                             capture_output=True, text=True)
-    if compare.returncode != 0:
-        sys.exit(f"history: the restarted file differs from the whole run's:\n{compare.stdout}"
-                 f"{compare.stderr}")
+    same_as_whole(d, "history")
     print("history: a restart after the run ended writes the contact histories again")
 
 
@@ -244,13 +249,7 @@ def attach_case(work):
     r = run(d, "attach", "--restart", "trust.chk.h5")
     if r.returncode != 0 or r.stdout != whole.stdout:
         fail(f"attach: the restart did not print the whole run's line {whole.stdout!r}", r)
-    compare = subprocess.run([sys.executable, os.path.join(SOURCE, "tests", "scenes",
-                                                          "compare_runs.py"),
-                              os.path.join(d, "whole.h5"), os.path.join(d, "attach_restarted.h5")],
-                             capture_output=True, text=True)
-    if compare.returncode != 0:
-        sys.exit(f"attach: the restarted file differs from the whole run's:\n{compare.stdout}"
-                 f"{compare.stderr}")
+    same_as_whole(d, "attach")
     print("attach: a diagnostic attached after the checkpoint counts as in the whole run")
 
 
