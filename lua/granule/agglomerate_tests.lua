@@ -243,6 +243,21 @@ local function norm(v)
   return math.sqrt(s)
 end
 
+-- The platens may not come closer than the largest primary's diameter: squeezed
+-- past it, every primary is pressed into both and thrown out sideways.
+local function check_strain(sim, ids, o, context)
+  local shape = agglomerate.geometry(sim, ids)
+  local height = shape.high[2] - shape.low[2]
+  local largest = 0
+  for _, id in ipairs(ids) do largest = math.max(largest, sim:particle(id).radius) end
+  local most = 1 - 2 * largest / height
+  if o.strain > most then
+    error(string.format("%s: 'strain' %g would bring the platens closer than the largest primary's "
+      .. "diameter %g m (the agglomerate is %g m high): at most %.3g", context, o.strain, 2 * largest,
+      height, math.max(0, most)), 3)
+  end
+end
+
 --- Runs test `kind` ("host", "wall" or "compression") in `sim`, an empty
 --- simulation with record_contacts = true and an output. Returns the result
 --- table (also written to /results).
@@ -285,6 +300,9 @@ function tests.run(sim, kind, given)
   local load = { file = o.file, snapshot = o.snapshot }
   if bonded then load.histories = false end
   local ids, restored, prepared = sim:load_particles(load)
+  -- Checked as loaded (before any settling: a long settle need not be waited for) and
+  -- again as settled.
+  if kind == "compression" then check_strain(sim, ids, o, context) end
   tests.prepared_law(sim, o, prepared, bonded, context)
   local mass = agglomerate.total_mass(sim, ids)
   local bond = nil
@@ -311,18 +329,7 @@ function tests.run(sim, kind, given)
   end
   local shape = agglomerate.geometry(sim, ids)
   local height = shape.high[2] - shape.low[2]
-  if kind == "compression" then
-    -- The platens may not come closer than the largest primary's diameter: squeezed
-    -- past it, every primary is pressed into both and thrown out sideways.
-    local largest = 0
-    for _, id in ipairs(ids) do largest = math.max(largest, sim:particle(id).radius) end
-    local most = 1 - 2 * largest / height
-    if o.strain > most then
-      error(string.format("%s: 'strain' %g would bring the platens closer than the largest primary's "
-        .. "diameter %g m (the agglomerate is %g m high): at most %.3g", context, o.strain, 2 * largest,
-        height, math.max(0, most)), 2)
-    end
-  end
+  if kind == "compression" then check_strain(sim, ids, o, context) end
 
   -- (2) The target, below the agglomerate (along -y), and the velocities.
   local target = {}

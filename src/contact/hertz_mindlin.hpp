@@ -43,6 +43,11 @@ struct HertzMindlin {
         {"friction", "-", 0.0, 0, unbounded, true, "Coulomb friction coefficient mu"},
         {"calibrate_restitution", "-", 1, 0, 1, true,
          "1: damping chosen so the restitution is exactly e; 0: the EDEM/LIGGGHTS formula", true},
+        {"shrink_rescale", "-", 0, 0, 1, true,
+         "1: while the overlap falls the stored slip scales with the contact radius, "
+         "a / a_prev (LAMMPS's mindlin_rescale), so a contact that does not slide makes no "
+         "energy; 0: as EDEM and LIGGGHTS (docs/contact_models.md)",
+         true},
     };
   }
 
@@ -51,7 +56,22 @@ struct HertzMindlin {
     // c_t / c_n = sqrt(S_t / S_n) = sqrt(4 G* / E*): the tangential dashpot
     // from the normal one without a second root per contact.
     double tangential_dashpot_ratio;
+    bool shrink_rescale;
   };
+
+  // shrink_rescale: the factor a / a_prev on the stored slip, where the overlap
+  // fell over the step (its rate was negative). a_prev from the overlap a step
+  // ago, overlap - rate dt (the rate leap-frog moved the particles at). With the
+  // whole slip times S_t(a) as the spring force, S_t growing while the slip is
+  // held does work nobody paid for; S_t falling releases it again, but not all of
+  // it where the slip changed in between: an elastic impact that never slides
+  // rebounds with more energy than it came with (scenarios/chung_ooi.lua,
+  // docs/contact_models.md). Scaling the slip as a shrinks (Thornton et al. 2013,
+  // Eq. 18b) releases the stored force with the area that carried it.
+  static double shrink_factor(double overlap, double overlap_rate, double dt) {
+    const double before = overlap - overlap_rate * dt;
+    return overlap_rate < 0 ? std::sqrt(overlap / before) : 1.0;
+  }
 
   // Rebound speed of the dimensionless damped Hertz impact x'' = -x^1.5 - sqrt(5) b x^0.25 x',
   // x(0) = 0, x'(0) = 1, force clamped at zero; RK4 with a step far below the contact time (~3.2).
@@ -114,6 +134,8 @@ struct HertzMindlin {
     p.tangential_dashpot_ratio = std::sqrt(4 * p.shear_eff / p.young_eff);
     p.friction = v.at("friction");
     p.damping = damping_for(v.at("restitution"), v.at("calibrate_restitution") != 0);
+    const auto rescale = v.find("shrink_rescale");  // resolved laws have it; direct callers may not
+    p.shrink_rescale = rescale != v.end() && rescale->second != 0;
     return p;
   }
 
@@ -135,6 +157,14 @@ struct HertzMindlin {
     return 0.2 * s.rayleigh_time * 40.0 / steps_per_contact;
   }
   static double stability_limit(const Params&, const PairScale& s) { return s.rayleigh_time; }
+  // The contact's stiffest mode at an overlap, omega^2 = max(S_n, 3.5 S_t) / m* (the
+  // tangential spring also turns the spheres: its mass is m* / 3.5), which grows with
+  // the overlap as the Rayleigh-time rule and limit above do not: the run's check of
+  // deep contacts (Simulation::check_deep_contact_modes) reads it.
+  static double mode_squared(const Params& p, const PairScale& s, double overlap) {
+    const double a = std::sqrt(s.effective_radius * std::max(overlap, 0.0));
+    return std::max(2 * p.young_eff, 3.5 * 8 * p.shear_eff) * a / s.effective_mass;
+  }
   // dN/da of the elastic part, 2 E* sqrt(R* a), for the rolling stiffness (rolling.hpp).
   static double normal_stiffness(const Params& p, double r_star, double overlap) {
     return overlap > 0 ? 2 * p.young_eff * std::sqrt(r_star * overlap) : 0.0;
@@ -180,7 +210,9 @@ struct HertzMindlin {
     if (normal < 0) normal = 0;
     out.normal = normal;
     const double s_t = 8 * p.shear_eff * root;
-    Vec<D> slip = rotate_onto_plane<D>(h.slip, c.normal) + c.tangential_velocity * c.dt;
+    Vec<D> slip = rotate_onto_plane<D>(h.slip, c.normal);
+    if (p.shrink_rescale) slip *= shrink_factor(c.overlap, c.normal_velocity, c.dt);
+    slip += c.tangential_velocity * c.dt;
     // damp sqrt(S_t m*), its impulse a step at most what stops the slip: tangential_damping.
     const double c_t = tangential_damping(c_n * p.tangential_dashpot_ratio, c.dt, c.inv_mass_sum);
     Vec<D> t = s_t * slip + c_t * c.tangential_velocity;

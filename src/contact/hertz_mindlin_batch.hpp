@@ -15,12 +15,16 @@ namespace granule {
 template <>
 struct HertzMindlin::LaneParams<true> {
   double young_, shear_, damp_, mu_, ratio_;
+  bool rescaled_;
   explicit LaneParams(const Params* const lane[]) {
     const Params& p = *lane[0];
     young_ = p.young_eff, shear_ = p.shear_eff, mu_ = p.friction;
     damp_ = 2 * std::sqrt(5.0 / 6.0) * p.damping;
     ratio_ = p.tangential_dashpot_ratio;
+    rescaled_ = p.shrink_rescale;
   }
+  bool any_rescaled() const { return rescaled_; }
+  bool rescaled(int) const { return rescaled_; }
   double young(int) const { return young_; }
   double shear(int) const { return shear_; }
   double damp(int) const { return damp_; }
@@ -32,14 +36,20 @@ template <>
 struct HertzMindlin::LaneParams<false> {
   static constexpr int L = batch_lanes;
   alignas(64) double young_[L], shear_[L], damp_[L], mu_[L], ratio_[L];
+  bool rescaled_[L];
+  bool any_ = false;
   explicit LaneParams(const Params* const lane[]) {
     for (int l = 0; l < L; ++l) {
       const Params& p = *lane[l];
       young_[l] = p.young_eff, shear_[l] = p.shear_eff, mu_[l] = p.friction;
       damp_[l] = 2 * std::sqrt(5.0 / 6.0) * p.damping;
       ratio_[l] = p.tangential_dashpot_ratio;
+      rescaled_[l] = p.shrink_rescale;
+      any_ = any_ || p.shrink_rescale;
     }
   }
+  bool any_rescaled() const { return any_; }
+  bool rescaled(int l) const { return rescaled_[l]; }
   double young(int l) const { return young_[l]; }
   double shear(int l) const { return shear_[l]; }
   double damp(int l) const { return damp_[l]; }
@@ -66,7 +76,17 @@ inline double normal_force(const P& q, const Batch& c, int l, double& s_t, doubl
   return normal < 0 ? 0.0 : normal;
 }
 
-template <typename P>
+// shrink_rescale's factor per lane (HertzMindlin::shrink_factor; 1 where the lane's
+// law does not rescale), in a loop of its own only where some lane's law does.
+template <typename P, typename Batch>
+inline void shrink_factors(const P& q, const Batch& c, double* factor) {
+  for (int l = 0; l < batch_lanes; ++l) {
+    const double f = HertzMindlin::shrink_factor(c.overlap[l], c.normal_velocity[l], c.dt);
+    factor[l] = q.rescaled(l) ? f : 1.0;
+  }
+}
+
+template <bool Rescaled, typename P>
 inline void lanes_3d(const P& q, HertzMindlin::BatchHistory3& h, ContactBatch<3>& c) {
   constexpr int L = batch_lanes;
   const double dt = c.dt;
@@ -77,6 +97,11 @@ inline void lanes_3d(const P& q, HertzMindlin::BatchHistory3& h, ContactBatch<3>
   for (int l = 0; l < L; ++l)
     c.normal_force[l] = normal_force(q, c, l, stiffness_t[l], damping_t[l]);
   rotate_lanes_onto_plane(c, h.sx, h.sy, h.sz, rx, ry, rz);
+  if constexpr (Rescaled) {
+    alignas(64) double factor[L];
+    shrink_factors(q, c, factor);
+    for (int l = 0; l < L; ++l) rx[l] *= factor[l], ry[l] *= factor[l], rz[l] *= factor[l];
+  }
   for (int l = 0; l < L; ++l) {
     const double s_t = stiffness_t[l], c_t = damping_t[l];
     const double normal = c.normal_force[l];
@@ -99,9 +124,11 @@ inline void lanes_3d(const P& q, HertzMindlin::BatchHistory3& h, ContactBatch<3>
   }
 }
 
-template <typename P>
+template <bool Rescaled, typename P>
 inline void lanes_2d(const P& q, HertzMindlin::BatchHistory2& h, ContactBatch<2>& c) {
   const double dt = c.dt;
+  alignas(64) double factor[batch_lanes];
+  if constexpr (Rescaled) shrink_factors(q, c, factor);
   for (int l = 0; l < batch_lanes; ++l) {
     double s_t, c_t;
     const double normal = normal_force(q, c, l, s_t, c_t);
@@ -112,7 +139,8 @@ inline void lanes_2d(const P& q, HertzMindlin::BatchHistory2& h, ContactBatch<2>
     const double along = h.sx[l] * -ny + h.sy[l] * nx;
     const double magnitude = std::sqrt(old_sq);
     const bool kept = old_sq > 0 && !(along * along <= 1e-30 * old_sq);
-    const double turned = kept ? (along > 0 ? magnitude : -magnitude) : 0.0;
+    double turned = kept ? (along > 0 ? magnitude : -magnitude) : 0.0;
+    if constexpr (Rescaled) turned *= factor[l];
     const double v_t = c.tangential_velocity[l];
     double slip = turned + v_t * dt;
     double t = s_t * slip + c_t * v_t;
@@ -128,10 +156,11 @@ inline void lanes_2d(const P& q, HertzMindlin::BatchHistory2& h, ContactBatch<2>
 template <typename History, typename Batch>
 inline void dispatch(const HertzMindlin::Params* const lane[], History& h, Batch& c) {
   with_lane_params<HertzMindlin>(lane, [&](const auto& q) {
+    const bool rescaled = q.any_rescaled();
     if constexpr (std::is_same_v<Batch, ContactBatch<2>>)
-      lanes_2d(q, h, c);
+      rescaled ? lanes_2d<true>(q, h, c) : lanes_2d<false>(q, h, c);
     else
-      lanes_3d(q, h, c);
+      rescaled ? lanes_3d<true>(q, h, c) : lanes_3d<false>(q, h, c);
   });
 }
 

@@ -96,6 +96,16 @@ struct has_normal_stability_limit<
                                                       std::declval<const PairScale&>()))>>
     : std::true_type {};
 
+// Whether a law's stiffness grows with the overlap past what its step rule
+// assumed, and says how (mode_squared: the Hertzian laws).
+template <class M, class = void>
+struct has_mode_squared : std::false_type {};
+template <class M>
+struct has_mode_squared<
+    M, std::void_t<decltype(M::mode_squared(std::declval<const typename M::Params&>(),
+                                            std::declval<const PairScale&>(), 0.0))>>
+    : std::true_type {};
+
 // Whether a model carries the rolling term (the kernels add its torque).
 template <typename M, typename = void>
 struct has_rolling : std::false_type {};
@@ -163,6 +173,11 @@ struct WithRolling {
   static constexpr bool steps_per_contact_counted = M::steps_per_contact_counted;
   static double rule_time_step(const Params& p, const PairScale& s, double steps_per_contact) {
     return M::rule_time_step(p.base, s, steps_per_contact);
+  }
+  // The law's own stiffest mode at an overlap, where it says one (has_mode_squared).
+  template <class Base = M, class = std::enable_if_t<has_mode_squared<Base>::value>>
+  static double mode_squared(const Params& p, const PairScale& s, double overlap) {
+    return Base::mode_squared(p.base, s, overlap);
   }
   // The law's own limit, and the rolling spring's: omega_r up to `ratio` times the
   // normal mode's omega_n, so its limit is the normal one's over ratio (a law

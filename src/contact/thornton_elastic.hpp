@@ -154,6 +154,15 @@ struct ThorntonElastic {
     return 0.2 * s.rayleigh_time * 40.0 / steps_per_contact;
   }
   static double stability_limit(const Params&, const PairScale& s) { return s.rayleigh_time; }
+  // omega^2 of the contact's stiffest mode at an overlap (as HertzMindlin's: the
+  // no-slip tangential spring 8 G* a, its mass m* / 3.5).
+  static double mode_squared(const Params& p, const PairScale& s, double overlap) {
+    return stiffest_mode_squared(p, s, std::sqrt(s.effective_radius * std::max(overlap, 0.0)));
+  }
+  // The same for a contact radius a (thornton_jkr's, which a contact at zero load has too).
+  static double stiffest_mode_squared(const Params& p, const PairScale& s, double a) {
+    return std::max(2 * p.e_star, 3.5 * 8 * p.g_star) * a / s.effective_mass;
+  }
 
   // One increment of Eqs. 6.5-6.11 on h's tangential state. k0 = 8 G* a (no-slip
   // stiffness), mu_n = mu N of Eqs. 6.8-6.10, mu_dn = mu dN, cap = the sliding force

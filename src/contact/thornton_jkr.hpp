@@ -138,6 +138,15 @@ struct ThorntonJkr {
   static double stability_limit(const Params& p, const PairScale& s) {
     return ThorntonElastic::stability_limit(p.elastic, s);
   }
+  // omega^2 of the stiffest mode at an overlap: the JKR contact radius there, which
+  // is a0 (Eq. 6.14 at N = 0) already at zero overlap.
+  static double mode_squared(const Params& p, const PairScale& s, double overlap) {
+    const double r_star = s.effective_radius, alpha = std::max(overlap, 0.0);
+    const double a = p.surface_energy > 0
+                         ? contact_radius_for(alpha, p.surface_energy, r_star, p.elastic.e_star, 0)
+                         : std::sqrt(r_star * alpha);
+    return ThorntonElastic::stiffest_mode_squared(p.elastic, s, a);
+  }
 
   // Closed forms for a pair (R*, E*, Gamma), used by force() and by tests.
   static double pull_off_force(double gamma, double r_star) { return 1.5 * pi * gamma * r_star; }

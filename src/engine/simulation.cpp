@@ -129,6 +129,7 @@ void Simulation<D>::step() {
   const double pair_overlap_ratio = pairs.max_ratio;
   const auto walls_start = Clock::now();
   if (!meshes_.empty()) resolve_meshes();  // mesh walls' contacts, for the wall kernels
+  if (mesh_marks_due_) mark_ongoing_mesh_contacts();
   WallTally wall_tally;
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
@@ -147,6 +148,8 @@ void Simulation<D>::step() {
   contacts_wall_ = wall_tally.touching;
   contacts_wall_batched_ = wall_tally.batched;
   max_overlap_ratio_ = std::max(pair_overlap_ratio, wall_tally.max_ratio);
+  if (max_overlap_ratio_ > deep_checked_ratio_ && !deep_modes_.empty())
+    check_deep_contact_modes(max_overlap_ratio_);
   stage_times_.walls += seconds_since(walls_start);
   // The reactions on the walls (the inner-piece force of 4.4.1), summed in
   // slot order.
@@ -307,12 +310,14 @@ void Simulation<D>::track_bucket(Bucket& b) {
 // particles' overlap at the start of the first step after the attach, when the
 // lists are built (after particles were added, removed or moved, on every rank of
 // a spread run alike): the state alone decides, as on one process, and after a
-// restart (the due mark travels in the checkpoint). Pairs and analytic walls; a
-// mesh's contacts are found within the step (their first step begins them).
+// restart (the due mark travels in the checkpoint). Pairs and analytic walls here;
+// a mesh's or polyline's contacts, found within the step, once that step has found
+// them (mark_ongoing_mesh_contacts).
 template <int D>
 void Simulation<D>::mark_ongoing_contacts() {
   ongoing_marks_due_ = false;
   if (!tracking_) return;
+  mesh_marks_due_ = !meshes_.empty();
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
     auto& pairs = std::get<I>(pair_buckets_);
@@ -332,6 +337,19 @@ void Simulation<D>::mark_ongoing_contacts() {
       if (walls_[w].contact(p_.position[i], p_.radius[i], n, surface_velocity, lever) > 0)
         walls.track[k].begin_time = ContactTrack<D>::ongoing;
     }
+  });
+}
+
+template <int D>
+void Simulation<D>::mark_ongoing_mesh_contacts() {
+  mesh_marks_due_ = false;
+  for_each_model([&](auto index) {
+    constexpr int I = decltype(index)::value;
+    auto& walls = std::get<I>(wall_buckets_);
+    if (walls.track.size() != walls.size()) walls.track.assign(walls.size(), ContactTrack<D>{});
+    for (std::size_t k = 0; k < walls.size(); ++k)
+      if (is_surface_wall(walls_[walls.wall[k]].type) && walls.touch[k].overlap > 0)
+        walls.track[k].begin_time = ContactTrack<D>::ongoing;
   });
 }
 

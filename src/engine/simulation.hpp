@@ -353,6 +353,17 @@ class Simulation final : public SimulationBase {
   // (mark_ongoing_contacts, simulation.cpp), at the next step.
   bool ongoing_marks_due_ = false;
   void mark_ongoing_contacts();
+  // A mesh's (or polyline's) contacts are found within the step (resolve_meshes):
+  // those the marking step finds touching are marked there.
+  bool mesh_marks_due_ = false;
+  void mark_ongoing_mesh_contacts();
+  // Deep contacts of the Hertzian laws (simulation_checks.cpp): their modes at the
+  // step's deepest overlap, looked at again each time it has grown by 2 %.
+  std::vector<DeepContactMode> deep_modes_;
+  double deep_checked_ratio_ = 0;
+  std::vector<std::string> deep_warned_;          // pairs already warned of
+  static constexpr double deep_mode_bound = 0.8;  // omega dt warned above
+  void check_deep_contact_modes(double overlap_ratio);
   Diagnostic<D>& diagnostic(int id) const;
 
   struct AttachedDiagnostic {

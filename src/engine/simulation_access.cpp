@@ -378,8 +378,8 @@ std::vector<std::string> Simulation<D>::describe() const {
   std::size_t fixed = 0;
   for (auto f : p_.fixed) fixed += f;
   lines.push_back(fmt::format("dimension: {}D{}", D,
-                              periodic_.on() ? fmt::format(", periodic along axis {} ({} m)",
-                                                           periodic_.axis, periodic_.length)
+                              periodic_.on() ? fmt::format(", periodic along {} ({} m)",
+                                                           "xyz"[periodic_.axis], periodic_.length)
                                              : std::string()));
   lines.push_back(fmt::format("particles: {} ({} fixed)", p_.size(), fixed));
   auto catalogue = contact_model_catalogue();
@@ -469,8 +469,13 @@ std::vector<std::string> Simulation<D>::describe() const {
   lines.push_back(
       fmt::format("threads: {}{}", thread_count(),
                   threads_ > 0 ? "" : " (OMP_NUM_THREADS, else 1; set with --threads N)"));
-  lines.push_back(fmt::format("time step: {:.6g} s ({}), skin {:.4g} m", dt_,
-                              dt_fixed_ > 0 ? "set by the scene" : automatic_step_rule(), skin_));
+  if (dt_ > 0)
+    lines.push_back(fmt::format("time step: {:.6g} s ({}), skin {:.4g} m", dt_,
+                                dt_fixed_ > 0 ? "set by the scene" : automatic_step_rule(), skin_));
+  else  // before the first prepare: the rule and the skin are chosen there
+    lines.push_back(
+        "time step: not chosen yet (automatic, chosen with the skin when the scene first runs or "
+        "prepares)");
   return lines;
 }
 

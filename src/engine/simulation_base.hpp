@@ -196,12 +196,22 @@ struct Hook {
 // What a firing hook reads (Hook::totals_only, Hook::state_only, Hook::script).
 enum class HookReads { scene, totals, state, script };
 
+// A pair in use whose law stiffens as it is pressed (the Hertzian laws): its
+// stiffest mode at an overlap, which the rule and the limit (taken from the
+// Rayleigh time, the contact as it begins) do not see grow.
+struct DeepContactMode {
+  std::string pair;                             // "a-b (model, kind)"
+  double smaller_radius = 0;                    // m, of its smallest particles
+  std::function<double(double)> omega_squared;  // at an overlap [m]: 1/s^2
+};
+
 struct TimeStepReport {
   double rule = 0;             // Eq. 4.1 (or the model's analogue) over the pairs in use, s
   double stability_limit = 0;  // 1 / omega_max (half of leap-frog's 2 / omega_max), s
   std::string governing_pair;  // "a-b (model)": the pair whose rule is shortest
   bool per_contact = true;     // its model's rule is t_c / n (else 8 T_R / n: Hertz's laws)
   std::string limit_pair;      // the pair whose stability limit is shortest
+  std::vector<DeepContactMode> deep_modes;
 };
 
 // What a prepared scene simulates, and so what its step pays for: the run

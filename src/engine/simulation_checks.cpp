@@ -53,6 +53,39 @@ void Simulation<D>::check_escapes() {
   }
 }
 
+// The Hertzian laws' step rule and stability limit come from the Rayleigh time,
+// the contact as it begins; pressed deeper, its stiffness grows as the contact
+// radius a = sqrt(R* overlap), and the no-slip tangential spring, 8 G* a on a mass
+// of m* / 3.5, is its stiffest mode (about 1.7 times the normal one). A soft,
+// dense, frictional packing pressed a few per cent of a radius deep then has
+// modes the step no longer resolves, and vibrates on its own (no error: the
+// friction caps it). Warned once per pair when, at the step's deepest overlap
+// ratio (read at the pair's smallest particles), omega dt passes 0.8: a single
+// contact is stable to 2, but a particle held by Z of them has modes up to about
+// sqrt(Z) times as fast (2 / sqrt(6) = 0.8 for a packing's six).
+template <int D>
+void Simulation<D>::check_deep_contact_modes(double overlap_ratio) {
+  deep_checked_ratio_ = 1.02 * overlap_ratio;
+  for (const DeepContactMode& m : deep_modes_) {
+    const double omega_dt = std::sqrt(m.omega_squared(overlap_ratio * m.smaller_radius)) * dt_;
+    if (!(omega_dt > deep_mode_bound)) continue;
+    if (std::find(deep_warned_.begin(), deep_warned_.end(), m.pair) != deep_warned_.end()) continue;
+    deep_warned_.push_back(m.pair);
+    const double shorter = dt_ * 0.9 * deep_mode_bound / omega_dt;
+    warn(fmt::format(
+        "step {} (t = {:.6g} s): contacts are pressed {:.3g} of a radius deep, where a {} "
+        "contact's stiffest mode (its tangential spring's) has omega dt = {:.3g} at this time "
+        "step: above {} a dense frictional packing can vibrate on its own; {} "
+        "(docs/contact_models.md, \"Deep contacts\")",
+        step_, time_, overlap_ratio, m.pair, omega_dt, deep_mode_bound,
+        dt_fixed_ > 0
+            ? fmt::format("give time_step {:.3g} s or less", shorter)
+            : fmt::format("raise steps_per_contact to {:.0f} or more (time step {:.3g} s)",
+                          std::ceil(steps_per_contact_ * omega_dt / (0.9 * deep_mode_bound)),
+                          shorter)));
+  }
+}
+
 // Two particles overlapping by more than the smaller radius are passing through
 // each other: their contact law acts far outside its range and, once the
 // centres cross, pushes them on instead of apart. The pair loop keeps the

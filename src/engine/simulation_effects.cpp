@@ -42,7 +42,13 @@ ActiveEffects Simulation<D>::effects() const {
       constexpr int I = decltype(index)::value;
       if (entry.model == I) adhesive = ContactModelAt<I>::adhesive;
     });
-    if (adhesive) e.adhesive_pairs.push_back(label);
+    // An adhesive law at a surface energy of 0 sticks nothing (JKR reduces to
+    // Hertz), unless a schedule raises it (below).
+    if (adhesive) {
+      const ParamValues acting = pairs_.values_in_effect(a, b, materials_);
+      const auto gamma = acting.find("surface_energy");
+      if (gamma == acting.end() || gamma->second != 0) e.adhesive_pairs.push_back(label);
+    }
     // Every model caps the tangential force at mu times a normal force
     // (Eqs. 3.5, 6.8-6.10, 6.23-6.25): with mu = 0 no torque can act, but
     // for an adhesive pair's peeling (Eqs. 6.18-6.21), whose T rises to Tc
@@ -74,8 +80,19 @@ ActiveEffects Simulation<D>::effects() const {
       const int a = material_id(s.a), b = material_id(s.b);
       const std::pair<int, int> pair{std::min(a, b), std::max(a, b)};
       e.friction |= std::find(in_use.begin(), in_use.end(), pair) != in_use.end();
+    } else if (s.target == "surface_energy") {
+      const int a = material_id(s.a), b = material_id(s.b);
+      const std::pair<int, int> pair{std::min(a, b), std::max(a, b)};
+      if (std::find(in_use.begin(), in_use.end(), pair) == in_use.end()) continue;
+      const std::string label =
+          fmt::format("{}-{} {}", materials_[pair.first].name, materials_[pair.second].name,
+                      catalogue[pairs_.at(pair.first, pair.second).model].name);
+      if (std::find(e.adhesive_pairs.begin(), e.adhesive_pairs.end(), label) ==
+          e.adhesive_pairs.end())
+        e.adhesive_pairs.push_back(label);
     }
   }
+  e.adhesion = !e.adhesive_pairs.empty();
   e.rotation = e.friction || e.rolling || e.bonds || e.adhesion;
   for (const auto& d : diagnostics_) e.diagnostics.push_back(d.name);
   e.contacts_recorded = record_contacts_;

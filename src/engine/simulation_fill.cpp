@@ -117,8 +117,9 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
   };
   for (std::size_t i = 0; i < p_.size(); ++i)
     if (p_.fixed[i] || !f.allow_overlap) occupy(i);
-  // Along a periodic axis a particle across the seam is entered at its own side
-  // of the box: the candidate is looked up at its images a period away too.
+  // Along a periodic axis every particle is in the box (the candidates too, below),
+  // and one across the seam is entered at its own side of it: the candidate is
+  // looked up at its images a period away too.
   const int images = periodic_.on() ? 3 : 1;
   auto overlaps_occupied = [&](const V& x, double r) {
     for (const Grid* g : {&small, &large}) {
@@ -165,6 +166,9 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
     V x;
     for (int k = 0; k < D; ++k) x[k] = rng.uniform(lo[k], hi[k]);
     if (!inside_region(x, r)) continue;
+    // Into the periodic box, where every other particle is: the look-up below takes
+    // images one period away only, and a region may run over several periods.
+    if (periodic_.on()) x[periodic_.axis] = periodic_.into_box(x[periodic_.axis]);
     bool ok = true;
     for (std::size_t w = 0; w < walls_.size() && ok; ++w)
       ok = is_surface_wall(walls_[w].type) ? !meshes_.near(w, x, r) && !meshes_.inside_solid(w, x)

@@ -51,7 +51,7 @@ TimeStepReport Simulation<D>::time_step_rule() {
   };
   std::vector<char> wall_material(nm, 0);
   for (const auto& w : walls_) wall_material[w.material] = 1;
-  auto consider = [&](int a, int b, const PairScale& scale, const char* kind) {
+  auto consider = [&](int a, int b, const PairScale& scale, const char* kind, double smaller) {
     const PairTable::Entry& e = pairs_.at(a, b);
     if (e.model < 0)
       throw InputError(fmt::format(
@@ -81,6 +81,11 @@ TimeStepReport Simulation<D>::time_step_rule() {
         r.limit_pair =
             fmt::format("{}-{} ({}, {})", materials_[a].name, materials_[b].name, M::name, kind);
       }
+      if constexpr (has_mode_squared<M>::value)
+        r.deep_modes.push_back(
+            {fmt::format("{}-{} ({}, {})", materials_[a].name, materials_[b].name, M::name, kind),
+             smaller,
+             [par, scale](double overlap) { return M::mode_squared(par, scale, overlap); }});
     });
   };
   for (int a = 0; a < nm; ++a) {
@@ -94,12 +99,12 @@ TimeStepReport Simulation<D>::time_step_rule() {
       scale.effective_radius = ra * rb / (ra + rb);
       scale.rayleigh_time =
           std::min(rayleigh(a, ra), rayleigh(b, free_used[b] ? min_radius[b] : INFINITY));
-      consider(a, b, scale, "particle-particle");
+      consider(a, b, scale, "particle-particle", std::min(ra, rb));
     }
     for (int w = 0; w < nm; ++w)
       if (wall_material[w]) {
         PairScale scale{min_mass[a], min_radius[a], rayleigh(a, min_radius[a])};
-        consider(a, w, scale, "particle-wall");
+        consider(a, w, scale, "particle-wall", min_radius[a]);
       }
   }
   return r;
@@ -137,6 +142,8 @@ void Simulation<D>::choose_time_step() {
     TimeStepReport rule = time_step_rule();
     dt_governing_pair_ = rule.governing_pair;
     dt_per_contact_ = rule.per_contact;
+    deep_modes_ = std::move(rule.deep_modes);
+    deep_checked_ratio_ = 0;
     // A rolling pair's limit may be its epsd spring's mode (rolling.hpp), which the
     // step count does not move but mu_r does.
     const std::string rolling_hint =
@@ -257,6 +264,28 @@ void Simulation<D>::check_walls_repeat(bool moving_only) const {
             lo = std::min(lo, c), hi = std::max(hi, c);
           }
           spans(w, lo, hi);
+          // Spanning is not repeating: a face within reach of the box must run
+          // straight along the axis (an extruded profile), or the mesh differs at
+          // the box's two ends and a particle that wraps falls through it there.
+          if (!moving_only) {
+            const auto& vertex = m->surface->vertices();
+            const auto& triangles = m->surface->triangles();
+            for (std::size_t t = 0; t < triangles.size(); ++t) {
+              const V p0 = m->to_scene(vertex[triangles[t][0]]);
+              const V p1 = m->to_scene(vertex[triangles[t][1]]);
+              const V p2 = m->to_scene(vertex[triangles[t][2]]);
+              if (std::max({p0[a], p1[a], p2[a]}) < from || std::min({p0[a], p1[a], p2[a]}) > to)
+                continue;
+              const V normal = (p1 - p0).cross(p2 - p0);
+              if (std::abs(normal[a]) > 1e-6 * normal.norm())
+                refuse(w, fmt::format("has a face that slopes along the axis within the box "
+                                      "(its triangle {}, normal ({:.3g}, {:.3g}, {:.3g})): "
+                                      "a mesh there must run straight along the axis, the same "
+                                      "at both ends of the period",
+                                      t + 1, normal[0] / normal.norm(), normal[1] / normal.norm(),
+                                      normal[2] / normal.norm()));
+            }
+          }
           break;
         }
         default:
@@ -297,6 +326,7 @@ void Simulation<D>::prepare() {
     }
   }
   if (periodic_.on()) check_walls_repeat();
+  body_.periodic_axis = periodic_.on() ? periodic_.axis : -1;
   smallest_radius_ = INFINITY;
   for (const double r : p_.radius) smallest_radius_ = std::min(smallest_radius_, r);
   // Skin: automatic = half the median radius.
@@ -346,7 +376,7 @@ void Simulation<D>::prepare() {
   }
   if (periodic_.on()) {
     const double r_max = largest(p_.radius);
-    if (periodic_.length < 2 * (2 * r_max + skin_))
+    if (!(periodic_.length > 2 * (2 * r_max + skin_)))
       throw InputError(fmt::format(
           "periodic length {} m is too short: it must exceed twice the largest contact reach "
           "(2 (2 r_max + skin) = {} m)",

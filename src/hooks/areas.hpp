@@ -240,8 +240,7 @@ class AreasDiagnostic final : public Diagnostic<D> {
       sink_->write_attribute(group(q), "units", std::string(series_units[q]));
     }
     const std::string g = "diagnostics/" + label_;
-    sink_->write_attribute(g, "window", this->sampling_.window());
-    sink_->write_attribute(g, "every_steps", static_cast<double>(this->sampling_.every_steps()));
+    this->write_sampling_attributes(*sink_, g);
     sink_->write_attribute(g, "area_bounds_deg", sectors_.bounds());
     sink_->write_attribute(g, "chamber", frame_.chamber_name);
     sink_->write_attribute(g, "inner_piece", frame_.inner_name);

@@ -292,6 +292,16 @@ class Diagnostic {
   // load_own is all or nothing.
   virtual void save_own(DiagnosticStateWriter& w) const = 0;
   virtual void load_own(const DiagnosticStateReader& r) = 0;
+  // The trigger and the window as attributes of the diagnostic's group:
+  // every_steps (0 under a time trigger), every_time [s] (0 under a step
+  // trigger) and window [s].
+  void write_sampling_attributes(OutputSink& sink, const std::string& group) const {
+    const bool by_time = sampling_.every_seconds() > 0;
+    sink.write_attribute(group, "window", sampling_.window());
+    sink.write_attribute(group, "every_steps",
+                         by_time ? 0.0 : static_cast<double>(sampling_.every_steps()));
+    sink.write_attribute(group, "every_time", sampling_.every_seconds());
+  }
   Sampling sampling_;
 
  private:

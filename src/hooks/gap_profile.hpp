@@ -380,8 +380,7 @@ class GapProfileDiagnostic final : public Diagnostic<D> {
       sink_->declare_series(g + "/" + profile_names[q], columns);
       sink_->write_attribute(g + "/" + profile_names[q], "units", std::string(profile_units[q]));
     }
-    sink_->write_attribute(g, "window", this->sampling_.window());
-    sink_->write_attribute(g, "every_steps", static_cast<double>(this->sampling_.every_steps()));
+    this->write_sampling_attributes(*sink_, g);
     sink_->write_attribute(g, "sector_deg", sector_deg_);
     sink_->write_attribute(g, "narrowest_gap", narrowest_gap_);
     sink_->write_attribute(g, "bin_volume", bin_volume_);

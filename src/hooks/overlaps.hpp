@@ -159,8 +159,7 @@ class OverlapsDiagnostic final : public Diagnostic<D> {
     sink_->write_attribute(g + "/max_overlap_ratio", "units", std::string("s, -, -, -"));
     sink_->write_attribute(g + "/max_overlap_ratio", "quantity",
                            std::string("overlap / radius, largest in the window"));
-    sink_->write_attribute(g, "window", this->sampling_.window());
-    sink_->write_attribute(g, "every_steps", static_cast<double>(this->sampling_.every_steps()));
+    this->write_sampling_attributes(*sink_, g);
   }
 
   void close_window(double time) override {

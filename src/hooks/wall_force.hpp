@@ -55,9 +55,7 @@ class WallForceDiagnostic final : public Diagnostic<D> {
     sink_->declare_series(group_, {"time", "normal_force", "tangential_force", "force_x", "force_y",
                                    "force_z", "samples"});
     sink_->write_attribute(group_, "wall", wall_name_);
-    sink_->write_attribute(group_, "window", this->sampling_.window());
-    sink_->write_attribute(group_, "every_steps",
-                           static_cast<double>(this->sampling_.every_steps()));
+    this->write_sampling_attributes(*sink_, group_);
     sink_->write_attribute(group_, "units", std::string("s, N, N, N, N, N, -"));
   }
 

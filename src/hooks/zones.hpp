@@ -307,8 +307,7 @@ class ZonesDiagnostic final : public Diagnostic<D> {
       sink_->write_attribute(g, "units", std::string(quantity_units[q]));
     }
     const std::string g = "diagnostics/" + label_;
-    sink_->write_attribute(g, "window", this->sampling_.window());
-    sink_->write_attribute(g, "every_steps", static_cast<double>(this->sampling_.every_steps()));
+    this->write_sampling_attributes(*sink_, g);
     sink_->write_attribute(g, "zone_radii", radii_);
     sink_->write_attribute(g, "zone_volume", volume_);
     sink_->write_attribute(g, "depth", depth_);

@@ -30,11 +30,33 @@ int l_wall(lua_State* L) {
     lua_setfield(L, -2, "force");
     lua_pushnumber(L, s.sim->wall_axial_torque(w));
     lua_setfield(L, -2, "torque");
+    // The geometry as the scene gave it, resolved (directions normalised, a
+    // rectangle's default side chosen), so that a script can read it back.
+    auto pair = [L](double a, double b, const char* key) {
+      lua_createtable(L, 2, 0);
+      lua_pushnumber(L, a);
+      lua_rawseti(L, -2, 1);
+      lua_pushnumber(L, b);
+      lua_rawseti(L, -2, 2);
+      lua_setfield(L, -2, key);
+    };
     if (spec.type == WallType::plane) {
       push_vector(L, spec.point, d);
       lua_setfield(L, -2, "point");
+      push_vector(L, spec.normal, d);
+      lua_setfield(L, -2, "normal");
       push_vector(L, spec.velocity, d);
       lua_setfield(L, -2, "velocity");
+      if (spec.bounded) {  // a rectangle (a segment in 2D)
+        if (d == 3) {
+          pair(spec.size_a, spec.size_b, "size");
+          push_vector(L, spec.side, d);
+          lua_setfield(L, -2, "side");
+        } else {
+          lua_pushnumber(L, spec.size_a);
+          lua_setfield(L, -2, "size");
+        }
+      }
     } else if (is_surface_wall(spec.type)) {  // offset: how far it has moved
       push_vector(L, spec.point, d);
       lua_setfield(L, -2, "offset");
@@ -49,10 +71,31 @@ int l_wall(lua_State* L) {
     } else {
       push_vector(L, spec.center, d);
       lua_setfield(L, -2, "center");
-      lua_pushnumber(L, spec.radius);
-      lua_setfield(L, -2, "radius");
+      if (spec.type != WallType::cone) {
+        lua_pushnumber(L, spec.radius);
+        lua_setfield(L, -2, "radius");
+      }
       lua_pushnumber(L, spec.angular_velocity);
       lua_setfield(L, -2, "angular_velocity");
+      if (spec.type == WallType::cylinder) {
+        lua_pushboolean(L, spec.inside);
+        lua_setfield(L, -2, "inside");
+        if (d == 3) {
+          push_vector(L, spec.axis, d);
+          lua_setfield(L, -2, "axis");
+        }
+        if (spec.bounded) pair(spec.z_lo, spec.z_hi, "bounds");
+      } else if (spec.type == WallType::disk) {
+        push_vector(L, spec.normal, d);
+        lua_setfield(L, -2, "normal");
+        lua_pushnumber(L, spec.inner_radius);
+        lua_setfield(L, -2, "inner_radius");
+      } else if (spec.type == WallType::cone) {
+        push_vector(L, spec.axis, d);
+        lua_setfield(L, -2, "axis");
+        pair(spec.z_lo, spec.z_hi, "bounds");
+        pair(spec.radius_lo, spec.radius_hi, "radii");
+      }
       if (spec.bounded || spec.type != WallType::cylinder) {  // finite walls also translate
         push_vector(L, spec.velocity, d);
         lua_setfield(L, -2, "velocity");

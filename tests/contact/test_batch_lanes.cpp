@@ -332,7 +332,8 @@ void check_hertz_mindlin_lanes() {
     for (int law = 0; law < 3; ++law)
       laws.push_back(HertzMindlin::make({{"restitution", 0.3 + 0.3 * (u() + 1)},
                                          {"friction", 0.1 + 0.4 * (u() + 1)},
-                                         {"calibrate_restitution", law == 1 ? 0.0 : 1.0}},
+                                         {"calibrate_restitution", law == 1 ? 0.0 : 1.0},
+                                         {"shrink_rescale", law == 2 ? 1.0 : 0.0}},
                                         {*pairs[law][0], *pairs[law][1]}));
     const HertzMindlin::Params* lane_law[L];
     for (int l = 0; l < L; ++l) lane_law[l] = &laws[(l + round) % 3];

@@ -383,6 +383,49 @@ TEST_CASE("fill: along a periodic axis no particle overlaps one across the seam"
   }
 }
 
+TEST_CASE("fill: a region over several periods places no two particles in each other", "[guards]") {
+  // A rod 3 and 4 periods long along the periodic axis: each candidate is wrapped
+  // into the box and checked against every particle's nearest image there (a
+  // fixed sphere's too), and stored in the box as an added particle is.
+  for (const int periods : {3, 4}) {
+    Simulation<3> sim;
+    sim.set_warning_handler([](const std::string&) {});
+    sim.add_material({"p", 2500, 0, 0, 0});
+    sim.set_contact("p", "p", "linear", {{"k_normal", 1e3}, {"restitution", 0.5}});
+    const double period = 10e-3, r = 0.5e-3;
+    sim.set_periodic(0, 0, period);
+    ParticleSpec fixed;
+    fixed.position = {5e-3, 0, 0}, fixed.radius = 1e-3, fixed.material = 0, fixed.fixed = true;
+    sim.add_particle(fixed);
+    FillSpec fill;
+    fill.shape = RegionShape::box;
+    fill.lo = {-period, -0.6e-3, -0.6e-3};
+    fill.hi = {(periods - 1) * period, 0.6e-3, 0.6e-3};
+    fill.count = 4;
+    fill.radius_min = fill.radius_max = r;
+    fill.material = 0;
+    fill.seed = 11;
+    fill.allow_overlap = false;
+    sim.fill(fill);
+    REQUIRE(sim.particle_count() == 5);
+    double deepest = 0;
+    for (std::int64_t a = 0; a < 5; ++a) {
+      INFO("particle " << a << " at x = " << sim.position(a)[0]);
+      CHECK(sim.position(a)[0] >= 0);
+      CHECK(sim.position(a)[0] <= period);
+      for (std::int64_t b = a + 1; b < 5; ++b) {
+        const Triple x = sim.position(a), y = sim.position(b);
+        double dx = x[0] - y[0];
+        dx -= period * std::round(dx / period);
+        const double d = std::hypot(dx, x[1] - y[1], x[2] - y[2]);
+        deepest = std::max(deepest, sim.radius(a) + sim.radius(b) - d);
+      }
+    }
+    INFO(periods << " periods");
+    CHECK(deepest <= 0);
+  }
+}
+
 // set_position holds a moved particle to what an added one is held to: inside
 // the periodic box (one period from its image, where the force loops look),
 // inside every wall. It used to place it anywhere: a particle moved 1.5
@@ -459,4 +502,65 @@ TEST_CASE("guards: a failing step leaves positions and time together", "[guards]
   CHECK(time_seen == Approx(dt));
   CHECK(x_seen == Approx(speed * dt));
   CHECK(sim.position(0)[0] == Approx(speed * sim.time()));
+}
+
+TEST_CASE("guards: a Hertzian contact pressed deeper than the step resolves is warned of once",
+          "[guards]") {
+  // Two soft spheres (E = 1 MPa, r = 1 mm, rho = 1000) pressed 5 % of a radius:
+  // the no-slip tangential spring's omega = sqrt(3.5 x 8 G* a / m*) = 1.55e4 1/s,
+  // so omega dt = 0.54 at the default n = 40 (no warning) and 1.07 at n = 20.
+  for (const double n : {40.0, 20.0}) {
+    std::vector<std::string> warnings;
+    Simulation<3> sim;
+    sim.set_warning_handler([&](const std::string& w) { warnings.push_back(w); });
+    sim.add_material({"soft", 1000, 1e6, 0.3, 0});
+    sim.set_contact("soft", "soft", "hertz_mindlin", {{"restitution", 0.5}, {"friction", 0.5}});
+    sim.set_steps_per_contact(n);
+    ParticleSpec a, b;
+    a.radius = b.radius = 1e-3, a.material = b.material = 0;
+    a.fixed = true;
+    b.position = {0, 0, 1.95e-3};
+    sim.add_particle(a);
+    sim.add_particle(b);
+    sim.advance(5);
+    int deep = 0;
+    for (const auto& w : warnings) deep += w.find("stiffest mode") != std::string::npos;
+    INFO("n = " << n << "; warnings: " << fmt::format("{}", fmt::join(warnings, " | ")));
+    if (n == 40) {
+      CHECK(deep == 0);
+    } else {
+      REQUIRE(deep == 1);
+      for (const auto& w : warnings)
+        if (w.find("stiffest mode") != std::string::npos) {
+          CHECK_THAT(w, Catch::Contains("soft-soft (hertz_mindlin, particle-particle)") &&
+                            Catch::Contains("omega dt = 1.07") &&
+                            Catch::Contains("raise steps_per_contact to 30"));
+        }
+    }
+  }
+}
+
+TEST_CASE("guards: in a periodic scene the central field pulls towards the line along the axis",
+          "[guards]") {
+  // Periodic along z over 10 mm, the field's point at the origin: a particle near
+  // the seam (z = 9.9 mm, 0.2 mm from its image below z = 0) must not be pulled
+  // across the box, nor one at z = 0.1 mm the other way; both are pulled to the axis.
+  Simulation<3> sim;
+  sim.set_warning_handler([](const std::string&) {});
+  sim.add_material({"p", 2500, 0, 0, 0});
+  sim.set_contact("p", "p", "linear", {{"k_normal", 1e3}, {"restitution", 0.5}});
+  sim.set_periodic(2, 0, 10e-3);
+  for (const double z : {9.9e-3, 0.1e-3}) {
+    ParticleSpec s;
+    s.position = {z > 5e-3 ? 2e-3 : -2e-3, 0, z}, s.radius = 0.5e-3, s.material = 0;
+    sim.add_particle(s);
+  }
+  sim.set_central_field({0, 0, 0}, 100);
+  sim.set_time_step(1e-5);
+  sim.advance(10);
+  for (std::int64_t id : {0, 1}) {
+    INFO("particle " << id);
+    CHECK(sim.velocity(id)[2] == 0);
+    CHECK(sim.velocity(id)[0] == Approx((id == 0 ? -1 : 1) * 100 * 10 * 1e-5).epsilon(1e-9));
+  }
 }

@@ -283,3 +283,26 @@ TEST_CASE("mesh walls: the same run on 1 and 3 threads and across a checkpoint",
   CHECK(one->wall_force(0) == resumed->wall_force(0));
   CHECK(one->wall_axial_torque(0) == resumed->wall_axial_torque(0));
 }
+
+TEST_CASE("mesh walls: along a periodic axis a mesh must run straight, a sloping one is refused",
+          "[mesh]") {
+  // Periodic along x over 10 mm: a flat floor spanning the period repeats with
+  // it; a ramp rising along x (z = 0.1 x) spans it too but is 1 mm higher at one
+  // end than at the other, where a particle that wraps would fall through it.
+  for (const bool ramp : {false, true}) {
+    auto sim = scene(linear());
+    sim->set_periodic(0, 0, 10e-3);
+    io::TriangleMesh m = test::flat_grid(0.012, 4);
+    if (ramp)
+      for (auto& v : m.vertices) v[2] = 0.1 * v[0];
+    add_mesh(*sim, m, "floor");
+    sim->add_particle(sphere({5e-3, 0, 2e-3}, {0, 0, 0}, {0, 0, 0}));
+    INFO("ramp " << ramp);
+    if (ramp)
+      CHECK_THROWS_WITH(sim->prepare(), Catch::Contains("wall 'floor'") &&
+                                            Catch::Contains("slopes along the axis") &&
+                                            Catch::Contains("periodic along x"));
+    else
+      CHECK_NOTHROW(sim->prepare());
+  }
+}

@@ -339,3 +339,34 @@ TEST_CASE(
   CHECK(old.at("mean_normal_force") == whole.at("mean_normal_force"));
   CHECK(old.at("samples") == whole.at("samples"));
 }
+
+TEST_CASE("diagnostics: the group's attributes say the trigger, by steps or by time",
+          "[diagnostics]") {
+  for (const std::string name : {"wall_force", "zones", "areas", "gap_profile", "overlaps"}) {
+    INFO("diagnostic " << name);
+    for (const bool by_time : {false, true}) {
+      INFO("by time " << by_time);
+      auto sim = scene();
+      RecordingSink sink;
+      sim->set_output_sink(&sink);
+      DiagnosticOptions o = options_for(name, 1e-4);
+      const double every_time = 7 * sim->time_step();
+      if (by_time) {
+        o.numbers.erase("every");
+        o.numbers["every_time"] = every_time;
+      }
+      const double steps = by_time ? 0 : o.numbers.at("every");
+      sim->attach_diagnostic(name, o);
+      sim->advance(30);  // zones declares its series at its first sample
+      std::string group;
+      for (const auto& [key, value] : sink.attributes)
+        if (key.size() > 7 && key.compare(key.size() - 7, 7, "@window") == 0)
+          group = key.substr(0, key.size() - 7);
+      REQUIRE(!group.empty());
+      CHECK(sink.attributes.at(group + "@window") == std::vector<double>{1e-4});
+      CHECK(sink.attributes.at(group + "@every_steps") == std::vector<double>{steps});
+      CHECK(sink.attributes.at(group + "@every_time") ==
+            std::vector<double>{by_time ? every_time : 0.0});
+    }
+  }
+}

@@ -250,6 +250,31 @@ TEST_CASE("areas: contacts going on when it is attached are no collisions, later
   CHECK(res.at("collisions_particle_free_diffusion") == 1);
 }
 
+TEST_CASE("areas: a polyline's contact going on when it is attached is no collision",
+          "[diagnostics][mechanofusion]") {
+  Simulation<2> sim;
+  chamber(sim, 0, true);
+  // A short polyline across the input area (280 deg), a particle pressed into it,
+  // and one that reaches it after the attach.
+  const double l = 9e-3, a = 280 * pi / 180, delta = 2e-6, gap = 2e-6, v = 0.2;
+  const double cx = l * std::cos(a), cy = l * std::sin(a);
+  PolylineWallSpec bar;
+  bar.name = "bar", bar.material = 1;
+  bar.points = {{cx - 2e-3, cy}, {cx + 2e-3, cy}};
+  sim.add_polyline_wall(bar);
+  particle(sim, cx - 1e-3, cy + (r - delta));
+  particle(sim, cx + 1e-3, cy + r + gap, 0, -v);
+  sim.advance(3);
+  DiagnosticOptions o;
+  o.numbers["every"] = 1;
+  o.numbers["window"] = 1;
+  const int id = attach(sim, "areas", o);
+  sim.advance(static_cast<std::int64_t>(gap / v / sim.time_step()) + 10);
+  const auto res = sim.diagnostic_results(id);
+  CHECK(res.at("particles_input") == 2);
+  CHECK(res.at("collisions_boundary_input") == 1);  // the second particle's only
+}
+
 TEST_CASE("areas: sectors count from the inner piece and must not overlap",
           "[diagnostics][mechanofusion]") {
   AreaSectors s;

@@ -583,3 +583,34 @@ assert(gamma("b", "b") == 0.05, "b-b, its own: " .. gamma("b", "b"))
 )");
   CHECK(r.error == "");
 }
+
+TEST_CASE("lua: sim:wall gives back each wall's geometry as added, resolved", "[lua]") {
+  auto r = run_scene(R"(local sim = simulation { dimension = 3 }
+sim:material { name = "steel", density = 0 }
+local function near(a, b) return math.abs(a - b) < 1e-12 end
+local function same(v, w) for k = 1, 3 do if not near(v[k], w[k]) then return false end end return true end
+sim:wall_plane { name = "floor", point = { 0, 0, 0 }, normal = { 0, 0, 2 }, material = "steel" }
+sim:wall_plane { name = "plate", point = { 0, 0, 1 }, normal = { 0, 0, -1 }, size = { 0.2, 0.1 },
+                 side = { 0, 1, 0 }, material = "steel" }
+sim:wall_cylinder { name = "tube", center = { 0, 0, 0 }, axis = { 0, 0, 1 }, radius = 0.3, inside = false,
+                    bounds = { -0.1, 0.2 }, material = "steel" }
+sim:wall_disk { name = "orifice", center = { 0, 0, -1 }, normal = { 1, 0, 0 }, radius = 0.5,
+                inner_radius = 0.1, material = "steel" }
+sim:wall_cone { name = "hopper", center = { 0, 0, 2 }, axis = { 0, 3, 0 }, bounds = { 0, 0.4 },
+                radii = { 0.05, 0.25 }, material = "steel" }
+local floor = sim:wall("floor")
+assert(same(floor.normal, { 0, 0, 1 }) and floor.size == nil, "floor")
+local plate = sim:wall("plate")
+assert(plate.finite and same(plate.normal, { 0, 0, -1 }), "plate normal")
+assert(near(plate.size[1], 0.2) and near(plate.size[2], 0.1) and same(plate.side, { 0, 1, 0 }), "plate size, side")
+local tube = sim:wall("tube")
+assert(tube.inside == false and near(tube.radius, 0.3) and same(tube.axis, { 0, 0, 1 }), "tube")
+assert(near(tube.bounds[1], -0.1) and near(tube.bounds[2], 0.2), "tube bounds")
+local disk = sim:wall("orifice")
+assert(same(disk.normal, { 1, 0, 0 }) and near(disk.radius, 0.5) and near(disk.inner_radius, 0.1), "disk")
+local cone = sim:wall("hopper")
+assert(same(cone.axis, { 0, 1, 0 }) and near(cone.radii[1], 0.05) and near(cone.radii[2], 0.25), "cone radii")
+assert(near(cone.bounds[1], 0) and near(cone.bounds[2], 0.4) and cone.radius == nil, "cone bounds")
+)");
+  CHECK(r.error == "");
+}

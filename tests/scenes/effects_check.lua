@@ -30,6 +30,20 @@ local function has(text, piece, what)
 end
 local function skin_of(text) return tonumber(text:match("skin ([%d%.e%-]+) m")) end
 
+-- Before its first run an automatic time step is not chosen yet: the header says so, not "0 s".
+do
+  local early = simulation { dimension = 3 }
+  early:material { name = "m", density = 1200, young = 1e8, poisson = 0.3 }
+  early:contact { "m", "m", model = "hertz_mindlin", restitution = 0.5, friction = 0.3 }
+  early:add_particle { position = { 0, 0, 0 }, radius = 1e-3, material = "m" }
+  local before = early:describe()
+  has(before, "time step: not chosen yet", "before the first run")
+  assert(not before:find("time step: 0 s", 1, true), "before the first run: 'time step: 0 s'\n" .. before)
+  early:run { steps = 1 }
+  assert(skin_of(early:describe()) > 0, "after a run the header gives the skin")
+  early:close()
+end
+
 local _, plain = scene { friction = 0.4 }
 has(plain, "adhesion: off", "plain")
 has(plain, "rotation: spins integrated", "plain")
