@@ -18,6 +18,19 @@
 
 namespace granule {
 
+namespace {
+// A coordinate along the periodic axis wrapped into the box; one so far out that
+// the wrap would lose its place to round-off (a million periods) is refused.
+double into_periodic_box(const Periodicity& p, double c, const char* what) {
+  if (!(std::abs(c - p.origin) <= 1e6 * p.length))
+    throw InputError(fmt::format(
+        "{}: {} m along the periodic axis is more than a million periods ({} m each) from "
+        "the box: it cannot be wrapped into it without losing its place to round-off",
+        what, c, p.length));
+  return p.into_box(c);
+}
+}  // namespace
+
 // ----------------------------------------------------------------------------
 // Set-up and validation
 // ----------------------------------------------------------------------------
@@ -114,7 +127,8 @@ std::int64_t Simulation<D>::add_particle(const ParticleSpec& s) {
   check_particle_input(s, "particle");
   V at = to_vec(s.position);
   // Into the periodic box now, as set_position (and prepare(), for a box declared later).
-  if (periodic_.on()) at[periodic_.axis] = periodic_.into_box(at[periodic_.axis]);
+  if (periodic_.on())
+    at[periodic_.axis] = into_periodic_box(periodic_, at[periodic_.axis], "particle position");
   std::int64_t id = p_.add(at, to_vec(s.velocity), to_spin(s.spin), s.radius,
                            materials_[s.material].density, s.material, s.fixed);
   position_at_rebuild_.push_back(p_.position.back());
@@ -286,7 +300,8 @@ void Simulation<D>::set_position(std::int64_t id, const Triple& x) {
   V at = to_vec(x);
   // Into the periodic box, as prepare() puts every particle: the force loops'
   // minimum images shift by one period only.
-  if (periodic_.on()) at[periodic_.axis] = periodic_.into_box(at[periodic_.axis]);
+  if (periodic_.on())
+    at[periodic_.axis] = into_periodic_box(periodic_, at[periodic_.axis], "set_position");
   // Inside every wall, as prepare() holds an added particle to.
   for (const auto& w : walls_) {
     const double c = w.clearance(at, p_.radius[i]);

@@ -459,6 +459,12 @@ TEST_CASE(
     sim.advance(1);
     CHECK(sim.stats().contacts_particle == 1);
     CHECK(sim.force(a)[0] < 0);  // b, on a's +x side, pushes a to -x
+    // So far out that the wrap would lose the place to round-off: refused, the
+    // particle kept where it was.
+    const Triple before = sim.position(b);
+    CHECK_THROWS_WITH(sim.set_position(b, {1e30, 0, 0}), Catch::Contains("million periods"));
+    CHECK(sim.position(b) == before);
+    CHECK_THROWS_WITH(particle(sim, -1e16, 0, 0), Catch::Contains("million periods"));
   }
   {
     Simulation<2> sim;
