@@ -200,6 +200,12 @@ if tests[1] then normal_test(1, true, { "glass", "limestone" }, 10, 0.010) end
 if tests[2] then normal_test(2, false, { "aluminium_alloy", "magnesium_alloy" }, 0.2, 0.0025) end
 
 if tests[3] then
+  local damped = false
+  for _, model in ipairs(models) do damped = damped or model == "hertz_mindlin" end
+  if not damped then
+    error("-D tests=3 compares restitutions below 1: give hertz_mindlin in -D models "
+      .. "(thornton_elastic is elastic)", 0)
+  end
   print(string.format("\n## Test 3: restitution of a sphere (r = 2.5 mm) onto the plane at 3.9 m/s (n = %g)\n", n))
   print("| material | law | e given | rebound / approach | relative difference |")
   print("|---|---|---|---|---|")

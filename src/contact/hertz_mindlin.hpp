@@ -163,7 +163,9 @@ struct HertzMindlin {
   // deep contacts (Simulation::check_deep_contact_modes) reads it.
   static double mode_squared(const Params& p, const PairScale& s, double overlap) {
     const double a = std::sqrt(s.effective_radius * std::max(overlap, 0.0));
-    return std::max(2 * p.young_eff, 3.5 * 8 * p.shear_eff) * a / s.effective_mass;
+    // Without friction the tangential force is capped at zero: no tangential mode.
+    const double tangential = p.friction > 0 ? 3.5 * 8 * p.shear_eff : 0.0;
+    return std::max(2 * p.young_eff, tangential) * a / s.effective_mass;
   }
   // dN/da of the elastic part, 2 E* sqrt(R* a), for the rolling stiffness (rolling.hpp).
   static double normal_stiffness(const Params& p, double r_star, double overlap) {

@@ -157,11 +157,14 @@ struct ThorntonElastic {
   // omega^2 of the contact's stiffest mode at an overlap (as HertzMindlin's: the
   // no-slip tangential spring 8 G* a, its mass m* / 3.5).
   static double mode_squared(const Params& p, const PairScale& s, double overlap) {
-    return stiffest_mode_squared(p, s, std::sqrt(s.effective_radius * std::max(overlap, 0.0)));
+    return stiffest_mode_squared(p, s, std::sqrt(s.effective_radius * std::max(overlap, 0.0)),
+                                 p.friction > 0);
   }
-  // The same for a contact radius a (thornton_jkr's, which a contact at zero load has too).
-  static double stiffest_mode_squared(const Params& p, const PairScale& s, double a) {
-    return std::max(2 * p.e_star, 3.5 * 8 * p.g_star) * a / s.effective_mass;
+  // The same for a contact radius a (thornton_jkr's, which a contact at zero load has
+  // too); the tangential mode only where a tangential force can act.
+  static double stiffest_mode_squared(const Params& p, const PairScale& s, double a,
+                                      bool tangential) {
+    return std::max(2 * p.e_star, tangential ? 3.5 * 8 * p.g_star : 0.0) * a / s.effective_mass;
   }
 
   // One increment of Eqs. 6.5-6.11 on h's tangential state. k0 = 8 G* a (no-slip

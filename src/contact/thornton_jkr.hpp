@@ -145,7 +145,10 @@ struct ThorntonJkr {
     const double a = p.surface_energy > 0
                          ? contact_radius_for(alpha, p.surface_energy, r_star, p.elastic.e_star, 0)
                          : std::sqrt(r_star * alpha);
-    return ThorntonElastic::stiffest_mode_squared(p.elastic, s, a);
+    // Peeling resists sliding even at mu = 0 (Eqs. 6.18-6.21): a tangential mode
+    // wherever the pair sticks or rubs.
+    return ThorntonElastic::stiffest_mode_squared(p.elastic, s, a,
+                                                  p.elastic.friction > 0 || p.surface_energy > 0);
   }
 
   // Closed forms for a pair (R*, E*, Gamma), used by force() and by tests.

@@ -149,7 +149,7 @@ void Simulation<D>::step() {
   contacts_wall_batched_ = wall_tally.batched;
   max_overlap_ratio_ = std::max(pair_overlap_ratio, wall_tally.max_ratio);
   if (max_overlap_ratio_ > deep_checked_ratio_ && !deep_modes_.empty())
-    check_deep_contact_modes(max_overlap_ratio_);
+    check_deep_contact_modes(pair_overlap_ratio, wall_tally.max_ratio);
   stage_times_.walls += seconds_since(walls_start);
   // The reactions on the walls (the inner-piece force of 4.4.1), summed in
   // slot order.

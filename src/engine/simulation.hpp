@@ -363,7 +363,7 @@ class Simulation final : public SimulationBase {
   double deep_checked_ratio_ = 0;
   std::vector<std::string> deep_warned_;          // pairs already warned of
   static constexpr double deep_mode_bound = 0.8;  // omega dt warned above
-  void check_deep_contact_modes(double overlap_ratio);
+  void check_deep_contact_modes(double pair_ratio, double wall_ratio);
   Diagnostic<D>& diagnostic(int id) const;
 
   struct AttachedDiagnostic {

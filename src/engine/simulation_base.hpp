@@ -202,6 +202,7 @@ enum class HookReads { scene, totals, state, script };
 struct DeepContactMode {
   std::string pair;                             // "a-b (model, kind)"
   double smaller_radius = 0;                    // m, of its smallest particles
+  bool wall = false;                            // a particle-wall pair
   std::function<double(double)> omega_squared;  // at an overlap [m]: 1/s^2
 };
 

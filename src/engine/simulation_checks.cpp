@@ -60,13 +60,15 @@ void Simulation<D>::check_escapes() {
 // dense, frictional packing pressed a few per cent of a radius deep then has
 // modes the step no longer resolves, and vibrates on its own (no error: the
 // friction caps it). Warned once per pair when, at the step's deepest overlap
-// ratio (read at the pair's smallest particles), omega dt passes 0.8: a single
+// ratio (the pairs', or the walls' for a particle-wall law, read at the pair's
+// smallest particles), omega dt passes 0.8: a single
 // contact is stable to 2, but a particle held by Z of them has modes up to about
 // sqrt(Z) times as fast (2 / sqrt(6) = 0.8 for a packing's six).
 template <int D>
-void Simulation<D>::check_deep_contact_modes(double overlap_ratio) {
-  deep_checked_ratio_ = 1.02 * overlap_ratio;
+void Simulation<D>::check_deep_contact_modes(double pair_ratio, double wall_ratio) {
+  deep_checked_ratio_ = 1.02 * std::max(pair_ratio, wall_ratio);
   for (const DeepContactMode& m : deep_modes_) {
+    const double overlap_ratio = m.wall ? wall_ratio : pair_ratio;
     const double omega_dt = std::sqrt(m.omega_squared(overlap_ratio * m.smaller_radius)) * dt_;
     if (!(omega_dt > deep_mode_bound)) continue;
     if (std::find(deep_warned_.begin(), deep_warned_.end(), m.pair) != deep_warned_.end()) continue;

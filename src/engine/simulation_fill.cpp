@@ -209,6 +209,28 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
     if (fastest > f.max_speed)
       for (auto id : ids) p_.velocity[p_.index(id)] *= f.max_speed / fastest;
   }
+  // A tube or cone is touched on both sides and has no inside, so the region alone
+  // bounds the fill around it: one that placed particles on both sides of such a
+  // wall (a hopper's bounding cylinder filled) surely meant one side. Said, not
+  // refused: which side was meant is the scene's.
+  for (const Wall<D>& w : walls_) {
+    if (!w.finite() || !(w.type == WallType::cone || w.type == WallType::cylinder)) continue;
+    std::int64_t in = 0, out = 0;
+    for (auto id : ids) {
+      const V d = p_.position[p_.index(id)] - w.point;
+      const double z = d.dot(w.axis);
+      if (z < w.z0 || z > w.z1) continue;  // beyond its ends: neither side
+      const double rho = (d - z * w.axis).norm();
+      const double bound = w.rho0 + (w.rho1 - w.rho0) * (z - w.z0) / (w.z1 - w.z0);
+      ++(rho < bound ? in : out);
+    }
+    if (in > 0 && out > 0)
+      warn(fmt::format(
+          "fill: {} of the {} particles placed lie outside {} '{}' and {} inside it: a finite "
+          "wall is touched on both sides and has no inside, so only the region bounds a fill "
+          "around it; give a region on one side (docs/walls.md)",
+          out, ids.size(), w.type == WallType::cone ? "cone" : "tube", w.name, in));
+  }
   lists_valid_ = false;
   unprepare();
   arm_overlap_grace();  // as add_particle: an overlapping fill's overlaps are the scene's

@@ -77,12 +77,16 @@ int SimulationBase::add_schedule(ScheduleSpec spec) {
       for (const ParamSpec& p : model.parameters)
         if (p.is_switch && spec.target == p.name) {
           const auto &t = spec.schedule.times(), &v = spec.schedule.values();
-          for (std::size_t k = 0; k < v.size(); ++k)
-            if ((v[k] != 0 && v[k] != 1) || (k > 0 && v[k] != v[k - 1] && t[k] != t[k - 1]))
+          for (std::size_t k = 0; k < v.size(); ++k) {
+            if (v[k] != 0 && v[k] != 1)
+              throw InputError(fmt::format("{}: '{}' is a switch: its values are 0 or 1, not {}",
+                                           what, spec.target, v[k]));
+            if (k > 0 && v[k] != v[k - 1] && t[k] != t[k - 1])
               throw InputError(fmt::format(
                   "{}: '{}' is a switch (0 or 1): a schedule of it may only jump between them "
                   "(two points at one time, as piecewise = {{ t, 1, t, 0 }}), not ramp",
                   what, spec.target));
+          }
         }
   }
   spec.id = next_schedule_id_;

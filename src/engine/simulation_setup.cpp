@@ -262,6 +262,7 @@ void Simulation<D>::set_central_field(const Triple& point, double strength) {
   if (!finite3(point)) throw InputError("central_field: point must be finite");
   body_.central_on = true;
   body_.central_point = to_vec(point);
+  body_.periodic_axis = periodic_.on() ? periodic_.axis : -1;  // prepare() sets it too
   set_central_strength(strength);
 }
 template <int D>

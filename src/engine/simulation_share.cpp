@@ -28,6 +28,16 @@ T take(const std::string& packed, std::size_t& at) {
   return bytes::take<T>(packed, at, "distributed run: a packed contact history");
 }
 
+// A contact's track (hooks/contact_log.hpp: when it began, its peaks so far),
+// which travels with its history while contact events are tracked: a contact
+// going on across a migration, or across the end of one spread run and the start
+// of the next, keeps its begin and its peaks as on one process.
+template <typename Bucket>
+auto track_of(const Bucket& b, std::size_t k) {
+  using Track = typename std::decay_t<decltype(b.track)>::value_type;
+  return b.track.size() == b.size() ? b.track[k] : Track{};
+}
+
 // Did the contact in `slot` touch at the last step? One that did not has a
 // cleared history: nothing to carry. Before any step every slot counts.
 template <typename Flags>
@@ -74,6 +84,7 @@ std::vector<std::string> Simulation<D>::pack_histories(
         put(s, b.id_i[k]);
         put(s, b.id_j[k]);
         put(s, b.history[k]);
+        if (tracking_) put(s, track_of(b, k));
       }
     }
     const auto& w = std::get<I>(wall_buckets_);
@@ -87,6 +98,7 @@ std::vector<std::string> Simulation<D>::pack_histories(
       put(s, w.part[k]);
       put(s, w.history[k]);
       put(s, k < w.part_normal.size() ? w.part_normal[k] : Vec<D>(Vec<D>::Zero()));
+      if (tracking_) put(s, track_of(w, k));
     }
   });
   return out;
@@ -278,6 +290,7 @@ void Simulation<D>::install_share(Particles<D> share, const std::vector<std::str
       b.i.push_back(0), b.j.push_back(0), b.slot.push_back(0);
       b.id_i.push_back(old_pairs.id_i[k]), b.id_j.push_back(old_pairs.id_j[k]);
       b.history.push_back(old_pairs.history[k]);
+      if (tracking_) b.track.push_back(track_of(old_pairs, k));
     }
     for (std::size_t k = 0; k < old_walls.size(); ++k) {
       if (!in_contact(old_walls.offset + k)) continue;
@@ -288,6 +301,7 @@ void Simulation<D>::install_share(Particles<D> share, const std::vector<std::str
       w.history.push_back(old_walls.history[k]);
       w.part_normal.push_back(k < old_walls.part_normal.size() ? old_walls.part_normal[k]
                                                                : Vec<D>(Vec<D>::Zero()));
+      if (tracking_) w.track.push_back(track_of(old_walls, k));
     }
   });
   for (const std::string& bytes : histories) {
@@ -309,6 +323,7 @@ void Simulation<D>::install_share(Particles<D> share, const std::vector<std::str
           b.i.push_back(0), b.j.push_back(0), b.slot.push_back(0);
           b.id_i.push_back(a), b.id_j.push_back(c);
           b.history.push_back(take<PH>(bytes, at));
+          if (tracking_) b.track.push_back(take<ContactTrack<D>>(bytes, at));
         } else {
           auto& w = std::get<I>(wall_buckets_);
           using WH = typename std::decay_t<decltype(w)>::History;
@@ -321,6 +336,7 @@ void Simulation<D>::install_share(Particles<D> share, const std::vector<std::str
           w.part.push_back(take<std::uint8_t>(bytes, at));
           w.history.push_back(take<WH>(bytes, at));
           w.part_normal.push_back(take<Vec<D>>(bytes, at));
+          if (tracking_) w.track.push_back(take<ContactTrack<D>>(bytes, at));
         }
       });
     }

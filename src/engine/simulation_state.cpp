@@ -354,6 +354,9 @@ void Simulation<D>::load_state(const StateBlob& s) {
   body_.central_on = body[4] != 0;
   body_.central_point = to_vec({body[5], body[6], body[7]});
   body_.central_strength = body[8];
+  // The periodic axis the field ignores (body_forces.hpp), which prepare() also sets:
+  // a checkpoint taken mid-run resumes without it.
+  body_.periodic_axis = periodic_.on() ? periodic_.axis : -1;
 
   const std::size_t n = s.i("particles.id").size();
   p_.id = s.i("particles.id");
@@ -493,7 +496,9 @@ void Simulation<D>::load_state(const StateBlob& s) {
   // and particles just loaded (prepare() itself would rebuild the lists and so
   // change the order of the force sums).
   if (p_.size()) {
-    const TimeStepReport rule = time_step_rule();
+    TimeStepReport rule = time_step_rule();
+    deep_modes_ = std::move(rule.deep_modes);  // the deep-contact check's, as prepare() sets them
+    deep_checked_ratio_ = 0;
     if (!(dt_ < rule.stability_limit))
       throw InputError(fmt::format(
           "checkpoint: 'meta' time_step {:.4g} s is above the stability limit {:.4g} s of {}: "

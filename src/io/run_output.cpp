@@ -15,6 +15,9 @@
 namespace granule::io {
 
 namespace {
+// A digest of the particles' state (and the snapshot's flags), defined below.
+std::int64_t state_digest(const SimulationBase::FlatState& s, bool forces, bool contacts);
+
 const std::vector<std::string> series_columns = {"time",
                                                  "step",
                                                  "kinetic_energy_translational",
@@ -142,7 +145,13 @@ void RunOutput::finish() {
   write_new_walls();
   // Partly filled windows, while the file is open (not those a failure just cut).
   if (failure_step_ != sim_.step_count()) sim_.flush_diagnostics();
-  if (sim_.step_count() != last_snapshot_step_ && sim_.particle_count() > 0) write_snapshot();
+  // The final state, unless the last snapshot holds it: one of this step whose
+  // particles a callback changed after it was written (a removal, a new velocity)
+  // does not.
+  if (sim_.particle_count() > 0 && failure_step_ != sim_.step_count() &&
+      (sim_.step_count() != last_snapshot_step_ ||
+       state_digest(sim_.flat_state(), false, false) != last_snapshot_state_))
+    write_snapshot();
   file_->flush();
 }
 
@@ -330,6 +339,7 @@ void RunOutput::write_snapshot(bool forces, bool contacts) {
   index_snapshot(group, s);
   last_snapshot_step_ = sim_.step_count();
   last_snapshot_digest_ = digest;
+  last_snapshot_state_ = state_digest(s, false, false);
 }
 
 // Where each wall is and how it moves at the snapshot's step: /walls/<name>

@@ -114,6 +114,7 @@ class RunOutput final : public OutputSink {
   std::int64_t last_snapshot_step_ = -1;
   std::int64_t last_series_step_ = -1;      // the step of /series' last row
   std::int64_t last_snapshot_digest_ = -1;  // of the last snapshot's particles (state_digest)
+  std::int64_t last_snapshot_state_ = -1;   // the same without its flags: the state alone
   bool finished_ = false;
   std::chrono::steady_clock::time_point last_flush_ = std::chrono::steady_clock::now();
   // The step a run into this file failed at (-1: none): the diagnostics'

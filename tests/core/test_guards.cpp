@@ -570,3 +570,33 @@ TEST_CASE("guards: in a periodic scene the central field pulls towards the line 
     CHECK(sim.velocity(id)[0] == Approx((id == 0 ? -1 : 1) * 100 * 10 * 1e-5).epsilon(1e-9));
   }
 }
+
+TEST_CASE("fill: a fill on both sides of a cone is warned of, one inside it is not", "[guards]") {
+  // A hopper (radius 5 mm at the bottom to 30 mm at the top over 30 mm): a cone is
+  // touched on both sides, so only the region bounds a fill around it.
+  for (const double region_radius : {30e-3, 4e-3}) {
+    std::vector<std::string> warnings;
+    Simulation<3> sim;
+    sim.set_warning_handler([&](const std::string& w) { warnings.push_back(w); });
+    sim.add_material({"p", 2500, 0, 0, 0});
+    sim.set_contact("p", "p", "linear", {{"k_normal", 1e3}, {"restitution", 0.5}});
+    WallSpec cone;
+    cone.name = "hopper", cone.type = WallType::cone, cone.material = 0;
+    cone.axis = {0, 0, 1}, cone.z_lo = 0, cone.z_hi = 30e-3;
+    cone.radius_lo = 5e-3, cone.radius_hi = 30e-3;
+    sim.add_wall(cone);
+    FillSpec fill;
+    fill.shape = RegionShape::cylinder;
+    fill.radius = region_radius, fill.z_min = 2e-3, fill.z_max = 28e-3;
+    fill.count = 40;
+    fill.radius_min = fill.radius_max = 1e-3;
+    fill.material = 0;
+    fill.seed = 3;
+    fill.allow_overlap = false;
+    sim.fill(fill);
+    int said = 0;
+    for (const auto& w : warnings) said += w.find("outside cone 'hopper'") != std::string::npos;
+    INFO("region radius " << region_radius);
+    CHECK(said == (region_radius > 20e-3 ? 1 : 0));
+  }
+}

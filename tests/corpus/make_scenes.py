@@ -777,6 +777,9 @@ case("schedule_twice", "a second schedule of one target: it would overwrite the 
 case("schedule_switch_ramp", "a ramp of a switch (allow_tension is 0 or 1)",
      r"{at}.*'allow_tension' is a switch \(0 or 1\): a schedule of it may only jump",
      after={"output": [wrong('sim:schedule { "allow_tension", from = "glass", to = "glass", linear = { 0, 1, 1, 0 } }')]})
+case("schedule_switch_half", "a schedule holding a switch at 0.5 (neither 0 nor 1; no ramp)",
+     r"{at}.*'allow_tension' is a switch: its values are 0 or 1, not 0.5",
+     after={"output": [wrong('sim:schedule { "allow_tension", from = "glass", to = "glass", constant = 0.5 }')]})
 case("contact_switch_fraction", "a switch given a value between 0 and 1",
      r"{at}.*'allow_tension' = 0.5 is a switch: give 0 or 1",
      replace={"contact": wrong('sim:contact { "glass", "glass", model = "linear", k_normal = 1e4, restitution = 0.8, friction = 0.3, allow_tension = 0.5 }')})

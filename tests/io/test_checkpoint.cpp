@@ -369,3 +369,36 @@ TEMPLATE_TEST_CASE_SIG("checkpoint: every damaged entry is refused with its name
   }
   CHECK(refused == cases.size());
 }
+
+TEST_CASE("checkpoint: a periodic scene's central field resumes pulling towards its line",
+          "[checkpoint]") {
+  // Periodic along z: the field pulls towards the line through its point along z
+  // (body_forces.hpp), which the resumed run must know before its first step; a
+  // checkpoint taken mid-run resumes without a prepare().
+  auto make = [](Simulation<3>& sim, bool field) {
+    sim.set_warning_handler([](const std::string&) {});
+    sim.add_material({"p", 2500, 0, 0, 0});
+    sim.set_contact("p", "p", "linear", {{"k_normal", 1e3}, {"restitution", 0.5}});
+    sim.set_periodic(2, 0, 10e-3);
+    for (int k = 0; k < 4; ++k) {
+      ParticleSpec s;
+      s.position = {(k % 2 ? 2e-3 : -2e-3), (k < 2 ? 2e-3 : -2e-3), 1e-3 + 2.5e-3 * k};
+      s.velocity = {0, 0, 0.01 * (k - 1.5)};
+      s.radius = 0.4e-3, s.material = 0;
+      sim.add_particle(s);
+    }
+    if (field) sim.set_central_field({0, 0, 0}, 50);
+    sim.set_time_step(1e-5);
+  };
+  Simulation<3> whole;
+  make(whole, true);
+  whole.advance(200);
+  const StateBlob blob = whole.save_state();
+  whole.advance(300);
+  Simulation<3> resumed;
+  make(resumed, false);  // the field comes from the checkpoint alone
+  resumed.load_state(blob);
+  resumed.advance(300);
+  CHECK(same_state<3>(whole, resumed));
+  for (std::int64_t id = 0; id < 4; ++id) CHECK(whole.velocity(id)[2] == 0.01 * (id - 1.5));
+}

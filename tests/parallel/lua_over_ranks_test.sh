@@ -23,6 +23,7 @@
 # - the 2D Mechanofusion base case with its diagnostics (steps they look at
 #   taken whole) on 2, 3 and 4 ranks: the same /results, diagnostics series
 #   and final snapshot as on 1;
+# - a contact going on across two runs keeps its peaks on 1-3 ranks;
 # - ranks other than 0 write nothing where the scene says (their scratch
 #   folders are removed);
 # - the REPL under mpirun (rank 0 reads, every rank runs each line) prints
@@ -144,6 +145,15 @@ for n in (2, 3, 4):
     assert a["diagnostics"][s][:].tobytes() == b["diagnostics"][s][:].tobytes(), (n, s)
 print(f"mechanofusion: {len(ra)} results and {len(series)} diagnostic columns bit-identical on 1 and 2-4 ranks")
 PY
+# A contact going on across the end of one run and the start of the next keeps
+# its beginning and peaks (its track travels with its history) on 1-3 ranks.
+peaks=$src/tests/parallel/scenes/peaks_across_runs.lua
+"$granule" run "$peaks" --quiet > peaks_plain.txt
+grep -q "mean_peak_force_all 0.3" peaks_plain.txt
+for n in 1 2 3; do
+  $mpirun -np $n "$granule" run "$peaks" -D split=40 --quiet | cmp - peaks_plain.txt
+done
+echo "contact peaks across runs: the same on 1-3 ranks as on one process"
 # A checkpoint into a missing folder: refused on every rank where the scene names
 # it (the ranks other than 0 would write into scratch), each ending with the
 # reason and its scratch folder removed, no hang and no abort.
