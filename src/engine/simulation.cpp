@@ -148,7 +148,8 @@ void Simulation<D>::step() {
   contacts_wall_ = wall_tally.touching;
   contacts_wall_batched_ = wall_tally.batched;
   max_overlap_ratio_ = std::max(pair_overlap_ratio, wall_tally.max_ratio);
-  if (max_overlap_ratio_ > deep_checked_ratio_ && !deep_modes_.empty())
+  if ((pair_overlap_ratio > deep_checked_pair_ || wall_tally.max_ratio > deep_checked_wall_) &&
+      !deep_modes_.empty())
     check_deep_contact_modes(pair_overlap_ratio, wall_tally.max_ratio);
   stage_times_.walls += seconds_since(walls_start);
   // The reactions on the walls (the inner-piece force of 4.4.1), summed in

@@ -360,9 +360,9 @@ class Simulation final : public SimulationBase {
   // Deep contacts of the Hertzian laws (simulation_checks.cpp): their modes at the
   // step's deepest overlap, looked at again each time it has grown by 2 %.
   std::vector<DeepContactMode> deep_modes_;
-  double deep_checked_ratio_ = 0;
-  std::vector<std::string> deep_warned_;          // pairs already warned of
-  static constexpr double deep_mode_bound = 0.8;  // omega dt warned above
+  double deep_checked_pair_ = 0, deep_checked_wall_ = 0;  // ratios looked at again above these
+  std::vector<std::string> deep_warned_;                  // pairs already warned of
+  static constexpr double deep_mode_bound = 0.8;          // omega dt warned above
   void check_deep_contact_modes(double pair_ratio, double wall_ratio);
   Diagnostic<D>& diagnostic(int id) const;
 

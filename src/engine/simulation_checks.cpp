@@ -66,7 +66,8 @@ void Simulation<D>::check_escapes() {
 // sqrt(Z) times as fast (2 / sqrt(6) = 0.8 for a packing's six).
 template <int D>
 void Simulation<D>::check_deep_contact_modes(double pair_ratio, double wall_ratio) {
-  deep_checked_ratio_ = 1.02 * std::max(pair_ratio, wall_ratio);
+  deep_checked_pair_ = std::max(deep_checked_pair_, 1.02 * pair_ratio);
+  deep_checked_wall_ = std::max(deep_checked_wall_, 1.02 * wall_ratio);
   for (const DeepContactMode& m : deep_modes_) {
     const double overlap_ratio = m.wall ? wall_ratio : pair_ratio;
     const double omega_dt = std::sqrt(m.omega_squared(overlap_ratio * m.smaller_radius)) * dt_;

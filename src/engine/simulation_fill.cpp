@@ -168,7 +168,16 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
     if (!inside_region(x, r)) continue;
     // Into the periodic box, where every other particle is: the look-up below takes
     // images one period away only, and a region may run over several periods.
-    if (periodic_.on()) x[periodic_.axis] = periodic_.into_box(x[periodic_.axis]);
+    if (periodic_.on()) {
+      const double along = x[periodic_.axis];
+      if (!(std::abs(along - periodic_.origin) <= 1e6 * periodic_.length))
+        throw InputError(fmt::format(
+            "fill: the region reaches {} m along the periodic axis, more than a million periods "
+            "({} m each) from the box: its particles cannot be wrapped into it without losing "
+            "their places to round-off",
+            along, periodic_.length));
+      x[periodic_.axis] = periodic_.into_box(along);
+    }
     bool ok = true;
     for (std::size_t w = 0; w < walls_.size() && ok; ++w)
       ok = is_surface_wall(walls_[w].type) ? !meshes_.near(w, x, r) && !meshes_.inside_solid(w, x)
@@ -211,8 +220,9 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
   }
   // A tube or cone is touched on both sides and has no inside, so the region alone
   // bounds the fill around it: one that placed particles on both sides of such a
-  // wall (a hopper's bounding cylinder filled) surely meant one side. Said, not
-  // refused: which side was meant is the scene's.
+  // wall (a hopper's bounding cylinder filled) has most likely put some where they
+  // were not meant. Said, not refused: a draft tube is filled on both sides on
+  // purpose.
   for (const Wall<D>& w : walls_) {
     if (!w.finite() || !(w.type == WallType::cone || w.type == WallType::cylinder)) continue;
     std::int64_t in = 0, out = 0;
@@ -228,7 +238,7 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
       warn(fmt::format(
           "fill: {} of the {} particles placed lie outside {} '{}' and {} inside it: a finite "
           "wall is touched on both sides and has no inside, so only the region bounds a fill "
-          "around it; give a region on one side (docs/walls.md)",
+          "around it; if one side was meant, give a region on that side (docs/walls.md)",
           out, ids.size(), w.type == WallType::cone ? "cone" : "tube", w.name, in));
   }
   lists_valid_ = false;

@@ -143,7 +143,7 @@ void Simulation<D>::choose_time_step() {
     dt_governing_pair_ = rule.governing_pair;
     dt_per_contact_ = rule.per_contact;
     deep_modes_ = std::move(rule.deep_modes);
-    deep_checked_ratio_ = 0;
+    deep_checked_pair_ = deep_checked_wall_ = 0;
     // A rolling pair's limit may be its epsd spring's mode (rolling.hpp), which the
     // step count does not move but mu_r does.
     const std::string rolling_hint =
@@ -225,6 +225,8 @@ template <int D>
 void Simulation<D>::check_walls_repeat(bool moving_only) const {
   const int a = periodic_.axis;
   const double r_max = largest(p_.radius);
+  double r_min = INFINITY;
+  for (const double r : p_.radius) r_min = std::min(r_min, r);
   const double from = periodic_.origin - r_max, to = periodic_.origin + periodic_.length + r_max;
   auto refuse = [&](const Wall<D>& w, const std::string& why) {
     throw InputError(fmt::format(
@@ -277,10 +279,11 @@ void Simulation<D>::check_walls_repeat(bool moving_only) const {
               if (std::max({p0[a], p1[a], p2[a]}) < from || std::min({p0[a], p1[a], p2[a]}) > to)
                 continue;
               const V normal = (p1 - p0).cross(p2 - p0);
-              // 1e-3: a straight mesh written as float32 (binary STL) tilts its faces
-              // by far less; a slope of 1e-3 moves the surface by a thousandth of the
-              // period between its ends.
-              if (std::abs(normal[a]) > 1e-3 * normal.norm())
+              // Refused where the slope moves the surface over one period by more
+              // than 1 % of the smallest radius (the step a wrapping particle meets
+              // at the seam); a straight mesh written as float32 (binary STL) tilts
+              // its faces by about 1e-6, far less.
+              if (std::abs(normal[a]) * periodic_.length > 0.01 * r_min * normal.norm())
                 refuse(w, fmt::format("has a face that slopes along the axis within the box "
                                       "(its triangle {}, normal ({:.3g}, {:.3g}, {:.3g})): "
                                       "a mesh there must run straight along the axis, the same "

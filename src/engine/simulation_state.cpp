@@ -498,7 +498,7 @@ void Simulation<D>::load_state(const StateBlob& s) {
   if (p_.size()) {
     TimeStepReport rule = time_step_rule();
     deep_modes_ = std::move(rule.deep_modes);  // the deep-contact check's, as prepare() sets them
-    deep_checked_ratio_ = 0;
+    deep_checked_pair_ = deep_checked_wall_ = 0;
     if (!(dt_ < rule.stability_limit))
       throw InputError(fmt::format(
           "checkpoint: 'meta' time_step {:.4g} s is above the stability limit {:.4g} s of {}: "

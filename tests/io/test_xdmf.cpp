@@ -80,6 +80,7 @@ TEST_CASE("xdmf: snapshots become a temporal collection of Polyvertex grids", "[
   s.dimension = 2;
   index.add(s);
   s.group = "/snapshots/000002";
+  s.step = 1;
   s.count = 0;  // an empty snapshot has no grid: XDMF has no empty Polyvertex
   index.add(s);
   std::ifstream in(index.path());
@@ -177,4 +178,24 @@ TEST_CASE("xdmf: a mesh wall is its triangles where the mesh is now", "[xdmf][me
   CHECK(after[0].points[3] == Approx(0.01 * std::cos(angle)).margin(1e-12));
   CHECK(after[0].points[4] == Approx(0.01 * std::sin(angle)).margin(1e-12));
   CHECK(angle > 0.01);
+}
+
+TEST_CASE("xdmf: a second snapshot of one step supersedes the first in the index", "[xdmf]") {
+  // The final state written after a callback changed the last step's particles:
+  // one grid per time, the later one's.
+  auto dir = std::filesystem::temp_directory_path() / "granule_xdmf_same_step";
+  std::filesystem::create_directories(dir);
+  io::XdmfIndex index((dir / "run.h5").string());
+  io::XdmfSnapshot s;
+  s.dimension = 3, s.count = 3, s.step = 0, s.time = 0, s.group = "/snapshots/000000";
+  index.add(s);
+  s.step = 1000, s.time = 0.01, s.group = "/snapshots/000001";
+  index.add(s);
+  s.count = 2, s.group = "/snapshots/000002";  // the same step again
+  index.add(s);
+  const std::string x = index.text();
+  CHECK(index.snapshots().size() == 2);
+  CHECK_THAT(x, Catch::Contains(">run.h5:/snapshots/000002/position<"));
+  CHECK_THAT(x, !Catch::Contains("000001"));
+  std::filesystem::remove_all(dir);
 }
