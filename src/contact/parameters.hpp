@@ -22,8 +22,8 @@ struct ParamSpec {
   double max;
   bool min_inclusive;
   const char* doc;
-  // 0 or 1 only (allow_tension, calibrate_restitution, shrink_rescale): a value between would read as
-  // one of them; a schedule may only jump between them (SimulationBase::add_schedule).
+  // 0 or 1 only (allow_tension, calibrate_restitution, shrink_rescale): a value between would read
+  // as one of them; a schedule may only jump between them (SimulationBase::add_schedule).
   bool is_switch = false;
 };
 

@@ -31,6 +31,8 @@ ActiveEffects Simulation<D>::effects() const {
   e.periodic = periodic_.on();
   const auto catalogue = contact_model_catalogue();
   const auto in_use = pairs_in_use();  // one pass over the particles
+  // Adhesive laws at a surface energy of 0, which a schedule may raise: (a, b), label.
+  std::vector<std::pair<std::pair<int, int>, std::string>> unstuck;
   for (auto [a, b] : in_use) {
     const PairTable::Entry& entry = pairs_.at(a, b);
     if (entry.model < 0) continue;  // prepare() refuses the scene if such a pair can occur
@@ -47,7 +49,10 @@ ActiveEffects Simulation<D>::effects() const {
     if (adhesive) {
       const ParamValues acting = pairs_.values_in_effect(a, b, materials_);
       const auto gamma = acting.find("surface_energy");
-      if (gamma == acting.end() || gamma->second != 0) e.adhesive_pairs.push_back(label);
+      if (gamma == acting.end() || gamma->second != 0)
+        e.adhesive_pairs.push_back(label);
+      else
+        unstuck.push_back({{a, b}, label});
     }
     // Every model caps the tangential force at mu times a normal force
     // (Eqs. 3.5, 6.8-6.10, 6.23-6.25): with mu = 0 no torque can act, but
@@ -59,7 +64,6 @@ ActiveEffects Simulation<D>::effects() const {
     // A rolling torque turns the particles even without friction, as a bond's moments do.
     e.rolling |= entry.model >= base_contact_model_count;
   }
-  e.adhesion = !e.adhesive_pairs.empty();
   e.bonds = bonds_.intact > 0;
   e.gravity = body_.gravity_on;
   e.central_field = body_.central_on && body_.central_strength != 0;
@@ -83,13 +87,8 @@ ActiveEffects Simulation<D>::effects() const {
     } else if (s.target == "surface_energy") {
       const int a = material_id(s.a), b = material_id(s.b);
       const std::pair<int, int> pair{std::min(a, b), std::max(a, b)};
-      if (std::find(in_use.begin(), in_use.end(), pair) == in_use.end()) continue;
-      const std::string label =
-          fmt::format("{}-{} {}", materials_[pair.first].name, materials_[pair.second].name,
-                      catalogue[pairs_.at(pair.first, pair.second).model].name);
-      if (std::find(e.adhesive_pairs.begin(), e.adhesive_pairs.end(), label) ==
-          e.adhesive_pairs.end())
-        e.adhesive_pairs.push_back(label);
+      for (const auto& [law_pair, label] : unstuck)
+        if (law_pair == pair) e.adhesive_pairs.push_back(label);
     }
   }
   e.adhesion = !e.adhesive_pairs.empty();

@@ -170,7 +170,7 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
     // images one period away only, and a region may run over several periods.
     if (periodic_.on()) {
       const double along = x[periodic_.axis];
-      if (!(std::abs(along - periodic_.origin) <= 1e6 * periodic_.length))
+      if (!periodic_.wraps_exactly(along))
         throw InputError(fmt::format(
             "fill: the region reaches {} m along the periodic axis, more than a million periods "
             "({} m each) from the box: its particles cannot be wrapped into it without losing "

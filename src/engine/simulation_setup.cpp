@@ -22,7 +22,7 @@ namespace {
 // A coordinate along the periodic axis wrapped into the box; one so far out that
 // the wrap would lose its place to round-off (a million periods) is refused.
 double into_periodic_box(const Periodicity& p, double c, const char* what) {
-  if (!(std::abs(c - p.origin) <= 1e6 * p.length))
+  if (!p.wraps_exactly(c))
     throw InputError(fmt::format(
         "{}: {} m along the periodic axis is more than a million periods ({} m each) from "
         "the box: it cannot be wrapped into it without losing its place to round-off",

@@ -26,6 +26,9 @@ struct Periodicity {
   // A coordinate along `axis` moved into the box [origin, origin + length] (a
   // rounding below origin comes back as origin + length).
   double into_box(double c) const { return c - length * std::floor((c - origin) / length); }
+  // Whether into_box keeps c's place: within a million periods of the box (farther,
+  // round-off in the wrap loses it).
+  bool wraps_exactly(double c) const { return std::abs(c - origin) <= 1e6 * length; }
   // The minimum image of a separation d along the periodic axis, for |d| < 1.5
   // length (positions are kept inside the box, so any two differ by less than
   // one length). Branches instead of nearbyint, which is a library call on
