@@ -32,9 +32,11 @@ TimeStepReport Simulation<D>::time_step_rule() {
   std::vector<double> min_mass(nm, INFINITY), min_radius(nm, INFINITY),
       min_radius_any(nm, INFINITY);
   std::vector<char> used(nm, 0), free_used(nm, 0);
+  std::vector<std::size_t> count(nm, 0);
   for (std::size_t i = 0; i < p_.size(); ++i) {
     int m = p_.material[i];
     used[m] = 1;
+    ++count[m];
     min_radius_any[m] = std::min(min_radius_any[m], p_.radius[i]);
     if (!p_.fixed[i]) {
       free_used[m] = 1;
@@ -51,8 +53,10 @@ TimeStepReport Simulation<D>::time_step_rule() {
   };
   std::vector<char> wall_material(nm, 0);
   for (const auto& w : walls_) wall_material[w.material] = 1;
-  auto consider = [&](int a, int b, const PairScale& scale, const char* kind, double smaller) {
+  auto consider = [&](int a, int b, const PairScale& scale, const char* kind, double smaller,
+                      bool can_meet) {
     const PairTable::Entry& e = pairs_.at(a, b);
+    if (e.model < 0 && !can_meet) return;
     if (e.model < 0)
       throw InputError(fmt::format(
           "no contact law for materials '{}' and '{}' ({} contacts can occur): declare "
@@ -99,12 +103,15 @@ TimeStepReport Simulation<D>::time_step_rule() {
       scale.effective_radius = ra * rb / (ra + rb);
       scale.rayleigh_time =
           std::min(rayleigh(a, ra), rayleigh(b, free_used[b] ? min_radius[b] : INFINITY));
-      consider(a, b, scale, "particle-particle", std::min(ra, rb));
+      // A material's only particle meets none of its own: a sphere dropped on
+      // a wall needs no law with itself (adding a second one prepares anew).
+      // A law declared for it still sets the step, as it did for one particle.
+      consider(a, b, scale, "particle-particle", std::min(ra, rb), b != a || count[a] > 1);
     }
     for (int w = 0; w < nm; ++w)
       if (wall_material[w]) {
         PairScale scale{min_mass[a], min_radius[a], rayleigh(a, min_radius[a])};
-        consider(a, w, scale, "particle-wall", min_radius[a]);
+        consider(a, w, scale, "particle-wall", min_radius[a], true);
       }
   }
   return r;

@@ -69,7 +69,7 @@ return {
  "{ name = 'rubber', density = 1100 }"},
 {"sim:contact", "simulation", T,
  "sim:contact { 'a', 'b', model = name, <model parameters> }",
- "Declares the contact law between materials a and b, once per pair: a second declaration (in either order) is refused naming both lines; sim:set_contact changes parameters. The registered models and their parameters follow (help('linear') shows one).",
+ "Declares the contact law between materials a and b, once per pair: a second declaration (in either order) is refused naming both lines; sim:set_contact changes parameters. A run needs a law for every pair that can touch: two materials with particles, or a particle material and a wall material (a material with one particle needs none with itself). The registered models and their parameters follow (help('linear') shows one).",
  {{"1", "string", "", true, "first material"},
   {"2", "string", "", true, "second material (may equal the first)"},
   {"model", "string", "", true, model_names.c_str()},

@@ -123,6 +123,29 @@ sim:run { steps = 1 }
                  9, "no contact law for materials 'glass' and 'rubber'");
 }
 
+TEST_CASE("lua: a material's only particle needs no law with itself, until a second one joins",
+          "[lua][errors]") {
+  // A sphere dropped on a wall: the run needs the sphere-wall law only.
+  const std::string lone = R"(sim:material { name = "rubber", density = 1000 }
+sim:contact { "rubber", "steel", model = "linear", k_normal = 1e4, restitution = 0.5 }
+sim:wall_plane { name = "floor", point = {0, 0}, normal = {0, 1}, material = "steel" }
+local id = sim:add_particle { position = {0, 2e-3}, radius = 1e-3, material = "rubber" }
+sim:gravity { 0, -9.81 }
+local r = sim:run { duration = 0.05 }
+assert(r.steps > 0)
+local y = sim:particle(id).position[2]
+assert(y > 0.5e-3 and y < 1.5e-3, "the sphere rests on the floor: y = " .. y)
+)";
+  auto r = run_scene(std::string(header) + lone);
+  CHECK(r.error == "");
+  // A second rubber sphere: now rubber-rubber contacts can occur.
+  expect_refused(
+      lone + R"(sim:add_particle { position = {5e-3, 2e-3}, radius = 1e-3, material = "rubber" }
+sim:run { steps = 1 }
+)",
+      16, "no contact law for materials 'rubber' and 'rubber'");
+}
+
 TEST_CASE("lua: a time step above the stability limit is refused, above the rule warned",
           "[lua][errors]") {
   auto r = run_scene(R"(local sim = simulation { dimension = 2, time_step = 1e-3 }
