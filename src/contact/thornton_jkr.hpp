@@ -24,9 +24,9 @@
 // apart, or the history is lost early.
 //
 // Tangential (Eqs. 6.18-6.25). While peeling, T grows without slip, dT = 8 G* a
-// d(delta) (Eq. 6.19), with a the peeled radius of Eq. 6.20 (larger root) for the
-// current N and the T of the previous step. Peeling ends, once and for all in this
-// contact, when |T| reaches Tc (Eq. 6.21); T then holds Tc, or falls to the sliding
+// d(delta) (Eq. 6.19), with a the peeled radius of Eq. 6.20 (larger root), taken
+// by the implicit midpoint rule at the step's middle N and T (force()). Peeling ends, once and for
+// all in this contact, when |T| reaches Tc (Eq. 6.21); T then holds Tc, or falls to the sliding
 // force if Tc is above it. After peeling the contact radius is a_p of Eq. 6.22 and
 // T follows thornton_elastic's Mindlin-Deresiewicz increments (Eqs. 6.5-6.11) with
 // N replaced by N + 2Nc, capped by the sliding force: Eq. 6.23 (with N' of 6.24)
@@ -42,6 +42,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "contact/contact_state.hpp"
@@ -208,6 +209,26 @@ struct ThorntonJkr {
     }
     return s * s;
   }
+  // The root of a = radius_of(a) (Eq. 6.20 at the midpoint T of Eq. 6.19's
+  // step): fixed-point steps from `guess`, which contract where the step is
+  // small against the distance to Tc; else bisection between the radius at Tc
+  // (lo, where radius_of(lo) >= lo) and at T = 0 (hi, radius_of(hi) <= hi),
+  // which `bracket` gives.
+  template <typename RadiusOf, typename Bracket>
+  static double peeling_radius(const RadiusOf& radius_of, double guess, const Bracket& bracket) {
+    double a = guess;
+    for (int k = 0; k < 12; ++k) {
+      const double next = radius_of(a);
+      if (std::abs(next - a) <= 1e-14 * a) return next;
+      a = next;
+    }
+    auto [lo, hi] = bracket();
+    for (int k = 0; k < 200 && hi - lo > 1e-15 * hi; ++k) {
+      const double mid = 0.5 * (lo + hi);
+      (radius_of(mid) > mid ? lo : hi) = mid;
+    }
+    return 0.5 * (lo + hi);
+  }
   // The sliding force after peeling: Eq. 6.23 with N' of Eq. 6.24 for N < -0.3 Nc,
   // else Eq. 6.25.
   static double sliding_force(double mu, double normal, double nc) {
@@ -294,10 +315,28 @@ struct ThorntonJkr {
       const double before = radius_under(normal - dn, t), now = radius_under(normal, t);
       if (now < before && before > 0) t *= now / before;
     }
-    const double a_t = radius_under(normal, t);                                   // Eq. 6.20
     const double t_c = 4 * std::sqrt(std::max(0.0, g / e * nc * (normal + nc)));  // Eq. 6.21
-    const Vec<D> slip = c.tangential_velocity * c.dt;
-    Vec<D> t_new = t + 8 * g * a_t * slip;  // Eq. 6.19
+    // Eq. 6.19, dT = 8 G* a_t d(delta), with a_t of Eq. 6.20 falling as |T| grows:
+    // by the implicit midpoint rule, a_t taken at (T + T_new) / 2 and the step's
+    // middle N. Taken at the step's start T (explicit Euler), each step out
+    // overshoots and each step back undershoots, so a contact sheared to and fro
+    // returns more work than it stored, at a rate proportional to dt, and an
+    // undamped adhesive cluster left at rest gains energy. The midpoint rule is
+    // symmetric: a step back by the same slip retraces the step out, so at a
+    // fixed N a path retraced in equal steps returns T to round-off.
+    const Vec<D> per_radius = 8 * g * (c.tangential_velocity * c.dt);  // T_new = T + a_t * this
+    const double n_mid = normal - 0.5 * dn;
+    const double a_t =
+        per_radius.squaredNorm() > 0
+            ? peeling_radius(
+                  [&](double a) { return radius_under(n_mid, Vec<D>(t + 0.5 * a * per_radius)); },
+                  radius_under(normal, t),
+                  [&] {
+                    return std::pair{std::cbrt(3 * r / (4 * e) * std::max(0.0, n_mid + 2 * nc)),
+                                     radius_under(n_mid, Vec<D>::Zero())};
+                  })
+            : 0.0;                        // no slip: T stays
+    Vec<D> t_new = t + a_t * per_radius;  // Eq. 6.19
     const double t_mag = t_new.norm();
     if (t_mag > 0 && t_mag >= t_c) {
       // Peeling complete (Eq. 6.22): T stops at Tc, or falls to the sliding force.

@@ -1124,3 +1124,48 @@ TEST_CASE("thornton_jkr: with shrink_rescale a peeling contact's closed path ret
   CHECK(std::abs(scaled) < 0.02 * t1);
   CHECK(work > -0.01 * t1 * d);
 }
+
+TEMPLATE_TEST_CASE_SIG(
+    "thornton_jkr: a peeling contact sheared out and back along the same path returns its T "
+    "and the work it took (Eq. 6.19 by the midpoint rule)",
+    "[thornton][jkr]", ((int D), D), 2, 3) {
+  // At a fixed overlap, Eq. 6.19 with Eq. 6.20's a_t(T) is an elastic law, T a
+  // function of the displacement: out to near Tc and back in equal steps must end
+  // at T = 0 having returned all the work. With a_t from the step's start T
+  // (explicit Euler) it ends at a T of the order of one step's increment, in the
+  // direction of the motion out, and gives the driver work: a cluster of adhesive
+  // spheres vibrating at rest gains energy every cycle.
+  const double gamma = 0.3, dt = 1e-9, r_eff = radius / 2;
+  const auto p = jkr_params(mu, gamma);
+  const double e = p.elastic.e_star, g = p.elastic.g_star;
+  const double a0 = ThorntonJkr::zero_load_radius(gamma, r_eff, e);
+  const double overlap = a0 * a0 / r_eff - std::sqrt(2 * pi * gamma * a0 / e);  // N = 0
+  const double nc = 1.5 * pi * gamma * r_eff;
+  const double t_c = 4 * std::sqrt(g / e * nc * nc);  // Eq. 6.21 at N = 0
+  for (const int n : {50, 400}) {
+    ThorntonJkr::History<D> h{};
+    const Vec<D> normal = planar<D>(0, -1);
+    ThorntonJkr::force<D>(p, h, state<D>(normal, 1.01 * overlap, Vec<D>::Zero(), dt, 1e-8, r_eff));
+    ThorntonJkr::force<D>(p, h, state<D>(normal, overlap, Vec<D>::Zero(), dt, 1e-8, r_eff));
+    // n steps out to about 0.9 Tc (the stiffness falls by a third on the way).
+    const double slip = 0.9 * t_c / (8 * g * a0) / n * 1.1;
+    double t = 0, work = 0, t_max = 0;
+    auto step = [&](double sign) {
+      const ContactForce<D> f = ThorntonJkr::force<D>(
+          p, h, state<D>(normal, overlap, planar<D>(sign * slip / dt, 0), dt, 1e-8, r_eff));
+      work += 0.5 * (t + f.tangential[0]) * sign * slip;
+      t = f.tangential[0];
+      t_max = std::max(t_max, t);
+      REQUIRE(f.tangential[1] == 0.0);
+    };
+    for (int k = 0; k < n; ++k) step(1);
+    REQUIRE(!h.peeled);
+    REQUIRE(t_max > 0.8 * t_c);
+    REQUIRE(t_max < t_c);
+    for (int k = 0; k < n; ++k) step(-1);
+    INFO(n << " steps each way: T_max / Tc " << t_max / t_c << ", T at the end / T_max "
+           << t / t_max << ", work / (T_max slip n) " << work / (t_max * slip * n));
+    CHECK(std::abs(t) < 1e-9 * t_max);
+    CHECK(std::abs(work) < 1e-9 * t_max * slip * n);
+  }
+}
