@@ -101,7 +101,9 @@ struct WaltonBraun {
     return overlap > 0;
   }
 
-  // What rule_time_step's n counts (the run header says it): steps per contact.
+  // Whether rule_time_step's n counts steps of a contact time t_c (the run header
+  // says it): here t_c = pi sqrt(m*/K2), the unloading spring's, and a contact
+  // lasts n (1 + e)/(2e) steps.
   static constexpr bool steps_per_contact_counted = true;
   // Eq. 4.1: dt = pi e sqrt(m/(2 K_N)) / n, with m/2 the reduced mass of two equal spheres.
   static double rule_time_step(const Params& p, const PairScale& s, double steps_per_contact) {
@@ -131,6 +133,19 @@ struct WaltonBraun {
     return 2.0 / std::sqrt(k / s.effective_mass);
   }
 
+  // Eq. 3.4's branch for K0: on the loading line when the overlap is at a_max
+  // (already raised to it) up to round-off. An overlap recomputed from moving
+  // centres scatters by ~1e-16 of the centres' distance, so a contact held at a
+  // constant overlap would fall below a_max on some steps and take tau K2 =
+  // tau K1 / e^2 there: its tangential stiffness, and the energy a cycle of
+  // tangential load dissipates, would be set by round-off (a pair's unlike a
+  // wall's, whose overlap has none). The normal force is continuous across the
+  // branches and needs no such margin. 1e-9 covers the round-off of overlaps
+  // down to ~1e-6 of the radii.
+  static bool on_loading_line(double overlap, double max_overlap) {
+    return overlap >= max_overlap * (1 - 1e-9);
+  }
+
   template <int D>
   static ContactForce<D> force(const Params& p, History<D>& h, const ContactState<D>& c) {
     ContactForce<D> out;
@@ -144,7 +159,8 @@ struct WaltonBraun {
     out.normal = normal;
 
     // Step 4 and Eq. 3.4: initial tangential stiffness follows the normal branch.
-    const double k0 = p.tangential_ratio * (loading ? p.k_load : p.k_unload);
+    const double k0 =
+        p.tangential_ratio * (on_loading_line(a, h.max_overlap) ? p.k_load : p.k_unload);
     const double limit = p.friction * normal;
     if (limit <= 0) {  // no friction, or N = 0 in the permanent-set gap: |T| <= mu N = 0
       if constexpr (D == 2) {

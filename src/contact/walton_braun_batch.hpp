@@ -62,7 +62,8 @@ inline double normal_force(const P& q, int l, double overlap, double& max_overla
   max_overlap = loading ? overlap : max_overlap;
   const double permanent_set = max_overlap * q.set_fraction(l);
   const double raw = loading ? q.k_load(l) * overlap : q.k_unload(l) * (overlap - permanent_set);
-  k0 = q.tau(l) * (loading ? q.k_load(l) : q.k_unload(l));
+  k0 =
+      q.tau(l) * (WaltonBraun::on_loading_line(overlap, max_overlap) ? q.k_load(l) : q.k_unload(l));
   return raw < 0 ? 0.0 : raw;
 }
 

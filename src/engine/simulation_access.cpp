@@ -482,8 +482,13 @@ std::vector<std::string> Simulation<D>::describe() const {
 template <int D>
 std::string Simulation<D>::automatic_step_rule() const {
   if (dt_per_contact_)
-    return fmt::format("automatic: t_c / n (Eq. 4.1), n = {} steps per contact of {}",
-                       steps_per_contact_, dt_governing_pair_);
+    return fmt::format(
+        "automatic: t_c / n (Eq. 4.1), n = {}, t_c the contact time of {}{}", steps_per_contact_,
+        dt_governing_pair_,
+        dt_governing_pair_.find("walton_braun") != std::string::npos
+            ? " (of its unloading spring K2 alone, pi sqrt(m*/K2): its force lasts (1 + e)/(2e) "
+              "t_c)"
+            : "");
   // Thornton's rule (Eqs. 6.1-6.2): a Hertz contact closing at v lasts
   // 2.87 (m*^2 / (R* E*^2 v))^(1/5), so its steps fall as v^(-1/5).
   return fmt::format(

@@ -233,3 +233,30 @@ TEST_CASE(
   REQUIRE(largest > 0);
   CHECK(worst <= 1e-9 * largest);
 }
+
+TEMPLATE_TEST_CASE_SIG(
+    "walton_braun: a contact held at its largest overlap stays on the loading line's K0 "
+    "(Eq. 3.4) through the round-off of its overlap",
+    "[walton_braun]", ((int D), D), 2, 3) {
+  // An overlap recomputed from moving centres scatters by ~1e-16 of their
+  // distance: held at a_max it falls a few ulps below it on some steps. Eq. 3.4's
+  // K0 must not jump to tau K2 = tau K1 / e^2 there, or a pair's tangential
+  // stiffness and dissipation would be set by round-off. A real unloading (here
+  // 1e-6 of the overlap) does take tau K2.
+  auto p = params(table_3_1());
+  const double overlap = 1e-6, dt = 1e-9, speed = 1e-4;  // 1e-13 m of slip per step
+  const double k1 = p.k_load, k2 = p.k_unload, tau = p.tangential_ratio;
+  for (const double below : {0.0, 2e-16, 1e-14, 1e-12, 1e-6}) {
+    WaltonBraun::History<D> h;
+    Vec<D> normal = Vec<D>::Zero(), along = Vec<D>::Zero();
+    normal[0] = 1, along[1] = 1;
+    auto c = test::state<D>(normal, overlap, Vec<D>::Zero(), dt);
+    WaltonBraun::force<D>(p, h, c);  // loaded to a_max = overlap, no slip
+    c.overlap = overlap * (1 - below);
+    c.tangential_velocity = speed * along;
+    const double t = WaltonBraun::force<D>(p, h, c).tangential.dot(along);
+    INFO("overlap below a_max by " << below);
+    // The first increment from T = 0 is K0 times the slip (Eq. 3.3, fraction 1).
+    CHECK(t == Approx(tau * (below < 1e-9 ? k1 : k2) * speed * dt).epsilon(1e-12));
+  }
+}
