@@ -162,7 +162,9 @@ void Simulation<D>::step() {
   // Parallel bonds (contact/parallel_bond.hpp) act beside the contact laws:
   // their loads added after the contacts' in bond order, on one thread.
   if (bonds_.intact > 0) apply_bonds();  // simulation_bonds.cpp
-  if (observed) list_logged_slots();     // simulation_log.cpp
+  bond_moved_with_.clear();
+  bonds_unmoved_from_ = bonds_.size();
+  if (observed) list_logged_slots();  // simulation_log.cpp
   // One comparison a step; the contacts are looked at only when it fails.
   last_pair_overlap_ratio_ = pair_overlap_ratio;
   if (pair_overlap_ratio > overlap_warning_)

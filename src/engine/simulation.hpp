@@ -335,9 +335,28 @@ class Simulation final : public SimulationBase {
   // What check_bond_step() last found stable: a ramp re-prepares every step.
   double bond_step_checked_ = 0;
   std::size_t bond_count_checked_ = 0, bonds_intact_checked_ = 0;
+  // What the bonds' next increments read (apply_bonds): a bond's load follows
+  // the motion the particles made over the step before, at the velocities and
+  // spins that moved them. A script that sets a bonded particle's velocity or
+  // spin between steps (set_velocity, set_spin, scale_velocities) leaves here
+  // the ones it moved with, by id; bonds from `bonds_unmoved_from_` on were
+  // made since the last step, at the particles' present places, and have seen
+  // no motion yet. Both hold until the next step's bonds are applied.
+  struct MovedWith {
+    V velocity;
+    S spin;
+  };
+  std::map<std::int64_t, MovedWith> bond_moved_with_;
+  std::size_t bonds_unmoved_from_ = 0;
+  void note_bonded_motion(int index) {
+    if (bonds_.intact > 0)
+      bond_moved_with_.try_emplace(p_.id[index], MovedWith{p_.velocity[index], p_.spin[index]});
+  }
   void save_bonds(StateBlob& s) const;
   // The checkpoint's bonds, checked (InputError naming the entry); none in one without them.
   ParallelBonds<D> read_bonds(const StateBlob& s) const;
+  // The checkpoint's bond_moved_with_ and bonds_unmoved_from_ (after bonds_ is set).
+  void read_bond_motion(const StateBlob& s);
   void report_non_finite(std::size_t index);
   void refuse_beyond_memory(std::int64_t particles, const char* what) const;
   void check_escapes();  // at each list rebuild: stops the run if a centre passed a wall

@@ -222,18 +222,31 @@ void Simulation<D>::apply_bonds() {
     // (angular momentum is conserved to round-off, as with the contacts).
     const double overlap = p_.radius[i] + p_.radius[j] - dist;
     const double lever_i = p_.radius[i] - 0.5 * overlap, lever_j = p_.radius[j] - 0.5 * overlap;
-    const V v_centres = p_.velocity[j] - p_.velocity[i];
+    // The velocities and spins that moved the pair over the step before (a
+    // script's since are in bond_moved_with_), none for a bond made since.
+    V vel_i = p_.velocity[i], vel_j = p_.velocity[j];
+    S spin_i = p_.spin[i], spin_j = p_.spin[j];
+    if (k >= bonds_unmoved_from_) {
+      vel_i = vel_j = V::Zero();
+      spin_i = spin_j = Dim<D>::zero_spin();
+    } else if (!bond_moved_with_.empty()) {
+      if (const auto a = bond_moved_with_.find(bonds_.id_a[k]); a != bond_moved_with_.end())
+        vel_i = a->second.velocity, spin_i = a->second.spin;
+      if (const auto b = bond_moved_with_.find(bonds_.id_b[k]); b != bond_moved_with_.end())
+        vel_j = b->second.velocity, spin_j = b->second.spin;
+    }
+    const V v_centres = vel_j - vel_i;
     const V v_rel =
-        v_centres + Dim<D>::spin_cross(S(lever_i * p_.spin[i] + lever_j * p_.spin[j]), m.normal);
+        v_centres + Dim<D>::spin_cross(S(lever_i * spin_i + lever_j * spin_j), m.normal);
     m.shear_velocity = v_rel - m.normal * v_rel.dot(m.normal);
     // The closing speed along d(t) + d(t - dt), d(t - dt) = d + v_centres dt
     // (parallel_bond.hpp: exact for a pair turning as one body).
     const V mid_chord = d + (0.5 * dt_) * v_centres;
     const double mid_length = mid_chord.norm();
     m.normal_velocity = v_centres.dot(mid_length > 0 ? V(mid_chord / mid_length) : m.normal);
-    m.relative_spin = p_.spin[j] - p_.spin[i];
+    m.relative_spin = spin_j - spin_i;
     if constexpr (D == 3)
-      m.mean_axial_spin = 0.5 * (p_.spin[i] + p_.spin[j]).dot(m.normal);
+      m.mean_axial_spin = 0.5 * (spin_i + spin_j).dot(m.normal);
     else
       m.mean_axial_spin = 0;
     m.dt = dt_;
@@ -338,6 +351,50 @@ void Simulation<D>::save_bonds(StateBlob& s) const {
   s.integers["bonds.broken"] = std::move(broken);
   s.doubles["bonds.properties"] = std::move(props);
   s.doubles["bonds.load"] = std::move(loads);
+  if (n == 0) return;
+  s.integers["bonds.unmoved_from"] = {static_cast<std::int64_t>(bonds_unmoved_from_)};
+  if (bond_moved_with_.empty()) return;
+  std::vector<std::int64_t> moved_ids;
+  std::vector<double> moved;
+  for (const auto& [id, w] : bond_moved_with_) {
+    moved_ids.push_back(id);
+    for (int a = 0; a < D; ++a) moved.push_back(w.velocity[a]);
+    const Triple spin = spin_triple(w.spin);
+    moved.insert(moved.end(), spin.begin(), spin.end());
+  }
+  s.integers["bonds.moved_with.ids"] = std::move(moved_ids);
+  s.doubles["bonds.moved_with"] = std::move(moved);
+}
+
+template <int D>
+void Simulation<D>::read_bond_motion(const StateBlob& s) {
+  bond_moved_with_.clear();
+  bonds_unmoved_from_ = bonds_.size();
+  if (s.has("bonds.unmoved_from")) {
+    const auto& from = s.i("bonds.unmoved_from");
+    if (from.size() != 1 || from[0] < 0 || static_cast<std::size_t>(from[0]) > bonds_.size())
+      refuse_entry("bonds.unmoved_from",
+                   fmt::format("must be one bond index from 0 to {}", bonds_.size()));
+    bonds_unmoved_from_ = static_cast<std::size_t>(from[0]);
+  }
+  if (!s.has("bonds.moved_with.ids")) return;
+  const auto& ids = s.i("bonds.moved_with.ids");
+  const auto& moved = s.d("bonds.moved_with");
+  constexpr std::size_t per = D + 3;
+  if (moved.size() != per * ids.size())
+    refuse_entry("bonds.moved_with", fmt::format("has {} values, expected {} (from "
+                                                 "'bonds.moved_with.ids')",
+                                                 moved.size(), per * ids.size()));
+  for (std::size_t k = 0; k < ids.size(); ++k) {
+    const double* q = &moved[per * k];
+    for (std::size_t e = 0; e < per; ++e)
+      if (!std::isfinite(q[e]))
+        refuse_entry("bonds.moved_with", fmt::format("value {} is not finite", per * k + e));
+    MovedWith w;
+    for (int a = 0; a < D; ++a) w.velocity[a] = q[a];
+    w.spin = to_spin(Triple{q[D], q[D + 1], q[D + 2]});
+    bond_moved_with_[ids[k]] = w;
+  }
 }
 
 template <int D>

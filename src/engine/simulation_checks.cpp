@@ -78,7 +78,8 @@ void Simulation<D>::check_deep_contact_modes(double pair_ratio, double wall_rati
     warn(fmt::format(
         "step {} (t = {:.6g} s): contacts are pressed {:.3g} of a radius deep, where a {} "
         "contact's stiffest mode (its tangential spring's) has omega dt = {:.3g} at this time "
-        "step: above {} a dense frictional packing can vibrate on its own; {} "
+        "step: above {} a dense frictional packing or an adhesive cluster can vibrate on its own "
+        "and gain kinetic energy; {} "
         "(docs/contact_models.md, \"Deep contacts\")",
         step_, time_, overlap_ratio, m.pair, omega_dt, deep_mode_bound,
         dt_fixed_ > 0

@@ -105,7 +105,7 @@ TimeStepReport Simulation<D>::time_step_rule() {
           std::min(rayleigh(a, ra), rayleigh(b, free_used[b] ? min_radius[b] : INFINITY));
       // A material's only particle meets none of its own: a sphere dropped on
       // a wall needs no law with itself (adding a second one prepares anew).
-      // A law declared for it still sets the step, as it did for one particle.
+      // A law declared for it still enters the step's rule and limit.
       consider(a, b, scale, "particle-particle", std::min(ra, rb), b != a || count[a] > 1);
     }
     for (int w = 0; w < nm; ++w)

@@ -332,6 +332,7 @@ void Simulation<D>::set_velocity(std::int64_t id, const Triple& v) {
   if (!finite3(v)) throw InputError("velocity must be finite");
   int i = checked(id);
   if (p_.fixed[i]) throw InputError(fmt::format("particle {} is fixed: it cannot move", id));
+  note_bonded_motion(i);
   p_.velocity[i] = to_vec(v);
 }
 template <int D>
@@ -339,6 +340,7 @@ void Simulation<D>::set_spin(std::int64_t id, const Triple& w) {
   if (!finite3(w)) throw InputError("spin must be finite");
   int i = checked(id);
   if (p_.fixed[i]) throw InputError(fmt::format("particle {} is fixed: it cannot spin", id));
+  note_bonded_motion(i);
   p_.spin[i] = to_spin(w);
 }
 

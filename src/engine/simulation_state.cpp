@@ -461,6 +461,7 @@ void Simulation<D>::load_state(const StateBlob& s) {
   });
   load_meshes(s);  // simulation_meshes.cpp
   bonds_ = std::move(bonds);
+  read_bond_motion(s);  // simulation_bonds.cpp
   build_slots();
 
   const auto hook_names = split_lines(s.t("hooks"));

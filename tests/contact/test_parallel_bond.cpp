@@ -91,10 +91,13 @@ TEMPLATE_TEST_CASE_SIG("bond: stiffness in each mode against the beam closed for
     auto sim = bonded_pair<D>(heavy, dt, particle({0, 0, 0}),
                               particle({2 * radius, 0, 0}, {speed, 0, 0}), spec());
     const BondLoad<D>& f = loaded(sim, steps);
-    // The prescribed stretch; the positions (2e-3 m advanced by 1e-11 m a step) hold it
-    // only to their round-off.
-    const double dx = speed * dt * steps;
-    CHECK(sim->position(1)[0] - sim->position(0)[0] - 2 * radius == Approx(dx).epsilon(1e-6));
+    // The prescribed stretch when the last step's forces were taken, before its
+    // move (the bond made at the start has seen no motion on the first step);
+    // the positions (2e-3 m advanced by 1e-11 m a step) hold it only to their
+    // round-off.
+    const double dx = speed * dt * (steps - 1);
+    CHECK(sim->position(1)[0] - sim->position(0)[0] - 2 * radius ==
+          Approx(dx + speed * dt).epsilon(1e-6));
     CHECK(-f.normal == Approx(k_normal * area * dx).epsilon(1e-9));  // tension
     // The force the engine applied: on a towards b (+x), on b the opposite.
     CHECK(sim->force(0)[0] == Approx(k_normal * area * dx).epsilon(1e-9));
@@ -105,7 +108,7 @@ TEMPLATE_TEST_CASE_SIG("bond: stiffness in each mode against the beam closed for
     auto sim = bonded_pair<D>(heavy, dt, particle({0, 0, 0}),
                               particle({2 * radius, 0, 0}, {0, speed, 0}), spec());
     const BondLoad<D>& f = loaded(sim, steps);
-    const double dy = sim->position(1)[1] - sim->position(0)[1];
+    const double dy = sim->position(1)[1] - sim->position(0)[1] - speed * dt;  // at the last forces
     CHECK(f.shear.norm() == Approx(k_shear * area * dy).epsilon(1e-9));
     CHECK(f.shear[1] > 0);
     CHECK(sim->force(0)[1] == Approx(k_shear * area * dy).epsilon(1e-9));
@@ -116,7 +119,7 @@ TEMPLATE_TEST_CASE_SIG("bond: stiffness in each mode against the beam closed for
     auto sim = bonded_pair<D>(heavy, dt, particle({0, 0, 0}, {}, {0, 0, -spin / 2}),
                               particle({2 * radius, 0, 0}, {}, {0, 0, spin / 2}), spec());
     const BondLoad<D>& f = loaded(sim, steps);
-    const double theta = spin * dt * steps;
+    const double theta = spin * dt * (steps - 1);  // at the last forces
     CHECK(std::sqrt(Dim<D>::spin_sq(f.bending)) ==
           Approx(k_normal * inertia * theta).epsilon(1e-9));
     // Turning a's side of the bond with b's: on a about +z.
@@ -133,7 +136,7 @@ TEMPLATE_TEST_CASE_SIG("bond: stiffness in each mode against the beam closed for
       auto sim = bonded_pair<D>(heavy, dt, particle({0, 0, 0}, {}, {-spin / 2, 0, 0}),
                                 particle({2 * radius, 0, 0}, {}, {spin / 2, 0, 0}), spec());
       const BondLoad<D>& f = loaded(sim, steps);
-      const double theta = spin * dt * steps;
+      const double theta = spin * dt * (steps - 1);  // at the last forces
       CHECK(std::abs(f.twist) == Approx(k_shear * polar * theta).epsilon(1e-9));
       CHECK(f.bending.norm() == 0);
       CHECK(f.shear.norm() == 0);
@@ -159,7 +162,8 @@ TEMPLATE_TEST_CASE_SIG("bond: pulled apart slowly it breaks at the tensile stren
   CHECK(last_intact < breaking_force);
   CHECK(at_break >= breaking_force);
   CHECK(at_break - breaking_force < increment);
-  CHECK(step == static_cast<std::int64_t>(std::ceil(breaking_force / increment)));
+  // (The first step's forces find the bond as made: it stretches from the second.)
+  CHECK(step == 1 + static_cast<std::int64_t>(std::ceil(breaking_force / increment)));
   // The load of the breaking step is not applied, nor any after it.
   CHECK(norm(sim->force(0)) == 0);
   sim->advance(10);
@@ -481,6 +485,9 @@ TEST_CASE("bond: shear and bending turn with a pair spinning about its axis", "[
   sim->set_velocity(1, {0, 0, 0});
   sim->set_spin(0, {omega * u[0], omega * u[1], omega * u[2]});
   sim->set_spin(1, {omega * u[0], omega * u[1], omega * u[2]});
+  // The next step's forces still count the last step's motion, made with the
+  // velocities and spins set before: the loads as they stand after it.
+  sim->advance(1);
   const Vec<3> shear = sim->bonds().load[0].shear, bending = sim->bonds().load[0].bending;
   REQUIRE(shear[1] > 0);
   REQUIRE(bending[2] != 0);
@@ -529,4 +536,99 @@ TEMPLATE_TEST_CASE_SIG("bond: a particle moved away by set_position breaks its b
   sim->advance(1);
   CHECK(sim->bond_counts().intact == 0);
   CHECK(sim->bond_counts().broken == 1);
+}
+
+TEMPLATE_TEST_CASE_SIG(
+    "bond: velocities a script sets between steps load the bond only with the motion they make",
+    "[bond]", ((int D), D), 2, 3) {
+  // A sphere hanging from a fixed one by its bond, damped by multiplying its
+  // velocity (and spin) by c after every step: it settles where the bond
+  // carries its weight, m g / (k_n A) of stretch, whatever c. Reading the
+  // scaled velocity as the motion of the step before, the bond would record
+  // only c of every step's stretch and settle at 1 / c of it.
+  const double g = 100, c = 0.9;
+  ParticleSpec top = particle({0, 0, 0});
+  top.fixed = true;
+  auto sim = bonded_pair<D>(2.5e6, 2e-5, top, particle({2 * radius, 0, 0}), spec());
+  sim->set_gravity({g, 0, 0});
+  const double mass = 2.5e6 * 4.0 / 3.0 * pi * std::pow(radius, 3);
+  for (int k = 0; k < 40000; ++k) {  // overdamped: it creeps to rest over ~1000 steps
+    sim->advance(1);
+    Triple v = sim->velocity(1), w = sim->spin(1);
+    for (double& x : v) x *= c;
+    for (double& x : w) x *= c;
+    sim->set_velocity(1, v);
+    sim->set_spin(1, w);
+  }
+  const double stretch = sim->position(1)[0] - 2 * radius;
+  INFO("stretch / (m g / k_n A) = " << stretch / (mass * g / (k_normal * area)));
+  CHECK(norm(sim->velocity(1)) < 1e-12);
+  CHECK(stretch == Approx(mass * g / (k_normal * area)).epsilon(1e-9));
+}
+
+TEMPLATE_TEST_CASE_SIG("bond: a bond made between moving particles starts unloaded", "[bond]",
+                       ((int D), D), 2, 3) {
+  // Two spheres flying apart: bonded now, at the places they have now, the
+  // first step's forces (taken there) find the bond at its rest length; the
+  // velocity they had came before it.
+  const double speed = 0.01;
+  auto sim = bonded_pair<D>(2500, 1e-7, particle({0, 0, 0}, {-speed, 0.3 * speed, 0}),
+                            particle({2 * radius, 0, 0}, {speed, 0, 0}, {0, 0, 5}), spec());
+  sim->advance(1);
+  const BondLoad<D>& first = sim->bonds().load[0];
+  CHECK(first.normal == 0);
+  CHECK(first.shear.norm() == 0);
+  CHECK(Dim<D>::spin_sq(first.bending) == 0);
+  // Made mid-run, after the pair moved: the same.
+  Simulation<D> later;
+  later.set_warning_handler([](const std::string&) {});
+  later.add_material({"p", 2500, 0, 0, 0});
+  later.set_contact("p", "p", "linear", {{"k_normal", 1e3}, {"restitution", 1.0}});
+  later.set_time_step(1e-7);
+  later.add_particle(particle({0, 0, 0}, {-speed, 0, 0}));
+  later.add_particle(particle({2 * radius, 0, 0}, {speed, 0, 0}));
+  later.advance(10);
+  REQUIRE(later.create_bonds(spec(1e15, 1e15, 1e-3)) == 1);
+  later.advance(1);
+  CHECK(later.bonds().load[0].normal == 0);
+  // A step on: one step's stretch, 2 speed dt.
+  later.advance(1);
+  CHECK(-later.bonds().load[0].normal == Approx(k_normal * area * 2 * speed * 1e-7).epsilon(1e-6));
+}
+
+TEMPLATE_TEST_CASE_SIG(
+    "bond: a checkpoint between a script's velocities and the next step resumes bit-identical",
+    "[bond][checkpoint]", ((int D), D), 2, 3) {
+  auto run = [](Simulation<D>& sim, bool save, StateBlob* saved) {
+    for (int k = 0; k < 40; ++k) {
+      sim.advance(1);
+      Triple v = sim.velocity(1);
+      for (double& x : v) x *= 0.5;
+      sim.set_velocity(1, v);
+      if (save && k == 19) *saved = sim.save_state();
+    }
+  };
+  ParticleSpec top = particle({0, 0, 0});
+  top.fixed = true;
+  auto whole =
+      bonded_pair<D>(2.5e6, 2e-6, top, particle({2 * radius, 0, 0}, {1e-3, 2e-3, 0}), spec());
+  StateBlob saved;
+  run(*whole, true, &saved);
+  REQUIRE(saved.integers.count("bonds.moved_with.ids"));
+  auto resumed = bonded_pair<D>(2.5e6, 2e-6, top, particle({2 * radius, 0, 0}), spec());
+  resumed->load_state(saved);
+  for (int k = 20; k < 40; ++k) {
+    resumed->advance(1);
+    Triple v = resumed->velocity(1);
+    for (double& x : v) x *= 0.5;
+    resumed->set_velocity(1, v);
+  }
+  CHECK(whole->bonds().load[0].normal == resumed->bonds().load[0].normal);
+  CHECK(whole->bonds().load[0].shear == resumed->bonds().load[0].shear);
+  CHECK(whole->flat_state().position == resumed->flat_state().position);
+  // A damaged entry is refused by name.
+  StateBlob bad = saved;
+  bad.doubles.at("bonds.moved_with").pop_back();
+  auto target = bonded_pair<D>(2.5e6, 2e-6, top, particle({2 * radius, 0, 0}), spec());
+  CHECK_THROWS_WITH(target->load_state(bad), Catch::Contains("'bonds.moved_with'"));
 }
