@@ -76,6 +76,90 @@ void collect(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent
 }
 }  // namespace
 
+namespace {
+// A face's vector area: half the sum of the cross products of a fan from its
+// first corner (exact for any origin, without the cancellation of coordinates
+// far from the file's); its length is the area of a planar polygon.
+Eigen::Vector3d vector_area(const aiMesh* mesh, const aiFace& face) {
+  auto corner = [&](unsigned c) {
+    const aiVector3D& x = mesh->mVertices[face.mIndices[c]];
+    const aiVector3D& o = mesh->mVertices[face.mIndices[0]];
+    return Eigen::Vector3d(double(x.x) - o.x, double(x.y) - o.y, double(x.z) - o.z);
+  };
+  Eigen::Vector3d twice = Eigen::Vector3d::Zero();
+  for (unsigned c = 1; c + 1 < face.mNumIndices; ++c) twice += corner(c).cross(corner(c + 1));
+  return 0.5 * twice;
+}
+
+// Each mesh's faces as read, before triangulation: corners and vector area.
+struct Polygon {
+  unsigned corners;
+  Eigen::Vector3d area;
+};
+std::vector<std::vector<Polygon>> polygons_of(const aiScene* scene) {
+  std::vector<std::vector<Polygon>> out(scene->mNumMeshes);
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+    const aiMesh* mesh = scene->mMeshes[m];
+    for (unsigned f = 0; f < mesh->mNumFaces; ++f)
+      out[m].push_back({mesh->mFaces[f].mNumIndices, vector_area(mesh, mesh->mFaces[f])});
+  }
+  return out;
+}
+
+// assimp cuts some non-convex polygons into triangles that overlap one another
+// and cover ground outside the polygon (an L-shaped hexagon: 4/3 of its area).
+// A right cut's triangles all face the polygon's way and their areas along its
+// normal add up to its vector area, warped or not; a wrong one's overlap or
+// turn over and add up to more. assimp writes each polygon's triangles in
+// turn, so they are found by count; where the counts do not match, a mesh's
+// triangles are held to its polygons' summed area instead (to 1e-3: a warped
+// polygon's triangles have a little more area than its vector area).
+void check_cut(const aiScene* scene, const std::vector<std::vector<Polygon>>& polygons,
+               const std::string& path) {
+  for (unsigned m = 0; m < scene->mNumMeshes && m < polygons.size(); ++m) {
+    const aiMesh* mesh = scene->mMeshes[m];
+    std::size_t expected = 0;
+    double polygons_area = 0;
+    for (const Polygon& p : polygons[m]) {
+      expected += p.corners >= 3 ? p.corners - 2 : 1;
+      if (p.corners >= 3) polygons_area += p.area.norm();
+    }
+    if (!std::isfinite(polygons_area)) continue;  // a vertex that is not finite: refused by name
+    auto refuse = [&](const std::string& which, double area, double covered) {
+      throw InputError(fmt::format(
+          "mesh file '{}': {} has an area of {:.6g} but the triangles it was cut into cover "
+          "{:.6g}: the cut (assimp's) is wrong for a non-convex polygon; export the file with "
+          "triangles only",
+          path, which, area, covered));
+    };
+    if (mesh->mNumFaces != expected) {
+      double covered = 0;
+      for (unsigned f = 0; f < mesh->mNumFaces; ++f)
+        if (mesh->mFaces[f].mNumIndices >= 3) covered += vector_area(mesh, mesh->mFaces[f]).norm();
+      if (!(std::abs(covered - polygons_area) <= 1e-3 * polygons_area))
+        refuse(fmt::format("mesh {} (its faces together)", m + 1), polygons_area, covered);
+      continue;
+    }
+    unsigned f = 0;
+    for (std::size_t k = 0; k < polygons[m].size(); ++k) {
+      const Polygon& p = polygons[m][k];
+      const unsigned pieces = p.corners >= 3 ? p.corners - 2 : 1;
+      const double area = p.area.norm();
+      if (p.corners > 3 && area > 0) {
+        const Eigen::Vector3d normal = p.area / area;
+        double covered = 0;
+        for (unsigned q = 0; q < pieces; ++q)
+          covered += std::abs(vector_area(mesh, mesh->mFaces[f + q]).dot(normal));
+        if (!(covered <= area * (1 + 1e-9)))
+          refuse(fmt::format("face {} of mesh {} ({} corners)", k + 1, m + 1, p.corners), area,
+                 covered);
+      }
+      f += pieces;
+    }
+  }
+}
+}  // namespace
+
 void clean_mesh(TriangleMesh& mesh, MeshFileReport& report) {
   // Corners at exactly the same point are one vertex: STL stores every
   // triangle's corners apart, and the contact needs the triangles around each
@@ -135,12 +219,18 @@ TriangleMesh read_mesh_file(const std::string& path, const MeshTransform& transf
   if (!std::ifstream(file).good())
     throw InputError(fmt::format("mesh file '{}' cannot be read (permissions?)", path));
   Assimp::Importer importer;
-  // Triangulate: OBJ faces may be quads or polygons. Nothing else: corners are
-  // joined below by position alone (assimp's join also compares normals).
-  const aiScene* scene = importer.ReadFile(file, aiProcess_Triangulate);
+  const aiScene* scene = importer.ReadFile(file, 0);
   if (!scene || !scene->mRootNode)
     throw InputError(
         fmt::format("mesh file '{}' cannot be read: {}", path, importer.GetErrorString()));
+  // Triangulate: OBJ faces may be quads or polygons. Nothing else: corners are
+  // joined below by position alone (assimp's join also compares normals).
+  const auto polygons = polygons_of(scene);
+  scene = importer.ApplyPostProcessing(aiProcess_Triangulate);
+  if (!scene || !scene->mRootNode)
+    throw InputError(
+        fmt::format("mesh file '{}' cannot be read: {}", path, importer.GetErrorString()));
+  check_cut(scene, polygons, path);
   TriangleMesh mesh;
   collect(scene, scene->mRootNode, aiMatrix4x4(), mesh, path);
   report = MeshFileReport{};

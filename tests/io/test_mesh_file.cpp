@@ -1,6 +1,9 @@
 // Mesh files through assimp: STL (ASCII and binary) and OBJ written here, read
 // back as vertices and triangles with the scene's scale, rotation and
 // translation applied; the defects are counted or refused with the reason.
+#include <fmt/format.h>
+
+#include <Eigen/Geometry>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdint>
@@ -124,6 +127,70 @@ TEST_CASE("mesh file: an OBJ cube of quads is triangulated, Euler angles turn it
     CHECK(v.y() < 1e-12);
   }
   std::filesystem::remove(path);
+}
+
+TEST_CASE(
+    "mesh file: a polygon cut into triangles that do not cover it is refused, one cut right "
+    "is read",
+    "[mesh]") {
+  // Area of the triangles read, for the comparison with the polygon's.
+  auto area = [](const io::TriangleMesh& m) {
+    double sum = 0;
+    for (const auto& t : m.triangles) {
+      const Eigen::Vector3d a = m.vertices[t[1]] - m.vertices[t[0]],
+                            b = m.vertices[t[2]] - m.vertices[t[0]];
+      sum += 0.5 * a.cross(b).norm();
+    }
+    return sum;
+  };
+  auto read = [&](const std::string& name, const std::string& obj, double& read_area) {
+    const auto path = temp_path(name);
+    std::ofstream(path) << obj;
+    io::MeshFileReport r;
+    std::string error;
+    try {
+      read_area = area(io::read_mesh_file(path, io::MeshTransform{}, r));
+    } catch (const InputError& e) {
+      error = e.what();
+    }
+    std::filesystem::remove(path);
+    return error;
+  };
+  double got = 0;
+  // An L of area 3 (a 2 x 2 square less a quarter): assimp's cut covers 4. It
+  // is found alone and among 400 unit squares (0.1 % of the file's area more).
+  std::string squares;
+  for (int k = 0; k < 400; ++k) {
+    const double x = 10 + 2 * (k % 20), y = 2 * (k / 20);
+    squares +=
+        fmt::format("v {} {} 0\nv {} {} 0\nv {} {} 0\nv {} {} 0\nf {} {} {} {}\n", x, y, x + 1, y,
+                    x + 1, y + 1, x, y + 1, 7 + 4 * k, 8 + 4 * k, 9 + 4 * k, 10 + 4 * k);
+  }
+  for (const std::string& more : {std::string(), squares}) {
+    const std::string error = read(
+        "l_hexagon.obj",
+        "v -1 -1 0\nv 1 -1 0\nv 1 0 0\nv 0 0 0\nv 0 1 0\nv -1 1 0\nf 1 2 3 4 5 6\n" + more, got);
+    INFO(error);
+    if (error.empty()) {
+      // A cut that does cover the L (another assimp) is read with its area.
+      CHECK(got == Approx(3.0 + (more.empty() ? 0 : 400)).epsilon(1e-12));
+    } else {
+      CHECK_THAT(error, Contains("l_hexagon.obj") && Contains("face 1 of mesh 1 (6 corners)") &&
+                            Contains("export the file with triangles"));
+    }
+  }
+  // A warped quad (one corner raised by a tenth of the side): its triangles have
+  // more area than its vector area, yet the cut is right.
+  CHECK(read("warped.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0.1\nv 0 1 0\nf 1 2 3 4\n", got).empty());
+  // A dart (non-convex quad) and a convex hexagon: cut right, read.
+  CHECK(read("dart.obj", "v 0 0 0\nv 2 1 0\nv 0 2 0\nv 0.5 1 0\nf 1 2 3 4\n", got).empty());
+  CHECK(got == Approx(1.5).epsilon(1e-12));
+  CHECK(read("hexagon.obj",
+             "v 2 0 0\nv 1 1.5 0\nv -1 1.5 0\nv -2 0 0\nv -1 -1.5 0\nv 1 -1.5 0\n"
+             "f 1 2 3 4 5 6\n",
+             got)
+            .empty());
+  CHECK(got == Approx(9.0).epsilon(1e-12));
 }
 
 TEST_CASE("mesh file: degenerate triangles are removed and counted", "[mesh]") {
