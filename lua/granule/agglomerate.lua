@@ -182,7 +182,7 @@ agglomerate.preparation_defaults = {
   generation_diameter = 0,         -- m; 0: 100 um in 2D (7.3); in 3D the sphere the primaries fill to 25 %
   center = false,                  -- {x, y[, z]}; false: the origin
   seed = 1,                        -- math.randomseed for sizes and positions
-  clearance = 0.02,                -- gap between neighbours at generation, fraction of r_i + r_j
+  clearance = 0.02,                -- gap a generation push leaves between a pair, fraction of r_i + r_j (later pushes may close it)
   field_strength = 5e5,            -- m/s^2 toward the centre: the "centripetal gravity field"
   damping_rate = 1e6,              -- 1/s: global damping dv/dt = -c v, during preparation only
   damping_every = 10,              -- steps between velocity scalings
@@ -212,7 +212,7 @@ agglomerate.preparation_defaults = {
 --- give a tree of N - 1 bonds).
 agglomerate.protocols = {
   dense = {},
-  sticky = { compaction_friction = agglomerate.alumina.friction, compaction_surface_energy = "surface_energy" },
+  sticky = { compaction_friction = "friction", compaction_surface_energy = "surface_energy" },
 }
 
 local preparation_rules = {
@@ -247,6 +247,7 @@ function agglomerate.prepare(sim, given)
     if given == nil or given[k] == nil then o[k] = v end
   end
   if o.compaction_surface_energy == "surface_energy" then o.compaction_surface_energy = o.surface_energy end
+  if o.compaction_friction == "friction" then o.compaction_friction = o.friction end
   agglomerate.check(o, preparation_rules, context)
   local orders = { together = true, friction_first = true, adhesion_first = true }
   if not orders[o.switch_order] then
@@ -398,6 +399,11 @@ function agglomerate.prepare(sim, given)
   local enclosed = d == 2 and math.pi * (shape.diameter / 2) ^ 2 or 4 / 3 * math.pi * (shape.diameter / 2) ^ 3
   report.packing_fraction = solid / enclosed
   report.bonds, report.coordination = census.bonds, census.coordination
+  if census.bonds == 0 then
+    io.stderr:write("warning: agglomerate.prepare: the prepared agglomerate holds no contacts between its "
+      .. "primaries (surface_energy = 0 holds nothing together): its primaries are loose, and a breakage "
+      .. "test on it reads damage 0\n")
+  end
   report.compressive, report.tensile = census.compressive, census.tensile
   report.rms_speed = agglomerate.internal_rms_speed(sim:stats(), mass)
   report.time = sim:time()

@@ -338,7 +338,7 @@ function tests.run(sim, kind, given)
     sim:material { name = "host", density = o.host_density, young = o.host_young, poisson = o.host_poisson }
     sim:contact { o.material, "host", model = "thornton_jkr", friction = o.host_friction,
                   surface_energy = o.host_surface_energy }
-    -- One host: this law is never used, but every pair of materials in use needs one.
+    -- One host meets no other; its law with itself enters only the time step's rule.
     sim:contact { "host", "host", model = "thornton_jkr", friction = o.host_friction, surface_energy = 0 }
     local position = {}
     for k = 1, d do position[k] = shape.center[k] end
@@ -371,6 +371,26 @@ function tests.run(sim, kind, given)
   -- (3) Watching the target and sampling the breakage.
   local initial_bonds = sim:bonds { material = o.material }
   local classes = { large = o.large, debris = o.debris, fines = o.fines }
+  if #initial_bonds == 0 then
+    io.stderr:write(string.format("warning: %s: %s holds no contacts between its primaries (prepared "
+      .. "with surface_energy = 0?): they are loose, and the damage ratio (broken / initial bonds) "
+      .. "reads 0\n", context, o.file))
+  end
+  -- Debris is under `debris` of the primaries (by size) or of the mass: with
+  -- few primaries not even one primary is, and both debris ratios read 0.
+  do
+    local volume, smallest = 0, math.huge
+    for _, id in ipairs(ids) do
+      local v = sim:particle(id).radius ^ d
+      volume, smallest = volume + v, math.min(smallest, v)
+    end
+    if #ids * o.debris <= 1 and smallest / volume >= o.debris then
+      io.stderr:write(string.format("warning: %s: with %d primaries one primary is %.3g of the "
+        .. "agglomerate's mass, at least debris = %g, so neither debris rule (size or mass) can count "
+        .. "a fragment as debris: the debris ratios read 0; read the fragments and the largest "
+        .. "fragment\n", context, #ids, smallest / volume, o.debris))
+    end
+  end
   local t0 = sim:time()
   -- The impact is the first contact episode; later touches (a fragment or a
   -- vibrating face meeting the target again) are counted, not added to it.

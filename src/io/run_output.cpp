@@ -158,7 +158,9 @@ void RunOutput::finish() {
 void RunOutput::flush() {
   if (finished_ || !file_) return;
   write_header();
-  write_new_walls();
+  // Not the walls a script added since the header: their geometry is written as
+  // it stands when written (a platen that has moved), so at the snapshots and
+  // the end, steps the scene sets, never at a flush that wall time sets.
   file_->flush();
   last_flush_ = std::chrono::steady_clock::now();
 }

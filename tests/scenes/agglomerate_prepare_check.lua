@@ -59,12 +59,15 @@ assert(counted == report.bonds, string.format("the report says %d bonds, the pos
 assert(math.abs(report.coordination - 2 * counted / count) < 1e-12, "coordination " .. report.coordination)
 agglomerate.save(sim, out, report)
 
--- The sticky protocol (friction and adhesion on while compacting) ends at rest
--- too, with fewer bonds than the dense one, counted the same way.
+-- The sticky protocol (friction and adhesion on while compacting, at the
+-- agglomerate's friction and surface energy) ends at rest too, with fewer
+-- bonds than the dense one, counted the same way.
 local sticky_sim = simulation { dimension = 2, record_contacts = true }
 local sticky = agglomerate.prepare(sticky_sim, { protocol = "sticky", count = count, generation_diameter = 52e-6,
-                                                 rest_speed = rest_speed, quiet = true })
+                                                 rest_speed = rest_speed, friction = 0.3, quiet = true })
 print("sticky: " .. agglomerate.preparation_line(sticky))
+assert(sticky.options.compaction_friction == 0.3 and sticky.stages[1].name:find("mu = 0.3", 1, true),
+  "sticky compacted at mu = " .. tostring(sticky.options.compaction_friction) .. " (" .. sticky.stages[1].name .. ")")
 for k, stage in ipairs(sticky.stages) do
   assert(stage.ended_by == "criterion", string.format("sticky stage %d (%s) ended by its cap", k, stage.name))
 end
