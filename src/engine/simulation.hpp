@@ -355,8 +355,13 @@ class Simulation final : public SimulationBase {
   void save_bonds(StateBlob& s) const;
   // The checkpoint's bonds, checked (InputError naming the entry); none in one without them.
   ParallelBonds<D> read_bonds(const StateBlob& s) const;
-  // The checkpoint's bond_moved_with_ and bonds_unmoved_from_ (after bonds_ is set).
-  void read_bond_motion(const StateBlob& s);
+  // The checkpoint's bond_moved_with_ and bonds_unmoved_from_, checked against its
+  // `bonds` bonds (InputError naming the entry) before anything is replaced.
+  struct BondMotionState {
+    std::map<std::int64_t, MovedWith> moved_with;
+    std::size_t unmoved_from = 0;
+  };
+  BondMotionState read_bond_motion(const StateBlob& s, std::size_t bonds) const;
   void report_non_finite(std::size_t index);
   void refuse_beyond_memory(std::int64_t particles, const char* what) const;
   void check_escapes();  // at each list rebuild: stops the run if a centre passed a wall
@@ -368,6 +373,12 @@ class Simulation final : public SimulationBase {
   // and the wall (simulation_checks.cpp).
   static constexpr double wall_through_ratio = 0.9;
   void report_pressed_through_wall();
+  // Steps with a thin wall's contact deeper than thin_watch_ratio of the
+  // particle's radius, and the step after one, look for centres that crossed a
+  // thin wall's surface within the step (check_thin_wall_crossings).
+  static constexpr double thin_watch_ratio = 0.5;
+  bool thin_deep_last_step_ = false;
+  void check_thin_wall_crossings();
   // Event tracking began since the last step: its contacts going on are to be marked
   // (mark_ongoing_contacts, simulation.cpp), at the next step.
   bool ongoing_marks_due_ = false;

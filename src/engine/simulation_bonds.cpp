@@ -367,17 +367,17 @@ void Simulation<D>::save_bonds(StateBlob& s) const {
 }
 
 template <int D>
-void Simulation<D>::read_bond_motion(const StateBlob& s) {
-  bond_moved_with_.clear();
-  bonds_unmoved_from_ = bonds_.size();
+typename Simulation<D>::BondMotionState Simulation<D>::read_bond_motion(const StateBlob& s,
+                                                                        std::size_t bonds) const {
+  BondMotionState out;
+  out.unmoved_from = bonds;
   if (s.has("bonds.unmoved_from")) {
     const auto& from = s.i("bonds.unmoved_from");
-    if (from.size() != 1 || from[0] < 0 || static_cast<std::size_t>(from[0]) > bonds_.size())
-      refuse_entry("bonds.unmoved_from",
-                   fmt::format("must be one bond index from 0 to {}", bonds_.size()));
-    bonds_unmoved_from_ = static_cast<std::size_t>(from[0]);
+    if (from.size() != 1 || from[0] < 0 || static_cast<std::size_t>(from[0]) > bonds)
+      refuse_entry("bonds.unmoved_from", fmt::format("must be one bond index from 0 to {}", bonds));
+    out.unmoved_from = static_cast<std::size_t>(from[0]);
   }
-  if (!s.has("bonds.moved_with.ids")) return;
+  if (!s.has("bonds.moved_with.ids")) return out;
   const auto& ids = s.i("bonds.moved_with.ids");
   const auto& moved = s.d("bonds.moved_with");
   constexpr std::size_t per = D + 3;
@@ -393,8 +393,9 @@ void Simulation<D>::read_bond_motion(const StateBlob& s) {
     MovedWith w;
     for (int a = 0; a < D; ++a) w.velocity[a] = q[a];
     w.spin = to_spin(Triple{q[D], q[D + 1], q[D + 2]});
-    bond_moved_with_[ids[k]] = w;
+    out.moved_with[ids[k]] = w;
   }
+  return out;
 }
 
 template <int D>

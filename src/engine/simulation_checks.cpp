@@ -255,6 +255,62 @@ void Simulation<D>::report_pressed_through_wall() {
           : "it came in too fast for the contact to stop it: reduce time_step or the speed"));
 }
 
+// A thin wall (a finite one, a mesh, a polyline) acts from both of its sides: a
+// particle whose centre crosses its surface within a step is pushed on out of
+// the far side, its contact's normal turned round, and the depth test above
+// sees it only if a step lands within a tenth of a radius of the surface. A
+// contact whose particle moved out along its normal, relative to the wall, by
+// more than its centre now stands off the surface had its centre behind the
+// surface's tangent plane a step ago: it came through. A crossing at under a
+// radius a step (faster ones check_displacements stops) comes within half a
+// radius of the surface on one side or the other, so this runs on the steps
+// with a contact that deep and the step after each (a flag the checkpoint
+// keeps). The margin of a hundredth of a radius leaves the tangent plane's
+// departure from a curved surface out; a centre that crossed from within a
+// hundredth of a radius had a contact 0.99 r deep going in a step before,
+// which report_pressed_through_wall stopped.
+template <int D>
+void Simulation<D>::check_thin_wall_crossings() {
+  double worst = 0;
+  std::size_t particle = 0, wall = 0;
+  for_each_model([&](auto index) {
+    constexpr int I = decltype(index)::value;
+    const auto& b = std::get<I>(wall_buckets_);
+    for (std::size_t k = 0; k < b.size(); ++k) {
+      const std::uint32_t i = b.particle[k], w = b.wall[k];
+      if (!walls_[w].finite() && !is_surface_wall(walls_[w].type)) continue;
+      // A solid polyline pushes a centre that got inside it back out, by design.
+      if constexpr (D == 2)
+        if (const auto* shape = meshes_.of_wall(w); shape && shape->solid) continue;
+      double overlap = -1;
+      V n = V::Zero(), surface_velocity = V::Zero(), lever;
+      if (is_surface_wall(walls_[w].type)) {
+        if (b.touch.size() != b.size()) continue;
+        overlap = b.touch[k].overlap;
+        n = b.touch[k].normal, surface_velocity = b.touch[k].surface_velocity;
+      } else {
+        overlap = walls_[w].contact(p_.position[i], p_.radius[i], n, surface_velocity, lever);
+      }
+      if (!(overlap > 0)) continue;
+      const double r = p_.radius[i];
+      const double moved_out = (p_.velocity[i] - surface_velocity).dot(n) * dt_;
+      const double behind = moved_out - (r - overlap);  // how far behind the plane it was
+      if (behind > 0.01 * r && behind > worst) worst = behind, particle = i, wall = w;
+    }
+  });
+  if (!(worst > 0)) return;
+  const std::size_t i = particle;
+  fail(fmt::format(
+      "step {} (t = {:.6g} s): particle {} (radius {:.4g} m, speed {:.3g} m/s) went through wall "
+      "'{}': within the last step its centre crossed the wall's surface (a step ago it stood "
+      "{:.2g} of its radius on the other side), and the wall now pushes it out of the far side; "
+      "the contact was "
+      "too soft or the step too long to stop it: stiffen the contact (k_normal, young), "
+      "reduce time_step or the speed",
+      step_, time_, p_.id[i], p_.radius[i], p_.velocity[i].norm(), walls_[wall].name,
+      worst / p_.radius[i]));
+}
+
 // A particle that moves farther in one step than the smallest radius can step
 // over a contact: two such particles closing head-on cross the depth at which
 // check_overlaps() sees them pass through (about three radii) within one

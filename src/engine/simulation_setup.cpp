@@ -129,6 +129,15 @@ std::int64_t Simulation<D>::add_particle(const ParticleSpec& s) {
   // Into the periodic box now, as set_position (and prepare(), for a box declared later).
   if (periodic_.on())
     at[periodic_.axis] = into_periodic_box(periodic_, at[periodic_.axis], "particle position");
+  // Added during a run inside a solid polyline: warned of, as prepare() warns
+  // of the scene's starting particles (its contact throws the centre out).
+  if (step_ > 0 && !s.fixed)
+    for (std::size_t w = 0; w < walls_.size(); ++w)
+      if (meshes_.inside_solid(w, at))
+        warn(fmt::format(
+            "particle added at ({}) lies inside solid wall '{}': its contact throws it out "
+            "through the nearest side, as fast as that overlap drives it",
+            fmt::join(s.position.begin(), s.position.begin() + D, ", "), walls_[w].name));
   std::int64_t id = p_.add(at, to_vec(s.velocity), to_spin(s.spin), s.radius,
                            materials_[s.material].density, s.material, s.fixed);
   position_at_rebuild_.push_back(p_.position.back());
@@ -303,12 +312,19 @@ void Simulation<D>::set_position(std::int64_t id, const Triple& x) {
   // minimum images shift by one period only.
   if (periodic_.on())
     at[periodic_.axis] = into_periodic_box(periodic_, at[periodic_.axis], "set_position");
-  // Inside every wall, as prepare() holds an added particle to.
-  for (const auto& w : walls_) {
+  // Inside every wall, as prepare() holds an added particle to (inside a solid
+  // polyline: warned of, as there).
+  for (std::size_t wi = 0; wi < walls_.size(); ++wi) {
+    const auto& w = walls_[wi];
     const double c = w.clearance(at, p_.radius[i]);
     if (c + p_.radius[i] < 0)
       throw InputError(fmt::format("set_position: particle {} at ({}) would lie outside wall '{}'",
                                    id, fmt::join(x.begin(), x.begin() + D, ", "), w.name));
+    if (!p_.fixed[i] && meshes_.inside_solid(wi, at))
+      warn(fmt::format(
+          "set_position: particle {} at ({}) lies inside solid wall '{}': its contact throws it "
+          "out through the nearest side, as fast as that overlap drives it",
+          id, fmt::join(x.begin(), x.begin() + D, ", "), w.name));
     if (c < 0 && !p_.fixed[i])
       warn(fmt::format("set_position: particle {} overlaps wall '{}' by {:.3g} m", id, w.name, -c));
   }

@@ -108,6 +108,8 @@ StateBlob Simulation<D>::save_state() const {
   // A callback's change still to be prepared for (step() does it first): 1 in
   // full, 2 a law's parameters only (lists_kept_).
   s.integers["prepare_due"] = {prepared_ ? 0 : lists_kept_ ? 2 : 1};
+  // The thin walls' crossing check runs on the step after a deep contact too.
+  if (thin_deep_last_step_) s.integers["thin_deep_last_step"] = {1};
   s.doubles["meta"] = {time_,
                        dt_,
                        dt_fixed_,
@@ -292,6 +294,7 @@ void Simulation<D>::load_state(const StateBlob& s) {
 
   check_state<D>(s, materials_.size(), walls_.size());
   ParallelBonds<D> bonds = read_bonds(s);  // simulation_bonds.cpp
+  BondMotionState bond_motion = read_bond_motion(s, bonds.size());
   const auto& md = s.d("meta");
   time_ = md[0], dt_ = md[1], dt_fixed_ = md[2], steps_per_contact_ = md[3];
   dt_from_time_ = time_;
@@ -461,7 +464,8 @@ void Simulation<D>::load_state(const StateBlob& s) {
   });
   load_meshes(s);  // simulation_meshes.cpp
   bonds_ = std::move(bonds);
-  read_bond_motion(s);  // simulation_bonds.cpp
+  bond_moved_with_ = std::move(bond_motion.moved_with);
+  bonds_unmoved_from_ = bond_motion.unmoved_from;
   build_slots();
 
   const auto hook_names = split_lines(s.t("hooks"));
@@ -513,6 +517,7 @@ void Simulation<D>::load_state(const StateBlob& s) {
     refuse_entry("prepare_due",
                  fmt::format("holds {} values, not one of 0, 1 or 2", prepare_due.size()));
   prepared_ = prepare_due[0] == 0;
+  thin_deep_last_step_ = s.integers.count("thin_deep_last_step") != 0;
   lists_kept_ = prepare_due[0] == 2;
 }
 

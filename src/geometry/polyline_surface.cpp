@@ -57,7 +57,9 @@ PolylineSurface::PolylineSurface(Polyline line) : x_(std::move(line.points)), cl
     if (!std::isfinite(R))
       throw InputError(fmt::format("arc radius of segment {} is {}: not finite", s + 1, R));
     if (R == 0) continue;
-    if (std::abs(R) < half_chord_[s])
+    // A half circle's end points computed by trigonometry lie a few ulps further
+    // apart than 2R: within 1e-12 the arc is a half circle.
+    if (std::abs(R) < half_chord_[s] * (1 - 1e-12))
       throw InputError(fmt::format(
           "arc radius of segment {} is {} m: its magnitude must be at least half the chord, {} m",
           s + 1, R, half_chord_[s]));

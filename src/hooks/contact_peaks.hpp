@@ -110,6 +110,10 @@ class ContactPeaksDiagnostic final : public Diagnostic<D> {
     declare();
     last_time_ = v.time;
     for (const auto& e : v.contacts.ended) {
+      // Begun before this diagnostic's first step: going on when it was attached,
+      // neither its impact nor its whole peak seen. (The engine marks such contacts
+      // only when the first diagnostic that follows contacts is attached.)
+      if (e.begin_time < start_time_) continue;
       bool boundary = e.id_b < 0;
       if (!boundary) {
         const int ia = p.index(e.id_a), ib = p.index(e.id_b);

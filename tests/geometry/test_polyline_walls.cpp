@@ -460,6 +460,15 @@ TEST_CASE("polyline walls: bad input is refused naming the parameter", "[polylin
                     Contains("points") && Contains("at least 2"));
   CHECK_THROWS_WITH(sim->add_polyline_wall(polyline({{0, 0}, {1, 0}}, false, {{1, 0.4}})),
                     Contains("arc radius of segment 1") && Contains("half the chord"));
+  // Half circles whose end points come from cos and sin lie a few ulps more
+  // than 2R apart: read as half circles, at every angle.
+  const double big_r = 4e-3;
+  for (int k = 0; k < 200; ++k) {
+    const double a = 0.0314159 * k, c = big_r * std::cos(a), s = big_r * std::sin(a);
+    INFO("end points at " << a << " rad");
+    CHECK_NOTHROW(
+        scene()->add_polyline_wall(polyline({{c, s}, {-c, -s}}, true, {{1, -big_r}, {2, -big_r}})));
+  }
   CHECK_THROWS_WITH(sim->add_polyline_wall(polyline({{0, 0}, {1, 0}}, false, {{2, 1}})),
                     Contains("arcs[1].segment = 2") && Contains("1 segments"));
   CHECK_THROWS_WITH(sim->add_polyline_wall(polyline({{0, 0}, {1, 0}}, false, {{0, 1}})),
@@ -503,4 +512,40 @@ TEST_CASE("polyline surface: a chain's end resting on its own floor is no second
       CHECK(hits[0].feature == MeshFeature::face);
     }
   }
+}
+
+TEST_CASE("polyline walls: a disk placed inside a solid polyline is warned of, naming the wall",
+          "[polyline]") {
+  // Its contact throws the centre out through the nearest side, as fast as the
+  // overlap drives it: the scene is told where, at the start, when a particle
+  // is added during a run, and when one is moved there.
+  auto sim = scene("linear");
+  std::vector<std::string> warnings;
+  sim->set_warning_handler([&](const std::string& w) { warnings.push_back(w); });
+  PolylineWallSpec post =
+      polyline({{-5e-3, -5e-3}, {5e-3, -5e-3}, {5e-3, 5e-3}, {-5e-3, 5e-3}}, true);
+  post.name = "post";
+  post.solid = true;
+  sim->add_polyline_wall(post);
+  sim->add_particle(disk({1e-3, 0, 0}, {0, 0, 0}, 1e-4));
+  const std::int64_t outside = sim->add_particle(disk({2e-2, 0, 0}, {0, 0, 0}, 1e-4));
+  sim->advance(1);
+  auto said = [&](const std::string& what) {
+    for (const auto& w : warnings)
+      if (w.find(what) != std::string::npos &&
+          w.find("inside solid wall 'post'") != std::string::npos)
+        return true;
+    return false;
+  };
+  CHECK(said("particle 0 at (0.001"));
+  CHECK(said("starts inside"));
+  sim->add_particle(disk({0, 2e-3, 0}, {0, 0, 0}, 1e-4));
+  CHECK(said("particle added at (0, 0.002)"));
+  sim->set_position(outside, {0, -1e-3, 0});
+  CHECK(said("set_position: particle 1"));
+  // Outside it: nothing said.
+  const std::size_t before = warnings.size();
+  sim->add_particle(disk({3e-2, 0, 0}, {0, 0, 0}, 1e-4));
+  sim->advance(1);
+  CHECK(warnings.size() == before);
 }

@@ -337,6 +337,35 @@ TEST_CASE("contact_peaks: a binary impact's peak force, derived velocity and coa
   CHECK(res.at("covered_fraction_two_patches_r") == Approx(4 * one).epsilon(1e-12));
 }
 
+TEST_CASE(
+    "contact_peaks: a collision going on when it is attached is not counted, whatever was "
+    "attached before it",
+    "[diagnostics][mechanofusion]") {
+  // The engine marks the contacts going on only when the first diagnostic that
+  // follows contacts is attached: here `areas`, before the impact. contact_peaks,
+  // attached in the middle of the impact, must leave it out all the same.
+  for (const bool areas_first : {false, true}) {
+    Simulation<2> sim;
+    chamber(sim, 0);
+    const double v = 0.5, gap = 1e-6, x = 3e-3;
+    particle(sim, x - r - gap, 0, v / 2, 0);
+    particle(sim, x + r + gap, 0, -v / 2, 0);
+    DiagnosticOptions o;
+    o.strings["inner_piece"] = "";
+    if (areas_first) attach(sim, "areas", o);
+    // Into the impact, a few steps past its start.
+    std::int64_t steps = 0;
+    while (sim.stats().contacts_particle == 0 && steps < 100000) sim.advance(1), ++steps;
+    sim.advance(3);
+    REQUIRE(sim.stats().contacts_particle == 1);
+    const int id = attach(sim, "contact_peaks", o);
+    sim.advance(20000);
+    INFO("areas attached first: " << areas_first);
+    CHECK(sim.stats().contacts_particle == 0);
+    CHECK(sim.diagnostic_results(id).at("contacts_all") == 0);
+  }
+}
+
 TEST_CASE("contact_peaks: the coating readings of 4.7 on unequal hosts, counted by hand",
           "[diagnostics][mechanofusion]") {
   // Pairs of radii r and r/2 colliding at three speeds, each far from the others:

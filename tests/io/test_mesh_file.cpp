@@ -158,7 +158,8 @@ TEST_CASE(
   };
   double got = 0;
   // An L of area 3 (a 2 x 2 square less a quarter): assimp's cut covers 4. It
-  // is found alone and among 400 unit squares (0.1 % of the file's area more).
+  // is found alone and among 400 unit squares (a quarter of a per cent of the
+  // file's area more).
   std::string squares;
   for (int k = 0; k < 400; ++k) {
     const double x = 10 + 2 * (k % 20), y = 2 * (k / 20);

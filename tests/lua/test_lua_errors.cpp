@@ -146,6 +146,28 @@ sim:run { steps = 1 }
       16, "no contact law for materials 'rubber' and 'rubber'");
 }
 
+TEST_CASE("lua: a disk that goes through a thin wall within a step stops the run",
+          "[lua][errors]") {
+  // Fired at 0.9 of its radius a step, the disk's centre can pass the wall's
+  // surface between two steps that both lie short of the depth test's 0.9 r:
+  // a thin wall (a polyline, a bounded segment) then pushed it on out of the
+  // far side, silently.
+  const std::string fire =
+      R"(local id = sim:add_particle { position = {0, 0}, radius = 5e-4, material = "glass" }
+local v = 0.9 * 5e-4 / sim:time_step()
+sim:set_velocity(id, { v * math.cos(0.35), v * math.sin(0.35) })
+sim:run { duration = 2e-2 / v }
+)";
+  expect_refused(
+      R"(sim:wall_polyline { name = "box", material = "steel", closed = true, points = { {-5e-3, -5e-3}, {5e-3, -5e-3}, {5e-3, 5e-3}, {-5e-3, 5e-3} } }
+)" + fire,
+      10, "went through wall 'box'");
+  expect_refused(
+      R"(sim:wall_plane { name = "east", material = "steel", point = {5e-3, 0}, normal = {-1, 0}, size = 1e-2 }
+)" + fire,
+      10, "went through wall 'east'");
+}
+
 TEST_CASE("lua: a time step above the stability limit is refused, above the rule warned",
           "[lua][errors]") {
   auto r = run_scene(R"(local sim = simulation { dimension = 2, time_step = 1e-3 }
