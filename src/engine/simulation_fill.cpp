@@ -241,6 +241,23 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
           "around it; if one side was meant, give a region on that side (docs/walls.md)",
           out, ids.size(), w.type == WallType::cone ? "cone" : "tube", w.name, in));
   }
+  // A closed polyline that is not solid is a thin wall too, its inside no body
+  // (the usual 2D container): the same said of it.
+  if constexpr (D == 2)
+    for (std::size_t w = 0; w < walls_.size(); ++w) {
+      const auto* shape = meshes_.of_wall(w);
+      if (!shape || shape->solid || !shape->surface->closed()) continue;
+      std::int64_t in = 0, out = 0;
+      for (auto id : ids)
+        ++(shape->surface->encloses(shape->to_mesh(p_.position[p_.index(id)])) ? in : out);
+      if (in > 0 && out > 0)
+        warn(fmt::format(
+            "fill: {} of the {} particles placed lie outside closed polyline '{}' and {} inside "
+            "it: a polyline that is not solid is touched on both sides and has no inside, so only "
+            "the region bounds a fill around it; if one side was meant, give a region on that "
+            "side, or solid = true for a body (docs/walls.md)",
+            out, ids.size(), walls_[w].name, in));
+    }
   lists_valid_ = false;
   unprepare();
   arm_overlap_grace();  // as add_particle: an overlapping fill's overlaps are the scene's

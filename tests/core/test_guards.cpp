@@ -600,3 +600,40 @@ TEST_CASE("fill: a fill on both sides of a cone is warned of, one inside it is n
     CHECK(said == (region_radius > 20e-3 ? 1 : 0));
   }
 }
+
+TEST_CASE("fill: a fill on both sides of a closed polyline that is not solid is warned of",
+          "[guards]") {
+  // A 2D container drawn as a closed polyline: touched on both sides, it has no
+  // inside, so only the region bounds a fill around it. Solid, it is a body and
+  // the fill places nothing inside (no warning).
+  struct Case {
+    double region_radius;
+    bool solid;
+    int expected;
+  };
+  for (const Case c : {Case{20e-3, false, 1}, Case{4e-3, false, 0}, Case{20e-3, true, 0}}) {
+    std::vector<std::string> warnings;
+    Simulation<2> sim;
+    sim.set_warning_handler([&](const std::string& w) { warnings.push_back(w); });
+    sim.add_material({"p", 2500, 0, 0, 0});
+    sim.set_contact("p", "p", "linear", {{"k_normal", 1e3}, {"restitution", 0.5}});
+    PolylineWallSpec box;
+    box.name = "box", box.material = 0, box.closed = true, box.solid = c.solid;
+    box.points = {{-5e-3, -5e-3}, {5e-3, -5e-3}, {5e-3, 5e-3}, {-5e-3, 5e-3}};
+    sim.add_polyline_wall(box);
+    FillSpec fill;
+    fill.shape = RegionShape::ball;
+    fill.radius = c.region_radius;
+    fill.count = 40;
+    fill.radius_min = fill.radius_max = 3e-4;
+    fill.material = 0;
+    fill.seed = 3;
+    fill.allow_overlap = false;
+    sim.fill(fill);
+    int said = 0;
+    for (const auto& w : warnings)
+      said += w.find("outside closed polyline 'box'") != std::string::npos;
+    INFO("region radius " << c.region_radius << ", solid " << c.solid);
+    CHECK(said == c.expected);
+  }
+}
