@@ -173,11 +173,10 @@ void Simulation<D>::step() {
     scene_overlaps_ = false;
   // (While the scene's own overlaps relax, as after an overlapping fill, its
   // particles are thrown at the walls that hard by design: check_overlaps.)
-  if (wall_tally.max_ratio > wall_through_ratio && !overlaps_the_scenes)
-    report_pressed_through_wall();
+  const bool pressed_due = wall_tally.max_ratio > wall_through_ratio;
   const bool thin_deep = wall_tally.max_ratio > thin_watch_ratio;
-  if ((thin_deep || thin_deep_last_step_) && !overlaps_the_scenes)
-    check_thin_wall_crossings();  // simulation_checks.cpp
+  if ((pressed_due || thin_deep || thin_deep_last_step_) && !overlaps_the_scenes)
+    check_thin_walls(pressed_due, thin_deep || thin_deep_last_step_);  // simulation_checks.cpp
   thin_deep_last_step_ = thin_deep;
   auto t2 = Clock::now();
   stage_times_.force += std::chrono::duration<double>(t2 - t1).count();

@@ -368,17 +368,16 @@ class Simulation final : public SimulationBase {
   // Steps whose deepest pair overlap exceeds overlap_warning: warns once, stops
   // a pass-through (simulation_checks.cpp).
   void check_overlaps(double pair_ratio);
-  // A step whose deepest wall contact is over wall_through_ratio of the particle's
-  // radius: stops the run where such a particle goes on into the wall, naming it
-  // and the wall (simulation_checks.cpp).
+  // The thin walls' contacts (simulation_checks.cpp): on a step whose deepest
+  // wall contact is over wall_through_ratio of the particle's radius, stops the
+  // run where such a particle goes on into the wall (`pressed`); on a step with
+  // one deeper than thin_watch_ratio, and the step after, where a centre crossed
+  // a thin wall's surface within the step (`crossed`). Each names the particle
+  // and the wall.
   static constexpr double wall_through_ratio = 0.9;
-  void report_pressed_through_wall();
-  // Steps with a thin wall's contact deeper than thin_watch_ratio of the
-  // particle's radius, and the step after one, look for centres that crossed a
-  // thin wall's surface within the step (check_thin_wall_crossings).
   static constexpr double thin_watch_ratio = 0.5;
   bool thin_deep_last_step_ = false;
-  void check_thin_wall_crossings();
+  void check_thin_walls(bool pressed, bool crossed);
   // Event tracking began since the last step: its contacts going on are to be marked
   // (mark_ongoing_contacts, simulation.cpp), at the next step.
   bool ongoing_marks_due_ = false;

@@ -200,86 +200,45 @@ void Simulation<D>::check_overlaps(double pair_ratio) {
                  : ""));
 }
 
-// A contact with a thin wall (a finite one: a plate, a disk, a tube, a cone; a mesh
-// or a polyline) deeper than nine tenths of the particle's radius, the particle
-// still moving into the wall: its centre is at the wall's surface and going on, and
-// the wall will push it on through and out of the other side. (A half-space holds
-// it: check_escapes stops one whose centre is a radius beyond.)
-// Slow pressing does this as well as fast impacts: a piston squeezing a particle
-// through a floor at 0.02 % of its radius a step. A particle on its way out (the
-// scene placed it that deep, and the contact pushes it back) is let be: the test
-// reads only this step's state, so it is the same on every rank and after a
-// restart.
+// Two tests on the contacts with thin walls (a finite one: a plate, a disk, a
+// tube, a cone; a mesh or a polyline), which act from both of their sides, in one
+// pass. (A half-space holds a particle past its surface: check_escapes stops one
+// whose centre is a radius beyond. A solid polyline is a body, and pushes a
+// centre that got inside it back out by design: kernel/mesh_contacts.hpp.)
+//
+// Pressed through (`pressed`, on steps with a wall contact deeper than
+// wall_through_ratio): a contact deeper than nine tenths of the particle's
+// radius, the particle still moving into the wall: its centre is at the wall's
+// surface and going on, and the wall will push it on through and out of the
+// other side. Slow pressing does this as well as fast impacts: a piston
+// squeezing a particle through a floor at 0.02 % of its radius a step. A
+// particle on its way out (the scene placed it that deep, and the contact
+// pushes it back) is let be.
+//
+// Crossed within a step (`crossed`, on steps with a contact deeper than
+// thin_watch_ratio and the step after each, a flag the checkpoint keeps): the
+// depth test sees a crossing only if a step lands within a tenth of a radius of
+// the surface. A contact whose particle moved out along its normal, relative to
+// the wall, by more than its centre now stands off the surface had its centre
+// behind the surface's tangent plane a step ago: it came through. A crossing at
+// under a radius a step (faster ones check_displacements stops) comes within
+// half a radius of the surface on one side or the other. The margin of a
+// hundredth of a radius leaves the tangent plane's departure from a curved
+// surface out; a centre that crossed from within a hundredth of a radius had a
+// contact 0.99 r deep going in a step before, which the first test stopped.
+//
+// Both read only this step's state, so they are the same on every rank and
+// after a restart.
 template <int D>
-void Simulation<D>::report_pressed_through_wall() {
-  double worst = -1, approach = 0;
-  std::size_t particle = 0, wall = 0;
-  for_each_model([&](auto index) {
-    constexpr int I = decltype(index)::value;
-    const auto& b = std::get<I>(wall_buckets_);
-    for (std::size_t k = 0; k < b.size(); ++k) {
-      const std::uint32_t i = b.particle[k], w = b.wall[k];
-      // A half-space holds a particle past its surface (check_escapes stops one whose
-      // centre is a radius beyond); a thin wall does not.
-      if (!walls_[w].finite() && !is_surface_wall(walls_[w].type)) continue;
-      // A solid polyline pushes a disk whose centre got inside it back out (by design:
-      // kernel/mesh_contacts.hpp); a body, not a thin wall.
-      if constexpr (D == 2)
-        if (const auto* shape = meshes_.of_wall(w); shape && shape->solid) continue;
-      double overlap = -1;
-      V n = V::Zero(), surface_velocity = V::Zero(), lever;
-      if (is_surface_wall(walls_[w].type)) {
-        if (b.touch.size() != b.size()) continue;
-        overlap = b.touch[k].overlap;
-        n = b.touch[k].normal, surface_velocity = b.touch[k].surface_velocity;
-      } else {
-        overlap = walls_[w].contact(p_.position[i], p_.radius[i], n, surface_velocity, lever);
-      }
-      const double ratio = overlap / p_.radius[i];
-      const double into = (p_.velocity[i] - surface_velocity).dot(n);  // < 0: going in
-      if (ratio > wall_through_ratio && into < 0 && ratio > worst)
-        worst = ratio, particle = i, wall = w, approach = -into;
-    }
-  });
-  if (worst < 0) return;
-  const double per_step = approach * dt_;
-  fail(fmt::format(
-      "step {} (t = {:.6g} s): particle {} (radius {:.4g} m) is pressed through wall '{}': its "
-      "contact is {:.0f} % of its radius deep, its centre all but at the wall's surface, and it "
-      "goes on into the wall at {:.3g} m/s ({:.3g} m a step); {}",
-      step_, time_, p_.id[particle], p_.radius[particle], walls_[wall].name, 100 * worst, approach,
-      per_step,
-      per_step < 0.25 * p_.radius[particle]
-          ? "the contact is too soft for what presses it (a load, a moving wall): stiffen it "
-            "(k_normal, young) or lighten the load"
-          : "it came in too fast for the contact to stop it: reduce time_step or the speed"));
-}
-
-// A thin wall (a finite one, a mesh, a polyline) acts from both of its sides: a
-// particle whose centre crosses its surface within a step is pushed on out of
-// the far side, its contact's normal turned round, and the depth test above
-// sees it only if a step lands within a tenth of a radius of the surface. A
-// contact whose particle moved out along its normal, relative to the wall, by
-// more than its centre now stands off the surface had its centre behind the
-// surface's tangent plane a step ago: it came through. A crossing at under a
-// radius a step (faster ones check_displacements stops) comes within half a
-// radius of the surface on one side or the other, so this runs on the steps
-// with a contact that deep and the step after each (a flag the checkpoint
-// keeps). The margin of a hundredth of a radius leaves the tangent plane's
-// departure from a curved surface out; a centre that crossed from within a
-// hundredth of a radius had a contact 0.99 r deep going in a step before,
-// which report_pressed_through_wall stopped.
-template <int D>
-void Simulation<D>::check_thin_wall_crossings() {
-  double worst = 0;
-  std::size_t particle = 0, wall = 0;
+void Simulation<D>::check_thin_walls(bool pressed, bool crossed) {
+  double deepest = -1, approach = 0, behind_most = 0;
+  std::size_t pressed_particle = 0, pressed_wall = 0, crossed_particle = 0, crossed_wall = 0;
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
     const auto& b = std::get<I>(wall_buckets_);
     for (std::size_t k = 0; k < b.size(); ++k) {
       const std::uint32_t i = b.particle[k], w = b.wall[k];
       if (!walls_[w].finite() && !is_surface_wall(walls_[w].type)) continue;
-      // A solid polyline pushes a centre that got inside it back out, by design.
       if constexpr (D == 2)
         if (const auto* shape = meshes_.of_wall(w); shape && shape->solid) continue;
       double overlap = -1;
@@ -293,22 +252,40 @@ void Simulation<D>::check_thin_wall_crossings() {
       }
       if (!(overlap > 0)) continue;
       const double r = p_.radius[i];
-      const double moved_out = (p_.velocity[i] - surface_velocity).dot(n) * dt_;
-      const double behind = moved_out - (r - overlap);  // how far behind the plane it was
-      if (behind > 0.01 * r && behind > worst) worst = behind, particle = i, wall = w;
+      const double out = (p_.velocity[i] - surface_velocity).dot(n);  // < 0: going in
+      const double ratio = overlap / r;
+      if (pressed && ratio > wall_through_ratio && out < 0 && ratio > deepest)
+        deepest = ratio, pressed_particle = i, pressed_wall = w, approach = -out;
+      const double behind = out * dt_ - (r - overlap);  // how far behind the plane it was
+      if (crossed && behind > 0.01 * r && behind > behind_most)
+        behind_most = behind, crossed_particle = i, crossed_wall = w;
     }
   });
-  if (!(worst > 0)) return;
-  const std::size_t i = particle;
-  fail(fmt::format(
-      "step {} (t = {:.6g} s): particle {} (radius {:.4g} m, speed {:.3g} m/s) went through wall "
-      "'{}': within the last step its centre crossed the wall's surface (a step ago it stood "
-      "{:.2g} of its radius on the other side), and the wall now pushes it out of the far side; "
-      "the contact was "
-      "too soft or the step too long to stop it: stiffen the contact (k_normal, young), "
-      "reduce time_step or the speed",
-      step_, time_, p_.id[i], p_.radius[i], p_.velocity[i].norm(), walls_[wall].name,
-      worst / p_.radius[i]));
+  if (deepest >= 0) {
+    const std::size_t i = pressed_particle;
+    const double per_step = approach * dt_;
+    fail(fmt::format(
+        "step {} (t = {:.6g} s): particle {} (radius {:.4g} m) is pressed through wall '{}': its "
+        "contact is {:.0f} % of its radius deep, its centre all but at the wall's surface, and it "
+        "goes on into the wall at {:.3g} m/s ({:.3g} m a step); {}",
+        step_, time_, p_.id[i], p_.radius[i], walls_[pressed_wall].name, 100 * deepest, approach,
+        per_step,
+        per_step < 0.25 * p_.radius[i]
+            ? "the contact is too soft for what presses it (a load, a moving wall): stiffen it "
+              "(k_normal, young) or lighten the load"
+            : "it came in too fast for the contact to stop it: reduce time_step or the speed"));
+  }
+  if (behind_most > 0) {
+    const std::size_t i = crossed_particle;
+    fail(fmt::format(
+        "step {} (t = {:.6g} s): particle {} (radius {:.4g} m, speed {:.3g} m/s) went through "
+        "wall '{}': within the last step its centre crossed the wall's surface (a step ago it "
+        "stood {:.2g} of its radius on the other side), and the wall now pushes it out of the "
+        "far side; the contact was too soft or the step too long to stop it: stiffen the contact "
+        "(k_normal, young), reduce time_step or the speed",
+        step_, time_, p_.id[i], p_.radius[i], p_.velocity[i].norm(), walls_[crossed_wall].name,
+        behind_most / p_.radius[i]));
+  }
 }
 
 // A particle that moves farther in one step than the smallest radius can step
