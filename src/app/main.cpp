@@ -447,6 +447,9 @@ int main(int argc, char** argv) {
   // a run and lose its checkpoint: the prints fail quietly, the run and its
   // HDF5 output go on.
   std::signal(SIGPIPE, SIG_IGN);
+  // A file size limit (ulimit -f) reached by a write must come back as an error
+  // (EFBIG) that the output reports and records, not kill the run unannounced.
+  std::signal(SIGXFSZ, SIG_IGN);
   try {
     return run_command(std::vector<std::string>(argv + 1, argv + argc));
   } catch (const std::exception& e) {

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 #include <hdf5.h>
+#include <sys/resource.h>
 #include <sys/statvfs.h>
 
 #include <algorithm>
@@ -32,6 +33,14 @@ std::string disk_full_note(const std::string& path, const std::string& detail) {
   struct statvfs fs {};
   const bool measured = statvfs(dir.c_str(), &fs) == 0;
   const double free_bytes = measured ? double(fs.f_bavail) * double(fs.f_frsize) : 0;
+  if (detail.find("File too large") != std::string::npos ||
+      detail.find("errno = 27") != std::string::npos) {  // EFBIG: the file size limit
+    struct rlimit limit {};
+    if (getrlimit(RLIMIT_FSIZE, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY)
+      return fmt::format(
+          "the file would pass this process's file size limit ({:.0f} KiB; ulimit -f)",
+          double(limit.rlim_cur) / 1024);
+  }
   const bool enospc = detail.find("No space left") != std::string::npos ||
                       detail.find("errno = 28") != std::string::npos;
   if (!enospc && !(measured && free_bytes < 1024.0 * 1024.0)) return "";
@@ -165,6 +174,28 @@ void H5Output::write_attribute(const std::string& group_path, const std::string&
   silence_hdf5();
   m.usable("write attribute", group_path + "@" + name);
   m.string_attribute(m.normalise(group_path, "write attribute"), name, value);
+}
+
+bool H5Output::record_failure(const std::string& message) noexcept {
+  Impl& m = *impl_;
+  silence_hdf5();
+  if (m.health == Impl::Health::broken || m.file.get() < 0) return false;
+  const bool refused_before = m.health == Impl::Health::full;
+  // Refused writes never reached HDF5, so its cache is in step with the file: one
+  // more write fits where its room is reserved first (ensure_space's margin).
+  if (refused_before &&
+      reserve_space(m.file.get(), static_cast<std::uint64_t>(message.size()) + 65536) != 0)
+    return false;
+  m.health = Impl::Health::ok;
+  try {
+    m.string_attribute("/", "failure", message);
+    m.flush_file();
+  } catch (const std::exception&) {
+    if (m.health == Impl::Health::ok && refused_before) m.health = Impl::Health::full;
+    return false;
+  }
+  if (refused_before) m.health = Impl::Health::full;
+  return true;
 }
 
 void H5Output::write_attribute(const std::string& group_path, const std::string& name,

@@ -60,7 +60,8 @@ struct SnapshotView {  // plain pointers into the engine's arrays; nothing owned
 
 // After a failed write to `path`: "no space left on the disk holding <dir> (N KiB free)"
 // when the file system is full (`detail`, the library's message, says ENOSPC, or under
-// 1 MiB is left), else "" (the failure has another cause, which `detail` gives).
+// 1 MiB is left), "the file would pass this process's file size limit (N KiB; ulimit -f)"
+// when `detail` says EFBIG under a limit, else "" (another cause, which `detail` gives).
 std::string disk_full_note(const std::string& path, const std::string& detail);
 
 // The description of the HDF5 error just raised (innermost first; "" if none), made short:
@@ -102,6 +103,12 @@ class H5Output {
                        const std::string& value);
   void write_attribute(const std::string& group_path, const std::string& name,
                        const std::vector<double>& value);  // non-finite -> throw
+
+  // Why the run stopped, as the root's attribute "failure". Unlike the writes above, also
+  // after a write was refused for want of room (a full disk, a quota, the file size
+  // limit: the file is whole up to that write), where the room for this one attribute
+  // and its metadata can still be set aside. Returns whether it was written; never throws.
+  bool record_failure(const std::string& message) noexcept;
 
   // Time series: a group holding one chunked, extendible 1-D float64 dataset per column
   // (h5py reads f["/series/time"][:]). Declaring the same group twice with the same columns

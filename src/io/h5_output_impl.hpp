@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 #include <hdf5.h>
+#include <sys/resource.h>
 #include <sys/statvfs.h>
 
 #include <cerrno>
@@ -108,6 +109,17 @@ struct H5Output::Impl {
     const double needed = bytes + 65536.0;
     const int reserved = reserve_space(file.get(), static_cast<std::uint64_t>(needed));
     if (reserved == 0) return;
+    if (reserved == EFBIG) {  // the process's file size limit, not the disk
+      struct rlimit limit {};
+      const bool known = getrlimit(RLIMIT_FSIZE, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY;
+      health = Health::full;
+      failure = fmt::format(
+          "the file would pass this process's file size limit ({}; ulimit -f), {:.0f} KiB more "
+          "needed",
+          known ? fmt::format("{:.0f} KiB", double(limit.rlim_cur) / 1024) : std::string("set"),
+          needed / 1024);
+      fail(what, object, failure);
+    }
     struct statvfs fs {};
     const bool measured = statvfs(dir.c_str(), &fs) == 0;
     const double free_bytes = measured ? double(fs.f_bavail) * double(fs.f_frsize) : -1;

@@ -5,6 +5,7 @@
 #include <fcntl.h>
 #include <fmt/format.h>
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -481,6 +482,12 @@ int reserve_space(hid_t file, std::uint64_t bytes) {
   // From the end of file: space HDF5 allocated but has not written yet is a hole too.
   const std::uint64_t from = s.eof, to = std::max<std::uint64_t>(s.eoa, s.eof) + bytes;
   auto reserve = [](int fd, std::uint64_t at, std::uint64_t size) {
+    // fallocate is not held to the process's file size limit (ulimit -f); the
+    // writes are, so a write past it would fail half-way (or raise SIGXFSZ).
+    struct rlimit limit {};
+    if (::getrlimit(RLIMIT_FSIZE, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY &&
+        at + size > static_cast<std::uint64_t>(limit.rlim_cur))
+      return EFBIG;
     if (::fallocate(fd, FALLOC_FL_KEEP_SIZE, static_cast<off_t>(at), static_cast<off_t>(size)) == 0)
       return 0;
     return errno == ENOSPC || errno == EDQUOT || errno == EFBIG ? errno : -1;

@@ -49,7 +49,8 @@ void mark_journal(hid_t file, std::uint64_t file_id);
 // bytes a write overwrites are saved there first), so that a write HDF5 starts
 // cannot find the disk full half-way (which leaves its metadata out of step with
 // the file). Returns 0 where reserved, the errno (ENOSPC, EDQUOT, EFBIG) where the
-// disk lacks the room, and -1 where the file system cannot reserve (or the file is
+// disk lacks the room or the file would pass the process's size limit (ulimit -f:
+// EFBIG), and -1 where the file system cannot reserve (or the file is
 // another driver's): then only a check of the free space is left.
 int reserve_space(hid_t file, std::uint64_t bytes);
 

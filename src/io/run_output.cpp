@@ -127,11 +127,14 @@ void RunOutput::note_scene_error(const std::string& message) noexcept {
   if (finished_ || !file_ || failure_step_ == sim_.step_count()) return;
   try {
     write_header();
+  } catch (...) {
+    // The file refuses writes (the error may be that refusal): the reason may still fit.
+  }
+  try {
     // The reason without Lua's traceback, which names the scene's lines, not the file's state.
     const std::string reason = message.substr(0, message.find("\nstack traceback:"));
-    file_->write_attribute("/", "failure",
-                           fmt::format("the scene ended on an error at t = {} s (step {}): {}",
-                                       sim_.time(), sim_.step_count(), reason));
+    file_->record_failure(fmt::format("the scene ended on an error at t = {} s (step {}): {}",
+                                      sim_.time(), sim_.step_count(), reason));
   } catch (...) {
     // The error itself is reported on the terminal; finish() reports a file it cannot write.
   }
