@@ -442,6 +442,8 @@ void Simulation<D>::integrate() {
   wall_travel_.assign(walls_.size(), 0.0);
   for (std::size_t w = 0; w < walls_.size(); ++w) {
     Wall<D>& wall = walls_[w];
+    // Meshes and polylines are moved, and their travel counted, by meshes_.move.
+    if (is_surface_wall(wall.type)) continue;
     if (!wall.velocity.isZero()) {  // planes and finite walls translate
       const V step = wall.velocity * dt_;
       wall.point += step;
