@@ -43,7 +43,7 @@ class Schedule {
 
   // The value at time t [s].
   double at(double t) const {
-    if (t <= times_.front()) return values_.front();
+    if (t < times_.front()) return values_.front();
     if (t >= times_.back()) return values_.back();
     // The last point at or before t: after a jump (equal times), the later value.
     const std::size_t k = static_cast<std::size_t>(

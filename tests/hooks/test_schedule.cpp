@@ -47,6 +47,15 @@ TEST_CASE("a piecewise schedule: linear through its points, a jump at a repeated
   CHECK(s.at(7) == 1);
   // One point: a constant.
   CHECK(Schedule::piecewise({2}, {4}, "one").at(0) == 4);
+  // A jump at the first point holds from its time on too (a 0/1 switch, { t, 1, t, 0 }),
+  // also when later points follow, and at t = 0.
+  const Schedule first = Schedule::piecewise({1, 1, 3}, {0, 100, 40}, "first");
+  CHECK(first.at(0.999) == 0);
+  CHECK(first.at(1) == 100);
+  CHECK(first.at(2) == Approx(70).epsilon(1e-14));
+  const Schedule at_zero = Schedule::piecewise({0, 0}, {1, 0}, "switch");
+  CHECK(at_zero.at(-1e-9) == 1);
+  CHECK(at_zero.at(0) == 0);
 }
 
 TEST_CASE("a bad schedule is refused naming the parameter and the point", "[schedule]") {
