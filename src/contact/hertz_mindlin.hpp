@@ -45,8 +45,9 @@ struct HertzMindlin {
          "1: damping chosen so the restitution is exactly e; 0: the EDEM/LIGGGHTS formula", true},
         {"shrink_rescale", "-", 0, 0, 1, true,
          "1: while the overlap falls the stored slip scales with the contact radius, "
-         "a / a_prev (LAMMPS's mindlin_rescale), so a contact that does not slide makes no "
-         "energy; 0: as EDEM and LIGGGHTS (docs/contact_models.md)",
+         "a / a_prev (LAMMPS's mindlin_rescale), so an impact that does not slide makes no "
+         "energy (a sticking contact under a cyclic load still can); 0: as EDEM and LIGGGHTS "
+         "(docs/contact_models.md)",
          true},
     };
   }
