@@ -14,6 +14,18 @@ std::string type_name(lua_State* L, int index) {
   return luaL_typename(L, index);
 }
 
+namespace {
+// What a value that is not an integer is, for "must be an integer, got ...":
+// a number is shown (2.5, 1e+19 beyond the 64-bit integers), anything else by type.
+std::string not_an_integer(lua_State* L, int index) {
+  if (lua_type(L, index) != LUA_TNUMBER) return type_name(L, index);
+  const lua_Number v = lua_tonumber(L, index);
+  if (v == std::floor(v) && std::isfinite(v))
+    return fmt::format("{} (beyond the 64-bit integers)", v);
+  return fmt::format("{}", v);
+}
+}  // namespace
+
 bool has_index_metamethod(lua_State* L, int index) {
   if (!lua_getmetatable(L, index)) return false;
   lua_pushliteral(L, "__index");
@@ -147,7 +159,7 @@ std::int64_t TableReader::integer(const char* key, std::int64_t fallback) {
   }
   int ok = 0;
   lua_Integer v = lua_tointegerx(L_, -1, &ok);
-  std::string got = type_name(L_, -1);
+  std::string got = not_an_integer(L_, -1);
   lua_pop(L_, 1);
   if (!ok || t != LUA_TNUMBER)
     throw std::runtime_error(
@@ -327,7 +339,7 @@ std::int64_t read_integer(lua_State* L, int index, const std::string& what) {
   lua_Integer v = lua_tointegerx(L, index, &ok);
   if (!ok || lua_type(L, index) != LUA_TNUMBER)
     throw std::runtime_error(
-        fmt::format("{} must be an integer, got {}", what, type_name(L, index)));
+        fmt::format("{} must be an integer, got {}", what, not_an_integer(L, index)));
   return v;
 }
 

@@ -93,8 +93,9 @@ struct ParameterRange {
   }
   bool any() const { return integer || min || max || above || below; }
   bool holds(double v) const {
-    return (!integer || v == std::floor(v)) && (!min || v >= *min) && (!max || v <= *max) &&
-           (!above || v > *above) && (!below || v < *below);
+    // A whole number must also fit a Lua integer (what the scene reads it as).
+    return (!integer || (v == std::floor(v) && std::abs(v) < 9.2e18)) && (!min || v >= *min) &&
+           (!max || v <= *max) && (!above || v > *above) && (!below || v < *below);
   }
   // "a whole number >= 1 and <= 100000", "> 0"
   std::string text() const {
@@ -179,6 +180,11 @@ int l_parameters(lua_State* L) {
                 fmt::format("-D {}={}: '{}' expects a number", name, text, name));
           if (!std::isfinite(lua_tonumber(L, -1)))
             throw std::runtime_error(fmt::format("-D {}={}: must be finite", name, text));
+          if (range.integer && std::abs(lua_tonumber(L, -1)) >= 9.2e18)
+            throw std::runtime_error(fmt::format(
+                "-D {}={}: '{}' is a whole number, and this one is beyond the 64-bit integers "
+                "(|{}| < 9.2e18)",
+                name, text, name, name));
           if (!range.holds(lua_tonumber(L, -1)))
             throw std::runtime_error(
                 fmt::format("-D {}={}: '{}' must be {}", name, text, name, range.text()));

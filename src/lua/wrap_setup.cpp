@@ -312,7 +312,7 @@ int l_fill(lua_State* L) {
       return true;
     };
     if (shape_table(d == 2 ? "circle" : "sphere")) {
-      TableReader c(L, -1, "fill.region.ball");
+      TableReader c(L, -1, d == 2 ? "fill.region.circle" : "fill.region.sphere");
       f.shape = RegionShape::ball;
       f.center = c.vector("center", d);
       f.radius = c.number("radius");

@@ -231,6 +231,25 @@ assert(math.type(p.k) == K, "k: " .. tostring(p.k))
       "");
   CHECK(run_scene(expecting("12, 1.5, 'float'"), {{"n", "12.0"}, {"k", "2.5"}}).error == "");
   CHECK(run_scene(expecting("10, 1.5, 'integer'")).error == "");
+  // A whole number past what a Lua integer holds is refused, not read as a float.
+  for (const char* big : {"1e19", "9223372036854775808"}) {
+    INFO("-D n=" << big);
+    CHECK_THAT(
+        run_scene(expecting("0, 1.5, 'integer'"), {{"n", big}}).error,
+        Catch::Contains("'n' is a whole number, and this one is beyond the 64-bit integers"));
+  }
+}
+
+TEST_CASE("lua: a value that must be an integer is shown when it is not one", "[lua][errors]") {
+  expect_refused(
+      "sim:fill { region = { circle = { center = {0, 0}, radius = 0.01 } }, count = 2.5, "
+      "radius = 1e-3, material = 'glass' }\n",
+      6, "'count' must be an integer, got 2.5");
+  expect_refused(
+      "sim:fill { region = { circle = { center = {0, 0}, radius = 0.01 } }, count = 1e19, "
+      "radius = 1e-3, material = 'glass' }\n",
+      6, "'count' must be an integer, got 1e+19 (beyond the 64-bit integers)");
+  expect_refused("sim:run { steps = 10.5 }\n", 6, "must be an integer, got 10.5");
 }
 
 TEST_CASE("lua: a second contact law for a pair names both declarations", "[lua][errors]") {
@@ -385,6 +404,11 @@ TEST_CASE("lua: every kind of binding suggests the nearest key", "[lua][errors]"
       "sim:fill { region = { sphere = { center = {0, 0}, radius = 0.01 } }, count = 5, "
       "radius = 1e-3, material = 'glass' }\n",
       6, "fill.region: give one of circle, box");
+  // A typo inside the shape's table names the shape the scene wrote.
+  expect_refused(
+      "sim:fill { region = { circle = { centre = {0, 0}, radius = 0.01 } }, count = 5, "
+      "radius = 1e-3, material = 'glass' }\n",
+      6, "fill.region.circle: unknown key 'centre' (did you mean 'center'?)");
   expect_refused("sim:set_contact('glass', 'steel', { frction = 0.2 })\n", 6,
                  "unknown parameter 'frction' (did you mean 'friction'?)");
   expect_refused("sim:diagnostic('overlaps', { windw = 0.1 })\n", 6,
