@@ -315,27 +315,38 @@ void Simulation<D>::report_step_over() {
 // the step, advanced towards it (along the normal from its nearest point to the
 // particle) by more than the smallest radius and by more than the gap between them.
 // A gate pulled away, a plate sliding along itself or a wall far off steps over
-// nothing. Meshes and polylines are not looked at (their nearest point is the
-// contact kernels' business).
+// nothing. A mesh or polyline is looked at where its nearest point before the
+// step lay within its travel bound of the particle's surface, that point
+// advancing as the mesh's motion moved it (a turn's too).
 template <int D>
 void Simulation<D>::report_wall_step_over() {
   for (std::size_t w = 0; w < walls_.size(); ++w) {
     const Wall<D>& wall = walls_[w];
-    if (!(wall_travel_[w] > smallest_radius_) || is_surface_wall(wall.type)) continue;
+    if (!(wall_travel_[w] > smallest_radius_)) continue;
+    const bool surface = is_surface_wall(wall.type);
     // The wall before the step, seen from a particle at x, is the wall now seen from
     // x + step (a translation).
     const V step = wall.velocity * dt_;
     for (std::size_t i = 0; i < p_.size(); ++i) {
-      V normal, surface_velocity, lever;
-      const double overlap =
-          wall.contact(V(p_.position[i] + step), p_.radius[i], normal, surface_velocity, lever);
-      const double advance = step.dot(normal);
+      double overlap = 0, advance = 0;
+      if (surface) {
+        double distance = 0;
+        if (!meshes_.approach_before_step(w, wall, p_.position[i], p_.radius[i],
+                                          p_.radius[i] + wall_travel_[w], dt_, distance, advance))
+          continue;
+        overlap = p_.radius[i] - distance;
+      } else {
+        V normal, surface_velocity, lever;
+        overlap =
+            wall.contact(V(p_.position[i] + step), p_.radius[i], normal, surface_velocity, lever);
+        advance = step.dot(normal);
+      }
       if (!(advance > smallest_radius_) || !(-overlap < advance)) continue;
       fail(fmt::format(
           "step {} (t = {:.6g} s): wall '{}' moves {:.4g} m in one step (time step {:.4g} s) "
           "towards particle {}, more than the smallest radius {:.4g} m and the gap {:.4g} m "
           "between them: it can step over the particle or press it through; slow the wall (its "
-          "velocity or its schedule){}",
+          "velocity, its turning or its schedule){}",
           step_, time_, wall.name, advance, dt_, p_.id[i], smallest_radius_, -overlap,
           std::isfinite(advance)
               ? fmt::format(" or reduce time_step below {:.4g} s", dt_ * smallest_radius_ / advance)

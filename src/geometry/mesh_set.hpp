@@ -111,6 +111,32 @@ struct MeshSet {
       return false;
     }
   }
+  // Wall w's surface as it stood a step ago (before move() moved it by dt), seen
+  // from a particle of `radius` at x: false where no point of it lies within
+  // `within` of x; else the nearest one's distance to x and how far that point
+  // moved over the step along the normal towards x (m; negative: away).
+  bool approach_before_step(std::size_t w, const Wall<D>& wall, const Vec<D>& x, double radius,
+                            double within, double dt, double& distance, double& advance) const {
+    const Shape* m = of_wall(w);
+    if (!m) return false;
+    Shape before = *m;
+    before.offset -= wall.velocity * dt;
+    if (wall.angular_velocity != 0)
+      before.set_angle(m->angle - wall.angular_velocity * dt, wall.axis);
+    std::conditional_t<D == 3, MeshHit, PolylineHit> hits[Shape::max_hits];
+    if (before.surface->contacts(before.to_mesh(x), radius, within, hits) == 0) return false;
+    const Vec<D> point = before.to_scene(hits[0].point);
+    const Vec<D> normal = before.direction_to_scene(hits[0].normal);
+    const Vec<D> lever = point - before.axis_point_in_scene();
+    Vec<D> surface_velocity = wall.velocity;
+    if constexpr (D == 3)
+      surface_velocity += wall.angular_velocity * wall.axis.cross(lever);
+    else
+      surface_velocity += wall.angular_velocity * Vec<D>(-lever.y(), lever.x());
+    distance = hits[0].distance;
+    advance = surface_velocity.dot(normal) * dt;
+    return true;
+  }
   // One step of rigid motion for every mesh; adds a bound on any vertex's
   // travel to its wall's moved_since_rebuild and sets it as the wall's `travel` (m).
   void move(std::vector<Wall<D>>& walls, double dt, std::vector<double>& travel_of) {

@@ -92,11 +92,13 @@ struct ParameterRange {
     integer = r.boolean("integer", false);
   }
   bool any() const { return integer || min || max || above || below; }
-  bool holds(double v) const {
-    // A whole number must also fit a Lua integer (what the scene reads it as).
-    return (!integer || (v == std::floor(v) && std::abs(v) < 9.2e18)) && (!min || v >= *min) &&
-           (!max || v <= *max) && (!above || v > *above) && (!below || v < *below);
+  bool in_bounds(double v) const {
+    return (!integer || v == std::floor(v)) && (!min || v >= *min) && (!max || v <= *max) &&
+           (!above || v > *above) && (!below || v < *below);
   }
+  // A whole number must also fit a Lua integer (what the scene reads it as).
+  bool fits(double v) const { return !integer || std::abs(v) < 9.2e18; }
+  bool holds(double v) const { return in_bounds(v) && fits(v); }
   // "a whole number >= 1 and <= 100000", "> 0"
   std::string text() const {
     std::vector<std::string> parts;
@@ -180,14 +182,14 @@ int l_parameters(lua_State* L) {
                 fmt::format("-D {}={}: '{}' expects a number", name, text, name));
           if (!std::isfinite(lua_tonumber(L, -1)))
             throw std::runtime_error(fmt::format("-D {}={}: must be finite", name, text));
-          if (range.integer && std::abs(lua_tonumber(L, -1)) >= 9.2e18)
+          if (!range.in_bounds(lua_tonumber(L, -1)))
+            throw std::runtime_error(
+                fmt::format("-D {}={}: '{}' must be {}", name, text, name, range.text()));
+          if (!range.fits(lua_tonumber(L, -1)))
             throw std::runtime_error(fmt::format(
                 "-D {}={}: '{}' is a whole number, and this one is beyond the 64-bit integers "
                 "(|{}| < 9.2e18)",
                 name, text, name, name));
-          if (!range.holds(lua_tonumber(L, -1)))
-            throw std::runtime_error(
-                fmt::format("-D {}={}: '{}' must be {}", name, text, name, range.text()));
           // A value written as not zero that reads as zero (1e-400) is a slip, not a zero.
           if (lua_tonumber(L, -1) == 0 && text.find_first_of("123456789") != std::string::npos &&
               text.find_first_of("eE") != std::string::npos)

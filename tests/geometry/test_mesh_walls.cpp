@@ -330,3 +330,32 @@ TEST_CASE("mesh walls: a plate moving at a sphere at rest meets it whichever way
       CHECK(sim->velocity(0)[axis] == Approx(sign * 1.7 * speed).epsilon(0.02));
     }
 }
+
+// As an analytic wall: a mesh moving farther than the smallest radius in one
+// step towards a particle within that reach stops the run (it passed through
+// silently), one far off, pulled away or sliding along itself does not; a
+// paddle turning so fast that its tip sweeps over a particle stops it too.
+TEST_CASE("mesh walls: a mesh that would step over a particle stops the run, one far off does not",
+          "[mesh]") {
+  auto run = [](Triple velocity, double distance, double omega = 0) {
+    auto sim = scene(linear());
+    sim->set_time_step(1e-5);
+    add_mesh(*sim, test::flat_grid(0.01, 2, -distance), "plate", {1, 0, 0}, omega);
+    sim->set_wall_velocity(0, velocity);
+    sim->add_particle(sphere({0, 0.005, 0}, {0, 0, 0}, {0, 0, 0}));
+    sim->advance(3);
+  };
+  // 260 m/s: 2.6 mm a step, 2.6 radii (the plate crossed the particle unseen).
+  CHECK_THROWS_WITH(run({0, 0, 260}, 1.5e-3), Catch::Contains("wall 'plate' moves") &&
+                                                  Catch::Contains("more than the smallest radius"));
+  CHECK_THROWS_WITH(run({0, 0, -260}, -1.5e-3), Catch::Contains("wall 'plate' moves"));
+  CHECK_NOTHROW(run({0, 0, 260}, 1.0));      // a metre off
+  CHECK_NOTHROW(run({0, 0, -260}, 1.5e-3));  // pulled away
+  CHECK_NOTHROW(run({260, 0, 0}, 1.5e-3));   // sliding along under it
+  CHECK_NOTHROW(run({0, 0, 0.1}, 1.5e-3));   // slow
+  // Turning about x through the origin at 3e4 rad/s: the plate's point under the
+  // particle, 5 mm from the axis, rises 1.5 mm a step (the corners, 14 mm out, 4.3 mm).
+  CHECK_THROWS_WITH(run({0, 0, 0}, 1.5e-3, 3e4), Catch::Contains("wall 'plate' moves"));
+  CHECK_NOTHROW(run({0, 0, 0}, 1.5e-3, -3e4));  // turning away
+  CHECK_NOTHROW(run({0, 0, 0}, 1.5e-3, 1));
+}

@@ -445,6 +445,32 @@ TEST_CASE("polyline walls: a blade moving at a disk at rest meets it whichever w
     }
 }
 
+TEST_CASE("polyline walls: a blade that would step over a disk stops the run, one far off does not",
+          "[polyline]") {
+  auto run = [](Triple velocity, double distance, double omega = 0) {
+    auto sim = scene("linear");
+    sim->set_time_step(1e-5);
+    PolylineWallSpec s = polyline({{-0.01, -distance}, {0.01, -distance}});
+    s.velocity = velocity;
+    s.angular_velocity = omega;
+    sim->add_polyline_wall(s);
+    sim->add_particle(disk({0.005, 0, 0}));
+    sim->advance(3);
+  };
+  // 260 m/s: 2.6 mm a step, 2.6 radii (the blade crossed the disk unseen).
+  CHECK_THROWS_WITH(run({0, 260, 0}, 1.5e-3), Catch::Contains("wall 'line' moves") &&
+                                                  Catch::Contains("more than the smallest radius"));
+  CHECK_THROWS_WITH(run({0, -260, 0}, -1.5e-3), Catch::Contains("wall 'line' moves"));
+  CHECK_NOTHROW(run({0, 260, 0}, 1.0));      // a metre off
+  CHECK_NOTHROW(run({0, -260, 0}, 1.5e-3));  // pulled away
+  CHECK_NOTHROW(run({260, 0, 0}, 1.5e-3));   // sliding along itself
+  // Turning about the origin at 3e4 rad/s: the blade's point under the disk, 5 mm
+  // from the axis, rises 1.5 mm a step.
+  CHECK_THROWS_WITH(run({0, 0, 0}, 1.5e-3, 3e4), Catch::Contains("wall 'line' moves"));
+  CHECK_NOTHROW(run({0, 0, 0}, 1.5e-3, -3e4));  // turning away
+  CHECK_NOTHROW(run({0, 0, 0}, 1.5e-3, 1));
+}
+
 TEST_CASE("polyline walls: the same run across a checkpoint", "[polyline]") {
   auto make = [] {
     auto sim = scene();
