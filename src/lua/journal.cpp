@@ -340,7 +340,7 @@ void Journal::expect_call(const char* name, std::uint64_t arguments, bool check_
   check_end();
 }
 
-Journal::Next Journal::peek() {
+Journal::Next Journal::peek(bool after_callback) {
   if (!replaying_) return Next::end;
   if (cursor_ >= bytes_.size()) damaged("it ended");
   switch (bytes_[cursor_]) {
@@ -352,6 +352,14 @@ Journal::Next Journal::peek() {
     case tag_callback:
       return Next::callback;
     case tag_call:
+      if (after_callback) {
+        ++cursor_;
+        const std::string recorded = get_interned(get_byte());
+        throw std::runtime_error(fmt::format(
+            "restart: the scene took another path than the run that wrote the checkpoint: a "
+            "callback returned where in that run it went on to call {} ({})",
+            recorded, another_path_why));
+      }
       damaged("a call where a call's results were expected");
     default:
       damaged("an unknown entry");

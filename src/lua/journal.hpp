@@ -82,7 +82,10 @@ class Journal {
   void expect_call(const char* name, std::uint64_t arguments, bool check_arguments);
   enum class Next { results, error, callback, end };
   // What comes next inside a call being replayed (end: the journal is used up).
-  Next peek();
+  // After a callback was replayed (`after_callback`), a call there means the
+  // callback made fewer calls than in the run that wrote the journal: the scene
+  // took another path, said so; anywhere else the journal is damaged.
+  Next peek(bool after_callback = false);
   // Pushes the journaled results; returns their count.
   int push_results(lua_State* L);
   // A build call's entry, read; the journal's end (the checkpoint's state loaded,

@@ -228,8 +228,9 @@ int replay_run(lua_State* L, LuaSim& s, TableReader& run) {
     LuaSim& s;
     ~Running() { s.running = false; }
   } running{s};
+  bool after_callback = false;
   while (journal.replaying()) {
-    const Journal::Next next = journal.peek();
+    const Journal::Next next = journal.peek(after_callback);
     if (next == Journal::Next::results) return journal.push_results(L);
     if (next == Journal::Next::error) {
       journal.push_error(L);
@@ -258,6 +259,7 @@ int replay_run(lua_State* L, LuaSim& s, TableReader& run) {
             "restart: the checkpoint's journal fires hook {}, which this scene has not made", id));
       call_lua(L, hook->second.ref, s.self_ref, 0, hook->second.what);
     }
+    after_callback = true;
   }
   return -1;
 }

@@ -307,9 +307,44 @@ def check_unreachable():
     return failures
 
 
+FEWER_CALLS_SCENE = """
+local sim = simulation { dimension = 2 }
+sim:material { name = "glass", density = 2500 }
+sim:contact { "glass", "glass", model = "linear", k_normal = 1e4, restitution = 0.8 }
+sim:fill { region = { box = { lo = { 0, 0 }, hi = { 0.01, 0.01 } } }, count = 20, radius = 4e-4,
+           material = "glass", seed = 3, overlap = false }
+local n = 0
+sim:every { steps = 10, function(s) if os.getenv("GRANULE_TEST_MORE") then n = n + #s:walls() end end }
+sim:run { steps = 100 }
+sim:save_checkpoint("calls.chk.h5")
+sim:run { steps = 100 }
+print("done")
+"""
+
+
+def check_fewer_calls():
+    """A callback that makes fewer calls in the replay than in the run that wrote the
+    checkpoint (its choice read something the journal does not keep) is named as the scene
+    taking another path, not as a damaged journal."""
+    with tempfile.TemporaryDirectory() as work:
+        scene = os.path.join(work, "calls.lua")
+        open(scene, "w").write(FEWER_CALLS_SCENE)
+        subprocess.run([GRANULE, "run", scene, "-q"], cwd=work, check=True, capture_output=True,
+                       env={**ENV, "GRANULE_TEST_MORE": "1"}, timeout=120)
+        r = subprocess.run([GRANULE, "run", scene, "-q", "--restart", "calls.chk.h5"], cwd=work,
+                           env=ENV, capture_output=True, text=True, timeout=120)
+        if (r.returncode == 0 or "took another path" not in r.stderr
+                or "a callback returned where in that run it went on to call sim:walls" not in r.stderr):
+            print(f"FAIL fewer calls: not named as another path ({r.returncode}): {r.stderr}")
+            return 1
+        print("ok fewer calls: a callback making fewer calls in the replay is another path")
+    return 0
+
+
 def main():
     failures = 0
     failures += check_unreachable()
+    failures += check_fewer_calls()
     stages = os.path.join(SOURCE, "tests", "scenes", "restart_stages.lua")
     # The stage scene prints each stage's start with its step; stage k spans
     # [k * stage_steps, (k + 1) * stage_steps).
