@@ -238,7 +238,7 @@ class Diagnostic {
     sample(view);
     if (sampling_.full(view.time, view.dt)) close(view.time, false);
   }
-  // Closes a partly filled window (end of a run, or when the scene closes the output).
+  // Closes a partly filled window (a detach, or when the scene closes the output).
   void flush() {
     if (sampling_.open()) close(sampling_.last(), true);
   }

@@ -16,8 +16,9 @@
 // sample period does not divide it (every 3 steps into a window of 10: 12,
 // 9, 9, 12, ... steps, not 12 each) and their times stay near multiples of
 // it. A sample period longer than the window closes a window at every
-// sample. A run's end or a detach closes a window holding samples (flush);
-// the next then starts at its last sample.
+// sample. A window runs on across the scene's runs; a detach or the output's
+// closing closes one holding samples (flush), the next then starting at its
+// last sample.
 #pragma once
 
 #include <fmt/format.h>
