@@ -323,18 +323,20 @@ void Simulation<D>::report_wall_step_over() {
   for (std::size_t w = 0; w < walls_.size(); ++w) {
     const Wall<D>& wall = walls_[w];
     if (!(wall_travel_[w] > smallest_radius_)) continue;
-    const bool surface = is_surface_wall(wall.type);
     // The wall before the step, seen from a particle at x, is the wall now seen from
-    // x + step (a translation).
+    // x + step (a translation); a mesh or polyline is turned and moved back.
     const V step = wall.velocity * dt_;
+    const auto mesh_before = meshes_.before_step(w, wall, dt_);
+    // A surface wall's reach, capped: past any finite bound every particle is in it.
+    const double reach = std::min(wall_travel_[w], 1e6);
     for (std::size_t i = 0; i < p_.size(); ++i) {
       double overlap = 0, advance = 0;
-      if (surface) {
-        double distance = 0;
-        if (!meshes_.approach_before_step(w, wall, p_.position[i], p_.radius[i],
-                                          p_.radius[i] + wall_travel_[w], dt_, distance, advance))
+      if (mesh_before) {
+        double gap = 0;
+        if (!MeshSet<D>::approach(*mesh_before, wall, p_.position[i], p_.radius[i],
+                                  p_.radius[i] + reach, dt_, gap, advance))
           continue;
-        overlap = p_.radius[i] - distance;
+        overlap = -gap;
       } else {
         V normal, surface_velocity, lever;
         overlap =

@@ -11,6 +11,7 @@
 
 #include <Eigen/Geometry>
 #include <memory>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -111,31 +112,41 @@ struct MeshSet {
       return false;
     }
   }
-  // Wall w's surface as it stood a step ago (before move() moved it by dt), seen
-  // from a particle of `radius` at x: false where no point of it lies within
-  // `within` of x; else the nearest one's distance to x and how far that point
-  // moved over the step along the normal towards x (m; negative: away).
-  bool approach_before_step(std::size_t w, const Wall<D>& wall, const Vec<D>& x, double radius,
-                            double within, double dt, double& distance, double& advance) const {
+  // Wall w's mesh as it stood a step ago, before move() moved it by dt (null for
+  // an analytic wall).
+  std::optional<Shape> before_step(std::size_t w, const Wall<D>& wall, double dt) const {
     const Shape* m = of_wall(w);
-    if (!m) return false;
+    if (!m) return std::nullopt;
     Shape before = *m;
     before.offset -= wall.velocity * dt;
     if (wall.angular_velocity != 0)
       before.set_angle(m->angle - wall.angular_velocity * dt, wall.axis);
+    return before;
+  }
+  // That mesh (`before`, of wall `wall`) seen from a particle of `radius` at x:
+  // false where no point of it lies within `within` of x; else, of its contacts
+  // (every closest point within reach, not only the nearest: a blade can close
+  // on a particle resting on a hub), the one that advanced furthest past its gap
+  // over the step: its gap to the particle's surface and how far that point
+  // moved along the normal towards x (m; negative: away), as the mesh's motion
+  // moved it (a turn's too).
+  static bool approach(const Shape& before, const Wall<D>& wall, const Vec<D>& x, double radius,
+                       double within, double dt, double& gap, double& advance) {
     std::conditional_t<D == 3, MeshHit, PolylineHit> hits[Shape::max_hits];
-    if (before.surface->contacts(before.to_mesh(x), radius, within, hits) == 0) return false;
-    const Vec<D> point = before.to_scene(hits[0].point);
-    const Vec<D> normal = before.direction_to_scene(hits[0].normal);
-    const Vec<D> lever = point - before.axis_point_in_scene();
-    Vec<D> surface_velocity = wall.velocity;
-    if constexpr (D == 3)
-      surface_velocity += wall.angular_velocity * wall.axis.cross(lever);
-    else
-      surface_velocity += wall.angular_velocity * Vec<D>(-lever.y(), lever.x());
-    distance = hits[0].distance;
-    advance = surface_velocity.dot(normal) * dt;
-    return true;
+    const int count = before.surface->contacts(before.to_mesh(x), radius, within, hits);
+    for (int k = 0; k < count; ++k) {
+      const Vec<D> point = before.to_scene(hits[k].point);
+      const Vec<D> normal = before.direction_to_scene(hits[k].normal);
+      const Vec<D> lever = point - before.axis_point_in_scene();
+      Vec<D> surface_velocity = wall.velocity;
+      if constexpr (D == 3)
+        surface_velocity += wall.angular_velocity * wall.axis.cross(lever);
+      else
+        surface_velocity += wall.angular_velocity * Vec<D>(-lever.y(), lever.x());
+      const double a = surface_velocity.dot(normal) * dt, g = hits[k].distance - radius;
+      if (k == 0 || a - g > advance - gap) advance = a, gap = g;
+    }
+    return count > 0;
   }
   // One step of rigid motion for every mesh; adds a bound on any vertex's
   // travel to its wall's moved_since_rebuild and sets it as the wall's `travel` (m).
@@ -148,7 +159,7 @@ struct MeshSet {
       w.center = m.axis_point_in_scene();
       w.point = m.offset;
       const double travel =
-          (w.velocity * dt).norm() + std::abs(w.angular_velocity * dt) * m.turn_reach;
+          (w.velocity * dt).stableNorm() + std::abs(w.angular_velocity * dt) * m.turn_reach;
       w.moved_since_rebuild[0] += travel;
       travel_of[static_cast<std::size_t>(m.wall)] = travel;
     }

@@ -187,8 +187,10 @@ void MeshSurface::candidates(const Eigen::Vector3d& x, double within,
     const double lo = std::floor((x[d] - within - grid_.origin[d]) / grid_.cell);
     const double hi = std::floor((x[d] + within - grid_.origin[d]) / grid_.cell);
     if (!(hi >= 0) || !(lo < static_cast<double>(grid_.n[d]))) return;  // outside the grid
-    a[d] = std::max<std::int64_t>(0, static_cast<std::int64_t>(lo));
-    b[d] = std::min<std::int64_t>(grid_.n[d] - 1, static_cast<std::int64_t>(hi));
+    // Clamped before the conversion: a reach beyond the grid (a fast wall's) is no integer.
+    a[d] = lo > 0 ? static_cast<std::int64_t>(lo) : 0;
+    b[d] =
+        hi < static_cast<double>(grid_.n[d] - 1) ? static_cast<std::int64_t>(hi) : grid_.n[d] - 1;
   }
   for (std::int64_t i = a[0]; i <= b[0]; ++i)
     for (std::int64_t j = a[1]; j <= b[1]; ++j)

@@ -34,12 +34,14 @@ std::string disk_full_note(const std::string& path, const std::string& detail) {
   const bool measured = statvfs(dir.c_str(), &fs) == 0;
   const double free_bytes = measured ? double(fs.f_bavail) * double(fs.f_frsize) : 0;
   if (detail.find("File too large") != std::string::npos ||
-      detail.find("errno = 27") != std::string::npos) {  // EFBIG: the file size limit
+      detail.find("errno = 27") != std::string::npos) {  // EFBIG
     struct rlimit limit {};
     if (getrlimit(RLIMIT_FSIZE, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY)
       return fmt::format(
-          "the file would pass this process's file size limit ({:.0f} KiB; ulimit -f)",
+          "the file would pass this process's file size limit ({:.0f} KiB; ulimit -f) or the "
+          "largest file its file system holds",
           double(limit.rlim_cur) / 1024);
+    return "the file would pass the largest file its file system holds";
   }
   const bool enospc = detail.find("No space left") != std::string::npos ||
                       detail.find("errno = 28") != std::string::npos;
@@ -182,16 +184,19 @@ bool H5Output::record_failure(const std::string& message) noexcept {
   if (m.health == Impl::Health::broken || m.file.get() < 0) return false;
   const bool refused_before = m.health == Impl::Health::full;
   // Refused writes never reached HDF5, so its cache is in step with the file: one
-  // more write fits where its room is reserved first (ensure_space's margin).
+  // more write fits where its room is reserved first (the attribute and its heap,
+  // 8 KiB at most, past which the flush wants ensure_space's 64 KiB).
   if (refused_before &&
-      reserve_space(m.file.get(), static_cast<std::uint64_t>(message.size()) + 65536) != 0)
+      reserve_space(m.file.get(), static_cast<std::uint64_t>(message.size()) + 65536 + 8192) != 0)
     return false;
   m.health = Impl::Health::ok;
   try {
     m.string_attribute("/", "failure", message);
     m.flush_file();
   } catch (const std::exception&) {
-    if (m.health == Impl::Health::ok && refused_before) m.health = Impl::Health::full;
+    // HDF5's cache may now hold what the file lacks: the file is not flushed or
+    // closed again (the destructor), so it keeps what it held before.
+    if (refused_before) m.health = Impl::Health::broken;
     return false;
   }
   if (refused_before) m.health = Impl::Health::full;

@@ -109,15 +109,19 @@ struct H5Output::Impl {
     const double needed = bytes + 65536.0;
     const int reserved = reserve_space(file.get(), static_cast<std::uint64_t>(needed));
     if (reserved == 0) return;
-    if (reserved == EFBIG) {  // the process's file size limit, not the disk
+    if (reserved == EFBIG) {  // a file size limit, not the disk
       struct rlimit limit {};
-      const bool known = getrlimit(RLIMIT_FSIZE, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY;
+      const bool limited = getrlimit(RLIMIT_FSIZE, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY;
       health = Health::full;
-      failure = fmt::format(
-          "the file would pass this process's file size limit ({}; ulimit -f), {:.0f} KiB more "
-          "needed",
-          known ? fmt::format("{:.0f} KiB", double(limit.rlim_cur) / 1024) : std::string("set"),
-          needed / 1024);
+      failure = limited
+                    ? fmt::format(
+                          "the file would pass this process's file size limit ({:.0f} KiB; ulimit "
+                          "-f), {:.0f} KiB more needed",
+                          double(limit.rlim_cur) / 1024, needed / 1024)
+                    : fmt::format(
+                          "the file would pass the largest file its file system holds, {:.0f} KiB "
+                          "more needed",
+                          needed / 1024);
       fail(what, object, failure);
     }
     struct statvfs fs {};

@@ -504,6 +504,16 @@ void RunOutput::write_result(const std::string& name, double value) {
 
 void RunOutput::write_failure(const std::string& message) {
   if (!file_) return;
+  try {
+    write_failed_state(message);
+  } catch (...) {
+    // The state could not be written (the disk full, say): the reason may still fit.
+    file_->record_failure(message);
+    throw;
+  }
+}
+
+void RunOutput::write_failed_state(const std::string& message) {
   write_header();
   if (sim_.holds_share()) {
     // A spread run failing in a step: this rank holds its share of the scene and its

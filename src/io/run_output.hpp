@@ -96,6 +96,7 @@ class RunOutput final : public OutputSink {
   H5Output& file() { return *file_; }
 
  private:
+  void write_failed_state(const std::string& message);  // write_failure's body
   void write_header();
   void write_new_walls();
   void write_new_laws();             // run_output_header.cpp

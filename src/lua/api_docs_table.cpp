@@ -177,7 +177,7 @@ return {
   {"angular_velocity", "number", "rad/s", false, "3D: right-handed about the axis; default 0"}},
  "{ name = 'hopper', center = { 0, -0.0095 }, axis = { 0, 1 }, bounds = { 0, 0.004 }, radii = { 0.002, 0.006 }, material = 'steel' }"},
 {"sim:set_wall", "simulation", P, "sim:set_wall(name, { velocity = v | angular_velocity = w })",
- "Changes how a wall moves: a plane's or a rectangle's velocity, a cylinder's angular velocity; a mesh, a polyline (2D), a tube, a disk or a cone (3D) takes both (docs/walls.md's table). A step in which an analytic wall advances towards a particle by more than the smallest particle radius and the gap between them stops the run (it could step over the particle), as a particle that fast does; a wall moving away or along itself never does (docs/walls.md).",
+ "Changes how a wall moves: a plane's or a rectangle's velocity, a cylinder's angular velocity; a mesh, a polyline (2D), a tube, a disk or a cone (3D) takes both (docs/walls.md's table). A step in which a wall (a mesh's or polyline's nearest point too) advances towards a particle by more than the smallest particle radius and the gap between them stops the run (it could step over the particle), as a particle that fast does; a wall moving away or along itself never does (docs/walls.md).",
  {{"1", "string", "", true, "wall name"},
   {"2", "table", "", true, "{ velocity = vector [m/s] } for a plane or a rectangle, { angular_velocity = number [rad/s] } for a cylinder, either for a mesh, a polyline, a tube, a disk or a cone"}},
  "'drum', { angular_velocity = 10 }"},

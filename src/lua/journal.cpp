@@ -318,6 +318,14 @@ void Journal::expect_call(const char* name, std::uint64_t arguments, bool check_
         "called {} where that run's sim:run fired a callback ({})",
         name, another_path_why));
   }
+  if (tag == tag_results || tag == tag_error) {
+    // The results of a call that has begun: only a run's, whose callback this is.
+    cursor_ = at;
+    throw std::runtime_error(fmt::format(
+        "restart: the scene took another path than the run that wrote the checkpoint: it "
+        "called {} where that run's callback had returned ({})",
+        name, another_path_why));
+  }
   if (tag != tag_call) damaged("a call was expected");
   const std::string recorded = get_interned(get_byte());
   took_results_ = false;

@@ -469,6 +469,19 @@ TEST_CASE("polyline walls: a blade that would step over a disk stops the run, on
   CHECK_THROWS_WITH(run({0, 0, 0}, 1.5e-3, 3e4), Catch::Contains("wall 'line' moves"));
   CHECK_NOTHROW(run({0, 0, 0}, 1.5e-3, -3e4));  // turning away
   CHECK_NOTHROW(run({0, 0, 0}, 1.5e-3, 1));
+  // An L sliding along its floor, on which the disk rests: the floor's nearest point
+  // slides along itself, the blade 0.5 mm off closes 2.6 mm a step.
+  auto ell = [](double speed) {
+    auto sim = scene("linear");
+    sim->set_time_step(1e-5);
+    PolylineWallSpec s = polyline({{-0.01, 0}, {0.0065, 0}, {0.0065, 0.005}});
+    s.velocity = {-speed, 0, 0};
+    sim->add_polyline_wall(s);
+    sim->add_particle(disk({0.005, 1e-3, 0}));
+    sim->advance(3);
+  };
+  CHECK_THROWS_WITH(ell(260), Catch::Contains("wall 'line' moves"));
+  CHECK_NOTHROW(ell(0.1));
 }
 
 TEST_CASE("polyline walls: the same run across a checkpoint", "[polyline]") {
