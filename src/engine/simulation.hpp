@@ -365,6 +365,13 @@ class Simulation final : public SimulationBase {
   void report_non_finite(std::size_t index);
   void refuse_beyond_memory(std::int64_t particles, const char* what) const;
   void check_escapes();  // at each list rebuild: stops the run if a centre passed a wall
+  // A moving particle (id; -1: one being added) placed at x inside solid polyline
+  // w (it `starts` there at the start of a scene, else `lies`) is warned of, the
+  // message led by `caller` ("set_position: " or ""): the polyline's contact throws it out through
+  // the nearest side, as fast as that overlap drives it (pushing out a centre the run's motion took
+  // in is by design). simulation_setup.cpp.
+  void warn_if_inside_solid(std::size_t w, const V& x, std::int64_t id, const char* caller = "",
+                            bool starts = false) const;
   // Steps whose deepest pair overlap exceeds overlap_warning: warns once, stops
   // a pass-through (simulation_checks.cpp).
   void check_overlaps(double pair_ratio);

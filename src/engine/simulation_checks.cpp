@@ -315,9 +315,9 @@ void Simulation<D>::report_step_over() {
 // the step, advanced towards it (along the normal from its nearest point to the
 // particle) by more than the smallest radius and by more than the gap between them.
 // A gate pulled away, a plate sliding along itself or a wall far off steps over
-// nothing. A mesh or polyline is looked at where its nearest point before the
-// step lay within its travel bound of the particle's surface, that point
-// advancing as the mesh's motion moved it (a turn's too).
+// nothing. A mesh or polyline is looked at through its contacts as it stood
+// before the step, within its travel bound of the particle's surface, each
+// point advancing as the mesh's motion moved it (a turn's too).
 template <int D>
 void Simulation<D>::report_wall_step_over() {
   for (std::size_t w = 0; w < walls_.size(); ++w) {
@@ -332,11 +332,9 @@ void Simulation<D>::report_wall_step_over() {
     for (std::size_t i = 0; i < p_.size(); ++i) {
       double overlap = 0, advance = 0;
       if (mesh_before) {
-        double gap = 0;
         if (!MeshSet<D>::approach(*mesh_before, wall, p_.position[i], p_.radius[i],
-                                  p_.radius[i] + reach, dt_, gap, advance))
+                                  p_.radius[i] + reach, dt_, overlap, advance))
           continue;
-        overlap = -gap;
       } else {
         V normal, surface_velocity, lever;
         overlap =

@@ -327,9 +327,7 @@ void Simulation<D>::prepare() {
   if (periodic_.on())
     for (auto& x : p_.position) x[periodic_.axis] = periodic_.into_box(x[periodic_.axis]);
   // Particles must start inside every wall (their centres on the allowed side).
-  // A moving one placed inside a solid polyline is warned of: the polyline's
-  // contact throws it out through the nearest side, as fast as that overlap
-  // drives it (pushing out a centre the run's motion took in is by design).
+  // A moving one placed inside a solid polyline is warned of.
   for (std::size_t i = 0; i < p_.size(); ++i) {
     for (std::size_t wi = 0; wi < walls_.size(); ++wi) {
       const auto& w = walls_[wi];
@@ -337,11 +335,7 @@ void Simulation<D>::prepare() {
       if (c + p_.radius[i] < 0)
         throw InputError(fmt::format("particle {} at ({}) lies outside wall '{}'", p_.id[i],
                                      fmt::join(to_triple(p_.position[i]), ", "), w.name));
-      if (!p_.fixed[i] && step_ == 0 && meshes_.inside_solid(wi, p_.position[i]))
-        warn(fmt::format(
-            "particle {} at ({}) starts inside solid wall '{}': its contact throws it out through "
-            "the nearest side, as fast as that overlap drives it",
-            p_.id[i], fmt::join(to_triple(p_.position[i]), ", "), w.name));
+      if (!p_.fixed[i] && step_ == 0) warn_if_inside_solid(wi, p_.position[i], p_.id[i], "", true);
       if (c < 0 && !p_.fixed[i] && step_ == 0)
         warn(fmt::format("particle {} starts overlapping wall '{}' by {:.3g} m", p_.id[i], w.name,
                          -c));

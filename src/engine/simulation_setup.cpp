@@ -123,6 +123,18 @@ void Simulation<D>::refuse_beyond_memory(std::int64_t particles, const char* wha
 }
 
 template <int D>
+void Simulation<D>::warn_if_inside_solid(std::size_t w, const V& x, std::int64_t id,
+                                         const char* caller, bool starts) const {
+  if (!meshes_.inside_solid(w, x)) return;
+  const Triple at = to_triple(x);
+  warn(fmt::format(
+      "{}particle {} at ({}) {} inside solid wall '{}': its contact throws it out through the "
+      "nearest side, as fast as that overlap drives it",
+      caller, id < 0 ? std::string("added") : std::to_string(id),
+      fmt::join(at.begin(), at.begin() + D, ", "), starts ? "starts" : "lies", walls_[w].name));
+}
+
+template <int D>
 std::int64_t Simulation<D>::add_particle(const ParticleSpec& s) {
   check_particle_input(s, "particle");
   V at = to_vec(s.position);
@@ -132,12 +144,7 @@ std::int64_t Simulation<D>::add_particle(const ParticleSpec& s) {
   // Added during a run inside a solid polyline: warned of, as prepare() warns
   // of the scene's starting particles (its contact throws the centre out).
   if (step_ > 0 && !s.fixed)
-    for (std::size_t w = 0; w < walls_.size(); ++w)
-      if (meshes_.inside_solid(w, at))
-        warn(fmt::format(
-            "particle added at ({}) lies inside solid wall '{}': its contact throws it out "
-            "through the nearest side, as fast as that overlap drives it",
-            fmt::join(s.position.begin(), s.position.begin() + D, ", "), walls_[w].name));
+    for (std::size_t w = 0; w < walls_.size(); ++w) warn_if_inside_solid(w, at, -1);
   std::int64_t id = p_.add(at, to_vec(s.velocity), to_spin(s.spin), s.radius,
                            materials_[s.material].density, s.material, s.fixed);
   position_at_rebuild_.push_back(p_.position.back());
@@ -320,11 +327,7 @@ void Simulation<D>::set_position(std::int64_t id, const Triple& x) {
     if (c + p_.radius[i] < 0)
       throw InputError(fmt::format("set_position: particle {} at ({}) would lie outside wall '{}'",
                                    id, fmt::join(x.begin(), x.begin() + D, ", "), w.name));
-    if (!p_.fixed[i] && meshes_.inside_solid(wi, at))
-      warn(fmt::format(
-          "set_position: particle {} at ({}) lies inside solid wall '{}': its contact throws it "
-          "out through the nearest side, as fast as that overlap drives it",
-          id, fmt::join(x.begin(), x.begin() + D, ", "), w.name));
+    if (!p_.fixed[i]) warn_if_inside_solid(wi, at, id, "set_position: ");
     if (c < 0 && !p_.fixed[i])
       warn(fmt::format("set_position: particle {} overlaps wall '{}' by {:.3g} m", id, w.name, -c));
   }

@@ -127,11 +127,11 @@ struct MeshSet {
   // false where no point of it lies within `within` of x; else, of its contacts
   // (every closest point within reach, not only the nearest: a blade can close
   // on a particle resting on a hub), the one that advanced furthest past its gap
-  // over the step: its gap to the particle's surface and how far that point
-  // moved along the normal towards x (m; negative: away), as the mesh's motion
-  // moved it (a turn's too).
+  // over the step: its overlap with the particle (negative: the gap) and how far
+  // that point moved along the normal towards x (m; negative: away), as the
+  // mesh's motion moved it (a turn's too).
   static bool approach(const Shape& before, const Wall<D>& wall, const Vec<D>& x, double radius,
-                       double within, double dt, double& gap, double& advance) {
+                       double within, double dt, double& overlap, double& advance) {
     std::conditional_t<D == 3, MeshHit, PolylineHit> hits[Shape::max_hits];
     const int count = before.surface->contacts(before.to_mesh(x), radius, within, hits);
     for (int k = 0; k < count; ++k) {
@@ -143,8 +143,8 @@ struct MeshSet {
         surface_velocity += wall.angular_velocity * wall.axis.cross(lever);
       else
         surface_velocity += wall.angular_velocity * Vec<D>(-lever.y(), lever.x());
-      const double a = surface_velocity.dot(normal) * dt, g = hits[k].distance - radius;
-      if (k == 0 || a - g > advance - gap) advance = a, gap = g;
+      const double a = surface_velocity.dot(normal) * dt, o = radius - hits[k].distance;
+      if (k == 0 || a + o > advance + overlap) advance = a, overlap = o;
     }
     return count > 0;
   }

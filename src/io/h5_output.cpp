@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 #include <hdf5.h>
-#include <sys/resource.h>
 #include <sys/statvfs.h>
 
 #include <algorithm>
@@ -27,6 +26,13 @@ void keep_hdf5_files_at_exit() {
   H5dont_atexit();
 }
 
+std::string file_too_large_note() {
+  if (const std::uint64_t limit = file_size_limit(); limit > 0)
+    return fmt::format("the file would pass this process's file size limit ({:.0f} KiB; ulimit -f)",
+                       double(limit) / 1024);
+  return "the file would pass the largest file its file system holds";
+}
+
 std::string disk_full_note(const std::string& path, const std::string& detail) {
   std::filesystem::path dir = std::filesystem::path(path).parent_path();
   if (dir.empty()) dir = ".";
@@ -34,15 +40,8 @@ std::string disk_full_note(const std::string& path, const std::string& detail) {
   const bool measured = statvfs(dir.c_str(), &fs) == 0;
   const double free_bytes = measured ? double(fs.f_bavail) * double(fs.f_frsize) : 0;
   if (detail.find("File too large") != std::string::npos ||
-      detail.find("errno = 27") != std::string::npos) {  // EFBIG
-    struct rlimit limit {};
-    if (getrlimit(RLIMIT_FSIZE, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY)
-      return fmt::format(
-          "the file would pass this process's file size limit ({:.0f} KiB; ulimit -f) or the "
-          "largest file its file system holds",
-          double(limit.rlim_cur) / 1024);
-    return "the file would pass the largest file its file system holds";
-  }
+      detail.find("errno = 27") != std::string::npos)  // EFBIG
+    return file_too_large_note();
   const bool enospc = detail.find("No space left") != std::string::npos ||
                       detail.find("errno = 28") != std::string::npos;
   if (!enospc && !(measured && free_bytes < 1024.0 * 1024.0)) return "";

@@ -63,6 +63,9 @@ struct SnapshotView {  // plain pointers into the engine's arrays; nothing owned
 // 1 MiB is left), "the file would pass this process's file size limit (N KiB; ulimit -f)"
 // when `detail` says EFBIG under a limit, else "" (another cause, which `detail` gives).
 std::string disk_full_note(const std::string& path, const std::string& detail);
+// A write that would pass a file size limit (EFBIG): "the file would pass this process's
+// file size limit (N KiB; ulimit -f)" under one, else the file system's largest file.
+std::string file_too_large_note();
 
 // The description of the HDF5 error just raised (innermost first; "" if none), made short:
 // a failed write says "file write failed: No space left on device". Call it before any

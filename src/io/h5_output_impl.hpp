@@ -4,7 +4,6 @@
 
 #include <fmt/format.h>
 #include <hdf5.h>
-#include <sys/resource.h>
 #include <sys/statvfs.h>
 
 #include <cerrno>
@@ -110,18 +109,8 @@ struct H5Output::Impl {
     const int reserved = reserve_space(file.get(), static_cast<std::uint64_t>(needed));
     if (reserved == 0) return;
     if (reserved == EFBIG) {  // a file size limit, not the disk
-      struct rlimit limit {};
-      const bool limited = getrlimit(RLIMIT_FSIZE, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY;
       health = Health::full;
-      failure = limited
-                    ? fmt::format(
-                          "the file would pass this process's file size limit ({:.0f} KiB; ulimit "
-                          "-f), {:.0f} KiB more needed",
-                          double(limit.rlim_cur) / 1024, needed / 1024)
-                    : fmt::format(
-                          "the file would pass the largest file its file system holds, {:.0f} KiB "
-                          "more needed",
-                          needed / 1024);
+      failure = fmt::format("{}, {:.0f} KiB more needed", file_too_large_note(), needed / 1024);
       fail(what, object, failure);
     }
     struct statvfs fs {};

@@ -475,6 +475,12 @@ void mark_journal(hid_t file, std::uint64_t file_id) {
   start_journal(*s, file_id);
 }
 
+std::uint64_t file_size_limit() {
+  struct rlimit limit {};
+  if (::getrlimit(RLIMIT_FSIZE, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY) return 0;
+  return static_cast<std::uint64_t>(limit.rlim_cur);
+}
+
 int reserve_space(hid_t file, std::uint64_t bytes) {
   State* const found = state_of_file(file);
   if (!found) return -1;
@@ -484,10 +490,7 @@ int reserve_space(hid_t file, std::uint64_t bytes) {
   auto reserve = [](int fd, std::uint64_t at, std::uint64_t size) {
     // fallocate is not held to the process's file size limit (ulimit -f); the
     // writes are, so a write past it would fail half-way (or raise SIGXFSZ).
-    struct rlimit limit {};
-    if (::getrlimit(RLIMIT_FSIZE, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY &&
-        at + size > static_cast<std::uint64_t>(limit.rlim_cur))
-      return EFBIG;
+    if (const std::uint64_t limit = file_size_limit(); limit > 0 && at + size > limit) return EFBIG;
     if (::fallocate(fd, FALLOC_FL_KEEP_SIZE, static_cast<off_t>(at), static_cast<off_t>(size)) == 0)
       return 0;
     return errno == ENOSPC || errno == EDQUOT || errno == EFBIG ? errno : -1;

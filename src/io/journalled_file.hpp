@@ -54,6 +54,9 @@ void mark_journal(hid_t file, std::uint64_t file_id);
 // another driver's): then only a check of the free space is left.
 int reserve_space(hid_t file, std::uint64_t bytes);
 
+// This process's file size limit (ulimit -f) in bytes; 0 where there is none.
+std::uint64_t file_size_limit();
+
 // After the file was closed cleanly: its journal is not needed.
 void remove_journal(const std::string& file_path);
 

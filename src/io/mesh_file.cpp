@@ -74,9 +74,7 @@ void collect(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent
   for (unsigned c = 0; c < node->mNumChildren; ++c)
     collect(scene, node->mChildren[c], to_scene, out, path);
 }
-}  // namespace
 
-namespace {
 // A face's vector area: half the sum of the cross products of a fan from its
 // first corner (exact for any origin, without the cancellation of coordinates
 // far from the file's); its length is the area of a planar polygon.

@@ -305,6 +305,12 @@ constexpr const char* another_path_why =
     "sim:arrays() or sim:contact_arrays(), which read NaN while a restart replays (take them "
     "from sim:particle, sim:stats or sim:contacts to decide), a file the scene reads that "
     "changed, an environment variable, or the order of `next` over a table";
+// The replay parted from the journal where `what` says.
+[[noreturn]] void another_path(const std::string& what) {
+  throw std::runtime_error(fmt::format(
+      "restart: the scene took another path than the run that wrote the checkpoint: {} ({})", what,
+      another_path_why));
+}
 }  // namespace
 
 void Journal::expect_call(const char* name, std::uint64_t arguments, bool check_arguments) {
@@ -313,37 +319,26 @@ void Journal::expect_call(const char* name, std::uint64_t arguments, bool check_
   const std::uint8_t tag = get_byte();
   if (tag == tag_callback) {
     cursor_ = at;
-    throw std::runtime_error(fmt::format(
-        "restart: the scene took another path than the run that wrote the checkpoint: it "
-        "called {} where that run's sim:run fired a callback ({})",
-        name, another_path_why));
+    another_path(fmt::format("it called {} where that run's sim:run fired a callback", name));
   }
   if (tag == tag_results || tag == tag_error) {
     // The results of a call that has begun: only a run's, whose callback this is.
     cursor_ = at;
-    throw std::runtime_error(fmt::format(
-        "restart: the scene took another path than the run that wrote the checkpoint: it "
-        "called {} where that run's callback had returned ({})",
-        name, another_path_why));
+    another_path(fmt::format("it called {} where that run's callback had returned", name));
   }
   if (tag != tag_call) damaged("a call was expected");
   const std::string recorded = get_interned(get_byte());
   took_results_ = false;
   if (recorded != name)
-    throw std::runtime_error(fmt::format(
-        "restart: the scene took another path than the run that wrote the checkpoint: it "
-        "called {} where that run called {} ({})",
-        name, recorded, another_path_why));
+    another_path(fmt::format("it called {} where that run called {}", name, recorded));
   ++calls_replayed_;
   if (format_in_use_ >= 2) {
     std::uint64_t recorded_arguments = 0;
     for (int k = 0; k < 8; ++k)
       recorded_arguments |= static_cast<std::uint64_t>(get_byte()) << (8 * k);
     if (check_arguments && recorded_arguments != arguments)
-      throw std::runtime_error(fmt::format(
-          "restart: the scene took another path than the run that wrote the checkpoint: its "
-          "call {}, {}, was given other values than in that run ({})",
-          calls_replayed_, name, another_path_why));
+      another_path(fmt::format("its call {}, {}, was given other values than in that run",
+                               calls_replayed_, name));
   }
   check_end();
 }
@@ -362,11 +357,8 @@ Journal::Next Journal::peek(bool after_callback) {
     case tag_call:
       if (after_callback) {
         ++cursor_;
-        const std::string recorded = get_interned(get_byte());
-        throw std::runtime_error(fmt::format(
-            "restart: the scene took another path than the run that wrote the checkpoint: a "
-            "callback returned where in that run it went on to call {} ({})",
-            recorded, another_path_why));
+        another_path(fmt::format("a callback returned where in that run it went on to call {}",
+                                 get_interned(get_byte())));
       }
       damaged("a call where a call's results were expected");
     default:

@@ -211,7 +211,7 @@ int l_parameters(lua_State* L) {
       // run_10.0, for -D n=1e1), and a parameter with a fractional default a float.
       if (t == LUA_TNUMBER && !(range.integer && lua_isinteger(L, spec))) {
         const lua_Number value = lua_tonumber(L, spec);
-        if (range.integer && std::abs(value) < 9.2e18)
+        if (range.integer && range.fits(value))
           lua_pushinteger(L, static_cast<lua_Integer>(value)), lua_replace(L, spec);
         else if (!range.integer && !default_is_integer)
           lua_pushnumber(L, value), lua_replace(L, spec);

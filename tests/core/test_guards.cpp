@@ -38,6 +38,17 @@ int count_containing(const std::vector<std::string>& list, const std::string& ne
   for (const auto& m : list) n += m.find(needle) != std::string::npos;
   return n;
 }
+// 40 particles of material 0 and one radius in `shape`, not overlapping (seed 3).
+FillSpec forty_in(RegionShape shape, double particle_radius) {
+  FillSpec fill;
+  fill.shape = shape;
+  fill.count = 40;
+  fill.radius_min = fill.radius_max = particle_radius;
+  fill.material = 0;
+  fill.seed = 3;
+  fill.allow_overlap = false;
+  return fill;
+}
 }  // namespace
 
 TEST_CASE("guards: an overlap above overlap_warning is warned of once, naming the pair",
@@ -577,25 +588,16 @@ TEST_CASE("fill: a fill on both sides of a cone is warned of, one inside it is n
   for (const double region_radius : {30e-3, 4e-3}) {
     std::vector<std::string> warnings;
     Simulation<3> sim;
-    sim.set_warning_handler([&](const std::string& w) { warnings.push_back(w); });
-    sim.add_material({"p", 2500, 0, 0, 0});
-    sim.set_contact("p", "p", "linear", {{"k_normal", 1e3}, {"restitution", 0.5}});
+    linear_pair_scene(sim, warnings);
     WallSpec cone;
     cone.name = "hopper", cone.type = WallType::cone, cone.material = 0;
     cone.axis = {0, 0, 1}, cone.z_lo = 0, cone.z_hi = 30e-3;
     cone.radius_lo = 5e-3, cone.radius_hi = 30e-3;
     sim.add_wall(cone);
-    FillSpec fill;
-    fill.shape = RegionShape::cylinder;
+    FillSpec fill = forty_in(RegionShape::cylinder, 1e-3);
     fill.radius = region_radius, fill.z_min = 2e-3, fill.z_max = 28e-3;
-    fill.count = 40;
-    fill.radius_min = fill.radius_max = 1e-3;
-    fill.material = 0;
-    fill.seed = 3;
-    fill.allow_overlap = false;
     sim.fill(fill);
-    int said = 0;
-    for (const auto& w : warnings) said += w.find("outside cone 'hopper'") != std::string::npos;
+    const int said = count_containing(warnings, "outside cone 'hopper'");
     INFO("region radius " << region_radius);
     CHECK(said == (region_radius > 20e-3 ? 1 : 0));
   }
@@ -614,25 +616,15 @@ TEST_CASE("fill: a fill on both sides of a closed polyline that is not solid is 
   for (const Case c : {Case{20e-3, false, 1}, Case{4e-3, false, 0}, Case{20e-3, true, 0}}) {
     std::vector<std::string> warnings;
     Simulation<2> sim;
-    sim.set_warning_handler([&](const std::string& w) { warnings.push_back(w); });
-    sim.add_material({"p", 2500, 0, 0, 0});
-    sim.set_contact("p", "p", "linear", {{"k_normal", 1e3}, {"restitution", 0.5}});
+    linear_pair_scene(sim, warnings);
     PolylineWallSpec box;
     box.name = "box", box.material = 0, box.closed = true, box.solid = c.solid;
     box.points = {{-5e-3, -5e-3}, {5e-3, -5e-3}, {5e-3, 5e-3}, {-5e-3, 5e-3}};
     sim.add_polyline_wall(box);
-    FillSpec fill;
-    fill.shape = RegionShape::ball;
+    FillSpec fill = forty_in(RegionShape::ball, 3e-4);
     fill.radius = c.region_radius;
-    fill.count = 40;
-    fill.radius_min = fill.radius_max = 3e-4;
-    fill.material = 0;
-    fill.seed = 3;
-    fill.allow_overlap = false;
     sim.fill(fill);
-    int said = 0;
-    for (const auto& w : warnings)
-      said += w.find("outside closed polyline 'box'") != std::string::npos;
+    const int said = count_containing(warnings, "outside closed polyline 'box'");
     INFO("region radius " << c.region_radius << ", solid " << c.solid);
     CHECK(said == c.expected);
   }

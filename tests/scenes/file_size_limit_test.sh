@@ -10,15 +10,7 @@ granule=$1
 source=$2
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-fail() {
-  echo "FAILED: $*"
-  for f in "$work"/*.txt; do echo "--- $f"; cat "$f"; done
-  exit 1
-}
-check_status() {
-  [ "$1" -ne 0 ] || fail "$2: exit status 0 past the file size limit"
-  [ "$1" -lt 128 ] || fail "$2: exit status $1: the program died of a signal"
-}
+. "$(dirname "$0")/failed_run_checks.sh"
 
 # 1. Snapshots until the output reaches a 1500 KiB limit (1500 particles, one every 0.2 ms).
 status=0
@@ -28,19 +20,14 @@ check_status $status snapshots
 grep -q "out.h5" "$work/snapshots.txt" || fail "snapshots: the message does not name the file"
 grep -q "file size limit (1500 KiB" "$work/snapshots.txt" ||
   fail "snapshots: the message does not name the file size limit"
-/usr/bin/python3 - "$work/out.h5" <<'PY' || fail "out.h5 is not readable as it must be"
-import sys, h5py, numpy as np
+check_readable "$work/out.h5" 1
+/usr/bin/python3 - "$work/out.h5" <<'PY' || fail "out.h5 does not record the failure"
+import sys, h5py
 with h5py.File(sys.argv[1], "r") as f:
-    count = int(f["snapshots"].attrs["count"])
-    assert count >= 1, f"{count} snapshots"
-    for k in range(count):
-        g = f["snapshots/%06d" % k]
-        for name in ("position", "velocity", "radius"):
-            assert np.all(np.isfinite(g[name][:])), f"snapshot {k}: {name}"
     failure = f.attrs["failure"]
     failure = failure.decode() if isinstance(failure, bytes) else str(failure)
     assert "file size limit" in failure, failure
-print(f"{sys.argv[1]}: {count} snapshots readable, the failure recorded")
+print(f"{sys.argv[1]}: the failure recorded")
 PY
 
 # 2. A checkpoint larger than the limit (4000 spheres; the output, without snapshots,

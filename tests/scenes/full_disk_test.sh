@@ -17,36 +17,7 @@ if ! mount -t tmpfs -o size=2m tmpfs "$disk" 2> "$work/mount.txt"; then
   exit 77
 fi
 trap 'umount "$disk"; rm -rf "$work"' EXIT
-fail() {
-  echo "FAILED: $*"
-  for f in "$work"/*.txt; do echo "--- $f"; cat "$f"; done
-  exit 1
-}
-# Exit status non-zero and below 128 (not a signal).
-check_status() {
-  [ "$1" -ne 0 ] || fail "$2: exit status 0 on a full disk"
-  [ "$1" -lt 128 ] || fail "$2: exit status $1: the program died of a signal"
-}
-# The file opens; every snapshot it counts is complete and finite; at least $2 of them.
-check_readable() {
-  /usr/bin/python3 - "$1" "$2" <<'PY' || fail "$1 is not readable as it must be"
-import sys, h5py, numpy as np
-path, least = sys.argv[1], int(sys.argv[2])
-with h5py.File(path, "r") as f:
-    count = int(f["snapshots"].attrs["count"])
-    assert count >= least, f"{count} snapshots, expected at least {least}"
-    for k in range(count):
-        g = f["snapshots/%06d" % k]
-        n = len(g["id"])
-        assert n > 0, f"snapshot {k} is empty"
-        for name in ("position", "velocity", "spin", "radius"):
-            a = g[name][:]
-            assert len(a) == n and np.all(np.isfinite(a)), f"snapshot {k}: {name}"
-    t = f["series/time"][:]
-    assert np.all(np.isfinite(t)), "series time"
-print(f"{path}: {count} snapshots readable")
-PY
-}
+. "$(dirname "$0")/failed_run_checks.sh"
 
 # 1. Snapshots until the disk is full (1500 particles, one every 0.2 ms).
 status=0
