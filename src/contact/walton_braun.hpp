@@ -146,6 +146,17 @@ struct WaltonBraun {
     return overlap >= max_overlap * (1 - 1e-9);
   }
 
+  // Eq. 3.3 needs T* below mu N along the slip, T lying between them. Eq. 3.13
+  // keeps T* / (mu N) as it was, so T* reaches mu N only when the friction
+  // coefficient is lowered while the contact lasts (a schedule, set_contact), or
+  // when the slip turns back the step after a reversal made in full sliding.
+  // There the contact slides: a slip that has gone all the way wipes the
+  // memory of the reversal, and T* is taken as 0, as for a contact loaded from
+  // rest. Kept, it would leave no room (mu N - T* <= 0), so k_t = 0 for the
+  // rest of the contact and T, capped by Eq. 3.17 whenever N falls, could never
+  // grow back with N: the friction would stay at mu times the lowest N since.
+  static bool forgets_reversal(double star_u, double limit) { return star_u >= limit; }
+
   template <int D>
   static ContactForce<D> force(const Params& p, History<D>& h, const ContactState<D>& c) {
     ContactForce<D> out;
@@ -212,7 +223,9 @@ struct WaltonBraun {
         if (u.dot(previous_u) < 0) reversal = t_force;
         previous_u = u;
         // Step 9 (Eq. 3.3) read along u.
-        const double t_u = t_force.dot(u), star_u = reversal.dot(u);
+        const double t_u = t_force.dot(u);
+        double star_u = reversal.dot(u);
+        if (forgets_reversal(star_u, limit)) reversal.setZero(), star_u = 0;
         const double room = limit - star_u;
         double fraction = room > 0 ? 1.0 - (t_u - star_u) / room : 0.0;
         fraction = fraction < 0 ? 0 : (fraction > 1 ? 1 : fraction);
@@ -256,6 +269,7 @@ struct WaltonBraun {
       if (u * previous_u < 0) reversal = t_force;
       previous_u = u;
       // Step 9 (Eq. 3.3) read along u.
+      if (forgets_reversal(reversal * u, limit)) reversal = 0;
       const double t_u = t_force * u, star_u = reversal * u;
       const double room = limit - star_u;
       double fraction = room > 0 ? 1.0 - (t_u - star_u) / room : 0.0;

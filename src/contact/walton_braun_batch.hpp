@@ -103,6 +103,7 @@ inline void lanes_2d(const P& q, WaltonBraun::BatchHistory2& h, ContactBatch<2>&
     const bool moving = slip_parallel != 0;
     const double u = slip > 0 ? 1.0 : -1.0;
     reversal = moving && u * previous_u < 0 ? t_force : reversal;
+    reversal = moving && WaltonBraun::forgets_reversal(reversal * u, limit) ? 0.0 : reversal;
     const double fraction =
         stiffness_fraction<UnitExponent>(q, l, t_force * u, reversal * u, limit);
     const double k_t = moving ? k0 * fraction : k0;
@@ -167,7 +168,10 @@ inline void lanes_3d(const P& q, WaltonBraun::BatchHistory3& h, ContactBatch<3>&
     r_x = flipped ? tx[l] : r_x, r_y = flipped ? ty[l] : r_y, r_z = flipped ? tz[l] : r_z;
     // Step 9 (Eq. 3.3) read along u.
     const double t_u = tx[l] * vx + ty[l] * vy + tz[l] * vz;
-    const double star_u = r_x * vx + r_y * vy + r_z * vz;
+    const double star_reached = r_x * vx + r_y * vy + r_z * vz;
+    const bool forgotten = moving && WaltonBraun::forgets_reversal(star_reached, limit);
+    r_x = forgotten ? 0.0 : r_x, r_y = forgotten ? 0.0 : r_y, r_z = forgotten ? 0.0 : r_z;
+    const double star_u = forgotten ? 0.0 : star_reached;
     const double fraction = stiffness_fraction<UnitExponent>(q, l, t_u, star_u, limit);
     const double k_t = moving ? k0 * fraction : k0;
     // Steps 10-12 (Eqs. 3.14-3.16), then step 13 (Eq. 3.17): |T| <= mu N.

@@ -30,6 +30,10 @@ struct LeapfrogStep {
   const BodyForces<D>& body;
   Periodicity periodic;  // positions are wrapped back into the box
   double dt;
+  // The velocities' kick: dt, or (dt_before + dt) / 2 on the first step after the
+  // step changed, since they are held half of the step before behind the
+  // positions and must come out half of this one behind.
+  double kick;
   bool spins;      // integrate spins (some pair in use has friction)
   bool any_fixed;  // skip fixed particles
   bool parallel;   // ThreadPolicy::particles_parallel
@@ -79,7 +83,7 @@ void leapfrog(const LeapfrogStep<D>& step, LeapfrogResult& result) {
     const double* const inv_inertia = p.inv_inertia.data();
     const std::uint8_t* const fixed = p.fixed.data();
     const BodyForces<D>& forces = body_forces;
-    const double h = dt;
+    const double h = dt, kick = step.kick;
     const Periodicity periodicity = pbc;
     double max_moved = max_sq_out, fastest = speed_sq_out;
     std::int64_t first_bad = bad_out;
@@ -89,8 +93,8 @@ void leapfrog(const LeapfrogStep<D>& step, LeapfrogResult& result) {
       if constexpr (Body) load[i].force += forces.force(mass[i], x[i]);
       // The new state in registers first: a step that makes it non-finite is
       // not stored, so the failure report writes the last finite state.
-      const V v_new = v[i] + load[i].force * (inv_mass[i] * h);  // Eq. 4.8
-      V x_new = v_new * h + x[i];                                // Eq. 4.9
+      const V v_new = v[i] + load[i].force * (inv_mass[i] * kick);  // Eq. 4.8
+      V x_new = v_new * h + x[i];                                   // Eq. 4.9
       V moved_by = x_new - x_rebuild[i];
       if constexpr (Periodic) {
         double& coordinate = x_new[periodicity.axis];
@@ -102,7 +106,7 @@ void leapfrog(const LeapfrogStep<D>& step, LeapfrogResult& result) {
       if (!(moved <= max_moved)) {  // also true for NaN
         if (!std::isfinite(moved) ||
             (Spins &&
-             !std::isfinite(Dim<D>::spin_sq(w[i] + load[i].torque * (inv_inertia[i] * h))))) {
+             !std::isfinite(Dim<D>::spin_sq(w[i] + load[i].torque * (inv_inertia[i] * kick))))) {
           if (i < first_bad) first_bad = i;
           continue;
         }
@@ -111,7 +115,8 @@ void leapfrog(const LeapfrogStep<D>& step, LeapfrogResult& result) {
       fastest = std::max(fastest, v_new.squaredNorm());  // this step moves i by |v_new| dt
       v[i] = v_new;
       x[i] = x_new;
-      if constexpr (Spins) w[i] += load[i].torque * (inv_inertia[i] * h);  // no friction: no torque
+      if constexpr (Spins)
+        w[i] += load[i].torque * (inv_inertia[i] * kick);  // no friction: no torque
     }
     max_sq_out = max_moved;
     speed_sq_out = fastest;

@@ -58,6 +58,7 @@ std::vector<WaltonBraun::Params> walton_braun_laws(int round, Random& u) {
 // What the lanes covered, over all rounds.
 struct Coverage {
   int loading = 0, unloading = 0, free = 0, capped = 0, fresh = 0, standing = 0, checked = 0;
+  int forgotten = 0;  // lanes whose T* reached mu N along the slip and was cleared
 };
 
 // A Walton-Braun history for lane l: new, loading, unloading (some inside the
@@ -73,7 +74,8 @@ H walton_braun_history(int l, double overlap, double k_load, double mu, Random& 
   h.previous_normal = normal * (1.0 + 0.2 * u());
   const double reach = mu * normal;
   h.tangential = along(reach * (kind == 3 ? 1.0 + 0.05 * u() : 0.8 * (u() + 1) / 2));
-  h.reversal = along(reach * 0.5 * u());
+  // Some beyond mu N: the friction lowered while the contact lasts (forgets_reversal).
+  h.reversal = along(reach * (kind == 4 ? 1.5 : 0.5) * u());
   h.load_direction = along(1.0);
   return h;
 }
@@ -139,12 +141,15 @@ TEST_CASE("walton-braun: the batched 2D kernel gives force()'s forces and histor
       seen.capped += f.normal > 0 && std::abs(t) >= lane_law[l]->friction * f.normal * (1 - 1e-12);
       seen.fresh += histories[l].previous_normal == 0;
       seen.standing += states[l].tangential_velocity.squaredNorm() == 0;
+      seen.forgotten += f.normal > 0 && lane_law[l]->friction > 0 &&
+                        histories[l].previous_normal > 0 && histories[l].reversal != 0 &&
+                        h.reversal == 0;
       ++seen.checked;
     }
   }
   INFO("loading " << seen.loading << ", unloading " << seen.unloading << ", free " << seen.free
                   << ", capped " << seen.capped << ", fresh " << seen.fresh << ", standing "
-                  << seen.standing);
+                  << seen.standing << ", forgotten " << seen.forgotten);
   CHECK(seen.checked == 200 * L);
   CHECK(seen.loading > 200);
   CHECK(seen.unloading > 200);
@@ -152,6 +157,7 @@ TEST_CASE("walton-braun: the batched 2D kernel gives force()'s forces and histor
   CHECK(seen.capped > 100);
   CHECK(seen.fresh > 200);
   CHECK(seen.standing > 200);
+  CHECK(seen.forgotten > 50);
 }
 
 TEST_CASE("walton-braun: the batched 3D kernel gives force()'s forces and history, lane by lane",
@@ -223,12 +229,16 @@ TEST_CASE("walton-braun: the batched 3D kernel gives force()'s forces and histor
           f.normal > 0 && f.tangential.norm() >= lane_law[l]->friction * f.normal * (1 - 1e-12);
       seen.fresh += histories[l].previous_normal == 0;
       seen.standing += states[l].tangential_velocity.squaredNorm() == 0;
+      seen.forgotten += f.normal > 0 && lane_law[l]->friction > 0 &&
+                        histories[l].previous_normal > 0 &&
+                        histories[l].reversal.squaredNorm() > 0 && h.reversal.squaredNorm() == 0;
       ++seen.checked;
     }
   }
   INFO("loading " << seen.loading << ", unloading " << seen.unloading << ", free " << seen.free
                   << ", capped " << seen.capped << ", fresh " << seen.fresh << ", standing "
-                  << seen.standing << ", turned far " << turned_far);
+                  << seen.standing << ", forgotten " << seen.forgotten << ", turned far "
+                  << turned_far);
   CHECK(seen.checked == 200 * L);
   CHECK(seen.loading > 200);
   CHECK(seen.unloading > 200);
@@ -236,6 +246,7 @@ TEST_CASE("walton-braun: the batched 3D kernel gives force()'s forces and histor
   CHECK(seen.capped > 100);
   CHECK(seen.fresh > 200);
   CHECK(seen.standing > 200);
+  CHECK(seen.forgotten > 50);
   CHECK(turned_far > 200);
 }
 

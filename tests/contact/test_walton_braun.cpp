@@ -260,3 +260,32 @@ TEMPLATE_TEST_CASE_SIG(
     CHECK(t == Approx(tau * (below < 1e-9 ? k1 : k2) * speed * dt).epsilon(1e-12));
   }
 }
+
+TEMPLATE_TEST_CASE_SIG(
+    "walton_braun: friction lowered during a sliding contact follows mu N as N grows again",
+    "[walton_braun]", ((int D), D), 2, 3) {
+  // T* set under mu = 0.4 lies beyond the lower limit 0.05 N: the contact
+  // slides, and its tangential force must follow mu N up as well as down.
+  using V = Eigen::Matrix<double, D, 1>;
+  const auto high = params(table_3_1(0.4)), low = params(table_3_1(0.05));
+  WaltonBraun::History<D> h;
+  V normal = V::Zero(), along = V::Zero();
+  normal[0] = 1, along[1] = 1;
+  const double overlap = 1e-6, dt = 1e-9, speed = 1.0;
+  auto c = test::state<D>(normal, overlap, V(speed * along), dt);
+  for (int k = 0; k < 3000; ++k) WaltonBraun::force<D>(high, h, c);
+  c.tangential_velocity = -speed * along;  // one step back: T* = T
+  WaltonBraun::force<D>(high, h, c);
+  c.tangential_velocity = speed * along;  // and on again: T* = T, near 0.4 N along the slip
+  WaltonBraun::force<D>(high, h, c);
+  double t = 0, n = 0;
+  for (int k = 0; k < 2000; ++k) {  // the friction drops, then N rises by half
+    c.overlap = overlap * (1 + 0.5 * std::min(1.0, k / 1000.0));
+    const auto f = WaltonBraun::force<D>(low, h, c);
+    t = f.tangential.norm(), n = f.normal;
+  }
+  CHECK(n == Approx(1.5 * high.k_load * overlap).epsilon(1e-12));
+  // Approached as Eq. 3.3 does from T* = 0: to exp(-K0 s / (mu N)) of the gap.
+  CHECK(t <= 0.05 * n * (1 + 1e-12));
+  CHECK(t == Approx(0.05 * n).epsilon(1e-4));
+}
