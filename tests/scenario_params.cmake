@@ -52,9 +52,9 @@ add_test(NAME params.drum_3d_frictionless
 set_tests_properties(params.drum_3d_frictionless PROPERTIES
   PASS_REGULAR_EXPRESSION "dynamic angle of repose -?[0-4]\\.[0-9] \\+-[^\n]*\n(.*\n)?results written to")
 add_test(NAME params.drum_3d_few_beads
-  COMMAND granule run ${scenes}/drum_3d.lua -D particles=5 -D settle=0.2 -D duration=0.5 -o params_drum_few.h5 --quiet)
+  COMMAND granule run ${scenes}/drum_3d.lua -D particles=2 -D settle=0.2 -D duration=0.5 -o params_drum_few.h5 --quiet)
 set_tests_properties(params.drum_3d_few_beads PROPERTIES
-  PASS_REGULAR_EXPRESSION "no angle of repose \\(none of [0-9]+ samples .*particles=5 too few")
+  PASS_REGULAR_EXPRESSION "no angle of repose \\(none of [0-9]+ samples .*particles=2 too few")
 
 # tools/plot_pattern.py takes the tutorial's negative slab bound -1e-3 (argparse
 # alone reads it as an option).

@@ -3,6 +3,9 @@
 // non-zero exit status.
 #pragma once
 
+#include <fmt/format.h>
+
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -19,5 +22,11 @@ struct InputError : std::runtime_error {
 struct RunError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+
+// A number as a message shows it: a NaN as "nan" whatever its sign bit (0/0
+// in a script is a NaN with the bit set, which fmt writes as "-nan").
+inline std::string number_text(double v) {
+  return std::isnan(v) ? "nan" : fmt::format("{}", v);
+}
 
 }  // namespace granule

@@ -77,6 +77,7 @@ class Simulation final : public SimulationBase {
   // the k-th id picks the same particle in every run of the scene.
   std::vector<std::int64_t> particle_ids() const override;
   bool has_particle(std::int64_t id) const override { return p_.index(id) >= 0; }
+  std::int64_t ids_handed_out() const override { return p_.next_id; }
   Triple position(std::int64_t id) const override;
   Triple velocity(std::int64_t id) const override;
   Triple spin(std::int64_t id) const override;
@@ -455,6 +456,7 @@ class Simulation final : public SimulationBase {
   // The smallest radius at prepare(): no particle may move farther in a step
   // (report_step_over, simulation_checks.cpp).
   double smallest_radius_ = INFINITY;
+  bool far_warned_ = false;  // particles far enough from the origin to lose digits
   void report_step_over();
   // Nor may a wall come that far towards a particle (each wall's farthest point's travel
   // in the last step, and their largest; checked against the particles only past it).

@@ -115,10 +115,10 @@ struct FillSpec {
   int material = -1;
   std::uint64_t seed = 1;
   double max_speed = 0;  // m/s, random velocities in [0, max_speed], then zero net momentum
-  std::int64_t max_attempts = 0;  // 0: 2000 per particle
+  std::int64_t max_attempts = 0;  // 0: 2000 per particle, in all
   bool allow_overlap = true;      // false: no new particle overlaps any other particle
-  // Asked now and then: true ends the fill at once (a signal), fill() returning
-  // the particles placed so far.
+  // Asked now and then: true ends the fill at once (a signal), fill() adding no
+  // particle and returning an empty list.
   std::function<bool()> stop_requested;
 };
 
@@ -351,6 +351,8 @@ class SimulationBase {
   virtual std::int64_t particle_count() const = 0;
   virtual std::vector<std::int64_t> particle_ids() const = 0;
   virtual bool has_particle(std::int64_t id) const = 0;
+  // Ids run from 0 to this less one: every particle the scene ever had, removed or not.
+  virtual std::int64_t ids_handed_out() const = 0;
   virtual Triple position(std::int64_t id) const = 0;
   virtual Triple velocity(std::int64_t id) const = 0;
   virtual Triple spin(std::int64_t id) const = 0;
@@ -469,7 +471,7 @@ class SimulationBase {
   // will still set it (before its last point).
   void claim_scheduled_wall(int w, const std::string& key);
   void claim_scheduled_contact(const std::string& a, const std::string& b, const std::string& key);
-  void claim_scheduled_field();
+  void claim_scheduled_field(const char* caller);
   // A new schedule of a target another schedule still sets (before its last point):
   // refused (InputError), as each would set its own value. Not while a restart
   // replays: the replay's engine is not at the time the first run checked it.

@@ -13,6 +13,17 @@
 
 namespace granule {
 
+namespace {
+// SplitMix64's finaliser: one word to a well-mixed one, to seed streams that
+// share no start.
+std::uint64_t mixed_seed(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ull;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
+}  // namespace
+
 template <int D>
 std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
   if (f.count < 0) throw InputError(fmt::format("fill: count must be >= 0, got {}", f.count));
@@ -26,14 +37,23 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
   if (!(f.max_speed >= 0) || !std::isfinite(f.max_speed))
     throw InputError(fmt::format("fill: max_speed must be >= 0 [m/s], got {}", f.max_speed));
   refuse_beyond_memory(static_cast<std::int64_t>(p_.size()) + f.count, "fill");
-  Random rng(f.seed);
+  // Three streams, so that each draw depends on its own inputs only: the radii on
+  // the size rule (a radius is drawn once per particle, whether or not its first
+  // places are free, so the radii follow the rule and not the chance to be
+  // placed), the velocities on max_speed, the places on the rest. Each starts
+  // from the seed and the ids handed out before this fill, so that two fills of
+  // one scene never repeat each other's draws, seed given or not, and a restart
+  // or a spread run draws the same.
+  const std::uint64_t base =
+      mixed_seed(f.seed ^ mixed_seed(static_cast<std::uint64_t>(p_.next_id)));
+  Random sizes(mixed_seed(base + 1)), places(mixed_seed(base + 2)), speeds(mixed_seed(base + 3));
   const double density = materials_[f.material].density;
   if (!(density > 0))
     throw InputError(
         fmt::format("fill: material '{}' needs a density > 0", materials_[f.material].name));
 
   // Region as a bounding box plus an inside test for a sphere of radius r.
-  V lo, hi;
+  V lo = V::Zero(), hi = V::Zero();
   V centre = to_vec(f.center);
   auto inside_region = [&](const V& x, double r) {
     switch (f.shape) {
@@ -75,6 +95,63 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
         if (!(hi[k] > lo[k])) throw InputError("fill: box region needs hi > lo on every axis");
       break;
   }
+  for (int k = 0; k < D; ++k)
+    if (!std::isfinite(hi[k] - lo[k]))
+      throw InputError(
+          fmt::format("fill: the region's extent along {} is not a finite length", "xyz"[k]));
+
+  // The radii, in the order the ids will follow.
+  std::vector<double> radius(static_cast<std::size_t>(f.count));
+  for (double& r : radius)
+    r = f.radii.empty()
+            ? sizes.uniform(f.radius_min, f.radius_max)
+            : f.radii[std::min(f.radii.size() - 1,
+                               static_cast<std::size_t>(sizes.uniform() * f.radii.size()))];
+  if (f.count > 0) {
+    const double biggest = *std::max_element(radius.begin(), radius.end());
+    double room = INFINITY;  // the largest radius the region holds
+    if (f.shape == RegionShape::box)
+      for (int k = 0; k < D; ++k) room = std::min(room, (hi[k] - lo[k]) / 2);
+    else
+      room = f.radius;
+    if (D == 3 && f.shape == RegionShape::cylinder) room = std::min(room, (f.z_max - f.z_min) / 2);
+    if (biggest > room)
+      throw InputError(fmt::format(
+          "fill: a particle of radius {:g} m does not fit in the region (it holds radii up to "
+          "{:g} m)",
+          biggest, room));
+    // Particles that may not overlap cannot take more than the region's volume
+    // (one radius: more than the densest packing, pi / sqrt(18) of it in 3D,
+    // pi / sqrt(12) of the area in 2D).
+    if (!f.allow_overlap) {
+      double region = 1;
+      if (f.shape == RegionShape::box)
+        for (int k = 0; k < D; ++k) region *= hi[k] - lo[k];
+      else if (f.shape == RegionShape::cylinder)
+        region = M_PI * f.radius * f.radius * (f.z_max - f.z_min);
+      else
+        region = D == 3 ? 4 * M_PI / 3 * std::pow(f.radius, 3) : M_PI * f.radius * f.radius;
+      double taken = 0;
+      for (double r : radius) taken += D == 3 ? 4 * M_PI / 3 * r * r * r : M_PI * r * r;
+      const bool one_size = f.radii.empty()
+                                ? f.radius_min == f.radius_max
+                                : std::all_of(f.radii.begin(), f.radii.end(),
+                                              [&](double r) { return r == f.radii[0]; });
+      const double densest =
+          one_size ? (D == 3 ? M_PI / std::sqrt(18.0) : M_PI / std::sqrt(12.0)) : 1;
+      if (taken > densest * region)
+        throw InputError(fmt::format(
+            "fill: {} particles that may not overlap would take {:.3g} of the region's {}, more "
+            "than {} ({:.3g}); random placement jams near {} of it: give a larger region or "
+            "fewer particles, or overlap = true and let them settle",
+            f.count, taken / region, D == 3 ? "volume" : "area",
+            one_size ? "the densest packing of one size holds" : "there is", densest,
+            D == 3 ? "0.38" : "0.55"));
+    }
+  }
+  double r_new_max = 0;
+  for (double r : radius) r_new_max = std::max(r_new_max, r);
+
   // Fixed particles must never be overlapped (SPEC 2); other particles may be
   // (SPEC 2 for the Mechanofusion fill), unless the scene asks for no overlaps.
   // Occupied space goes into a hash grid of cells of side 2 r_max (r_max the
@@ -82,12 +159,19 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
   // box, grown by r_max, touches, so a candidate looks in its own cell only.
   // A particle far larger than r_max (a 1 mm sphere among 10 um ones) would
   // cover (R / r_max)^D cells: those go into a second grid whose cells are as
-  // large as the largest of them, where each covers at most 2^D cells.
-  double r_new_max = f.radius_max;
-  for (double r : f.radii) r_new_max = std::max(r_new_max, r);
+  // large as the largest of them, where each covers at most 2^D cells. Entries
+  // from n_before on are this fill's own particles, placed but not yet added.
+  const std::size_t n_before = p_.size();
+  std::vector<V> placed(radius.size());
+  auto position_of = [&](std::size_t q) -> const V& {
+    return q < n_before ? p_.position[q] : placed[q - n_before];
+  };
+  auto radius_of = [&](std::size_t q) {
+    return q < n_before ? p_.radius[q] : radius[q - n_before];
+  };
   const double large_radius = 4 * r_new_max;
   double largest = 0;
-  for (std::size_t i = 0; i < p_.size(); ++i)
+  for (std::size_t i = 0; i < n_before; ++i)
     if ((p_.fixed[i] || !f.allow_overlap) && p_.radius[i] > large_radius)
       largest = std::max(largest, p_.radius[i]);
   struct Grid {
@@ -104,9 +188,9 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
   };
   Grid small{2 * r_new_max, {}}, large{2 * (largest + r_new_max), {}};
   auto occupy = [&](std::size_t q) {
-    Grid& g = p_.radius[q] > large_radius ? large : small;
-    const V& xq = p_.position[q];
-    const double reach = p_.radius[q] + r_new_max;
+    Grid& g = radius_of(q) > large_radius ? large : small;
+    const V& xq = position_of(q);
+    const double reach = radius_of(q) + r_new_max;
     std::array<long long, 3> lo_c{0, 0, 0}, hi_c{0, 0, 0};
     for (int k = 0; k < D; ++k)
       lo_c[k] = g.cell_of(xq[k] - reach), hi_c[k] = g.cell_of(xq[k] + reach);
@@ -115,7 +199,7 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
         for (long long c = lo_c[2]; c <= hi_c[2]; ++c)
           g.occupied[Grid::key({a, b, c})].push_back(static_cast<std::uint32_t>(q));
   };
-  for (std::size_t i = 0; i < p_.size(); ++i)
+  for (std::size_t i = 0; i < n_before; ++i)
     if (p_.fixed[i] || !f.allow_overlap) occupy(i);
   // Along a periodic axis every particle is in the box (the candidates too, below),
   // and one across the seam is entered at its own side of it: the candidate is
@@ -132,70 +216,97 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
         auto it = g->occupied.find(Grid::key(c));
         if (it == g->occupied.end()) continue;
         for (std::uint32_t q : it->second)
-          if (separation(x, p_.position[q]).norm() < r + p_.radius[q]) return true;
+          if (separation(x, position_of(q)).norm() < r + radius_of(q)) return true;
       }
     }
     return false;
   };
 
+  // Largest first: a large particle finds room more easily among few others,
+  // and the small ones then fill the gaps.
+  std::vector<std::size_t> order(radius.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return radius[a] > radius[b]; });
   const std::int64_t attempts_allowed =
       f.max_attempts > 0 ? f.max_attempts : 2000 * std::max<std::int64_t>(f.count, 1);
   // A region already full places nothing more however long it is tried (a
   // random packing without overlaps jams near 55 % of the area in 2D, 38 % of
-  // the volume in 3D): so many attempts in a row without a place end the fill.
+  // the volume in 3D): so many attempts for one particle end the fill. And as
+  // the region fills, places get rarer: where even the rate of the last window
+  // of attempts would not place the rest within what is left of the budget, the
+  // fill ends then rather than when the budget is spent.
   constexpr std::int64_t attempts_in_a_row = 1000000;
-  std::vector<std::int64_t> ids;
-  std::int64_t attempts = 0, since_placed = 0;
-  std::vector<V> velocities;
-  while (static_cast<std::int64_t>(ids.size()) < f.count) {
-    ++attempts;
-    if (attempts > attempts_allowed || ++since_placed > attempts_in_a_row)
-      throw InputError(fmt::format(
-          "fill: placed only {} of {} particles after {} attempts{}; the region is too full{} or "
-          "lies outside the walls",
-          ids.size(), f.count, attempts,
-          attempts > attempts_allowed
-              ? ""
-              : fmt::format(", the last {} without a place", since_placed - 1),
-          f.allow_overlap ? "" : " for particles that may not overlap"));
-    if (attempts % 4096 == 0 && f.stop_requested && f.stop_requested()) break;
-    double r = f.radii.empty()
-                   ? rng.uniform(f.radius_min, f.radius_max)
-                   : f.radii[std::min(f.radii.size() - 1,
-                                      static_cast<std::size_t>(rng.uniform() * f.radii.size()))];
-    V x;
-    for (int k = 0; k < D; ++k) x[k] = rng.uniform(lo[k], hi[k]);
-    if (!inside_region(x, r)) continue;
-    // Into the periodic box, where every other particle is: the look-up below takes
-    // images one period away only, and a region may run over several periods.
-    if (periodic_.on()) {
-      const double along = x[periodic_.axis];
-      if (!periodic_.wraps_exactly(along))
-        throw InputError(fmt::format(
-            "fill: the region reaches {} m along the periodic axis, more than a million periods "
-            "({} m each) from the box: its particles cannot be wrapped into it without losing "
-            "their places to round-off",
-            along, periodic_.length));
-      x[periodic_.axis] = periodic_.into_box(along);
+  constexpr std::int64_t window = 1 << 20;
+  std::int64_t attempts = 0, since_placed = 0, placed_count = 0, placed_at_window = 0;
+  auto refuse = [&](const std::string& why) {
+    throw InputError(fmt::format(
+        "fill: placed only {} of {} particles after {} attempts{}; the region is too full{} or "
+        "lies outside the walls",
+        placed_count, f.count, attempts, why,
+        f.allow_overlap ? "" : " for particles that may not overlap"));
+  };
+  for (const std::size_t k : order) {
+    const double r = radius[k];
+    for (;;) {
+      ++attempts;
+      if (attempts > attempts_allowed) refuse("");
+      if (++since_placed > attempts_in_a_row)
+        refuse(fmt::format(", the last {} without a place", since_placed - 1));
+      if (attempts % window == 0) {
+        const double rate = double(placed_count - placed_at_window) / window;
+        const double left = double(f.count - placed_count);
+        if (left > rate * double(attempts_allowed - attempts))
+          refuse(fmt::format(
+              ", the last {} placing {}: at that rate the other {} would need more attempts "
+              "than the {} left",
+              window, placed_count - placed_at_window, f.count - placed_count,
+              attempts_allowed - attempts));
+        placed_at_window = placed_count;
+      }
+      if (attempts % 4096 == 0 && f.stop_requested && f.stop_requested()) return {};
+      V x;
+      for (int c = 0; c < D; ++c) x[c] = places.uniform(lo[c], hi[c]);
+      if (!inside_region(x, r)) continue;
+      // Into the periodic box, where every other particle is: the look-up below takes
+      // images one period away only, and a region may run over several periods.
+      if (periodic_.on()) {
+        const double along = x[periodic_.axis];
+        if (!periodic_.wraps_exactly(along))
+          throw InputError(fmt::format(
+              "fill: the region reaches {} m along the periodic axis, more than a million "
+              "periods ({} m each) from the box: its particles cannot be wrapped into it "
+              "without losing their places to round-off",
+              along, periodic_.length));
+        x[periodic_.axis] = periodic_.into_box(along);
+      }
+      bool ok = true;
+      for (std::size_t w = 0; w < walls_.size() && ok; ++w)
+        ok = is_surface_wall(walls_[w].type) ? !meshes_.near(w, x, r) && !meshes_.inside_solid(w, x)
+                                             : !(walls_[w].clearance(x, r) < 0);
+      if (!ok || overlaps_occupied(x, r)) continue;
+      placed[k] = x;
+      ++placed_count;
+      since_placed = 0;
+      if (!f.allow_overlap) occupy(n_before + k);
+      break;
     }
-    bool ok = true;
-    for (std::size_t w = 0; w < walls_.size() && ok; ++w)
-      ok = is_surface_wall(walls_[w].type) ? !meshes_.near(w, x, r) && !meshes_.inside_solid(w, x)
-                                           : !(walls_[w].clearance(x, r) < 0);
-    if (!ok || overlaps_occupied(x, r)) continue;
-    // Random direction, speed uniform in [0, max_speed].
+  }
+  // Every particle has its place: added in the order of their radii's draws, each
+  // with a random direction and a speed uniform in [0, max_speed].
+  std::vector<std::int64_t> ids;
+  ids.reserve(radius.size());
+  for (std::size_t k = 0; k < radius.size(); ++k) {
     V v = V::Zero();
     if (f.max_speed > 0) {
       V dir;
       do {
-        for (int k = 0; k < D; ++k) dir[k] = rng.uniform(-1, 1);
+        for (int c = 0; c < D; ++c) dir[c] = speeds.uniform(-1, 1);
       } while (dir.squaredNorm() > 1 || dir.squaredNorm() < 1e-6);
-      v = dir.normalized() * rng.uniform(0, f.max_speed);
+      v = dir.normalized() * speeds.uniform(0, f.max_speed);
     }
-    since_placed = 0;
-    ids.push_back(p_.add(x, v, Dim<D>::zero_spin(), r, density, f.material, false));
-    position_at_rebuild_.push_back(x);
-    if (!f.allow_overlap) occupy(p_.size() - 1);
+    ids.push_back(p_.add(placed[k], v, Dim<D>::zero_spin(), radius[k], density, f.material, false));
+    position_at_rebuild_.push_back(placed[k]);
   }
   // Zero net momentum of the filled set (SPEC 2).
   if (!ids.empty() && f.max_speed > 0) {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <unordered_map>
 
@@ -332,9 +333,19 @@ void Simulation<D>::prepare() {
     for (std::size_t wi = 0; wi < walls_.size(); ++wi) {
       const auto& w = walls_[wi];
       double c = w.clearance(p_.position[i], p_.radius[i]);
-      if (c + p_.radius[i] < 0)
-        throw InputError(fmt::format("particle {} at ({}) lies outside wall '{}'", p_.id[i],
-                                     fmt::join(to_triple(p_.position[i]), ", "), w.name));
+      // Placed, a centre must lie on the allowed side. At a later run's start a
+      // centre just past the wall is a hard contact going on, as check_escapes()
+      // reads it; more than a radius past, the particle went through.
+      if (step_ == 0 ? c + p_.radius[i] < 0 : c + 2 * p_.radius[i] < 0)
+        throw InputError(fmt::format(
+            "particle {} at ({}) lies outside wall '{}'{}", p_.id[i],
+            fmt::join(to_triple(p_.position[i]), ", "), w.name,
+            step_ == 0 ? ""
+                       : fmt::format(" at step {} (t = {:.6g} s), its centre more than its "
+                                     "radius past it: it went through the wall during an "
+                                     "earlier run, through a contact too soft for its load or "
+                                     "speed (a stiffer law keeps it in)",
+                                     step_, time_)));
       if (!p_.fixed[i] && step_ == 0) warn_if_inside_solid(wi, p_.position[i], p_.id[i], "", true);
       if (c < 0 && !p_.fixed[i] && step_ == 0)
         warn(fmt::format("particle {} starts overlapping wall '{}' by {:.3g} m", p_.id[i], w.name,
@@ -345,6 +356,22 @@ void Simulation<D>::prepare() {
   body_.periodic_axis = periodic_.on() ? periodic_.axis : -1;
   smallest_radius_ = INFINITY;
   for (const double r : p_.radius) smallest_radius_ = std::min(smallest_radius_, r);
+  // Positions are doubles: far from the origin their spacing is a visible part
+  // of a radius, and of the overlaps the laws are computed from (an impact's
+  // restitution moves in its fifth digit at 1e9 radii out).
+  if (!far_warned_ && p_.size()) {
+    double farthest = 0;
+    for (const V& x : p_.position) farthest = std::max(farthest, x.cwiseAbs().maxCoeff());
+    const double spacing = farthest * std::numeric_limits<double>::epsilon();
+    if (spacing > 1e-7 * smallest_radius_) {
+      far_warned_ = true;
+      warn(fmt::format(
+          "particles lie up to {:.3g} m from the origin, {:.3g} times the smallest radius: "
+          "positions there are rounded to {:.2g} of that radius, which disturbs the contacts' "
+          "overlaps; place the scene near the origin",
+          farthest, farthest / smallest_radius_, spacing / smallest_radius_));
+    }
+  }
   // Skin: automatic = half the median radius.
   if (skin_set_ > 0) {
     skin_ = skin_set_;

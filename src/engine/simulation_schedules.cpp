@@ -169,13 +169,13 @@ void SimulationBase::claim_scheduled_contact(const std::string& a, const std::st
           a, b, key, schedule_named(s), s.schedule.times().back(), time_, s.id));
 }
 
-void SimulationBase::claim_scheduled_field() {
+void SimulationBase::claim_scheduled_field(const char* caller) {
   for (auto& s : schedules_)
     if (s.target == "central_strength" && sets_again(s, time_, dt_))
       throw InputError(fmt::format(
-          "set_central_strength: the field's strength is set by {} until t = {} s (now t = "
+          "{}: the field's strength is set by {} until t = {} s (now t = "
           "{} s), which would undo this; end the schedule first (sim:remove_schedule({}))",
-          schedule_named(s), s.schedule.times().back(), time_, s.id));
+          caller, schedule_named(s), s.schedule.times().back(), time_, s.id));
 }
 
 void SimulationBase::apply_schedules() {

@@ -141,10 +141,18 @@ std::int64_t Simulation<D>::add_particle(const ParticleSpec& s) {
   // Into the periodic box now, as set_position (and prepare(), for a box declared later).
   if (periodic_.on())
     at[periodic_.axis] = into_periodic_box(periodic_, at[periodic_.axis], "particle position");
-  // Added during a run inside a solid polyline: warned of, as prepare() warns
-  // of the scene's starting particles (its contact throws the centre out).
-  if (step_ > 0 && !s.fixed)
-    for (std::size_t w = 0; w < walls_.size(); ++w) warn_if_inside_solid(w, at, -1);
+  // Added during a run: its centre inside every wall, as set_position holds a
+  // moved one to (prepare() holds the scene's starting particles to it, and
+  // later reads a centre just past a wall as a hard contact going on); inside a
+  // solid polyline warned of, as prepare() does (its contact throws the centre out).
+  if (step_ > 0)
+    for (std::size_t w = 0; w < walls_.size(); ++w) {
+      if (walls_[w].clearance(at, s.radius) + s.radius < 0)
+        throw InputError(fmt::format("particle at ({}) would lie outside wall '{}'",
+                                     fmt::join(s.position.begin(), s.position.begin() + D, ", "),
+                                     walls_[w].name));
+      if (!s.fixed) warn_if_inside_solid(w, at, -1);
+    }
   std::int64_t id = p_.add(at, to_vec(s.velocity), to_spin(s.spin), s.radius,
                            materials_[s.material].density, s.material, s.fixed);
   position_at_rebuild_.push_back(p_.position.back());

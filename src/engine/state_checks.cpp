@@ -43,7 +43,7 @@ const std::vector<std::int64_t>& integers_of(const StateBlob& s, const std::stri
 void all_finite(const std::vector<double>& v, const std::string& key, double bound) {
   for (std::size_t k = 0; k < v.size(); ++k)
     if (!std::isfinite(v[k]) || std::abs(v[k]) > bound)
-      refuse_entry(key, fmt::format("value {} is {}: must be finite{}", k, v[k],
+      refuse_entry(key, fmt::format("value {} is {}: must be finite{}", k, number_text(v[k]),
                                     bound < std::numeric_limits<double>::max()
                                         ? fmt::format(" and within +-{:g}", bound)
                                         : ""));

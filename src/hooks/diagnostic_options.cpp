@@ -55,7 +55,8 @@ double DiagnosticOptions::finite_number(const std::string& key) const {
     throw InputError(fmt::format("{}: '{}' is required (a number)", context_, key));
   }
   if (!std::isfinite(it->second))
-    throw InputError(fmt::format("{}: '{}' must be finite, got {}", context_, key, it->second));
+    throw InputError(
+        fmt::format("{}: '{}' must be finite, got {}", context_, key, number_text(it->second)));
   return it->second;
 }
 

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "contact/parameters.hpp"
+#include "core/errors.hpp"
 #include "lua/api_docs.hpp"
 
 namespace granule::lua {
@@ -142,7 +143,8 @@ double TableReader::number(const char* key, double fallback) {
   double v = lua_tonumber(L_, -1);
   lua_pop(L_, 1);
   if (!std::isfinite(v))
-    throw std::runtime_error(fmt::format("{}: '{}' must be finite, got {}", context_, key, v));
+    throw std::runtime_error(
+        fmt::format("{}: '{}' must be finite, got {}", context_, key, number_text(v)));
   return v;
 }
 
@@ -330,7 +332,7 @@ double read_number(lua_State* L, int index, const std::string& what) {
     throw std::runtime_error(fmt::format("{} must be a number, got {}", what, type_name(L, index)));
   double v = lua_tonumber(L, index);
   if (!std::isfinite(v))
-    throw std::runtime_error(fmt::format("{} must be finite, got {}", what, v));
+    throw std::runtime_error(fmt::format("{} must be finite, got {}", what, number_text(v)));
   return v;
 }
 

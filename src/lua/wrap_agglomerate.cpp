@@ -358,6 +358,15 @@ int fragments(lua_State* L, SimulationBase& sim) {
 int breakage(lua_State* L, SimulationBase& sim) {
   TableReader t(L, 2, "breakage");
   std::vector<Bond> initial = read_bonds(L, t, "initial_bonds");
+  // An id the scene never handed out is a slip (a list from another scene, a
+  // typo), not a particle removed since: it would count as a broken bond.
+  for (std::size_t k = 0; k < initial.size(); ++k)
+    for (const std::int64_t id : {initial[k].a, initial[k].b})
+      if (id < 0 || id >= sim.ids_handed_out())
+        throw InputError(fmt::format(
+            "breakage: 'initial_bonds'[{}] names particle {}, which this scene never had (its "
+            "ids run from 0 to {})",
+            k + 1, id, sim.ids_handed_out() - 1));
   const std::vector<std::int64_t> ids = selected_particles(t, sim);
   // A bond to a particle outside the selection (another material's, still in the
   // scene) is no bond of the selection's, and could never be found again among

@@ -64,6 +64,10 @@ int l_wall(lua_State* L) {
       lua_setfield(L, -2, "velocity");
       push_vector(L, spec.center, d);
       lua_setfield(L, -2, "axis_point");
+      if (d == 3) {  // a polyline turns about z
+        push_vector(L, spec.axis, d);
+        lua_setfield(L, -2, "axis");
+      }
       lua_pushnumber(L, spec.angular_velocity);
       lua_setfield(L, -2, "angular_velocity");
       lua_pushnumber(L, spec.angle);

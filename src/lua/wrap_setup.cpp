@@ -86,6 +86,11 @@ int l_set_contact(lua_State* L) {
     // at its own time (the replay's engine is not at that time).
     if (!replaying(L))
       for (const auto& key : t.keys()) s.sim->claim_scheduled_contact(a, b, key);
+    if (t.has("model"))
+      throw InputError(fmt::format(
+          "set_contact '{}'-'{}': a pair's model is set once, by sim:contact (its contacts hold "
+          "that model's histories); set_contact changes the model's parameters",
+          a, b));
     for (const auto& key : t.keys())
       values[key] = key == "rolling_model"
                         ? rolling_model_code(t.string("rolling_model"), t.context())
@@ -183,8 +188,10 @@ int l_wall_cylinder(lua_State* L) {
     } else if (t.has("velocity")) {
       t.mark("velocity");
       throw InputError(
-          "wall_cylinder: an infinite cylinder does not translate; give 'bounds' "
-          "for a finite one, which may");
+          d == 2 ? "wall_cylinder: a circle does not translate; a closed polyline of arcs "
+                   "(sim:wall_polyline with arcs) is a circle that does"
+                 : "wall_cylinder: an infinite cylinder does not translate; give 'bounds' "
+                   "for a finite one, which may translate");
     }
     t.finish();
     s.sim->add_wall(w);
@@ -383,6 +390,7 @@ int l_central_field(lua_State* L) {
     auto point = t.vector("point", dim(L));
     double strength = t.number("strength");
     t.finish();
+    if (!replaying(L)) s.sim->claim_scheduled_field("central_field");
     s.sim->set_central_field(point, strength);
     return 0;
   });
@@ -392,7 +400,7 @@ int l_set_central_strength(lua_State* L) {
   return protect(L, [](lua_State* L) {
     LuaSim& s = self(L);
     const double strength = read_number(L, 2, "central field strength");
-    if (!replaying(L)) s.sim->claim_scheduled_field();
+    if (!replaying(L)) s.sim->claim_scheduled_field("set_central_strength");
     s.sim->set_central_strength(strength);
     return 0;
   });

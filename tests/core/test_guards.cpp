@@ -629,3 +629,19 @@ TEST_CASE("fill: a fill on both sides of a closed polyline that is not solid is 
     CHECK(said == c.expected);
   }
 }
+
+TEST_CASE("guards: particles far enough from the origin to round their overlaps are warned of once",
+          "[guards]") {
+  // r = 0.2 mm: positions rounded to 1e-7 r from about 4.5e8 r out (9e4 m).
+  for (double offset : {1e3, 1e6}) {
+    Simulation<2> sim;
+    std::vector<std::string> warnings;
+    linear_pair_scene(sim, warnings);
+    particle(sim, offset - r, offset, 0), particle(sim, offset + r, offset, 0);
+    sim.advance(10);
+    sim.advance(10);
+    INFO("offset " << offset << " m");
+    CHECK(count_containing(warnings, "from the origin") == (offset > 1e5 ? 1 : 0));
+    if (offset > 1e5) CHECK_THAT(warnings[0], Catch::Contains("5e+09 times the smallest radius"));
+  }
+}

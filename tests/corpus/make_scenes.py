@@ -797,8 +797,11 @@ case("result_without_name", "sim:result given a value without a name",
 case("particle_radius_huge", "a particle of radius 1e300 m: its mass overflows",
      r"{at}.*not finite positive", after={"fill": [wrong('sim:add_particle { position = { 0, 0 }, radius = 1e300, material = "glass" }')]})
 case("fill_region_full", "a fill without overlaps asking for far more particles than the region holds",
-     r"{at}.*without a place", base=BASE3,
+     r"{at}.*would take 236 of the region's volume", base=BASE3,
      replace={"fill": wrong('sim:fill { region = { box = { lo = { -0.002, -0.002, 0.001 }, hi = { 0.002, 0.002, 0.004 } } }, count = 100000, radius = 3e-4, material = "glass", seed = 2, overlap = false }')})
+case("fill_region_jammed", "a fill without overlaps asking for half the region's volume: random placement jams first",
+     r"{at}.*placed only .* the region is too full for particles that may not overlap", base=BASE3,
+     replace={"fill": wrong('sim:fill { region = { box = { lo = { -0.002, -0.002, 0.001 }, hi = { 0.002, 0.002, 0.004 } } }, count = 212, radius = 3e-4, material = "glass", seed = 2, overlap = false }')})
 
 
 def main():

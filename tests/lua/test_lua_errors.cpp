@@ -101,6 +101,15 @@ TEST_CASE("lua: bad physical input is refused with the parameter named", "[lua][
       "0} }\n",
       6, "must be finite");
   expect_refused(
+      "sim:wall_cylinder { name = 'c', center = {0, 0}, radius = 0.01, velocity = {1, 0}, "
+      "material = 'steel' }\n",
+      6, "a circle does not translate; a closed polyline of arcs");
+  expect_refused("sim:set_contact('glass', 'glass', { model = 'linear' })\n", 6,
+                 "a pair's model is set once, by sim:contact");
+  // 0/0 is a NaN with its sign bit set: shown as "nan", not "-nan".
+  expect_refused("sim:material { name = 'x', density = 0/0 }\n", 6,
+                 "'density' must be finite, got nan");
+  expect_refused(
       "sim:add_particle { position = {0, 0}, radius = 1e-3, material = 'glass', colour = 'red' }\n",
       6, "unknown key 'colour'");
 }
@@ -112,6 +121,35 @@ sim:add_particle { position = {0.02, 0}, radius = 1e-3, material = "glass" }
 sim:run { steps = 1 }
 )",
       8, "lies outside wall 'drum'");
+}
+
+TEST_CASE("lua: a hard wall contact going on across runs is no particle outside the wall",
+          "[lua][errors]") {
+  // A soft disk pressed past the floor by its speed: after 15 ms its centre is
+  // half a radius below the floor (overlap 1.5 r), a contact the run goes on
+  // with; the next run, which lists afresh for a particle added, must go on
+  // with it too.
+  auto r = run_scene(std::string(header) + R"(
+sim:material { name = "jelly", density = 1000 }
+sim:contact { "jelly", "steel", model = "linear", k_normal = 1e-3, restitution = 1 }
+sim:wall_plane { name = "floor", point = { 0, 0 }, normal = { 0, 1 }, material = "steel" }
+sim:set { time_step = 1e-4 }
+local id = sim:add_particle { position = { 0, 1e-3 }, radius = 1e-3, material = "jelly", velocity = { 0, -0.1 } }
+sim:run { duration = 0.015 }
+local y = sim:particle(id).position[2]
+assert(y < 0 and y > -1e-3, "centre past the floor by less than a radius: " .. y)
+sim:add_particle { position = { 0.01, 2e-3 }, radius = 1e-3, material = "steel", fixed = true }
+sim:run { steps = 10 }
+)");
+  CHECK(r.error == "");
+  // Added during a scene with its centre past a wall: refused at once.
+  expect_refused(
+      R"(sim:wall_plane { name = "floor", point = { 0, 0 }, normal = { 0, 1 }, material = "steel" }
+sim:add_particle { position = { 0, 2e-3 }, radius = 1e-3, material = "glass" }
+sim:run { steps = 1 }
+sim:add_particle { position = { 0, -0.5e-3 }, radius = 1e-3, material = "glass" }
+)",
+      9, "particle at (0, -0.0005) would lie outside wall 'floor'");
 }
 
 TEST_CASE("lua: a pair without a contact law is named", "[lua][errors]") {
@@ -597,6 +635,8 @@ local t2 = sim:time()
 sim:schedule { "central_strength", linear = { t2, 0, t2 + 1, 5 } }
 local ok, message = pcall(sim.set_central_strength, sim, 3)
 assert(not ok and message:find("set_central_strength: the field's strength is set by schedule", 1, true), message)
+ok, message = pcall(sim.central_field, sim, { point = { 0, 0 }, strength = 50 })
+assert(not ok and message:find("central_field: the field's strength is set by schedule", 1, true), message)
 )");
   CHECK(r.error == "");
 }

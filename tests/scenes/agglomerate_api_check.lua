@@ -53,6 +53,12 @@ local removed_bonds = removed_sim:bonds { material = "glass" }
 removed_sim:remove_particle(removed_ids[5])
 local without = removed_sim:breakage { initial_bonds = removed_bonds }
 assert(without.initial_bonds == 3 and without.broken_bonds == 1, "a removed particle's bond is broken")
+-- One the scene never had is a slip, refused (it would count as broken).
+refused("names particle 999, which this scene never had (its ids run from 0 to 4)",
+  function() removed_sim:breakage { initial_bonds = { { removed_ids[1], 999 } } } end)
+refused("'initial_bonds'[2] names particle 5", function()
+  removed_sim:breakage { initial_bonds = { { removed_ids[1], removed_ids[2] }, { 5, removed_ids[2] } } }
+end)
 
 -- Round trip: write a snapshot, load it into a new scene under another material name.
 sim:output { file = "agglomerate_api_check.h5" }

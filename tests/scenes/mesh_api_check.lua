@@ -55,6 +55,13 @@ assert(math.abs(offset[2] - 0.001) < 1e-6, "offset " .. offset[2])
 assert(sim:particle(0).position[2] > resting + 0.0009, "pushed along")
 sim:set_wall("plate", { angular_velocity = 2 })
 assert(sim:wall("plate").angular_velocity == 2)
+-- Its axis as added (z by default), read back as a unit vector.
+local axis = sim:wall("plate").axis
+assert(axis and axis[1] == 0 and axis[2] == 0 and axis[3] == 1, "axis read back")
+local tilted = scene()
+tilted:wall_mesh { name = "plate", file = path, material = "steel", scale = 1e-3, axis = { 0, 3, 4 } }
+axis = tilted:wall("plate").axis
+assert(math.abs(axis[2] - 0.6) < 1e-15 and math.abs(axis[3] - 0.8) < 1e-15, "tilted axis normalised")
 
 -- Pictures draw the mesh's edges seen along z: a flat mesh (the s2 plate
 -- below lies in z = 0) shows its five edges as lines, and none without walls.

@@ -11,7 +11,7 @@ sim:wall_cylinder { name = "rod", center = { 0, 0.006, 0.004 }, axis = { 1, 0, 0
                     inside = false, material = "steel" }
 sim:wall_plane { name = "floor", point = { 0, -0.008, 0 }, normal = { 0, 1, 0 }, material = "steel" }
 sim:fill { region = { box = { lo = { -0.006, -0.007, -0.002 }, hi = { 0.006, 0.003, 0.002 } } },
-           count = 40, radius = 5e-4, material = "glass", seed = 4, max_speed = 0.05 }
+           count = 40, radius = 5e-4, material = "glass", seed = 4, max_speed = 0.05, overlap = false }
 sim:add_particle { position = { 0.007, 0, 0 }, radius = 5e-4, material = "steel", fixed = true }
 sim:gravity { 0, -9.81, 0 }
 local file = sim:output { file = "output_3d_test.h5", snapshot_every = 0.01 }

@@ -12,8 +12,8 @@ sim:material { name = "steel", density = 7800 }
 sim:contact { "powder", "powder", model = "walton_braun", k_load = 2e4, restitution = 0.85, friction = 0.1 }
 sim:contact { "powder", "steel", model = "walton_braun", k_load = 2e4, restitution = 0.85, friction = 0.5 }
 sim:wall_cylinder { name = "drum", center = { 0, 0 }, radius = 6e-3, angular_velocity = 150, material = "steel" }
-sim:fill { region = { circle = { center = { 0, 0 }, radius = 6e-3 } }, count = 600, radius = 0.2e-3,
-           material = "powder", seed = 3, max_speed = 0.05 }
+sim:fill { region = { circle = { center = { 0, 0 }, radius = 6e-3 } }, count = 400, radius = 0.2e-3,
+           material = "powder", seed = 3, max_speed = 0.05, overlap = false }
 sim:gravity { 0, -9.81 }
 sim:output { snapshot_every = 1e-4 }
 sim:checkpoint { file = p.checkpoint, every_steps = p.checkpoint_every }

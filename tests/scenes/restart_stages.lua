@@ -20,8 +20,8 @@ sim:wall_cylinder { name = "drum", center = { 0, 0 }, radius = 6e-3, angular_vel
 -- and velocity are state a restart must bring back.
 sim:wall_disk { name = "plate", center = { 0, -4e-3 }, normal = { 0, 1 }, radius = 2e-3,
                 inner_radius = 0.5e-3, velocity = { 0.01, 0.02 }, material = "steel" }
-sim:fill { region = { circle = { center = { 0, 0 }, radius = 6e-3 } }, count = 600, radius = 0.2e-3,
-           material = "powder", seed = 3, max_speed = 0.05 }
+sim:fill { region = { circle = { center = { 0, 0 }, radius = 6e-3 } }, count = 400, radius = 0.2e-3,
+           material = "powder", seed = 3, max_speed = 0.05, overlap = false }
 sim:gravity { 0, -9.81 }
 sim:output { snapshot_every = p.snapshot_every }
 sim:checkpoint { file = p.checkpoint, every_steps = p.checkpoint_every }

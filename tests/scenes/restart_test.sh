@@ -37,8 +37,8 @@ test ! -f restart_test.chk.h5 || { echo "the scene's own checkpoint file was wri
 cmp whole.txt own_resumed.txt
 compare whole.h5 own_resumed.h5
 # --checkpoint-every: wall-clock checkpoints for a scene that asks for none.
-# (long enough, 60,000 steps, to outlast 0.2 s of wall time on a fast idle machine)
-"$granule" run "$scene" -D checkpoint_every=100000000 -D stage2_steps=60000 --checkpoint timed.chk.h5 --checkpoint-every 0.2 \
+# (long enough, 120,000 steps, to outlast 0.2 s of wall time on a fast idle machine)
+"$granule" run "$scene" -D checkpoint_every=100000000 -D stage2_steps=120000 --checkpoint timed.chk.h5 --checkpoint-every 0.2 \
   -o timed.h5 --quiet > /dev/null
 test -f timed.chk.h5 || { echo "--checkpoint-every 0.2 wrote no checkpoint"; exit 1; }
 if "$granule" run "$scene" --checkpoint-every 0 -o x.h5 --quiet 2> bad.txt; then
@@ -47,7 +47,7 @@ fi
 grep -q "checkpoint-every expects seconds" bad.txt || { cat bad.txt; exit 1; }
 # Ctrl-C: a checkpoint at the next chunk boundary, exit status 130, then continue.
 rm -f restart_test.chk.h5
-"$granule" run "$scene" -D checkpoint_every=1000000 -D stage2_steps=400000 -o long.h5 --quiet > /dev/null &
+"$granule" run "$scene" -D checkpoint_every=1000000 -D stage2_steps=4000000 -o long.h5 --quiet > /dev/null &
 pid=$!
 # Signal once the run is stepping (its output file is open), not after a fixed
 # time, which a loaded machine may spend loading the program.

@@ -37,7 +37,7 @@ stop_with() {
   # A restart continues the first run's output (here in place), so that one stays.
   [ -n "$restart" ] || rm -f long.h5
   "$granule" run "$scene" -D checkpoint=signals.chk.h5 -D checkpoint_every=1000000 \
-    -D stage2_steps=400000 -o long.h5 --quiet $restart > "$name.txt" 2>&1 &
+    -D stage2_steps=4000000 -o long.h5 --quiet $restart > "$name.txt" 2>&1 &
   pid=$!
   wait_running long.h5
   # Twice in a row: a launcher signals the program and its process group, and that echo

@@ -1,5 +1,5 @@
 -- a fill without overlaps asking for far more particles than the region holds
--- expect: fill_region_full\.lua:9\b.*without a place
+-- expect: fill_region_full\.lua:9\b.*would take 236 of the region's volume
 local sim = simulation { dimension = 3 }
 sim:material { name = "glass", density = 2500, young = 1e8, poisson = 0.3, surface_energy = 0.05 }
 sim:material { name = "steel", density = 0, young = 2e8, poisson = 0.3, surface_energy = 0.05 }
