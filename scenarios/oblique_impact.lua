@@ -82,7 +82,7 @@ for _, gamma in ipairs(list(p.surface_energies)) do
     local vn0 = granule.vec.dot(granule.vec.sub(sim:particle(b).velocity, sim:particle(a).velocity), n0)
     -- Long enough for a thousand of Hertz's contact times at the normal speed of
     -- approach (t_c = 2.87 (m*^2 / (R* E*^2 v_n))^(1/5)), whatever the scale.
-    local mass = 4 / 3 * math.pi * r ^ 3 * p.density
+    local mass = sim:particle(a).mass
     local e_star = p.young / (2 * (1 - p.poisson ^ 2))
     local v_n = math.max(vn0, 1e-3 * 2 * p.speed)
     local limit = 1000 * 2.868 * ((mass / 2) ^ 2 / (r / 2 * e_star ^ 2 * v_n)) ^ 0.2

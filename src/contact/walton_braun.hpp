@@ -150,9 +150,9 @@ struct WaltonBraun {
   // keeps T* / (mu N) as it was, so T* reaches mu N only when the friction
   // coefficient is lowered while the contact lasts (a schedule, set_contact), or
   // when the slip turns back the step after a reversal made in full sliding.
-  // There the contact slides: a slip that has gone all the way wipes the
-  // memory of the reversal, and T* is taken as 0, as for a contact loaded from
-  // rest. Kept, it would leave no room (mu N - T* <= 0), so k_t = 0 for the
+  // T* is then beyond what the contact can carry, and is taken as 0, as for a
+  // contact loaded from rest (a slip that has gone all the way wipes the
+  // memory of the reversal). Kept, it would leave no room (mu N - T* <= 0), so k_t = 0 for the
   // rest of the contact and T, capped by Eq. 3.17 whenever N falls, could never
   // grow back with N: the friction would stay at mu times the lowest N since.
   static bool forgets_reversal(double star_u, double limit) { return star_u >= limit; }

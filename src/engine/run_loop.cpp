@@ -22,7 +22,7 @@ RunOutcome run_in_chunks(SimulationBase& sim, const RunPlan& plan, CheckpointPla
     if (!std::isfinite(plan.end_time) || sim.time_step() == planned_dt) return;
     planned_dt = sim.time_step();
     const std::int64_t since = sim.step_count() - sim.time_step_from_step();
-    const double left = std::ceil((plan.end_time - sim.time_step_from_time()) / planned_dt - 1e-9);
+    const double left = steps_to_cover(plan.end_time - sim.time_step_from_time(), planned_dt);
     steps = out.done - since + static_cast<std::int64_t>(std::max(0.0, std::min(left, 4.6e18)));
     steps = std::max(steps, out.done);
     if (hooks.retarget) hooks.retarget(steps, planned_dt);

@@ -5,7 +5,9 @@
 // functions, and reports the outcome to the script.
 #pragma once
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -14,6 +16,15 @@
 #include "engine/simulation_base.hpp"
 
 namespace granule {
+
+// The steps that cover a span of time at step dt: a span a whole number of
+// steps long, less its division's round-off (a few ulps of the quotient), is
+// that number of steps.
+inline double steps_to_cover(double span, double dt) {
+  const double quotient = span / dt;
+  return std::ceil(quotient -
+                   std::max(1e-9, 8 * std::numeric_limits<double>::epsilon() * quotient));
+}
 
 // When a running scene writes checkpoints (sim:checkpoint).
 struct CheckpointPlan {

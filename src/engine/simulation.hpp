@@ -371,6 +371,8 @@ class Simulation final : public SimulationBase {
   // message led by `caller` ("set_position: " or ""): the polyline's contact throws it out through
   // the nearest side, as fast as that overlap drives it (pushing out a centre the run's motion took
   // in is by design). simulation_setup.cpp.
+  void check_placed_in_walls(const V& at, double radius, bool fixed, std::int64_t id,
+                             const char* caller) const;
   void warn_if_inside_solid(std::size_t w, const V& x, std::int64_t id, const char* caller = "",
                             bool starts = false) const;
   // Steps whose deepest pair overlap exceeds overlap_warning: warns once, stops

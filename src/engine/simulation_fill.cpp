@@ -1,5 +1,6 @@
 // Simulation<D>::fill: placing `count` particles in a region (ball, box,
-// cylinder) with radii from a rule, a seeded random stream and a placement test.
+// cylinder) with radii from a rule, three seeded random streams (radii, places,
+// velocities) and a placement test.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -100,6 +101,7 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
       throw InputError(
           fmt::format("fill: the region's extent along {} is not a finite length", "xyz"[k]));
 
+  if (f.count == 0) return {};
   // The radii, in the order the ids will follow.
   std::vector<double> radius(static_cast<std::size_t>(f.count));
   for (double& r : radius)
@@ -121,8 +123,8 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
           "{:g} m)",
           biggest, room));
     // Particles that may not overlap cannot take more than the region's volume
-    // (one radius: more than the densest packing, pi / sqrt(18) of it in 3D,
-    // pi / sqrt(12) of the area in 2D).
+    // (several of one radius: more than the densest packing, pi / sqrt(18) of it
+    // in 3D, pi / sqrt(12) of the area in 2D; a single one may fill a ball more).
     if (!f.allow_overlap) {
       double region = 1;
       if (f.shape == RegionShape::box)
@@ -133,10 +135,10 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
         region = D == 3 ? 4 * M_PI / 3 * std::pow(f.radius, 3) : M_PI * f.radius * f.radius;
       double taken = 0;
       for (double r : radius) taken += D == 3 ? 4 * M_PI / 3 * r * r * r : M_PI * r * r;
-      const bool one_size = f.radii.empty()
-                                ? f.radius_min == f.radius_max
-                                : std::all_of(f.radii.begin(), f.radii.end(),
-                                              [&](double r) { return r == f.radii[0]; });
+      const bool one_size =
+          f.count > 1 && (f.radii.empty() ? f.radius_min == f.radius_max
+                                          : std::all_of(f.radii.begin(), f.radii.end(),
+                                                        [&](double r) { return r == f.radii[0]; }));
       const double densest =
           one_size ? (D == 3 ? M_PI / std::sqrt(18.0) : M_PI / std::sqrt(12.0)) : 1;
       if (taken > densest * region)
@@ -233,12 +235,16 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
   // A region already full places nothing more however long it is tried (a
   // random packing without overlaps jams near 55 % of the area in 2D, 38 % of
   // the volume in 3D): so many attempts for one particle end the fill. And as
-  // the region fills, places get rarer: where even the rate of the last window
-  // of attempts would not place the rest within what is left of the budget, the
-  // fill ends then rather than when the budget is spent.
+  // the region fills, places get rarer: once the particles left are all of the
+  // radius being placed (one size, or the last of a list's), where even the rate
+  // of the last window of attempts would not place them within what is left of
+  // the budget, the fill ends then rather than when the budget is spent.
+  // (Smaller particles still to come would place more easily than the window's.)
   constexpr std::int64_t attempts_in_a_row = 1000000;
   constexpr std::int64_t window = 1 << 20;
-  std::int64_t attempts = 0, since_placed = 0, placed_count = 0, placed_at_window = 0;
+  const double smallest = radius.empty() ? 0 : radius[order.back()];
+  std::int64_t attempts = 0, since_placed = 0, placed_count = 0;
+  std::int64_t window_start = -1, placed_at_window = 0;  // -1: not yet at the last radius
   auto refuse = [&](const std::string& why) {
     throw InputError(fmt::format(
         "fill: placed only {} of {} particles after {} attempts{}; the region is too full{} or "
@@ -253,7 +259,9 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
       if (attempts > attempts_allowed) refuse("");
       if (++since_placed > attempts_in_a_row)
         refuse(fmt::format(", the last {} without a place", since_placed - 1));
-      if (attempts % window == 0) {
+      if (window_start < 0 && r == smallest)
+        window_start = attempts, placed_at_window = placed_count;
+      if (window_start >= 0 && attempts - window_start == window) {
         const double rate = double(placed_count - placed_at_window) / window;
         const double left = double(f.count - placed_count);
         if (left > rate * double(attempts_allowed - attempts))
@@ -262,7 +270,7 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
               "than the {} left",
               window, placed_count - placed_at_window, f.count - placed_count,
               attempts_allowed - attempts));
-        placed_at_window = placed_count;
+        window_start = attempts, placed_at_window = placed_count;
       }
       if (attempts % 4096 == 0 && f.stop_requested && f.stop_requested()) return {};
       V x;

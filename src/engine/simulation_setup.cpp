@@ -134,6 +134,26 @@ void Simulation<D>::warn_if_inside_solid(std::size_t w, const V& x, std::int64_t
       fmt::join(at.begin(), at.begin() + D, ", "), starts ? "starts" : "lies", walls_[w].name));
 }
 
+// A particle placed during a scene (added, id < 0, or moved): its centre inside
+// every wall, as prepare() holds the scene's starting particles to (and reads a
+// centre just past a wall later on as a hard contact going on, which a particle
+// just placed cannot be); inside a solid polyline or overlapping a wall, warned of.
+template <int D>
+void Simulation<D>::check_placed_in_walls(const V& at, double radius, bool fixed, std::int64_t id,
+                                          const char* caller) const {
+  const std::string who = id < 0 ? std::string("particle") : fmt::format("particle {}", id);
+  for (std::size_t wi = 0; wi < walls_.size(); ++wi) {
+    const auto& w = walls_[wi];
+    const double c = w.clearance(at, radius);
+    if (c + radius < 0)
+      throw InputError(fmt::format("{}{} at ({}) would lie outside wall '{}'", caller, who,
+                                   fmt::join(at.data(), at.data() + D, ", "), w.name));
+    if (fixed) continue;
+    warn_if_inside_solid(wi, at, id, caller);
+    if (c < 0) warn(fmt::format("{}{} overlaps wall '{}' by {:.3g} m", caller, who, w.name, -c));
+  }
+}
+
 template <int D>
 std::int64_t Simulation<D>::add_particle(const ParticleSpec& s) {
   check_particle_input(s, "particle");
@@ -141,18 +161,7 @@ std::int64_t Simulation<D>::add_particle(const ParticleSpec& s) {
   // Into the periodic box now, as set_position (and prepare(), for a box declared later).
   if (periodic_.on())
     at[periodic_.axis] = into_periodic_box(periodic_, at[periodic_.axis], "particle position");
-  // Added during a run: its centre inside every wall, as set_position holds a
-  // moved one to (prepare() holds the scene's starting particles to it, and
-  // later reads a centre just past a wall as a hard contact going on); inside a
-  // solid polyline warned of, as prepare() does (its contact throws the centre out).
-  if (step_ > 0)
-    for (std::size_t w = 0; w < walls_.size(); ++w) {
-      if (walls_[w].clearance(at, s.radius) + s.radius < 0)
-        throw InputError(fmt::format("particle at ({}) would lie outside wall '{}'",
-                                     fmt::join(s.position.begin(), s.position.begin() + D, ", "),
-                                     walls_[w].name));
-      if (!s.fixed) warn_if_inside_solid(w, at, -1);
-    }
+  if (step_ > 0) check_placed_in_walls(at, s.radius, s.fixed, -1, "");
   std::int64_t id = p_.add(at, to_vec(s.velocity), to_spin(s.spin), s.radius,
                            materials_[s.material].density, s.material, s.fixed);
   position_at_rebuild_.push_back(p_.position.back());
@@ -266,6 +275,15 @@ int Simulation<D>::add_wall(const WallSpec& s) {
       w.axis = a.normalized();
     }
   }
+  // Added during a scene, it must leave every centre inside (prepare() holds the
+  // scene's start to that, and reads a centre just past a wall later on as a
+  // hard contact going on, which a wall just added cannot be). A finite wall
+  // is touched on both sides: no centre is outside it.
+  if (step_ > 0)
+    for (std::size_t i = 0; i < p_.size(); ++i)
+      if (w.clearance(p_.position[i], p_.radius[i]) + p_.radius[i] < 0)
+        throw InputError(fmt::format("{}: particle {} at ({}) would lie outside it", ctx, p_.id[i],
+                                     fmt::join(to_triple(p_.position[i]), ", ")));
   walls_.push_back(w);
   lists_valid_ = false;
   unprepare();
@@ -327,18 +345,7 @@ void Simulation<D>::set_position(std::int64_t id, const Triple& x) {
   // minimum images shift by one period only.
   if (periodic_.on())
     at[periodic_.axis] = into_periodic_box(periodic_, at[periodic_.axis], "set_position");
-  // Inside every wall, as prepare() holds an added particle to (inside a solid
-  // polyline: warned of, as there).
-  for (std::size_t wi = 0; wi < walls_.size(); ++wi) {
-    const auto& w = walls_[wi];
-    const double c = w.clearance(at, p_.radius[i]);
-    if (c + p_.radius[i] < 0)
-      throw InputError(fmt::format("set_position: particle {} at ({}) would lie outside wall '{}'",
-                                   id, fmt::join(x.begin(), x.begin() + D, ", "), w.name));
-    if (!p_.fixed[i]) warn_if_inside_solid(wi, at, id, "set_position: ");
-    if (c < 0 && !p_.fixed[i])
-      warn(fmt::format("set_position: particle {} overlaps wall '{}' by {:.3g} m", id, w.name, -c));
-  }
+  check_placed_in_walls(at, p_.radius[i], p_.fixed[i], id, "set_position: ");
   // A bond's load follows the particles' motion (parallel_bond.hpp), which a move
   // skips: its gap before the move is kept for settle_moved_bonds().
   for (std::size_t k = 0; k < bonds_.size(); ++k) {

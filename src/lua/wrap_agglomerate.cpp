@@ -364,9 +364,11 @@ int breakage(lua_State* L, SimulationBase& sim) {
     for (const std::int64_t id : {initial[k].a, initial[k].b})
       if (id < 0 || id >= sim.ids_handed_out())
         throw InputError(fmt::format(
-            "breakage: 'initial_bonds'[{}] names particle {}, which this scene never had (its "
-            "ids run from 0 to {})",
-            k + 1, id, sim.ids_handed_out() - 1));
+            "breakage: 'initial_bonds'[{}] names particle {}, which this scene never had ({})",
+            k + 1, id,
+            sim.ids_handed_out() > 0
+                ? fmt::format("its ids run from 0 to {}", sim.ids_handed_out() - 1)
+                : std::string("it has had no particles")));
   const std::vector<std::int64_t> ids = selected_particles(t, sim);
   // A bond to a particle outside the selection (another material's, still in the
   // scene) is no bond of the selection's, and could never be found again among

@@ -158,10 +158,7 @@ int l_run(lua_State* L) {
     } else {
       if (has_duration) {
         // A step count beyond 2^62 would overflow the counters (and never finish).
-        // A duration a whole number of steps long, less its division's round-off
-        // (a few ulps of the quotient), is that number of steps.
-        const double quotient = duration / dt;
-        const double n = std::ceil(quotient - std::max(1e-9, 1e-12 * quotient));
+        const double n = steps_to_cover(duration, dt);
         if (!(n < 4.6e18))
           throw std::runtime_error(
               fmt::format("run: duration = {} s is {:.3g} steps of dt = {} s, too many to count",

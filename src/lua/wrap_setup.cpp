@@ -82,15 +82,15 @@ int l_set_contact(lua_State* L) {
     std::string b = read_string(L, 3, "set_contact: second material");
     TableReader t(L, 4, fmt::format("set_contact '{}'-'{}'", a, b));
     ParamValues values;
-    // A restart's replay executes what the first run did, which passed this check
-    // at its own time (the replay's engine is not at that time).
-    if (!replaying(L))
-      for (const auto& key : t.keys()) s.sim->claim_scheduled_contact(a, b, key);
     if (t.has("model"))
       throw InputError(fmt::format(
           "set_contact '{}'-'{}': a pair's model is set once, by sim:contact (its contacts hold "
           "that model's histories); set_contact changes the model's parameters",
           a, b));
+    // A restart's replay executes what the first run did, which passed this check
+    // at its own time (the replay's engine is not at that time).
+    if (!replaying(L))
+      for (const auto& key : t.keys()) s.sim->claim_scheduled_contact(a, b, key);
     for (const auto& key : t.keys())
       values[key] = key == "rolling_model"
                         ? rolling_model_code(t.string("rolling_model"), t.context())
@@ -361,8 +361,12 @@ int l_fill(lua_State* L) {
     f.stop_requested = [] { return interrupt_pending(); };
     std::vector<std::int64_t> ids = s.sim->fill(f);
     if (interrupt_pending()) {
-      std::string message = fmt::format("interrupted ({}) during fill, {} of {} particles placed",
-                                        interrupt_cause(), ids.size(), f.count);
+      std::string message =
+          static_cast<std::int64_t>(ids.size()) < f.count
+              ? fmt::format("interrupted ({}) during fill: none of its {} particles added",
+                            interrupt_cause(), f.count)
+              : fmt::format("interrupted ({}) as fill ended, its {} particles added",
+                            interrupt_cause(), f.count);
       if (SceneContext* ctx = context(L)) ctx->interrupted = true, ctx->interrupt_message = message;
       throw std::runtime_error(message);
     }

@@ -150,6 +150,12 @@ sim:run { steps = 1 }
 sim:add_particle { position = { 0, -0.5e-3 }, radius = 1e-3, material = "glass" }
 )",
       9, "particle at (0, -0.0005) would lie outside wall 'floor'");
+  // A wall added during a scene across a particle's centre: refused at once.
+  expect_refused(R"(sim:add_particle { position = { 0, 2e-3 }, radius = 1e-3, material = "glass" }
+sim:run { steps = 1 }
+sim:wall_plane { name = "floor", point = { 0, 2.5e-3 }, normal = { 0, 1 }, material = "steel" }
+)",
+                 8, "wall 'floor': particle 0 at (0, 0.002");
 }
 
 TEST_CASE("lua: a pair without a contact law is named", "[lua][errors]") {
