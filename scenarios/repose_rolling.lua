@@ -41,8 +41,12 @@ local height = 4 * p.width
 sim:wall_plane { name = "floor", point = { 0, 0 }, normal = { 0, 1 }, material = "steel" }
 sim:wall_plane { name = "back", point = { 0, 0 }, normal = { 1, 0 }, material = "steel" }
 sim:wall_plane { name = "gate", point = { p.width, 0 }, normal = { -1, 0 }, material = "steel" }
+-- Not overlapping: an overlapping start throws spheres about the column (the
+-- soft law's springs launch them at metres per second), and the column's
+-- collapse would start from whatever that left.
 sim:fill { region = { box = { lo = { 0, 0 }, hi = { p.width, height } } }, count = p.particles,
-           radius_min = p.radius_min, radius_max = p.radius_max, material = "glass", seed = p.seed }
+           radius_min = p.radius_min, radius_max = p.radius_max, material = "glass", seed = p.seed,
+           overlap = false }
 sim:gravity { 0, -9.81 }
 local file = sim:output { snapshot_every = 0.05 }
 
