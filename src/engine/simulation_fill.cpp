@@ -109,50 +109,46 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
             ? sizes.uniform(f.radius_min, f.radius_max)
             : f.radii[std::min(f.radii.size() - 1,
                                static_cast<std::size_t>(sizes.uniform() * f.radii.size()))];
-  if (f.count > 0) {
-    const double biggest = *std::max_element(radius.begin(), radius.end());
-    double room = INFINITY;  // the largest radius the region holds
+  const double r_new_max = *std::max_element(radius.begin(), radius.end());
+  double room = INFINITY;  // the largest radius the region holds
+  if (f.shape == RegionShape::box)
+    for (int k = 0; k < D; ++k) room = std::min(room, (hi[k] - lo[k]) / 2);
+  else
+    room = f.radius;
+  if (D == 3 && f.shape == RegionShape::cylinder) room = std::min(room, (f.z_max - f.z_min) / 2);
+  if (r_new_max > room)
+    throw InputError(fmt::format(
+        "fill: a particle of radius {:g} m does not fit in the region (it holds radii up to "
+        "{:g} m)",
+        r_new_max, room));
+  // Particles that may not overlap cannot take more than the region's volume
+  // (several of one radius: more than the densest packing, pi / sqrt(18) of it
+  // in 3D, pi / sqrt(12) of the area in 2D; a single one may fill a ball more).
+  if (!f.allow_overlap) {
+    double region = 1;
     if (f.shape == RegionShape::box)
-      for (int k = 0; k < D; ++k) room = std::min(room, (hi[k] - lo[k]) / 2);
+      for (int k = 0; k < D; ++k) region *= hi[k] - lo[k];
+    else if (f.shape == RegionShape::cylinder)
+      region = M_PI * f.radius * f.radius * (f.z_max - f.z_min);
     else
-      room = f.radius;
-    if (D == 3 && f.shape == RegionShape::cylinder) room = std::min(room, (f.z_max - f.z_min) / 2);
-    if (biggest > room)
+      region = D == 3 ? 4 * M_PI / 3 * std::pow(f.radius, 3) : M_PI * f.radius * f.radius;
+    double taken = 0;
+    for (double r : radius) taken += D == 3 ? 4 * M_PI / 3 * r * r * r : M_PI * r * r;
+    const bool one_size =
+        f.count > 1 && (f.radii.empty() ? f.radius_min == f.radius_max
+                                        : std::all_of(f.radii.begin(), f.radii.end(),
+                                                      [&](double r) { return r == f.radii[0]; }));
+    const double densest =
+        one_size ? (D == 3 ? M_PI / std::sqrt(18.0) : M_PI / std::sqrt(12.0)) : 1;
+    if (taken > densest * region)
       throw InputError(fmt::format(
-          "fill: a particle of radius {:g} m does not fit in the region (it holds radii up to "
-          "{:g} m)",
-          biggest, room));
-    // Particles that may not overlap cannot take more than the region's volume
-    // (several of one radius: more than the densest packing, pi / sqrt(18) of it
-    // in 3D, pi / sqrt(12) of the area in 2D; a single one may fill a ball more).
-    if (!f.allow_overlap) {
-      double region = 1;
-      if (f.shape == RegionShape::box)
-        for (int k = 0; k < D; ++k) region *= hi[k] - lo[k];
-      else if (f.shape == RegionShape::cylinder)
-        region = M_PI * f.radius * f.radius * (f.z_max - f.z_min);
-      else
-        region = D == 3 ? 4 * M_PI / 3 * std::pow(f.radius, 3) : M_PI * f.radius * f.radius;
-      double taken = 0;
-      for (double r : radius) taken += D == 3 ? 4 * M_PI / 3 * r * r * r : M_PI * r * r;
-      const bool one_size =
-          f.count > 1 && (f.radii.empty() ? f.radius_min == f.radius_max
-                                          : std::all_of(f.radii.begin(), f.radii.end(),
-                                                        [&](double r) { return r == f.radii[0]; }));
-      const double densest =
-          one_size ? (D == 3 ? M_PI / std::sqrt(18.0) : M_PI / std::sqrt(12.0)) : 1;
-      if (taken > densest * region)
-        throw InputError(fmt::format(
-            "fill: {} particles that may not overlap would take {:.3g} of the region's {}, more "
-            "than {} ({:.3g}); random placement jams near {} of it: give a larger region or "
-            "fewer particles, or overlap = true and let them settle",
-            f.count, taken / region, D == 3 ? "volume" : "area",
-            one_size ? "the densest packing of one size holds" : "there is", densest,
-            D == 3 ? "0.38" : "0.55"));
-    }
+          "fill: {} particles that may not overlap would take {:.3g} of the region's {}, more "
+          "than {} ({:.3g}); random placement jams near {} of it: give a larger region or "
+          "fewer particles, or overlap = true and let them settle",
+          f.count, taken / region, D == 3 ? "volume" : "area",
+          one_size ? "the densest packing of one size holds" : "there is", densest,
+          D == 3 ? "0.38" : "0.55"));
   }
-  double r_new_max = 0;
-  for (double r : radius) r_new_max = std::max(r_new_max, r);
 
   // Fixed particles must never be overlapped (SPEC 2); other particles may be
   // (SPEC 2 for the Mechanofusion fill), unless the scene asks for no overlaps.
@@ -242,7 +238,7 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
   // (Smaller particles still to come would place more easily than the window's.)
   constexpr std::int64_t attempts_in_a_row = 1000000;
   constexpr std::int64_t window = 1 << 20;
-  const double smallest = radius.empty() ? 0 : radius[order.back()];
+  const double smallest = radius[order.back()];
   std::int64_t attempts = 0, since_placed = 0, placed_count = 0;
   std::int64_t window_start = -1, placed_at_window = 0;  // -1: not yet at the last radius
   auto refuse = [&](const std::string& why) {
