@@ -66,8 +66,10 @@ if not filled then
 end
 sim:gravity { 0, -9.81, 0 }
 local file = sim:output { snapshot_every = 0.05 }
+-- Settled when the beads' rms speed is below 1.5 % of sqrt(g d), at any bead size.
+local calm = granule.calm(sim, 0.015 * math.sqrt(9.81 * 2 * p.radius))
 granule.stage(sim, { name = "settle", duration = p.settle, check_every = 1000,
-                     stop_when = function(s) return s:time() > 0.1 and s:stats().kinetic_energy < 1e-8 end })
+                     stop_when = function(s) return s:time() > 0.1 and calm(s) end })
 -- Clockwise seen from +z (omega < 0): the surface rises on the left.
 local omega = -granule.rpm(p.rpm)
 local started = sim:time()

@@ -60,8 +60,10 @@ sim:fill { region = { cylinder = { center = { 0, 0, 0 }, radius = p.bin_radius -
 sim:gravity { 0, 0, -9.81 }
 sim:output { snapshot_every = 0.05 }
 
+-- Settled when the spheres' rms speed is below 1.1 % of sqrt(g d), at any size.
+local calm = granule.calm(sim, 0.011 * math.sqrt(9.81 * 2 * p.radius))
 granule.stage(sim, { name = "settle", duration = p.settle, check_every = 500,
-                     stop_when = function(s) return s:time() > 0.1 and s:stats().kinetic_energy < 1e-7 end })
+                     stop_when = function(s) return s:time() > 0.1 and calm(s) end })
 
 -- The gate drops away; a sphere that fell 2 cm below the outlet has left and
 -- is removed.

@@ -41,8 +41,10 @@ sim:fill { region = { box = { lo = { -half, 0, -half }, hi = { half, height, hal
            radius = p.radius, material = "glass", seed = 1, overlap = false }
 sim:gravity { 0, -9.81, 0 }
 local file = sim:output { snapshot_every = 0.05 }
+-- Settled when the beads' rms speed is below 0.35 % of sqrt(g d), at any bead size.
+local calm = granule.calm(sim, 0.0035 * math.sqrt(9.81 * 2 * p.radius))
 granule.stage(sim, { name = "settle", duration = p.settle, check_every = 1000,
-                     stop_when = function(s) return s:time() > 0.2 and s:stats().kinetic_energy < 1e-9 end })
+                     stop_when = function(s) return s:time() > 0.2 and calm(s) end })
 
 -- The bed: weight against the walls' forces, and the solid fraction below the
 -- top layer (the volume of the beads whose centres lie in the lower 80 % of

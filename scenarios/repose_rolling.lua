@@ -50,7 +50,8 @@ sim:fill { region = { box = { lo = { 0, 0 }, hi = { p.width, height } } }, count
 sim:gravity { 0, -9.81 }
 local file = sim:output { snapshot_every = 0.05 }
 
-local function calm(s) return s:stats().kinetic_energy < 1e-9 * p.particles end
+-- Calm: an rms speed below 10 % of sqrt(g d) for the mean diameter, at any size.
+local calm = granule.calm(sim, 0.1 * math.sqrt(9.81 * (p.radius_min + p.radius_max)))
 -- The fill lets the spheres go at rest: they are calm before they fall, so the
 -- column is not settled before one from the top of the fill could have
 -- reached the floor, sqrt(2 h / g) (0.13 s for the default 80 mm).

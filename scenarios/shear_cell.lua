@@ -23,7 +23,8 @@ local p = parameters {
   duration = { default = 0.5, above = 0, unit = "s", doc = "time sheared" },
 }
 local sim = simulation { dimension = 3, periodic = { axis = "x", origin = 0, length = p.length } }
-sim:material { name = "glass", density = 2500, young = 5e7, poisson = 0.25 }
+local glass_density = 2500  -- kg/m^3: also the inertial number's rho
+sim:material { name = "glass", density = glass_density, young = 5e7, poisson = 0.25 }
 sim:material { name = "rough", density = 7800, young = 5e7, poisson = 0.3 }
 sim:material { name = "smooth", density = 7800, young = 5e7, poisson = 0.3 }
 sim:contact { "glass", "glass", model = "hertz_mindlin", restitution = 0.5, friction = p.friction }
@@ -70,9 +71,12 @@ end
 sim:every { steps = sample_every, servo }
 -- The lid starts at the loose fill's height and closes at 0.02 m/s while it
 -- touches nothing: the stage allows that travel and half a second more.
+-- Calm: the beads' rms speed below 0.5 % of sqrt(P / rho), the speed scale of
+-- the inertial number, at any pressure and bead size.
+local calm = granule.calm(sim, 0.005 * math.sqrt(p.pressure / glass_density))
 granule.stage(sim, { name = "compress", duration = fill_height / 0.02 + 0.5, check_every = 2000, stop_when = function(s)
   local stress = s:wall("lid").force[2] / area
-  return math.abs(stress / p.pressure - 1) < 0.05 and s:stats().kinetic_energy < 1e-8
+  return math.abs(stress / p.pressure - 1) < 0.05 and calm(s)
 end })
 
 -- Shear: floor at -U/2, lid at +U/2 along x.
@@ -127,7 +131,7 @@ local gap = sums.gap / sums.n
 local mu_eff = math.abs(sums.fx / sums.fy)
 local rate = slope(fit)
 local pressure = math.abs(sums.fy / sums.n) / (p.length * p.width)
-local inertial = rate * 2 * p.radius / math.sqrt(pressure / 2500)
+local inertial = rate * 2 * p.radius / math.sqrt(pressure / glass_density)
 sim:result { mu_eff = mu_eff, middle_shear_rate = rate, nominal_shear_rate = p.speed / gap,
              pressure = pressure, inertial_number = inertial }
 print(string.format("shear_cell: gap %.3g m, mu_eff %.3f, shear rate in the middle %.3g 1/s " ..

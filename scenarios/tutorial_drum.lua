@@ -79,8 +79,10 @@ end }
 -- at rest are calm before they fall: not before a bead from the top of the drum
 -- could have fallen its diameter, in sqrt(2 * 2R / g).
 local fall_time = math.sqrt(4 * p.drum_radius / 9.81)
+-- Nearly at rest: an rms speed below 10 % of sqrt(g d), whatever the beads' size.
+local calm = granule.calm(sim, 0.1 * math.sqrt(9.81 * 2 * p.radius))
 granule.stage(sim, { name = "settle", duration = p.settle, check_every = 500,
-                     stop_when = function(s) return s:time() > fall_time and s:stats().kinetic_energy < 1e-7 end })
+                     stop_when = function(s) return s:time() > fall_time and calm(s) end })
 sim:set_wall("drum", { angular_velocity = granule.rpm(p.rpm) })
 local energy, samples = 0, 0
 sim:every { steps = 100, function(s)

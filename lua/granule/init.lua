@@ -148,6 +148,35 @@ granule.summary_line = export("granule.summary_line", function(values, order)
   return table.concat(parts, " ")
 end)
 
+--- A stop_when criterion for a settling stage that holds at any particle size:
+--- calm when the kinetic energy (translational and rotational) is below that
+--- of the free particles' whole mass moving at rest_speed, E < M v^2 / 2.
+--- Scenes give rest_speed as a fraction of their own speed scale (sqrt(g d)
+--- under gravity), not an energy in joules, which would be met at once by
+--- micron beads and never by centimetre ones.
+granule.calm = export("granule.calm", function(sim, rest_speed)
+  if type(sim) ~= "userdata" then
+    error("granule.calm: the first argument must be the simulation, got " .. type(sim), 2)
+  end
+  if not (rest_speed > 0) then
+    error(string.format("granule.calm: rest_speed must be > 0 m/s, got %s", tostring(rest_speed)), 2)
+  end
+  -- The free mass, summed again only when the particles change.
+  local counted, mass = -1, 0
+  return function(s)
+    local stats = s:stats()
+    if stats.particles ~= counted then
+      mass = 0
+      for _, id in ipairs(s:particles()) do
+        local b = s:particle(id)
+        if not b.fixed then mass = mass + b.mass end
+      end
+      counted = stats.particles
+    end
+    return stats.kinetic_energy < 0.5 * mass * rest_speed * rest_speed
+  end
+end)
+
 --- Runs one stage of a protocol and reports how it ended.
 ---   granule.stage(sim, { name = "settle", duration = 0.1, stop_when = function(sim) ... end,
 ---                        check_every = 100, quiet = false })

@@ -1,0 +1,37 @@
+-- granule.calm: the settling criterion compares the kinetic energy with the
+-- free particles' mass moving at the rest speed, so the same fraction of a
+-- scene's speed scale judges beads of any size alike.
+local granule = require "granule"
+local H = dofile(SCENE_PATH:match("^(.*)[/\\]") .. "/../analysis/helpers.lua")
+
+-- One free sphere at speed u and one fixed sphere: E = m u^2 / 2 with the
+-- free mass only; calm exactly when u < rest_speed.
+local function scene(radius, u)
+  local sim = simulation { dimension = 3 }
+  sim:material { name = "glass", density = 2500 }
+  sim:contact { "glass", "glass", model = "linear", k_normal = 1e3, restitution = 0.5, friction = 0 }
+  sim:add_particle { position = { 0, 0, 0 }, radius = radius, material = "glass", velocity = { u, 0, 0 } }
+  sim:add_particle { position = { 0, 10 * radius, 0 }, radius = radius, material = "glass", fixed = true }
+  return sim
+end
+for _, radius in ipairs { 1e-6, 1e-3, 0.05 } do
+  local scale = math.sqrt(9.81 * 2 * radius)  -- the scenes' speed scale sqrt(g d)
+  local u = 0.02 * scale
+  local sim = scene(radius, u)
+  H.check(granule.calm(sim, 0.021 * scale)(sim), "r = " .. radius .. ": moving below the rest speed is calm")
+  H.check(not granule.calm(sim, 0.019 * scale)(sim), "r = " .. radius .. ": moving above it is not")
+end
+
+-- The mass is summed again when the particle count changes: a second free
+-- sphere at rest halves the mean square speed.
+local radius = 1e-3
+local sim = scene(radius, 1.0)
+local calm = granule.calm(sim, 0.8)
+H.check(not calm(sim), "one sphere at 1 m/s is not calm at 0.8 m/s")
+sim:add_particle { position = { 0, -10 * radius, 0 }, radius = radius, material = "glass" }
+H.check(calm(sim), "the same energy over twice the free mass is an rms speed of 0.71 m/s: calm at 0.8 m/s")
+
+H.fails("rest_speed must be > 0", granule.calm, sim, 0)
+H.fails("rest_speed must be > 0", granule.calm, sim, -1)
+H.fails("granule.calm: argument 2", granule.calm, sim, 0 / 0)
+print("calm check ok")
