@@ -148,9 +148,17 @@ void Simulation<D>::step() {
   contacts_wall_ = wall_tally.touching;
   contacts_wall_batched_ = wall_tally.batched;
   max_overlap_ratio_ = std::max(pair_overlap_ratio, wall_tally.max_ratio);
-  if ((pair_overlap_ratio > deep_checked_pair_ || wall_tally.max_ratio > deep_checked_wall_) &&
+  if ((pair_overlap_ratio > deep_checked_pair_ || wall_tally.max_ratio > deep_checked_wall_ ||
+       (deep_rescan_step_ >= 0 && step_ >= deep_rescan_step_)) &&
       !deep_modes_.empty())
     check_deep_contact_modes(pair_overlap_ratio, wall_tally.max_ratio);
+  // (Not while the scene's own overlaps relax: an overlapping fill throws its
+  // particles at the walls that hard by design, check_overlaps.)
+  if (wall_tally.max_ratio > overlap_warning_ && !wall_overlap_warned_ && !scene_overlaps_)
+    warn_deep_wall_contact();
+  // A centre a radius past a half-space has escaped: stopped at once, not at
+  // the next list rebuild (which a particle held still never triggers).
+  if (wall_tally.max_ratio > 2) check_escapes();
   stage_times_.walls += seconds_since(walls_start);
   // The reactions on the walls (the inner-piece force of 4.4.1), summed in
   // slot order.

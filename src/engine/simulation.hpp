@@ -400,9 +400,17 @@ class Simulation final : public SimulationBase {
   // step's deepest overlap, looked at again each time it has grown by 2 %.
   std::vector<DeepContactMode> deep_modes_;
   double deep_checked_pair_ = 0, deep_checked_wall_ = 0;  // ratios looked at again above these
-  std::vector<std::string> deep_warned_;                  // pairs already warned of
-  static constexpr double deep_mode_bound = 0.8;          // omega dt warned above
+  // A law the step's deepest overlap would put past the bound, whose own
+  // contacts were not that deep: their depth is looked at again from this step.
+  std::int64_t deep_rescan_step_ = -1;
+  std::vector<std::string> deep_warned_;                 // pairs already warned of
+  static constexpr double deep_mode_bound = 0.8;         // omega dt warned above
+  static constexpr std::int64_t deep_rescan_every = 64;  // steps
   void check_deep_contact_modes(double pair_ratio, double wall_ratio);
+  // The deepest overlap / radius of each material pair's touching contacts
+  // (pairs: by the smaller radius; walls: particle material by wall material).
+  void deepest_by_materials(std::vector<double>& pairs, std::vector<double>& walls) const;
+  void warn_deep_wall_contact();
   Diagnostic<D>& diagnostic(int id) const;
 
   struct AttachedDiagnostic {

@@ -125,6 +125,7 @@ void SimulationBase::set_overlap_warning(double fraction) {
         "overlap_warning must be in (0, 1] (a fraction of the smaller radius), got {}", fraction));
   overlap_warning_ = fraction;
   overlap_warned_ = false;
+  wall_overlap_warned_ = false;
 }
 
 void SimulationBase::set_periodic(int axis, double origin, double length) {

@@ -203,6 +203,7 @@ struct DeepContactMode {
   std::string pair;                             // "a-b (model, kind)"
   double smaller_radius = 0;                    // m, of its smallest particles
   bool wall = false;                            // a particle-wall pair
+  int material_a = -1, material_b = -1;         // the particle's, the other's (or the wall's)
   std::function<double(double)> omega_squared;  // at an overlap [m]: 1/s^2
 };
 
@@ -576,6 +577,7 @@ class SimulationBase {
   double skin_set_ = 0;
   double overlap_warning_ = 0.1;
   bool overlap_warned_ = false;
+  bool wall_overlap_warned_ = false;  // the once-only warning of a deep wall contact
   // Set by what places particles (Simulation::arm_overlap_grace): overlaps deeper than
   // a radius are then the scene's (coincident particles, an overlapping fill) until
   // every pair is back under overlap_warning (check_overlaps).

@@ -59,20 +59,35 @@ void Simulation<D>::check_escapes() {
 // of m* / 3.5, is its stiffest mode (about 1.7 times the normal one). A soft,
 // dense, frictional packing pressed a few per cent of a radius deep then has
 // modes the step no longer resolves, and vibrates on its own (no error: the
-// friction caps it). Warned once per pair when, at the step's deepest overlap
-// ratio (the pairs', or the walls' for a particle-wall law, read at the pair's
-// smallest particles), omega dt passes 0.8: a single
-// contact is stable to 2, but a particle held by Z of them has modes up to about
-// sqrt(Z) times as fast (2 / sqrt(6) = 0.8 for a packing's six).
+// friction caps it). Warned once per pair when, at the deepest overlap ratio of
+// its own contacts (read at the pair's smallest particles), omega dt passes 0.8:
+// a single contact is stable to 2, but a particle held by Z of them has modes up
+// to about sqrt(Z) times as fast (2 / sqrt(6) = 0.8 for a packing's six).
+// The step's deepest ratio (the pairs', or the walls' for a particle-wall law)
+// is a bound that costs nothing; only a law it puts past the bound has its own
+// contacts' depth looked at, and while that bound holds but theirs does not
+// (soft contacts pressed deep beside stiff ones), again every 64 steps.
 template <int D>
 void Simulation<D>::check_deep_contact_modes(double pair_ratio, double wall_ratio) {
   deep_checked_pair_ = std::max(deep_checked_pair_, 1.02 * pair_ratio);
   deep_checked_wall_ = std::max(deep_checked_wall_, 1.02 * wall_ratio);
+  deep_rescan_step_ = -1;
+  const int nm = static_cast<int>(materials_.size());
+  std::vector<double> by_pair, by_wall;  // filled by the first law the bound puts past it
   for (const DeepContactMode& m : deep_modes_) {
-    const double overlap_ratio = m.wall ? wall_ratio : pair_ratio;
-    const double omega_dt = std::sqrt(m.omega_squared(overlap_ratio * m.smaller_radius)) * dt_;
-    if (!(omega_dt > deep_mode_bound)) continue;
     if (std::find(deep_warned_.begin(), deep_warned_.end(), m.pair) != deep_warned_.end()) continue;
+    const double bound_ratio = m.wall ? wall_ratio : pair_ratio;
+    if (!(std::sqrt(m.omega_squared(bound_ratio * m.smaller_radius)) * dt_ > deep_mode_bound))
+      continue;
+    if (by_pair.empty()) deepest_by_materials(by_pair, by_wall);
+    const std::size_t at = static_cast<std::size_t>(m.material_a * nm + m.material_b);
+    const double overlap_ratio = m.wall ? by_wall[at] : by_pair[at];
+    const double omega_dt =
+        std::sqrt(m.omega_squared(std::max(0.0, overlap_ratio) * m.smaller_radius)) * dt_;
+    if (!(omega_dt > deep_mode_bound)) {
+      deep_rescan_step_ = step_ + deep_rescan_every;
+      continue;
+    }
     deep_warned_.push_back(m.pair);
     const double shorter = dt_ * 0.9 * deep_mode_bound / omega_dt;
     warn(fmt::format(
@@ -88,6 +103,74 @@ void Simulation<D>::check_deep_contact_modes(double pair_ratio, double wall_rati
                           std::ceil(steps_per_contact_ * omega_dt / (0.9 * deep_mode_bound)),
                           shorter)));
   }
+}
+
+template <int D>
+void Simulation<D>::deepest_by_materials(std::vector<double>& pairs,
+                                         std::vector<double>& walls) const {
+  const std::size_t nm = materials_.size();
+  pairs.assign(nm * nm, -INFINITY);
+  walls.assign(nm * nm, -INFINITY);
+  for_each_model([&](auto index) {
+    constexpr int I = decltype(index)::value;
+    const auto& b = std::get<I>(pair_buckets_);
+    for (std::size_t k = 0; k < b.size(); ++k) {
+      if (!slot_in_contact_[b.offset + k]) continue;
+      const std::uint32_t i = b.i[k], j = b.j[k];
+      const double dist = separation(p_.position[i], p_.position[j]).norm();
+      const double ratio =
+          (p_.radius[i] + p_.radius[j] - dist) / std::min(p_.radius[i], p_.radius[j]);
+      const std::size_t mi = static_cast<std::size_t>(p_.material[i]),
+                        mj = static_cast<std::size_t>(p_.material[j]);
+      pairs[mi * nm + mj] = std::max(pairs[mi * nm + mj], ratio);
+      pairs[mj * nm + mi] = std::max(pairs[mj * nm + mi], ratio);
+    }
+    const auto& wb = std::get<I>(wall_buckets_);
+    for (std::size_t k = 0; k < wb.size(); ++k) {
+      if (!slot_in_contact_[wb.offset + k]) continue;
+      const std::uint32_t i = wb.particle[k];
+      const Wall<D>& wall = walls_[wb.wall[k]];
+      const double overlap = is_surface_wall(wall.type)
+                                 ? wb.touch[k].overlap
+                                 : -wall.clearance(p_.position[i], p_.radius[i]);
+      const std::size_t at =
+          static_cast<std::size_t>(p_.material[i]) * nm + static_cast<std::size_t>(wall.material);
+      walls[at] = std::max(walls[at], overlap / p_.radius[i]);
+    }
+  });
+}
+
+// A particle pressed into a wall deeper than overlap_warning of its radius:
+// its law acts far outside the range its stiffness was chosen for (a piston
+// closing on it, a load its contact is too soft for). A half-space holds it
+// until its centre is a radius beyond (check_escapes), a thin wall until 0.9 of
+// a radius (check_thin_walls); warned once, naming the deepest contact.
+template <int D>
+void Simulation<D>::warn_deep_wall_contact() {
+  double worst = -INFINITY;
+  std::size_t wi = 0, ww = 0;
+  for_each_model([&](auto index) {
+    constexpr int I = decltype(index)::value;
+    const auto& wb = std::get<I>(wall_buckets_);
+    for (std::size_t k = 0; k < wb.size(); ++k) {
+      if (!slot_in_contact_[wb.offset + k]) continue;
+      const std::uint32_t i = wb.particle[k];
+      const Wall<D>& wall = walls_[wb.wall[k]];
+      const double overlap = is_surface_wall(wall.type)
+                                 ? wb.touch[k].overlap
+                                 : -wall.clearance(p_.position[i], p_.radius[i]);
+      if (overlap / p_.radius[i] > worst) worst = overlap / p_.radius[i], wi = i, ww = wb.wall[k];
+    }
+  });
+  if (!(worst > overlap_warning_)) return;
+  wall_overlap_warned_ = true;
+  warn(fmt::format(
+      "step {} (t = {:.6g} s): particle {} (radius {:.4g} m) is pressed {:.4g} m into wall "
+      "'{}', {:.0f} % of its radius (above overlap_warning = {}): its contact law acts far "
+      "outside the range its stiffness was set for; stiffen the contact (k_normal, young, "
+      "k_load) or lighten its load (warned once)",
+      step_, time_, p_.id[wi], p_.radius[wi], worst * p_.radius[wi], walls_[ww].name, 100 * worst,
+      overlap_warning_));
 }
 
 // Two particles overlapping by more than the smaller radius are passing through

@@ -89,7 +89,7 @@ TimeStepReport Simulation<D>::time_step_rule() {
       if constexpr (has_mode_squared<M>::value)
         r.deep_modes.push_back(
             {fmt::format("{}-{} ({}, {})", materials_[a].name, materials_[b].name, M::name, kind),
-             smaller, std::string(kind) == "particle-wall",
+             smaller, std::string(kind) == "particle-wall", a, b,
              [par, scale](double overlap) { return M::mode_squared(par, scale, overlap); }});
     });
   };
@@ -152,6 +152,7 @@ void Simulation<D>::choose_time_step() {
     dt_per_contact_ = rule.per_contact;
     deep_modes_ = std::move(rule.deep_modes);
     deep_checked_pair_ = deep_checked_wall_ = 0;
+    deep_rescan_step_ = -1;
     // A rolling pair's limit may be its epsd spring's mode (rolling.hpp), which the
     // step count does not move but mu_r does.
     const std::string rolling_hint =

@@ -255,6 +255,7 @@ StateBlob Simulation<D>::save_state() const {
   // fill relaxing, not a pass-through) and whether the one overlap warning was given;
   // and the pair that set the automatic time step, for the run's description.
   s.integers["guards"] = {scene_overlaps_ ? 1 : 0, overlap_warned_ ? 1 : 0};
+  s.integers["guards.wall_overlap_warned"] = {wall_overlap_warned_ ? 1 : 0};
   s.texts["time_step.governing_pair"] = dt_governing_pair_;
   // The lists above are in this order: a restart must keep it to sum the same way.
   s.integers["canonical_order"] = {canonical_order_ ? 1 : 0};
@@ -494,6 +495,8 @@ void Simulation<D>::load_state(const StateBlob& s) {
   list_indices_stale_ = false;  // save_state wrote live entries
   arm_overlap_grace(s.i("guards")[0] != 0);
   overlap_warned_ = s.i("guards")[1] != 0;
+  const auto wall_warned = s.integers.find("guards.wall_overlap_warned");  // checked by check_state
+  wall_overlap_warned_ = wall_warned != s.integers.end() && wall_warned->second[0] == 1;
   dt_governing_pair_ = s.t("time_step.governing_pair");
   const auto canonical = s.integers.find("canonical_order");  // checked by check_state
   canonical_order_ = canonical != s.integers.end() && canonical->second[0] == 1;
@@ -504,6 +507,7 @@ void Simulation<D>::load_state(const StateBlob& s) {
     TimeStepReport rule = time_step_rule();
     deep_modes_ = std::move(rule.deep_modes);  // the deep-contact check's, as prepare() sets them
     deep_checked_pair_ = deep_checked_wall_ = 0;
+    deep_rescan_step_ = -1;
     if (!(dt_ < rule.stability_limit))
       throw InputError(fmt::format(
           "checkpoint: 'meta' time_step {:.4g} s is above the stability limit {:.4g} s of {}: "

@@ -343,6 +343,15 @@ void check_state(const StateBlob& s, std::size_t material_count, std::size_t wal
     if (guards[k] != 0 && guards[k] != 1)
       refuse_entry("guards", fmt::format("value {} is {}, not 0 or 1", k, guards[k]));
   (void)s.t("time_step.governing_pair");
+  // Absent in checkpoints written before the warning existed: none was given.
+  if (s.integers.count("guards.wall_overlap_warned")) {
+    const auto& warned = s.i("guards.wall_overlap_warned");
+    if (warned.size() != 1 || (warned[0] != 0 && warned[0] != 1))
+      refuse_entry(
+          "guards.wall_overlap_warned",
+          fmt::format("must be one value, 0 or 1 (has {} values{})", warned.size(),
+                      warned.empty() ? std::string() : fmt::format(", the first {}", warned[0])));
+  }
   // Absent in checkpoints written before the setting existed: those ran without it.
   if (s.integers.count("canonical_order")) {
     const auto& canonical = s.i("canonical_order");

@@ -557,6 +557,93 @@ TEST_CASE("guards: a Hertzian contact pressed deeper than the step resolves is w
   }
 }
 
+TEST_CASE("guards: a deep contact is judged by its own law, not by a stiffer law's that is apart",
+          "[guards]") {
+  // Soft spheres (E = 1 MPa) pressed 30 % of a radius beside stiff ones (E = 200
+  // GPa) of the same law: the stiff pair sets the step, about 100 times shorter
+  // than the soft pair's own, so the soft contact's mode has omega dt ~ 0.01. At
+  // the same depth the stiff pair's mode would be past the bound (omega dt ~ 0.85
+  // at n = 40 scales as depth^(1/4) from 0.54 at 5 %): warned only once the stiff
+  // spheres are themselves pressed that deep.
+  for (const bool stiff_pressed : {false, true}) {
+    std::vector<std::string> warnings;
+    Simulation<3> sim;
+    sim.set_warning_handler([&](const std::string& w) { warnings.push_back(w); });
+    sim.add_material({"soft", 1000, 1e6, 0.3, 0});
+    sim.add_material({"stiff", 1000, 2e11, 0.3, 0});
+    const ParamValues law{{"restitution", 0.5}, {"friction", 0.5}};
+    for (const char* a : {"soft", "stiff"})
+      for (const char* b : {"soft", "stiff"}) sim.set_contact(a, b, "hertz_mindlin", law);
+    auto add = [&](int material, double x, double z, bool fixed) {
+      ParticleSpec s;
+      s.radius = 1e-3, s.material = material, s.fixed = fixed, s.position = {x, 0, z};
+      sim.add_particle(s);
+    };
+    add(0, 0, 0, true);
+    add(0, 0, 1.7e-3, false);  // 30 % of a radius deep
+    add(1, 0.1, 0, true);
+    add(1, 0.1, stiff_pressed ? 1.72e-3 : 3e-3, false);
+    sim.advance(3);
+    int deep = 0;
+    for (const auto& w : warnings) deep += w.find("stiffest mode") != std::string::npos;
+    INFO("stiff pair pressed: " << stiff_pressed
+                                << "; warnings: " << fmt::format("{}", fmt::join(warnings, " | ")));
+    if (!stiff_pressed) {
+      CHECK(deep == 0);
+    } else {
+      REQUIRE(deep == 1);
+      for (const auto& w : warnings)
+        if (w.find("stiffest mode") != std::string::npos)
+          CHECK_THAT(w, Catch::Contains("stiff-stiff (hertz_mindlin, particle-particle)"));
+    }
+  }
+}
+
+TEST_CASE(
+    "guards: a particle pressed deep into a half-space is warned of, and stopped a radius "
+    "past it at once",
+    "[guards]") {
+  // A 1 mm sphere between a floor and a lid, both half-spaces, the lid coming
+  // down at 0.01 m/s onto a soft linear contact: warned once when the contact is
+  // deeper than overlap_warning (10 % of the radius), and stopped within a step
+  // of its centre passing a radius beyond a wall (overlap 2 r), although the
+  // particle, squeezed still, never triggers a list rebuild.
+  const double r = 1e-3, speed = 0.01;
+  std::vector<std::string> warnings;
+  Simulation<3> sim;
+  sim.set_warning_handler([&](const std::string& w) { warnings.push_back(w); });
+  sim.add_material({"ball", 2500, 0, 0, 0});
+  sim.add_material({"wall", 0, 0, 0, 0});
+  const ParamValues law{{"k_normal", 10}, {"restitution", 0.3}, {"friction", 0.5}};
+  sim.set_contact("ball", "ball", "linear", law);
+  sim.set_contact("ball", "wall", "linear", law);
+  ParticleSpec ball;
+  ball.position = {0, r, 0}, ball.radius = r, ball.material = 0;
+  const std::int64_t id = sim.add_particle(ball);
+  WallSpec floor;
+  floor.name = "floor", floor.material = 1, floor.normal = {0, 1, 0};
+  sim.add_wall(floor);
+  WallSpec lid;
+  lid.name = "lid", lid.material = 1, lid.velocity = {0, -speed, 0};
+  lid.normal = {0, -1, 0}, lid.point = {0, 2 * r, 0};
+  sim.add_wall(lid);
+  sim.prepare();
+  std::string message;
+  try {
+    sim.advance(static_cast<std::int64_t>(0.5 / sim.time_step()));
+  } catch (const RunError& e) {
+    message = e.what();
+  }
+  INFO(message << "; warnings: " << fmt::format("{}", fmt::join(warnings, " | ")));
+  CHECK(count_containing(warnings, fmt::format("particle {} (radius 0.001 m) is pressed", id)) ==
+        1);
+  CHECK_THAT(message, Catch::Contains(fmt::format("particle {} (radius", id)) &&
+                          Catch::Contains("escaped through wall"));
+  // The two walls' overlaps, equal, sum to speed t: the centre is a radius past
+  // both (an overlap of 2 r) at t = 4 r / speed, give or take a step.
+  CHECK(sim.time() == Approx(4 * r / speed).epsilon(1e-3));
+}
+
 TEST_CASE("guards: in a periodic scene the central field pulls towards the line along the axis",
           "[guards]") {
   // Periodic along z over 10 mm, the field's point at the origin: a particle near

@@ -191,9 +191,10 @@ std::vector<Corruption> corruptions(const StateBlob& valid, double stability_lim
     s.doubles.erase(k);
     add(k + " (doubles) left out", k, s);
   }
-  // canonical_order may be absent (a checkpoint from before the setting: off).
+  // canonical_order and guards.wall_overlap_warned may be absent (a checkpoint
+  // from before the setting or the warning: off, not given).
   for (const auto& [k, v] : valid.integers) {
-    if (k == "canonical_order") continue;
+    if (k == "canonical_order" || k == "guards.wall_overlap_warned") continue;
     StateBlob s = valid;
     s.integers.erase(k);
     add(k + " (integers) left out", k, s);
