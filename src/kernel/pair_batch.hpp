@@ -43,10 +43,11 @@ struct PairBatch<3, M> {
   int count = 0;  // lanes holding a contact; the rest are padding
   std::uint32_t k[lanes], i[lanes], j[lanes];
   const typename M::Params* params[lanes];  // each lane's law
-  // Gathered: x_i - x_j, v_j - v_i, r_i w_i + r_j w_j, the radii.
+  // Gathered: x_i - x_j, v_j - v_i, the spins, the radii.
   alignas(64) double dx[lanes], dy[lanes], dz[lanes];
   alignas(64) double vx[lanes], vy[lanes], vz[lanes];
-  alignas(64) double wx[lanes], wy[lanes], wz[lanes];
+  alignas(64) double wix[lanes], wiy[lanes], wiz[lanes];
+  alignas(64) double wjx[lanes], wjy[lanes], wjz[lanes];
   alignas(64) double r_i[lanes], r_j[lanes];
   // Results: the force on i (j feels minus it) and the torques about each centre.
   alignas(64) double fx[lanes], fy[lanes], fz[lanes];
@@ -74,20 +75,21 @@ struct PairBatch<3, M> {
     const __m256d ri = _mm256_set1_pd(radius_i), rj = _mm256_set1_pd(radius_j);
     const __m256d d = _mm256_sub_pd(_mm256_loadu_pd(x_i.data()), _mm256_loadu_pd(x_j.data()));
     const __m256d v = _mm256_sub_pd(_mm256_loadu_pd(v_j.data()), _mm256_loadu_pd(v_i.data()));
-    const __m256d s = _mm256_fmadd_pd(rj, _mm256_loadu_pd(w_j.data()),
-                                      _mm256_mul_pd(ri, _mm256_loadu_pd(w_i.data())));
     _mm256_store_pd(row[l], _mm256_blend_pd(d, ri, 8));
     _mm256_store_pd(row[l] + 4, _mm256_blend_pd(v, rj, 8));
-    _mm256_store_pd(row[l] + 8, _mm256_blend_pd(s, _mm256_set1_pd(inv_mass_sum), 8));
+    _mm256_store_pd(row[l] + 8,
+                    _mm256_blend_pd(_mm256_loadu_pd(w_i.data()), _mm256_set1_pd(inv_mass_sum), 8));
+    _mm256_store_pd(row[l] + 12, _mm256_loadu_pd(w_j.data()));  // its fourth unread
     if constexpr (history_row)
-      _mm256_store_pd(row[l] + 12, _mm256_loadu_pd(reinterpret_cast<const double*>(&h)));
+      _mm256_store_pd(row[l] + 16, _mm256_loadu_pd(reinterpret_cast<const double*>(&h)));
     else
       history.load(l, h);
 #else
-    const Vec<3> d = x_i - x_j, v = v_j - v_i, s = radius_i * w_i + radius_j * w_j;
+    const Vec<3> d = x_i - x_j, v = v_j - v_i;
     dx[l] = d[0], dy[l] = d[1], dz[l] = d[2];
     vx[l] = v[0], vy[l] = v[1], vz[l] = v[2];
-    wx[l] = s[0], wy[l] = s[1], wz[l] = s[2];
+    wix[l] = w_i[0], wiy[l] = w_i[1], wiz[l] = w_i[2];
+    wjx[l] = w_j[0], wjy[l] = w_j[1], wjz[l] = w_j[2];
     r_i[l] = radius_i, r_j[l] = radius_j;
     c.inv_mass_sum[l] = inv_mass_sum;
     history.load(l, h);
@@ -108,9 +110,10 @@ struct PairBatch<3, M> {
     for (int l = 0; l < count; l += 4) {
       rows_to_lanes(l, 0, dx, dy, dz, r_i);
       rows_to_lanes(l, 1, vx, vy, vz, r_j);
-      rows_to_lanes(l, 2, wx, wy, wz, c.inv_mass_sum);
+      rows_to_lanes(l, 2, wix, wiy, wiz, c.inv_mass_sum);
+      rows_to_lanes(l, 3, wjx, wjy, wjz, unread);
       if constexpr (history_row)
-        rows_to_lanes(l, 3, history.column(0), history.column(1), history.column(2),
+        rows_to_lanes(l, 4, history.column(0), history.column(1), history.column(2),
                       history.column(3));
     }
 #endif
@@ -124,7 +127,7 @@ struct PairBatch<3, M> {
       lanes_to_rows(l, 1, tix, tiy, tiz, nullptr);
       lanes_to_rows(l, 2, tjx, tjy, tjz, nullptr);
       if constexpr (history_row)
-        lanes_to_rows(l, 3, history.column(0), history.column(1), history.column(2),
+        lanes_to_rows(l, 4, history.column(0), history.column(1), history.column(2),
                       history.column(3));
     }
 #endif
@@ -133,7 +136,7 @@ struct PairBatch<3, M> {
   void store_history(int l, History3& h) const {
 #if GRANULE_BATCH_RECORDS
     if constexpr (history_row) {
-      _mm256_storeu_pd(reinterpret_cast<double*>(&h), _mm256_load_pd(row[l] + 12));
+      _mm256_storeu_pd(reinterpret_cast<double*>(&h), _mm256_load_pd(row[l] + 16));
       return;
     }
 #endif
@@ -201,7 +204,8 @@ struct PairBatch<3, M> {
     for (int l = count; l < lanes; ++l) {
       dx[l] = 1, dy[l] = dz[l] = 0;
       vx[l] = vy[l] = vz[l] = 0;
-      wx[l] = wy[l] = wz[l] = 0;
+      wix[l] = wiy[l] = wiz[l] = 0;
+      wjx[l] = wjy[l] = wjz[l] = 0;
       r_i[l] = r_j[l] = 0.25;
       c.inv_mass_sum[l] = 1;
       params[l] = params[0];  // count > 0 when a batch is computed
@@ -211,7 +215,8 @@ struct PairBatch<3, M> {
 
   // The contact geometry of the pair loop's per-contact path, lane by lane:
   // the normal from j to i, the overlap, the normal velocity and Eq. 3.10's
-  // tangential slip velocity of j's surface relative to i's.
+  // tangential slip velocity of j's surface relative to i's at the contact
+  // point (levers r - a/2, as the torques in totals()).
   void geometry() {
     for (int l = 0; l < lanes; ++l) {
       const double dist_sq = dx[l] * dx[l] + dy[l] * dy[l] + dz[l] * dz[l];
@@ -223,14 +228,19 @@ struct PairBatch<3, M> {
       const double ny = apart ? dy[l] * inv_dist : 0.0;
       const double nz = apart ? dz[l] * inv_dist : 0.0;
       c.nx[l] = nx, c.ny[l] = ny, c.nz[l] = nz;
-      c.overlap[l] = (r_i[l] + r_j[l]) - dist;
+      const double overlap = (r_i[l] + r_j[l]) - dist;
+      c.overlap[l] = overlap;
       if constexpr (uses_effective_radius<M>::value)
         c.effective_radius[l] = r_i[l] * r_j[l] / (r_i[l] + r_j[l]);
       const double vn = vx[l] * nx + vy[l] * ny + vz[l] * nz;
       c.normal_velocity[l] = vn;
-      c.vtx[l] = (vx[l] - nx * vn) + (wy[l] * nz - wz[l] * ny);
-      c.vty[l] = (vy[l] - ny * vn) + (wz[l] * nx - wx[l] * nz);
-      c.vtz[l] = (vz[l] - nz * vn) + (wx[l] * ny - wy[l] * nx);
+      const double lever_i = r_i[l] - 0.5 * overlap, lever_j = r_j[l] - 0.5 * overlap;
+      const double wx = lever_i * wix[l] + lever_j * wjx[l];
+      const double wy = lever_i * wiy[l] + lever_j * wjy[l];
+      const double wz = lever_i * wiz[l] + lever_j * wjz[l];
+      c.vtx[l] = (vx[l] - nx * vn) + (wy * nz - wz * ny);
+      c.vty[l] = (vy[l] - ny * vn) + (wz * nx - wx * nz);
+      c.vtz[l] = (vz[l] - nz * vn) + (wx * ny - wy * nx);
     }
   }
 
@@ -256,9 +266,11 @@ struct PairBatch<3, M> {
  private:
 #if GRANULE_BATCH_RECORDS
   // Per lane as gathered: rows of four doubles, (x_i - x_j, r_i),
-  // (v_j - v_i, r_j), (r_i w_i + r_j w_j, 1/m_i + 1/m_j) and the history;
-  // after totals() the results in the same place (lanes_out).
-  alignas(64) double row[lanes][16];
+  // (v_j - v_i, r_j), (w_i, 1/m_i + 1/m_j), (w_j, -) and the history;
+  // after totals() the results in the first three rows and the history in its
+  // own (lanes_out).
+  alignas(64) double row[lanes][20];
+  alignas(64) double unread[lanes];  // the fourth column of the w_j rows
 
   // A 4x4 transpose in registers: q_k's element m becomes q_m's element k.
   static void transpose(__m256d& q0, __m256d& q1, __m256d& q2, __m256d& q3) {

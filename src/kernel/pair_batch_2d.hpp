@@ -26,10 +26,10 @@ struct PairBatch<2, M> {
   int count = 0;  // lanes holding a contact; the rest are padding
   std::uint32_t k[lanes], i[lanes], j[lanes];
   const typename M::Params* params[lanes];  // each lane's law
-  // Gathered: x_i - x_j, v_j - v_i, r_i w_i + r_j w_j, the radii.
+  // Gathered: x_i - x_j, v_j - v_i, the spins, the radii.
   alignas(64) double dx[lanes], dy[lanes];
   alignas(64) double vx[lanes], vy[lanes];
-  alignas(64) double w[lanes];
+  alignas(64) double wi[lanes], wj[lanes];
   alignas(64) double r_i[lanes], r_j[lanes];
   // Results: the force on i (j feels minus it) and the torques about each centre.
   alignas(64) double fx[lanes], fy[lanes];
@@ -42,7 +42,7 @@ struct PairBatch<2, M> {
                    double inv_mass_sum, const History2& h) {
     dx[l] = x_i[0] - x_j[0], dy[l] = x_i[1] - x_j[1];
     vx[l] = v_j[0] - v_i[0], vy[l] = v_j[1] - v_i[1];
-    w[l] = radius_i * w_i + radius_j * w_j;
+    wi[l] = w_i, wj[l] = w_j;
     r_i[l] = radius_i, r_j[l] = radius_j;
     c.inv_mass_sum[l] = inv_mass_sum;
     history.load(l, h);
@@ -78,7 +78,7 @@ struct PairBatch<2, M> {
     for (int l = count; l < lanes; ++l) {
       dx[l] = 1, dy[l] = 0;
       vx[l] = vy[l] = 0;
-      w[l] = 0;
+      wi[l] = wj[l] = 0;
       r_i[l] = r_j[l] = 0.25;
       c.inv_mass_sum[l] = 1;
       params[l] = params[0];  // count > 0 when a batch is computed
@@ -88,7 +88,8 @@ struct PairBatch<2, M> {
 
   // The per-contact path's geometry lane by lane: the normal from j to i,
   // the overlap, the normal velocity, and Eq. 3.10's tangential slip velocity
-  // of j's surface relative to i's as a vector, then along t = (-n_y, n_x).
+  // of j's surface relative to i's at the contact point (levers r - a/2) as a
+  // vector, then along t = (-n_y, n_x).
   void geometry() {
     for (int l = 0; l < lanes; ++l) {
       const double dist_sq = dx[l] * dx[l] + dy[l] * dy[l];
@@ -104,8 +105,10 @@ struct PairBatch<2, M> {
       const double vn = vx[l] * nx + vy[l] * ny;
       c.normal_velocity[l] = vn;
       // w x n for a spin about z: (-w n_y, w n_x).
-      const double tvx = (vx[l] - nx * vn) + -w[l] * ny;
-      const double tvy = (vy[l] - ny * vn) + w[l] * nx;
+      const double overlap = c.overlap[l];
+      const double w = (r_i[l] - 0.5 * overlap) * wi[l] + (r_j[l] - 0.5 * overlap) * wj[l];
+      const double tvx = (vx[l] - nx * vn) + -w * ny;
+      const double tvy = (vy[l] - ny * vn) + w * nx;
       c.tangential_velocity[l] = tvx * -ny + tvy * nx;
     }
   }

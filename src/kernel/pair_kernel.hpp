@@ -317,9 +317,13 @@ void PairKernel<D, M>::run(PairBucket<D, M>& b, const std::vector<typename M::Pa
         c.overlap = overlap;
         const V v_rel = v[j] - v[i];
         c.normal_velocity = v_rel.dot(c.normal);
-        // Eq. 3.10: tangential slip of j's surface relative to i's.
+        // Eq. 3.10: tangential slip of j's surface relative to i's, at the
+        // contact point where the torques below apply the force (levers r - a/2):
+        // the work the spring and dashpot take is then the work the particles
+        // give, and the pair keeps its angular momentum too.
+        const double lever_i = radius[i] - 0.5 * overlap, lever_j = radius[j] - 0.5 * overlap;
         c.tangential_velocity = v_rel - c.normal * c.normal_velocity +
-                                Dim<D>::spin_cross(radius[i] * w[i] + radius[j] * w[j], c.normal);
+                                Dim<D>::spin_cross(lever_i * w[i] + lever_j * w[j], c.normal);
         // Divisions only for the models that read them (see contact_state.hpp).
         c.inv_mass_sum = inv_mass[i] + inv_mass[j];
         if constexpr (uses_effective_mass<M>::value)
@@ -336,8 +340,8 @@ void PairKernel<D, M>::run(PairBucket<D, M>& b, const std::vector<typename M::Pa
         // on i and +(r_j - a/2) n on j (which feels -T). With these levers the pair
         // exerts no net torque, so angular momentum is conserved to round-off.
         const S n_cross_t = Dim<D>::torque(c.normal, f.tangential);
-        S torque_i = -(radius[i] - 0.5 * overlap) * n_cross_t;
-        S torque_j = -(radius[j] - 0.5 * overlap) * n_cross_t;
+        S torque_i = -lever_i * n_cross_t;
+        S torque_j = -lever_j * n_cross_t;
         if constexpr (has_rolling<M>::value) {  // rolling resistance (rolling.hpp): M on i, -M on j
           const double inertia =
               rolling_inertia(rolling_compliance(inv_mass[i], p.inv_inertia[i], radius[i]),

@@ -78,23 +78,24 @@ struct WallBatch {
 
   // The per-contact path's kinematics lane by lane: the normal velocity and
   // Eq. 3.10's tangential slip velocity of the surface relative to the
-  // particle's surface, v_rel - n (v_rel . n) + r (w x n); in 2D its
-  // component along t = (-n_y, n_x).
+  // particle's surface, v_rel - n (v_rel . n) + (r - a) (w x n) at the wall's
+  // surface; in 2D its component along t = (-n_y, n_x).
   void kinematics() {
     for (int l = 0; l < lanes; ++l) {
       const double nx = c.nx[l], ny = c.ny[l];
+      const double lever = r[l] - c.overlap[l];
       if constexpr (D == 3) {
         const double nz = c.nz[l];
         const double vn = vx[l] * nx + vy[l] * ny + vz[l] * nz;
         c.normal_velocity[l] = vn;
-        c.vtx[l] = (vx[l] - nx * vn) + r[l] * (wy[l] * nz - wz[l] * ny);
-        c.vty[l] = (vy[l] - ny * vn) + r[l] * (wz[l] * nx - wx[l] * nz);
-        c.vtz[l] = (vz[l] - nz * vn) + r[l] * (wx[l] * ny - wy[l] * nx);
+        c.vtx[l] = (vx[l] - nx * vn) + lever * (wy[l] * nz - wz[l] * ny);
+        c.vty[l] = (vy[l] - ny * vn) + lever * (wz[l] * nx - wx[l] * nz);
+        c.vtz[l] = (vz[l] - nz * vn) + lever * (wx[l] * ny - wy[l] * nx);
       } else {
         const double vn = vx[l] * nx + vy[l] * ny;
         c.normal_velocity[l] = vn;
-        const double tvx = (vx[l] - nx * vn) + r[l] * (-wz[l] * ny);
-        const double tvy = (vy[l] - ny * vn) + r[l] * (wz[l] * nx);
+        const double tvx = (vx[l] - nx * vn) + lever * (-wz[l] * ny);
+        const double tvy = (vy[l] - ny * vn) + lever * (wz[l] * nx);
         c.tangential_velocity[l] = tvx * -ny + tvy * nx;
       }
     }

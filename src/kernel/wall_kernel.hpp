@@ -274,15 +274,18 @@ void WallKernel<D, M>::run(WallBucket<D, M>& b, const std::vector<typename M::Pa
       c.overlap = overlap;
       const V v_rel = found.surface_velocity - v[i];
       c.normal_velocity = v_rel.dot(n);
+      // At the wall's surface, where the torque below applies the force (lever
+      // r - a): the work the contact takes is the work the particle gives.
+      const double lever = radius[i] - overlap;
       c.tangential_velocity =
-          v_rel - n * c.normal_velocity + radius[i] * Dim<D>::spin_cross(w_spin[i], n);
+          v_rel - n * c.normal_velocity + lever * Dim<D>::spin_cross(w_spin[i], n);
       c.effective_mass = mass[i];
       c.inv_mass_sum = inv_mass[i];
       const double r = radius[i];
       c.effective_radius = found.r_star;
       const ContactForce<D> f = M::force(par, h, c);
       const V total = f.normal * n + f.tangential;
-      S torque_i = Dim<D>::torque(-(r - overlap) * n, f.tangential);  // at the wall surface
+      S torque_i = Dim<D>::torque(-lever * n, f.tangential);  // at the wall surface
       double axial = w.axial_moment(found.lever, total);
       if constexpr (has_rolling<M>::value) {
         // Rolling resistance (rolling.hpp) against the wall's own spin: M on
