@@ -23,8 +23,7 @@ local p = parameters {
   duration = { default = 0.5, above = 0, unit = "s", doc = "time sheared" },
 }
 local sim = simulation { dimension = 3, periodic = { axis = "x", origin = 0, length = p.length } }
-local glass_density = 2500  -- kg/m^3: also the inertial number's rho
-sim:material { name = "glass", density = glass_density, young = 5e7, poisson = 0.25 }
+sim:material { name = "glass", density = 2500, young = 5e7, poisson = 0.25 }
 sim:material { name = "rough", density = 7800, young = 5e7, poisson = 0.3 }
 sim:material { name = "smooth", density = 7800, young = 5e7, poisson = 0.3 }
 sim:contact { "glass", "glass", model = "hertz_mindlin", restitution = 0.5, friction = p.friction }
@@ -59,8 +58,17 @@ local area = p.length * p.width
 local lid_speed_x = 0
 local servo_gain = 0.02 / (p.pressure * area)  -- m/s per N of stress error
 local servo_samples, sample_every, force_sum, force_steps = 5, 4, 0, 0
+-- The lid's force over the measuring window, summed at every servo sample: the
+-- stress and mu_eff are time means over thousands of samples, not over the few
+-- of the flow's snapshots, which the force's fluctuations from contact to
+-- contact would leave scattered by tens of per cent.
+local window = { from = math.huge, fx = 0, fy = 0, n = 0 }
 local function servo(s)
-  force_sum, force_steps = force_sum + s:wall("lid").force[2], force_steps + 1
+  local lid_force = s:wall("lid").force
+  if s:time() >= window.from then
+    window.fx, window.fy, window.n = window.fx + lid_force[1], window.fy + lid_force[2], window.n + 1
+  end
+  force_sum, force_steps = force_sum + lid_force[2], force_steps + 1
   if force_steps < servo_samples then return end
   local stress = force_sum / force_steps / area  -- the beads push the lid up: force +y
   force_sum, force_steps = 0, 0
@@ -71,9 +79,9 @@ end
 sim:every { steps = sample_every, servo }
 -- The lid starts at the loose fill's height and closes at 0.02 m/s while it
 -- touches nothing: the stage allows that travel and half a second more.
--- Calm: the beads' rms speed below 0.5 % of sqrt(P / rho), the speed scale of
--- the inertial number, at any pressure and bead size.
-local calm = granule.calm(sim, 0.005 * math.sqrt(p.pressure / glass_density))
+-- Calm before the shear: the beads' rms speed below 3 % of the walls' relative
+-- speed to come, at any bead size.
+local calm = granule.calm(sim, 0.03 * p.speed)
 granule.stage(sim, { name = "compress", duration = fill_height / 0.02 + 0.5, check_every = 2000, stop_when = function(s)
   local stress = s:wall("lid").force[2] / area
   return math.abs(stress / p.pressure - 1) < 0.05 and calm(s)
@@ -83,7 +91,7 @@ end })
 sim:set_wall("floor", { velocity = { -p.speed / 2, 0, 0 } })
 lid_speed_x = p.speed / 2
 local function gap_now(s) return s:wall("lid").point[2] end
-local sums = { fx = 0, fy = 0, gap = 0, n = 0 }
+local sums = { gap = 0, n = 0 }
 -- The middle shear rate: the least-squares slope of v_x against y over the
 -- beads in the middle third of the gap. A few layers hold few beads there,
 -- so one sample's slope is noise (of either sign); the reported rate is one
@@ -108,14 +116,14 @@ local function slope(f)
 end
 sim:series("shear", { "time", "lid_force_x", "lid_force_y", "gap", "middle_shear_rate" })
 local started = sim:time()
+window.from = started + 0.4 * p.duration  -- past the start-up of the flow
 sim:every { time = 0.01, function(s)
   local f = s:wall("lid").force
   local beads = middle_beads(s, { n = 0, sy = 0, sv = 0, syy = 0, syv = 0 })
   local rate = slope(beads)
   if not rate then return end
   s:append("shear", { s:time(), f[1], f[2], gap_now(s), rate })
-  if s:time() > started + 0.4 * p.duration then  -- past the start-up of the flow
-    sums.fx, sums.fy = sums.fx + f[1], sums.fy + f[2]
+  if s:time() > window.from then
     sums.gap, sums.n = sums.gap + gap_now(s), sums.n + 1
     for k, v in pairs(beads) do fit[k] = fit[k] + v end
   end
@@ -128,10 +136,10 @@ assert(sums.n >= 3, string.format("too few samples of the sheared flow (%d; one 
 -- The values are reported as measured; what sheared beads should give
 -- (mu_eff 0.05-1, a middle sheared in the walls' sense) is for tests to judge.
 local gap = sums.gap / sums.n
-local mu_eff = math.abs(sums.fx / sums.fy)
+local mu_eff = math.abs(window.fx / window.fy)
 local rate = slope(fit)
-local pressure = math.abs(sums.fy / sums.n) / (p.length * p.width)
-local inertial = rate * 2 * p.radius / math.sqrt(pressure / glass_density)
+local pressure = math.abs(window.fy / window.n) / area
+local inertial = rate * 2 * p.radius / math.sqrt(pressure / 2500)
 sim:result { mu_eff = mu_eff, middle_shear_rate = rate, nominal_shear_rate = p.speed / gap,
              pressure = pressure, inertial_number = inertial }
 print(string.format("shear_cell: gap %.3g m, mu_eff %.3f, shear rate in the middle %.3g 1/s " ..

@@ -52,7 +52,7 @@ const char* usage =
     "              [--restart CHECKPOINT.h5] [--checkpoint FILE.h5] [--checkpoint-every SECONDS]\n"
     "              [--progress SECONDS]\n"
     "  granule run SCENE.lua --help   the scene's parameters: defaults, units, docs\n"
-    "  granule repl [SCENE.lua] [-D name=value ...] [-o OUT.h5]\n"
+    "  granule repl [SCENE.lua] [-D name=value ...] [-o OUT.h5] [--quiet] [--threads N]\n"
     "  granule sweep SCENE.lua -D name=v1,v2,... [-D ...] [-o DIR] [--threads N] [-q]\n"
     "              [--case-timeout SECONDS] [--checkpoint-every SECONDS] [--list]\n"
     "  granule models\n"
@@ -563,7 +563,7 @@ int run_command(const std::vector<std::string>& args) {
       char* end = nullptr;
       long n = std::strtol(v.c_str(), &end, 10);
       if (v.empty() || *end != 0 || n < 1 || n > 4096)
-        return fail_usage("--threads expects a whole number >= 1, got '" + v + "'");
+        return fail_usage("--threads expects a whole number from 1 to 4096, got '" + v + "'");
       o.ctx.threads = static_cast<int>(n);
     } else if (!a.empty() && a[0] == '-') {
       return fail_usage("unknown option '" + a + "'");

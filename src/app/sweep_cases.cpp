@@ -98,7 +98,7 @@ Settings parse(const std::vector<std::string>& args) {
       char* end = nullptr;
       long n = std::strtol(v.c_str(), &end, 10);
       if (v.empty() || *end != 0 || n < 1 || n > 4096)
-        throw UsageError("--threads expects a whole number >= 1, got '" + v + "'");
+        throw UsageError("--threads expects a whole number from 1 to 4096, got '" + v + "'");
       s.threads = static_cast<int>(n);
     } else if (a == "-q" || a == "--quiet") {
       s.quiet = true;

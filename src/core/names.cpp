@@ -28,14 +28,19 @@ std::string lower(std::string s) {
 }  // namespace
 
 // Case is ignored: "Young" for "young" or "al2o3" for "Al2O3" is the name meant, at
-// distance 0, whatever else is one edit away.
+// distance 0, whatever else is one edit away. Of names equally near, the first in
+// byte order, so that the hint does not follow the order the candidates were
+// collected in (a Lua table's, which changes from run to run); a name that
+// shares no letter in place with the one typed (distance the longer one's
+// length) is no hint.
 std::string nearest_name(const std::string& name, const std::vector<std::string>& candidates) {
   std::string best;
   std::size_t best_distance = std::max<std::size_t>(3, name.size() / 3) + 1;
   const std::string key = lower(name);
   for (const auto& c : candidates) {
     std::size_t d = edit_distance(key, lower(c));
-    if (d < best_distance) {
+    if (d >= std::max(name.size(), c.size())) continue;
+    if (d < best_distance || (d == best_distance && c < best)) {
       best_distance = d;
       best = c;
     }

@@ -299,10 +299,11 @@ void write_whole(const std::string& named, const std::string& text) {
 void XdmfIndex::add(XdmfSnapshot snapshot) {
   // A second snapshot of one step (the final state, after a callback changed the
   // step's particles once its snapshot was written) supersedes the first in the
-  // index: viewers show one grid per time.
-  if (!snapshots_.empty() && snapshots_.back().step == snapshot.step)
-    snapshots_.back() = std::move(snapshot);
-  else
+  // index: viewers show one grid per time. One without particles has no grid
+  // (text()), so it leaves the step's first in place rather than drop both.
+  if (!snapshots_.empty() && snapshots_.back().step == snapshot.step) {
+    if (snapshot.count > 0) snapshots_.back() = std::move(snapshot);
+  } else
     snapshots_.push_back(std::move(snapshot));
   write_whole(path_, text());
   const std::string walls = walls_text();

@@ -197,5 +197,13 @@ TEST_CASE("xdmf: a second snapshot of one step supersedes the first in the index
   CHECK(index.snapshots().size() == 2);
   CHECK_THAT(x, Catch::Contains(">run.h5:/snapshots/000002/position<"));
   CHECK_THAT(x, !Catch::Contains("000001"));
+  // A later one of no particles (a callback removed them all) has no grid: the
+  // step's grid with particles stays, rather than the step losing both.
+  s.count = 0, s.group = "/snapshots/000003";
+  index.add(s);
+  const std::string y = index.text();
+  CHECK(index.snapshots().size() == 2);
+  CHECK_THAT(y, Catch::Contains(">run.h5:/snapshots/000002/position<"));
+  CHECK_THAT(y, Catch::Contains("<Time Value=\"0.01\"/>"));
   std::filesystem::remove_all(dir);
 }
