@@ -156,9 +156,10 @@ void Simulation<D>::step() {
   // particles at the walls that hard by design, check_overlaps.)
   if (wall_tally.max_ratio > overlap_warning_ && !wall_overlap_warned_ && !scene_overlaps_)
     warn_deep_wall_contact();
-  // A centre a radius past a half-space has escaped: stopped at once, not at
-  // the next list rebuild (which a particle held still never triggers).
-  if (wall_tally.max_ratio > 2) check_escapes();
+  // A centre a radius past a half-space (or half a thin post's radius inside
+  // it) has escaped: stopped at once, not at the next list rebuild (which a
+  // particle held still never triggers).
+  if (wall_tally.max_ratio > 1) check_escapes();
   stage_times_.walls += seconds_since(walls_start);
   // The reactions on the walls (the inner-piece force of 4.4.1), summed in
   // slot order.
@@ -175,10 +176,13 @@ void Simulation<D>::step() {
   if (observed) list_logged_slots();  // simulation_log.cpp
   // One comparison a step; the contacts are looked at only when it fails.
   last_pair_overlap_ratio_ = pair_overlap_ratio;
+  if (pair_overlap_ratio > overlap_warning_ && scene_overlaps_ && !grace_for_all_ &&
+      !external_overlap_grace_ && placed_pairs_deepest() <= overlap_warning_)
+    end_overlap_grace();  // the placed particles are clear: the deep pairs are the run's
   if (pair_overlap_ratio > overlap_warning_)
     check_overlaps(pair_overlap_ratio);
   else if (!external_overlap_grace_)
-    scene_overlaps_ = false;
+    end_overlap_grace();
   // (While the scene's own overlaps relax, as after an overlapping fill, its
   // particles are thrown at the walls that hard by design: check_overlaps.)
   const bool pressed_due = wall_tally.max_ratio > wall_through_ratio;

@@ -174,7 +174,7 @@ class Simulation final : public SimulationBase {
   double last_pair_overlap_ratio() const { return last_pair_overlap_ratio_; }
   void set_external_overlap_grace(bool on) { external_overlap_grace_ = on; }
   void end_overlap_grace_with(double deepest_pair_ratio_anywhere) {
-    if (!(deepest_pair_ratio_anywhere > overlap_warning_)) scene_overlaps_ = false;
+    if (!(deepest_pair_ratio_anywhere > overlap_warning_)) end_overlap_grace();
   }
   void widen_prune_travel(double fastest_speed_sq_anywhere) {
     if (fastest_speed_sq_anywhere > last_fastest_speed_sq_)
@@ -512,11 +512,33 @@ class Simulation final : public SimulationBase {
   double last_pair_overlap_ratio_ = INFINITY;
   bool external_overlap_grace_ = false;  // set_external_overlap_grace
   // The scene made overlaps (placed particles): pushed apart, not stopped, until a
-  // step has all pairs under overlap_warning (check_overlaps).
+  // step has all pairs under overlap_warning (check_overlaps). Armed for all the
+  // particles (the scene's start, a restart), or for those just placed: then it
+  // ends too on a step whose pairs with a placed particle are all under it, so
+  // that a particle added beside a bed pressed deep by its load does not lift
+  // the guards from the bed (placed_pairs_deepest).
   void arm_overlap_grace(bool on = true) {
     scene_overlaps_ = on;
     last_pair_overlap_ratio_ = INFINITY;
+    grace_for_all_ = on;
+    placed_ids_.clear();
   }
+  template <typename Ids>
+  void arm_overlap_grace_for(const Ids& ids) {
+    if (!scene_overlaps_) grace_for_all_ = false;
+    scene_overlaps_ = true;
+    last_pair_overlap_ratio_ = INFINITY;
+    if (!grace_for_all_) placed_ids_.insert(placed_ids_.end(), std::begin(ids), std::end(ids));
+  }
+  void end_overlap_grace() {
+    scene_overlaps_ = false;
+    grace_for_all_ = false;
+    placed_ids_.clear();
+  }
+  bool grace_for_all_ = false;
+  std::vector<std::int64_t> placed_ids_;  // the particles the grace is for, unless for all
+  bool scene_launched_ = false;           // an overlap the scene made was seen deep
+  double placed_pairs_deepest() const;    // overlap / smaller radius, pairs with a placed particle
   std::size_t non_finite_index_ = SIZE_MAX;
   std::string dt_governing_pair_;  // the pair whose rule sets the automatic time step
   bool dt_per_contact_ = true;     // its rule is t_c / n (else 8 T_R / n)

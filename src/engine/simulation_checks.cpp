@@ -17,17 +17,25 @@ namespace granule {
 // it back with a force far outside its range, creating energy: stop instead.
 // (A centre just past the wall is a hard impact, not an escape: the overlapping
 // fills of SPEC 2 throw particles at the chamber that hard in their first steps.)
+// A post thinner than the particle (an outside cylinder of radius R < 2 r)
+// holds no centre a radius past its surface: past the axis its normal turns
+// and it pushes the particle on through. Its centre half the post's radius
+// inside is the stop there, as a pair stops a particle passing through one of
+// radius R.
 // Called at every list rebuild, which a fast particle triggers within half a
-// skin of travel; the cost is one clearance per particle and wall per rebuild,
-// as much as listing the wall contacts.
+// skin of travel, and on any step with a wall contact deeper than a radius
+// (step()); the cost is one clearance per particle and wall, as much as
+// listing the wall contacts.
 template <int D>
 void Simulation<D>::check_escapes() {
   for (std::size_t w = 0; w < walls_.size(); ++w) {
     const Wall<D>& wall = walls_[w];
+    const bool post = wall.type == WallType::cylinder && !wall.inside && !wall.finite();
     for (std::size_t i = 0; i < p_.size(); ++i) {
       if (p_.fixed[i]) continue;
       const double c = wall.clearance(p_.position[i], p_.radius[i]);
-      if (!(c + 2 * p_.radius[i] < 0)) continue;
+      const double beyond = post ? std::min(p_.radius[i], 0.5 * wall.radius) : p_.radius[i];
+      if (!(c + p_.radius[i] + beyond < 0)) continue;
       const Triple x = to_triple(p_.position[i]), v = to_triple(p_.velocity[i]);
       // A particle that moves a small part of its radius a step was not carried
       // through by one step: the contact was too soft for its load (a static
@@ -45,7 +53,7 @@ void Simulation<D>::check_escapes() {
                     "reduce time_step or raise the skin");
       fail(fmt::format(
           "step {} (t = {:.6g} s): particle {} (radius {:.4g} m) escaped through wall '{}' (its "
-          "centre is {:.4g} m beyond it; position ({:.6g}), velocity ({:.6g}) m/s): {}",
+          "centre is {:.4g} m beyond its surface; position ({:.6g}), velocity ({:.6g}) m/s): {}",
           step_, time_, p_.id[i], p_.radius[i], wall.name, -(c + p_.radius[i]),
           fmt::join(x.begin(), x.begin() + D, ", "), fmt::join(v.begin(), v.begin() + D, ", "),
           cause));
@@ -168,9 +176,12 @@ void Simulation<D>::warn_deep_wall_contact() {
       "step {} (t = {:.6g} s): particle {} (radius {:.4g} m) is pressed {:.4g} m into wall "
       "'{}', {:.0f} % of its radius (above overlap_warning = {}): its contact law acts far "
       "outside the range its stiffness was set for; stiffen the contact (k_normal, young, "
-      "k_load) or lighten its load (warned once)",
+      "k_load) or lighten its load{} (warned once)",
       step_, time_, p_.id[wi], p_.radius[wi], worst * p_.radius[wi], walls_[ww].name, 100 * worst,
-      overlap_warning_));
+      overlap_warning_,
+      scene_launched_ ? "; or, if the scene's overlapping start launched it (particles placed "
+                        "into one another, sim:fill with overlap = true), start without overlaps"
+                      : ""));
 }
 
 // Two particles overlapping by more than the smaller radius are passing through
@@ -203,8 +214,31 @@ void Simulation<D>::warn_deep_wall_contact() {
 // 30-150 m/s for hundreds of steps, some pairs over a radius deep: that is the
 // start the scene asked for, and the warning names its launch speed.)
 template <int D>
+double Simulation<D>::placed_pairs_deepest() const {
+  std::vector<std::uint8_t> placed(p_.size(), 0);
+  for (const std::int64_t id : placed_ids_) {
+    const int i = p_.index(id);
+    if (i >= 0) placed[static_cast<std::size_t>(i)] = 1;
+  }
+  double deepest = -INFINITY;
+  for_each_model([&](auto index) {
+    constexpr int I = decltype(index)::value;
+    const auto& b = std::get<I>(pair_buckets_);
+    for (std::size_t k = 0; k < b.size(); ++k) {
+      const std::uint32_t i = b.i[k], j = b.j[k];
+      if (!slot_in_contact_[b.offset + k] || !(placed[i] || placed[j])) continue;
+      const double dist = separation(p_.position[i], p_.position[j]).norm();
+      deepest = std::max(
+          deepest, (p_.radius[i] + p_.radius[j] - dist) / std::min(p_.radius[i], p_.radius[j]));
+    }
+  });
+  return deepest;
+}
+
+template <int D>
 void Simulation<D>::check_overlaps(double pair_ratio) {
   const bool from_scene = scene_overlaps_, through = pair_ratio > 1 && !from_scene;
+  if (from_scene) scene_launched_ = true;
   if (!through && overlap_warned_) return;
   // The deepest pair, and the speed its springs' energy would give it: E ~ F a / 2
   // (exact for a linear spring), shared as (1/2) m* v^2.

@@ -375,7 +375,7 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
     }
   lists_valid_ = false;
   unprepare();
-  arm_overlap_grace();  // as add_particle: an overlapping fill's overlaps are the scene's
+  arm_overlap_grace_for(ids);  // as add_particle: an overlapping fill's overlaps are the scene's
   return ids;
 }
 

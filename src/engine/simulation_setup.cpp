@@ -167,7 +167,8 @@ std::int64_t Simulation<D>::add_particle(const ParticleSpec& s) {
   position_at_rebuild_.push_back(p_.position.back());
   lists_valid_ = false;
   unprepare();
-  arm_overlap_grace();  // as set_position: a deep overlap made here is the scene's
+  arm_overlap_grace_for(
+      std::array<std::int64_t, 1>{id});  // a deep overlap made here is the scene's
   return id;
 }
 
@@ -359,7 +360,7 @@ void Simulation<D>::set_position(std::int64_t id, const Triple& x) {
   }
   p_.position[i] = at;
   lists_valid_ = false;
-  arm_overlap_grace();  // a deep overlap made here is the scene's, not a pass-through
+  arm_overlap_grace_for(std::array<std::int64_t, 1>{id});  // the scene's, not a pass-through
 }
 template <int D>
 void Simulation<D>::set_velocity(std::int64_t id, const Triple& v) {

@@ -163,9 +163,11 @@ TEST_CASE("guards: overlaps the scene made are pushed apart, not stopped", "[gua
 TEST_CASE("guards: a setting changed mid-run does not make the steps' overlaps the scene's",
           "[guards]") {
   // A sphere pressed 0.3 r into a fixed one by gravity stays above overlap_warning. A
-  // setting changed then (the skin: a whole prepare) must not excuse what the steps do
-  // after it: two spheres that then pass through each other still stop the run.
-  for (bool change_skin : {false, true}) {
+  // setting changed then (the skin: a whole prepare), or a particle added far from
+  // every other, must not excuse what the steps do after it: two spheres that then
+  // pass through each other still stop the run.
+  for (const int change : {0, 1, 2}) {
+    const bool change_skin = change == 1, add_one = change == 2;
     Simulation<3> sim;
     std::vector<std::string> warnings;
     linear_pair_scene(sim, warnings);
@@ -191,6 +193,11 @@ TEST_CASE("guards: a setting changed mid-run does not make the steps' overlaps t
     sim.advance(3000);  // the resting sphere settles 0.3 r deep
     REQUIRE(count_containing(warnings, "overlap by") == 1);
     if (change_skin) sim.set_skin(0.6 * r);
+    if (add_one) {
+      ParticleSpec far = base;
+      far.fixed = false, far.position = {0.05, 0.05, 0};
+      sim.add_particle(far);
+    }
     const double v = 10 * r * omega;
     sim.set_velocity(a, {v / 2, 0, 0});
     sim.set_velocity(b, {-v / 2, 0, 0});
@@ -200,7 +207,7 @@ TEST_CASE("guards: a setting changed mid-run does not make the steps' overlaps t
     } catch (const RunError& e) {
       message = e.what();
     }
-    INFO("skin changed: " << change_skin << ": " << message);
+    INFO("skin changed: " << change_skin << ", a particle added: " << add_one << ": " << message);
     CHECK_THAT(message,
                Catch::Contains(fmt::format("particles {} and {} pass through each other", a, b)));
   }
@@ -560,11 +567,12 @@ TEST_CASE("guards: a Hertzian contact pressed deeper than the step resolves is w
 TEST_CASE("guards: a deep contact is judged by its own law, not by a stiffer law's that is apart",
           "[guards]") {
   // Soft spheres (E = 1 MPa) pressed 30 % of a radius beside stiff ones (E = 200
-  // GPa) of the same law: the stiff pair sets the step, about 100 times shorter
-  // than the soft pair's own, so the soft contact's mode has omega dt ~ 0.01. At
-  // the same depth the stiff pair's mode would be past the bound (omega dt ~ 0.85
-  // at n = 40 scales as depth^(1/4) from 0.54 at 5 %): warned only once the stiff
-  // spheres are themselves pressed that deep.
+  // GPa) of the same law: the stiff pair sets the step, sqrt(2e5) = 450 times
+  // shorter than the soft pair's own (the Rayleigh time goes as 1 / sqrt(E)), so
+  // the soft contact's mode has omega dt ~ 0.002. At the same depth the stiff
+  // pair's mode is past the bound (omega dt ~ 0.85 at n = 40, as depth^(1/4)
+  // from 0.54 at 5 %): warned only once the stiff spheres are themselves
+  // pressed that deep.
   for (const bool stiff_pressed : {false, true}) {
     std::vector<std::string> warnings;
     Simulation<3> sim;
@@ -582,7 +590,7 @@ TEST_CASE("guards: a deep contact is judged by its own law, not by a stiffer law
     add(0, 0, 0, true);
     add(0, 0, 1.7e-3, false);  // 30 % of a radius deep
     add(1, 0.1, 0, true);
-    add(1, 0.1, stiff_pressed ? 1.72e-3 : 3e-3, false);
+    add(1, 0.1, stiff_pressed ? 1.7e-3 : 3e-3, false);  // 30 % deep, or apart
     sim.advance(3);
     int deep = 0;
     for (const auto& w : warnings) deep += w.find("stiffest mode") != std::string::npos;
@@ -642,6 +650,48 @@ TEST_CASE(
   // The two walls' overlaps, equal, sum to speed t: the centre is a radius past
   // both (an overlap of 2 r) at t = 4 r / speed, give or take a step.
   CHECK(sim.time() == Approx(4 * r / speed).epsilon(1e-3));
+}
+
+TEST_CASE("guards: a sphere driven through a post thinner than itself stops the run", "[guards]") {
+  // A 1 mm sphere thrown at 1 m/s at an outside cylinder of radius 0.3 mm with a
+  // contact far too soft for it (k = 1 N/m): its centre can never be a radius
+  // past the post's surface, and past the axis the post would push it on
+  // through. The run stops once the centre is within half the post's radius of
+  // the axis; a post of 5 mm stops it a radius past its surface, as a plane.
+  const double r = 1e-3;
+  for (const double post_radius : {0.3e-3, 5e-3}) {
+    Simulation<3> sim;
+    sim.set_warning_handler([](const std::string&) {});
+    sim.add_material({"ball", 2500, 0, 0, 0});
+    sim.add_material({"wall", 0, 0, 0, 0});
+    const ParamValues law{{"k_normal", 1}, {"restitution", 0.9}, {"friction", 0.0}};
+    sim.set_contact("ball", "wall", "linear", law);
+    WallSpec post;
+    post.name = "post", post.type = WallType::cylinder, post.material = 1, post.inside = false;
+    post.radius = post_radius, post.axis = {0, 0, 1};
+    sim.add_wall(post);
+    ParticleSpec ball;
+    ball.position = {-(post_radius + 2 * r), 0, 0}, ball.velocity = {1, 0, 0};
+    ball.radius = r, ball.material = 0;
+    const std::int64_t id = sim.add_particle(ball);
+    sim.prepare();
+    std::string message;
+    try {
+      sim.advance(static_cast<std::int64_t>(0.02 / sim.time_step()));
+    } catch (const RunError& e) {
+      message = e.what();
+    }
+    INFO("post radius " << post_radius << ": " << message);
+    CHECK_THAT(message, Catch::Contains("escaped through wall 'post'"));
+    // Stopped on the step the centre came that deep (a step is 0.25 mm here).
+    const double x = sim.position(id)[0], step = 1.0 * sim.time_step() * 1.01;
+    if (post_radius < r) {
+      CHECK(std::abs(x) < 0.5 * post_radius);
+    } else {
+      CHECK(x > -(post_radius - r));
+      CHECK(x < -(post_radius - r) + step);
+    }
+  }
 }
 
 TEST_CASE("guards: in a periodic scene the central field pulls towards the line along the axis",
