@@ -66,7 +66,8 @@ if not filled then
 end
 sim:gravity { 0, -9.81, 0 }
 local file = sim:output { snapshot_every = 0.05 }
--- Settled when the beads' rms speed is below 1.5 % of sqrt(g d), at any bead size.
+-- Settled when the beads' kinetic energy (spins too) is below that of all of them
+-- moving at 1.5 % of sqrt(g d), at any bead size (granule.calm).
 local calm = granule.calm(sim, 0.015 * math.sqrt(9.81 * 2 * p.radius))
 granule.stage(sim, { name = "settle", duration = p.settle, check_every = 1000,
                      stop_when = function(s) return s:time() > 0.1 and calm(s) end })

@@ -60,7 +60,8 @@ sim:fill { region = { cylinder = { center = { 0, 0, 0 }, radius = p.bin_radius -
 sim:gravity { 0, 0, -9.81 }
 sim:output { snapshot_every = 0.05 }
 
--- Settled when the spheres' rms speed is below 1.1 % of sqrt(g d), at any size.
+-- Settled when the spheres' kinetic energy (spins too) is below that of all of them
+-- moving at 1.1 % of sqrt(g d), at any size (granule.calm).
 local calm = granule.calm(sim, 0.011 * math.sqrt(9.81 * 2 * p.radius))
 granule.stage(sim, { name = "settle", duration = p.settle, check_every = 500,
                      stop_when = function(s) return s:time() > 0.1 and calm(s) end })

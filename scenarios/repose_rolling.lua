@@ -50,7 +50,8 @@ sim:fill { region = { box = { lo = { 0, 0 }, hi = { p.width, height } } }, count
 sim:gravity { 0, -9.81 }
 local file = sim:output { snapshot_every = 0.05 }
 
--- Calm: an rms speed below 10 % of sqrt(g d) for the mean diameter, at any size.
+-- Calm: a kinetic energy (spins too) below that of all the spheres moving at 10 %
+-- of sqrt(g d) for the mean diameter, at any size (granule.calm).
 local calm = granule.calm(sim, 0.1 * math.sqrt(9.81 * (p.radius_min + p.radius_max)))
 -- The fill lets the spheres go at rest: they are calm before they fall, so the
 -- column is not settled before one from the top of the fill could have
@@ -58,9 +59,11 @@ local calm = granule.calm(sim, 0.1 * math.sqrt(9.81 * (p.radius_min + p.radius_m
 local fall_time = math.sqrt(2 * height / 9.81)
 granule.stage(sim, { name = "fill", duration = math.max(0.5, 2 * fall_time), check_every = 500,
                      stop_when = function(s) return s:time() > fall_time and calm(s) end })
--- Pulled away faster than the column falls, to 1 m off (beyond any run-out).
+-- Pulled away faster than the column falls, to 50 column widths off (beyond
+-- any run-out: 1 m at the default width).
+local gate_away = 50 * p.width
 sim:set_wall("gate", { velocity = { 20, 0 } })
-granule.stage(sim, { name = "collapse", duration = 0.05 })
+granule.stage(sim, { name = "collapse", duration = gate_away / 20 })
 sim:set_wall("gate", { velocity = { 0, 0 } })
 granule.stage(sim, { name = "settle", duration = p.duration, check_every = 500, stop_when = calm })
 
@@ -70,7 +73,7 @@ local top, reach = {}, 0
 for _, id in ipairs(sim:particles()) do
   local b = sim:particle(id)
   local x, y = b.position[1], b.position[2] + b.radius
-  if y > 0 and x > 0 and x < 1 then
+  if y > 0 and x > 0 and x < gate_away then
     local k = math.floor(x / bin)
     if not top[k] or y > top[k] then top[k] = y end
     reach = math.max(reach, x + b.radius)

@@ -79,8 +79,8 @@ end
 sim:every { steps = sample_every, servo }
 -- The lid starts at the loose fill's height and closes at 0.02 m/s while it
 -- touches nothing: the stage allows that travel and half a second more.
--- Calm before the shear: the beads' rms speed below 3 % of the walls' relative
--- speed to come, at any bead size.
+-- Calm before the shear: the beads' kinetic energy (spins too) below that of all
+-- of them moving at 3 % of the walls' relative speed to come, at any bead size.
 local calm = granule.calm(sim, 0.03 * p.speed)
 granule.stage(sim, { name = "compress", duration = fill_height / 0.02 + 0.5, check_every = 2000, stop_when = function(s)
   local stress = s:wall("lid").force[2] / area
@@ -123,7 +123,7 @@ sim:every { time = 0.01, function(s)
   local rate = slope(beads)
   if not rate then return end
   s:append("shear", { s:time(), f[1], f[2], gap_now(s), rate })
-  if s:time() > window.from then
+  if s:time() >= window.from then
     sums.gap, sums.n = sums.gap + gap_now(s), sums.n + 1
     for k, v in pairs(beads) do fit[k] = fit[k] + v end
   end
@@ -143,6 +143,6 @@ local inertial = rate * 2 * p.radius / math.sqrt(pressure / 2500)
 sim:result { mu_eff = mu_eff, middle_shear_rate = rate, nominal_shear_rate = p.speed / gap,
              pressure = pressure, inertial_number = inertial }
 print(string.format("shear_cell: gap %.3g m, mu_eff %.3f, shear rate in the middle %.3g 1/s " ..
-  "(U / gap %.3g 1/s), pressure %.3g Pa, inertial number %.3g (%d samples)",
-  gap, mu_eff, rate, p.speed / gap, pressure, inertial, sums.n))
+  "(U / gap %.3g 1/s), pressure %.3g Pa, inertial number %.3g (%d samples of the flow, %d of the lid's force)",
+  gap, mu_eff, rate, p.speed / gap, pressure, inertial, sums.n, window.n))
 print("results written to " .. file)

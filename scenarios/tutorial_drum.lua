@@ -79,7 +79,8 @@ end }
 -- at rest are calm before they fall: not before a bead from the top of the drum
 -- could have fallen its diameter, in sqrt(2 * 2R / g).
 local fall_time = math.sqrt(4 * p.drum_radius / 9.81)
--- Nearly at rest: an rms speed below 10 % of sqrt(g d), whatever the beads' size.
+-- Nearly at rest: a kinetic energy (spins too) below that of all the beads moving
+-- at 10 % of sqrt(g d), whatever their size (granule.calm).
 local calm = granule.calm(sim, 0.1 * math.sqrt(9.81 * 2 * p.radius))
 granule.stage(sim, { name = "settle", duration = p.settle, check_every = 500,
                      stop_when = function(s) return s:time() > fall_time and calm(s) end })

@@ -150,7 +150,8 @@ end)
 
 --- A stop_when criterion for a settling stage that holds at any particle size:
 --- calm when the kinetic energy (translational and rotational) is below that
---- of the free particles' whole mass moving at rest_speed, E < M v^2 / 2.
+--- of the free particles' whole mass moving at rest_speed, E < M v^2 / 2
+--- (or when no particle is free).
 --- Scenes give rest_speed as a fraction of their own speed scale (sqrt(g d)
 --- under gravity), not an energy in joules, which would be met at once by
 --- micron beads and never by centimetre ones.
@@ -161,19 +162,16 @@ granule.calm = export("granule.calm", function(sim, rest_speed)
   if not (rest_speed > 0) then
     error(string.format("granule.calm: rest_speed must be > 0 m/s, got %s", tostring(rest_speed)), 2)
   end
-  -- The free mass, summed again only when the particles change.
-  local counted, mass = -1, 0
+  -- The free mass, summed at each call (a stage asks every check_every steps):
+  -- particles added or removed since the last are counted as they are now.
+  -- With none free, nothing moves: calm.
   return function(s)
-    local stats = s:stats()
-    if stats.particles ~= counted then
-      mass = 0
-      for _, id in ipairs(s:particles()) do
-        local b = s:particle(id)
-        if not b.fixed then mass = mass + b.mass end
-      end
-      counted = stats.particles
+    local mass = 0
+    for _, id in ipairs(s:particles()) do
+      local b = s:particle(id)
+      if not b.fixed then mass = mass + b.mass end
     end
-    return stats.kinetic_energy < 0.5 * mass * rest_speed * rest_speed
+    return mass == 0 or s:stats().kinetic_energy < 0.5 * mass * rest_speed * rest_speed
   end
 end)
 

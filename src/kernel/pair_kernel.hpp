@@ -319,8 +319,7 @@ void PairKernel<D, M>::run(PairBucket<D, M>& b, const std::vector<typename M::Pa
         c.normal_velocity = v_rel.dot(c.normal);
         // Eq. 3.10: tangential slip of j's surface relative to i's, at the
         // contact point where the torques below apply the force (levers r - a/2):
-        // the work the spring and dashpot take is then the work the particles
-        // give, and the pair keeps its angular momentum too.
+        // the work the spring and dashpot take is then the work the particles give.
         const double lever_i = radius[i] - 0.5 * overlap, lever_j = radius[j] - 0.5 * overlap;
         c.tangential_velocity = v_rel - c.normal * c.normal_velocity +
                                 Dim<D>::spin_cross(lever_i * w[i] + lever_j * w[j], c.normal);

@@ -466,14 +466,19 @@ TEST_CASE("names: one nearest name for C++ and Lua, case-insensitive", "[lua][na
   CHECK(nearest_name("YOUNG", {"YOUNG_X", "young"}) == "young");
   CHECK(nearest_name("al2o3", {"PMMA", "Al2O3"}) == "Al2O3");
   CHECK(nearest_name("unobtainium", {"PMMA", "Al2O3"}).empty());
-  // Of names equally near, the first in byte order, whatever order they come in
-  // (a Lua table's changes from run to run); a name that keeps no letter in
-  // place is no hint.
+  // Of names equally near and keeping as much of the typed name's ends, the
+  // first in byte order, whatever order they come in (a Lua table's changes
+  // from run to run); a name that keeps no letter in place is no hint.
   CHECK(nearest_name("zb", {"zc", "ab"}) == "ab");
   CHECK(nearest_name("zb", {"ab", "zc"}) == "ab");
   CHECK(nearest_name("radus", {"radix", "radii"}) == "radii");
   CHECK(nearest_name("radus", {"radii", "radix"}) == "radii");
   CHECK(nearest_name("zz", {"a", "n", "s", "b"}).empty());
+  // Equally near, the one keeping more of the typed name's start and end.
+  CHECK(nearest_name("radis", {"radii", "radius"}) == "radius");
+  CHECK(nearest_name("radis", {"radius", "radii"}) == "radius");
+  // Only names within the distance allowed (max(3, length / 3)) are hints.
+  CHECK(nearest_name("cylinder", {"linear"}).empty());
   // The Lua library's suggestion is the C++ one, for names near and far.
   const std::vector<std::string> candidates = {
       "density_kg_m3", "young_modulus_pa", "poisson_ratio", "PMMA", "glass", "Al2O3"};

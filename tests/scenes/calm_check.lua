@@ -28,8 +28,21 @@ local radius = 1e-3
 local sim = scene(radius, 1.0)
 local calm = granule.calm(sim, 0.8)
 H.check(not calm(sim), "one sphere at 1 m/s is not calm at 0.8 m/s")
-sim:add_particle { position = { 0, -10 * radius, 0 }, radius = radius, material = "glass" }
+local extra = sim:add_particle { position = { 0, -10 * radius, 0 }, radius = radius, material = "glass" }
 H.check(calm(sim), "the same energy over twice the free mass is an rms speed of 0.71 m/s: calm at 0.8 m/s")
+
+-- One removed and one of twice the radius added: the mass is the one now there.
+sim:remove_particle(extra)
+sim:add_particle { position = { 0, -20 * radius, 0 }, radius = 2 * radius, material = "glass" }
+H.check(calm(sim), "the same energy over nine times the free mass: calm at 0.8 m/s")
+H.check(not granule.calm(sim, 0.3)(sim), "an rms speed of 1/3 m/s is not calm at 0.3 m/s")
+-- No free particle: nothing moves.
+local still = simulation { dimension = 3 }
+still:material { name = "glass", density = 2500 }
+still:contact { "glass", "glass", model = "linear", k_normal = 1e3, restitution = 0.5, friction = 0 }
+H.check(granule.calm(still, 1e-3)(still), "a scene without particles is calm")
+still:add_particle { position = { 0, 0, 0 }, radius = radius, material = "glass", fixed = true }
+H.check(granule.calm(still, 1e-3)(still), "a scene of fixed particles is calm")
 
 H.fails("rest_speed must be > 0", granule.calm, sim, 0)
 H.fails("rest_speed must be > 0", granule.calm, sim, -1)
