@@ -162,14 +162,24 @@ granule.calm = export("granule.calm", function(sim, rest_speed)
   if not (rest_speed > 0) then
     error(string.format("granule.calm: rest_speed must be > 0 m/s, got %s", tostring(rest_speed)), 2)
   end
-  -- The free mass, summed at each call (a stage asks every check_every steps):
-  -- particles added or removed since the last are counted as they are now.
+  -- The free mass, summed again only when the particles' ids change (one
+  -- sim:particle per particle then: under mpirun each is a whole-scene call).
   -- With none free, nothing moves: calm.
+  local ids_counted, mass = {}, 0
   return function(s)
-    local mass = 0
-    for _, id in ipairs(s:particles()) do
-      local b = s:particle(id)
-      if not b.fixed then mass = mass + b.mass end
+    local ids = s:particles()
+    local same = #ids == #ids_counted
+    for k = 1, #ids do
+      if not same then break end
+      same = ids[k] == ids_counted[k]
+    end
+    if not same then
+      mass = 0
+      for _, id in ipairs(ids) do
+        local b = s:particle(id)
+        if not b.fixed then mass = mass + b.mass end
+      end
+      ids_counted = ids
     end
     return mass == 0 or s:stats().kinetic_energy < 0.5 * mass * rest_speed * rest_speed
   end

@@ -176,9 +176,14 @@ void Simulation<D>::step() {
   if (observed) list_logged_slots();  // simulation_log.cpp
   // One comparison a step; the contacts are looked at only when it fails.
   last_pair_overlap_ratio_ = pair_overlap_ratio;
-  if (pair_overlap_ratio > overlap_warning_ && scene_overlaps_ && !grace_for_all_ &&
-      !external_overlap_grace_ && placed_pairs_deepest() <= overlap_warning_)
-    end_overlap_grace();  // the placed particles are clear: the deep pairs are the run's
+  // The grace of particles placed mid-run also ends once their own pairs are
+  // clear: the deep pairs left are the run's (a distributed run ends it with
+  // every rank's verdict, end_placed_grace_with).
+  last_placed_pair_ratio_ = INFINITY;
+  if (scene_overlaps_ && !grace_for_all_)
+    last_placed_pair_ratio_ =
+        pair_overlap_ratio > overlap_warning_ ? placed_pairs_deepest() : pair_overlap_ratio;
+  if (!external_overlap_grace_) end_placed_grace_with(last_placed_pair_ratio_);
   if (pair_overlap_ratio > overlap_warning_)
     check_overlaps(pair_overlap_ratio);
   else if (!external_overlap_grace_)

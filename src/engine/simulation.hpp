@@ -3,6 +3,7 @@
 // contacts per model, integration, hooks.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <map>
@@ -175,6 +176,13 @@ class Simulation final : public SimulationBase {
   void set_external_overlap_grace(bool on) { external_overlap_grace_ = on; }
   void end_overlap_grace_with(double deepest_pair_ratio_anywhere) {
     if (!(deepest_pair_ratio_anywhere > overlap_warning_)) end_overlap_grace();
+  }
+  // Likewise for a grace of particles placed mid-run: the deepest of the last
+  // step's pairs with a placed particle (infinite while the grace is for all).
+  double last_placed_pair_ratio() const { return last_placed_pair_ratio_; }
+  void end_placed_grace_with(double deepest_placed_ratio_anywhere) {
+    if (scene_overlaps_ && !grace_for_all_ && !(deepest_placed_ratio_anywhere > overlap_warning_))
+      end_overlap_grace();
   }
   void widen_prune_travel(double fastest_speed_sq_anywhere) {
     if (fastest_speed_sq_anywhere > last_fastest_speed_sq_)
@@ -365,7 +373,9 @@ class Simulation final : public SimulationBase {
   BondMotionState read_bond_motion(const StateBlob& s, std::size_t bonds) const;
   void report_non_finite(std::size_t index);
   void refuse_beyond_memory(std::int64_t particles, const char* what) const;
-  void check_escapes();  // at each list rebuild: stops the run if a centre passed a wall
+  // At each list rebuild and on any step with a wall contact deeper than a
+  // radius: stops the run if a centre passed a wall.
+  void check_escapes();
   // A moving particle (id; -1: one being added) placed at x inside solid polyline
   // w (it `starts` there at the start of a scene, else `lies`) is warned of, the
   // message led by `caller` ("set_position: " or ""): the polyline's contact throws it out through
@@ -520,6 +530,7 @@ class Simulation final : public SimulationBase {
   void arm_overlap_grace(bool on = true) {
     scene_overlaps_ = on;
     last_pair_overlap_ratio_ = INFINITY;
+    last_placed_pair_ratio_ = INFINITY;
     grace_for_all_ = on;
     placed_ids_.clear();
   }
@@ -528,7 +539,11 @@ class Simulation final : public SimulationBase {
     if (!scene_overlaps_) grace_for_all_ = false;
     scene_overlaps_ = true;
     last_pair_overlap_ratio_ = INFINITY;
-    if (!grace_for_all_) placed_ids_.insert(placed_ids_.end(), std::begin(ids), std::end(ids));
+    last_placed_pair_ratio_ = INFINITY;
+    if (!grace_for_all_)
+      for (const std::int64_t id : ids)  // once each (set_position every step adds none)
+        if (std::find(placed_ids_.begin(), placed_ids_.end(), id) == placed_ids_.end())
+          placed_ids_.push_back(id);
   }
   void end_overlap_grace() {
     scene_overlaps_ = false;
@@ -536,6 +551,7 @@ class Simulation final : public SimulationBase {
     placed_ids_.clear();
   }
   bool grace_for_all_ = false;
+  double last_placed_pair_ratio_ = INFINITY;
   std::vector<std::int64_t> placed_ids_;  // the particles the grace is for, unless for all
   bool scene_launched_ = false;           // an overlap the scene made was seen deep
   double placed_pairs_deepest() const;    // overlap / smaller radius, pairs with a placed particle

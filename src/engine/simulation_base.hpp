@@ -580,7 +580,8 @@ class SimulationBase {
   bool wall_overlap_warned_ = false;  // the once-only warning of a deep wall contact
   // Set by what places particles (Simulation::arm_overlap_grace): overlaps deeper than
   // a radius are then the scene's (coincident particles, an overlapping fill) until
-  // every pair is back under overlap_warning (check_overlaps).
+  // every pair is back under overlap_warning, or, for particles placed mid-run,
+  // every pair with one of them (check_overlaps, Simulation::end_placed_grace_with).
   bool scene_overlaps_ = false;
   Periodicity periodic_;
   bool record_contacts_ = false;

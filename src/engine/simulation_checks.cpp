@@ -19,9 +19,9 @@ namespace granule {
 // fills of SPEC 2 throw particles at the chamber that hard in their first steps.)
 // A post thinner than the particle (an outside cylinder of radius R < 2 r)
 // holds no centre a radius past its surface: past the axis its normal turns
-// and it pushes the particle on through. Its centre half the post's radius
-// inside is the stop there, as a pair stops a particle passing through one of
-// radius R.
+// and it pushes the particle on through. A centre within half the post's
+// radius of the axis is the stop there (an off-axis pass further out, or one
+// step across that band, is not caught).
 // Called at every list rebuild, which a fast particle triggers within half a
 // skin of travel, and on any step with a wall contact deeper than a radius
 // (step()); the cost is one clearance per particle and wall, as much as

@@ -447,7 +447,7 @@ return {
  {{"1", "table", "", true, "values by key"}, {"2", "list", "", true, "keys in order"}},
  "{ a = 1, b = 'x' }, { 'a', 'b' }"},
 {"granule.calm", "library", P, "granule.calm(sim, rest_speed) -> function(sim) -> boolean",
- "A stop_when criterion for settling that holds at any particle size: true when the kinetic energy (translational and rotational) is below that of the free particles' whole mass moving at rest_speed, E < M v^2 / 2 (the mass summed at each call; true when no particle is free). Give rest_speed as a fraction of the scene's speed scale, e.g. 0.01 * math.sqrt(9.81 * diameter), rather than an energy in joules, which micron beads meet at once and centimetre ones never.",
+ "A stop_when criterion for settling that holds at any particle size: true when the kinetic energy (translational and rotational) is below that of the free particles' whole mass moving at rest_speed, E < M v^2 / 2 (the mass summed again when the particles' ids change; true when no particle is free, so a stage fed from a callback should not start empty). Give rest_speed as a fraction of the scene's speed scale, e.g. 0.01 * math.sqrt(9.81 * diameter), rather than an energy in joules, which micron beads meet at once and centimetre ones never.",
  {{"1", "any", "", true, "the simulation"}, {"2", "number", "m/s", true, "rest speed (> 0)"}},
  "sim, 1e-3"},
 {"granule.stage", "library", P,

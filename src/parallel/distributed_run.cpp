@@ -314,8 +314,9 @@ void DistributedRun<D>::advance(std::int64_t steps) {
     // And whether any rank notes its pruned lists this step, so that all do.
     const double mine[step_maxima] = {sim_.lists_due() ? 1.0 : 0.0, sim_.last_fastest_speed_sq(),
                                       sim_.prune_due_next() ? 1.0 : 0.0,
-                                      sim_.last_pair_overlap_ratio()};
-    double anywhere[step_maxima] = {mine[0], mine[1], mine[2], mine[3]};
+                                      sim_.last_pair_overlap_ratio(),
+                                      sim_.last_placed_pair_ratio()};
+    double anywhere[step_maxima] = {mine[0], mine[1], mine[2], mine[3], mine[4]};
     // Few ranks: the ghosts' states sent at once, with the flag and the speed
     // (wasted on a rebuild step, which sends them again).
     const bool folded = size_ > 1 && size_ <= fold_ranks;
@@ -327,6 +328,7 @@ void DistributedRun<D>::advance(std::int64_t steps) {
     sim_.widen_prune_travel(anywhere[1]);
     sim_.note_pruned_lists_with(anywhere[2] > 0);
     sim_.end_overlap_grace_with(anywhere[3]);
+    sim_.end_placed_grace_with(anywhere[4]);
     auto t1 = Clock::now();
     (folded ? times_.exchange : times_.waiting) += std::chrono::duration<double>(t1 - t0).count();
     if (any) {
@@ -351,9 +353,10 @@ void DistributedRun<D>::dissolve() {
   const auto t0 = Clock::now();
   // The last step's verdict on the scene's overlaps, given before the whole scene
   // steps again (the next distributed step would have given it).
-  double deepest = sim_.last_pair_overlap_ratio();
-  MPI_Allreduce(MPI_IN_PLACE, &deepest, 1, MPI_DOUBLE, MPI_MAX, comm_);
-  sim_.end_overlap_grace_with(deepest);
+  double deepest[2] = {sim_.last_pair_overlap_ratio(), sim_.last_placed_pair_ratio()};
+  MPI_Allreduce(MPI_IN_PLACE, deepest, 2, MPI_DOUBLE, MPI_MAX, comm_);
+  sim_.end_overlap_grace_with(deepest[0]);
+  sim_.end_placed_grace_with(deepest[1]);
   sim_.set_external_overlap_grace(false);
   take_records();
   sync_bonds();

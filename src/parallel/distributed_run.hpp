@@ -141,9 +141,10 @@ class DistributedRun {
   // collective a step instead of two); beyond it, an MPI_Allreduce of their own.
   static constexpr int fold_ranks = 3;  // (4 ranks in the tests take the other way)
   // The values each step reduces to their maxima over the ranks: the rebuild
-  // flag, the fastest speed, the pruned lists' noting flag and the last step's
-  // deepest pair overlap (Simulation::end_overlap_grace_with).
-  static constexpr int step_maxima = 4;
+  // flag, the fastest speed, the pruned lists' noting flag, the last step's
+  // deepest pair overlap (Simulation::end_overlap_grace_with) and its deepest
+  // pair with a particle placed mid-run (end_placed_grace_with).
+  static constexpr int step_maxima = 5;
 
   Simulation<D>& sim_;
   MPI_Comm comm_;
