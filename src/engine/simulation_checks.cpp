@@ -10,6 +10,28 @@
 
 namespace granule {
 
+namespace {
+// Each touching wall contact of the buckets: f(particle, wall index, overlap /
+// the particle's radius), a mesh's overlap as this step found it.
+template <int D, typename WallBuckets, typename F>
+void each_wall_touch(const WallBuckets& buckets, const std::vector<Wall<D>>& walls,
+                     const Particles<D>& p, const std::uint8_t* in_contact, F&& f) {
+  for_each_model([&](auto index) {
+    constexpr int I = decltype(index)::value;
+    const auto& wb = std::get<I>(buckets);
+    for (std::size_t k = 0; k < wb.size(); ++k) {
+      if (!in_contact[wb.offset + k]) continue;
+      const std::uint32_t i = wb.particle[k];
+      const Wall<D>& wall = walls[wb.wall[k]];
+      const double overlap = is_surface_wall(wall.type)
+                                 ? wb.touch[k].overlap
+                                 : -wall.clearance(p.position[i], p.radius[i]);
+      f(i, static_cast<std::size_t>(wb.wall[k]), overlap / p.radius[i]);
+    }
+  });
+}
+}  // namespace
+
 // A particle whose centre lies more than its radius beyond a wall (an overlap
 // above twice its radius) has tunnelled through it: it crossed the wall within
 // one step, or was driven through by a contact far stiffer or faster than the
@@ -133,19 +155,13 @@ void Simulation<D>::deepest_by_materials(std::vector<double>& pairs,
       pairs[mi * nm + mj] = std::max(pairs[mi * nm + mj], ratio);
       pairs[mj * nm + mi] = std::max(pairs[mj * nm + mi], ratio);
     }
-    const auto& wb = std::get<I>(wall_buckets_);
-    for (std::size_t k = 0; k < wb.size(); ++k) {
-      if (!slot_in_contact_[wb.offset + k]) continue;
-      const std::uint32_t i = wb.particle[k];
-      const Wall<D>& wall = walls_[wb.wall[k]];
-      const double overlap = is_surface_wall(wall.type)
-                                 ? wb.touch[k].overlap
-                                 : -wall.clearance(p_.position[i], p_.radius[i]);
-      const std::size_t at =
-          static_cast<std::size_t>(p_.material[i]) * nm + static_cast<std::size_t>(wall.material);
-      walls[at] = std::max(walls[at], overlap / p_.radius[i]);
-    }
   });
+  each_wall_touch(wall_buckets_, walls_, p_, slot_in_contact_.data(),
+                  [&](std::uint32_t i, std::size_t w, double ratio) {
+                    const std::size_t at = static_cast<std::size_t>(p_.material[i]) * nm +
+                                           static_cast<std::size_t>(walls_[w].material);
+                    walls[at] = std::max(walls[at], ratio);
+                  });
 }
 
 // A particle pressed into a wall deeper than overlap_warning of its radius:
@@ -157,19 +173,10 @@ template <int D>
 void Simulation<D>::warn_deep_wall_contact() {
   double worst = -INFINITY;
   std::size_t wi = 0, ww = 0;
-  for_each_model([&](auto index) {
-    constexpr int I = decltype(index)::value;
-    const auto& wb = std::get<I>(wall_buckets_);
-    for (std::size_t k = 0; k < wb.size(); ++k) {
-      if (!slot_in_contact_[wb.offset + k]) continue;
-      const std::uint32_t i = wb.particle[k];
-      const Wall<D>& wall = walls_[wb.wall[k]];
-      const double overlap = is_surface_wall(wall.type)
-                                 ? wb.touch[k].overlap
-                                 : -wall.clearance(p_.position[i], p_.radius[i]);
-      if (overlap / p_.radius[i] > worst) worst = overlap / p_.radius[i], wi = i, ww = wb.wall[k];
-    }
-  });
+  each_wall_touch(wall_buckets_, walls_, p_, slot_in_contact_.data(),
+                  [&](std::uint32_t i, std::size_t w, double ratio) {
+                    if (ratio > worst) worst = ratio, wi = i, ww = w;
+                  });
   if (!(worst > overlap_warning_)) return;
   wall_overlap_warned_ = true;
   warn(fmt::format(
