@@ -10,25 +10,9 @@ local agglomerate = {}
 -- Options: defaults, units, checks
 -- ---------------------------------------------------------------------------
 
--- The nearest of `names` to `word` (edit distance), for "did you mean" hints.
-local function nearest(word, names)
-  local best, best_distance = nil, math.huge
-  for _, name in ipairs(names) do
-    local previous = {}
-    for j = 0, #name do previous[j] = j end
-    for i = 1, #word do
-      local current = { [0] = i }
-      for j = 1, #name do
-        local cost = word:sub(i, i) == name:sub(j, j) and 0 or 1
-        current[j] = math.min(previous[j] + 1, current[j - 1] + 1, previous[j - 1] + cost)
-      end
-      previous = current
-    end
-    if previous[#name] < best_distance then best, best_distance = name, previous[#name] end
-  end
-  if best and best_distance <= math.max(2, #word // 3) then return best end
-  return nil
-end
+-- The nearest of `names` to `word`, for "did you mean" hints: the engine's rule
+-- (core/names.cpp), the one every other message of a scene uses.
+local nearest = require("granule.checks").nearest
 
 --- Copies `given` over `defaults`; an unknown key is an error naming it and
 --- the nearest valid name. `context` starts the message.
