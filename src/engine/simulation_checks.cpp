@@ -231,7 +231,7 @@ double Simulation<D>::placed_pairs_deepest() const {
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
     const auto& b = std::get<I>(pair_buckets_);
-    for (std::size_t k = 0; k < b.size(); ++k) {
+    for (std::size_t k = 0; k < b.size() && !(deepest > overlap_warning_); ++k) {
       const std::uint32_t i = b.i[k], j = b.j[k];
       if (!slot_in_contact_[b.offset + k] || !(placed[i] || placed[j])) continue;
       const double dist = separation(p_.position[i], p_.position[j]).norm();
