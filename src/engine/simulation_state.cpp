@@ -256,6 +256,9 @@ StateBlob Simulation<D>::save_state() const {
   // and the pair that set the automatic time step, for the run's description.
   s.integers["guards"] = {scene_overlaps_ ? 1 : 0, overlap_warned_ ? 1 : 0};
   s.integers["guards.wall_overlap_warned"] = {wall_overlap_warned_ ? 1 : 0};
+  // Whom the grace is for, when particles placed mid-run have it and the rest not:
+  // without it a restart would excuse every pair until all are clear.
+  if (scene_overlaps_ && !grace_for_all_) s.integers["guards.placed_ids"] = placed_ids_;
   s.texts["time_step.governing_pair"] = dt_governing_pair_;
   // The lists above are in this order: a restart must keep it to sum the same way.
   s.integers["canonical_order"] = {canonical_order_ ? 1 : 0};
@@ -494,6 +497,11 @@ void Simulation<D>::load_state(const StateBlob& s) {
   lists_valid_ = meta[5] != 0;
   list_indices_stale_ = false;  // save_state wrote live entries
   arm_overlap_grace(s.i("guards")[0] != 0);
+  const auto placed = s.integers.find("guards.placed_ids");  // checked by check_state
+  if (scene_overlaps_ && placed != s.integers.end()) {
+    grace_for_all_ = false;
+    arm_overlap_grace_for(placed->second);
+  }
   overlap_warned_ = s.i("guards")[1] != 0;
   const auto wall_warned = s.integers.find("guards.wall_overlap_warned");  // checked by check_state
   wall_overlap_warned_ = wall_warned != s.integers.end() && wall_warned->second[0] == 1;

@@ -352,6 +352,18 @@ void check_state(const StateBlob& s, std::size_t material_count, std::size_t wal
           fmt::format("must be one value, 0 or 1 (has {} values{})", warned.size(),
                       warned.empty() ? std::string() : fmt::format(", the first {}", warned[0])));
   }
+  // Absent when the grace was for all particles, or off (and in checkpoints written
+  // before it was kept: those restart with the grace for all).
+  if (s.integers.count("guards.placed_ids")) {
+    const auto& placed = s.i("guards.placed_ids");
+    if (guards[0] != 1)
+      refuse_entry("guards.placed_ids", "is present, but the grace (guards, value 0) is off");
+    for (std::size_t k = 0; k < placed.size(); ++k)
+      if (placed[k] < 0 || (k > 0 && placed[k] <= placed[k - 1]))
+        refuse_entry("guards.placed_ids",
+                     fmt::format("value {} is {}: the ids must be non-negative and increasing", k,
+                                 placed[k]));
+  }
   // Absent in checkpoints written before the setting existed: those ran without it.
   if (s.integers.count("canonical_order")) {
     const auto& canonical = s.i("canonical_order");

@@ -164,53 +164,94 @@ TEST_CASE("guards: a setting changed mid-run does not make the steps' overlaps t
           "[guards]") {
   // A sphere pressed 0.3 r into a fixed one by gravity stays above overlap_warning. A
   // setting changed then (the skin: a whole prepare), or a particle added far from
-  // every other, must not excuse what the steps do after it: two spheres that then
-  // pass through each other still stop the run.
-  for (const int change : {0, 1, 2}) {
-    const bool change_skin = change == 1, add_one = change == 2;
-    Simulation<3> sim;
+  // every other (and the scene then saved and restarted, so that the grace must come
+  // back for that particle alone), must not excuse what the steps do after it: two
+  // spheres that then pass through each other still stop the run.
+  for (const int change : {0, 1, 2, 3}) {
+    const bool change_skin = change == 1, add_one = change >= 2, restart = change == 3;
     std::vector<std::string> warnings;
-    linear_pair_scene(sim, warnings);
     const double depth = 0.3 * r;
-    sim.set_gravity({0, -k * depth / mass, 0});  // k depth = m g: at rest 0.3 r deep
-    ParticleSpec base;
-    base.radius = r, base.material = 0, base.fixed = true;
-    sim.add_particle(base);
-    ParticleSpec resting = base;
-    resting.fixed = false, resting.position = {0, 2 * r, 0};  // touching: no overlap yet
-    sim.add_particle(resting);
-    // Two free spheres far off, resting 0.3 r deep on a floor (a wall's overlap is not a
-    // pair's).
-    sim.add_material({"floor", 0, 0, 0, 0});
-    sim.set_contact("m", "floor", "linear", {{"k_normal", k}, {"restitution", 0.85}});
-    WallSpec floor;
-    floor.name = "floor";
-    floor.material = 1;
-    floor.normal = {0, 1, 0};
-    floor.point = {0, -r + depth, 0};
-    sim.add_wall(floor);
-    const std::int64_t a = particle(sim, 0.01 - 2 * r, 0, 0), b = particle(sim, 0.01 + 2 * r, 0, 0);
-    sim.advance(3000);  // the resting sphere settles 0.3 r deep
+    std::int64_t a = -1, b = -1;
+    auto scene = [&](Simulation<3>& sim) {
+      linear_pair_scene(sim, warnings);
+      sim.set_gravity({0, -k * depth / mass, 0});  // k depth = m g: at rest 0.3 r deep
+      ParticleSpec base;
+      base.radius = r, base.material = 0, base.fixed = true;
+      sim.add_particle(base);
+      ParticleSpec resting = base;
+      resting.fixed = false, resting.position = {0, 2 * r, 0};  // touching: no overlap yet
+      sim.add_particle(resting);
+      // Two free spheres far off, resting 0.3 r deep on a floor (a wall's overlap is not
+      // a pair's).
+      sim.add_material({"floor", 0, 0, 0, 0});
+      sim.set_contact("m", "floor", "linear", {{"k_normal", k}, {"restitution", 0.85}});
+      WallSpec floor;
+      floor.name = "floor";
+      floor.material = 1;
+      floor.normal = {0, 1, 0};
+      floor.point = {0, -r + depth, 0};
+      sim.add_wall(floor);
+      a = particle(sim, 0.01 - 2 * r, 0, 0), b = particle(sim, 0.01 + 2 * r, 0, 0);
+    };
+    auto sim = std::make_unique<Simulation<3>>();
+    scene(*sim);
+    sim->advance(3000);  // the resting sphere settles 0.3 r deep
     REQUIRE(count_containing(warnings, "overlap by") == 1);
-    if (change_skin) sim.set_skin(0.6 * r);
+    if (change_skin) sim->set_skin(0.6 * r);
     if (add_one) {
-      ParticleSpec far = base;
-      far.fixed = false, far.position = {0.05, 0.05, 0};
-      sim.add_particle(far);
+      ParticleSpec far;
+      far.radius = r, far.material = 0, far.position = {0.05, 0.05, 0};
+      sim->add_particle(far);
+    }
+    if (restart) {
+      const StateBlob saved = sim->save_state();
+      REQUIRE(saved.integers.count("guards.placed_ids") == 1);
+      sim = std::make_unique<Simulation<3>>();
+      scene(*sim);
+      sim->load_state(saved);
     }
     const double v = 10 * r * omega;
-    sim.set_velocity(a, {v / 2, 0, 0});
-    sim.set_velocity(b, {-v / 2, 0, 0});
+    sim->set_velocity(a, {v / 2, 0, 0});
+    sim->set_velocity(b, {-v / 2, 0, 0});
     std::string message;
     try {
-      sim.advance(100);
+      sim->advance(100);
     } catch (const RunError& e) {
       message = e.what();
     }
-    INFO("skin changed: " << change_skin << ", a particle added: " << add_one << ": " << message);
+    INFO("skin changed: " << change_skin << ", a particle added: " << add_one
+                          << ", restarted: " << restart << ": " << message);
     CHECK_THAT(message,
                Catch::Contains(fmt::format("particles {} and {} pass through each other", a, b)));
   }
+}
+
+TEST_CASE("guards: a checkpoint's placed ids are refused when damaged", "[guards]") {
+  // The grace of particles placed mid-run names them (guards.placed_ids): ids out of
+  // order, negative, or kept while the grace is off are refused by name.
+  std::vector<std::string> warnings;
+  auto scene = [&warnings](Simulation<3>& sim) {
+    linear_pair_scene(sim, warnings);
+    particle(sim, 0, 0, 0), particle(sim, 4 * r, 0, 0);
+  };
+  Simulation<3> sim;
+  scene(sim);
+  sim.advance(10);
+  particle(sim, 8 * r, 0, 0);
+  const StateBlob saved = sim.save_state();
+  REQUIRE(saved.integers.at("guards.placed_ids") == std::vector<std::int64_t>{2});
+  for (const auto& [ids, grace] : std::vector<std::pair<std::vector<std::int64_t>, std::int64_t>>{
+           {{2, 1}, 1}, {{-1}, 1}, {{2}, 0}}) {
+    StateBlob damaged = saved;
+    damaged.integers["guards.placed_ids"] = ids;
+    damaged.integers["guards"][0] = grace;
+    Simulation<3> resumed;
+    scene(resumed);
+    CHECK_THROWS_WITH(resumed.load_state(damaged), Catch::Contains("'guards.placed_ids'"));
+  }
+  Simulation<3> resumed;
+  scene(resumed);
+  CHECK_NOTHROW(resumed.load_state(saved));
 }
 
 TEST_CASE("guards: a particle pressed through a wall by a slow piston stops the run", "[guards]") {
