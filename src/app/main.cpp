@@ -208,7 +208,9 @@ int run_scene(Options& o) {
     if (o.ctx.rank == 0)
       for (const auto& f : o.ctx.outputs_written)
         if (std::find(shown.begin(), shown.end(), f) == shown.end()) {
-          report.extra += "partial results kept in " + f + "\n";
+          report.extra += (o.ctx.outputs_finished.count(f) ? "results (complete) kept in "
+                                                            : "partial results kept in ") +
+                          f + "\n";
           shown.push_back(f);
         }
     int status = 1;

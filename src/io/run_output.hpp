@@ -31,6 +31,7 @@ struct RunOutputSettings {
   std::string scene_source;
   std::vector<std::pair<std::string, std::string>> parameters;  // name -> value as text
   std::map<std::string, double> numeric_parameters;
+  std::map<std::string, std::int64_t> integer_parameters;  // written as integers
   std::map<std::string, std::string> parameter_units;  // name -> unit as parameters{} declared it
   // Made but writing nothing until resume(): a restarted scene replaying its past.
   bool muted = false;

@@ -102,8 +102,11 @@ void RunOutput::write_header() {
   if (!settings_.scene_source.empty()) f.write_text("/scene/source", settings_.scene_source);
   if (!settings_.scene_path.empty()) f.write_attribute("/scene", "path", settings_.scene_path);
   for (const auto& [name, value] : settings_.parameters) {
+    auto whole = settings_.integer_parameters.find(name);
     auto it = settings_.numeric_parameters.find(name);
-    if (it != settings_.numeric_parameters.end())
+    if (whole != settings_.integer_parameters.end())
+      f.write_attribute("/scene/parameters", name, whole->second);
+    else if (it != settings_.numeric_parameters.end())
       f.write_attribute("/scene/parameters", name, it->second);
     else
       f.write_attribute("/scene/parameters", name, value);

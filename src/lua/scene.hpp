@@ -3,6 +3,7 @@
 // error reaches the user with its file and line.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <memory>
@@ -41,6 +42,7 @@ struct SceneContext {
   bool parameters_declared = false;
   std::vector<std::pair<std::string, std::string>> parameter_values;  // for provenance
   std::map<std::string, double> numeric_parameters;
+  std::map<std::string, std::int64_t> integer_parameters;  // those Lua holds as integers
   bool quiet = false;
   int threads = 0;           // --threads N: overrides every simulation's own setting when > 0
   std::string restart_path;  // --restart FILE: the first simulation continues this checkpoint
@@ -64,6 +66,9 @@ struct SceneContext {
   bool repl = false;
   bool repl_prompt = false;  // the REPL has begun to journal what is typed at its prompt
   std::vector<std::string> outputs_written;
+  // Of those, the ones the scene finished (a later sim:output, sim:close) before an
+  // error: complete, where the one still open then holds the results up to the error.
+  std::set<std::string> outputs_finished;
   // The error the scene ended on (not a stop by signal), set before its
   // simulations close: each open output records it as its `failure` attribute.
   std::string scene_error;

@@ -21,6 +21,10 @@ io::RunOutput& output_of(LuaSim& s) {
   if (!s.output) throw std::runtime_error("no output file: call sim:output { ... } first");
   return *s.output;
 }
+// A file the scene has finished: named as complete, not partial, if the scene then fails.
+void mark_finished(SceneContext* ctx, const std::string& path) {
+  if (ctx && !(ctx->journal && ctx->journal->replaying())) ctx->outputs_finished.insert(path);
+}
 
 }  // namespace
 
@@ -97,12 +101,15 @@ int l_output(lua_State* L) {
     o.scene_source = ctx->scene_source;
     o.parameters = ctx->parameter_values;
     o.numeric_parameters = ctx->numeric_parameters;
+    o.integer_parameters = ctx->integer_parameters;
     for (const auto& d : ctx->parameter_docs) o.parameter_units[d.name] = d.unit;
     // Replaying a restarted scene's past: the output is made (its hooks in their places)
     // but writes nothing; the checkpoint's output is continued when the journal ends.
     o.muted = ctx->journal && ctx->journal->replaying();
+    if (s.output) mark_finished(ctx, s.output->path());
     s.output.reset();
     s.output = std::make_unique<io::RunOutput>(*s.sim, o);
+    if (ctx) ctx->outputs_finished.erase(o.path);
     ++s.output_calls;
     if (!ctx->output_path.empty()) ++ctx->outputs_under_o;  // opened: the next is a second file
     s.output_paths.push_back(o.path);
@@ -201,7 +208,10 @@ int l_close(lua_State* L) {
       throw InputError(
           "close: not from inside a run's callback (the run's snapshots and series go on into "
           "the output until it ends); close it after sim:run");
-    if (s.output) s.output->finish();
+    if (s.output) {
+      s.output->finish();
+      mark_finished(context(L), s.output->path());
+    }
     s.output.reset();
     return 0;
   });

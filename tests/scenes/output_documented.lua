@@ -7,6 +7,7 @@ local p = parameters {
   overlap = { default = 2e-5, unit = "m", doc = "initial overlap of each contact" },
   label = { default = "three spheres", doc = "a text parameter (no unit)" },
   file = { default = "output_documented_test.h5", doc = "output file" },
+  seed = { default = 7, integer = true, doc = "a whole number: written as an integer" },
 }
 local r, d = p.radius, p.overlap
 local sim = simulation { dimension = 3, time_step = 1e-6, record_contacts = true }
