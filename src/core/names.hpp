@@ -9,7 +9,9 @@
 
 namespace granule {
 
-// Levenshtein distance between two strings (as given: nearest_name lowers their case).
+// Edits between two strings: Levenshtein's, with two neighbouring letters swapped
+// ("rmp" for "rpm") one edit (optimal string alignment). As given: nearest_name
+// lowers their case.
 std::size_t edit_distance(const std::string& a, const std::string& b);
 
 // The closest name in `candidates` to `name`, case-insensitively (edit distance at most

@@ -160,6 +160,10 @@ void Simulation<D>::choose_time_step() {
             ? "; its limit includes the epsd rolling spring's mode (omega_r up to 1.27 mu_r "
               "omega_n), which a lower rolling_friction lifts"
             : "";
+    // The governing law's rule: Eq. 4.1 for the linear and Walton-Braun laws,
+    // Thornton's Rayleigh-time rule for Hertz's laws.
+    const char* const rule_name =
+        rule.per_contact ? "t_c / n (Eq. 4.1)" : "8 T_R / n (Eqs. 6.1-6.2)";
     if (dt_fixed_ > 0) {
       dt_ = dt_fixed_;
       if (dt_ >= rule.stability_limit)
@@ -171,9 +175,8 @@ void Simulation<D>::choose_time_step() {
       if (dt_ > rule.rule * (1 + 1e-9)) {
         // Said once per rule: a ramp re-checks it every step it changes a law.
         std::string message = fmt::format(
-            "time_step {:.4g} s exceeds the Eq. 4.1 rule {:.4g} s (n = {} steps per "
-            "contact) for {}",
-            dt_, rule.rule, steps_per_contact_, rule.governing_pair);
+            "time_step {:.4g} s exceeds the rule {} = {:.4g} s (n = {} steps_per_contact) for {}",
+            dt_, rule_name, rule.rule, steps_per_contact_, rule.governing_pair);
         if (message != dt_warned_) warn(message);
         dt_warned_ = std::move(message);
       }
@@ -195,11 +198,12 @@ void Simulation<D>::choose_time_step() {
     // lower the limit near e = 0 (linear_spring_dashpot.hpp).
     if (!(dt_fixed_ > 0) && dt_ >= rule.stability_limit)
       throw InputError(fmt::format(
-          "steps_per_contact = {} gives a time step {:.4g} s (Eq. 4.1 for {}), above the "
+          "steps_per_contact = {} gives a time step {:.4g} s ({} for {}), above the "
           "stability limit {:.4g} s of {} (half of leap-frog's 2/omega for its stiffest mode, "
           "less where a dashpot would more than stop the pair in one step: beyond it an impact "
           "gains energy): refused; raise steps_per_contact{}",
-          steps_per_contact_, dt_, rule.governing_pair, rule.stability_limit, rule.limit_pair,
+          steps_per_contact_, dt_, rule_name, rule.governing_pair, rule.stability_limit,
+          rule.limit_pair,
           rolling_hint));
   } else if (dt_ == 0) {
     dt_ = dt_fixed_;

@@ -192,6 +192,9 @@ case("sim_time_step_above_limit", "a fixed time step far above the stability lim
      r"time_step 0\.001 s is above the stability limit", replace={"sim": wrong("local sim = simulation { dimension = 2, time_step = 1e-3 }")})
 case("sim_steps_per_contact_one", "steps_per_contact = 1: one step per contact, above the stability limit",
      r"steps_per_contact = 1 gives a time step .* above the stability limit", replace={"sim": wrong("local sim = simulation { dimension = 2, steps_per_contact = 1 }")})
+case("sim_steps_per_contact_hertz", "steps_per_contact = 10 with Hertz's laws, whose rule is Thornton's 8 T_R / n",
+     r"steps_per_contact = 10 gives a time step .* \(8 T_R / n \(Eqs\. 6\.1-6\.2\) for glass-glass .* above the stability limit",
+     replace={"sim": wrong("local sim = simulation { dimension = 3, steps_per_contact = 10 }")}, base=BASE3)
 
 # ---------------------------------------------------------------------------
 # sim:material

@@ -479,6 +479,13 @@ TEST_CASE("names: one nearest name for C++ and Lua, case-insensitive", "[lua][na
   CHECK(nearest_name("radis", {"radius", "radii"}) == "radius");
   // Only names within the distance allowed (max(3, length / 3)) are hints.
   CHECK(nearest_name("cylinder", {"linear"}).empty());
+  // Two neighbouring letters swapped are one edit: "rmp" is nearer "rpm" than "gap".
+  CHECK(edit_distance("rmp", "rpm") == 1);
+  CHECK(edit_distance("ab", "ba") == 1);
+  CHECK(edit_distance("abc", "ca") == 3);
+  CHECK(edit_distance("kitten", "sitting") == 3);
+  CHECK(nearest_name("rmp", {"gap", "rpm"}) == "rpm");
+  CHECK(nearest_name("rmp", {"rpm", "gap"}) == "rpm");
   // The Lua library's suggestion is the C++ one, for names near and far.
   const std::vector<std::string> candidates = {
       "density_kg_m3", "young_modulus_pa", "poisson_ratio", "PMMA", "glass", "Al2O3"};
