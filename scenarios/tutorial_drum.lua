@@ -10,7 +10,7 @@ local granule = require "granule"
 -- 1. Parameters: what someone may want to change from the command line (-D name=value).
 local p = parameters {
   rpm = { default = 30, unit = "1/min", doc = "drum speed" },
-  particles = { default = 100, integer = true, min = 1, max = 500, doc = "number of beads (the fill overlaps them: more burst out of the drum)" },
+  particles = { default = 100, integer = true, min = 1, max = 300, doc = "number of beads (the fill overlaps them: beads over 3/4 of the drum's area would burst out)" },
   radius = { default = 1e-3, above = 0, unit = "m", doc = "bead radius" },
   drum_radius = { default = 20e-3, above = 0, unit = "m" },
   settle = { default = 0.5, min = 0, unit = "s", doc = "longest time allowed to settle" },
@@ -31,6 +31,14 @@ sim:wall_cylinder { name = "drum", center = { 0, 0 }, radius = p.drum_radius, in
                     material = "steel" }
 
 -- 5. The beads, placed at random in the drum (a quarter of its area); gravity will pile them up.
+-- Beads over 3/4 of its area would start so deep in one another that the first
+-- steps throw some through the wall: refused, naming the parameters.
+local covered = p.particles * p.radius ^ 2 / p.drum_radius ^ 2
+if covered > 0.75 then
+  error(string.format("particles = %d of radius %g m cover %.2f of the drum's area (drum_radius = %g m), "
+    .. "more than 0.75: fewer or smaller beads, or a larger drum", p.particles, p.radius, covered,
+    p.drum_radius), 0)
+end
 sim:fill { region = { circle = { center = { 0, 0 }, radius = p.drum_radius } }, count = p.particles,
            radius = p.radius, material = "glass", seed = 1 }
 

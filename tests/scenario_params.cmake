@@ -95,7 +95,16 @@ set_tests_properties(params.shear_cell_one_bead PROPERTIES
 add_test(NAME params.tutorial_drum_too_many
   COMMAND granule run ${scenes}/tutorial_drum.lua -D particles=1000 -o params_tutorial_many.h5 --quiet)
 set_tests_properties(params.tutorial_drum_too_many PROPERTIES
-  PASS_REGULAR_EXPRESSION "-D particles=1000: 'particles' must be .*<= 500")
+  PASS_REGULAR_EXPRESSION "-D particles=1000: 'particles' must be .*<= 300")
+# The most the range allows runs; larger beads over 3/4 of the drum's area are refused.
+add_test(NAME params.tutorial_drum_most
+  COMMAND granule run ${scenes}/tutorial_drum.lua -D particles=300 -D settle=0.05 -D duration=0.01
+          -o params_tutorial_most.h5 --quiet)
+set_tests_properties(params.tutorial_drum_most PROPERTIES PASS_REGULAR_EXPRESSION "tutorial_drum: t = 0\\.0[0-9]+ s")
+add_test(NAME params.tutorial_drum_too_large
+  COMMAND granule run ${scenes}/tutorial_drum.lua -D particles=100 -D radius=2e-3 -o params_tutorial_large.h5 --quiet)
+set_tests_properties(params.tutorial_drum_too_large PROPERTIES
+  PASS_REGULAR_EXPRESSION "particles = 100 of radius 0.002 m cover 1.00 of the drum's area")
 
 # "Calm" is not met before the beads, let go at rest, could have fallen: one
 # bead dropped in the tutorial's drum is still falling at 0.08 s, and three
