@@ -9,6 +9,7 @@
 -- the settled bed's bulk density (docs/walls.md gives the study).
 --   build/granule run scenarios/silo_3d.lua -D orifice=0.03
 --   build/granule run scenarios/silo_3d.lua -D orifice=0.02 -D window_end=2.5
+--   build/granule sweep scenarios/silo_3d.lua -D orifice=0.02,0.03 -D seed=1,2,3,4
 local granule = require "granule"
 local p = parameters {
   orifice = { default = 0.03, above = 0, unit = "m", doc = "orifice diameter D" },
@@ -22,6 +23,7 @@ local p = parameters {
   window_start = { default = 0.3, unit = "s", doc = "steady window start, after the opening" },
   window_end = { default = 1.2, unit = "s", doc = "steady window end, after the opening" },
   count_every = { default = 100, integer = true, min = 1, doc = "steps between counts of discharged spheres" },
+  seed = { default = 1, integer = true, min = 0, doc = "the pour's random seed (an ensemble: several seeds)" },
 }
 -- The window is checked before the run: the discharge stage lasts until its end.
 if not (p.window_start >= 0 and p.window_start < p.window_end) then
@@ -57,7 +59,7 @@ sim:wall_disk { name = "bottom", center = { 0, 0, 0 }, normal = { 0, 0, 1 }, rad
 sim:wall_disk { name = "shutter", center = { 0, 0, -0.25 * d }, normal = { 0, 0, 1 },
                 radius = D / 2 + d, material = "steel" }
 sim:fill { region = { cylinder = { center = { 0, 0, 0 }, radius = Rs, z_min = 0, z_max = 2.5 * bed } },
-           count = p.particles, radius = d / 2, material = "glass", seed = 1, overlap = false }
+           count = p.particles, radius = d / 2, material = "glass", seed = p.seed, overlap = false }
 sim:gravity { 0, 0, -g }
 local file = sim:output { snapshot_every = 0.1 }
 granule.stage(sim, { name = "pour and settle", duration = p.settle, check_every = 1000 })
