@@ -80,13 +80,19 @@ end
 if inside == 0 then bed_too_small(top, "at") end
 local rho_b = inside * mass_each / (math.pi * Rs ^ 2 * (hi - lo))
 
--- Open: the shutter falls away at 2 m/s for 50 ms and stops 0.1 m down.
+-- Open: the shutter falls away and stops 25 diameters down (at the default
+-- 4 mm spheres: at 2 m/s for 50 ms, 0.1 m), well below where the spheres are
+-- counted and removed (4 diameters), so none lands on it. Its speed scales as
+-- a free fall's over that drop (sqrt of the size), so that at any size it
+-- leaves the outlet faster than the first spheres follow.
+local size = d / 4e-3
+local shutter_speed, shutter_time = 2 * math.sqrt(size), 0.05 * math.sqrt(size)
 local t_open = sim:time()
-sim:set_wall("shutter", { velocity = { 0, 0, -2 } })
+sim:set_wall("shutter", { velocity = { 0, 0, -shutter_speed } })
 local discharged, times, masses = 0, {}, {}
 local cut = -4 * d  -- below the outlet: counted and removed
 sim:every { steps = p.count_every, name = "count discharged", function(s)
-  if s:time() > t_open + 0.05 then s:set_wall("shutter", { velocity = { 0, 0, 0 } }) end
+  if s:time() > t_open + shutter_time then s:set_wall("shutter", { velocity = { 0, 0, 0 } }) end
   for _, id in ipairs(s:particles()) do
     if s:particle(id).position[3] < cut then
       s:remove_particle(id)
