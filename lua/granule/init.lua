@@ -151,21 +151,28 @@ end)
 --- A stop_when criterion for a settling stage that holds at any particle size:
 --- calm when the kinetic energy (translational and rotational) is below that
 --- of the free particles' whole mass moving at rest_speed, E < M v^2 / 2
---- (or when no particle is free).
+--- (or when no particle is free), at `checks` calls in a row (default 1).
 --- Scenes give rest_speed as a fraction of their own speed scale (sqrt(g d)
 --- under gravity), not an energy in joules, which would be met at once by
---- micron beads and never by centimetre ones.
-granule.calm = export("granule.calm", function(sim, rest_speed)
+--- micron beads and never by centimetre ones. A bed that rings as a whole (a
+--- tall column on a soft floor) passes near zero kinetic energy twice a period;
+--- checks = 3 asks for calm at three checks in a row, which such a ringing
+--- meets only once it has died down.
+granule.calm = export("granule.calm", function(sim, rest_speed, checks)
   if type(sim) ~= "userdata" then
     error("granule.calm: the first argument must be the simulation, got " .. type(sim), 2)
   end
   if not (rest_speed > 0) then
     error(string.format("granule.calm: rest_speed must be > 0 m/s, got %s", tostring(rest_speed)), 2)
   end
+  checks = checks == nil and 1 or checks
+  if math.type(checks) ~= "integer" or checks < 1 then
+    error(string.format("granule.calm: checks must be a whole number >= 1, got %s", tostring(checks)), 2)
+  end
   -- The free mass, summed again only when the particles' ids change (one
   -- sim:particle per particle then: under mpirun each is a whole-scene call).
   -- With none free, nothing moves: calm.
-  local ids_counted, mass = {}, 0
+  local ids_counted, mass, in_a_row = {}, 0, 0
   return function(s)
     local ids = s:particles()
     local same = #ids == #ids_counted
@@ -181,7 +188,9 @@ granule.calm = export("granule.calm", function(sim, rest_speed)
       end
       ids_counted = ids
     end
-    return mass == 0 or s:stats().kinetic_energy < 0.5 * mass * rest_speed * rest_speed
+    local now = mass == 0 or s:stats().kinetic_energy < 0.5 * mass * rest_speed * rest_speed
+    in_a_row = now and in_a_row + 1 or 0
+    return in_a_row >= checks
   end
 end)
 

@@ -44,6 +44,21 @@ H.check(granule.calm(still, 1e-3)(still), "a scene without particles is calm")
 still:add_particle { position = { 0, 0, 0 }, radius = radius, material = "glass", fixed = true }
 H.check(granule.calm(still, 1e-3)(still), "a scene of fixed particles is calm")
 
+-- checks = 3: calm only at the third call in a row that finds it so; a call that
+-- does not starts the count again (a ringing bed passing near rest once).
+local ring = scene(radius, 1.0)
+local thrice = granule.calm(ring, 0.8, 3)
+H.check(not thrice(ring), "moving: not calm")
+ring:set_velocity(0, { 0.5, 0, 0 })
+H.check(not thrice(ring) and not thrice(ring), "below the rest speed at two calls: not yet")
+ring:set_velocity(0, { 1.0, 0, 0 })
+H.check(not thrice(ring), "moving again: the count starts over")
+ring:set_velocity(0, { 0.5, 0, 0 })
+H.check(not thrice(ring) and not thrice(ring), "two calls in the new run: not yet")
+H.check(thrice(ring), "the third call in a row: calm")
+H.fails("checks must be a whole number >= 1", granule.calm, ring, 0.8, 0)
+H.fails("granule.calm: argument 3", granule.calm, ring, 0.8, 1.5)
+
 H.fails("rest_speed must be > 0", granule.calm, sim, 0)
 H.fails("rest_speed must be > 0", granule.calm, sim, -1)
 H.fails("granule.calm: argument 2", granule.calm, sim, 0 / 0)
