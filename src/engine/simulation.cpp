@@ -105,7 +105,7 @@ void Simulation<D>::step() {
                          dt_,
                          periodic_,
                          slot_in_contact_.data() + pb.offset,
-                         &log_,
+                         observed ? &log_ : nullptr,
                          policy.pair_team(static_cast<std::int64_t>(pb.size())),
                          batched_contacts_,
                          pruning_,
@@ -136,14 +136,15 @@ void Simulation<D>::step() {
     using M = ContactModelAt<I>;
     auto& wb = std::get<I>(wall_buckets_);
     if (!wb.size()) return;
-    const WallStep<D> at{p_,     walls_,
-                         dt_,    slot_in_contact_.data() + wb.offset,
-                         &log_,  policy.wall_team(static_cast<std::int64_t>(wb.size()), fused_),
-                         fused_, batched_contacts_};
-    if (observed)
-      WallKernel<D, M>::template run<true>(wb, pairs_.params<I>(), at, wall_tally);
-    else
-      WallKernel<D, M>::template run<false>(wb, pairs_.params<I>(), at, wall_tally);
+    const WallStep<D> at{p_,
+                         walls_,
+                         dt_,
+                         slot_in_contact_.data() + wb.offset,
+                         observed ? &log_ : nullptr,
+                         policy.wall_team(static_cast<std::int64_t>(wb.size()), fused_),
+                         fused_,
+                         batched_contacts_};
+    WallKernel<D, M>::run(wb, pairs_.params<I>(), at, wall_tally);
   });
   contacts_wall_ = wall_tally.touching;
   contacts_wall_batched_ = wall_tally.batched;

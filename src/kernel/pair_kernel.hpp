@@ -11,7 +11,12 @@
 //    barrier in slot order, the ranges moved when one thread is busier;
 //  - for a model with force_batch in this dimension (contact_batch.hpp), the
 //    force pass in batches of lanes (kernel/pair_batch.hpp, pair_batch_2d.hpp).
-// Observed = true also writes the contact log. Each contact k writes only its
+// Observed = true also writes the contact log (step.log, null otherwise): the
+// batched pass by its template argument, the per-contact pass by the pointer at
+// run time, so that its arithmetic is the same code whether a step records or
+// not (a compiled-in record would give the values it reads other uses, and the
+// compiler would fuse other multiply-adds: recording would change the run's
+// round-off). Each contact k writes only its
 // own history, flag and log slot, and every particle's sum is made in slot
 // order, so the results are bit-identical whatever the team.
 #pragma once
@@ -46,7 +51,7 @@ struct PairStep {
   double dt;
   Periodicity periodic;
   std::uint8_t* in_contact;  // the bucket's per-slot flags (0: history cleared)
-  ContactLog<D>* log;        // written when Observed
+  ContactLog<D>* log;        // the contact log on a step that records one, else null
   int team;                  // threads (ThreadPolicy::pair_team)
   bool batched;              // the batched force pass where the model has one
   bool pruning;              // pruned lists on
@@ -354,7 +359,7 @@ void PairKernel<D, M>::run(PairBucket<D, M>& b, const std::vector<typename M::Pa
         // The largest overlap / smaller radius, without a division per contact.
         const double r_min = std::min(radius[i], radius[j]);
         if (overlap > max_ratio * r_min) max_ratio = overlap / r_min;
-        if constexpr (Observed) {
+        if (log) {  // at run time: see the top of this file
           const std::size_t s = offset + k;
           log->record(s, static_cast<std::int32_t>(i), static_cast<std::int32_t>(j), overlap,
                       f.normal, c.normal_velocity, c.normal, f.tangential,

@@ -33,7 +33,7 @@ struct WallStep {
   std::vector<Wall<D>>& walls;  // the reactions, when fused
   double dt;
   std::uint8_t* in_contact;  // the bucket's per-slot flags (0: history cleared)
-  ContactLog<D>* log;        // written when Observed
+  ContactLog<D>* log;        // the contact log on a step that records one, else null
   int team;                  // threads (ThreadPolicy::wall_team)
   bool fused;                // reactions summed at once (one thread)
   bool batched;              // the batched force pass where the model has one
@@ -47,7 +47,7 @@ struct WallTally {
 
 template <int D, typename M>
 struct WallKernel {
-  template <bool Observed>
+  // Writes the contact log where step.log is set.
   static void run(WallBucket<D, M>& b, const std::vector<typename M::Params>& params,
                   const WallStep<D>& step, WallTally& tally);
 
@@ -72,7 +72,6 @@ struct WallKernel {
 };
 
 template <int D, typename M>
-template <bool Observed>
 void WallKernel<D, M>::run(WallBucket<D, M>& b, const std::vector<typename M::Params>& params,
                            const WallStep<D>& step, WallTally& tally) {
   using History = typename M::template History<D>;
@@ -213,7 +212,7 @@ void WallKernel<D, M>::run(WallBucket<D, M>& b, const std::vector<typename M::Pa
         out_axial[e] = axial;
       }
       if (overlap > worst * r) worst = overlap / r;
-      if constexpr (Observed) {
+      if (log) {  // at run time, as the pair kernel's per-contact pass (pair_kernel.hpp)
         log->record(offset + k, static_cast<std::int32_t>(i), -1 - static_cast<std::int32_t>(wall),
                     overlap, normal_force, normal_velocity, n, tangential_force,
                     x[i] - (r - overlap) * n);
