@@ -10,12 +10,15 @@
 namespace granule {
 
 ParamValues resolve_parameters(const std::vector<ParamSpec>& spec, const ParamValues& given,
-                               const std::string& context) {
-  std::vector<std::string> names;
+                               const std::string& context,
+                               const std::vector<ParamSpec>& also_hinted) {
+  std::vector<std::string> names, hinted;
   for (const auto& p : spec) names.emplace_back(p.name);
+  hinted = names;
+  for (const auto& p : also_hinted) hinted.emplace_back(p.name);
   for (const auto& [key, value] : given) {
     if (std::find(names.begin(), names.end(), key) == names.end()) {
-      std::string hint = nearest_name(key, names);
+      std::string hint = nearest_name(key, hinted);
       throw InputError(fmt::format("{}: unknown parameter '{}'{}", context, key,
                                    hint.empty() ? "" : fmt::format(" (did you mean '{}'?)", hint)));
     }

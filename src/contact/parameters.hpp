@@ -35,7 +35,10 @@ using ParamValues = std::map<std::string, double>;
 // Checks names against the spec (unknown names are errors that suggest the
 // nearest valid one), fills defaults, checks ranges. Throws InputError whose
 // message starts with `context` (e.g. "contact 'pmma'-'pmma' (walton_braun)").
+// `also_hinted`: names a hint may suggest besides the spec's (a model's rolling
+// variant's, when a misspelt rolling parameter chose the model without it).
 ParamValues resolve_parameters(const std::vector<ParamSpec>& spec, const ParamValues& given,
-                               const std::string& context);
+                               const std::string& context,
+                               const std::vector<ParamSpec>& also_hinted = {});
 
 }  // namespace granule

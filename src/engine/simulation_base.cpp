@@ -59,8 +59,11 @@ void SimulationBase::set_contact(const std::string& a, const std::string& b,
   ParamValues chosen = given;
   const int m = choose_contact_model(contact_model_id(model), chosen);  // rolling.hpp
   std::string context = fmt::format("contact '{}'-'{}' ({})", a, b, model);
-  ParamValues resolved =
-      resolve_parameters(contact_model_catalogue()[m].parameters, chosen, context);
+  // A misspelt rolling parameter leaves the model without its rolling variant,
+  // whose names the hint then offers too.
+  const auto catalogue = contact_model_catalogue();
+  ParamValues resolved = resolve_parameters(catalogue[m].parameters, chosen, context,
+                                            catalogue[rolling_contact_model(m)].parameters);
   pairs_.set(ia, ib, m, resolved, {materials_[ia], materials_[ib]});
   unprepare();
 }

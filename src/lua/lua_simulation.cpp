@@ -150,6 +150,11 @@ int l_simulation(lua_State* L) {
     sim->set_threads(t.integer("threads", 0));
     if (context(L) && context(L)->threads > 0) sim->set_threads(context(L)->threads);
     if (t.push_table("periodic")) {
+      // A list of axes ({ { axis = 'x', ... }, { axis = 'y', ... } }): one is all there is.
+      if (lua_rawlen(L, -1) > 0)
+        throw std::runtime_error(
+            "simulation.periodic: one periodic axis only, given as periodic = { axis =, origin =, "
+            "length = } (a list of axes, or values without their names, is not read)");
       TableReader p(L, -1, "simulation.periodic");
       std::string axis = p.string("axis", "z");
       int a = axis == "x" ? 0 : axis == "y" ? 1 : axis == "z" ? 2 : -1;

@@ -455,6 +455,18 @@ TEST_CASE("lua: every kind of binding suggests the nearest key", "[lua][errors]"
       6, "fill.region.circle: unknown key 'centre' (did you mean 'center'?)");
   expect_refused("sim:set_contact('glass', 'steel', { frction = 0.2 })\n", 6,
                  "unknown parameter 'frction' (did you mean 'friction'?)");
+  // A misspelt rolling parameter chooses the model without rolling resistance; the
+  // hint still knows the rolling variant's names.
+  expect_refused(
+      "sim:material { name = 'rubber', density = 1200 }\n"
+      "sim:contact { 'rubber', 'rubber', model = 'linear', k_normal = 1e3, rolling_frction = 0.1 "
+      "}\n",
+      7, "unknown parameter 'rolling_frction' (did you mean 'rolling_friction'?)");
+  // Two periodic axes, as a list: one axis is all there is, said so.
+  expect_refused(
+      "local s3 = simulation { dimension = 3, periodic = { { axis = 'x', origin = 0, length = 1 }, "
+      "{ axis = 'y', origin = 0, length = 1 } } }\n",
+      6, "simulation.periodic: one periodic axis only");
   expect_refused("sim:diagnostic('overlaps', { windw = 0.1 })\n", 6,
                  "unknown option 'windw' (did you mean 'window'?)");
   expect_refused("local p = parameters { n = { defalt = 3 } }\n", 6,
