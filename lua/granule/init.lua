@@ -169,26 +169,14 @@ granule.calm = export("granule.calm", function(sim, rest_speed, checks)
   if math.type(checks) ~= "integer" or checks < 1 then
     error(string.format("granule.calm: checks must be a whole number >= 1, got %s", tostring(checks)), 2)
   end
-  -- The free mass, summed again only when the particles' ids change (one
-  -- sim:particle per particle then: under mpirun each is a whole-scene call).
-  -- With none free, nothing moves: calm.
-  local ids_counted, mass, in_a_row = {}, 0, 0
+  -- The free mass from sim:stats() (one reduction under mpirun, no whole-scene
+  -- call): it follows particles added, removed, fixed and freed. With none
+  -- free, nothing moves: calm.
+  local in_a_row = 0
   return function(s)
-    local ids = s:particles()
-    local same = #ids == #ids_counted
-    for k = 1, #ids do
-      if not same then break end
-      same = ids[k] == ids_counted[k]
-    end
-    if not same then
-      mass = 0
-      for _, id in ipairs(ids) do
-        local b = s:particle(id)
-        if not b.fixed then mass = mass + b.mass end
-      end
-      ids_counted = ids
-    end
-    local now = mass == 0 or s:stats().kinetic_energy < 0.5 * mass * rest_speed * rest_speed
+    local stats = s:stats()
+    local mass = stats.free_mass
+    local now = mass == 0 or stats.kinetic_energy < 0.5 * mass * rest_speed * rest_speed
     in_a_row = now and in_a_row + 1 or 0
     return in_a_row >= checks
   end

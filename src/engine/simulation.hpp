@@ -90,6 +90,7 @@ class Simulation final : public SimulationBase {
   void set_position(std::int64_t id, const Triple& x) override;
   void set_velocity(std::int64_t id, const Triple& v) override;
   void set_spin(std::int64_t id, const Triple& w) override;
+  void set_fixed(std::int64_t id, bool fixed) override;
   FlatState flat_state() const override;
   void flat_forces(std::vector<double>& force, std::vector<double>& torque) const override;
   BodyFields body_fields() const override {
@@ -241,11 +242,11 @@ class Simulation final : public SimulationBase {
   // differently in stats() and in a reduction over ranks that adds the same
   // terms; columns, so that no term is read back wider than it was stored.
   struct StatColumns {
-    std::vector<double> kinetic_translational, kinetic_rotational, angular_momentum_z;
+    std::vector<double> kinetic_translational, kinetic_rotational, angular_momentum_z, mass;
     std::array<std::vector<double>, D> momentum;
     void resize(std::size_t count) {
       kinetic_translational.resize(count), kinetic_rotational.resize(count);
-      angular_momentum_z.resize(count);
+      angular_momentum_z.resize(count), mass.resize(count);
       for (auto& column : momentum) column.resize(count);
     }
   };

@@ -152,6 +152,7 @@ __attribute__((noinline)) void Simulation<D>::stat_columns(const std::uint32_t* 
       spin_z = p_.spin[i][2];
     }
     out.angular_momentum_z[k] = m * (x[0] * v[1] - x[1] * v[0]) + inertia * spin_z;
+    out.mass[k] = m;
   }
 }
 
@@ -201,6 +202,7 @@ GlobalStats Simulation<D>::stats() const {
       g.kinetic_rotational += t.kinetic_rotational[k];
       for (int a = 0; a < D; ++a) momentum[a] += t.momentum[static_cast<std::size_t>(a)][k];
       g.angular_momentum_z += t.angular_momentum_z[k];
+      g.free_mass += t.mass[k];
     }
     listed = 0;
   };

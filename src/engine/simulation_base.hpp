@@ -128,6 +128,7 @@ struct GlobalStats {
   std::int64_t particles = 0;
   double kinetic_translational = 0;  // J
   double kinetic_rotational = 0;     // J
+  double free_mass = 0;              // kg, of the particles that are not fixed
   Triple momentum{};                 // kg m/s
   double angular_momentum_z = 0;     // kg m^2/s about the origin (z component)
   std::int64_t contacts_particle = 0;
@@ -365,6 +366,8 @@ class SimulationBase {
   virtual void set_position(std::int64_t id, const Triple& x) = 0;
   virtual void set_velocity(std::int64_t id, const Triple& v) = 0;
   virtual void set_spin(std::int64_t id, const Triple& w) = 0;
+  // Fixes a particle where it is (at rest, infinite mass) or frees it (at rest).
+  virtual void set_fixed(std::int64_t id, bool fixed) = 0;
 
   // Flat copies of the state, ids in storage order; position/velocity rows of `dimension()`.
   struct FlatState {

@@ -379,6 +379,24 @@ void Simulation<D>::set_spin(std::int64_t id, const Triple& w) {
   p_.spin[i] = to_spin(w);
 }
 
+template <int D>
+void Simulation<D>::set_fixed(std::int64_t id, bool fixed) {
+  const int i = checked(id);
+  if ((p_.fixed[i] != 0) == fixed) return;
+  note_bonded_motion(i);
+  // At rest either way: a particle fixed keeps no velocity (the integration
+  // skips it), and one freed starts from rest, as a fixed particle always is.
+  p_.velocity[i] = V::Zero();
+  p_.spin[i] = Dim<D>::zero_spin();
+  p_.fixed[i] = fixed ? 1 : 0;
+  p_.inv_mass[i] = fixed ? 0.0 : 1.0 / p_.mass[i];
+  p_.inv_inertia[i] = fixed ? 0.0 : 1.0 / sphere_inertia(p_.mass[i], p_.radius[i]);
+  // The lists leave out pairs of fixed particles and fixed particles' wall
+  // contacts, and the time-step rule reads the free particles: all made anew.
+  lists_valid_ = false;
+  unprepare();
+}
+
 template class Simulation<2>;
 template class Simulation<3>;
 

@@ -20,7 +20,7 @@ std::vector<FunctionDoc> make_entries() {
 // Text written from the model registry; static, as the entries point into it.
 static const std::string model_names = contact_model_names(" | ");
 static const std::string stats_doc = fmt::format(
- "Global quantities now (J, kg m/s, kg m^2/s); contacts_batched: of contacts_particle, those a batched (vectorised) contact kernel computed (pairs of a law that has one: in 3D {}; in 2D {}), contacts_wall_batched: of contacts_wall, those the same kernels computed, candidate_pairs: neighbour-list entries within the skin, list_rebuilds: rebuilds so far, thread_rebalances: times the threads' shares of the pair contacts were moved to even out their work, pair_list_prunes: times a pair list was pruned (sim:set pruning), pair_candidates_visited: pair candidates the last step's contact loop looked at (fewer than the pair candidates while pruned lists are in use), max_overlap_ratio: the last step's deepest overlap over the smaller radius of its pair (a wall contact: over the particle's radius; the overlaps diagnostic divides by the moving particle's radius).",
+ "Global quantities now (J, kg m/s, kg m^2/s); the energies and momenta are of the free particles, free_mass their mass (kg); contacts_batched: of contacts_particle, those a batched (vectorised) contact kernel computed (pairs of a law that has one: in 3D {}; in 2D {}), contacts_wall_batched: of contacts_wall, those the same kernels computed, candidate_pairs: neighbour-list entries within the skin, list_rebuilds: rebuilds so far, thread_rebalances: times the threads' shares of the pair contacts were moved to even out their work, pair_list_prunes: times a pair list was pruned (sim:set pruning), pair_candidates_visited: pair candidates the last step's contact loop looked at (fewer than the pair candidates while pruned lists are in use), max_overlap_ratio: the last step's deepest overlap over the smaller radius of its pair (a wall contact: over the particle's radius; the overlaps diagnostic divides by the moving particle's radius).",
  batched_model_names(", ", 3), batched_model_names(", ", 2));
 return {
 // ---- globals ----
@@ -236,6 +236,9 @@ return {
 {"sim:set_spin", "simulation", P, "sim:set_spin(id, w)", "Sets a (free) particle's spin.",
  {{"1", "integer", "", true, "particle id"},
   {"2", "any", "rad/s", true, "2D: a number (about z); 3D: a vector"}}, "3, 5"},
+{"sim:set_fixed", "simulation", P, "sim:set_fixed(id, fixed)", "Fixes a particle where it is (true: at rest, infinite mass, as add_particle's fixed; a frozen base or wall of particles) or frees it (false: from rest, with its own mass and moment of inertia), in a run's callback or between runs. Its contacts with free particles carry on; a pair of two fixed particles and a fixed particle's wall contacts end (they exert nothing). The neighbour lists and the time-step rule, which reads the free particles, are made anew before the next step.",
+ {{"1", "integer", "", true, "particle id"},
+  {"2", "boolean", "", true, "true: fixed; false: free"}}, "3, true"},
 {"sim:remove_particle", "simulation", P, "sim:remove_particle(id)", "Removes a particle; the other ids do not change. Its parallel bonds break (sim:bond_counts; sim:breakage counts the bonds among the particles left); its open contacts end without an end event (overlaps and contact_peaks do not count them).",
  {{"1", "integer", "", true, "particle id"}}, "3"},
 
@@ -389,7 +392,7 @@ return {
 
 // ---- queries ----
 {"sim:stats", "simulation", P,
- "sim:stats() -> { time =, step =, particles =, kinetic_energy =, kinetic_energy_translational =, kinetic_energy_rotational =, momentum =, angular_momentum_z =, contacts_particle =, contacts_batched =, contacts_wall =, contacts_wall_batched =, max_overlap_ratio =, candidate_pairs =, list_rebuilds =, thread_rebalances =, pair_list_prunes =, pair_candidates_visited = }",
+ "sim:stats() -> { time =, step =, particles =, kinetic_energy =, kinetic_energy_translational =, kinetic_energy_rotational =, free_mass =, momentum =, angular_momentum_z =, contacts_particle =, contacts_batched =, contacts_wall =, contacts_wall_batched =, max_overlap_ratio =, candidate_pairs =, list_rebuilds =, thread_rebalances =, pair_list_prunes =, pair_candidates_visited = }",
  stats_doc.c_str(),
  {}, ""},
 {"sim:arrays", "simulation", P, "sim:arrays() -> P: P.x[i], P.vx[i], ..., #P",
@@ -447,7 +450,7 @@ return {
  {{"1", "table", "", true, "values by key"}, {"2", "list", "", true, "keys in order"}},
  "{ a = 1, b = 'x' }, { 'a', 'b' }"},
 {"granule.calm", "library", P, "granule.calm(sim, rest_speed, checks) -> function(sim) -> boolean",
- "A stop_when criterion for settling that holds at any particle size: true when the kinetic energy (translational and rotational) is below that of the free particles' whole mass moving at rest_speed, E < M v^2 / 2, at `checks` calls in a row (the mass summed again when the particles' ids change; true when no particle is free, so a stage fed from a callback should not start empty). Give rest_speed as a fraction of the scene's speed scale, e.g. 0.01 * math.sqrt(9.81 * diameter), rather than an energy in joules, which micron beads meet at once and centimetre ones never. A bed ringing as a whole (a tall column) passes near zero kinetic energy twice a period, where one check may land: checks = 3 waits until it has died down. Spheres on a floor may spin about the vertical for ever (no law here resists twisting, docs/contact_models.md), which keeps the rotational energy up: give such a bed a rest_speed above it, or judge it from sim:stats().kinetic_energy_translational yourself.",
+ "A stop_when criterion for settling that holds at any particle size: true when the kinetic energy (translational and rotational) is below that of the free particles' whole mass moving at rest_speed, E < M v^2 / 2, at `checks` calls in a row (M is sim:stats().free_mass, so particles added, removed, fixed or freed count at once; true when no particle is free, so a stage fed from a callback should not start empty). Give rest_speed as a fraction of the scene's speed scale, e.g. 0.01 * math.sqrt(9.81 * diameter), rather than an energy in joules, which micron beads meet at once and centimetre ones never. A bed ringing as a whole (a tall column) passes near zero kinetic energy twice a period, where one check may land: checks = 3 waits until it has died down. Spheres on a floor may spin about the vertical for ever (no law here resists twisting, docs/contact_models.md), which keeps the rotational energy up: give such a bed a rest_speed above it, or judge it from sim:stats().kinetic_energy_translational yourself.",
  {{"1", "any", "", true, "the simulation"}, {"2", "number", "m/s", true, "rest speed (> 0)"}, {"3", "integer", "-", false, "checks in a row that must find it calm (default 1)"}},
  "sim, 1e-3"},
 {"granule.stage", "library", P,

@@ -227,6 +227,7 @@ const luaL_Reg methods[] = {
     {"set_velocity", l_set_velocity},
     {"set_position", l_set_position},
     {"set_spin", l_set_spin},
+    {"set_fixed", l_set_fixed},
     {"remove_particle", l_remove_particle},
     {"run", l_run},
     {"every", l_every},

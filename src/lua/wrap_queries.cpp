@@ -171,6 +171,7 @@ int l_stats(lua_State* L) {
     set("kinetic_energy", g.kinetic_translational + g.kinetic_rotational);
     set("kinetic_energy_translational", g.kinetic_translational);
     set("kinetic_energy_rotational", g.kinetic_rotational);
+    set("free_mass", g.free_mass);
     push_vector(L, g.momentum, s.sim->dimension());
     lua_setfield(L, -2, "momentum");
     set("angular_momentum_z", g.angular_momentum_z);

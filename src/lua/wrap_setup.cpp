@@ -458,6 +458,17 @@ int l_set_position(lua_State* L) {
     return 0;
   });
 }
+int l_set_fixed(lua_State* L) {
+  return protect(L, [](lua_State* L) {
+    LuaSim& s = self(L);
+    std::int64_t id = particle_id(L, 2, *s.sim);
+    if (lua_type(L, 3) != LUA_TBOOLEAN)
+      throw InputError(
+          fmt::format("set_fixed: argument 2 must be true or false, got {}", luaL_typename(L, 3)));
+    s.sim->set_fixed(id, lua_toboolean(L, 3) != 0);
+    return 0;
+  });
+}
 int l_set_spin(lua_State* L) {
   return protect(L, [](lua_State* L) {
     LuaSim& s = self(L);

@@ -38,6 +38,7 @@ int l_set_wall(lua_State* L);
 int l_set_velocity(lua_State* L);
 int l_set_position(lua_State* L);
 int l_set_spin(lua_State* L);
+int l_set_fixed(lua_State* L);
 int l_remove_particle(lua_State* L);
 
 // wrap_run.cpp

@@ -50,10 +50,11 @@ GlobalStats DistributedRun<D>::totals() const {
     if (!p.fixed[i]) which.push_back(static_cast<std::uint32_t>(i));
   typename Simulation<D>::StatColumns& t = b.columns;
   sim_.stat_columns(which.data(), which.size(), t);
-  std::array<const std::vector<double>*, D + 3> columns;
+  std::array<const std::vector<double>*, D + 4> columns;
   columns[0] = &t.kinetic_translational, columns[1] = &t.kinetic_rotational;
   for (int a = 0; a < D; ++a) columns[2 + a] = &t.momentum[static_cast<std::size_t>(a)];
   columns[2 + D] = &t.angular_momentum_z;
+  columns[3 + D] = &t.mass;
   const std::size_t n = which.size(), terms = columns.size();
   std::string& mine = b.mine;
   mine = tallies(g);
@@ -117,7 +118,7 @@ GlobalStats DistributedRun<D>::totals() const {
       return id[static_cast<std::size_t>(a)] < id[static_cast<std::size_t>(b)];
     });
   }
-  g.kinetic_translational = g.kinetic_rotational = g.angular_momentum_z = 0;
+  g.kinetic_translational = g.kinetic_rotational = g.angular_momentum_z = g.free_mass = 0;
   Vec<D> momentum = Vec<D>::Zero();
   for (const std::int32_t k : order) {
     g.kinetic_translational += term[0][static_cast<std::size_t>(k)];
@@ -125,6 +126,7 @@ GlobalStats DistributedRun<D>::totals() const {
     for (int a = 0; a < D; ++a)
       momentum[a] += term[2 + static_cast<std::size_t>(a)][static_cast<std::size_t>(k)];
     g.angular_momentum_z += term[2 + D][static_cast<std::size_t>(k)];
+    g.free_mass += term[3 + D][static_cast<std::size_t>(k)];
   }
   g.momentum = Triple{};
   for (int a = 0; a < D; ++a) g.momentum[static_cast<std::size_t>(a)] = momentum[a];

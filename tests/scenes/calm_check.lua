@@ -44,6 +44,18 @@ H.check(granule.calm(still, 1e-3)(still), "a scene without particles is calm")
 still:add_particle { position = { 0, 0, 0 }, radius = radius, material = "glass", fixed = true }
 H.check(granule.calm(still, 1e-3)(still), "a scene of fixed particles is calm")
 
+-- A particle fixed or freed changes the free mass at once (sim:set_fixed): the
+-- same energy over the one free sphere's mass alone is not calm.
+local pair = scene(radius, 1.0)
+local second = pair:add_particle { position = { 0, -10 * radius, 0 }, radius = radius, material = "glass" }
+local judge = granule.calm(pair, 0.8)
+H.check(judge(pair), "two free spheres, one moving at 1 m/s: an rms speed of 0.71 m/s, calm at 0.8 m/s")
+pair:set_fixed(second, true)
+H.check(pair:stats().free_mass == pair:particle(0).mass, "fixed: the free mass is the moving sphere's")
+H.check(not judge(pair), "the resting sphere fixed: 1 m/s over the free mass, not calm")
+pair:set_fixed(second, false)
+H.check(judge(pair), "freed again: calm")
+
 -- checks = 3: calm only at the third call in a row that finds it so; a call that
 -- does not starts the count again (a ringing bed passing near rest once).
 local ring = scene(radius, 1.0)

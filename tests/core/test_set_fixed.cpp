@@ -1,0 +1,125 @@
+// Simulation::set_fixed: a particle fixed mid-run stays where it is, at rest,
+// holds what rests on it and leaves the walls; freed, it moves from rest with
+// its own mass; the time-step rule and the free mass follow.
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "core/errors.hpp"
+#include "engine/simulation.hpp"
+
+using namespace granule;
+
+namespace {
+constexpr double r = 1e-3, density = 2500, g = 9.81;
+const double mass = 4.0 / 3.0 * M_PI * r * r * r * density;
+
+// Two spheres stacked on a floor (linear law, strongly damped), settled.
+struct Stack {
+  Simulation<3> sim;
+  std::int64_t bottom = -1, top = -1;
+  int floor = -1;
+  Stack() {
+    sim.set_warning_handler([](const std::string&) {});
+    sim.add_material({"glass", density, 0, 0, 0});
+    sim.add_material({"steel", 0, 0, 0, 0});
+    for (const char* other : {"glass", "steel"})
+      sim.set_contact("glass", other, "linear", {{"k_normal", 1e4}, {"restitution", 0.2}});
+    sim.set_gravity({0, 0, -g});
+    WallSpec w;
+    w.name = "floor", w.material = 1, w.normal = {0, 0, 1};
+    floor = sim.add_wall(w);
+    ParticleSpec s;
+    s.radius = r, s.material = 0, s.position = {0, 0, r};
+    bottom = sim.add_particle(s);
+    s.position = {0, 0, 3 * r};
+    top = sim.add_particle(s);
+    sim.advance(40000);
+  }
+};
+}  // namespace
+
+TEST_CASE("set_fixed: a particle fixed mid-run holds what rests on it and leaves the floor",
+          "[set_fixed]") {
+  Stack stack;
+  Simulation<3>& sim = stack.sim;
+  REQUIRE(sim.wall_force(stack.floor)[2] == Approx(-2 * mass * g).epsilon(1e-3));
+  REQUIRE(sim.stats().free_mass == Approx(2 * mass).epsilon(1e-12));
+  sim.set_fixed(stack.bottom, true);
+  CHECK(sim.stats().free_mass == Approx(mass).epsilon(1e-12));
+  const Triple bottom_at = sim.position(stack.bottom), top_at = sim.position(stack.top);
+  sim.advance(20000);
+  // The fixed sphere does not move and touches no wall; the top one still rests on it.
+  CHECK(sim.position(stack.bottom) == bottom_at);
+  CHECK(sim.velocity(stack.bottom) == Triple{0, 0, 0});
+  CHECK(sim.wall_force(stack.floor)[2] == 0);
+  CHECK(std::abs(sim.position(stack.top)[2] - top_at[2]) < 1e-3 * r);
+  CHECK(sim.stats().contacts_particle == 1);
+
+  // Freed, it falls back the little its floor contact was pressed, from rest, and
+  // the floor carries both again.
+  sim.set_fixed(stack.bottom, false);
+  CHECK(sim.velocity(stack.bottom) == Triple{0, 0, 0});
+  CHECK(sim.stats().free_mass == Approx(2 * mass).epsilon(1e-12));
+  sim.advance(40000);
+  CHECK(sim.wall_force(stack.floor)[2] == Approx(-2 * mass * g).epsilon(1e-3));
+  // Fixing twice, or freeing a free particle, changes nothing.
+  sim.set_fixed(stack.top, false);
+  CHECK(sim.stats().free_mass == Approx(2 * mass).epsilon(1e-12));
+}
+
+TEST_CASE("set_fixed: a particle freed in the air falls as g t from rest", "[set_fixed]") {
+  Simulation<3> sim;
+  sim.set_warning_handler([](const std::string&) {});
+  sim.add_material({"glass", density, 0, 0, 0});
+  sim.set_contact("glass", "glass", "linear", {{"k_normal", 1e4}, {"restitution", 0.5}});
+  sim.set_gravity({0, 0, -g});
+  ParticleSpec s;
+  s.radius = r, s.material = 0, s.position = {0, 0, 1};
+  s.velocity = {0.3, 0, 0};
+  const std::int64_t p = sim.add_particle(s);
+  s.position = {1, 0, 0}, s.velocity = {0, 0, 0};
+  sim.add_particle(s);  // a second, far away: the scene has a contact law in use
+  sim.advance(100);
+  sim.set_fixed(p, true);
+  const Triple held = sim.position(p);
+  sim.advance(100);
+  CHECK(sim.position(p) == held);
+  sim.set_fixed(p, false);
+  const double dt = sim.time_step();
+  sim.advance(1000);
+  // Leap-frog is exact for a constant force: v = -g t, no sideways speed left.
+  CHECK(sim.velocity(p)[0] == 0);
+  CHECK(sim.velocity(p)[2] == Approx(-g * 1000 * dt).epsilon(1e-12));
+}
+
+TEST_CASE("set_fixed: the time-step rule reads the particles left free", "[set_fixed]") {
+  // The rule takes each material's smallest free particle: freeing the only small
+  // one, fixed from the start, shortens the automatic step to what the scene with
+  // it free takes (a step kept short when it is fixed again: an automatic step is
+  // chosen again only when too long).
+  auto scene = [](Simulation<3>& sim, bool small_fixed) {
+    sim.set_warning_handler([](const std::string&) {});
+    sim.add_material({"glass", density, 0, 0, 0});
+    sim.set_contact("glass", "glass", "linear", {{"k_normal", 1e4}, {"restitution", 0.5}});
+    ParticleSpec s;
+    s.radius = r, s.material = 0, s.fixed = small_fixed;
+    const std::int64_t small = sim.add_particle(s);
+    s.radius = 4 * r, s.position = {0.1, 0, 0}, s.fixed = false;
+    sim.add_particle(s);
+    sim.advance(1);
+    return small;
+  };
+  Simulation<3> free_from_start;
+  scene(free_from_start, false);
+  Simulation<3> sim;
+  const std::int64_t small = scene(sim, true);
+  const double without_small = sim.time_step();
+  CHECK(without_small > 2 * free_from_start.time_step());
+  sim.set_fixed(small, false);
+  sim.advance(1);
+  CHECK(sim.time_step() == free_from_start.time_step());
+  sim.set_fixed(small, true);
+  sim.advance(1);
+  CHECK(sim.time_step() == free_from_start.time_step());
+  CHECK_THROWS_AS(sim.set_fixed(99, true), InputError);
+}
