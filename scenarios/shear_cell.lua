@@ -118,7 +118,8 @@ sim:series("shear", { "time", "lid_force_x", "lid_force_y", "gap", "middle_shear
 local started = sim:time()
 window.from = started + 0.4 * p.duration  -- past the start-up of the flow
 -- 50 samples of the flow over the run (every 0.01 s at the default duration),
--- 30 of them in the window, whatever the duration a scene of another size needs.
+-- 30 or 31 of them in the window (its start may fall on a sample), whatever the
+-- duration a scene of another size needs.
 local flow_every = p.duration / 50
 sim:every { time = flow_every, function(s)
   local f = s:wall("lid").force

@@ -85,8 +85,8 @@ local rho_b = inside * mass_each / (math.pi * Rs ^ 2 * (hi - lo))
 -- counted and removed (4 diameters), so none lands on it. Its speed scales as
 -- a free fall's over that drop (sqrt of the size), so that at any size it
 -- leaves the outlet faster than the first spheres follow.
-local size = d / 4e-3
-local shutter_speed, shutter_time = 2 * math.sqrt(size), 0.05 * math.sqrt(size)
+local size_ratio = d / 4e-3  -- to the declared default diameter
+local shutter_speed, shutter_time = 2 * math.sqrt(size_ratio), 0.05 * math.sqrt(size_ratio)
 local t_open = sim:time()
 sim:set_wall("shutter", { velocity = { 0, 0, -shutter_speed } })
 local discharged, times, masses = 0, {}, {}

@@ -82,17 +82,17 @@ add_test(NAME params.hopper_mesh_mismatch
 set_tests_properties(params.hopper_mesh_mismatch PROPERTIES FIXTURES_REQUIRED hopper_stl
   PASS_REGULAR_EXPRESSION "is not the hopper of bin_radius=0\\.03 m, .*half_angle=40 deg")
 
-# A few beads fill and settle (the fill region is at least two diameters high)
-# and are reported; too many for an overlapping fill are refused by name.
 # A tall frictionless column (6 mm box, 300 beads, e = 0.9) rings as a whole
 # after it settles: calm at three checks in a row and wall forces averaged over
 # 7 sqrt(d / g) give the weight on the floor (one check and one step's forces
-# read 104 %, and the scene refused it).
+# read 104 %, and the scene refused it). settle = 2 s: it settles near 1 s.
 add_test(NAME params.packing_3d_ringing_column
   COMMAND granule run ${scenes}/packing_3d.lua -D friction=0 -D box=6e-3 -D particles=300
-          -D restitution=0.9 -o params_packing_column.h5 --quiet)
+          -D restitution=0.9 -D settle=2 -o params_packing_column.h5 --quiet)
 set_tests_properties(params.packing_3d_ringing_column PROPERTIES
   PASS_REGULAR_EXPRESSION "packing_3d: .*floor carries (99\\.[5-9]|100\\.[0-4]) %")
+# A few beads fill and settle (the fill region is at least two diameters high)
+# and are reported; too many for an overlapping fill are refused by name.
 add_test(NAME params.packing_3d_one_bead
   COMMAND granule run ${scenes}/packing_3d.lua -D particles=1 -o params_packing_one.h5 --quiet)
 set_tests_properties(params.packing_3d_one_bead PROPERTIES
@@ -136,17 +136,19 @@ add_test(NAME params.oblique_impact_stuck
           -o params_oblique_stuck.h5 --quiet)
 set_tests_properties(params.oblique_impact_stuck PROPERTIES PASS_REGULAR_EXPRESSION "\n0\\.2 0 0 -?[0-9.e+-]+ 0 [0-9]")
 
-# Inconsistent parameters are refused by name before anything runs.
-# silo_3d at ten times the sphere size (times scaled by sqrt(10)): the shutter
-# drops away in proportion, so no sphere lands on it, and the flow keeps its
-# ratio to Beverloo's law (about 0.9 at D / d = 7.5; 0.54 with a shutter stopped
-# 0.1 m down, whatever the size).
+# silo_3d with spheres ten times the default's (4 cm, the orifice and silo 10
+# times too, 3000 of them; a stiffer modulus keeps them from sinking into one
+# another; settle and the window long enough for the bed's fall and steady
+# flow at this size): the shutter drops away in proportion, so no sphere
+# lands on it, and the flow keeps its ratio to Beverloo's law (about 0.9 at
+# D / d = 7.5; 0.54 with a shutter stopped 0.1 m down, whatever the size).
 add_test(NAME params.silo_3d_large_spheres
   COMMAND granule run ${scenes}/silo_3d.lua -D diameter=0.04 -D orifice=0.3 -D silo_diameter=0.8
           -D particles=3000 -D settle=1.5 -D window_start=0.5 -D window_end=1.5 -D young=1e8
           -o params_silo_large.h5 --quiet)
 set_tests_properties(params.silo_3d_large_spheres PROPERTIES TIMEOUT 120
   PASS_REGULAR_EXPRESSION "W / Beverloo = (0\\.[89]|1\\.[01])")
+# Inconsistent parameters are refused by name before anything runs.
 add_test(NAME params.silo_3d_window_reversed
   COMMAND granule run ${scenes}/silo_3d.lua -D window_start=0.3 -D window_end=0.1 -o params_silo_window.h5 --quiet)
 set_tests_properties(params.silo_3d_window_reversed PROPERTIES TIMEOUT 30

@@ -157,7 +157,8 @@ end)
 --- micron beads and never by centimetre ones. A bed that rings as a whole (a
 --- tall column on a soft floor) passes near zero kinetic energy twice a period;
 --- checks = 3 asks for calm at three checks in a row, which such a ringing
---- meets only once it has died down.
+--- meets only once it has died down. The count is of its own calls: call it
+--- at every check (first in an `and`), and make one per stage.
 granule.calm = export("granule.calm", function(sim, rest_speed, checks)
   if type(sim) ~= "userdata" then
     error("granule.calm: the first argument must be the simulation, got " .. type(sim), 2)

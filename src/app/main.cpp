@@ -131,30 +131,11 @@ int rank_path_call(lua_State* L) {
   return lua_gettop(L);
 }
 
-int close_discarded(lua_State* L) {
-  auto* stream = static_cast<luaL_Stream*>(luaL_checkudata(L, 1, LUA_FILEHANDLE));
-  return luaL_fileresult(L, std::fclose(stream->f) == 0, nullptr);
-}
-
 void keep_files_on_rank(lua_State* L) {
   // What the scene prints (print, io.write, sim:table, a plotting script's
   // lines) rank 0 prints for all: this rank's standard output goes nowhere.
   if (!std::freopen("/dev/null", "w", stdout))
     throw std::runtime_error("rank's standard output cannot be closed");
-  // So do the scene's own lines on standard error (the library's stage lines,
-  // a script's warnings): io.stderr is a file that discards them. The engine's
-  // errors, which may be this rank's alone, still reach the real stderr.
-  lua_getglobal(L, "io");
-  if (lua_istable(L, -1)) {
-    auto* stream = static_cast<luaL_Stream*>(lua_newuserdatauv(L, sizeof(luaL_Stream), 0));
-    stream->closef = nullptr;  // not yet a file: closed by nothing if fopen fails
-    luaL_setmetatable(L, LUA_FILEHANDLE);
-    stream->f = std::fopen("/dev/null", "w");
-    if (!stream->f) throw std::runtime_error("rank's io.stderr cannot be opened on /dev/null");
-    stream->closef = close_discarded;
-    lua_setfield(L, -2, "stderr");
-  }
-  lua_pop(L, 1);
   // os.tmpname's files in the rank's scratch folder, which goes at exit (a
   // scene's os.remove of one goes to its scratch copy, and would leave it).
   lua_getglobal(L, "os");
@@ -227,8 +208,8 @@ int run_scene(Options& o) {
     if (o.ctx.rank == 0)
       for (const auto& f : o.ctx.outputs_written)
         if (std::find(shown.begin(), shown.end(), f) == shown.end()) {
-          report.extra += (o.ctx.outputs_finished.count(f) ? "results (complete) kept in "
-                                                            : "partial results kept in ") +
+          report.extra += (o.ctx.outputs_finished.count(f) ? "complete results kept in "
+                                                           : "partial results kept in ") +
                           f + "\n";
           shown.push_back(f);
         }

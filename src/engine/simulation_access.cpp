@@ -485,8 +485,8 @@ template <int D>
 std::string Simulation<D>::automatic_step_rule() const {
   if (dt_per_contact_)
     return fmt::format(
-        "automatic: t_c / n (Eq. 4.1), n = {}, t_c the contact time of {}{}", steps_per_contact_,
-        dt_governing_pair_,
+        "automatic: {}, n = {}, t_c the contact time of {}{}", time_step_rule_name(true),
+        steps_per_contact_, dt_governing_pair_,
         dt_governing_pair_.find("walton_braun") != std::string::npos
             ? " (of its unloading spring K2 alone, pi sqrt(m*/K2): its force lasts (1 + e)/(2e) "
               "t_c)"
@@ -494,10 +494,10 @@ std::string Simulation<D>::automatic_step_rule() const {
   // Thornton's rule (Eqs. 6.1-6.2): a Hertz contact closing at v lasts
   // 2.87 (m*^2 / (R* E*^2 v))^(1/5), so its steps fall as v^(-1/5).
   return fmt::format(
-      "automatic: 8 T_R / n (Eqs. 6.1-6.2), n = {}, T_R the Rayleigh time, for {}; not steps "
+      "automatic: {}, n = {}, T_R the Rayleigh time, for {}; not steps "
       "per contact: a Hertz contact lasts 2.87 (m*^2/(R* E*^2 v))^(1/5), fewer steps the "
       "faster it closes",
-      steps_per_contact_, dt_governing_pair_);
+      time_step_rule_name(false), steps_per_contact_, dt_governing_pair_);
 }
 
 template class Simulation<2>;

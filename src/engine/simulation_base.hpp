@@ -208,6 +208,12 @@ struct DeepContactMode {
   std::function<double(double)> omega_squared;  // at an overlap [m]: 1/s^2
 };
 
+// The automatic step's rule by name: Eq. 4.1's t_c / n for the laws whose rule is
+// per contact (linear, Walton-Braun), Thornton's 8 T_R / n for Hertz's laws.
+inline const char* time_step_rule_name(bool per_contact) {
+  return per_contact ? "t_c / n (Eq. 4.1)" : "8 T_R / n (Eqs. 6.1-6.2)";
+}
+
 struct TimeStepReport {
   double rule = 0;             // Eq. 4.1 (or the model's analogue) over the pairs in use, s
   double stability_limit = 0;  // 1 / omega_max (half of leap-frog's 2 / omega_max), s

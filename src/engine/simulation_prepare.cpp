@@ -160,10 +160,7 @@ void Simulation<D>::choose_time_step() {
             ? "; its limit includes the epsd rolling spring's mode (omega_r up to 1.27 mu_r "
               "omega_n), which a lower rolling_friction lifts"
             : "";
-    // The governing law's rule: Eq. 4.1 for the linear and Walton-Braun laws,
-    // Thornton's Rayleigh-time rule for Hertz's laws.
-    const char* const rule_name =
-        rule.per_contact ? "t_c / n (Eq. 4.1)" : "8 T_R / n (Eqs. 6.1-6.2)";
+    const char* const rule_name = time_step_rule_name(rule.per_contact);
     if (dt_fixed_ > 0) {
       dt_ = dt_fixed_;
       if (dt_ >= rule.stability_limit)
@@ -203,8 +200,7 @@ void Simulation<D>::choose_time_step() {
           "less where a dashpot would more than stop the pair in one step: beyond it an impact "
           "gains energy): refused; raise steps_per_contact{}",
           steps_per_contact_, dt_, rule_name, rule.governing_pair, rule.stability_limit,
-          rule.limit_pair,
-          rolling_hint));
+          rule.limit_pair, rolling_hint));
   } else if (dt_ == 0) {
     dt_ = dt_fixed_;
   }

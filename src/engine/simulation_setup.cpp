@@ -393,8 +393,17 @@ void Simulation<D>::set_fixed(std::int64_t id, bool fixed) {
   p_.inv_inertia[i] = fixed ? 0.0 : 1.0 / sphere_inertia(p_.mass[i], p_.radius[i]);
   // The lists leave out pairs of fixed particles and fixed particles' wall
   // contacts, and the time-step rule reads the free particles: all made anew.
+  // The bonds' stability limit reads the masses too.
   lists_valid_ = false;
+  bond_step_checked_ = 0;
   unprepare();
+  if (!fixed) {
+    // What it overlaps while fixed (another fixed particle, a wall) went
+    // unchecked: freed, it is placed there as an added particle is, refused
+    // outside a wall and its overlaps the scene's, not a pass-through.
+    check_placed_in_walls(p_.position[i], p_.radius[i], false, id, "set_fixed: ");
+    arm_overlap_grace_for(std::array<std::int64_t, 1>{id});
+  }
 }
 
 template class Simulation<2>;

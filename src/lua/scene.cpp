@@ -220,7 +220,9 @@ int l_parameters(lua_State* L) {
       std::string shown;
       if (lua_type(L, spec) == LUA_TNUMBER) {
         ctx->numeric_parameters[name] = lua_tonumber(L, spec);
-        if (lua_isinteger(L, spec)) ctx->integer_parameters[name] = lua_tointeger(L, spec);
+        // Declared whole (integer = true): an integer in the output, whatever -D wrote.
+        if (range.integer && lua_isinteger(L, spec))
+          ctx->integer_parameters[name] = lua_tointeger(L, spec);
         shown = fmt::format("{}", lua_tonumber(L, spec));
       } else if (lua_type(L, spec) == LUA_TBOOLEAN) {
         shown = lua_toboolean(L, spec) ? "true" : "false";

@@ -42,7 +42,7 @@ struct SceneContext {
   bool parameters_declared = false;
   std::vector<std::pair<std::string, std::string>> parameter_values;  // for provenance
   std::map<std::string, double> numeric_parameters;
-  std::map<std::string, std::int64_t> integer_parameters;  // those Lua holds as integers
+  std::map<std::string, std::int64_t> integer_parameters;  // those declared integer = true
   bool quiet = false;
   int threads = 0;           // --threads N: overrides every simulation's own setting when > 0
   std::string restart_path;  // --restart FILE: the first simulation continues this checkpoint

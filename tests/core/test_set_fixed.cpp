@@ -3,7 +3,9 @@
 // its own mass; the time-step rule and the free mass follow.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <string>
 
+#include "contact/parallel_bond.hpp"
 #include "core/errors.hpp"
 #include "engine/simulation.hpp"
 
@@ -62,9 +64,87 @@ TEST_CASE("set_fixed: a particle fixed mid-run holds what rests on it and leaves
   CHECK(sim.stats().free_mass == Approx(2 * mass).epsilon(1e-12));
   sim.advance(40000);
   CHECK(sim.wall_force(stack.floor)[2] == Approx(-2 * mass * g).epsilon(1e-3));
-  // Fixing twice, or freeing a free particle, changes nothing.
+  // Freeing a free particle changes nothing (a moving one keeps its velocity),
+  // nor does fixing a fixed one; two fixed particles hold no contact.
+  sim.set_velocity(stack.top, {0.01, 0, 0});
   sim.set_fixed(stack.top, false);
-  CHECK(sim.stats().free_mass == Approx(2 * mass).epsilon(1e-12));
+  CHECK(sim.velocity(stack.top) == Triple{0.01, 0, 0});
+  sim.set_fixed(stack.bottom, true);
+  sim.set_fixed(stack.top, true);
+  sim.set_fixed(stack.top, true);
+  CHECK(sim.stats().free_mass == 0);
+  sim.advance(10);
+  CHECK(sim.stats().contacts_particle == 0);
+  CHECK(sim.stats().contacts_wall == 0);
+}
+
+TEST_CASE("set_fixed: a particle freed where it overlaps another is pushed out, not stopped",
+          "[set_fixed]") {
+  // Two fixed spheres overlapping by 1.1 r (a pair of fixed particles is never a
+  // contact): freed, the overlap is the scene's, as an added particle's, and is
+  // pushed apart rather than taken for a pass-through.
+  Simulation<3> sim;
+  sim.set_warning_handler([](const std::string&) {});
+  sim.add_material({"glass", density, 0, 0, 0});
+  sim.set_contact("glass", "glass", "linear", {{"k_normal", 1e2}, {"restitution", 0.5}});
+  ParticleSpec s;
+  s.radius = r, s.material = 0, s.fixed = true;
+  sim.add_particle(s);
+  s.position = {0.9 * r, 0, 0};
+  const std::int64_t second = sim.add_particle(s);
+  s.position = {0.1, 0, 0}, s.fixed = false;
+  sim.add_particle(s);  // a free one far away
+  sim.advance(100);
+  sim.set_fixed(second, false);
+  REQUIRE_NOTHROW(sim.advance(20000));
+  CHECK(sim.position(second)[0] > 2 * r);
+}
+
+TEST_CASE("set_fixed: freeing a bonded particle meets the bonds' stability limit", "[set_fixed]") {
+  // A light sphere (radius r) bonded to a heavy one (2 r): the limit is the
+  // stiffest free particle's, so with the light one fixed it is the heavy one's,
+  // and freeing the light one lowers it; a step between the two limits is
+  // refused by name once it is freed.
+  auto pair = [](Simulation<3>& sim, bool first_fixed) {
+    sim.set_warning_handler([](const std::string&) {});
+    sim.add_material({"glass", density, 0, 0, 0});
+    sim.set_contact("glass", "glass", "linear", {{"k_normal", 1e2}, {"restitution", 0.5}});
+    sim.set_time_step(1e-9);
+    ParticleSpec s;
+    s.radius = r, s.material = 0, s.fixed = first_fixed;
+    const std::int64_t first = sim.add_particle(s);
+    s.position = {3 * r, 0, 0}, s.radius = 2 * r, s.fixed = false;
+    sim.add_particle(s);
+    BondSpec b;
+    b.material_a = b.material_b = 0, b.gap = 1e-9;
+    b.normal_stiffness = 1e13, b.shear_stiffness = 5e12;
+    b.tensile_strength = b.shear_strength = 1e12;
+    REQUIRE(sim.create_bonds(b) == 1);
+    return first;
+  };
+  // The limit with both free, from the refusal's message.
+  double limit_free = 0;
+  {
+    Simulation<3> both;
+    pair(both, false);
+    both.set_time_step(1e-5);  // within the contact law's limit, far past the bond's
+    try {
+      both.advance(1);
+      FAIL("a step of 10 us beside a stiff bond was taken");
+    } catch (const InputError& e) {
+      const std::string message = e.what();
+      const auto at = message.find("1/omega = ");
+      REQUIRE(at != std::string::npos);
+      limit_free = std::stod(message.substr(at + 10));
+    }
+  }
+  REQUIRE(limit_free > 0);
+  Simulation<3> sim;
+  const std::int64_t first = pair(sim, true);
+  sim.set_time_step(1.2 * limit_free);
+  REQUIRE_NOTHROW(sim.advance(10));  // one free sphere: a longer limit
+  sim.set_fixed(first, false);
+  CHECK_THROWS_WITH(sim.advance(1), Catch::Contains("bonds' stability limit"));
 }
 
 TEST_CASE("set_fixed: a particle freed in the air falls as g t from rest", "[set_fixed]") {

@@ -81,13 +81,14 @@ def main():
         for name, unit in {"radius": "m", "overlap": "m", "label": "", "file": ""}.items():
             if text(punits[name]) != unit:
                 fail(f"parameter {name}: unit {text(punits[name])!r}, expected {unit!r}")
-        # Whole numbers stay whole (a tool reading the seed gets 7, not 7.0); the
-        # rest are doubles.
+        # Parameters declared integer = true stay whole (a tool reading the seed
+        # gets 7, not 7.0); the rest are doubles, whatever -D wrote.
         if not np.issubdtype(np.asarray(params["seed"]).dtype, np.integer) or params["seed"] != 7:
             fail(f"parameter seed: {params['seed']!r} ({np.asarray(params['seed']).dtype}), "
                  "expected the integer 7")
-        if not np.issubdtype(np.asarray(params["radius"]).dtype, np.floating):
-            fail(f"parameter radius: {np.asarray(params['radius']).dtype}, expected a double")
+        for name in ("radius", "speed"):  # speed: a whole default, not declared integer
+            if not np.issubdtype(np.asarray(params[name]).dtype, np.floating):
+                fail(f"parameter {name}: {np.asarray(params[name]).dtype}, expected a double")
         scene = f["scene"].attrs
         if not np.array_equal(scene["gravity"], [0, 0, -9.81]) or text(scene["gravity_units"]) != "m/s^2":
             fail(f"/scene gravity {scene.get('gravity')}")

@@ -8,6 +8,7 @@ local p = parameters {
   label = { default = "three spheres", doc = "a text parameter (no unit)" },
   file = { default = "output_documented_test.h5", doc = "output file" },
   seed = { default = 7, integer = true, doc = "a whole number: written as an integer" },
+  speed = { default = 3, unit = "m/s", doc = "a whole default, not declared whole: written as a double" },
 }
 local r, d = p.radius, p.overlap
 local sim = simulation { dimension = 3, time_step = 1e-6, record_contacts = true }

@@ -149,6 +149,7 @@ if p.case == "shear" then
     s:set_wall("floor", { velocity = { -0.1, 0.02 * math.sin(2 * math.pi * 2000 * s:time()), 0 } })
   end }
 end
+local held  -- box: the particle fixed at one firing and freed at the next
 sim:every { steps = 250, function(s)
   local st = s:stats()
   energies[#energies + 1] = st.kinetic_energy
@@ -158,7 +159,19 @@ sim:every { steps = 250, function(s)
   local id = ids[(#energies * 37) % #ids + 1]
   local v = s:particle(id).velocity
   v[1] = v[1] + 1e-3
-  s:set_velocity(id, v)
+  if not s:particle(id).fixed then s:set_velocity(id, v) end
+  if p.case == "box" then
+    -- sim:set_fixed mid-run: the lists and the time step made anew on every
+    -- rank, and the free mass the stats reduce over the ranks.
+    if held then
+      s:set_fixed(held, false)
+      held = nil
+    else
+      held = ids[(#energies * 29) % #ids + 1]
+      s:set_fixed(held, true)
+    end
+    contact_sums[#contact_sums] = contact_sums[#contact_sums] .. string.format(" free_mass %a", s:stats().free_mass)
+  end
   if p.case == "sparse" then
     -- A particle leaves mid-run, as an outflow removes one: the last step's
     -- contacts are then those without it, the same records in the same order
