@@ -383,6 +383,11 @@ template <int D>
 void Simulation<D>::set_fixed(std::int64_t id, bool fixed) {
   const int i = checked(id);
   if ((p_.fixed[i] != 0) == fixed) return;
+  // What it overlaps while fixed (another fixed particle, a wall) went
+  // unchecked: freed, it is placed there as an added particle is, refused
+  // outside a wall (before anything changes) and its overlaps the scene's, not
+  // a pass-through.
+  if (!fixed) check_placed_in_walls(p_.position[i], p_.radius[i], false, id, "set_fixed: ");
   note_bonded_motion(i);
   // At rest either way: a particle fixed keeps no velocity (the integration
   // skips it), and one freed starts from rest, as a fixed particle always is.
@@ -397,13 +402,7 @@ void Simulation<D>::set_fixed(std::int64_t id, bool fixed) {
   lists_valid_ = false;
   bond_step_checked_ = 0;
   unprepare();
-  if (!fixed) {
-    // What it overlaps while fixed (another fixed particle, a wall) went
-    // unchecked: freed, it is placed there as an added particle is, refused
-    // outside a wall and its overlaps the scene's, not a pass-through.
-    check_placed_in_walls(p_.position[i], p_.radius[i], false, id, "set_fixed: ");
-    arm_overlap_grace_for(std::array<std::int64_t, 1>{id});
-  }
+  if (!fixed) arm_overlap_grace_for(std::array<std::int64_t, 1>{id});
 }
 
 template class Simulation<2>;

@@ -100,6 +100,30 @@ TEST_CASE("set_fixed: a particle freed where it overlaps another is pushed out, 
   CHECK(sim.position(second)[0] > 2 * r);
 }
 
+TEST_CASE("set_fixed: a fixed particle a moving wall has passed cannot be freed", "[set_fixed]") {
+  // A floor rising past a fixed sphere (a fixed particle touches no wall): freed
+  // there it would lie outside the wall, which is refused, and it stays fixed.
+  Simulation<3> sim;
+  sim.set_warning_handler([](const std::string&) {});
+  sim.add_material({"glass", density, 0, 0, 0});
+  sim.add_material({"steel", 0, 0, 0, 0});
+  for (const char* other : {"glass", "steel"})
+    sim.set_contact("glass", other, "linear", {{"k_normal", 1e4}, {"restitution", 0.5}});
+  WallSpec floor;
+  floor.name = "floor", floor.material = 1, floor.normal = {0, 0, 1};
+  floor.velocity = {0, 0, 1};
+  sim.add_wall(floor);
+  ParticleSpec s;
+  s.radius = r, s.material = 0, s.fixed = true, s.position = {0, 0, 2 * r};
+  const std::int64_t held = sim.add_particle(s);
+  s.position = {0.1, 0, 0.1}, s.fixed = false;
+  sim.add_particle(s);  // a free one far above
+  sim.advance(1);
+  while (sim.time() < 4 * r) sim.advance(100);  // the floor, at 1 m/s, is now past the sphere
+  CHECK_THROWS_WITH(sim.set_fixed(held, false), Catch::Contains("would lie outside wall 'floor'"));
+  CHECK(sim.stats().free_mass == Approx(mass).epsilon(1e-12));
+}
+
 TEST_CASE("set_fixed: freeing a bonded particle meets the bonds' stability limit", "[set_fixed]") {
   // A light sphere (radius r) bonded to a heavy one (2 r): the limit is the
   // stiffest free particle's, so with the light one fixed it is the heavy one's,
