@@ -166,7 +166,7 @@ granule.calm = export("granule.calm", function(sim, rest_speed, checks)
   if not (rest_speed > 0) then
     error(string.format("granule.calm: rest_speed must be > 0 m/s, got %s", tostring(rest_speed)), 2)
   end
-  checks = checks == nil and 1 or checks
+  checks = checks == nil and 1 or (math.tointeger(checks) or checks)  -- 3.0 is 3
   if math.type(checks) ~= "integer" or checks < 1 then
     error(string.format("granule.calm: checks must be a whole number >= 1, got %s", tostring(checks)), 2)
   end

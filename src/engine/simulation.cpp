@@ -215,7 +215,7 @@ void Simulation<D>::step() {
   if (dt_ != clock_dt_) clock_time_ = time_, clock_step_ = step_, clock_dt_ = dt_;
   ++step_;
   time_ = clock_time_ + static_cast<double>(step_ - clock_step_) * dt_;
-  if (non_finite_index_ != SIZE_MAX || last_wall_travel_ > smallest_radius_ ||
+  if (non_finite_index_ != SIZE_MAX || last_wall_travel_ > smallest_free_radius_ ||
       last_fastest_speed_sq_ * (dt_ * dt_) > smallest_radius_ * smallest_radius_ ||
       periodic_walls_move_) {
     // The wall check reads the walls' velocities of the step just taken, so
@@ -224,7 +224,7 @@ void Simulation<D>::step() {
       if (non_finite_index_ != SIZE_MAX) report_non_finite(non_finite_index_);
       if (last_fastest_speed_sq_ * (dt_ * dt_) > smallest_radius_ * smallest_radius_)
         report_step_over();
-      if (last_wall_travel_ > smallest_radius_) report_wall_step_over();
+      if (last_wall_travel_ > smallest_free_radius_) report_wall_step_over();
       if (periodic_walls_move_) report_walls_leave_period();
     } catch (...) {
       // The step's failure is the error to report: a schedule that fails to

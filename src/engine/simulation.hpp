@@ -477,6 +477,8 @@ class Simulation final : public SimulationBase {
   // The smallest radius at prepare(): no particle may move farther in a step
   // (report_step_over, simulation_checks.cpp).
   double smallest_radius_ = INFINITY;
+  // Of the free particles: a fixed one touches no wall, so no wall steps over it.
+  double smallest_free_radius_ = INFINITY;
   bool far_warned_ = false;  // particles far enough from the origin to lose digits
   void report_step_over();
   // Nor may a wall come that far towards a particle (each wall's farthest point's travel

@@ -446,7 +446,7 @@ template <int D>
 void Simulation<D>::report_wall_step_over() {
   for (std::size_t w = 0; w < walls_.size(); ++w) {
     const Wall<D>& wall = walls_[w];
-    if (!(wall_travel_[w] > smallest_radius_)) continue;
+    if (!(wall_travel_[w] > smallest_free_radius_)) continue;
     // The wall before the step, seen from a particle at x, is the wall now seen from
     // x + step (a translation); a mesh or polyline is turned and moved back.
     const V step = wall.velocity * dt_;
@@ -454,6 +454,7 @@ void Simulation<D>::report_wall_step_over() {
     // A surface wall's reach, capped: past any finite bound every particle is in it.
     const double reach = std::min(wall_travel_[w], 1e6);
     for (std::size_t i = 0; i < p_.size(); ++i) {
+      if (p_.fixed[i]) continue;  // it touches no wall: nothing steps over it
       double overlap = 0, advance = 0;
       if (mesh_before) {
         if (!MeshSet<D>::approach(*mesh_before, wall, p_.position[i], p_.radius[i],
@@ -465,16 +466,17 @@ void Simulation<D>::report_wall_step_over() {
             wall.contact(V(p_.position[i] + step), p_.radius[i], normal, surface_velocity, lever);
         advance = step.dot(normal);
       }
-      if (!(advance > smallest_radius_) || !(-overlap < advance)) continue;
+      if (!(advance > smallest_free_radius_) || !(-overlap < advance)) continue;
       fail(fmt::format(
           "step {} (t = {:.6g} s): wall '{}' moves {:.4g} m in one step (time step {:.4g} s) "
-          "towards particle {}, more than the smallest radius {:.4g} m and the gap {:.4g} m "
+          "towards particle {}, more than the smallest free particle's radius {:.4g} m and the gap "
+          "{:.4g} m "
           "between them: it can step over the particle or press it through; slow the wall (its "
           "velocity, its turning or its schedule){}",
-          step_, time_, wall.name, advance, dt_, p_.id[i], smallest_radius_, -overlap,
-          std::isfinite(advance)
-              ? fmt::format(" or reduce time_step below {:.4g} s", dt_ * smallest_radius_ / advance)
-              : std::string()));
+          step_, time_, wall.name, advance, dt_, p_.id[i], smallest_free_radius_, -overlap,
+          std::isfinite(advance) ? fmt::format(" or reduce time_step below {:.4g} s",
+                                               dt_ * smallest_free_radius_ / advance)
+                                 : std::string()));
     }
   }
 }

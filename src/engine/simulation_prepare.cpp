@@ -331,6 +331,9 @@ void Simulation<D>::prepare() {
   // Particles must start inside every wall (their centres on the allowed side).
   // A moving one placed inside a solid polyline is warned of.
   for (std::size_t i = 0; i < p_.size(); ++i) {
+    // Once the scene has stepped, a fixed particle may lie where a moving wall
+    // has passed: it touches no wall (set_fixed refuses to free it there).
+    if (step_ > 0 && p_.fixed[i]) continue;
     for (std::size_t wi = 0; wi < walls_.size(); ++wi) {
       const auto& w = walls_[wi];
       double c = w.clearance(p_.position[i], p_.radius[i]);
@@ -355,8 +358,11 @@ void Simulation<D>::prepare() {
   }
   if (periodic_.on()) check_walls_repeat();
   body_.periodic_axis = periodic_.on() ? periodic_.axis : -1;
-  smallest_radius_ = INFINITY;
-  for (const double r : p_.radius) smallest_radius_ = std::min(smallest_radius_, r);
+  smallest_radius_ = smallest_free_radius_ = INFINITY;
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    smallest_radius_ = std::min(smallest_radius_, p_.radius[i]);
+    if (!p_.fixed[i]) smallest_free_radius_ = std::min(smallest_free_radius_, p_.radius[i]);
+  }
   // Positions are doubles, rounded to eps |x|: far from the origin that is a
   // visible part of a radius, and of the overlaps the laws are computed from
   // (1e-7 of a radius at 4.5e8 radii out).

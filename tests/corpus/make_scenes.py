@@ -771,7 +771,7 @@ case("walton_braun_restitution_underflow", "restitution 1e-300: K2 = K1 / e^2 ov
      r"{at}.*restitution = 1e-300 makes the unloading stiffness K2 = K1 / e\^2 \(Eq. 3.1\) overflow",
      replace={"contact": wrong('sim:contact { "glass", "glass", model = "walton_braun", k_load = 1e4, restitution = 1e-300, friction = 0.3 }')})
 case("wall_steps_over", "a wall at 1e4 m/s moves farther in one step than the smallest radius",
-     r"wall 'floor' moves .* more than the smallest radius", base=BASE3,
+     r"wall 'floor' moves .* more than the smallest free particle's radius", base=BASE3,
      replace={"wall": wrong('sim:wall_plane { name = "floor", point = { 0, 0, 0 }, normal = { 0, 0, 1 }, velocity = { 0, 0, 1e4 }, material = "steel" }')})
 case("schedule_twice", "a second schedule of one target: it would overwrite the first at every step",
      r"{at}.*schedule 1 already sets it for 'glass'-'glass'",

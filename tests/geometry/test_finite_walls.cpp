@@ -412,8 +412,9 @@ TEST_CASE("walls: a wall that would step over a particle stops the run, one far 
     sim.advance(1);
   };
   // 500 m/s: 5 mm a step, five radii.
-  CHECK_THROWS_WITH(run(true, {0, 0, 500}, 2e-3),
-                    Contains("wall 'plate' moves") && Contains("more than the smallest radius"));
+  CHECK_THROWS_WITH(
+      run(true, {0, 0, 500}, 2e-3),
+      Contains("wall 'plate' moves") && Contains("more than the smallest free particle's radius"));
   CHECK_NOTHROW(run(true, {0, 0, 500}, 1.0));         // a metre off
   CHECK_NOTHROW(run(true, {0, 0, -500}, 1.0e-3));     // a gate it rests on pulled away
   CHECK_NOTHROW(run(true, {500, 0, 0}, 1.0e-3));      // a plate sliding along under it

@@ -346,8 +346,9 @@ TEST_CASE("mesh walls: a mesh that would step over a particle stops the run, one
     sim->advance(3);
   };
   // 260 m/s: 2.6 mm a step, 2.6 radii (the plate crossed the particle unseen).
-  CHECK_THROWS_WITH(run({0, 0, 260}, 1.5e-3), Catch::Contains("wall 'plate' moves") &&
-                                                  Catch::Contains("more than the smallest radius"));
+  CHECK_THROWS_WITH(run({0, 0, 260}, 1.5e-3),
+                    Catch::Contains("wall 'plate' moves") &&
+                        Catch::Contains("more than the smallest free particle's radius"));
   CHECK_THROWS_WITH(run({0, 0, -260}, -1.5e-3), Catch::Contains("wall 'plate' moves"));
   CHECK_NOTHROW(run({0, 0, 260}, 1.0));      // a metre off
   CHECK_NOTHROW(run({0, 0, -260}, 1.5e-3));  // pulled away

@@ -458,8 +458,9 @@ TEST_CASE("polyline walls: a blade that would step over a disk stops the run, on
     sim->advance(3);
   };
   // 260 m/s: 2.6 mm a step, 2.6 radii (the blade crossed the disk unseen).
-  CHECK_THROWS_WITH(run({0, 260, 0}, 1.5e-3), Catch::Contains("wall 'line' moves") &&
-                                                  Catch::Contains("more than the smallest radius"));
+  CHECK_THROWS_WITH(run({0, 260, 0}, 1.5e-3),
+                    Catch::Contains("wall 'line' moves") &&
+                        Catch::Contains("more than the smallest free particle's radius"));
   CHECK_THROWS_WITH(run({0, -260, 0}, -1.5e-3), Catch::Contains("wall 'line' moves"));
   CHECK_NOTHROW(run({0, 260, 0}, 1.0));      // a metre off
   CHECK_NOTHROW(run({0, -260, 0}, 1.5e-3));  // pulled away

@@ -1,5 +1,5 @@
 -- a wall at 1e4 m/s moves farther in one step than the smallest radius
--- expect: wall 'floor' moves .* more than the smallest radius
+-- expect: wall 'floor' moves .* more than the smallest free particle's radius
 local sim = simulation { dimension = 3 }
 sim:material { name = "glass", density = 2500, young = 1e8, poisson = 0.3, surface_energy = 0.05 }
 sim:material { name = "steel", density = 0, young = 2e8, poisson = 0.3, surface_energy = 0.05 }
