@@ -83,9 +83,9 @@ set_tests_properties(params.hopper_mesh_mismatch PROPERTIES FIXTURES_REQUIRED ho
   PASS_REGULAR_EXPRESSION "is not the hopper of bin_radius=0\\.03 m, .*half_angle=40 deg")
 
 # A tall frictionless column (6 mm box, 300 beads, e = 0.9) rings as a whole
-# after it settles: calm at three checks in a row and wall forces averaged over
-# 7 sqrt(d / g) give the weight on the floor (one check and one step's forces
-# read 104 %, and the scene refused it). settle = 2 s: it settles near 1 s.
+# after it settles, passing near rest twice a period: calm at three checks in a
+# row and wall forces averaged over 7 sqrt(d / g) give the weight on the floor.
+# settle = 2 s: it settles near 1 s.
 add_test(NAME params.packing_3d_ringing_column
   COMMAND granule run ${scenes}/packing_3d.lua -D friction=0 -D box=6e-3 -D particles=300
           -D restitution=0.9 -D settle=2 -o params_packing_column.h5 --quiet)
@@ -141,7 +141,7 @@ set_tests_properties(params.oblique_impact_stuck PROPERTIES PASS_REGULAR_EXPRESS
 # another; settle and the window long enough for the bed's fall and steady
 # flow at this size): the shutter drops away in proportion, so no sphere
 # lands on it, and the flow keeps its ratio to Beverloo's law (about 0.9 at
-# D / d = 7.5; 0.54 with a shutter stopped 0.1 m down, whatever the size).
+# D / d = 7.5, as at the default size: docs/walls.md).
 add_test(NAME params.silo_3d_large_spheres
   COMMAND granule run ${scenes}/silo_3d.lua -D diameter=0.04 -D orifice=0.3 -D silo_diameter=0.8
           -D particles=3000 -D settle=1.5 -D window_start=0.5 -D window_end=1.5 -D young=1e8
