@@ -254,6 +254,26 @@ TEST_CASE("guards: a checkpoint's placed ids are refused when damaged", "[guards
   CHECK_NOTHROW(resumed.load_state(saved));
 }
 
+TEST_CASE("guards: placed ids are kept once each and in order, however they come", "[guards]") {
+  // New particles (ids above all others) and older ones moved by set_position,
+  // some twice, in mixed order: the checkpoint names each once, increasing.
+  std::vector<std::string> warnings;
+  Simulation<3> sim;
+  linear_pair_scene(sim, warnings);
+  for (int k = 0; k < 6; ++k) particle(sim, 4 * k * r, 0, 0);
+  sim.advance(10);
+  const std::int64_t added = particle(sim, 40 * r, 0, 0);
+  sim.set_position(4, {16 * r, 0.5 * r, 0});
+  sim.set_position(1, {4 * r, 0.5 * r, 0});
+  sim.set_position(4, {16 * r, 0.25 * r, 0});
+  sim.set_position(added, {40 * r, 0.5 * r, 0});
+  const std::int64_t last = particle(sim, 60 * r, 0, 0);
+  sim.set_position(3, {12 * r, 0.5 * r, 0});
+  const StateBlob saved = sim.save_state();
+  CHECK(saved.integers.at("guards.placed_ids") ==
+        std::vector<std::int64_t>{1, 3, 4, added, last});
+}
+
 TEST_CASE("guards: a particle pressed through a wall by a slow piston stops the run", "[guards]") {
   // A 1 mm sphere on a floor under a piston that comes down at 0.1 m/s (0.02 % of
   // the radius a step) onto a soft linear contact: it is squeezed to its centre. A

@@ -2,7 +2,9 @@
 -- tools/bench/box3d_compare.lua (spheres on a touching cubic lattice, four side
 -- walls, a floor shaken at 50 Hz, linear contacts with friction) at several
 -- sizes, each timed over `steps` steps after `warmup` steps, in one run:
--- particle-steps/s and the time per contact should stay flat as N grows.
+-- particle-steps/s and the time per contact should stay flat as N grows, and
+-- so should the set-up's time per sphere (the box built and its spheres added
+-- one by one with sim:add_particle, before the first step).
 -- (The lattice is still settling, so lists are rebuilt often: these runs are
 -- slower per particle than the settled box of compare.py, at every size alike.)
 --   build/granule run tools/bench/scaling.lua -q
@@ -24,14 +26,16 @@ assert(bench.result_line, "granule.bench lacks result_line (an older lua/): set 
 local columns = { "spheres", "steps", "pair_contacts", "list_rebuilds", "wall_s", "particle_steps_per_s" }
 for _, c in ipairs(bench.stage_columns) do columns[#columns + 1] = c end
 if p.csv ~= "" then bench.check_csv(p.csv, columns) end
-print("| spheres | pair contacts / sphere | list rebuilds / 100 steps | particle-steps/s | ns per step per sphere | ns per step per contact |")
-print("|---|---|---|---|---|---|")
+print("| spheres | pair contacts / sphere | list rebuilds / 100 steps | particle-steps/s | ns per step per sphere | ns per step per contact | set-up, us per sphere |")
+print("|---|---|---|---|---|---|---|")
 for side_text in string.gmatch(p.sides, "[^,]+") do
   local per_side = math.tointeger(tonumber(side_text))
   assert(per_side and per_side > 0, "sides: positive integers, got '" .. side_text .. "'")
   local box = { per_side = per_side, layers = p.layers, radius = r }
+  local setup_start = wall_time()
   local sim = bench.shaken_box(box)
   bench.fill_lattice(sim, box)
+  local setup = wall_time() - setup_start
   sim:run { steps = p.warmup }
   local contacts, samples = 0, 0
   sim:every { steps = 50, function(s)
@@ -45,9 +49,10 @@ for side_text in string.gmatch(p.sides, "[^,]+") do
   local n = sim:stats().particles
   local mean_contacts = contacts / math.max(samples, 1)
   local rebuilds = sim:stats().list_rebuilds - rebuilds0
-  print(string.format("| %d | %.2f | %.1f | %.3g | %.1f | %.1f |", n, mean_contacts / n,
+  print(string.format("| %d | %.2f | %.1f | %.3g | %.1f | %.1f | %.2f |", n, mean_contacts / n,
     100 * rebuilds / p.steps, n * p.steps / wall,
-    1e9 * wall / (p.steps * n), 1e9 * wall / (p.steps * math.max(mean_contacts, 1))))
+    1e9 * wall / (p.steps * n), 1e9 * wall / (p.steps * math.max(mean_contacts, 1)),
+    1e6 * setup / n))
   if p.csv ~= "" then
     local row = { spheres = n, steps = p.steps, pair_contacts = mean_contacts,
                   list_rebuilds = rebuilds, wall_s = wall, particle_steps_per_s = n * p.steps / wall }
