@@ -190,6 +190,14 @@ int l_parameters(lua_State* L) {
                 "-D {}={}: '{}' is a whole number, and this one is beyond the 64-bit integers "
                 "(|{}| < 9.2e18)",
                 name, text, name, name));
+          // A whole number written as a float (exponent, decimal point) from 2^53 on
+          // has lost digits already: 9.007199254740993e15 reads as ...992.
+          if (range.integer && !lua_isinteger(L, -1) &&
+              std::abs(lua_tonumber(L, -1)) >= 9007199254740992.0)
+            throw std::runtime_error(fmt::format(
+                "-D {}={}: '{}' is a whole number from 2^53 on written as a float, which holds it "
+                "only to about 16 digits: write it in full (digits only)",
+                name, text, name));
           // A value written as not zero that reads as zero (1e-400) is a slip, not a zero.
           if (lua_tonumber(L, -1) == 0 && text.find_first_of("123456789") != std::string::npos &&
               text.find_first_of("eE") != std::string::npos)

@@ -270,8 +270,7 @@ TEST_CASE("guards: placed ids are kept once each and in order, however they come
   const std::int64_t last = particle(sim, 60 * r, 0, 0);
   sim.set_position(3, {12 * r, 0.5 * r, 0});
   const StateBlob saved = sim.save_state();
-  CHECK(saved.integers.at("guards.placed_ids") ==
-        std::vector<std::int64_t>{1, 3, 4, added, last});
+  CHECK(saved.integers.at("guards.placed_ids") == std::vector<std::int64_t>{1, 3, 4, added, last});
 }
 
 TEST_CASE("guards: a particle pressed through a wall by a slow piston stops the run", "[guards]") {

@@ -282,6 +282,18 @@ assert(math.type(p.k) == K, "k: " .. tostring(p.k))
         run_scene(expecting("0, 1.5, 'integer'"), {{"n", big}}).error,
         Catch::Contains("'n' is a whole number, and this one is beyond the 64-bit integers"));
   }
+  // From 2^53 on a float may have lost digits (...993e15 reads as 2^53): refused;
+  // written in full it is exact.
+  for (const char* big : {"9.007199254740993e15", "9.007199254740992e15", "-1e16"}) {
+    INFO("-D n=" << big);
+    CHECK_THAT(run_scene(expecting("0, 1.5, 'integer'"), {{"n", big}}).error,
+               Catch::Contains("'n' is a whole number from 2^53 on written as a float"));
+  }
+  CHECK(
+      run_scene(expecting("9007199254740993, 1.5, 'integer'"), {{"n", "9007199254740993"}}).error ==
+      "");
+  CHECK(run_scene(expecting("9007199254740991, 1.5, 'integer'"), {{"n", "9.007199254740991e15"}})
+            .error == "");
 }
 
 TEST_CASE("lua: a value that must be an integer is shown when it is not one", "[lua][errors]") {
