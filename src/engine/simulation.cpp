@@ -446,9 +446,17 @@ void Simulation<D>::integrate() {
   const bool spins = rotation_ || !prepared_ || bonds_.intact > 0;
   // clock_dt_ is the step the last one was taken with (0 before the first).
   const double kick = clock_dt_ > 0 && clock_dt_ != dt_ ? (clock_dt_ + dt_) / 2 : dt_;
-  const LeapfrogStep<D> at{
-      p_,         position_at_rebuild_,         body_,         periodic_, dt_, kick, spins,
-      any_fixed_, policy.particles_parallel(n), policy.threads};
+  const LeapfrogStep<D> at{p_,
+                           position_at_rebuild_,
+                           body_,
+                           damping_,
+                           periodic_,
+                           dt_,
+                           kick,
+                           spins,
+                           any_fixed_,
+                           policy.particles_parallel(n),
+                           policy.threads};
   LeapfrogResult result;
   result.max_displacement_sq = max_displacement_sq_;
   leapfrog(at, result);

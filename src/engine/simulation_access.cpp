@@ -454,6 +454,10 @@ std::vector<std::string> Simulation<D>::describe() const {
   lines.push_back(fmt::format("central field: {}", e.central_field    ? "on"
                                                    : body_.central_on ? "declared, strength 0"
                                                                       : "off"));
+  lines.push_back(damping_.active()
+                      ? fmt::format("damping: viscous {} 1/s, spin {} 1/s, local_fraction {}",
+                                    damping_.viscous, damping_.spin, damping_.local_fraction)
+                      : std::string("damping: off"));
   lines.push_back(fmt::format("contact forces recorded: {}", record_contacts_ ? "yes" : "no"));
   if (diagnostics_.empty()) {
     lines.push_back("diagnostics: none");

@@ -40,6 +40,21 @@ int SimulationBase::add_material(const Material& m) {
   return static_cast<int>(materials_.size() - 1);
 }
 
+void SimulationBase::set_damping(const Damping& d) {
+  auto rate = [](double c, const char* name) {
+    if (!std::isfinite(c) || c < 0)
+      throw InputError(fmt::format("damping: '{}' must be a rate >= 0 [1/s], got {}", name, c));
+  };
+  rate(d.viscous, "viscous");
+  rate(d.spin, "spin");
+  // At 1 a particle at rest under a load could never start off (its force is
+  // taken whole against the motion it would begin).
+  if (!std::isfinite(d.local_fraction) || d.local_fraction < 0 || d.local_fraction >= 1)
+    throw InputError(
+        fmt::format("damping: 'local_fraction' must be in [0, 1), got {}", d.local_fraction));
+  damping_ = d;
+}
+
 int SimulationBase::material_id(const std::string& name) const {
   std::vector<std::string> names;
   for (std::size_t i = 0; i < materials_.size(); ++i) {

@@ -16,6 +16,7 @@
 #include "contact/pair_table.hpp"
 #include "contact/parallel_bond.hpp"
 #include "core/material.hpp"
+#include "fields/damping.hpp"
 #include "fields/schedule.hpp"
 #include "geometry/triangles.hpp"
 #include "geometry/walls.hpp"
@@ -240,6 +241,7 @@ struct ActiveEffects {
       false;  // spins are integrated (friction, rolling, bonds or adhesion: else no torque)
   bool gravity = false;
   bool central_field = false;
+  bool damping = false;  // sim:damping: viscous or local damping of the particles' motion
   std::vector<std::string> moving_walls;  // planes with a velocity, cylinders that turn
   std::vector<std::string> diagnostics;
   bool contacts_recorded = false;
@@ -345,6 +347,9 @@ class SimulationBase {
   virtual void set_central_strength(double strength) = 0;
   virtual void clear_central_field() = 0;
   virtual double central_strength() const = 0;
+  // Damping of the particles' motion (fields/damping.hpp): checked, in effect from the next step.
+  void set_damping(const Damping& d);
+  const Damping& damping() const { return damping_; }
 
   // walls
   virtual int wall_count() const = 0;
@@ -611,6 +616,7 @@ class SimulationBase {
   bool holds_share_ = false;        // holds_share()
   double time_ = 0;
   std::int64_t step_ = 0;
+  Damping damping_;
   std::vector<Hook> hooks_;
   std::vector<ScheduleSpec> schedules_;
   int next_schedule_id_ = 1;

@@ -67,6 +67,7 @@ ActiveEffects Simulation<D>::effects() const {
   e.bonds = bonds_.intact > 0;
   e.gravity = body_.gravity_on;
   e.central_field = body_.central_on && body_.central_strength != 0;
+  e.damping = damping_.active();
   for (const auto& w : walls_)
     if (!w.velocity.isZero() || w.angular_velocity != 0) e.moving_walls.push_back(w.name);
   // What a schedule will set is simulated too: a friction ramp from 0, a wall

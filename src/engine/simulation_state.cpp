@@ -166,6 +166,8 @@ StateBlob Simulation<D>::save_state() const {
                          body_.central_on ? 1.0 : 0.0, c[0], c[1], c[2],
                          body_.central_strength};
   }
+  if (damping_.active())
+    s.doubles["damping"] = {damping_.viscous, damping_.spin, damping_.local_fraction};
   // Particles, in storage order.
   s.doubles["particles.position"] = flatten(p_.position);
   s.doubles["particles.velocity"] = flatten(p_.velocity);
@@ -361,6 +363,11 @@ void Simulation<D>::load_state(const StateBlob& s) {
   body_.central_on = body[4] != 0;
   body_.central_point = to_vec({body[5], body[6], body[7]});
   body_.central_strength = body[8];
+  // Absent: damping was off (a checkpoint of a scene without it, or of an older build).
+  const auto damping = s.doubles.find("damping");
+  damping_ = damping == s.doubles.end()
+                 ? Damping{}
+                 : Damping{damping->second[0], damping->second[1], damping->second[2]};
   // The periodic axis the field ignores (body_forces.hpp), which prepare() also sets:
   // a checkpoint taken mid-run resumes without it.
   body_.periodic_axis = periodic_.on() ? periodic_.axis : -1;

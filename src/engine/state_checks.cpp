@@ -141,6 +141,12 @@ void check_state(const StateBlob& s, std::size_t material_count, std::size_t wal
   all_finite(body, "body", largest_kinematic);
   if ((body[0] != 0 && body[0] != 1) || (body[4] != 0 && body[4] != 1) || body[8] < 0)
     refuse_entry("body", "flags must be 0 or 1 and the central strength >= 0");
+  if (s.doubles.count("damping")) {  // optional: only a scene with damping on saves it
+    const auto& damping = doubles_of(s, "damping", 3);
+    if (!(std::isfinite(damping[0]) && damping[0] >= 0 && std::isfinite(damping[1]) &&
+          damping[1] >= 0 && std::isfinite(damping[2]) && damping[2] >= 0 && damping[2] < 1))
+      refuse_entry("damping", "the rates must be >= 0 and the local fraction in [0, 1)");
+  }
 
   // Particles: every array as long as the id list, ids and their index table inverse
   // to each other.

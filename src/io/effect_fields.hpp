@@ -21,6 +21,7 @@ inline std::vector<std::pair<const char*, bool ActiveEffects::*>> effect_flags()
           {"rotation", &ActiveEffects::rotation},
           {"gravity", &ActiveEffects::gravity},
           {"central_field", &ActiveEffects::central_field},
+          {"damping", &ActiveEffects::damping},
           {"contacts_recorded", &ActiveEffects::contacts_recorded},
           {"canonical_order", &ActiveEffects::canonical_order}};
 }

@@ -577,7 +577,7 @@ Journal::Kind journal_kind(const std::string& method) {
   // (which the checkpoint brings) or writes output (which the continued file holds).
   static const char* build[] = {"simulation", "material", "contact", "set_contact", "wall_plane",
                                 "wall_cylinder", "wall_mesh", "wall_polyline", "wall_disk",
-                                "wall_cone", "set_wall", "gravity", "central_field",
+                                "wall_cone", "set_wall", "gravity", "set_damping", "central_field",
                                 "remove_central_field", "set_central_strength", "schedule",
                                 "remove_schedule", "every", "remove_hook", "set", "output",
                                 "checkpoint", "diagnostic", "remove_diagnostic",

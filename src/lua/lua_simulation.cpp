@@ -218,6 +218,8 @@ const luaL_Reg methods[] = {
     {"add_particle", l_add_particle},
     {"fill", l_fill},
     {"gravity", l_gravity},
+    {"set_damping", l_set_damping},
+    {"damping", l_damping},
     {"central_field", l_central_field},
     {"set_central_strength", l_set_central_strength},
     {"central_strength", l_central_strength},

@@ -387,6 +387,33 @@ int l_gravity(lua_State* L) {
   });
 }
 
+// sim:set_damping { viscous =, spin =, local_fraction = } sets all three (those
+// not given 0: {} is off); sim:damping() gives them.
+int l_set_damping(lua_State* L) {
+  return protect(L, [](lua_State* L) {
+    LuaSim& s = self(L);
+    TableReader t(L, 2, "set_damping");
+    Damping d;
+    d.viscous = t.number("viscous", 0.0);
+    d.spin = t.number("spin", 0.0);
+    d.local_fraction = t.number("local_fraction", 0.0);
+    t.finish();
+    s.sim->set_damping(d);
+    return 0;
+  });
+}
+
+int l_damping(lua_State* L) {
+  return protect(L, [](lua_State* L) {
+    const Damping& d = self(L).sim->damping();
+    lua_createtable(L, 0, 3);
+    lua_pushnumber(L, d.viscous), lua_setfield(L, -2, "viscous");
+    lua_pushnumber(L, d.spin), lua_setfield(L, -2, "spin");
+    lua_pushnumber(L, d.local_fraction), lua_setfield(L, -2, "local_fraction");
+    return 1;
+  });
+}
+
 int l_central_field(lua_State* L) {
   return protect(L, [](lua_State* L) {
     LuaSim& s = self(L);

@@ -30,6 +30,8 @@ int l_wall_cone(lua_State* L);
 int l_add_particle(lua_State* L);
 int l_fill(lua_State* L);
 int l_gravity(lua_State* L);
+int l_set_damping(lua_State* L);
+int l_damping(lua_State* L);
 int l_central_field(lua_State* L);
 int l_set_central_strength(lua_State* L);
 int l_central_strength(lua_State* L);
