@@ -156,11 +156,13 @@ void RunOutput::finish() {
        state_digest(sim_.flat_state(), false, false) != last_snapshot_state_))
     write_snapshot();
   file_->flush();
+  if (xdmf_) xdmf_->flush();
 }
 
 void RunOutput::flush() {
   if (finished_ || !file_) return;
   write_header();
+  if (xdmf_) xdmf_->flush();
   // Not the walls a script added since the header: their geometry is written as
   // it stands when written (a platen that has moved), so at the snapshots and
   // the end, steps the scene sets, never at a flush that wall time sets.

@@ -114,6 +114,7 @@ void RunOutput::save_mark(StateBlob& state) {
                                        failure_step_,
                                        opening_due_ ? 1 : 0};
   state.doubles["output.wall_extent"] = {wall_extent_.begin(), wall_extent_.end()};
+  if (xdmf_) xdmf_->flush();  // the index on disk as the checkpoint records it
   // The materials and laws written: their count, then the laws' groups.
   std::vector<std::string> laws{std::to_string(materials_written_)};
   laws.insert(laws.end(), laws_written_.begin(), laws_written_.end());

@@ -255,15 +255,6 @@ XdmfIndex::XdmfIndex(std::string h5_path)
       path_(xdmf_path_for(h5_path)),
       walls_path_(xdmf_walls_path_for(h5_path)) {}
 
-void XdmfIndex::restore(std::vector<XdmfSnapshot> snapshots) {
-  snapshots_.clear();
-  if (snapshots.empty()) return;
-  XdmfSnapshot last = std::move(snapshots.back());
-  snapshots.pop_back();
-  snapshots_ = std::move(snapshots);
-  add(std::move(last));
-}
-
 namespace {
 
 // Writes beside the target and renames: a reader never sees half a file.
@@ -294,23 +285,154 @@ void write_whole(const std::string& named, const std::string& text) {
   }
 }
 
+// One snapshot's particles as a Polyvertex grid pointing into the HDF5 file
+// `h5`; empty for a snapshot without particles (a grid of no points is not
+// valid XDMF).
+std::string particle_grid(const XdmfSnapshot& s, const std::string& h5) {
+  if (s.count == 0) return {};
+  const std::size_t n = s.count;
+  const int d = s.dimension;
+  auto item = [&](const char* dataset, const std::string& dims, const char* type, int precision) {
+    return fmt::format(
+        "  <DataItem Dimensions=\"{}\" NumberType=\"{}\" Precision=\"{}\" "
+        "Format=\"HDF\">{}:{}/{}</DataItem>\n",
+        dims, type, precision, h5, s.group, dataset);
+  };
+  auto attribute = [&](const char* name, const char* kind, const std::string& dims,
+                       const char* type, int precision) {
+    return fmt::format("  <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Node\">\n", name,
+                       kind) +
+           item(name, dims, type, precision) + "  </Attribute>\n";
+  };
+  std::string x = fmt::format(" <Grid Name=\"{}\" GridType=\"Uniform\">\n",
+                              s.group.substr(s.group.rfind('/') + 1));
+  x += fmt::format("  <Time Value=\"{:.17g}\"/>\n", s.time);
+  x += fmt::format(
+      "  <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" NodesPerElement=\"1\"/>\n",
+      n);
+  x += fmt::format("  <Geometry GeometryType=\"{}\">\n", d == 2 ? "XY" : "XYZ");
+  x += item("position", fmt::format("{} {}", n, d), "Float", 8);
+  x += "  </Geometry>\n";
+  x += attribute("radius", "Scalar", fmt::format("{}", n), "Float", 8);
+  x += attribute("velocity", "Vector", fmt::format("{} {}", n, d), "Float", 8);
+  x += attribute("spin", d == 2 ? "Scalar" : "Vector", fmt::format("{} {}", n, d == 2 ? 1 : 3),
+                 "Float", 8);
+  x += attribute("material", "Scalar", fmt::format("{}", n), "Int", 4);
+  x += attribute("fixed", "Scalar", fmt::format("{}", n), "UChar", 1);
+  x += attribute("id", "Scalar", fmt::format("{}", n), "Int", 8);
+  x += " </Grid>\n";
+  return x;
+}
+
+// One wall's shape as a grid of inline XML data.
+std::string shape_grid(const XdmfShape& w, const std::string& name) {
+  const std::size_t nodes = w.points.size() / 3;
+  const std::size_t elements = w.connectivity.size() / w.nodes_per_element;
+  std::string g = fmt::format(" <Grid Name=\"{}\" GridType=\"Uniform\">\n", xml_attr(name));
+  g += fmt::format(
+      "  <Topology TopologyType=\"{}\" NumberOfElements=\"{}\" NodesPerElement=\"{}\">\n"
+      "   <DataItem Dimensions=\"{} {}\" NumberType=\"Int\" Precision=\"4\" "
+      "Format=\"XML\">{}</DataItem>\n"
+      "  </Topology>\n",
+      w.topology, elements, w.nodes_per_element, elements, w.nodes_per_element,
+      join(w.connectivity));
+  g += fmt::format(
+      "  <Geometry GeometryType=\"XYZ\">\n"
+      "   <DataItem Dimensions=\"{} 3\" NumberType=\"Float\" Precision=\"8\" "
+      "Format=\"XML\">{}</DataItem>\n"
+      "  </Geometry>\n </Grid>\n",
+      nodes, join(w.points));
+  return g;
+}
+
+// The walls as a spatial collection, at `time` where they moved (else shown at every time).
+std::string spatial_walls(const std::vector<XdmfShape>& walls, const double* time,
+                          const std::string& name) {
+  std::string g =
+      fmt::format("<Grid Name=\"{}\" GridType=\"Collection\" CollectionType=\"Spatial\">\n", name);
+  if (time) g += fmt::format(" <Time Value=\"{:.17g}\"/>\n", *time);
+  for (const auto& w : walls) g += shape_grid(w, "wall_" + w.name);
+  return g + "</Grid>\n";
+}
+
+std::string timed_walls(const XdmfSnapshot& s) {
+  if (s.walls.empty()) return {};
+  return spatial_walls(s.walls, &s.time, s.group.substr(s.group.rfind('/') + 1));
+}
+
 }  // namespace
+
+void XdmfIndex::restore(std::vector<XdmfSnapshot> snapshots) {
+  snapshots_.clear(), particle_grids_.clear(), wall_grids_.clear();
+  first_walls_ = SIZE_MAX, walls_fixed_ = true;
+  if (snapshots.empty()) return;
+  XdmfSnapshot last = std::move(snapshots.back());
+  snapshots.pop_back();
+  for (auto& s : snapshots) {
+    particle_grids_.push_back(particle_grid(s, xml_attr(h5_name_)));
+    wall_grids_.push_back(timed_walls(s));
+    snapshots_.push_back(std::move(s));
+  }
+  find_walls_fixed();
+  add(std::move(last));
+  flush();
+}
+
+void XdmfIndex::find_walls_fixed() {
+  first_walls_ = SIZE_MAX, walls_fixed_ = true;
+  for (std::size_t k = 0; k < snapshots_.size(); ++k) {
+    if (snapshots_[k].walls.empty()) continue;
+    if (first_walls_ == SIZE_MAX)
+      first_walls_ = k;
+    else
+      walls_fixed_ = walls_fixed_ && snapshots_[k].walls == snapshots_[first_walls_].walls;
+  }
+}
 
 void XdmfIndex::add(XdmfSnapshot snapshot) {
   // A second snapshot of one step (the final state, after a callback changed the
   // step's particles once its snapshot was written) supersedes the first in the
   // index: viewers show one grid per time. One without particles has no grid
-  // (text()), so it leaves the step's first in place rather than drop both.
+  // (particle_grid), so it leaves the step's first in place rather than drop both.
   if (!snapshots_.empty() && snapshots_.back().step == snapshot.step) {
-    if (snapshot.count > 0) snapshots_.back() = std::move(snapshot);
-  } else
+    if (snapshot.count == 0) return;  // nothing changes
+    particle_grids_.back() = particle_grid(snapshot, xml_attr(h5_name_));
+    wall_grids_.back() = timed_walls(snapshot);
+    snapshots_.back() = std::move(snapshot);
+    find_walls_fixed();
+  } else {
+    particle_grids_.push_back(particle_grid(snapshot, xml_attr(h5_name_)));
+    wall_grids_.push_back(timed_walls(snapshot));
     snapshots_.push_back(std::move(snapshot));
+    const XdmfSnapshot& added = snapshots_.back();
+    if (!added.walls.empty()) {
+      if (first_walls_ == SIZE_MAX)
+        first_walls_ = snapshots_.size() - 1;
+      else
+        walls_fixed_ = walls_fixed_ && added.walls == snapshots_[first_walls_].walls;
+    }
+  }
+  stale_ = true;
+  const double since =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - last_write_).count();
+  if (last_write_seconds_ < 0 || since >= 20 * last_write_seconds_) write();
+}
+
+void XdmfIndex::flush() {
+  if (stale_) write();
+}
+
+void XdmfIndex::write() {
+  const auto start = std::chrono::steady_clock::now();
   write_whole(path_, text());
   const std::string walls = walls_text();
   if (!walls.empty())
     write_whole(walls_path_, walls);
   else
     std::remove(walls_path_.c_str());  // not a previous run's walls beside these particles
+  stale_ = false;
+  last_write_ = std::chrono::steady_clock::now();
+  last_write_seconds_ = std::chrono::duration<double>(last_write_ - start).count();
 }
 
 std::string XdmfIndex::text() const {
@@ -322,41 +444,7 @@ std::string XdmfIndex::text() const {
       "     Point Gaussian to see the particles; the walls are in <name>_walls.xmf. -->\n"
       "<Xdmf Version=\"2.0\">\n<Domain>\n"
       "<Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-  const std::string h5 = xml_attr(h5_name_);
-  for (const auto& s : snapshots_) {
-    if (s.count == 0) continue;  // a grid of no points is not valid XDMF
-    const std::size_t n = s.count;
-    const int d = s.dimension;
-    auto item = [&](const char* dataset, const std::string& dims, const char* type, int precision) {
-      return fmt::format(
-          "  <DataItem Dimensions=\"{}\" NumberType=\"{}\" Precision=\"{}\" "
-          "Format=\"HDF\">{}:{}/{}</DataItem>\n",
-          dims, type, precision, h5, s.group, dataset);
-    };
-    auto attribute = [&](const char* name, const char* kind, const std::string& dims,
-                         const char* type, int precision) {
-      return fmt::format("  <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Node\">\n", name,
-                         kind) +
-             item(name, dims, type, precision) + "  </Attribute>\n";
-    };
-    x += fmt::format(" <Grid Name=\"{}\" GridType=\"Uniform\">\n",
-                     s.group.substr(s.group.rfind('/') + 1));
-    x += fmt::format("  <Time Value=\"{:.17g}\"/>\n", s.time);
-    x += fmt::format(
-        "  <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" NodesPerElement=\"1\"/>\n",
-        n);
-    x += fmt::format("  <Geometry GeometryType=\"{}\">\n", d == 2 ? "XY" : "XYZ");
-    x += item("position", fmt::format("{} {}", n, d), "Float", 8);
-    x += "  </Geometry>\n";
-    x += attribute("radius", "Scalar", fmt::format("{}", n), "Float", 8);
-    x += attribute("velocity", "Vector", fmt::format("{} {}", n, d), "Float", 8);
-    x += attribute("spin", d == 2 ? "Scalar" : "Vector", fmt::format("{} {}", n, d == 2 ? 1 : 3),
-                   "Float", 8);
-    x += attribute("material", "Scalar", fmt::format("{}", n), "Int", 4);
-    x += attribute("fixed", "Scalar", fmt::format("{}", n), "UChar", 1);
-    x += attribute("id", "Scalar", fmt::format("{}", n), "Int", 8);
-    x += " </Grid>\n";
-  }
+  for (const auto& grid : particle_grids_) x += grid;
   x += "</Grid>\n";
   x += "</Domain>\n</Xdmf>\n";
   return x;
@@ -367,58 +455,22 @@ std::string XdmfIndex::text() const {
 // at the scale factor), and so that the Xdmf3 readers, which read the first
 // grid of a domain only, show them too.
 std::string XdmfIndex::walls_text() const {
+  if (first_walls_ == SIZE_MAX) return {};
   std::string x =
       "<?xml version=\"1.0\" ?>\n"
       "<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
       "<!-- Written by granule: the walls of the run whose particles are in the .xmf of\n"
       "     the same name without _walls; show them as Surface (3D) or Wireframe (2D). -->\n"
       "<Xdmf Version=\"2.0\">\n<Domain>\n";
-  // One grid each, without a time if it never changed (shown at every
-  // time), else a temporal collection with its shape at each snapshot.
-  auto shape_grid = [](const XdmfShape& w, const std::string& name, const double* time) {
-    const std::size_t nodes = w.points.size() / 3;
-    const std::size_t elements = w.connectivity.size() / w.nodes_per_element;
-    std::string g = fmt::format(" <Grid Name=\"{}\" GridType=\"Uniform\">\n", xml_attr(name));
-    if (time) g += fmt::format("  <Time Value=\"{:.17g}\"/>\n", *time);
-    g += fmt::format(
-        "  <Topology TopologyType=\"{}\" NumberOfElements=\"{}\" NodesPerElement=\"{}\">\n"
-        "   <DataItem Dimensions=\"{} {}\" NumberType=\"Int\" Precision=\"4\" "
-        "Format=\"XML\">{}</DataItem>\n"
-        "  </Topology>\n",
-        w.topology, elements, w.nodes_per_element, elements, w.nodes_per_element,
-        join(w.connectivity));
-    g += fmt::format(
-        "  <Geometry GeometryType=\"XYZ\">\n"
-        "   <DataItem Dimensions=\"{} 3\" NumberType=\"Float\" Precision=\"8\" "
-        "Format=\"XML\">{}</DataItem>\n"
-        "  </Geometry>\n </Grid>\n",
-        nodes, join(w.points));
-    return g;
-  };
-  std::vector<const XdmfSnapshot*> with_walls;
-  for (const auto& s : snapshots_)
-    if (!s.walls.empty()) with_walls.push_back(&s);
-  if (with_walls.empty()) return {};
-  // One top-level grid (the Xdmf3 readers read no other): a spatial
-  // collection of the walls; if any of them moved, a temporal collection of
-  // such spatial collections, one per snapshot.
-  const auto& first = with_walls.front()->walls;
-  bool fixed = true;
-  for (const auto* s : with_walls) fixed = fixed && s->walls == first;
-  auto spatial = [&](const std::vector<XdmfShape>& walls, const double* time,
-                     const std::string& name) {
-    std::string g = fmt::format(
-        "<Grid Name=\"{}\" GridType=\"Collection\" CollectionType=\"Spatial\">\n", name);
-    if (time) g += fmt::format(" <Time Value=\"{:.17g}\"/>\n", *time);
-    for (const auto& w : walls) g += shape_grid(w, "wall_" + w.name, nullptr);
-    return g + "</Grid>\n";
-  };
-  if (fixed) {
-    x += spatial(first, nullptr, "walls");
+  // One top-level grid (the Xdmf3 readers read no other): a spatial collection
+  // of the walls, without a time if they never changed (shown at every time);
+  // if any of them moved, a temporal collection of such spatial collections,
+  // one per snapshot.
+  if (walls_fixed_) {
+    x += spatial_walls(snapshots_[first_walls_].walls, nullptr, "walls");
   } else {
     x += "<Grid Name=\"walls\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-    for (const auto* s : with_walls)
-      x += spatial(s->walls, &s->time, s->group.substr(s->group.rfind('/') + 1));
+    for (const auto& grid : wall_grids_) x += grid;
     x += "</Grid>\n";
   }
   x += "</Domain>\n</Xdmf>\n";

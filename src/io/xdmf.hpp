@@ -5,12 +5,18 @@
 // beside it out_walls.xmf with the walls as small inline geometries (2D:
 // polylines in z = 0; 3D: a quadrilateral for a plane, a tube for a
 // cylinder, its triangles for a mesh), clipped to the region the particles
-// occupy. The small XML file is rewritten whole after every snapshot (through a
-// temporary file and a rename), so it always matches what the HDF5 holds.
+// occupy. The XML files are rewritten whole (through a temporary file and a
+// rename, so a reader never sees half a file) from each snapshot's text, made
+// once when the snapshot is added: after a snapshot, unless the last rewrite took
+// more than a twentieth of the time since it (a long run's index grows with its
+// snapshots, and rewriting it at each would make the run's cost grow with their
+// square), and always at flush() (the output's flushes, checkpoints, its end).
 #pragma once
 
 #include <array>
+#include <chrono>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -57,19 +63,34 @@ class XdmfIndex {
   explicit XdmfIndex(std::string h5_path);
   const std::string& path() const { return path_; }
   const std::string& walls_path() const { return walls_path_; }
-  // Records a snapshot and rewrites the file; throws std::runtime_error if it cannot.
+  // Records a snapshot and rewrites the files when due (above); throws
+  // std::runtime_error if it cannot write them.
   void add(XdmfSnapshot snapshot);
-  std::string text() const;        // the particles' XML as it would be written now
-  std::string walls_text() const;  // the walls' XML; empty when no snapshot has walls
+  // Rewrites the files if a snapshot was added since they were last written.
+  void flush();
+  bool written() const { return !stale_; }  // the files hold every snapshot added
+  std::string text() const;                 // the particles' XML as it would be written now
+  std::string walls_text() const;           // the walls' XML; empty when no snapshot has walls
   const std::vector<XdmfSnapshot>& snapshots() const { return snapshots_; }
   // Replaces the index by `snapshots` (a continued run) and rewrites the file.
   void restore(std::vector<XdmfSnapshot> snapshots);
 
  private:
+  void write();
+  void find_walls_fixed();  // walls_fixed_, from all the snapshots
+
   std::string h5_name_;  // as referenced from the XML: the file name, since both lie together
   std::string path_;
   std::string walls_path_;
   std::vector<XdmfSnapshot> snapshots_;
+  // Per snapshot, its particles' grid and its walls' spatial collection (with its
+  // time) as XML; empty where it has none.
+  std::vector<std::string> particle_grids_, wall_grids_;
+  std::size_t first_walls_ = SIZE_MAX;  // the first snapshot with walls, if any
+  bool walls_fixed_ = true;             // every snapshot with walls has the first one's walls
+  bool stale_ = false;                  // a snapshot was added since the files were written
+  std::chrono::steady_clock::time_point last_write_{};
+  double last_write_seconds_ = -1;  // how long the last rewrite took; < 0: none yet
 };
 
 }  // namespace granule::io

@@ -1,6 +1,8 @@
 // The XDMF descriptor: wall shapes are where the walls are; the XML points at
 // the snapshot datasets. (tests/io/check_xdmf.py checks real files against
 // the HDF5 they describe.)
+#include <fmt/format.h>
+
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
@@ -83,6 +85,8 @@ TEST_CASE("xdmf: snapshots become a temporal collection of Polyvertex grids", "[
   s.step = 1;
   s.count = 0;  // an empty snapshot has no grid: XDMF has no empty Polyvertex
   index.add(s);
+  index.flush();
+  CHECK(index.written());
   std::ifstream in(index.path());
   std::stringstream text;
   text << in.rdbuf();
@@ -205,5 +209,49 @@ TEST_CASE("xdmf: a second snapshot of one step supersedes the first in the index
   CHECK(index.snapshots().size() == 2);
   CHECK_THAT(y, Catch::Contains(">run.h5:/snapshots/000002/position<"));
   CHECK_THAT(y, Catch::Contains("<Time Value=\"0.01\"/>"));
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("xdmf: many snapshots, the files written at flush() hold them all", "[xdmf]") {
+  // Rewrites are spaced out by their cost (xdmf.hpp); whatever was skipped, a
+  // flush writes every snapshot added, walls that moved as a temporal
+  // collection, and the files on disk always hold a whole document.
+  auto dir = std::filesystem::temp_directory_path() / "granule_xdmf_many";
+  std::filesystem::create_directories(dir);
+  io::XdmfIndex index((dir / "run.h5").string());
+  auto read = [](const std::string& path) {
+    std::ifstream in(path);
+    std::stringstream text;
+    text << in.rdbuf();
+    return text.str();
+  };
+  for (int k = 0; k < 3000; ++k) {
+    io::XdmfSnapshot s;
+    s.dimension = 3, s.count = 5, s.step = k, s.time = 1e-3 * k;
+    s.group = fmt::format("/snapshots/{:06d}", k);
+    io::XdmfShape plate;
+    plate.name = "plate", plate.topology = "Quadrilateral", plate.nodes_per_element = 4;
+    plate.points = {0, 0, 1e-4 * k, 1, 0, 1e-4 * k, 1, 1, 1e-4 * k, 0, 1, 1e-4 * k};
+    plate.connectivity = {0, 1, 2, 3};
+    s.walls = {plate};
+    index.add(s);
+    if (k == 0) CHECK(index.written());  // the first is written at once
+    if (k % 500 == 0) {
+      const std::string x = read(index.path());
+      CHECK(x.rfind("</Xdmf>\n") == x.size() - 8);  // a whole document
+    }
+  }
+  index.flush();
+  CHECK(index.written());
+  const std::string x = read(index.path()), walls = read(index.walls_path());
+  CHECK(x == index.text());
+  CHECK(walls == index.walls_text());
+  std::size_t grids = 0;
+  for (std::size_t at = x.find("<Time "); at != std::string::npos; at = x.find("<Time ", at + 1))
+    ++grids;
+  CHECK(grids == 3000);
+  CHECK_THAT(x, Catch::Contains(">run.h5:/snapshots/002999/position<"));
+  CHECK_THAT(walls, Catch::Contains("CollectionType=\"Temporal\""));
+  CHECK_THAT(walls, Catch::Contains("<Grid Name=\"002999\""));
   std::filesystem::remove_all(dir);
 }
