@@ -44,6 +44,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <unordered_map>
 #include <vector>
 
 #include "contact/contact_state.hpp"
@@ -191,6 +192,27 @@ struct ParallelBonds {
     broken[k] = 1;
     --intact;
   }
+  // Calls f(k) for each bond of particle `id`, broken or not, in increasing k:
+  // what a per-particle call (a move, a removal) touches, without a scan of every
+  // bond. The index is made on the first call after bonds were added.
+  template <typename F>
+  void for_each_of(std::int64_t id, F f) const {
+    if (indexed_ != size()) {
+      of_particle_.clear();
+      for (std::size_t k = 0; k < size(); ++k) {
+        of_particle_[id_a[k]].push_back(k);
+        of_particle_[id_b[k]].push_back(k);
+      }
+      indexed_ = size();
+    }
+    const auto it = of_particle_.find(id);
+    if (it != of_particle_.end())
+      for (const std::size_t k : it->second) f(k);
+  }
+
+ private:
+  mutable std::unordered_map<std::int64_t, std::vector<std::size_t>> of_particle_;
+  mutable std::size_t indexed_ = 0;  // the bonds of_particle_ holds (bonds are only appended)
 };
 
 }  // namespace granule

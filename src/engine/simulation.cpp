@@ -74,6 +74,7 @@ void Simulation<D>::step() {
   if (observed) log_.resize(slot_count_);
   log_.filled = observed;
   gathered_contacts_.reset();
+  removed_from_gathered_.clear();
   // Every thread count adds the contacts to each particle in slot order (pairs
   // model by model, then walls), so the result is bit-identical whatever the
   // number of threads. Pair contacts add their forces at once (PairKernel

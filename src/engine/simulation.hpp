@@ -9,6 +9,7 @@
 #include <map>
 #include <optional>
 #include <tuple>
+#include <unordered_set>
 #include <vector>
 
 #include "contact/models.hpp"
@@ -291,6 +292,7 @@ class Simulation final : public SimulationBase {
   void set_gathered_contacts(const std::string& all);
   // The gathered list while it stands in for the log, else null (sim:contact_arrays()).
   const std::vector<ContactRecord>* gathered_contacts() const {
+    drop_removed_contacts();
     return gathered_contacts_ ? &*gathered_contacts_ : nullptr;
   }
 
@@ -536,6 +538,7 @@ class Simulation final : public SimulationBase {
     last_placed_pair_ratio_ = INFINITY;
     grace_for_all_ = on;
     placed_ids_.clear();
+    placed_ids_unique_ = 0;
   }
   template <typename Ids>
   void arm_overlap_grace_for(const Ids& ids) {
@@ -544,26 +547,28 @@ class Simulation final : public SimulationBase {
     last_pair_overlap_ratio_ = INFINITY;
     last_placed_pair_ratio_ = INFINITY;
     if (grace_for_all_) return;
-    // Each id once (a set_position every step adds none), kept sorted. New
-    // particles' ids exceed every earlier one, so an add_particle or a fill
-    // appends in O(1) per id (1e5 add_particle calls: no sort per call).
-    for (const std::int64_t id : ids) {
-      if (placed_ids_.empty() || id > placed_ids_.back()) {
-        placed_ids_.push_back(id);
-        continue;
-      }
-      const auto at = std::lower_bound(placed_ids_.begin(), placed_ids_.end(), id);
-      if (*at != id) placed_ids_.insert(at, id);
+    // Appended in any order, O(1) per id however the calls come (1e5
+    // add_particle or set_position calls in any order), and made sorted and
+    // unique once the list has doubled, so that a set_position every step
+    // keeps it short; the checkpoint writes it sorted.
+    for (const std::int64_t id : ids)
+      if (placed_ids_.empty() || id != placed_ids_.back()) placed_ids_.push_back(id);
+    if (placed_ids_.size() > 2 * placed_ids_unique_ + 64) {
+      std::sort(placed_ids_.begin(), placed_ids_.end());
+      placed_ids_.erase(std::unique(placed_ids_.begin(), placed_ids_.end()), placed_ids_.end());
+      placed_ids_unique_ = placed_ids_.size();
     }
   }
   void end_overlap_grace() {
     scene_overlaps_ = false;
     grace_for_all_ = false;
     placed_ids_.clear();
+    placed_ids_unique_ = 0;
   }
   bool grace_for_all_ = false;
   double last_placed_pair_ratio_ = INFINITY;
   std::vector<std::int64_t> placed_ids_;  // the particles the grace is for, unless for all
+  std::size_t placed_ids_unique_ = 0;     // its length when last made sorted and unique
   bool scene_launched_ = false;           // an overlap the scene made was seen deep
   // Overlap / smaller radius of the deepest pair with a placed particle, or of
   // the first found deeper than overlap_warning (all its callers ask only that).
@@ -586,9 +591,23 @@ class Simulation final : public SimulationBase {
   bool periodic_walls_move_ = false;  // some wall's motion carries it along the periodic axis
   double contact_reach_ = 0;          // m, how far apart adhesive contacts persist (<= skin)
   bool keep_wall_reactions_ = false;  // set_keep_wall_reactions
-  std::optional<GlobalStats> stats_override_;                    // set_stats_override
-  std::optional<StateOverride> state_override_;                  // set_state_override
-  std::optional<std::vector<ContactRecord>> gathered_contacts_;  // set_gathered_contacts
+  std::optional<GlobalStats> stats_override_;                            // set_stats_override
+  std::optional<StateOverride> state_override_;                          // set_state_override
+  mutable std::optional<std::vector<ContactRecord>> gathered_contacts_;  // set_gathered_contacts
+  // Particles removed since the gathered list was made: their contacts are dropped
+  // from it when it is next read (one pass for any number of removals).
+  mutable std::unordered_set<std::int64_t> removed_from_gathered_;
+  void drop_removed_contacts() const {
+    if (removed_from_gathered_.empty() || !gathered_contacts_) return;
+    auto& kept = *gathered_contacts_;
+    kept.erase(std::remove_if(kept.begin(), kept.end(),
+                              [&](const ContactRecord& c) {
+                                return removed_from_gathered_.count(c.id_a) ||
+                                       removed_from_gathered_.count(c.id_b);
+                              }),
+               kept.end());
+    removed_from_gathered_.clear();
+  }
   bool rotation_ = true;  // integrate spins: false when no pair in use has friction (prepare())
 };
 

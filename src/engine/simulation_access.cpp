@@ -228,6 +228,7 @@ std::vector<ContactRecord> Simulation<D>::contacts() const {
     throw InputError(
         "contact forces are not recorded in this scene: set record_contacts = true in "
         "simulation { ... } (it costs a few stores per contact)");
+  drop_removed_contacts();
   if (gathered_contacts_) return *gathered_contacts_;
   // A rank's share between gathers: its log names only its part of the scene.
   if (external_rebuilds_)

@@ -177,15 +177,9 @@ void Simulation<D>::remove_particle(std::int64_t id) {
   const std::size_t i = checked(id), last = p_.size() - 1;
   // Its parallel bonds break now (bond_counts says so at once, not at the next
   // step's apply_bonds, which would find it gone).
-  for (std::size_t k = 0; k < bonds_.size(); ++k)
-    if (!bonds_.broken[k] && (bonds_.id_a[k] == id || bonds_.id_b[k] == id)) bonds_.break_bond(k);
+  bonds_.for_each_of(id, [&](std::size_t k) { bonds_.break_bond(k); });
   keep_contacts_by_id();
-  if (gathered_contacts_) {
-    auto& kept = *gathered_contacts_;
-    kept.erase(std::remove_if(kept.begin(), kept.end(),
-                              [&](const ContactRecord& c) { return c.id_a == id || c.id_b == id; }),
-               kept.end());
-  }
+  if (gathered_contacts_) removed_from_gathered_.insert(id);
   auto erase = [&](auto& v) {
     v[i] = v[last];
     v.pop_back();
@@ -349,15 +343,13 @@ void Simulation<D>::set_position(std::int64_t id, const Triple& x) {
   check_placed_in_walls(at, p_.radius[i], p_.fixed[i], id, "set_position: ");
   // A bond's load follows the particles' motion (parallel_bond.hpp), which a move
   // skips: its gap before the move is kept for settle_moved_bonds().
-  for (std::size_t k = 0; k < bonds_.size(); ++k) {
-    if (bonds_.broken[k] || (bonds_.id_a[k] != id && bonds_.id_b[k] != id) ||
-        moved_bond_gaps_.count(k))
-      continue;
+  bonds_.for_each_of(id, [&](std::size_t k) {
+    if (bonds_.broken[k] || moved_bond_gaps_.count(k)) return;
     const int a = p_.index(bonds_.id_a[k]), b = p_.index(bonds_.id_b[k]);
     if (a >= 0 && b >= 0)
       moved_bond_gaps_[k] =
           separation(p_.position[a], p_.position[b]).norm() - p_.radius[a] - p_.radius[b];
-  }
+  });
   p_.position[i] = at;
   lists_valid_ = false;
   arm_overlap_grace_for(std::array<std::int64_t, 1>{id});  // the scene's, not a pass-through

@@ -194,6 +194,7 @@ void Simulation<D>::set_gathered_contacts(const std::string& all) {
   records.reserve(entries.size());
   for (Entry& e : entries) records.push_back(std::move(e.record));
   gathered_contacts_ = std::move(records);
+  removed_from_gathered_.clear();
 }
 
 template <int D>
@@ -272,6 +273,7 @@ void Simulation<D>::install_share(Particles<D> share, const std::vector<std::str
   p_ = std::move(share);
   log_.filled = false;  // its entries name storage indices of the particles replaced
   gathered_contacts_.reset();
+  removed_from_gathered_.clear();
   // The arrived histories become the "old" lists that rebuild_lists() carries
   // from, by id (contact_lists.hpp); the storage indices there are not read.
   // Kept ones first: the entries a packing would have given (those in contact

@@ -260,7 +260,12 @@ StateBlob Simulation<D>::save_state() const {
   s.integers["guards.wall_overlap_warned"] = {wall_overlap_warned_ ? 1 : 0};
   // Whom the grace is for, when particles placed mid-run have it and the rest not:
   // without it a restart would excuse every pair until all are clear.
-  if (scene_overlaps_ && !grace_for_all_) s.integers["guards.placed_ids"] = placed_ids_;
+  if (scene_overlaps_ && !grace_for_all_) {
+    std::vector<std::int64_t> placed = placed_ids_;
+    std::sort(placed.begin(), placed.end());
+    placed.erase(std::unique(placed.begin(), placed.end()), placed.end());
+    s.integers["guards.placed_ids"] = placed;
+  }
   s.texts["time_step.governing_pair"] = dt_governing_pair_;
   // The lists above are in this order: a restart must keep it to sum the same way.
   s.integers["canonical_order"] = {canonical_order_ ? 1 : 0};
