@@ -197,8 +197,20 @@ std::vector<std::int64_t> Simulation<D>::fill(const FillSpec& f) {
         for (long long c = lo_c[2]; c <= hi_c[2]; ++c)
           g.occupied[Grid::key({a, b, c})].push_back(static_cast<std::uint32_t>(q));
   };
+  // A particle out of reach of the region (its radius plus the largest new one
+  // beyond the box the candidates are drawn from, on an axis that does not wrap)
+  // cannot overlap any of them: not entered, so that a small fill beside a large
+  // bed costs what it places, not the bed's size.
+  auto within_reach = [&](std::size_t i) {
+    const double reach = p_.radius[i] + r_new_max;
+    for (int k = 0; k < D; ++k) {
+      if (periodic_.on() && k == periodic_.axis) continue;
+      if (p_.position[i][k] + reach < lo[k] || p_.position[i][k] - reach > hi[k]) return false;
+    }
+    return true;
+  };
   for (std::size_t i = 0; i < n_before; ++i)
-    if (p_.fixed[i] || !f.allow_overlap) occupy(i);
+    if ((p_.fixed[i] || !f.allow_overlap) && within_reach(i)) occupy(i);
   // Along a periodic axis every particle is in the box (the candidates too, below),
   // and one across the seam is entered at its own side of it: the candidate is
   // looked up at its images a period away too.

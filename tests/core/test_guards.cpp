@@ -377,6 +377,47 @@ TEST_CASE("fill: small particles beside far larger ones are placed, none overlap
     }
 }
 
+TEST_CASE("fill: a fill beside a bed keeps clear of the bed's particles within reach", "[guards]") {
+  // Only the particles within reach of the fill's region are looked up: those
+  // whose centres lie outside it by less than their radius plus the new one's
+  // must still be kept clear of, on every side (a bed of large spheres around a
+  // small box, in 3D, some fixed and some that may not be overlapped).
+  for (const bool fixed : {true, false}) {
+    Simulation<3> sim;
+    sim.set_warning_handler([](const std::string&) {});
+    sim.add_material({"p", 2500, 0, 0, 0});
+    sim.set_contact("p", "p", "linear", {{"k_normal", 1e3}, {"restitution", 0.5}});
+    const double big = 1e-3, small = 2e-4;
+    for (int a = -3; a <= 3; ++a)
+      for (int b = -3; b <= 3; ++b)
+        for (int c = -3; c <= 3; ++c) {
+          if (std::abs(a) < 2 && std::abs(b) < 2 && std::abs(c) < 2) continue;  // the hole
+          ParticleSpec s;
+          s.position = {1.2 * big * a, 1.2 * big * b, 1.2 * big * c};
+          s.radius = big, s.material = 0, s.fixed = fixed;
+          sim.add_particle(s);
+        }
+    const std::int64_t bed = sim.particle_count();
+    FillSpec fill;
+    fill.shape = RegionShape::box;
+    fill.lo = {-2.1 * big, -2.1 * big, -2.1 * big};
+    fill.hi = {2.1 * big, 2.1 * big, 2.1 * big};
+    fill.count = 40;
+    fill.radius_min = fill.radius_max = small;
+    fill.material = 0;
+    fill.seed = 5;
+    fill.allow_overlap = fixed;  // fixed ones are never overlapped; free ones here may not be
+    sim.fill(fill);
+    REQUIRE(sim.particle_count() == bed + 40);
+    for (std::int64_t a = bed; a < bed + 40; ++a)
+      for (std::int64_t b = 0; b < bed; ++b) {
+        const Triple x = sim.position(a), y = sim.position(b);
+        const double d = std::hypot(x[0] - y[0], x[1] - y[1], x[2] - y[2]);
+        CHECK(d >= sim.radius(a) + sim.radius(b));
+      }
+  }
+}
+
 TEST_CASE("fill: max_speed bounds every speed after the net momentum is taken off", "[guards]") {
   // Few particles of unequal sizes, in 2D and 3D over 20 seeds: taking the mean
   // velocity off alone gives speeds up to 1.7 max_speed here.
