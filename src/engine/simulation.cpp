@@ -444,7 +444,7 @@ void Simulation<D>::integrate() {
   // Spins only when a pair in use has friction or a bond is intact; a law changed
   // since prepare() (a friction ramp in a hook) counts as frictional until the next prepare().
   // Bonds carry moments whatever the contact laws are.
-  const bool spins = rotation_ || !prepared_ || bonds_.intact > 0;
+  const bool spins = rotation_ || !prepared_ || bonds_.intact > 0 || damping_.spin > 0;
   // clock_dt_ is the step the last one was taken with (0 before the first).
   const double kick = clock_dt_ > 0 && clock_dt_ != dt_ ? (clock_dt_ + dt_) / 2 : dt_;
   const LeapfrogStep<D> at{p_,

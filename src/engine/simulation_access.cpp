@@ -439,6 +439,7 @@ std::vector<std::string> Simulation<D>::describe() const {
   if (e.friction) turning.emplace_back("friction in use");
   if (e.rolling) turning.emplace_back("rolling resistance");
   if (e.bonds) turning.emplace_back("parallel bonds");
+  if (damping_.spin > 0) turning.emplace_back("spin damping");
   if (e.adhesion && !e.friction)
     turning.emplace_back("adhesion: peeling resists sliding at mu = 0");
   lines.push_back(

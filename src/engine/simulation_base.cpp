@@ -43,7 +43,7 @@ int SimulationBase::add_material(const Material& m) {
 void SimulationBase::set_damping(const Damping& d) {
   auto rate = [](double c, const char* name) {
     if (!std::isfinite(c) || c < 0)
-      throw InputError(fmt::format("damping: '{}' must be a rate >= 0 [1/s], got {}", name, c));
+      throw InputError(fmt::format("set_damping: '{}' must be a rate >= 0 [1/s], got {}", name, c));
   };
   rate(d.viscous, "viscous");
   rate(d.spin, "spin");
@@ -51,7 +51,7 @@ void SimulationBase::set_damping(const Damping& d) {
   // taken whole against the motion it would begin).
   if (!std::isfinite(d.local_fraction) || d.local_fraction < 0 || d.local_fraction >= 1)
     throw InputError(
-        fmt::format("damping: 'local_fraction' must be in [0, 1), got {}", d.local_fraction));
+        fmt::format("set_damping: 'local_fraction' must be in [0, 1), got {}", d.local_fraction));
   damping_ = d;
 }
 

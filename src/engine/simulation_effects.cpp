@@ -93,7 +93,8 @@ ActiveEffects Simulation<D>::effects() const {
     }
   }
   e.adhesion = !e.adhesive_pairs.empty();
-  e.rotation = e.friction || e.rolling || e.bonds || e.adhesion;
+  // Spin damping slows the spins a scene set, whatever acts on them.
+  e.rotation = e.friction || e.rolling || e.bonds || e.adhesion || damping_.spin > 0;
   for (const auto& d : diagnostics_) e.diagnostics.push_back(d.name);
   e.contacts_recorded = record_contacts_;
   e.canonical_order = canonical_order_;

@@ -40,11 +40,11 @@ struct DampingStep {
     set(d.spin, h, keep_w, by_w);
     local = d.local_fraction;
   }
-  // e^{-c h} and (1 - e^{-c h}) / c, the latter h at c = 0 and without the
-  // cancellation of 1 - e^{-c h} for small c h (expm1).
+  // e^{-c h} and (1 - e^{-c h}) / c, the latter h where c h is 0 and without
+  // the cancellation of 1 - e^{-c h} for small c h (expm1).
   static void set(double c, double h, double& keep, double& by) {
     keep = std::exp(-c * h);
-    by = c > 0 ? -std::expm1(-c * h) / c : h;
+    by = c * h > 0 ? -std::expm1(-c * h) / c : h;  // c h underflowing to 0: no damping
   }
   // Cundall's local damping of one component a_k of an acceleration, against
   // the motion v_k at the step's middle time.

@@ -76,7 +76,24 @@ void TableReader::refuse_undocumented_keys() {
   lua_pushnil(L_);
   while (lua_next(L_, index_) != 0) {
     lua_pop(L_, 1);
-    if (lua_type(L_, -1) != LUA_TSTRING) continue;  // positional entries are read by callers
+    if (lua_type(L_, -1) != LUA_TSTRING) {
+      // A positional entry the call declares ("1", "2": a law's materials, a hook's
+      // function) is read by its binding; any other would be ignored, silently
+      // (sim:set_damping { 0.7 } would switch damping off).
+      const bool whole = lua_isinteger(L_, -1);
+      const std::string at = whole ? std::to_string(lua_tointeger(L_, -1)) : std::string();
+      if (whole && std::find(known.begin(), known.end(), at) != known.end()) continue;
+      const std::string shown =
+          whole ? "[" + at + "]"
+                : std::string("a key of type ") + lua_typename(L_, lua_type(L_, -1));
+      lua_pop(L_, 1);
+      std::vector<std::string> named;
+      for (const auto& k : known)
+        if (k.find_first_not_of("0123456789") != std::string::npos) named.push_back(k);
+      throw std::runtime_error(
+          fmt::format("{}: an entry at {} has no name: give it as name = value ({})", context_,
+                      shown, fmt::join(named, ", ")));
+    }
     std::string key = lua_tostring(L_, -1);
     if (std::find(known.begin(), known.end(), key) != known.end()) continue;
     lua_pop(L_, 1);

@@ -18,14 +18,14 @@ constexpr double r = 1e-3, density = 2500, g = 9.81;
 // One free sphere (or disk) with a friction law to a floor far below: spins
 // are integrated, nothing touches until a test lets it fall.
 template <int D>
-void scene(Simulation<D>& sim, double dt, double floor_at = -1.0) {
+void scene(Simulation<D>& sim, double dt, double floor_at = -1.0, double friction = 0.5) {
   sim.set_warning_handler([](const std::string&) {});
   sim.add_material({"glass", density, 0, 0, 0});
   sim.add_material({"steel", 0, 0, 0, 0});
   sim.set_contact("glass", "glass", "linear",
-                  {{"k_normal", 1e4}, {"restitution", 1.0}, {"friction", 0.5}});
+                  {{"k_normal", 1e4}, {"restitution", 1.0}, {"friction", friction}});
   sim.set_contact("glass", "steel", "linear",
-                  {{"k_normal", 1e4}, {"restitution", 1.0}, {"friction", 0.5}});
+                  {{"k_normal", 1e4}, {"restitution", 1.0}, {"friction", friction}});
   WallSpec w;
   w.name = "floor", w.material = 1;
   w.normal = D == 3 ? Triple{0, 0, 1} : Triple{0, 1, 0};
@@ -76,6 +76,24 @@ TEMPLATE_TEST_CASE_SIG("damping: viscous decay and terminal velocity follow thei
   falling.advance(100);
   CHECK(falling.velocity(0)[up(D)] == Approx(-g / c_fall).epsilon(1e-12));
   CHECK(std::isfinite(falling.position(0)[up(D)]));
+
+  // A rate so small that c dt underflows damps nothing (not: stops every force).
+  Simulation<D> tiny;
+  scene(tiny, dt, -1e3);
+  tiny.set_gravity(down);
+  tiny.set_damping({1e-320, 0, 0});
+  tiny.advance(100);
+  CHECK(tiny.velocity(0)[up(D)] == Approx(-g * 100 * dt).epsilon(1e-12));
+
+  // Without friction no torque acts, yet spin damping slows the spins the scene set.
+  Simulation<D> smooth;
+  scene(smooth, dt, -1.0, 0.0);
+  smooth.set_spin(0, w0);
+  smooth.set_damping({0, c_w, 0});
+  smooth.advance(steps);
+  CHECK(smooth.effects().rotation);
+  for (int k = 0; k < 3; ++k)
+    CHECK(smooth.spin(0)[k] == Approx(w0[k] * std::exp(-c_w * t)).margin(1e-15).epsilon(1e-12));
 }
 
 TEMPLATE_TEST_CASE_SIG("damping: local damping follows its closed forms", "[damping]", ((int D), D),

@@ -325,6 +325,18 @@ TEST_CASE("lua: a second contact law for a pair names both declarations", "[lua]
             .error == "");
 }
 
+TEST_CASE("lua: an entry without a name is refused where the call takes none", "[lua][errors]") {
+  // It would be ignored: set_damping { 0.7 } would switch damping off, silently.
+  expect_refused("sim:set_damping { 0.7 }\n", 6,
+                 "set_damping: an entry at [1] has no name: give it as name = value (viscous, "
+                 "spin, local_fraction)");
+  expect_refused("sim:output { 5, snapshot_every = 1e-3 }\n", 6,
+                 "output: an entry at [1] has no name");
+  expect_refused("sim:set_damping { [true] = 1 }\n", 6, "an entry at a key of type boolean");
+  // Entries a call declares by position still read: a law's materials, a hook's function.
+  CHECK(run_scene(std::string(header) + "sim:every { steps = 10, function(s) end }\n").error == "");
+}
+
 TEST_CASE("lua: an unknown key is reported before a missing required one", "[lua][errors]") {
   // 'radis' stands for 'radius', whose absence the binding would otherwise report
   // as "'radius_min' is required".
