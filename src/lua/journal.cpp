@@ -2,7 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <cstdlib>
 #include <cstring>
+#include <iostream>
 #include <iterator>
 #include <lua.hpp>
 #include <stdexcept>
@@ -122,6 +124,16 @@ void Journal::put_value(lua_State* L, int index, int depth) {
           "journal: cannot keep a {} value (a call that returns one must be a build call)",
           lua_typename(L, lua_type(L, index))));
   }
+}
+
+std::size_t Journal::first_size_mark() {
+  const char* set = std::getenv("GRANULE_JOURNAL_WARN_BYTES");
+  if (set) {
+    char* end = nullptr;
+    const unsigned long long bytes = std::strtoull(set, &end, 10);
+    if (end != set && *end == 0 && bytes > 0) return static_cast<std::size_t>(bytes);
+  }
+  return std::size_t{256} << 20;
 }
 
 void Journal::record_call(const char* name, std::uint64_t arguments) {
@@ -498,6 +510,14 @@ int journaled_call(lua_State* L) {
   if (!j->replaying()) {
     if (failed_with_message(L, [&] { j->record_call(call->name, Journal::digest(L, 1, nargs)); }))
       return lua_error(L);
+    if (j->passed_size_mark() && !ctx->quiet)
+      std::cerr << fmt::format(
+          "warning: the restart journal (what the script has read from the engine, {} calls, "
+          "kept in memory so that a checkpoint can replay the script) holds {:.3g} MB and grows "
+          "with every read: a script that reads many particles every few steps should read "
+          "them through sim:arrays() or sim:contact_arrays(), which journal nothing, or in a "
+          "C++ diagnostic (docs/architecture.md)\n",
+          j->entries(), j->bytes().size() / 1e6);
     return call_inner(true);
   }
   if (failed_with_message(

@@ -49,6 +49,15 @@ class Journal {
   // journal was used up before they came): its results must then be journaled.
   bool took_results() const { return took_results_; }
   void forget_took_results() { took_results_ = false; }
+  // True once each time the journal grows past the next size worth a warning
+  // (256 MiB, then each doubling; GRANULE_JOURNAL_WARN_BYTES sets the first):
+  // it is kept in memory, and a script that reads the engine often grows it for
+  // as long as it runs.
+  bool passed_size_mark() {
+    if (bytes_.size() < size_mark_) return false;
+    while (size_mark_ <= bytes_.size()) size_mark_ *= 2;
+    return true;
+  }
 
   // The journal's format: 2 keeps each call's argument digest (1, without, is replayed
   // by the name of each call alone).
@@ -113,6 +122,8 @@ class Journal {
   [[noreturn]] void damaged(const char* what) const;
 
   std::vector<std::uint8_t> bytes_;
+  std::size_t size_mark_ = first_size_mark();
+  static std::size_t first_size_mark();
   std::size_t cursor_ = 0;
   std::size_t entries_ = 0;
   std::size_t calls_replayed_ = 0;
