@@ -1,6 +1,6 @@
 // Damping of the particles' motion as a whole, for quasi-static work (settling a
 // bed, preparing an agglomerate) where the contacts' own dissipation is too slow
-// or absent. Off unless a scene asks (sim:damping), and then applied in the
+// or absent. Off unless a scene asks (sim:set_damping), and then applied in the
 // integration (integrate/leapfrog.hpp) to every free particle:
 //  - viscous: dv/dt = a - c v and dw/dt = alpha - c_w w, with rates c and c_w in
 //    1/s (LAMMPS's fix viscous with gamma = c m, the same decay time for every
@@ -34,11 +34,16 @@ struct DampingStep {
   double keep_v = 1, by_v = 0;  // translation
   double keep_w = 1, by_w = 0;  // rotation
   double local = 0;
+  // Which motions it damps: the other takes the undamped update, the same bits
+  // as without damping.
+  bool translation = false, rotation = false;
 
   DampingStep(const Damping& d, double h) {
     set(d.viscous, h, keep_v, by_v);
     set(d.spin, h, keep_w, by_w);
     local = d.local_fraction;
+    translation = d.viscous != 0 || local != 0;
+    rotation = d.spin != 0 || local != 0;
   }
   // e^{-c h} and (1 - e^{-c h}) / c, the latter h where c h is 0 and without
   // the cancellation of 1 - e^{-c h} for small c h (expm1).

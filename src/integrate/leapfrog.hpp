@@ -37,7 +37,7 @@ struct LeapfrogStep {
   // step changed, since they are held half of the step before behind the
   // positions and must come out half of this one behind.
   double kick;
-  bool spins;      // integrate spins (some pair in use has friction)
+  bool spins;      // integrate spins (a torque can act: friction, rolling, bonds; spin damping)
   bool any_fixed;  // skip fixed particles
   bool parallel;   // ThreadPolicy::particles_parallel
   int threads;
@@ -108,7 +108,7 @@ void leapfrog(const LeapfrogStep<D>& step, LeapfrogResult& result) {
       // The new state in registers first: a step that makes it non-finite is
       // not stored, so the failure report writes the last finite state.
       V v_new;
-      if constexpr (Damped) {
+      if (Damped && damp.translation) {
         V a = load[i].force * inv_mass[i];
         if (damp.local != 0) damp_local(a, V(v[i] + a * (0.5 * kick)));
         v_new = v[i] * damp.keep_v + a * damp.by_v;  // Eq. 4.8 with -c v, exact over the step
@@ -117,7 +117,7 @@ void leapfrog(const LeapfrogStep<D>& step, LeapfrogResult& result) {
       }
       S w_new{};
       if constexpr (Spins) {
-        if constexpr (Damped) {
+        if (Damped && damp.rotation) {
           S alpha = load[i].torque * inv_inertia[i];
           if (damp.local != 0) damp_local(alpha, S(w[i] + alpha * (0.5 * kick)));
           w_new = w[i] * damp.keep_w + alpha * damp.by_w;

@@ -162,11 +162,13 @@ void RunOutput::finish() {
 void RunOutput::flush() {
   if (finished_ || !file_) return;
   write_header();
-  if (xdmf_) xdmf_->flush();
   // Not the walls a script added since the header: their geometry is written as
   // it stands when written (a platen that has moved), so at the snapshots and
   // the end, steps the scene sets, never at a flush that wall time sets.
   file_->flush();
+  // The index after the groups it names are on disk, and only when due: a long
+  // run's index rewritten every second would cost as much as at every snapshot.
+  if (xdmf_) xdmf_->flush_if_due();
   last_flush_ = std::chrono::steady_clock::now();
 }
 
@@ -558,6 +560,7 @@ void RunOutput::write_failed_state(const std::string& message) {
   last_snapshot_step_ = sim_.step_count();
   failure_step_ = sim_.step_count();
   file_->flush();
+  if (xdmf_) xdmf_->flush();  // the failed state in the index at once
 }
 
 }  // namespace granule::io

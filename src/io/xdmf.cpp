@@ -370,7 +370,6 @@ void XdmfIndex::restore(std::vector<XdmfSnapshot> snapshots) {
   snapshots.pop_back();
   for (auto& s : snapshots) {
     particle_grids_.push_back(particle_grid(s, xml_attr(h5_name_)));
-    wall_grids_.push_back(timed_walls(s));
     snapshots_.push_back(std::move(s));
   }
   find_walls_fixed();
@@ -387,6 +386,13 @@ void XdmfIndex::find_walls_fixed() {
     else
       walls_fixed_ = walls_fixed_ && snapshots_[k].walls == snapshots_[first_walls_].walls;
   }
+  make_wall_grids();
+}
+
+void XdmfIndex::make_wall_grids() {
+  wall_grids_.clear();
+  if (walls_fixed_) return;
+  for (const auto& s : snapshots_) wall_grids_.push_back(timed_walls(s));
 }
 
 void XdmfIndex::add(XdmfSnapshot snapshot) {
@@ -397,25 +403,31 @@ void XdmfIndex::add(XdmfSnapshot snapshot) {
   if (!snapshots_.empty() && snapshots_.back().step == snapshot.step) {
     if (snapshot.count == 0) return;  // nothing changes
     particle_grids_.back() = particle_grid(snapshot, xml_attr(h5_name_));
-    wall_grids_.back() = timed_walls(snapshot);
     snapshots_.back() = std::move(snapshot);
     find_walls_fixed();
   } else {
     particle_grids_.push_back(particle_grid(snapshot, xml_attr(h5_name_)));
-    wall_grids_.push_back(timed_walls(snapshot));
     snapshots_.push_back(std::move(snapshot));
     const XdmfSnapshot& added = snapshots_.back();
-    if (!added.walls.empty()) {
-      if (first_walls_ == SIZE_MAX)
+    if (!walls_fixed_) {
+      wall_grids_.push_back(timed_walls(added));
+    } else if (!added.walls.empty()) {
+      if (first_walls_ == SIZE_MAX) {
         first_walls_ = snapshots_.size() - 1;
-      else
-        walls_fixed_ = walls_fixed_ && added.walls == snapshots_[first_walls_].walls;
+      } else if (!(added.walls == snapshots_[first_walls_].walls)) {
+        walls_fixed_ = false;  // from now on a temporal collection: every snapshot's walls
+        make_wall_grids();
+      }
     }
   }
   stale_ = true;
+  if (due()) write();
+}
+
+bool XdmfIndex::due() const {
   const double since =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - last_write_).count();
-  if (last_write_seconds_ < 0 || since >= 20 * last_write_seconds_) write();
+  return last_write_seconds_ < 0 || since >= 20 * last_write_seconds_;
 }
 
 void XdmfIndex::flush() {

@@ -7,10 +7,11 @@
 // cylinder, its triangles for a mesh), clipped to the region the particles
 // occupy. The XML files are rewritten whole (through a temporary file and a
 // rename, so a reader never sees half a file) from each snapshot's text, made
-// once when the snapshot is added: after a snapshot, unless the last rewrite took
-// more than a twentieth of the time since it (a long run's index grows with its
-// snapshots, and rewriting it at each would make the run's cost grow with their
-// square), and always at flush() (the output's flushes, checkpoints, its end).
+// once when the snapshot is added: after a snapshot or at the output's periodic
+// flush when due, that is unless the last rewrite took more than a twentieth of
+// the time since it (a long run's index grows with its snapshots, and rewriting
+// it at each would make the run's cost grow with their square), and always at
+// flush() (a checkpoint, a failure, the output's end).
 #pragma once
 
 #include <array>
@@ -68,6 +69,10 @@ class XdmfIndex {
   void add(XdmfSnapshot snapshot);
   // Rewrites the files if a snapshot was added since they were last written.
   void flush();
+  // The same where due (above).
+  void flush_if_due() {
+    if (stale_ && due()) write();
+  }
   bool written() const { return !stale_; }  // the files hold every snapshot added
   std::string text() const;                 // the particles' XML as it would be written now
   std::string walls_text() const;           // the walls' XML; empty when no snapshot has walls
@@ -77,14 +82,19 @@ class XdmfIndex {
 
  private:
   void write();
-  void find_walls_fixed();  // walls_fixed_, from all the snapshots
+  bool due() const;
+  // walls_fixed_ from all the snapshots, and wall_grids_ to match.
+  void find_walls_fixed();
+  void make_wall_grids();
 
   std::string h5_name_;  // as referenced from the XML: the file name, since both lie together
   std::string path_;
   std::string walls_path_;
   std::vector<XdmfSnapshot> snapshots_;
-  // Per snapshot, its particles' grid and its walls' spatial collection (with its
-  // time) as XML; empty where it has none.
+  // Per snapshot, its particles' grid and, once the walls have moved
+  // (!walls_fixed_), its walls' spatial collection with its time, as XML; empty
+  // where it has none. While the walls stay as they were, the file shows the
+  // first snapshot's walls and no per-snapshot text is kept.
   std::vector<std::string> particle_grids_, wall_grids_;
   std::size_t first_walls_ = SIZE_MAX;  // the first snapshot with walls, if any
   bool walls_fixed_ = true;             // every snapshot with walls has the first one's walls

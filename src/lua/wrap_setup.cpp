@@ -407,9 +407,12 @@ int l_damping(lua_State* L) {
   return protect(L, [](lua_State* L) {
     const Damping& d = self(L).sim->damping();
     lua_createtable(L, 0, 3);
-    lua_pushnumber(L, d.viscous), lua_setfield(L, -2, "viscous");
-    lua_pushnumber(L, d.spin), lua_setfield(L, -2, "spin");
-    lua_pushnumber(L, d.local_fraction), lua_setfield(L, -2, "local_fraction");
+    lua_pushnumber(L, d.viscous);
+    lua_setfield(L, -2, "viscous");
+    lua_pushnumber(L, d.spin);
+    lua_setfield(L, -2, "spin");
+    lua_pushnumber(L, d.local_fraction);
+    lua_setfield(L, -2, "local_fraction");
     return 1;
   });
 }

@@ -632,3 +632,40 @@ TEMPLATE_TEST_CASE_SIG(
   auto target = bonded_pair<D>(2.5e6, 2e-6, top, particle({2 * radius, 0, 0}), spec());
   CHECK_THROWS_WITH(target->load_state(bad), Catch::Contains("'bonds.moved_with'"));
 }
+
+TEST_CASE("bond: a particle's bonds are found however they were made, moved, removed, restored",
+          "[bond]") {
+  // A removal breaks exactly the removed particle's bonds: those made before a
+  // move looked them up, those made after (the engine's index of bonds by
+  // particle must follow), and after a restart.
+  auto scene = [](Simulation<3>& sim) {
+    sim.set_warning_handler([](const std::string&) {});
+    sim.add_material({"p", 2500, 0, 0, 0});
+    sim.set_contact("p", "p", "linear", {{"k_normal", 1e3}, {"restitution", 1.0}});
+    sim.set_time_step(1e-7);
+  };
+  Simulation<3> sim;
+  scene(sim);
+  for (int k = 0; k < 3; ++k) sim.add_particle(particle({2 * radius * k, 0, 0}));
+  REQUIRE(sim.create_bonds(spec(1e15, 1e15, 1e-9)) == 2);  // 0-1, 1-2
+  sim.set_position(0, {-1e-6, 0, 0});                      // looks up 0's bonds
+  sim.advance(1);
+  const std::int64_t fourth = sim.add_particle(particle({6 * radius, 0, 0}));
+  REQUIRE(sim.create_bonds(spec(1e15, 1e15, 1e-9)) == 1);  // 2-3, made after the look-up
+  sim.remove_particle(fourth);
+  auto records = sim.bond_records();
+  REQUIRE(records.size() == 3);
+  CHECK_FALSE(records[0].broken);
+  CHECK_FALSE(records[1].broken);
+  CHECK(records[2].broken);
+  CHECK(sim.bond_counts().intact == 2);
+
+  Simulation<3> resumed;
+  scene(resumed);
+  resumed.load_state(sim.save_state());
+  resumed.remove_particle(1);  // both of its bonds, in the restored scene
+  records = resumed.bond_records();
+  CHECK(records[0].broken);
+  CHECK(records[1].broken);
+  CHECK(resumed.bond_counts().intact == 0);
+}

@@ -134,8 +134,8 @@ TEMPLATE_TEST_CASE_SIG("damping: local damping follows its closed forms", "[damp
   // approach; the switch lands within a step of the turning point.
   {
     const double v_in = 0.05;
-    const double mass = (D == 3 ? 4.0 / 3.0 * M_PI * r * r * r : M_PI * r * r) * density;
-    const double t_c = M_PI * std::sqrt(mass / 1e4);  // the undamped contact's duration
+    const double mass = 4.0 / 3.0 * M_PI * r * r * r * density;  // a sphere in 2D too
+    const double t_c = M_PI * std::sqrt(mass / 1e4);             // the undamped contact's duration
     const double dt = t_c / 2000;
     Simulation<D> sim;
     scene(sim, dt, -1.001 * r);
@@ -179,11 +179,51 @@ TEST_CASE("damping: off changes nothing, and a checkpoint keeps it", "[damping]"
   CHECK(resumed.position(0) == sim.position(0));
   CHECK(resumed.spin(0) == sim.spin(0));
   // Damaged values are refused by name.
-  StateBlob damaged = saved;
-  damaged.doubles["damping"] = {100, 20, 1.0};
-  Simulation<3> refused;
-  scene(refused, 1e-5, -0.9 * r);
-  CHECK_THROWS_WITH(refused.load_state(damaged), Catch::Contains("'damping'"));
+  for (const auto& bad : std::vector<std::vector<double>>{
+           {100, 20, 1.0}, {-1, 20, 0.2}, {100, NAN, 0.2}, {100, 20}}) {
+    StateBlob damaged = saved;
+    damaged.doubles["damping"] = bad;
+    Simulation<3> refused;
+    scene(refused, 1e-5, -0.9 * r);
+    CHECK_THROWS_WITH(refused.load_state(damaged), Catch::Contains("'damping'"));
+  }
+}
+
+TEMPLATE_TEST_CASE_SIG("damping: local damping slows rolling down a slope to (1 - alpha) of it",
+                       "[damping]", ((int D), D), 2, 3) {
+  // A sphere rolling without slip down a slope: a = (1 - alpha) (5/7) g sin theta
+  // (a 2D particle is a sphere moving in the plane), both the force and the
+  // torque reduced by alpha, so it keeps rolling. Gravity tilted by theta over a
+  // level floor; the contact stiff and damped, friction high enough not to slip.
+  const double theta = 0.3, alpha = 0.4;
+  Simulation<D> sim;
+  sim.set_warning_handler([](const std::string&) {});
+  sim.add_material({"glass", density, 0, 0, 0});
+  sim.add_material({"steel", 0, 0, 0, 0});
+  sim.set_contact("glass", "steel", "linear",
+                  {{"k_normal", 1e5}, {"restitution", 0.3}, {"friction", 1.0}});
+  WallSpec w;
+  w.name = "floor", w.material = 1;
+  w.normal = D == 3 ? Triple{0, 0, 1} : Triple{0, 1, 0};
+  w.point = {0, 0, 0};
+  sim.add_wall(w);
+  ParticleSpec s;
+  s.radius = r, s.material = 0;
+  s.position = D == 3 ? Triple{0, 0, r} : Triple{0, r, 0};
+  sim.add_particle(s);
+  Triple down{0, 0, 0};
+  down[0] = g * std::sin(theta);
+  down[up(D)] = -g * std::cos(theta);
+  sim.set_gravity(down);
+  sim.set_damping({0, 0, alpha});
+  sim.advance(2000);  // the contact settles and rolling sets in
+  const double t0 = sim.time(), v0 = sim.velocity(0)[0];
+  sim.advance(20000);
+  const double expected = (1 - alpha) * 5.0 / 7.0 * g * std::sin(theta);
+  CHECK((sim.velocity(0)[0] - v0) / (sim.time() - t0) == Approx(expected).epsilon(1e-3));
+  // Rolling, not sliding: the contact point at rest (spin about -z in 2D, +y in 3D).
+  const double spin = D == 3 ? sim.spin(0)[1] : -sim.spin(0)[2];
+  CHECK(std::abs(sim.velocity(0)[0] - spin * r) < 1e-3 * std::abs(sim.velocity(0)[0]));
 }
 
 TEST_CASE("damping: bad values are refused naming the parameter", "[damping]") {

@@ -271,6 +271,11 @@ TEST_CASE("guards: placed ids are kept once each and in order, however they come
   sim.set_position(3, {12 * r, 0.5 * r, 0});
   const StateBlob saved = sim.save_state();
   CHECK(saved.integers.at("guards.placed_ids") == std::vector<std::int64_t>{1, 3, 4, added, last});
+  // Hundreds of moves alternating between two particles: the list is made unique
+  // as it grows, and the checkpoint still names each once.
+  for (int k = 0; k < 300; ++k) sim.set_position(k % 2 ? 2 : 5, {4 * (k % 2 ? 2 : 5) * r, 0, 0});
+  CHECK(sim.save_state().integers.at("guards.placed_ids") ==
+        std::vector<std::int64_t>{1, 2, 3, 4, 5, added, last});
 }
 
 TEST_CASE("guards: a particle pressed through a wall by a slow piston stops the run", "[guards]") {
