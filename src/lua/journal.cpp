@@ -36,6 +36,8 @@ void Journal::start_replay(std::vector<std::uint8_t> recorded, int recorded_form
         "(it reads 1 to {}); continue it with the granule that wrote it",
         recorded_format, format));
   bytes_ = std::move(recorded);
+  // The first run warned of the sizes it passed: the next warning is the next mark.
+  while (size_mark_ <= bytes_.size()) size_mark_ *= 2;
   format_in_use_ = recorded_format;
   calls_replayed_ = 0;
   cursor_ = 0;
@@ -344,6 +346,7 @@ void Journal::expect_call(const char* name, std::uint64_t arguments, bool check_
   if (recorded != name)
     another_path(fmt::format("it called {} where that run called {}", name, recorded));
   ++calls_replayed_;
+  ++entries_;  // the journal's entries, the first run's counted as they are replayed
   if (format_in_use_ >= 2) {
     std::uint64_t recorded_arguments = 0;
     for (int k = 0; k < 8; ++k)
@@ -416,6 +419,7 @@ void Journal::push_error(lua_State* L) {
 std::int64_t Journal::take_callback() {
   if (get_byte() != tag_callback) damaged("a callback was expected");
   const std::int64_t id = static_cast<std::int64_t>(get_u64()) - 1;
+  ++entries_;
   check_end();
   return id;
 }
