@@ -190,10 +190,10 @@ end
 -- The overlapping pairs are found on a uniform grid of cells 2 r_max wide (a
 -- pair can only overlap if its centres are closer than that), so each primary
 -- is compared with those in its own and the neighbouring cells: linear in the
--- number of primaries, where comparing every pair is quadratic (minutes for
--- 1e5 of them). The cells are 1e-6 wider than 2 r_max and counted from the
--- packing's lowest corner so that rounding in a cell index cannot put two
--- overlapping centres two cells apart. Each pair is tested by the same
+-- number of primaries, where comparing every pair is quadratic. The cells
+-- are 1e-6 wider than 2 r_max and counted from the packing's lowest corner so
+-- that rounding in a cell index cannot put two overlapping centres two cells
+-- apart. Each pair is tested by the same
 -- arithmetic as an all-pairs search, and the factor and widest gap are maxima
 -- over the pairs, so the result does not depend on the order they are found in.
 local function dilate_apart(sim, ids, center)
