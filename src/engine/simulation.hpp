@@ -490,6 +490,9 @@ class Simulation final : public SimulationBase {
   void report_wall_step_over();
   // Before storage indices change between steps: the last step's contacts kept by id.
   void keep_contacts_by_id();
+  // The last step's results in a checkpoint (simulation_state.cpp).
+  void save_last_step(StateBlob& s) const;
+  void load_last_step(const StateBlob& s);
   // RunError naming `what` while list_indices_stale_.
   void require_current_indices(const char* what) const;
   std::size_t rebuilds_ = 0;

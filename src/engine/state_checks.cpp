@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 #include "core/errors.hpp"
 #include "engine/simulation.hpp"
@@ -369,6 +370,62 @@ void check_state(const StateBlob& s, std::size_t material_count, std::size_t wal
         refuse_entry("guards.placed_ids",
                      fmt::format("value {} is {}: the ids must be non-negative and increasing", k,
                                  placed[k]));
+  }
+  // The last step's results (save_last_step): absent in checkpoints of older builds,
+  // else all there. Counts of contacts fit the lists' 32-bit indices; a step notes and
+  // rebalances each model's pair list at most once.
+  if (s.integers.count("last_step.tallies") || s.doubles.count("last_step.max_overlap_ratio") ||
+      s.doubles.count("last_step.wall_reactions")) {
+    const std::string key = "last_step.tallies";
+    const auto& tallies = integers_of(s, key, 7);
+    const std::int64_t counts = std::int64_t{1} << 32,
+                       per_step = meta[2] * static_cast<std::int64_t>(contact_model_count);
+    for (std::size_t k = 0; k < tallies.size(); ++k)
+      if (tallies[k] < 0 || tallies[k] > (k < 5 ? counts : per_step))
+        refuse_entry(key,
+                     fmt::format("value {} is {}: not a count this state can have", k, tallies[k]));
+    if (tallies[1] > tallies[0] || tallies[3] > tallies[2])
+      refuse_entry(key, "counts more batched contacts than contacts");
+    const double ratio = doubles_of(s, "last_step.max_overlap_ratio", 1)[0];
+    if (!(std::isfinite(ratio) && ratio >= 0))
+      refuse_entry("last_step.max_overlap_ratio",
+                   fmt::format("is {}: must be finite and >= 0", number_text(ratio)));
+    all_finite(doubles_of(s, "last_step.wall_reactions", (D + 1) * wall_count, "walls"),
+               "last_step.wall_reactions", std::numeric_limits<double>::max());
+  }
+  if (s.integers.count("last_step.contacts") || s.doubles.count("last_step.contacts") ||
+      s.texts.count("last_step.contact_models")) {
+    const std::string key = "last_step.contacts";
+    const auto& ids = s.i(key);
+    if (ids.size() % 4 != 0)
+      refuse_entry(key, fmt::format("has {} integers, not 4 per contact", ids.size()));
+    const std::size_t count = ids.size() / 4;
+    all_finite(doubles_of(s, key, 8 * count, key + " (integers)"), key,
+               std::numeric_limits<double>::max());
+    const auto models = [&] {
+      std::vector<std::string> out;
+      std::istringstream in(s.t("last_step.contact_models"));
+      for (std::string line; std::getline(in, line);) out.push_back(line);
+      return out;
+    }();
+    const auto catalogue = contact_model_catalogue();
+    for (const auto& m : models)
+      if (std::none_of(catalogue.begin(), catalogue.end(),
+                       [&](const ContactModelInfo& c) { return c.name == m; }))
+        refuse_entry("last_step.contact_models", fmt::format("names '{}', no contact model", m));
+    auto live = [&](std::int64_t id) {
+      return id >= 0 && id < next_id && index_of_id[static_cast<std::size_t>(id)] >= 0;
+    };
+    for (std::size_t k = 0; k < count; ++k) {
+      const std::int64_t* c = &ids[4 * k];
+      const bool pair = c[1] >= 0 && c[2] == -1,
+                 wall = c[1] == -1 && c[2] >= 0 && c[2] < static_cast<std::int64_t>(wall_count);
+      if (!live(c[0]) || !(pair ? live(c[1]) : wall) || c[3] < 0 ||
+          c[3] >= static_cast<std::int64_t>(models.size()))
+        refuse_entry(key, fmt::format("contact {} ({}, {}, wall {}, model {}) names no particle, "
+                                      "wall or model of this checkpoint",
+                                      k, c[0], c[1], c[2], c[3]));
+    }
   }
   // Absent in checkpoints written before the setting existed: those ran without it.
   if (s.integers.count("canonical_order")) {

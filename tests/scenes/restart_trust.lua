@@ -1,7 +1,8 @@
 -- Scenes whose restart must either continue the first run or be refused by name
 -- (tests/scenes/restart_trust_test.py runs each case).
 local p = parameters {
-  case = { default = "pairs", doc = "pairs | args | module | mesh | pcall | prerun | replay_stop | views | second | history | other_file | mesh_file | attach" },
+  case = { default = "pairs", doc = "pairs | args | module | mesh | pcall | prerun | replay_stop | views | second | history | other_file | mesh_file | attach | last_step" },
+  dimension = { default = 3, integer = true, min = 2, max = 3, doc = "last_step: the scene's dimension" },
 }
 if p.case == "mesh" then
   -- A mesh written to a file os.tmpname names (another name in every process), which
@@ -19,6 +20,63 @@ if p.case == "mesh" then
   sim:save_checkpoint("trust.chk.h5")
   sim:run { duration = 2e-3 }
   print(string.format("mesh done, y %.17g", sim:particle(0).position[2]))
+  return
+elseif p.case == "last_step" then
+  -- What a script reads of the last step between runs (the recorded contacts, the
+  -- walls' reactions, stats()' tallies), read after a checkpoint written between
+  -- runs: the restart must read what the whole run read (the test runs 2D and 3D).
+  local function report(sim, dimension, stepped)
+    local c = sim:contacts()
+    local normal, tangential = 0, 0
+    for _, r in ipairs(c) do
+      normal = normal + r.normal_force
+      tangential = tangential + r.tangential_force[1] + r.overlap + r.normal[1]
+      if r.b then tangential = tangential + r.b elseif r.wall == "floor" then tangential = tangential + 1e3 end
+    end
+    local s = sim:stats()
+    local floor = sim:wall("floor")
+    print(string.format("%dD: %d contacts (%s), %d in arrays, normal sum %.17g, other %.17g", dimension,
+                        #c, c[1] and c[1].model or "-", #sim:contact_arrays().overlap, normal, tangential))
+    print(string.format("%dD: floor force %.17g %.17g, torque %.17g", dimension, floor.force[1],
+                        floor.force[dimension], floor.torque))
+    -- The pruned lists are noted afresh after a restart (they change no result), so
+    -- their counters match only before the restart's first step.
+    local pruning = stepped and "" or string.format(" %d %d", s.pair_candidates_visited,
+                                                     s.pair_list_prunes)
+    print(string.format("%dD: stats %d %d %d %d%s %.17g", dimension, s.contacts_particle,
+                        s.contacts_batched, s.contacts_wall, s.contacts_wall_batched, pruning,
+                        s.max_overlap_ratio))
+  end
+  do
+    local dimension = p.dimension
+    local sim = simulation { dimension = dimension, record_contacts = true }
+    sim:material { name = "g", density = 2500, young = 1e7, poisson = 0.3 }
+    if dimension == 3 then
+      sim:contact { "g", "g", model = "hertz_mindlin", restitution = 0.5, friction = 0.3 }
+    else
+      sim:contact { "g", "g", model = "walton_braun", k_load = 2e4, restitution = 0.5, friction = 0.3 }
+    end
+    local up = dimension == 3 and { 0, 0, 1 } or { 0, 1 }
+    sim:wall_plane { name = "floor", point = dimension == 3 and { 0, 0, 0 } or { 0, 0 }, normal = up,
+                     material = "g" }
+    for k, side in ipairs { { 1, 0, 0 }, { -1, 0, 0 }, { 0, 1, 0 }, { 0, -1, 0 } } do
+      if dimension == 3 or side[2] == 0 then  -- a box in 3D, a channel in 2D
+        local point = { -2.2e-3 * side[1], -2.2e-3 * side[2], 0 }
+        if dimension == 2 then point[3], side[3] = nil, nil end
+        sim:wall_plane { name = "side" .. k, point = point, normal = side, material = "g" }
+      end
+    end
+    sim:gravity(dimension == 3 and { 0, 0, -9.81 } or { 0, -9.81 })
+    sim:fill { region = { box = { lo = dimension == 3 and { -2e-3, -2e-3, 0 } or { -2e-3, 0 },
+                                  hi = dimension == 3 and { 2e-3, 2e-3, 6e-3 } or { 2e-3, 6e-3 } } },
+               count = dimension == 3 and 30 or 12, radius = 0.4e-3, material = "g", seed = 3,
+               overlap = false }
+    sim:run { duration = 0.05 }
+    sim:save_checkpoint("trust.chk.h5")
+    report(sim, dimension)
+    sim:run { steps = 10 }
+    report(sim, dimension, true)
+  end
   return
 elseif p.case == "mesh_file" then
   -- A mesh file the test writes, and edits after the checkpoint: the restart is refused.

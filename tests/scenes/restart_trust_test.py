@@ -23,6 +23,9 @@ Cases of tests/scenes/restart_trust.lua, each in a folder of its own:
 - mesh_file: a mesh file edited since the checkpoint is refused;
 - attach: a diagnostic that follows contacts, attached after the checkpoint's point to a
   bed in contact, counts in the restart what it counts in the whole run.
+- last_step: the last step's results a script reads between runs (recorded contacts,
+  the walls' reactions, stats()' tallies), read after a checkpoint written between runs,
+  are in the restart what they were in the whole run (2D and 3D).
 
     restart_trust_test.py GRANULE SOURCE_DIR
 """
@@ -253,9 +256,24 @@ def attach_case(work):
     print("attach: a diagnostic attached after the checkpoint counts as in the whole run")
 
 
+def last_step_case(work):
+    for dimension in ("2", "3"):
+        d = case_folder(work, f"last_step_{dimension}d")
+        whole = run(d, "last_step", "-D", f"dimension={dimension}")
+        if whole.returncode != 0:
+            fail(f"last_step: the whole {dimension}D run failed", whole)
+        if " 0 contacts" in whole.stdout or "stats 0 " in whole.stdout:
+            fail(f"last_step: the {dimension}D scene's bed has no pair contacts", whole)
+        r = run(d, "last_step", "-D", f"dimension={dimension}", "--restart", "trust.chk.h5")
+        if r.returncode != 0 or r.stdout != whole.stdout:
+            fail(f"last_step: the {dimension}D restart did not read the whole run's last step "
+                 f"{whole.stdout!r}", r)
+    print("last_step: the last step's contacts, reactions and tallies are read after a restart")
+
+
 with tempfile.TemporaryDirectory() as work:
     for case in (pairs_case, args_case, module_case, mesh_case, pcall_case, prerun_case,
                  replay_stop_case, views_case, second_case, history_case, other_file_case,
-                 mesh_file_case, attach_case):
+                 mesh_file_case, attach_case, last_step_case):
         case(work)
 print("restart trust: all passed")
