@@ -481,7 +481,8 @@ class Simulation final : public SimulationBase {
   double smallest_radius_ = INFINITY;
   // Of the free particles: a fixed one touches no wall, so no wall steps over it.
   double smallest_free_radius_ = INFINITY;
-  bool far_warned_ = false;  // particles far enough from the origin to lose digits
+  void note_smallest_radii();  // both, from the particles (prepare(), load_state())
+  bool far_warned_ = false;    // particles far enough from the origin to lose digits
   void report_step_over();
   // Nor may a wall come that far towards a particle (each wall's farthest point's travel
   // in the last step, and their largest; checked against the particles only past it).

@@ -271,6 +271,7 @@ void SimulationBase::warn(const std::string& message) const {
 }
 
 void SimulationBase::fail(const std::string& what, const char* kept) {
+  failed_at_step_ = step_;
   // What the output keeps of it (RunOutput::write_failure): spread over ranks, the
   // reason only.
   const std::string message =

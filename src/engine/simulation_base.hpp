@@ -616,6 +616,7 @@ class SimulationBase {
   bool holds_share_ = false;        // holds_share()
   double time_ = 0;
   std::int64_t step_ = 0;
+  std::int64_t failed_at_step_ = -1;  // the step a run failed at (fail()), -1 for none
   Damping damping_;
   std::vector<Hook> hooks_;
   std::vector<ScheduleSpec> schedules_;

@@ -321,6 +321,17 @@ void Simulation<D>::report_walls_leave_period() {
   }
 }
 
+// The step-over checks' scales (simulation_checks.cpp): the smallest radius, and
+// the smallest free one (a wall may pass a fixed particle, which it never touches).
+template <int D>
+void Simulation<D>::note_smallest_radii() {
+  smallest_radius_ = smallest_free_radius_ = INFINITY;
+  for (std::size_t i = 0; i < p_.size(); ++i) {
+    smallest_radius_ = std::min(smallest_radius_, p_.radius[i]);
+    if (!p_.fixed[i]) smallest_free_radius_ = std::min(smallest_free_radius_, p_.radius[i]);
+  }
+}
+
 template <int D>
 void Simulation<D>::prepare() {
   if (lists_kept_ && lists_valid_ && p_.size() && prepare_parameters()) return;
@@ -358,11 +369,7 @@ void Simulation<D>::prepare() {
   }
   if (periodic_.on()) check_walls_repeat();
   body_.periodic_axis = periodic_.on() ? periodic_.axis : -1;
-  smallest_radius_ = smallest_free_radius_ = INFINITY;
-  for (std::size_t i = 0; i < p_.size(); ++i) {
-    smallest_radius_ = std::min(smallest_radius_, p_.radius[i]);
-    if (!p_.fixed[i]) smallest_free_radius_ = std::min(smallest_free_radius_, p_.radius[i]);
-  }
+  note_smallest_radii();
   // Positions are doubles, rounded to eps |x|: far from the origin that is a
   // visible part of a radius, and of the overlaps the laws are computed from
   // (1e-7 of a radius at 4.5e8 radii out).

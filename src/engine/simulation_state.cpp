@@ -268,6 +268,10 @@ StateBlob Simulation<D>::save_state() const {
     s.integers["guards.placed_ids"] = placed;
   }
   s.texts["time_step.governing_pair"] = dt_governing_pair_;
+  s.integers["time_step.per_contact"] = {dt_per_contact_ ? 1 : 0};
+  // A state a failed run left (a caught failure) may hold a particle escaped
+  // through a wall, which load_state refuses in any other checkpoint.
+  if (failed_at_step_ == step_) s.integers["guards.failed_at_step"] = {step_};
   // The lists above are in this order: a restart must keep it to sum the same way.
   s.integers["canonical_order"] = {canonical_order_ ? 1 : 0};
   return s;
@@ -407,8 +411,11 @@ void Simulation<D>::load_state(const StateBlob& s) {
     throw InputError("checkpoint: particle arrays differ in length");
   // What a run itself tolerates (check_escapes): a free particle pressed into a wall
   // may have its centre beyond it, by less than its radius, and still be pushed back;
-  // one further beyond has escaped, and no run writes such a state.
-  for (std::size_t i = 0; i < p_.size(); ++i)
+  // one further beyond has escaped, and only a failed run leaves such a state (its
+  // checkpoint says so, and the next run stops there again, as the whole run did).
+  const bool failed_state = s.integers.count("guards.failed_at_step") != 0;  // check_state
+  failed_at_step_ = failed_state ? step_ : -1;
+  for (std::size_t i = 0; i < p_.size() && !failed_state; ++i)
     for (const auto& w : walls_)
       if (!p_.fixed[i] && w.clearance(p_.position[i], p_.radius[i]) + 2 * p_.radius[i] < 0)
         refuse_entry(
@@ -527,6 +534,8 @@ void Simulation<D>::load_state(const StateBlob& s) {
   // change the order of the force sums).
   if (p_.size()) {
     TimeStepReport rule = time_step_rule();
+    // An older build's checkpoint: the governing pair's kind, as the rule finds it now.
+    if (!s.integers.count("time_step.per_contact")) dt_per_contact_ = rule.per_contact;
     deep_modes_ = std::move(rule.deep_modes);  // the deep-contact check's, as prepare() sets them
     deep_checked_pair_ = deep_checked_wall_ = 0;
     deep_rescan_step_ = -1;
@@ -536,8 +545,12 @@ void Simulation<D>::load_state(const StateBlob& s) {
           "refused",
           dt_, rule.stability_limit, rule.limit_pair));
   }
-  smallest_radius_ = INFINITY;
-  for (const double r : p_.radius) smallest_radius_ = std::min(smallest_radius_, r);
+  // What prepare() would have noted, for a checkpoint that needs none: the
+  // step-over checks' radii, the time-step rule's kind, whether spins are integrated.
+  note_smallest_radii();
+  const auto per_contact = s.integers.find("time_step.per_contact");  // checked by check_state
+  if (per_contact != s.integers.end()) dt_per_contact_ = per_contact->second[0] == 1;
+  if (p_.size()) rotation_ = effects().rotation;
   const auto& prepare_due = s.i("prepare_due");
   if (prepare_due.size() != 1 || prepare_due[0] < 0 || prepare_due[0] > 2)
     refuse_entry("prepare_due",

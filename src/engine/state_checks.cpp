@@ -371,6 +371,19 @@ void check_state(const StateBlob& s, std::size_t material_count, std::size_t wal
                      fmt::format("value {} is {}: the ids must be non-negative and increasing", k,
                                  placed[k]));
   }
+  // Absent in checkpoints of older builds (the rule's kind is then found anew).
+  if (s.integers.count("time_step.per_contact")) {
+    const auto& kind = s.i("time_step.per_contact");
+    if (kind.size() != 1 || (kind[0] != 0 && kind[0] != 1))
+      refuse_entry("time_step.per_contact", "must be one value, 0 or 1");
+  }
+  // Present only in a state a failed run left, at the step it failed at.
+  if (s.integers.count("guards.failed_at_step")) {
+    const auto& failed = s.i("guards.failed_at_step");
+    if (failed.size() != 1 || failed[0] != meta[2])
+      refuse_entry("guards.failed_at_step",
+                   fmt::format("must be one value, the state's step {}", meta[2]));
+  }
   // The last step's results (save_last_step): absent in checkpoints of older builds,
   // else all there. Counts of contacts fit the lists' 32-bit indices; a step notes and
   // rebalances each model's pair list at most once.

@@ -191,10 +191,12 @@ std::vector<Corruption> corruptions(const StateBlob& valid, double stability_lim
     s.doubles.erase(k);
     add(k + " (doubles) left out", k, s);
   }
-  // canonical_order and guards.wall_overlap_warned may be absent (a checkpoint
-  // from before the setting or the warning: off, not given).
+  // canonical_order, guards.wall_overlap_warned and time_step.per_contact may be
+  // absent (a checkpoint from before the setting, the warning or the entry: off, not
+  // given, found anew).
   for (const auto& [k, v] : valid.integers) {
-    if (k == "canonical_order" || k == "guards.wall_overlap_warned") continue;
+    if (k == "canonical_order" || k == "guards.wall_overlap_warned" || k == "time_step.per_contact")
+      continue;
     StateBlob s = valid;
     s.integers.erase(k);
     add(k + " (integers) left out", k, s);
@@ -402,4 +404,104 @@ TEST_CASE("checkpoint: a periodic scene's central field resumes pulling towards 
   resumed.advance(300);
   CHECK(same_state<3>(whole, resumed));
   for (std::int64_t id = 0; id < 4; ++id) CHECK(whole.velocity(id)[2] == 0.01 * (id - 1.5));
+}
+
+namespace {
+// One sphere and a square plate of linear contacts; the plate's motion and the
+// gravity given.
+void plate_scene(Simulation<3>& sim, double plate_z, double plate_speed, double gravity,
+                 double k_normal, bool bounded = true) {
+  sim.set_warning_handler([](const std::string&) {});
+  sim.add_material({"glass", 2500, 0, 0, 0});
+  sim.add_material({"steel", 7800, 0, 0, 0});
+  for (const char* other : {"glass", "steel"})
+    sim.set_contact("glass", other, "linear", {{"k_normal", k_normal}, {"restitution", 0.5}});
+  WallSpec w;
+  w.name = "plate", w.material = 1, w.normal = {0, 0, 1}, w.velocity = {0, 0, plate_speed};
+  w.point = {0, 0, plate_z}, w.bounded = bounded, w.size_a = w.size_b = 0.01;
+  sim.add_wall(w);
+  ParticleSpec p;
+  p.radius = 1e-3, p.material = 0;
+  sim.add_particle(p);
+  sim.set_gravity({0, 0, -gravity});
+  sim.set_time_step(1e-5);
+}
+std::string failure_of(Simulation<3>& sim, std::int64_t steps) {
+  try {
+    sim.advance(steps);
+  } catch (const RunError& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+// What prepare() notes from the particles and laws, a restart that needs no
+// prepare() must know too: the step-over check's smallest free radius, and the
+// kind of rule that chose the step (sim:describe()).
+TEST_CASE("checkpoint: a restart keeps the step-over check and the time-step rule's kind",
+          "[checkpoint]") {
+  // A plate at 500 m/s (5 mm a step, five radii) 1 m below: it would step over
+  // the sphere about 200 steps on. The whole run stops there; so must a restart
+  // from step 100.
+  Simulation<3> whole;
+  plate_scene(whole, -1.0, 500, 0, 1e4);
+  whole.advance(100);
+  const StateBlob saved = whole.save_state();
+  const std::string stopped = failure_of(whole, 300);
+  REQUIRE_THAT(stopped, Catch::Contains("wall 'plate' moves") &&
+                            Catch::Contains("more than the smallest free particle's radius"));
+  Simulation<3> resumed;
+  plate_scene(resumed, -1.0, 500, 0, 1e4);
+  resumed.load_state(saved);
+  CHECK(failure_of(resumed, 300) == stopped);
+
+  // Hertz-Mindlin's step is 8 T_R / n, not Eq. 4.1's t_c / n: described so after a restart.
+  auto hertz = [](Simulation<3>& sim) {
+    sim.set_warning_handler([](const std::string&) {});
+    sim.add_material({"glass", 2500, 5e7, 0.3, 0});
+    sim.set_contact("glass", "glass", "hertz_mindlin", {{"restitution", 0.5}, {"friction", 0.3}});
+    for (double x : {0.0, 1.99e-3}) {
+      ParticleSpec p;
+      p.radius = 1e-3, p.material = 0, p.position = {x, 0, 0};
+      sim.add_particle(p);
+    }
+  };
+  Simulation<3> a;
+  hertz(a);
+  a.advance(10);
+  Simulation<3> b;
+  hertz(b);
+  b.load_state(a.save_state());
+  REQUIRE_THAT(fmt::format("{}", fmt::join(a.describe(), "\n")), Catch::Contains("8 T_R / n"));
+  CHECK(b.describe() == a.describe());
+}
+
+// A run that failed with a particle escaped through a wall (the script caught the
+// failure) leaves a state a checkpoint written then must restart from, as the
+// whole run went on from it: the next run stops again the same way.
+TEST_CASE("checkpoint: the state a failed run left restarts and fails again the same way",
+          "[checkpoint]") {
+  // A contact far too soft for the load (a static overlap of 10 radii): the sphere
+  // sinks through the floor (an infinite plane: one side), and the run stops once
+  // its centre is a radius beyond.
+  Simulation<3> whole;
+  plate_scene(whole, -1e-3, 0, 1000, 1.0, false);
+  const std::string failed = failure_of(whole, 2000000);
+  REQUIRE_THAT(failed, Catch::Contains("plate"));
+  const StateBlob saved = whole.save_state();
+  CHECK(saved.integers.count("guards.failed_at_step") == 1);
+  Simulation<3> resumed;
+  plate_scene(resumed, -1e-3, 0, 1000, 1.0, false);
+  REQUIRE_NOTHROW(resumed.load_state(saved));
+  const std::string again = failure_of(whole, 10);
+  CHECK_FALSE(again.empty());
+  CHECK(failure_of(resumed, 10) == again);
+  // The same state without the entry is refused, naming the particle's position.
+  StateBlob damaged = saved;
+  damaged.integers.erase("guards.failed_at_step");
+  Simulation<3> refused;
+  plate_scene(refused, -1e-3, 0, 1000, 1.0, false);
+  CHECK_THROWS_WITH(refused.load_state(damaged),
+                    Catch::Contains("particles.position") && Catch::Contains("plate"));
 }
