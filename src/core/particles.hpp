@@ -56,9 +56,9 @@ struct Particles {
     const double m = sphere_mass(r, density);
     const double inertia = sphere_inertia(m, r);
     position.push_back(x);
-    velocity.push_back(is_fixed ? V(V::Zero()) : v);
+    velocity.push_back(v);  // a fixed particle's: its prescribed motion (leapfrog.hpp)
     force_torque.push_back({});
-    spin.push_back(is_fixed ? Dim<D>::zero_spin() : w);
+    spin.push_back(w);
     radius.push_back(r);
     mass.push_back(m);
     inv_mass.push_back(is_fixed ? 0.0 : 1.0 / m);

@@ -378,13 +378,19 @@ void Simulation<D>::flush_diagnostics() {
 template <int D>
 std::vector<std::string> Simulation<D>::describe() const {
   std::vector<std::string> lines;
-  std::size_t fixed = 0;
-  for (auto f : p_.fixed) fixed += f;
+  std::size_t fixed = 0, moving = 0;
+  for (std::size_t i = 0; i < p_.size(); ++i)
+    if (p_.fixed[i]) {
+      ++fixed;
+      moving += !p_.velocity[i].isZero() || Dim<D>::spin_sq(p_.spin[i]) > 0;
+    }
   lines.push_back(fmt::format("dimension: {}D{}", D,
                               periodic_.on() ? fmt::format(", periodic along {} ({} m)",
                                                            "xyz"[periodic_.axis], periodic_.length)
                                              : std::string()));
-  lines.push_back(fmt::format("particles: {} ({} fixed)", p_.size(), fixed));
+  lines.push_back(fmt::format(
+      "particles: {} ({} fixed{})", p_.size(), fixed,
+      moving ? fmt::format(", {} of them moving as the scene set them", moving) : std::string()));
   auto catalogue = contact_model_catalogue();
   for (int a = 0; a < pairs_.material_count(); ++a)
     for (int b = a; b < pairs_.material_count(); ++b) {

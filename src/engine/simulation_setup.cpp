@@ -81,15 +81,6 @@ void Simulation<D>::check_particle_input(const ParticleSpec& s, const std::strin
                                  context, materials_[s.material].name));
   if (!finite3(s.position) || !finite3(s.velocity) || !finite3(s.spin))
     throw InputError(fmt::format("{}: position, velocity and spin must be finite", context));
-  // A fixed particle never moves (set_velocity and set_spin refuse it too): a
-  // velocity given with it would be dropped, and the scene would not do what it says.
-  const bool moves = s.velocity != Triple{} || s.spin != Triple{};
-  if (s.fixed && moves)
-    throw InputError(fmt::format(
-        "{}: a fixed particle is immobile, so its velocity and spin must be zero (got velocity "
-        "({}, {}, {}), spin ({}, {}, {})); for a moving boundary use a wall with a velocity, or "
-        "fixed = false",
-        context, s.velocity[0], s.velocity[1], s.velocity[2], s.spin[0], s.spin[1], s.spin[2]));
   // A sphere's mass and moment of inertia (2D particles are spheres too) must
   // be finite and positive numbers, or every later step divides by them.
   const double mass = materials_[s.material].density * (4.0 / 3.0) * pi * std::pow(s.radius, 3);
@@ -358,15 +349,13 @@ template <int D>
 void Simulation<D>::set_velocity(std::int64_t id, const Triple& v) {
   if (!finite3(v)) throw InputError("velocity must be finite");
   int i = checked(id);
-  if (p_.fixed[i]) throw InputError(fmt::format("particle {} is fixed: it cannot move", id));
   note_bonded_motion(i);
-  p_.velocity[i] = to_vec(v);
+  p_.velocity[i] = to_vec(v);  // a fixed particle's: its prescribed motion (leapfrog.hpp)
 }
 template <int D>
 void Simulation<D>::set_spin(std::int64_t id, const Triple& w) {
   if (!finite3(w)) throw InputError("spin must be finite");
   int i = checked(id);
-  if (p_.fixed[i]) throw InputError(fmt::format("particle {} is fixed: it cannot spin", id));
   note_bonded_motion(i);
   p_.spin[i] = to_spin(w);
 }
@@ -381,10 +370,12 @@ void Simulation<D>::set_fixed(std::int64_t id, bool fixed) {
   // a pass-through.
   if (!fixed) check_placed_in_walls(p_.position[i], p_.radius[i], false, id, "set_fixed: ");
   note_bonded_motion(i);
-  // At rest either way: a particle fixed keeps no velocity (the integration
-  // skips it), and one freed starts from rest, as a fixed particle always is.
-  p_.velocity[i] = V::Zero();
-  p_.spin[i] = Dim<D>::zero_spin();
+  // Fixed where it is, it stops (a velocity set after moves it: prescribed
+  // motion); freed, it goes on as it moved, from rest unless set moving.
+  if (fixed) {
+    p_.velocity[i] = V::Zero();
+    p_.spin[i] = Dim<D>::zero_spin();
+  }
   p_.fixed[i] = fixed ? 1 : 0;
   p_.inv_mass[i] = fixed ? 0.0 : 1.0 / p_.mass[i];
   p_.inv_inertia[i] = fixed ? 0.0 : 1.0 / sphere_inertia(p_.mass[i], p_.radius[i]);

@@ -102,27 +102,37 @@ void leapfrog(const LeapfrogStep<D>& step, LeapfrogResult& result) {
     double max_moved = max_sq_out, fastest = speed_sq_out;
     std::int64_t first_bad = bad_out;
     for (std::int64_t i = begin; i < end; ++i) {
-      if constexpr (Fixed)
-        if (fixed[i]) continue;  // immobile: its contact force stays for reports
-      if constexpr (Body) load[i].force += forces.force(mass[i], x[i]);
       // The new state in registers first: a step that makes it non-finite is
       // not stored, so the failure report writes the last finite state.
       V v_new;
-      if (Damped && damp.translation) {
-        V a = load[i].force * inv_mass[i];
-        if (damp.local != 0) damp_local(a, V(v[i] + a * (0.5 * kick)));
-        v_new = v[i] * damp.keep_v + a * damp.by_v;  // Eq. 4.8 with -c v, exact over the step
-      } else {
-        v_new = v[i] + load[i].force * (inv_mass[i] * kick);  // Eq. 4.8
-      }
       S w_new{};
-      if constexpr (Spins) {
-        if (Damped && damp.rotation) {
-          S alpha = load[i].torque * inv_inertia[i];
-          if (damp.local != 0) damp_local(alpha, S(w[i] + alpha * (0.5 * kick)));
-          w_new = w[i] * damp.keep_w + alpha * damp.by_w;
+      if (Fixed && fixed[i]) {
+        // Forces do not move a fixed particle (its contact force stays for
+        // reports): it moves only at the velocity the scene set (prescribed
+        // motion, as a velocity moves a particle under LAMMPS's fix freeze),
+        // its spin as set. Flag 1 is a fixed particle of this rank's own (a
+        // ghost, flag 2 or 3, follows its owner); one at rest stays put, bit
+        // for bit.
+        if (fixed[i] != 1 || v[i].isZero()) continue;
+        v_new = v[i];
+        if constexpr (Spins) w_new = w[i];
+      } else {
+        if constexpr (Body) load[i].force += forces.force(mass[i], x[i]);
+        if (Damped && damp.translation) {
+          V a = load[i].force * inv_mass[i];
+          if (damp.local != 0) damp_local(a, V(v[i] + a * (0.5 * kick)));
+          v_new = v[i] * damp.keep_v + a * damp.by_v;  // Eq. 4.8 with -c v, exact over the step
         } else {
-          w_new = w[i] + load[i].torque * (inv_inertia[i] * kick);  // no friction: no torque
+          v_new = v[i] + load[i].force * (inv_mass[i] * kick);  // Eq. 4.8
+        }
+        if constexpr (Spins) {
+          if (Damped && damp.rotation) {
+            S alpha = load[i].torque * inv_inertia[i];
+            if (damp.local != 0) damp_local(alpha, S(w[i] + alpha * (0.5 * kick)));
+            w_new = w[i] * damp.keep_w + alpha * damp.by_w;
+          } else {
+            w_new = w[i] + load[i].torque * (inv_inertia[i] * kick);  // no friction: no torque
+          }
         }
       }
       V x_new = v_new * h + x[i];  // Eq. 4.9

@@ -450,7 +450,6 @@ for name, text, expect in [
     ("particle_spin_table_in_2d", 'position = { 0, 0 }, radius = 3e-4, material = "glass", spin = { 0, 0, 1 }', r"{at}.*spin"),
     ("particle_spin_nan", 'position = { 0, 0 }, radius = 3e-4, material = "glass", spin = 0/0', r"{at}.*spin"),
     ("particle_fixed_text", 'position = { 0, 0 }, radius = 3e-4, material = "glass", fixed = "yes"', r"{at}.*fixed"),
-    ("particle_fixed_moving", 'position = { 0, 0 }, radius = 3e-4, material = "glass", fixed = true, velocity = { 1, 0 }', r"{at}.*fixed particle is immobile"),
     ("particle_misspelled_radius", 'position = { 0, 0 }, radus = 3e-4, material = "glass"', r"{at}.*unknown key 'radus'"),
 ]:
     case(name, "sim:add_particle: " + text, expect, replace={"fill": wrong(AP % text)})

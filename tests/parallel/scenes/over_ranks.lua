@@ -162,13 +162,18 @@ sim:every { steps = 250, function(s)
   if not s:particle(id).fixed then s:set_velocity(id, v) end
   if p.case == "box" then
     -- sim:set_fixed mid-run: the lists and the time step made anew on every
-    -- rank, and the free mass the stats reduce over the ranks.
+    -- rank, and the free mass the stats reduce over the ranks; the fixed one moving.
     if held then
       s:set_fixed(held, false)
       held = nil
     else
       held = ids[(#energies * 29) % #ids + 1]
       s:set_fixed(held, true)
+      -- Prescribed motion: it rises through the bed at a set speed, whatever
+      -- touches it, across the ranks' boxes; freed at the next firing, it goes on.
+      local up = s:particle(held).velocity
+      up[2] = 0.1
+      s:set_velocity(held, up)
     end
     contact_sums[#contact_sums] = contact_sums[#contact_sums] .. string.format(" free_mass %a", s:stats().free_mass)
   end
