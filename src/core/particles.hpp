@@ -46,7 +46,10 @@ struct Particles {
   // cold
   std::vector<std::int64_t> id;
   std::vector<std::int32_t> material;
-  std::vector<std::uint8_t> fixed;        // immobile, infinite mass
+  // fixed_flag: infinite mass, moved only at a velocity the scene set (leapfrog.hpp);
+  // a spread run's ghosts carry another bit too (Simulation::ghost_flag).
+  static constexpr std::uint8_t fixed_flag = 1;
+  std::vector<std::uint8_t> fixed;
   std::vector<std::int32_t> index_of_id;  // -1 for removed ids
   std::int64_t next_id = 0;
 
@@ -65,7 +68,7 @@ struct Particles {
     inv_inertia.push_back(is_fixed ? 0.0 : 1.0 / inertia);
     id.push_back(next_id);
     material.push_back(mat);
-    fixed.push_back(is_fixed ? 1 : 0);
+    fixed.push_back(is_fixed ? fixed_flag : 0);
     index_of_id.push_back(static_cast<std::int32_t>(size() - 1));
     return static_cast<int>(next_id++);
   }

@@ -23,6 +23,7 @@ struct StateBlob {
   const std::vector<std::int64_t>& i(const std::string& key) const;
   const std::vector<std::uint8_t>& b(const std::string& key) const;
   const std::string& t(const std::string& key) const;
+  std::vector<std::string> lines(const std::string& key) const;  // t(key), line by line
   bool has(const std::string& key) const {
     return doubles.count(key) || integers.count(key) || bytes.count(key) || texts.count(key);
   }

@@ -628,6 +628,9 @@ void Simulation<D>::report_non_finite(std::size_t index) {
 template <int D>
 void Simulation<D>::sort_particles() {
   if (p_.size() < 2) return;
+  // The last step's contact log names storage indices: kept by id first, for a
+  // failure this rebuild reports (check_escapes) and the state it keeps.
+  keep_contacts_by_id();
   sort_along_curve(p_);
   // Histories are keyed by id: rebuild the lists for the new storage order.
   rebuild_lists();

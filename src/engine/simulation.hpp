@@ -148,8 +148,8 @@ class Simulation final : public SimulationBase {
   // One scene over MPI ranks (parallel/distributed_run.hpp, simulation_share.cpp).
   // A rank's share is its owned particles followed by its ghosts: copies of
   // other ranks' particles within reach, marked by `ghost_flag` in `fixed`
-  // (bit 0 stays "immobile"), which the step neither moves nor lists against
-  // walls or against each other. The run, not the step, decides when the lists
+  // (bit 0 stays "fixed"), which the step neither moves (their owners do) nor
+  // lists against walls or against each other. The run, not the step, decides when the lists
   // are rebuilt, from every rank's displacements.
   static constexpr std::uint8_t ghost_flag = 2;
   // The lists need rebuilding before the next step (on this rank's share).
@@ -269,8 +269,10 @@ class Simulation final : public SimulationBase {
   // The last step's contacts (contacts()) that this rank leads: pairs whose
   // lower-id particle it owns, and its owned particles' wall contacts, each
   // with its model and its place in the canonical slot order. Empty unless
-  // the scene records contacts and a step was logged.
+  // the scene records contacts and a step was logged, or the whole scene kept
+  // them by id (pack_kept_contacts: a checkpoint's, or those before a removal).
   std::string pack_led_contacts() const;
+  std::string pack_kept_contacts() const;
   // Each stored particle's contacts at the last step (pairs it is in, and its
   // wall contacts), for weighing a rank's share of the work; zeros before any step.
   std::vector<std::uint32_t> contacts_per_particle() const;
@@ -482,7 +484,9 @@ class Simulation final : public SimulationBase {
   // Of the free particles: a fixed one touches no wall, so no wall steps over it.
   double smallest_free_radius_ = INFINITY;
   void note_smallest_radii();  // both, from the particles (prepare(), load_state())
-  bool far_warned_ = false;    // particles far enough from the origin to lose digits
+  // A free particle escaped through a wall (storage index) and the wall, or -1, -1.
+  std::pair<std::int64_t, std::int64_t> escaped_particle_and_wall() const;
+  bool far_warned_ = false;  // particles far enough from the origin to lose digits
   void report_step_over();
   // Nor may a wall come that far towards a particle (each wall's farthest point's travel
   // in the last step, and their largest; checked against the particles only past it).

@@ -363,7 +363,13 @@ void Simulation<D>::set_spin(std::int64_t id, const Triple& w) {
 template <int D>
 void Simulation<D>::set_fixed(std::int64_t id, bool fixed) {
   const int i = checked(id);
-  if ((p_.fixed[i] != 0) == fixed) return;
+  if (p_.fixed[i] && fixed) {  // fixed already: stopped where it is, if it moved
+    note_bonded_motion(i);
+    p_.velocity[i] = V::Zero();
+    p_.spin[i] = Dim<D>::zero_spin();
+    return;
+  }
+  if (!p_.fixed[i] && !fixed) return;
   // What it overlaps while fixed (another fixed particle, a wall) went
   // unchecked: freed, it is placed there as an added particle is, refused
   // outside a wall (before anything changes) and its overlaps the scene's, not

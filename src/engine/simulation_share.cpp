@@ -125,7 +125,8 @@ template <int D>
 std::string Simulation<D>::pack_led_contacts() const {
   require_current_indices("pack_led_contacts");
   std::string out;
-  if (!record_contacts_ || !log_.filled) return out;
+  if (!record_contacts_) return out;
+  if (!log_.filled) return holds_share() ? out : pack_kept_contacts();
   auto put_record = [&](std::uint8_t kind, std::int32_t model, std::int64_t id_a, std::int64_t b,
                         std::uint8_t part, std::size_t s) {
     put(out, kind), put(out, model), put(out, id_a), put(out, b), put(out, part);
@@ -147,6 +148,38 @@ std::string Simulation<D>::pack_led_contacts() const {
       if (log_.active[s]) put_record(wall_entry, I, w.id[k], w.wall[k], w.part[k], s);
     }
   });
+  return out;
+}
+
+// The whole scene's contacts kept by id (a checkpoint's, or the log's made
+// records before a removal) packed as pack_led_contacts packs the log's: the
+// same records, in their (canonical) order, a contact's place among those of
+// one particle with one wall standing for its part.
+template <int D>
+std::string Simulation<D>::pack_kept_contacts() const {
+  std::string out;
+  drop_removed_contacts();
+  if (!gathered_contacts_) return out;
+  std::vector<std::string> names;
+  for_each_model(
+      [&](auto index) { names.emplace_back(ContactModelAt<decltype(index)::value>::name); });
+  const ContactRecord* previous = nullptr;
+  std::uint8_t part = 0;
+  for (const ContactRecord& c : *gathered_contacts_) {
+    const auto model = std::find(names.begin(), names.end(), c.model) - names.begin();
+    if (model == static_cast<std::ptrdiff_t>(names.size()))
+      throw RunError(fmt::format("distributed run: a kept contact of model '{}'", c.model));
+    const bool pair = c.id_b >= 0;
+    const std::int64_t b = pair ? c.id_b : c.wall;
+    const bool same_pair = previous && previous->model == c.model && previous->id_a == c.id_a &&
+                           previous->id_b == c.id_b && previous->wall == c.wall;
+    part = same_pair ? static_cast<std::uint8_t>(part + 1) : std::uint8_t{0};
+    put(out, static_cast<std::uint8_t>(pair ? pair_entry : wall_entry));
+    put(out, static_cast<std::int32_t>(model));
+    put(out, c.id_a), put(out, b), put(out, part);
+    put(out, c.overlap), put(out, c.normal_force), put(out, c.tangential_force), put(out, c.normal);
+    previous = &c;
+  }
   return out;
 }
 

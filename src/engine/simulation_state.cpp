@@ -69,12 +69,6 @@ void unflatten(const std::vector<double>& in, std::vector<V, A>& v, std::size_t 
   v.resize(count);
   if (count) std::memcpy(static_cast<void*>(v.data()), in.data(), in.size() * sizeof(double));
 }
-std::vector<std::string> split_lines(const std::string& text) {
-  std::vector<std::string> out;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);) out.push_back(line);
-  return out;
-}
 
 }  // namespace
 
@@ -97,6 +91,12 @@ const std::string& StateBlob::t(const std::string& key) const {
   auto it = texts.find(key);
   if (it == texts.end()) throw InputError(fmt::format("checkpoint lacks '{}'", key));
   return it->second;
+}
+std::vector<std::string> StateBlob::lines(const std::string& key) const {
+  std::vector<std::string> out;
+  std::istringstream in(t(key));
+  for (std::string line; std::getline(in, line);) out.push_back(line);
+  return out;
 }
 
 template <int D>
@@ -271,7 +271,8 @@ StateBlob Simulation<D>::save_state() const {
   s.integers["time_step.per_contact"] = {dt_per_contact_ ? 1 : 0};
   // A state a failed run left (a caught failure) may hold a particle escaped
   // through a wall, which load_state refuses in any other checkpoint.
-  if (failed_at_step_ == step_) s.integers["guards.failed_at_step"] = {step_};
+  if (failed_at_step_ == step_ && escaped_particle_and_wall().first >= 0)
+    s.integers["guards.failed_at_step"] = {step_};
   // The lists above are in this order: a restart must keep it to sum the same way.
   s.integers["canonical_order"] = {canonical_order_ ? 1 : 0};
   return s;
@@ -291,7 +292,7 @@ void Simulation<D>::load_state(const StateBlob& s) {
     throw InputError(
         fmt::format("checkpoint holds a {}D simulation, this scene is {}D", meta[1], D));
   // The scene must have declared the same materials and walls, in the same order.
-  const auto names = split_lines(s.t("materials"));
+  const auto names = s.lines("materials");
   if (names.size() != materials_.size())
     throw InputError(fmt::format("checkpoint has {} materials, the scene declares {}", names.size(),
                                  materials_.size()));
@@ -299,7 +300,7 @@ void Simulation<D>::load_state(const StateBlob& s) {
     if (names[m] != materials_[m].name)
       throw InputError(fmt::format("checkpoint material {} is '{}', the scene's is '{}'", m,
                                    names[m], materials_[m].name));
-  const auto wall_names = split_lines(s.t("walls"));
+  const auto wall_names = s.lines("walls");
   if (wall_names.size() != walls_.size())
     throw InputError(fmt::format("checkpoint has {} walls, the scene declares {}",
                                  wall_names.size(), walls_.size()));
@@ -332,7 +333,7 @@ void Simulation<D>::load_state(const StateBlob& s) {
     materials_[m].poisson = props[4 * m + 2];
     materials_[m].surface_energy = props[4 * m + 3];
   }
-  for (const auto& line : split_lines(s.t("contacts"))) {
+  for (const auto& line : s.lines("contacts")) {
     std::vector<std::string> f;
     std::istringstream in(line);
     for (std::string x; std::getline(in, x, '\t');) f.push_back(x);
@@ -415,13 +416,10 @@ void Simulation<D>::load_state(const StateBlob& s) {
   // checkpoint says so, and the next run stops there again, as the whole run did).
   const bool failed_state = s.integers.count("guards.failed_at_step") != 0;  // check_state
   failed_at_step_ = failed_state ? step_ : -1;
-  for (std::size_t i = 0; i < p_.size() && !failed_state; ++i)
-    for (const auto& w : walls_)
-      if (!p_.fixed[i] && w.clearance(p_.position[i], p_.radius[i]) + 2 * p_.radius[i] < 0)
-        refuse_entry(
-            "particles.position",
-            fmt::format("particle {} at ({}) lies beyond wall '{}' by more than its radius",
-                        p_.id[i], fmt::join(to_triple(p_.position[i]), ", "), w.name));
+  if (const auto [i, w] = escaped_particle_and_wall(); i >= 0 && !failed_state)
+    refuse_entry("particles.position",
+                 fmt::format("particle {} at ({}) lies beyond wall '{}' by more than its radius",
+                             p_.id[i], fmt::join(to_triple(p_.position[i]), ", "), walls_[w].name));
 
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
@@ -492,7 +490,7 @@ void Simulation<D>::load_state(const StateBlob& s) {
   bonds_unmoved_from_ = bond_motion.unmoved_from;
   build_slots();
 
-  const auto hook_names = split_lines(s.t("hooks"));
+  const auto hook_names = s.lines("hooks");
   const auto& origin = s.d("hooks.origin_time");
   const auto& periods = s.i("hooks.periods");
   for (std::size_t h = 0; h < hooks_.size() && h < hook_names.size(); ++h)
@@ -534,8 +532,11 @@ void Simulation<D>::load_state(const StateBlob& s) {
   // change the order of the force sums).
   if (p_.size()) {
     TimeStepReport rule = time_step_rule();
-    // An older build's checkpoint: the governing pair's kind, as the rule finds it now.
-    if (!s.integers.count("time_step.per_contact")) dt_per_contact_ = rule.per_contact;
+    // As saved (checked by check_state); an older build's checkpoint: the governing
+    // pair's kind, as the rule finds it now.
+    const auto per_contact = s.integers.find("time_step.per_contact");
+    dt_per_contact_ =
+        per_contact != s.integers.end() ? per_contact->second[0] == 1 : rule.per_contact;
     deep_modes_ = std::move(rule.deep_modes);  // the deep-contact check's, as prepare() sets them
     deep_checked_pair_ = deep_checked_wall_ = 0;
     deep_rescan_step_ = -1;
@@ -548,8 +549,6 @@ void Simulation<D>::load_state(const StateBlob& s) {
   // What prepare() would have noted, for a checkpoint that needs none: the
   // step-over checks' radii, the time-step rule's kind, whether spins are integrated.
   note_smallest_radii();
-  const auto per_contact = s.integers.find("time_step.per_contact");  // checked by check_state
-  if (per_contact != s.integers.end()) dt_per_contact_ = per_contact->second[0] == 1;
   if (p_.size()) rotation_ = effects().rotation;
   const auto& prepare_due = s.i("prepare_due");
   if (prepare_due.size() != 1 || prepare_due[0] < 0 || prepare_due[0] > 2)
@@ -562,9 +561,9 @@ void Simulation<D>::load_state(const StateBlob& s) {
 
 // The last step's results that a script reads between runs: sim:stats()' tallies,
 // the walls' reactions (sim:wall().force) and the recorded contacts (sim:contacts(),
-// sim:contact_arrays(), an output's contacts). A restart from a checkpoint written
-// between runs reads them before any step computes them again, so they travel with
-// the state: without them it read zeros where the run it continues read the forces.
+// sim:contact_arrays(), an output's contacts). The next step computes them anew,
+// but a restart from a checkpoint written between runs reads them before it, so
+// they travel with the state.
 template <int D>
 void Simulation<D>::save_last_step(StateBlob& s) const {
   s.integers["last_step.tallies"] = {
@@ -626,7 +625,7 @@ void Simulation<D>::load_last_step(const StateBlob& s) {
   const auto ids = s.integers.find("last_step.contacts");
   if (!record_contacts_ || ids == s.integers.end()) return;
   const auto& values = s.d("last_step.contacts");
-  const auto models = split_lines(s.t("last_step.contact_models"));
+  const auto models = s.lines("last_step.contact_models");
   std::vector<ContactRecord> records(ids->second.size() / 4);
   for (std::size_t k = 0; k < records.size(); ++k) {
     const std::int64_t* i = &ids->second[4 * k];
@@ -639,6 +638,17 @@ void Simulation<D>::load_last_step(const StateBlob& s) {
     c.normal = {v[5], v[6], v[7]};
   }
   gathered_contacts_ = std::move(records);
+}
+
+// The first free particle whose centre lies beyond a wall by more than its radius
+// (escaped: check_escapes stops a run there), and that wall; -1, -1 for none.
+template <int D>
+std::pair<std::int64_t, std::int64_t> Simulation<D>::escaped_particle_and_wall() const {
+  for (std::size_t i = 0; i < p_.size(); ++i)
+    for (std::size_t w = 0; w < walls_.size(); ++w)
+      if (!p_.fixed[i] && walls_[w].clearance(p_.position[i], p_.radius[i]) + 2 * p_.radius[i] < 0)
+        return {static_cast<std::int64_t>(i), static_cast<std::int64_t>(w)};
+  return {-1, -1};
 }
 
 template class Simulation<2>;

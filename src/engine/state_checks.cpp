@@ -7,7 +7,6 @@
 #include <array>
 #include <cmath>
 #include <limits>
-#include <sstream>
 
 #include "core/errors.hpp"
 #include "engine/simulation.hpp"
@@ -392,9 +391,9 @@ void check_state(const StateBlob& s, std::size_t material_count, std::size_t wal
     const std::string key = "last_step.tallies";
     const auto& tallies = integers_of(s, key, 7);
     const std::int64_t counts = std::int64_t{1} << 32,
-                       per_step = meta[2] * static_cast<std::int64_t>(contact_model_count);
+                       models = static_cast<std::int64_t>(contact_model_count);
     for (std::size_t k = 0; k < tallies.size(); ++k)
-      if (tallies[k] < 0 || tallies[k] > (k < 5 ? counts : per_step))
+      if (tallies[k] < 0 || (k < 5 ? tallies[k] > counts : tallies[k] / models > meta[2]))
         refuse_entry(key,
                      fmt::format("value {} is {}: not a count this state can have", k, tallies[k]));
     if (tallies[1] > tallies[0] || tallies[3] > tallies[2])
@@ -415,12 +414,7 @@ void check_state(const StateBlob& s, std::size_t material_count, std::size_t wal
     const std::size_t count = ids.size() / 4;
     all_finite(doubles_of(s, key, 8 * count, key + " (integers)"), key,
                std::numeric_limits<double>::max());
-    const auto models = [&] {
-      std::vector<std::string> out;
-      std::istringstream in(s.t("last_step.contact_models"));
-      for (std::string line; std::getline(in, line);) out.push_back(line);
-      return out;
-    }();
+    const auto models = s.lines("last_step.contact_models");
     const auto catalogue = contact_model_catalogue();
     for (const auto& m : models)
       if (std::none_of(catalogue.begin(), catalogue.end(),

@@ -38,7 +38,7 @@ struct LeapfrogStep {
   // positions and must come out half of this one behind.
   double kick;
   bool spins;      // integrate spins (a torque can act: friction, rolling, bonds; spin damping)
-  bool any_fixed;  // skip fixed particles
+  bool any_fixed;  // fixed particles: moved only at a velocity the scene set
   bool parallel;   // ThreadPolicy::particles_parallel
   int threads;
 };
@@ -109,11 +109,9 @@ void leapfrog(const LeapfrogStep<D>& step, LeapfrogResult& result) {
       if (Fixed && fixed[i]) {
         // Forces do not move a fixed particle (its contact force stays for
         // reports): it moves only at the velocity the scene set (prescribed
-        // motion, as a velocity moves a particle under LAMMPS's fix freeze),
-        // its spin as set. Flag 1 is a fixed particle of this rank's own (a
-        // ghost, flag 2 or 3, follows its owner); one at rest stays put, bit
-        // for bit.
-        if (fixed[i] != 1 || v[i].isZero()) continue;
+        // motion, as LAMMPS's fix move linear), its spin as set. A ghost
+        // (another flag) follows its owner; one at rest stays put, bit for bit.
+        if (fixed[i] != Particles<D>::fixed_flag || v[i] == V::Zero()) continue;
         v_new = v[i];
         if constexpr (Spins) w_new = w[i];
       } else {

@@ -36,7 +36,7 @@ struct SnapshotView {  // plain pointers into the engine's arrays; nothing owned
   const double* velocity = nullptr;        // count*dimension, m/s
   const double* spin = nullptr;            // count*spin_components, rad/s
   const std::int32_t* material = nullptr;  // index into material_names
-  const std::uint8_t* fixed = nullptr;     // 1 = immobile particle
+  const std::uint8_t* fixed = nullptr;     // 1 = fixed particle (infinite mass)
   std::vector<std::string> material_names;
   // Optional: the last step's force and torque (rows as velocity and spin), and the
   // contact network (`contacts` rows; tangential_force and normal rows of `dimension`).

@@ -256,9 +256,12 @@ int load_particles(lua_State* L, SimulationBase& sim) {
   const int sc = s.spin_components;
   for (std::size_t i : order) {
     ParticleSpec p;
+    p.fixed = s.fixed[i] != 0;
+    // A fixed particle keeps its saved motion (at rest, or prescribed): the added
+    // velocity moves the free ones, as a thrown agglomerate, not its fixed base.
     for (int k = 0; k < d; ++k) {
       p.position[k] = s.position[i * d + k] + offset[k];
-      p.velocity[k] = s.velocity[i * d + k] + added_velocity[k];
+      p.velocity[k] = s.velocity[i * d + k] + (p.fixed ? 0.0 : added_velocity[k]);
     }
     if (sc == 1)
       p.spin = {0, 0, s.spin[i]};
@@ -267,7 +270,6 @@ int load_particles(lua_State* L, SimulationBase& sim) {
     if (d == 2) p.spin[0] = p.spin[1] = 0;
     p.radius = s.radius[i];
     p.material = material_for(s.material[i]);
-    p.fixed = s.fixed[i] != 0;
     ids.push_back(sim.add_particle(p));
     renamed[s.id[i]] = ids.back();
   }

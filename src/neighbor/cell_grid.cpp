@@ -111,8 +111,9 @@ void CellGrid<D>::build(const Particles<D>& p, double skin, const Periodicity& p
   }
 
   // Is j within reach of a particle at xi with radius ri, and may they meet?
-  // Two immobile particles, or two ghosts of a distributed run (bit 1), meet
-  // nothing that moves here; an immobile particle and a ghost still do.
+  // Two fixed particles (boundaries, each moved only as the scene sets it), or
+  // two ghosts of a distributed run (bit 1), exert nothing on each other here;
+  // a fixed particle and a ghost still do.
   const Vec<D>* const x = p.position.data();
   const double* const radius = p.radius.data();
   const std::uint8_t* const fixed = p.fixed.data();

@@ -51,7 +51,7 @@ struct GatheredParticle {
   Spin<D> torque = Dim<D>::zero_spin();
   double radius = 0;
   std::int32_t material = 0;
-  std::uint8_t fixed = 0;  // bit 0: immobile
+  std::uint8_t fixed = 0;  // bit 0: fixed (infinite mass)
 };
 
 struct DistributedTimes {

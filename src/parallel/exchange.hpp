@@ -28,10 +28,10 @@ struct ParticleRecord {
   Spin<D> spin = Dim<D>::zero_spin();  // rad/s
   double radius = 0;                   // m
   double mass = 0;                     // kg
-  double inv_mass = 0;                 // 1/kg (0: immobile), carried bit for bit
+  double inv_mass = 0;                 // 1/kg (0: fixed), carried bit for bit
   double inv_inertia = 0;              // 1/(kg m^2)
   std::int32_t material = 0;
-  std::uint8_t fixed = 0;  // the particle's `fixed` flags (bit 0: immobile)
+  std::uint8_t fixed = 0;  // the particle's `fixed` flags (bit 0: fixed, infinite mass)
   std::int32_t image = 0;  // a ghost's index into periodic_shifts (0: not an image)
   std::string payload;     // the histories that travel with a migrating particle
 

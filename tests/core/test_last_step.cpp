@@ -161,3 +161,35 @@ TEST_CASE("last step: damaged entries are refused by name", "[checkpoint][last_s
     refused(d, "last_step.contact_models");
   }
 }
+
+TEST_CASE("last step: without recorded contacts, and after a removal between runs",
+          "[checkpoint][last_step]") {
+  // Not recording: the tallies and reactions travel, no contacts.
+  Simulation<3> plain;
+  column(plain);
+  plain.set_record_contacts(false);
+  plain.advance(2000);
+  const StateBlob unrecorded = plain.save_state();
+  CHECK(unrecorded.integers.count("last_step.contacts") == 0);
+  Simulation<3> resumed;
+  column(resumed);
+  resumed.set_record_contacts(false);
+  resumed.load_state(unrecorded);
+  CHECK(resumed.stats().contacts_particle == plain.stats().contacts_particle);
+  CHECK(resumed.stats().contacts_particle == 2);
+  CHECK(resumed.wall_force(0) == plain.wall_force(0));
+  CHECK_THROWS_AS(resumed.contacts(), InputError);  // not recorded: refused as before
+
+  // Recording, a particle removed between runs: the checkpoint holds the contacts
+  // left (kept by id), which a restart reads as the whole run does.
+  Simulation<3> sim;
+  column(sim);
+  sim.advance(2000);
+  sim.remove_particle(2);
+  const auto left = sim.contacts();
+  REQUIRE(left.size() == 2);
+  Simulation<3> again;
+  column(again);
+  again.load_state(sim.save_state());
+  same_contacts(again.contacts(), left);
+}

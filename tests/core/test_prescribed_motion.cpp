@@ -46,8 +46,8 @@ TEMPLATE_TEST_CASE_SIG("prescribed motion: a fixed particle moves at the velocit
   sim.set_gravity(along<D>(1, -9.81));  // moves no fixed particle
   const Triple x0{0, 0, 0};
   const std::int64_t mover = sphere(sim, x0, true);
-  // A free sphere resting against it from the start, pressed on by gravity.
-  const std::int64_t other = sphere(sim, {0, -1.99 * r, 0});
+  // A free sphere resting on it from the start, pressed on by gravity.
+  const std::int64_t other = sphere(sim, {0, 1.99 * r, 0});
   const Triple v = D == 3 ? Triple{0.03, -0.01, 0.02} : Triple{0.03, -0.01, 0};
   sim.set_velocity(mover, v);
   sim.set_time_step(1e-6);
@@ -67,6 +67,21 @@ TEMPLATE_TEST_CASE_SIG("prescribed motion: a fixed particle moves at the velocit
   added.set_time_step(1e-6);
   added.advance(steps);
   CHECK(added.position(placed) == sim.position(mover));
+  // sim:describe() counts it as moving, however slow; fixed again, it stops.
+  auto line = [](Simulation<D>& s) {
+    for (const std::string& l : s.describe())
+      if (l.rfind("particles:", 0) == 0) return l;
+    return std::string();
+  };
+  CHECK(line(sim) == "particles: 2 (1 fixed, 1 of them moving as the scene set them)");
+  sim.set_velocity(mover, along<D>(0, 5e-13));
+  const Triple slow = sim.position(mover);
+  sim.advance(1000);
+  CHECK(sim.position(mover)[0] == Approx(slow[0] + 5e-13 * 1e-3).margin(5e-17));
+  CHECK(sim.position(mover)[0] != slow[0]);
+  sim.set_fixed(mover, true);
+  CHECK(sim.velocity(mover) == Triple{0, 0, 0});
+  CHECK(line(sim) == "particles: 2 (1 fixed)");
   // Set at rest again, it stays where it is, bit for bit.
   sim.set_velocity(mover, {0, 0, 0});
   const Triple stopped = sim.position(mover);
@@ -174,4 +189,26 @@ TEMPLATE_TEST_CASE_SIG("prescribed motion: a checkpoint keeps it, and freed it g
   // Fixed again, it stops.
   freed.set_fixed(lone, true);
   CHECK(freed.velocity(lone) == Triple{0, 0, 0});
+}
+
+TEST_CASE("prescribed motion: a fixed particle wraps across a periodic box", "[prescribed]") {
+  constexpr int D = 3;  // a periodic axis is a 3D scene's
+  // Periodic along x, 10 radii long: a fixed sphere at 2 m/s crosses the period
+  // twice in 0.01 s and comes back in on the other side each time, its position
+  // x0 + v t taken modulo the length; it strikes the free sphere it passes each time.
+  const double length = 10 * r;
+  Simulation<D> sim;
+  materials(sim, 0.0, 0.5);
+  sim.set_periodic(0, 0, length);
+  const std::int64_t mover = sphere(sim, {0.5 * r, 0, 0}, true);
+  const std::int64_t struck = sphere(sim, {5 * r, 1.5 * r, 0});
+  sim.set_velocity(mover, along<D>(0, 2.0));
+  sim.set_time_step(1e-6);
+  sim.advance(10000);
+  const double unwrapped = 0.5 * r + 2.0 * 0.01;
+  const double expected = unwrapped - length * std::floor(unwrapped / length);
+  CHECK(sim.position(mover)[0] == Approx(expected).margin(1e-12));
+  CHECK(sim.position(mover)[0] >= 0);
+  CHECK(sim.position(mover)[0] < length);
+  CHECK(sim.velocity(struck)[1] > 0);  // pushed aside, away from its line
 }

@@ -268,6 +268,20 @@ def last_step_case(work):
         if r.returncode != 0 or r.stdout != whole.stdout:
             fail(f"last_step: the {dimension}D restart did not read the whole run's last step "
                  f"{whole.stdout!r}", r)
+    # The same over two MPI ranks: the checkpoint is the gathered scene's.
+    mpirun = shutil.which("mpirun")
+    if mpirun:
+        d = case_folder(work, "last_step_ranks")
+        over = [mpirun, "--allow-run-as-root", "--oversubscribe", "-np", "2", GRANULE, "run", SCENE,
+                "-D", "case=last_step", "-D", "dimension=3", "-q"]
+        whole = subprocess.run(over, cwd=d, env=ENV, capture_output=True, text=True, timeout=300)
+        if whole.returncode != 0 or " 0 contacts" in whole.stdout:
+            fail("last_step: the whole run on 2 ranks failed or found no contacts", whole)
+        r = subprocess.run(over + ["--restart", "trust.chk.h5"], cwd=d, env=ENV, capture_output=True,
+                           text=True, timeout=300)
+        if r.returncode != 0 or r.stdout != whole.stdout:
+            fail(f"last_step: the restart on 2 ranks did not read the whole run's last step "
+                 f"{whole.stdout!r}", r)
     print("last_step: the last step's contacts, reactions and tallies are read after a restart")
 
 

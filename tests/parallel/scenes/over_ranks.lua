@@ -170,7 +170,7 @@ sim:every { steps = 250, function(s)
       held = ids[(#energies * 29) % #ids + 1]
       s:set_fixed(held, true)
       -- Prescribed motion: it rises through the bed at a set speed, whatever
-      -- touches it, across the ranks' boxes; freed at the next firing, it goes on.
+      -- touches it (its ghosts follow it); freed at the next firing, it goes on.
       local up = s:particle(held).velocity
       up[2] = 0.1
       s:set_velocity(held, up)
