@@ -382,7 +382,7 @@ std::vector<std::string> Simulation<D>::describe() const {
   for (std::size_t i = 0; i < p_.size(); ++i)
     if (p_.fixed[i]) {
       ++fixed;
-      moving += !p_.velocity[i].isZero() || Dim<D>::spin_sq(p_.spin[i]) > 0;
+      moving += p_.velocity[i] != V::Zero() || Dim<D>::spin_sq(p_.spin[i]) > 0;
     }
   lines.push_back(fmt::format("dimension: {}D{}", D,
                               periodic_.on() ? fmt::format(", periodic along {} ({} m)",

@@ -382,7 +382,7 @@ void Simulation<D>::set_fixed(std::int64_t id, bool fixed) {
     p_.velocity[i] = V::Zero();
     p_.spin[i] = Dim<D>::zero_spin();
   }
-  p_.fixed[i] = fixed ? 1 : 0;
+  p_.fixed[i] = fixed ? Particles<D>::fixed_flag : 0;
   p_.inv_mass[i] = fixed ? 0.0 : 1.0 / p_.mass[i];
   p_.inv_inertia[i] = fixed ? 0.0 : 1.0 / sphere_inertia(p_.mass[i], p_.radius[i]);
   // The lists leave out pairs of fixed particles and fixed particles' wall

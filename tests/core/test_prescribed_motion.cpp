@@ -75,6 +75,7 @@ TEMPLATE_TEST_CASE_SIG("prescribed motion: a fixed particle moves at the velocit
   };
   CHECK(line(sim) == "particles: 2 (1 fixed, 1 of them moving as the scene set them)");
   sim.set_velocity(mover, along<D>(0, 5e-13));
+  CHECK(line(sim) == "particles: 2 (1 fixed, 1 of them moving as the scene set them)");
   const Triple slow = sim.position(mover);
   sim.advance(1000);
   CHECK(sim.position(mover)[0] == Approx(slow[0] + 5e-13 * 1e-3).margin(5e-17));
