@@ -53,11 +53,19 @@ local fill_height = bead_volume / (0.3 * p.length * p.width) + p.height + R
 sim:fill { region = { box = { lo = { 0, 0, 0 }, hi = { p.length, p.width, fill_height } } },
            count = p.particles, radius_min = 0.9 * p.radius, radius_max = 1.1 * p.radius,
            material = "glass", seed = p.seed, overlap = false }
-sim:output { snapshot_every = math.max(p.travel / p.speed / 20, 0.01) }
-
+-- The box's length against the engine's rule for a periodic axis (more than twice
+-- the largest contact reach), said in the scene's terms before anything runs.
+local ok, why = pcall(function() sim:prepare() end)
+if not ok then
+  error(string.format("intruder_drag: length=%g m is too short for intruder_radius=%g m: %s",
+    p.length, R, tostring(why)), 0)
+end
 -- Settle: the beads rain down around the intruder and come to rest (their kinetic
--- energy below that of all of them moving at 1 % of the drag speed, three checks in a row).
-local calm = granule.calm(sim, 0.01 * p.speed, 3)
+-- energy below that of all of them moving at 1 % of sqrt(g d), three checks in a
+-- row: the same rest whatever the drag speed, so that a sweep over speed compares
+-- beds settled alike).
+local calm = granule.calm(sim, 0.01 * math.sqrt(9.81 * 2 * p.radius), 3)
+sim:output { snapshot_every = math.max(p.travel / p.speed / 20, 0.01) }
 granule.stage(sim, { name = "settle", duration = 2 * math.sqrt(2 * fill_height / 9.81) + 1,
                      check_every = 2000, stop_when = calm })
 

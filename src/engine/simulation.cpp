@@ -71,7 +71,10 @@ void Simulation<D>::step() {
   for (const auto& d : diagnostics_)
     if (d.needs.contacts && step_ % d.every == 0 && d.diagnostic->sampling().due(time_, dt_))
       observed = true;
-  if (observed) log_.resize(slot_count_);
+  if (observed) {
+    log_.resize(slot_count_);
+    log_.model_at = slot_models();  // what contacts() names each slot's model by
+  }
   log_.filled = observed;
   gathered_contacts_.reset();
   removed_from_gathered_.clear();

@@ -222,6 +222,22 @@ GlobalStats Simulation<D>::stats() const {
   return g;
 }
 
+// Each model's first slot (pairs, then walls), with its name, in slot order.
+template <int D>
+std::vector<std::pair<std::size_t, const char*>> Simulation<D>::slot_models() const {
+  std::vector<std::pair<std::size_t, const char*>> model_at;
+  for_each_model([&](auto index) {
+    constexpr int I = decltype(index)::value;
+    using M = ContactModelAt<I>;
+    const auto& pb = std::get<I>(pair_buckets_);
+    if (pb.size()) model_at.emplace_back(pb.offset, M::name);
+    const auto& wb = std::get<I>(wall_buckets_);
+    if (wb.size()) model_at.emplace_back(wb.offset, M::name);
+  });
+  std::sort(model_at.begin(), model_at.end());
+  return model_at;
+}
+
 template <int D>
 std::vector<ContactRecord> Simulation<D>::contacts() const {
   if (!record_contacts_)
@@ -237,17 +253,8 @@ std::vector<ContactRecord> Simulation<D>::contacts() const {
         "listed once the scene is gathered (parallel/distributed_run.hpp)");
   std::vector<ContactRecord> out;
   if (!log_.filled) return out;  // no step taken yet
-  // Model names by slot range.
-  std::vector<std::pair<std::size_t, const char*>> model_at;  // (first slot, name)
-  for_each_model([&](auto index) {
-    constexpr int I = decltype(index)::value;
-    using M = ContactModelAt<I>;
-    const auto& pb = std::get<I>(pair_buckets_);
-    if (pb.size()) model_at.emplace_back(pb.offset, M::name);
-    const auto& wb = std::get<I>(wall_buckets_);
-    if (wb.size()) model_at.emplace_back(wb.offset, M::name);
-  });
-  std::sort(model_at.begin(), model_at.end());
+  // Model names by slot range, as at the step logged.
+  const auto& model_at = log_.model_at;
   std::size_t m = 0;
   for (std::size_t s = 0; s < log_.size(); ++s) {
     while (m + 1 < model_at.size() && model_at[m + 1].first <= s) ++m;

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "core/types.hpp"
@@ -57,6 +58,9 @@ struct ContactLog {
   std::vector<V> tangential;         // N, tangential force on a
   std::vector<V> point;              // contact point, m
   bool filled = false;               // the arrays describe this step
+  // Each model's first slot at the step logged (slots before the next list
+  // rebuild, which may come before the next log: a failure it reports).
+  std::vector<std::pair<std::size_t, const char*>> model_at;
   // The active slots of this step in increasing order: an observer loops over
   // these instead of every candidate slot (~10x more in the Mechanofusion base
   // case), and sums in the same order.
