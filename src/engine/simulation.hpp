@@ -496,7 +496,7 @@ class Simulation final : public SimulationBase {
   // Before storage indices change between steps: the last step's contacts kept by id.
   void keep_contacts_by_id();
   std::vector<std::pair<std::size_t, const char*>> slot_models() const;  // (first slot, name)
-  // The last step's results in a checkpoint (simulation_state.cpp).
+  // The last step's results in a checkpoint (simulation_last_step.cpp).
   void save_last_step(StateBlob& s) const;
   void load_last_step(const StateBlob& s);
   // RunError naming `what` while list_indices_stale_.
