@@ -15,13 +15,21 @@ local p = parameters {
   friction = { default = 0.3, min = 0, doc = "bead-bead and bead-wall friction coefficient" },
   restitution = { default = 0.5, above = 0, max = 1, doc = "coefficient of restitution (damped Hertz-Mindlin)" },
   settle = { default = 1.0, min = 0, unit = "s", doc = "longest time allowed to settle" },
+  rolling_friction = { default = 0, min = 0, doc = "rolling friction coefficient mu_r (epsd; 0: none)" },
+  twisting_friction = { default = 0, min = 0,
+                        doc = "twisting friction coefficient mu_t (epsd; 0: beads spin about the vertical freely)" },
+  rolling_damping = { default = 0.3, min = 0,
+                      doc = "damping ratio of the rolling and twisting springs (used where either friction > 0)" },
+  seed = { default = 1, integer = true, min = 1, doc = "seed of the pour's positions" },
 }
 local sim = simulation { dimension = 3 }
 sim:material { name = "glass", density = 2500, young = 5e7, poisson = 0.25 }  -- a soft glass: larger steps
 sim:material { name = "steel", density = 7800, young = 5e7, poisson = 0.3 }
 for _, pair in ipairs { { "glass", "glass" }, { "glass", "steel" } } do
+  -- Both resistances 0 (the default) is the plain law.
   sim:contact { pair[1], pair[2], model = "hertz_mindlin", restitution = p.restitution,
-                friction = p.friction }
+                friction = p.friction, rolling_friction = p.rolling_friction,
+                twisting_friction = p.twisting_friction, rolling_damping = p.rolling_damping }
 end
 local half = p.box / 2
 sim:wall_plane { name = "floor", point = { 0, 0, 0 }, normal = { 0, 1, 0 }, material = "steel" }
@@ -38,7 +46,7 @@ if not (p.box > 2 * p.radius) then
 end
 local height = math.max(4 * p.particles * (4 / 3 * math.pi * p.radius ^ 3) / 0.6 / p.box ^ 2, 4 * p.radius)
 sim:fill { region = { box = { lo = { -half, 0, -half }, hi = { half, height, half } } }, count = p.particles,
-           radius = p.radius, material = "glass", seed = 1, overlap = false }
+           radius = p.radius, material = "glass", seed = p.seed, overlap = false }
 sim:gravity { 0, -9.81, 0 }
 local file = sim:output { snapshot_every = 0.05 }
 -- Settled when the beads' kinetic energy (spins too) is below that of all of them
@@ -85,13 +93,19 @@ else
   add_forces(sim)
 end
 floor, sides = floor / samples, sides / samples
-local ke = sim:stats().kinetic_energy
+local stats = sim:stats()
+local ke = stats.kinetic_energy
 local settled = settle.stopped and true or false
+-- settle_time: when the bed was judged calm (the end of `settle`); the
+-- rotational share of what kinetic energy is left after the measurement.
 sim:result { solid_fraction = solid_fraction, bed_height = top, floor_share = -floor / weight,
-             wall_share = -sides / weight, kinetic_energy = ke, settled = settled and 1 or 0 }
+             wall_share = -sides / weight, kinetic_energy = ke, settled = settled and 1 or 0,
+             settle_time = settle.time,
+             rotational_share = ke > 0 and stats.kinetic_energy_rotational / ke or 0 }
 print(string.format("packing_3d: t = %.3f s, bed height %.4g m, solid fraction %.3f, floor carries %.1f %% " ..
-  "and the side walls %.1f %% of the weight, kinetic energy %.2g J",
-  sim:time(), top, solid_fraction, -100 * floor / weight, -100 * sides / weight, ke))
+  "and the side walls %.1f %% of the weight, kinetic energy %.2g J (rotational share %.4f)",
+  sim:time(), top, solid_fraction, -100 * floor / weight, -100 * sides / weight, ke,
+  ke > 0 and stats.kinetic_energy_rotational / ke or 0))
 -- A bed still moving when `settle` ran out is no packing, and its walls need not
 -- carry its weight yet: said so, rather than blamed on the walls.
 if not settled and not settle.interrupted then

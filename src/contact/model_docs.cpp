@@ -46,12 +46,14 @@ std::vector<ContactModelInfo> documented_models() {
   ContactModelInfo rolling;
   rolling.name = "rolling";
   rolling.doc =
-      "rolling resistance, a term any model above carries when its contact gives "
-      "rolling_friction > 0 (with the model's own parameters): epsd (default; Ai et al. 2011, "
-      "type C), a spring k_r = 2.25 k_n mu_r^2 R*^2 on the relative rolling whose torque is "
-      "capped at M_m = mu_r R* N (then it slips), with a dashpot 2 eta_r sqrt(I_r k_r) while "
-      "below the cap (I_r = 1 / (1/(I_i + m_i r_i^2) + 1/(I_j + m_j r_j^2))); or constant, "
-      "M = mu_r R* N against the relative rolling, never more than stops it within the step "
+      "rolling and twisting resistance, a term any model above carries when its contact gives "
+      "rolling_friction > 0 or twisting_friction > 0 (with the model's own parameters): epsd "
+      "(default; Ai et al. 2011, type C), a spring k_r = 2.25 k_n mu_r^2 R*^2 on the relative "
+      "rolling whose torque is capped at M_m = mu_r R* N (then it slips), with a dashpot "
+      "2 eta_r sqrt(I_r k_r) while below the cap (I_r = 1 / (1/(I_i + m_i r_i^2) + "
+      "1/(I_j + m_j r_j^2))); or constant, M = mu_r R* N against the relative rolling, never "
+      "more than stops it within the step; in 3D the same law about the contact normal for the "
+      "relative twist, with mu_t, k_t = 2.25 k_n mu_t^2 R*^2 and I_t = 1 / (1/I_i + 1/I_j) "
       "(docs/contact_models.md has the equations)";
   rolling.parameters = rolling_parameters();
   rolling.rolling = true;

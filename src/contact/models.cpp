@@ -32,8 +32,11 @@ int contact_model_id(const std::string& name) {
 int choose_contact_model(int model, ParamValues& given) {
   bool any = false;
   for (const auto& entry : given) any |= is_rolling_parameter(entry.first);
-  const auto mu_r = given.find("rolling_friction");
-  if (mu_r != given.end() && mu_r->second == 0) {
+  // Frictions given and all of them 0: the plain law, whatever else was said.
+  const auto mu_r = given.find("rolling_friction"), mu_t = given.find("twisting_friction");
+  const bool rolling_off = mu_r == given.end() || mu_r->second == 0;
+  const bool twisting_off = mu_t == given.end() || mu_t->second == 0;
+  if ((mu_r != given.end() || mu_t != given.end()) && rolling_off && twisting_off) {
     for (auto it = given.begin(); it != given.end();)
       it = is_rolling_parameter(it->first) ? given.erase(it) : std::next(it);
     return base_contact_model(model);

@@ -5,8 +5,9 @@
 // The engine keeps one pair bucket per model in this list, and loops over
 // each bucket with that model's kernel inlined: a scene whose pairs use one
 // model never runs another's code. Each model is registered twice: as itself
-// and with the rolling-resistance term (rolling.hpp), the second chosen for a
-// pair that declares rolling_friction > 0 (choose_contact_model).
+// and with the rolling- and twisting-resistance term (rolling.hpp), the second
+// chosen for a pair that declares rolling_friction > 0 or twisting_friction > 0
+// (choose_contact_model).
 #pragma once
 
 #include <string>
@@ -70,9 +71,10 @@ inline int rolling_contact_model(int model) {
   return base_contact_model(model) + base_contact_model_count;
 }
 // The model id that the parameters `given` for `model` choose: its rolling
-// variant when they give rolling_friction > 0 (or another rolling parameter
-// without rolling_friction, which the variant then asks for), the model
-// itself otherwise; rolling_friction = 0 drops the rolling parameters.
+// variant when they give rolling_friction > 0 or twisting_friction > 0 (or
+// another rolling parameter without either, which the variant then refuses),
+// the model itself otherwise; frictions given and all 0 (either alone at 0,
+// or both at 0) drop the rolling parameters.
 int choose_contact_model(int model, ParamValues& given);
 
 // Calls f(std::integral_constant<int, I>{}) for each model index.

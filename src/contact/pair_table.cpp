@@ -39,23 +39,27 @@ void PairTable::update(int a, int b, const ParamValues& changes, const std::stri
   // The rolling term is a bucket of its own (rolling.hpp), chosen once, when
   // the law is declared: a run cannot move a pair's contacts to another.
   const bool rolling = e.model >= base_contact_model_count;
-  for (const auto& [k, v] : changes) {
+  for (const auto& [k, v] : changes)
     if (is_rolling_parameter(k) && !rolling)
       throw InputError(fmt::format(
-          "{}: '{}' needs rolling resistance, which is chosen when the contact is declared: "
-          "give rolling_friction > 0 in sim:contact",
+          "{}: '{}' needs the rolling term, which is chosen when the contact is declared: "
+          "give rolling_friction > 0 or twisting_friction > 0 in sim:contact",
           context, k));
-    if (k == "rolling_friction" && rolling && !(v > 0))
-      throw InputError(fmt::format(
-          "{}: rolling_friction = {} would remove the rolling term the contact was declared "
-          "with; it must stay > 0 during a run",
-          context, v));
-  }
   ParamValues merged = values_[key(a, b)];
   for (const auto& [k, v] : changes) merged[k] = v;
   auto catalogue = contact_model_catalogue();
+  // Names and ranges first, then what the values mean together.
   ParamValues resolved = resolve_parameters(catalogue[e.model].parameters, merged, context);
-  set(a, b, e.model, resolved, materials);
+  if (rolling && !(resolved.at("rolling_friction") > 0) && !(resolved.at("twisting_friction") > 0))
+    throw InputError(fmt::format(
+        "{}: rolling_friction = {} and twisting_friction = {} would remove the rolling term the "
+        "contact was declared with; one of them must stay > 0 during a run",
+        context, resolved.at("rolling_friction"), resolved.at("twisting_friction")));
+  try {  // the law's own checks of its values (M::make), named by the pair
+    set(a, b, e.model, resolved, materials);
+  } catch (const InputError& error) {
+    throw InputError(fmt::format("{}: {}", context, error.what()));
+  }
 }
 
 ParamValues PairTable::values_in_effect(int a, int b,

@@ -19,14 +19,18 @@ const char* rolling_model_name(double code) {
 
 std::vector<ParamSpec> rolling_parameters() {
   return {
-      {"rolling_friction", "-", required, 0, unbounded, false,
+      {"rolling_friction", "-", 0, 0, unbounded, true,
        "rolling friction coefficient mu_r: the rolling torque is at most mu_r R* N (0: no "
-       "rolling resistance, the plain law)"},
+       "rolling resistance; with twisting_friction 0 too, the plain law)"},
+      {"twisting_friction", "-", 0, 0, unbounded, true,
+       "twisting friction coefficient mu_t (3D): the torque about the contact normal is at most "
+       "mu_t R* N (0: no twisting resistance)"},
       {"rolling_model", "-", rolling_model::epsd, 0, 1, true,
        "a name: \"epsd\" (default), elastic-plastic spring-dashpot, Ai et al. 2011 type C; "
-       "\"constant\", constant torque mu_r R* N against the rolling"},
+       "\"constant\", constant torques mu_r R* N against the rolling and mu_t R* N against the "
+       "twisting"},
       {"rolling_damping", "-", 0, 0, unbounded, true,
-       "viscous damping ratio eta_r of the epsd rolling dashpot (0: spring only)"},
+       "viscous damping ratio eta_r of the epsd rolling and twisting dashpots (0: springs only)"},
   };
 }
 

@@ -1,12 +1,13 @@
-// Rolling resistance, a term any contact model can carry: WithRolling<M> is
-// model M with a rolling torque added, registered beside M (models.hpp), so a
-// material pair that declares `rolling_friction > 0` has its contacts in
-// another bucket whose kernel computes the torque, and a scene without it runs
-// M's kernel unchanged (docs/features_cost.md).
+// Rolling and twisting resistance, a term any contact model can carry:
+// WithRolling<M> is model M with a rolling torque (and, in 3D, a twisting
+// torque) added, registered beside M (models.hpp), so a material pair that
+// declares `rolling_friction > 0` or `twisting_friction > 0` has its contacts
+// in another bucket whose kernel computes the torques, and a scene without
+// them runs M's kernel unchanged (docs/features_cost.md).
 //
 // The relative rolling velocity is w_r = w_i - w_j without its component
-// along the normal (twisting is not resisted), Ai et al. 2011, Eq. 11; the
-// torque M acts on i and -M on j (against a wall, w_j is the wall's spin).
+// along the normal, Ai et al. 2011, Eq. 11; the torque M acts on i and -M on
+// j (against a wall, w_j is the wall's spin).
 // Two forms (rolling_model):
 //  - "epsd", the elastic-plastic spring-dashpot (type C of Ai, Chen, Rotter
 //    and Ooi 2011, Eqs. 12-15): a spring torque M_k, incremented by
@@ -30,12 +31,26 @@
 //    sphere at rest against a steady torque (on an incline below its angle
 //    of repose it creeps at a speed proportional to dt, as Ai et al. note of
 //    type A): "epsd" can.
-// The EPSD spring adds a rotational mode, omega_r^2 = k_r / I_r; as
-// I_r >= 1.4 m* R*^2 for spheres (Ai Eq. 13 with R* <= each radius),
-// omega_r <= sqrt(k_r-factor / 1.4) mu_r omega_n, which bounds the stability
-// limit (1.27 mu_r omega_n with the default 2.25: a sphere on a wall).
+// Twisting (3D; a 2D scene's spins are about z, normal to every contact
+// normal, so nothing twists there) is the same law about the normal, a
+// scalar: the relative twist w_t = n . (w_i - w_j), the cap M_t = mu_t R* N
+// (mu_t = twisting_friction), with "epsd" a spring T incremented by
+// -k_t w_t dt, k_t = 2.25 k_n mu_t^2 R*^2 (the rolling spring's rule, so
+// that the spring slips at a twist of N / (2.25 k_n mu_t R*), delta /
+// (2.25 mu_t R*) for a linear law, as the rolling one at such a roll), and
+// below the cap the dashpot
+// 2 eta_r sqrt(I_t k_t) with I_t = [1/I_i + 1/I_j]^-1; with "constant"
+// T = -M_t sign(w_t), never more than stops w_t in the step. The torque T n
+// acts on i and -T n on j, about the same axis, so the pair's angular
+// momentum is kept.
+// The EPSD springs add rotational modes, omega_r^2 = k_r / I_r and
+// omega_t^2 = k_t / I_t; as I_r >= 1.4 m* R*^2 and I_t >= 0.4 m* R*^2 for
+// spheres (R* <= each radius; equality for a sphere on a wall),
+// omega_r <= sqrt(k_r-factor / 1.4) mu_r omega_n and omega_t <=
+// sqrt(k_r-factor / 0.4) mu_t omega_n, which bound the stability limit
+// (1.27 mu_r and 2.37 mu_t times omega_n with the default 2.25).
 // N is the normal force kept >= 0 (an adhesive law's tensile force gives no
-// rolling resistance).
+// rolling or twisting resistance).
 #pragma once
 
 #include <fmt/format.h>
@@ -64,17 +79,28 @@ double rolling_model_code(const std::string& name, const std::string& context);
 // The name of a code the parameter table holds ("epsd", "constant"), for
 // every place that shows a pair's parameters to a person or a reader of the output.
 const char* rolling_model_name(double code);
-// The rolling parameters every model carries when rolling_friction is given.
+// The parameters of the rolling term (rolling and twisting), which every
+// model's rolling variant carries.
 std::vector<ParamSpec> rolling_parameters();
 // Whether a parameter name is one of them.
 bool is_rolling_parameter(const std::string& name);
 
 struct RollingParams {
   double friction = 0;  // mu_r
+  double twisting = 0;  // mu_t (3D)
   int model = rolling_model::epsd;
-  double stiffness = 2.25;  // k_r / (k_n mu_r^2 R*^2)
-  double damping = 0;       // eta_r
+  double stiffness = 2.25;  // k_r / (k_n mu_r^2 R*^2), and k_t / (k_n mu_t^2 R*^2)
+  double damping = 0;       // eta_r, for both dashpots
 };
+
+// The rolling and twisting springs' modes against the normal law's, at most
+// (the header above): omega_r / omega_n and omega_t / omega_n.
+inline double rolling_mode_ratio(const RollingParams& r) {
+  return std::sqrt(r.stiffness / 1.4) * r.friction;
+}
+inline double twisting_mode_ratio(const RollingParams& r) {
+  return std::sqrt(r.stiffness / 0.4) * r.twisting;
+}
 
 // Whether model M states its normal stiffness at an overlap
 // (`static double normal_stiffness(const Params&, double r_star, double overlap)`).
@@ -147,8 +173,15 @@ struct WithRolling {
   static Params make(const ParamValues& v, const PairMaterials& m) {
     Params p{M::make(v, m), {}};
     p.roll.friction = v.at("rolling_friction");
+    p.roll.twisting = v.at("twisting_friction");
     p.roll.model = static_cast<int>(v.at("rolling_model"));
     p.roll.damping = v.at("rolling_damping");
+    // The term without either torque would be the plain law in another bucket,
+    // its other parameters (rolling_model, rolling_damping) doing nothing.
+    if (!(p.roll.friction > 0) && !(p.roll.twisting > 0))
+      throw InputError(
+          "rolling_model and rolling_damping act only with rolling_friction > 0 or "
+          "twisting_friction > 0");
     // The constant torque has no dashpot: a damping given with it would be echoed in
     // the run header and do nothing.
     if (p.roll.model == rolling_model::constant && p.roll.damping != 0)
@@ -162,8 +195,23 @@ struct WithRolling {
   template <int D>
   struct History {
     typename M::template History<D> base{};
-    Spin<D> rolling = Dim<D>::zero_spin();  // N m, the EPSD spring torque on i
+    Spin<D> rolling = Dim<D>::zero_spin();  // N m, the EPSD rolling spring's torque on i
+    double twisting = 0;                    // N m, the EPSD twisting spring's torque on i along n
   };
+  // The history as builds without the twisting torque wrote it (checkpoints
+  // they wrote are read with twisting = 0).
+  template <int D>
+  struct HistoryWithoutTwisting {
+    typename M::template History<D> base{};
+    Spin<D> rolling = Dim<D>::zero_spin();
+  };
+  template <int D>
+  static History<D> from_history_without_twisting(const HistoryWithoutTwisting<D>& old) {
+    History<D> h;
+    h.base = old.base;
+    h.rolling = old.rolling;
+    return h;
+  }
 
   template <int D>
   static bool touching(const Params& p, const History<D>& h, double overlap) {
@@ -179,13 +227,14 @@ struct WithRolling {
   static double mode_squared(const Params& p, const PairScale& s, double overlap) {
     return Base::mode_squared(p.base, s, overlap);
   }
-  // The law's own limit, and the rolling spring's: omega_r up to `ratio` times the
-  // normal mode's omega_n, so its limit is the normal one's over ratio (a law
-  // whose limit also counts its tangential spring says its normal one apart).
+  // The law's own limit, and the rolling and twisting springs': omega_r or omega_t
+  // up to `ratio` times the normal mode's omega_n, so their limit is the normal
+  // one's over ratio (a law whose limit also counts its tangential spring says
+  // its normal one apart).
   static double stability_limit(const Params& p, const PairScale& s) {
     const double base = M::stability_limit(p.base, s);
     if (p.roll.model != rolling_model::epsd) return base;
-    const double ratio = std::sqrt(p.roll.stiffness / 1.4) * p.roll.friction;  // omega_r / omega_n
+    const double ratio = std::max(rolling_mode_ratio(p.roll), twisting_mode_ratio(p.roll));
     if (!(ratio > 1)) return base;
     double normal = base;
     if constexpr (has_normal_stability_limit<M>::value)
@@ -198,7 +247,7 @@ struct WithRolling {
     return M::force(p.base, h.base, c);
   }
 
-  // k_n of k_r = 2.25 k_n mu_r^2 R*^2.
+  // k_n of k_r = 2.25 k_n mu_r^2 R*^2 and k_t = 2.25 k_n mu_t^2 R*^2.
   static double normal_stiffness_of(const Params& p, double r_star, double overlap,
                                     double normal_force) {
     if constexpr (has_normal_stiffness<M>::value)
@@ -207,19 +256,44 @@ struct WithRolling {
       return overlap > 0 && normal_force > 0 ? normal_force / overlap : 0.0;
   }
 
-  // The rolling torque on i (j feels minus it), after force() of the same
-  // step: `normal_force` is its N, `spin_difference` w_i - w_j, `inertia` I_r
-  // and `inv_inertia_sum` 1/I_i + 1/I_j (0 for a wall or fixed particle).
+  // The rolling and twisting torque on i (j feels minus it), after force() of
+  // the same step: `normal_force` is its N, `spin_difference` w_i - w_j,
+  // `inertia` I_r and `inv_inertia_sum` 1/I_i + 1/I_j (0 for a wall or fixed particle).
   template <int D>
   static Spin<D> rolling_torque(const Params& p, History<D>& h, const ContactState<D>& c,
                                 double normal_force, const Spin<D>& spin_difference, double inertia,
                                 double inv_inertia_sum) {
-    using S = Spin<D>;
-    const RollingParams& r = p.roll;
     const double n_force = std::max(normal_force, 0.0);
+    const double k_n = p.roll.model == rolling_model::epsd
+                           ? normal_stiffness_of(p, c.effective_radius, c.overlap, n_force)
+                           : 0.0;
+    // A torque whose coefficient a run set to 0 holds no spring, so that it
+    // starts afresh if the coefficient is raised again.
+    Spin<D> torque = Dim<D>::zero_spin();
+    if (p.roll.friction > 0)
+      torque = rolling_part(p.roll, h.rolling, c, n_force, k_n, spin_difference, inertia,
+                            inv_inertia_sum);
+    else
+      h.rolling = Dim<D>::zero_spin();
+    if constexpr (D == 3) {
+      if (p.roll.twisting > 0)
+        torque += c.normal * twisting_part(p.roll, h.twisting, c, n_force, k_n,
+                                           c.normal.dot(spin_difference), inv_inertia_sum);
+      else
+        h.twisting = 0;
+    }
+    return torque;
+  }
+
+ private:
+  template <int D>
+  static Spin<D> rolling_part(const RollingParams& r, Spin<D>& held, const ContactState<D>& c,
+                              double n_force, double k_n, const Spin<D>& spin_difference,
+                              double inertia, double inv_inertia_sum) {
+    using S = Spin<D>;
     const double cap = r.friction * c.effective_radius * n_force;  // M_m
     S w_r = spin_difference;
-    if constexpr (D == 3) w_r -= c.normal * c.normal.dot(spin_difference);  // no twisting
+    if constexpr (D == 3) w_r -= c.normal * c.normal.dot(spin_difference);  // twisting apart
     if (r.model == rolling_model::constant) {
       const double speed = std::sqrt(Dim<D>::spin_sq(w_r));
       if (!(speed > 0)) return Dim<D>::zero_spin();
@@ -228,21 +302,20 @@ struct WithRolling {
       const double stopping = (1 - 1e-12) * speed / (inv_inertia_sum * c.dt);
       return S(w_r * (-std::min(cap, stopping) / speed));
     }
-    const double k_n = normal_stiffness_of(p, c.effective_radius, c.overlap, n_force);
     const double lever = r.friction * c.effective_radius;
     const double k_r = r.stiffness * k_n * lever * lever;
     S spring;
     if constexpr (D == 3)
-      spring = rotate_onto_plane<3>(h.rolling, c.normal) - k_r * c.dt * w_r;
+      spring = rotate_onto_plane<3>(held, c.normal) - k_r * c.dt * w_r;
     else
-      spring = h.rolling - k_r * c.dt * w_r;
+      spring = held - k_r * c.dt * w_r;
     const double spring_sq = Dim<D>::spin_sq(spring);
     if (spring_sq > cap * cap) {  // fully mobilised: the spring slips at M_m, no dashpot
       spring = spring * (cap / std::sqrt(spring_sq));
-      h.rolling = spring;
+      held = spring;
       return spring;
     }
-    h.rolling = spring;
+    held = spring;
     if (r.damping == 0) return spring;
     // The dashpot C_r = 2 eta_r sqrt(I_r k_r) acts on the particles' own inertia: at
     // C_r dt (1/I_i + 1/I_j) > 1 one step would more than stop w_r and, past 2, make
@@ -254,6 +327,34 @@ struct WithRolling {
     const S total = spring - c_r * w_r;
     const double total_sq = Dim<D>::spin_sq(total);
     return total_sq > cap * cap ? S(total * (cap / std::sqrt(total_sq))) : total;
+  }
+
+  // The twisting torque along n on i, from the relative twist w_t = n . (w_i - w_j):
+  // the rolling part's law about the normal (the header), a scalar that needs
+  // no turning with the contact.
+  static double twisting_part(const RollingParams& r, double& held, const ContactState<3>& c,
+                              double n_force, double k_n, double w_t, double inv_inertia_sum) {
+    const double cap = r.twisting * c.effective_radius * n_force;  // M_t
+    if (r.model == rolling_model::constant) {
+      if (!(std::abs(w_t) > 0)) return 0.0;
+      const double stopping = (1 - 1e-12) * std::abs(w_t) / (inv_inertia_sum * c.dt);
+      return -std::copysign(std::min(cap, stopping), w_t);
+    }
+    const double lever = r.twisting * c.effective_radius;
+    const double k_t = r.stiffness * k_n * lever * lever;
+    double spring = held - k_t * c.dt * w_t;
+    if (std::abs(spring) > cap) {  // slips at M_t, no dashpot
+      held = std::copysign(cap, spring);
+      return held;
+    }
+    held = spring;
+    if (r.damping == 0) return spring;
+    // I_t = 1 / (1/I_i + 1/I_j); the dashpot held at what stops w_t in one step.
+    const double inertia = inv_inertia_sum > 0 ? 1.0 / inv_inertia_sum : 0.0;
+    const double c_t =
+        std::min(2 * r.damping * std::sqrt(inertia * k_t), 1.0 / (inv_inertia_sum * c.dt));
+    const double total = spring - c_t * w_t;
+    return std::abs(total) > cap ? std::copysign(cap, total) : total;
   }
 };
 

@@ -450,15 +450,16 @@ std::vector<std::string> Simulation<D>::describe() const {
                              : std::string("adhesion: off (no adhesive pair in use)"));
   std::vector<std::string> turning;
   if (e.friction) turning.emplace_back("friction in use");
-  if (e.rolling) turning.emplace_back("rolling resistance");
+  if (e.rolling) turning.emplace_back("rolling or twisting resistance");
   if (e.bonds) turning.emplace_back("parallel bonds");
   if (damping_.spin > 0) turning.emplace_back("spin damping");
   if (e.adhesion && !e.friction)
     turning.emplace_back("adhesion: peeling resists sliding at mu = 0");
   lines.push_back(
       e.rotation ? fmt::format("rotation: spins integrated ({})", fmt::join(turning, ", "))
-                 : std::string("rotation: off (no pair in use has friction, rolling "
-                               "resistance or adhesion, so no torque acts; spins stay as set)"));
+                 : std::string("rotation: off (no pair in use has friction, rolling or "
+                               "twisting resistance or adhesion, so no torque acts; spins stay "
+                               "as set)"));
   lines.push_back(e.moving_walls.empty()
                       ? std::string("moving walls: none")
                       : fmt::format("moving walls: {}", fmt::join(e.moving_walls, ", ")));

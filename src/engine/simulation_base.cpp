@@ -68,6 +68,18 @@ int SimulationBase::material_id(const std::string& name) const {
                                    : fmt::format(" (did you mean '{}'?)", hint)));
 }
 
+// Twisting is resisted about the contact normal (rolling.hpp), which a 2D
+// scene's spins never have a part along.
+static void refuse_twisting_in_2d(int dimension, const ParamValues& values,
+                                  const std::string& context) {
+  const auto mu_t = values.find("twisting_friction");
+  if (dimension == 2 && mu_t != values.end() && mu_t->second != 0)
+    throw InputError(fmt::format(
+        "{}: twisting_friction = {} acts about the contact normal, and a 2D scene's spins (about "
+        "z) have no part along any normal: it would do nothing here (3D only)",
+        context, mu_t->second));
+}
+
 void SimulationBase::set_contact(const std::string& a, const std::string& b,
                                  const std::string& model, const ParamValues& given) {
   int ia = material_id(a), ib = material_id(b);
@@ -79,7 +91,12 @@ void SimulationBase::set_contact(const std::string& a, const std::string& b,
   const auto catalogue = contact_model_catalogue();
   ParamValues resolved = resolve_parameters(catalogue[m].parameters, chosen, context,
                                             catalogue[rolling_contact_model(m)].parameters);
-  pairs_.set(ia, ib, m, resolved, {materials_[ia], materials_[ib]});
+  refuse_twisting_in_2d(dimension(), resolved, context);
+  try {  // the law's own checks of its values (M::make), named by the pair
+    pairs_.set(ia, ib, m, resolved, {materials_[ia], materials_[ib]});
+  } catch (const InputError& error) {
+    throw InputError(fmt::format("{}: {}", context, error.what()));
+  }
   unprepare();
 }
 
@@ -101,6 +118,7 @@ void SimulationBase::declare_contact(const std::string& a, const std::string& b,
 void SimulationBase::update_contact(const std::string& a, const std::string& b,
                                     const ParamValues& changes) {
   int ia = material_id(a), ib = material_id(b);
+  refuse_twisting_in_2d(dimension(), changes, fmt::format("contact '{}'-'{}'", a, b));
   pairs_.update(ia, ib, changes, fmt::format("contact '{}'-'{}'", a, b),
                 {materials_[ia], materials_[ib]});
   // The time step, the spins and the adhesive reach are checked again at the

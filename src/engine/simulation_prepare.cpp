@@ -153,12 +153,13 @@ void Simulation<D>::choose_time_step() {
     deep_modes_ = std::move(rule.deep_modes);
     deep_checked_pair_ = deep_checked_wall_ = 0;
     deep_rescan_step_ = -1;
-    // A rolling pair's limit may be its epsd spring's mode (rolling.hpp), which the
-    // step count does not move but mu_r does.
+    // A rolling pair's limit may be its epsd springs' modes (rolling.hpp), which the
+    // step count does not move but mu_r and mu_t do.
     const std::string rolling_hint =
         rule.limit_pair.find("+rolling") != std::string::npos
-            ? "; its limit includes the epsd rolling spring's mode (omega_r up to 1.27 mu_r "
-              "omega_n), which a lower rolling_friction lifts"
+            ? "; its limit includes the epsd rolling and twisting springs' modes (omega_r up to "
+              "1.27 mu_r omega_n, omega_t up to 2.37 mu_t omega_n), which a lower "
+              "rolling_friction or twisting_friction lifts"
             : "";
     const char* const rule_name = time_step_rule_name(rule.per_contact);
     if (dt_fixed_ > 0) {

@@ -42,6 +42,27 @@ void from_raw_bytes(const std::vector<std::uint8_t>& in, std::vector<T, A>& v,
   v.resize(in.size() / sizeof(T));
   if (!v.empty()) std::memcpy(static_cast<void*>(v.data()), in.data(), in.size());
 }
+// A bucket's histories of `each` bytes: this build's records, or those of
+// builds before the twisting torque (is_history_without_twisting), read with
+// no twist held.
+template <int D, typename M, typename A>
+void read_histories(const std::vector<std::uint8_t>& in, std::int64_t each,
+                    std::vector<typename M::template History<D>, A>& out, const std::string& what) {
+  if constexpr (has_rolling<M>::value) {
+    if (is_history_without_twisting<D, M>(each)) {
+      std::vector<typename M::template HistoryWithoutTwisting<D>> old;
+      from_raw_bytes(in, old, what);
+      out.resize(old.size());
+      for (std::size_t k = 0; k < old.size(); ++k)
+        out[k] = M::from_history_without_twisting(old[k]);
+      return;
+    }
+  }
+  if (each != static_cast<std::int64_t>(sizeof(typename M::template History<D>)))
+    throw InputError(
+        fmt::format("checkpoint: {} histories have another layout (another build?)", M::name));
+  from_raw_bytes(in, out, what);
+}
 template <typename T, typename A>
 std::vector<std::int64_t> to_i64(const std::vector<T, A>& v) {
   return std::vector<std::int64_t>(v.begin(), v.end());
@@ -424,12 +445,11 @@ void Simulation<D>::load_state(const StateBlob& s) {
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
     using M = ContactModelAt<I>;
-    using H = typename M::template History<D>;
     const std::string pk = fmt::format("pairs.{}.", M::name),
                       wk = fmt::format("walls.{}.", M::name);
     auto& pb = std::get<I>(pair_buckets_);
     const auto& pl = s.i(pk + "layout");
-    if (pl.size() != 2 || pl[1] != static_cast<std::int64_t>(sizeof(H)))
+    if (pl.size() != 2)
       throw InputError(
           fmt::format("checkpoint: {} histories have another layout (another build?)", M::name));
     const auto assign = [](auto& to, const std::vector<std::uint32_t>& from) {
@@ -441,11 +461,11 @@ void Simulation<D>::load_state(const StateBlob& s) {
     pb.id_i = s.i(pk + "id_i");
     pb.id_j = s.i(pk + "id_j");
     pb.offset = static_cast<std::size_t>(pl[0]);
-    from_raw_bytes(s.b(pk + "history"), pb.history, pk + "history");
+    read_histories<D, M>(s.b(pk + "history"), pl[1], pb.history, pk + "history");
     from_raw_bytes(s.b(pk + "track"), pb.track, pk + "track");
     auto& wb = std::get<I>(wall_buckets_);
     const auto& wl = s.i(wk + "layout");
-    if (wl.size() != 2 || wl[1] != static_cast<std::int64_t>(sizeof(H)))
+    if (wl.size() != 2)
       throw InputError(fmt::format("checkpoint: {} histories have another layout", M::name));
     wb.particle = from_i64<std::uint32_t>(s.i(wk + "particle"));
     wb.wall = from_i64<std::uint32_t>(s.i(wk + "wall"));
@@ -454,7 +474,7 @@ void Simulation<D>::load_state(const StateBlob& s) {
     wb.part = from_i64<std::uint8_t>(s.i(wk + "part"));
     unflatten(s.d(wk + "part_normal"), wb.part_normal, wb.part.size(), wk + "part_normal");
     wb.offset = static_cast<std::size_t>(wl[0]);
-    from_raw_bytes(s.b(wk + "history"), wb.history, wk + "history");
+    read_histories<D, M>(s.b(wk + "history"), wl[1], wb.history, wk + "history");
     from_raw_bytes(s.b(wk + "track"), wb.track, wk + "track");
     const std::size_t np = pb.i.size(), nw = wb.particle.size();
     if (pb.j.size() != np || pb.slot.size() != np || pb.id_i.size() != np || pb.id_j.size() != np ||

@@ -232,8 +232,7 @@ void check_state(const StateBlob& s, std::size_t material_count, std::size_t wal
     for (const std::string& prefix : {pk, wk}) {
       const std::string key = prefix + "layout";
       const auto& layout = s.i(key);
-      if (layout.size() != 2 ||
-          layout[1] != static_cast<std::int64_t>(sizeof(typename M::template History<D>)))
+      if (layout.size() != 2 || !is_known_history_layout<D, M>(layout[1]))
         refuse_entry(
             key, fmt::format("describes {} histories of another layout (another build?)", M::name));
       if (layout[0] < 0 || layout[0] >= (std::int64_t{1} << 30))
@@ -286,12 +285,16 @@ void check_state(const StateBlob& s, std::size_t material_count, std::size_t wal
     std::sort(touching.begin(), touching.end());
     if (std::adjacent_find(touching.begin(), touching.end()) != touching.end())
       refuse_entry(wk + "particle", "lists a particle and wall twice");
-    using H = typename M::template History<D>;
-    for (const auto& [key, count] : {std::pair{pk + "history", np}, std::pair{wk + "history", nw}})
-      if (s.b(key).size() != count * sizeof(H))
+    // Records of the size the layout entry (checked above) says.
+    for (const auto& [key, count] :
+         {std::pair{pk + "history", np}, std::pair{wk + "history", nw}}) {
+      const auto each =
+          static_cast<std::size_t>(s.i(key == pk + "history" ? pk + "layout" : wk + "layout")[1]);
+      if (s.b(key).size() != count * each)
         refuse_entry(key, fmt::format("has {} bytes, expected {} contacts of {} bytes (from '{}')",
-                                      s.b(key).size(), count, sizeof(H),
+                                      s.b(key).size(), count, each,
                                       key == pk + "history" ? pk + "i" : wk + "particle"));
+    }
     for (const auto& [key, count] : {std::pair{pk + "track", np}, std::pair{wk + "track", nw}})
       if (!s.b(key).empty() && s.b(key).size() != count * sizeof(ContactTrack<D>))
         refuse_entry(key, fmt::format("has {} bytes, expected none or {} contacts of {} bytes",

@@ -6,11 +6,35 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 
+#include "contact/rolling.hpp"
 #include "core/state.hpp"
 
 namespace granule {
+
+// The history record sizes a checkpoint may hold for model M in D dimensions:
+// this build's, and, for a model with the rolling term, that of builds before
+// its twisting torque ({base, rolling}; read with no twist held). In 3D the
+// twist adds 8 bytes that no alignment padding takes in, so the sizes tell
+// them apart; in 2D they may coincide, where the twist is never read.
+template <int D, typename M>
+constexpr bool is_history_without_twisting(std::int64_t bytes) {
+  if constexpr (has_rolling<M>::value) {
+    using Old = typename M::template HistoryWithoutTwisting<D>;
+    static_assert(D == 2 || sizeof(Old) != sizeof(typename M::template History<D>));
+    return bytes == static_cast<std::int64_t>(sizeof(Old)) &&
+           sizeof(Old) != sizeof(typename M::template History<D>);
+  } else {
+    return false;
+  }
+}
+template <int D, typename M>
+constexpr bool is_known_history_layout(std::int64_t bytes) {
+  return bytes == static_cast<std::int64_t>(sizeof(typename M::template History<D>)) ||
+         is_history_without_twisting<D, M>(bytes);
+}
 
 // Throws InputError "checkpoint: '<key>' <why>".
 [[noreturn]] void refuse_entry(const std::string& key, const std::string& why);

@@ -40,6 +40,7 @@ inline const std::map<std::string, SuiteParameters>& suite_parameters() {
 
 constexpr double suite_friction = 0.3;
 constexpr double suite_rolling_friction = 0.2;
+constexpr double suite_twisting_friction = 0.1;  // 3D: a 2D scene refuses it
 
 // The name of the model M is, or carries rolling resistance for.
 template <typename M>
@@ -57,9 +58,10 @@ inline Material suite_material(const std::string& name) {
   return {name, 2500, 70e9, 0.3, 0};
 }
 
-// The parameters the scene gives for model M (resolved by the engine).
+// The parameters the scene gives for model M (resolved by the engine) in a
+// scene of `dimension`.
 template <typename M>
-ParamValues given_parameters(bool elastic) {
+ParamValues given_parameters(bool elastic, int dimension = 3) {
   const auto& table = suite_parameters();
   // A rolling variant (rolling.hpp) takes its model's values and a rolling friction.
   constexpr bool rolling = has_rolling<M>::value;
@@ -71,6 +73,7 @@ ParamValues given_parameters(bool elastic) {
     for (const auto& [key, value] : it->second.elastic) given[key] = value;
   if (rolling) {
     given["rolling_friction"] = suite_rolling_friction;
+    if (dimension == 3) given["twisting_friction"] = suite_twisting_friction;
     // Both forms of the term: the constant torque for the models Walton-Braun
     // and Thornton's elastic one, the EPSD spring for the others.
     const std::string base = rolling_base_name<M>();

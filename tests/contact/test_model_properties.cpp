@@ -126,7 +126,7 @@ TEMPLATE_LIST_TEST_CASE("model properties: Newton's third law, lever arms and an
   auto check = [](auto dim) {
     constexpr int D = decltype(dim)::value;
     INFO("model " << M::name << ", " << D << "D");
-    EnginePair<D> pair(oblique_impact<D>(M::name, given_parameters<M>(false)));
+    EnginePair<D> pair(oblique_impact<D>(M::name, given_parameters<M>(false, D)));
     SimulationBase& sim = *pair.sim;
     const double dt = sim.time_step();
     const Eigen::Vector3d l0 = angular_momentum<D>(sim);
@@ -194,7 +194,7 @@ TEMPLATE_LIST_TEST_CASE("model properties: angular momentum kept at friction 0",
   auto check = [](auto dim) {
     constexpr int D = decltype(dim)::value;
     INFO("model " << M::name << ", " << D << "D, friction 0");
-    ParamValues given = given_parameters<M>(false);
+    ParamValues given = given_parameters<M>(false, D);
     given["friction"] = 0;
     EnginePair<D> pair(oblique_impact<D>(M::name, given));
     SimulationBase& sim = *pair.sim;
@@ -242,7 +242,7 @@ TEMPLATE_LIST_TEST_CASE("model properties: no force once apart (adhesive: beyond
   auto check = [&p](auto dim) {
     constexpr int D = decltype(dim)::value;
     INFO("model " << M::name << ", " << D << "D");
-    EnginePair<D> pair(oblique_impact<D>(M::name, given_parameters<M>(false)));
+    EnginePair<D> pair(oblique_impact<D>(M::name, given_parameters<M>(false, D)));
     SimulationBase& sim = *pair.sim;
     const double ra = sim.radius(pair.a), rb = sim.radius(pair.b);
     double reach = 0;
@@ -371,7 +371,7 @@ TEMPLATE_LIST_TEST_CASE("model properties: an elastic head-on impact returns the
     constexpr int D = decltype(dim)::value;
     PairSetup s;
     s.model = M::name;
-    s.given = given_parameters<M>(true);
+    s.given = given_parameters<M>(true, D);
     s.steps_per_contact = n;
     const double gap = 1e-3 * s.radius_b;
     s.position_a = {-(s.radius_a + s.radius_b + gap), 0, 0};
@@ -400,7 +400,7 @@ TEMPLATE_LIST_TEST_CASE("model properties: a contact continued across list rebui
   auto check = [](auto dim) {
     constexpr int D = decltype(dim)::value;
     INFO("model " << M::name << ", " << D << "D");
-    const auto setup = oblique_impact<D>(M::name, given_parameters<M>(false));
+    const auto setup = oblique_impact<D>(M::name, given_parameters<M>(false, D));
     EnginePair<D> plain(setup), churned(setup);
     std::int64_t differing = 0, rebuilt_in_contact = 0;
     bool history_used = false;

@@ -202,10 +202,12 @@ TEST_CASE("rolling: a sphere on an incline holds below tan(theta) = mu_r and rol
 TEST_CASE("rolling: rolling parameters are checked and chosen per pair", "[rolling]") {
   Simulation<3> sim;
   sim.add_material({"p", density, 0, 0, 0});
-  // Without rolling_friction the other rolling parameters are refused by name.
-  CHECK_THROWS_WITH(sim.set_contact("p", "p", "linear",
-                                    {{"k_normal", 1e3}, {"restitution", 1}, {"rolling_model", 1}}),
-                    Catch::Contains("rolling_friction") && Catch::Contains("required"));
+  // Without rolling_friction or twisting_friction the other rolling parameters
+  // are refused, naming both.
+  CHECK_THROWS_WITH(
+      sim.set_contact("p", "p", "linear",
+                      {{"k_normal", 1e3}, {"restitution", 1}, {"rolling_model", 1}}),
+      Catch::Contains("rolling_friction > 0") && Catch::Contains("twisting_friction > 0"));
   CHECK_THROWS_WITH(
       sim.set_contact("p", "p", "linear",
                       {{"k_normal", 1e3}, {"restitution", 1}, {"rolling_friction", -0.1}}),

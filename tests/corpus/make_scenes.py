@@ -730,6 +730,11 @@ for name, text, args, expect in [
          before={"sim": [P % text]}, replace={"fill": wrong(fill)})
 case("rolling_damping_with_constant", "rolling_damping given to the constant rolling torque, which has no dashpot",
      r"{at}.*rolling_damping = 0.3 acts only with rolling_model", replace={"contact": wrong('sim:contact { "glass", "glass", model = "linear", k_normal = 1e4, restitution = 0.8, friction = 0.3, rolling_friction = 0.1, rolling_model = "constant", rolling_damping = 0.3 }')})
+case("twisting_in_2d", "twisting_friction in a 2D scene, whose spins (about z) never twist a contact",
+     r"{at}.*twisting_friction = 0.1 acts about the contact normal.*3D only", replace={"contact": wrong('sim:contact { "glass", "glass", model = "linear", k_normal = 1e4, restitution = 0.8, friction = 0.3, twisting_friction = 0.1 }')})
+case("rolling_model_without_friction", "rolling_model given with neither rolling_friction nor twisting_friction (it would do nothing)",
+     r"{at}.*act only with rolling_friction > 0 or twisting_friction > 0", base=BASE3,
+     replace={"contact": wrong('sim:contact { "glass", "glass", model = "hertz_mindlin", restitution = 0.8, friction = 0.3, rolling_model = "constant" }')})
 case("central_strength_without_field", "sim:set_central_strength where the scene has no central field (it would change nothing)",
      r"{at}.*no central field", after={"fill": [wrong("sim:set_central_strength(2)")]})
 case("param_minus_d_without_parameters", "-D given to a scene that declares no parameters{...}: refused at its run, before any step",
