@@ -4,7 +4,7 @@
 #   lua_over_ranks_test.sh GRANULE SOURCE_DIR MPIRUN
 # - five scenes (3D dense box with Hertz-Mindlin, 3D drum with a turning
 #   cylinder, 3D JKR cloud, 2D Walton-Braun drum, 3D shear cell periodic
-#   along x, its ghosts across the period, 2D pile bonded with parallel bonds
+#   along x with rolling and twisting resistance, its ghosts across the period, 2D pile bonded with parallel bonds
 #   and tumbled until some break, 3D pile on a triangle-mesh floor the scene
 #   writes to a file and reads back), each with callbacks that
 #   query the whole scene and set a particle's velocity (the shear cell's

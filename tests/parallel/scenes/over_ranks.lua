@@ -6,7 +6,7 @@
 -- order every spread run uses (docs/parallel.md), so that its lines are the
 -- same bits too.
 local p = parameters {
-  case = { default = "box", doc = "box (3D dense, Hertz-Mindlin) | sparse (the box, four particles in five removed, one more in the callback every 250 steps, and a friction ramp from step 500 to 540) | drum (3D, turning cylinder, linear) | jkr (3D agglomerate) | wb (2D Walton-Braun drum) | shear (3D shear cell, periodic along x) | bonds (2D pile bonded, then tumbled in its drum) | mesh (3D pile on a triangle-mesh floor the scene writes)" },
+  case = { default = "box", doc = "box (3D dense, Hertz-Mindlin) | sparse (the box, four particles in five removed, one more in the callback every 250 steps, and a friction ramp from step 500 to 540) | drum (3D, turning cylinder, linear) | jkr (3D agglomerate) | wb (2D Walton-Braun drum) | shear (3D shear cell, periodic along x, rolling and twisting resistance) | bonds (2D pile bonded, then tumbled in its drum) | mesh (3D pile on a triangle-mesh floor the scene writes)" },
   canonical = { default = 0 },
   checkpoint = { default = "over_ranks.chk.h5" },
   steps = { default = 0, doc = "steps of each of the two stages (0: the case's own)" },
@@ -79,9 +79,12 @@ else
     sim:gravity { 0, -9.81, 0 }
   elseif p.case == "shear" then
     -- Beads between a floor and a lid sliding apart along x (the lid also
-    -- closing in), smooth side walls in z.
-    sim:contact { "glass", "glass", model = "hertz_mindlin", restitution = 0.5, friction = 0.4 }
-    sim:contact { "glass", "steel", model = "hertz_mindlin", restitution = 0.5, friction = 0.8 }
+    -- closing in), smooth side walls in z; rolling and twisting resistance,
+    -- whose springs travel with the contacts across ranks and periods.
+    sim:contact { "glass", "glass", model = "hertz_mindlin", restitution = 0.5, friction = 0.4,
+                  rolling_friction = 0.1, twisting_friction = 0.1, rolling_damping = 0.3 }
+    sim:contact { "glass", "steel", model = "hertz_mindlin", restitution = 0.5, friction = 0.8,
+                  rolling_friction = 0.05, twisting_friction = 0.05 }
     local height, width = 4e-3, 3e-3
     sim:wall_plane { name = "floor", point = { 0, 0, 0 }, normal = { 0, 1, 0 }, material = "steel" }
     sim:wall_plane { name = "lid", point = { 0, height, 0 }, normal = { 0, -1, 0 }, material = "steel" }
