@@ -7,6 +7,8 @@
 -- (0.64), toward random loose packing (0.55-0.60).
 --   build/granule run scenarios/packing_3d.lua
 --   build/granule run scenarios/packing_3d.lua -D particles=4000 -D friction=0.1 -o packing.h5
+--   build/granule run scenarios/packing_3d.lua -D twisting_friction=0.1   # beads that cannot spin freely
+--                                                                           # about their contact normals
 local granule = require "granule"
 local p = parameters {
   particles = { default = 800, integer = true, min = 1, max = 1e6, doc = "number of beads" },
