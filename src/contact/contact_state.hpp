@@ -8,6 +8,8 @@
 //    on i points along it.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <type_traits>
 
 #include "core/material.hpp"
@@ -61,7 +63,28 @@ struct PairScale {
   double effective_mass;    // kg
   double effective_radius;  // m (a flat wall counts as infinite)
   double rayleigh_time;     // s, Eq. 6.1 for the smallest particle; infinity if E is not given
+  // E* and G* of a contact of the material that set rayleigh_time with itself
+  // (Pa; 0: not known), the contact the Rayleigh limit stands for.
+  double rayleigh_e_star = 0;
+  double rayleigh_g_star = 0;
 };
+
+// The Hertzian laws' stability limit (before the half the engine takes): the
+// Rayleigh time, which stands for a contact of the particle's material with
+// itself. A Hertz impact at a given speed lasts t_c ~ E*^(-2/5) (its modes as
+// much slower), so against a partner softer than the particle's own material
+// (steel on rubber: E* ~1e5 times smaller) the limit is longer by
+// (E*_self / E*)^(2/5), the smaller of that and the same for G*: the same
+// steps per contact at any speed as the self contact at its limit. A stiffer
+// partner (a rigid wall, E* up to twice the self contact's) keeps the Rayleigh
+// limit, as the dissertation's rule (Eqs. 6.1-6.2) does, and the run's check
+// of deep contacts watches the modes at the overlaps reached.
+inline double softer_partner_limit(const PairScale& s, double e_star, double g_star) {
+  if (!(s.rayleigh_e_star > 0 && s.rayleigh_g_star > 0 && e_star > 0 && g_star > 0))
+    return s.rayleigh_time;
+  const double softer = std::min(s.rayleigh_e_star / e_star, s.rayleigh_g_star / g_star);
+  return softer > 1 ? s.rayleigh_time * std::pow(softer, 0.4) : s.rayleigh_time;
+}
 
 template <int D>
 struct ContactForce {

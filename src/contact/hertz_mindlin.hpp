@@ -157,7 +157,9 @@ struct HertzMindlin {
   static double rule_time_step(const Params&, const PairScale& s, double steps_per_contact) {
     return 0.2 * s.rayleigh_time * 40.0 / steps_per_contact;
   }
-  static double stability_limit(const Params&, const PairScale& s) { return s.rayleigh_time; }
+  static double stability_limit(const Params& p, const PairScale& s) {
+    return softer_partner_limit(s, p.young_eff, p.shear_eff);
+  }
   // The contact's stiffest mode at an overlap, omega^2 = max(S_n, 3.5 S_t) / m* (the
   // tangential spring also turns the spheres: its mass is m* / 3.5), which grows with
   // the overlap as the Rayleigh-time rule and limit above do not: the run's check of

@@ -153,7 +153,9 @@ struct ThorntonElastic {
   static double rule_time_step(const Params&, const PairScale& s, double steps_per_contact) {
     return 0.2 * s.rayleigh_time * 40.0 / steps_per_contact;
   }
-  static double stability_limit(const Params&, const PairScale& s) { return s.rayleigh_time; }
+  static double stability_limit(const Params& p, const PairScale& s) {
+    return softer_partner_limit(s, p.e_star, p.g_star);
+  }
   // omega^2 of the contact's stiffest mode at an overlap (as HertzMindlin's: the
   // no-slip tangential spring 8 G* a, its mass m* / 3.5).
   static double mode_squared(const Params& p, const PairScale& s, double overlap) {

@@ -73,7 +73,7 @@ int SimulationBase::material_id(const std::string& name) const {
 static void refuse_twisting_in_2d(int dimension, const ParamValues& values,
                                   const std::string& context) {
   const auto mu_t = values.find("twisting_friction");
-  if (dimension == 2 && mu_t != values.end() && mu_t->second != 0)
+  if (dimension == 2 && mu_t != values.end() && mu_t->second > 0)
     throw InputError(fmt::format(
         "{}: twisting_friction = {} acts about the contact normal, and a 2D scene's spins (about "
         "z) have no part along any normal: it would do nothing here (3D only)",

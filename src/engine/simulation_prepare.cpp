@@ -52,6 +52,15 @@ TimeStepReport Simulation<D>::time_step_rule() {
     const double shear = mat.young / (2 * (1 + mat.poisson));
     return pi * radius / (0.1631 * mat.poisson + 0.876605) * std::sqrt(mat.density / shear);
   };
+  // E* and G* of a material's contact with itself (Pa; 0 without E): what the
+  // Rayleigh limit stands for (softer_partner_limit).
+  auto self_contact = [&](int m, PairScale& scale) {
+    const Material& mat = materials_[m];
+    if (!(mat.young > 0)) return;
+    const double shear = mat.young / (2 * (1 + mat.poisson));
+    scale.rayleigh_e_star = mat.young / (2 * (1 - mat.poisson * mat.poisson));
+    scale.rayleigh_g_star = shear / (2 * (2 - mat.poisson));
+  };
   std::vector<char> wall_material(nm, 0);
   for (const auto& w : walls_) wall_material[w.material] = 1;
   auto consider = [&](int a, int b, const PairScale& scale, const char* kind, double smaller,
@@ -102,8 +111,10 @@ TimeStepReport Simulation<D>::time_step_rule() {
       scale.effective_mass = std::isinf(mb) ? min_mass[a] : min_mass[a] * mb / (min_mass[a] + mb);
       double ra = min_radius[a], rb = min_radius_any[b];
       scale.effective_radius = ra * rb / (ra + rb);
-      scale.rayleigh_time =
-          std::min(rayleigh(a, ra), rayleigh(b, free_used[b] ? min_radius[b] : INFINITY));
+      const double rayleigh_a = rayleigh(a, ra),
+                   rayleigh_b = rayleigh(b, free_used[b] ? min_radius[b] : INFINITY);
+      scale.rayleigh_time = std::min(rayleigh_a, rayleigh_b);
+      self_contact(rayleigh_b < rayleigh_a ? b : a, scale);
       // A material's only particle meets none of its own: a sphere dropped on
       // a wall needs no law with itself (adding a second one prepares anew).
       // A law declared for it still enters the step's rule and limit.
@@ -112,6 +123,7 @@ TimeStepReport Simulation<D>::time_step_rule() {
     for (int w = 0; w < nm; ++w)
       if (wall_material[w]) {
         PairScale scale{min_mass[a], min_radius[a], rayleigh(a, min_radius[a])};
+        self_contact(a, scale);
         consider(a, w, scale, "particle-wall", min_radius[a], true);
       }
   }

@@ -333,3 +333,74 @@ TEMPLATE_TEST_CASE_SIG(
       CHECK(scaled_batched.spin == Approx(scaled.spin).epsilon(1e-12));
     }
 }
+
+namespace {
+// A 1 mm steel sphere dropped at 1 m/s onto a plane wall of `wall_young`
+// (Pa, nu 0.49 unless steel), damped Hertz-Mindlin e = 0.9, at `time_step`
+// (0: the automatic step). Returns the limit and, when run, the rebound speed.
+struct SteelDrop {
+  double limit = 0, rebound = 0, dt = 0;
+};
+SteelDrop steel_drop(double wall_young, double wall_poisson, double time_step, bool run) {
+  Simulation<3> sim;
+  sim.set_warning_handler([](const std::string&) {});
+  sim.add_material({"steel", 7800, 2e11, 0.3, 0});
+  sim.add_material({"plate", 0, wall_young, wall_poisson, 0});
+  sim.set_contact("steel", "plate", "hertz_mindlin", {{"restitution", 0.9}, {"friction", 0.3}});
+  WallSpec w;
+  w.name = "plate";
+  w.material = 1;
+  w.normal = {0, 1, 0};
+  sim.add_wall(w);
+  ParticleSpec s;
+  s.radius = 1e-3;
+  s.material = 0;
+  s.position = {0, 1.0001e-3, 0};
+  s.velocity = {0, -1, 0};
+  const std::int64_t id = sim.add_particle(s);
+  if (time_step > 0) sim.set_time_step(time_step);
+  sim.prepare();
+  SteelDrop out;
+  out.limit = sim.time_step_rule().stability_limit;
+  out.dt = sim.time_step();
+  if (run) {
+    sim.advance(static_cast<std::int64_t>(std::ceil(5e-3 / sim.time_step())));
+    REQUIRE(sim.stats().contacts_wall == 0);  // it has bounced off
+    out.rebound = sim.velocity(id)[1];
+  }
+  return out;
+}
+}  // namespace
+
+TEST_CASE("hertz_mindlin: a partner softer than the particle lengthens the stability limit",
+          "[hertz_mindlin]") {
+  // The Rayleigh limit stands for steel on steel; on rubber (E = 1 MPa, nu = 0.49)
+  // an impact at a given speed lasts (E*_self / E*)^(2/5) as long (t_c ~ E*^(-2/5);
+  // the smaller of that and the same for G*).
+  const double e = 2e11, nu = 0.3, g = e / (2 * (1 + nu));
+  const double e_rubber = 1e6, nu_rubber = 0.49, g_rubber = e_rubber / (2 * (1 + nu_rubber));
+  const double e_self = e / (2 * (1 - nu * nu)), g_self = g / (2 * (2 - nu));
+  const double e_pair = 1 / ((1 - nu * nu) / e + (1 - nu_rubber * nu_rubber) / e_rubber);
+  const double g_pair = 1 / ((2 - nu) / g + (2 - nu_rubber) / g_rubber);
+  const double softer = std::min(e_self / e_pair, g_self / g_pair);
+  const SteelDrop on_steel = steel_drop(e, nu, 0, false);
+  const SteelDrop on_rubber = steel_drop(e_rubber, nu_rubber, 0, false);
+  INFO("limit on steel " << on_steel.limit << " s, on rubber " << on_rubber.limit << " s ("
+                         << softer << "^(2/5))");
+  CHECK(on_rubber.limit == Approx(on_steel.limit * std::pow(softer, 0.4)).epsilon(1e-12));
+  // A rigid plate (stiffer than steel on steel) keeps the Rayleigh limit.
+  CHECK(steel_drop(1e15, 0.3, 0, false).limit == Approx(on_steel.limit).epsilon(1e-12));
+  // A step the Rayleigh limit refused now runs, and the drop bounces at about e.
+  REQUIRE_THROWS_WITH(steel_drop(e, nu, 2 * on_steel.limit, false),
+                      Catch::Contains("stability limit"));
+  for (const double fraction : {0.05, 0.5}) {
+    const SteelDrop run = steel_drop(e_rubber, nu_rubber, fraction * on_rubber.limit, true);
+    INFO("dt " << run.dt << " s (" << fraction << " of the limit): rebound " << run.rebound
+               << " m/s");
+    CHECK(run.rebound <= 1.0);  // no energy gained
+    CHECK(run.rebound == Approx(0.9).epsilon(fraction < 0.1 ? 0.02 : 0.1));
+  }
+  // and the limit itself still holds.
+  CHECK_THROWS_WITH(steel_drop(e_rubber, nu_rubber, 1.01 * on_rubber.limit, false),
+                    Catch::Contains("stability limit") && Catch::Contains("steel-plate"));
+}
