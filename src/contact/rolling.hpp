@@ -38,11 +38,15 @@
 // -k_t w_t dt, k_t = 2.25 k_n mu_t^2 R*^2 (the rolling spring's rule, so
 // that the spring slips at a twist of N / (2.25 k_n mu_t R*), delta /
 // (2.25 mu_t R*) for a linear law, as the rolling one at such a roll), and
-// below the cap the dashpot
-// 2 eta_r sqrt(I_t k_t) with I_t = [1/I_i + 1/I_j]^-1; with "constant"
-// T = -M_t sign(w_t), never more than stops w_t in the step. The torque T n
-// acts on i and -T n on j, about the same axis, so the pair's angular
-// momentum is kept.
+// below the cap the dashpot 2 eta_r sqrt(I_t k_t) with I_t = [1/I_i +
+// 1/I_j]^-1; with "constant" T = -M_t sign(w_t), never more than stops w_t in
+// the step. The torque T n acts on i and -T n on j, about the same axis, so
+// the pair's angular momentum is kept.
+// The springs' k_n follows the overlap (but for the linear law) and the
+// torques they hold are not rescaled with it: undamped, a normal load ringing
+// at about twice a spring's frequency pumps that spring up to its cap (a
+// parametric resonance no normal force pays for); a few per cent of damping
+// suppresses it (docs/contact_models.md).
 // The EPSD springs add rotational modes, omega_r^2 = k_r / I_r and
 // omega_t^2 = k_t / I_t; as I_r >= 1.4 m* R*^2 and I_t >= 0.4 m* R*^2 for
 // spheres (R* <= each radius; equality for a sphere on a wall),
