@@ -42,11 +42,12 @@
 // 1/I_j]^-1; with "constant" T = -M_t sign(w_t), never more than stops w_t in
 // the step. The torque T n acts on i and -T n on j, about the same axis, so
 // the pair's angular momentum is kept.
-// The springs' k_n follows the overlap (but for the linear law) and the
-// torques they hold are not rescaled with it: undamped, a normal load ringing
-// at about twice a spring's frequency pumps that spring up to its cap (a
-// parametric resonance no normal force pays for); a few per cent of damping
-// suppresses it (docs/contact_models.md).
+// The springs' k_n follows the overlap (but for the linear law). The twisting
+// spring holds T / sqrt(k_t), so that a change of k_t leaves its energy alone;
+// the rolling spring holds M_k itself (as Ai et al. and LIGGGHTS write it),
+// and undamped, a normal load ringing at about twice its frequency pumps it
+// up to its cap (a parametric resonance no normal force pays for); a few per
+// cent of damping suppresses it (docs/contact_models.md).
 // The EPSD springs add rotational modes, omega_r^2 = k_r / I_r and
 // omega_t^2 = k_t / I_t; as I_r >= 1.4 m* R*^2 and I_t >= 0.4 m* R*^2 for
 // spheres (R* <= each radius; equality for a sphere on a wall),
@@ -200,7 +201,7 @@ struct WithRolling {
   struct History {
     typename M::template History<D> base{};
     Spin<D> rolling = Dim<D>::zero_spin();  // N m, the EPSD rolling spring's torque on i
-    double twisting = 0;                    // N m, the EPSD twisting spring's torque on i along n
+    double twisting = 0;  // sqrt(J): the EPSD twisting spring's torque on i along n over sqrt(k_t)
   };
   // The history as builds without the twisting torque wrote it (checkpoints
   // they wrote are read with twisting = 0).
@@ -346,12 +347,23 @@ struct WithRolling {
     }
     const double lever = r.twisting * c.effective_radius;
     const double k_t = r.stiffness * k_n * lever * lever;
-    double spring = held - k_t * c.dt * w_t;
-    if (std::abs(spring) > cap) {  // slips at M_t, no dashpot
-      held = std::copysign(cap, spring);
-      return held;
+    // The spring holds u = T / sqrt(k_t), its energy u^2 / 2, so that k_t
+    // changing with the overlap leaves that energy as it was: holding T, a
+    // normal load ringing at twice the twist's frequency pumped the twist up
+    // to the cap (a parametric resonance no normal force paid for). Unloaded
+    // (k_t = 0) it holds nothing.
+    if (!(k_t > 0)) {
+      held = 0;
+      return 0.0;
     }
-    held = spring;
+    const double root = std::sqrt(k_t);
+    double spring = held * root - k_t * c.dt * w_t;
+    if (std::abs(spring) > cap) {  // slips at M_t, no dashpot
+      spring = std::copysign(cap, spring);
+      held = spring / root;
+      return spring;
+    }
+    held = spring / root;
     if (r.damping == 0) return spring;
     // I_t = 1 / (1/I_i + 1/I_j); the dashpot held at what stops w_t in one step.
     const double inertia = inv_inertia_sum > 0 ? 1.0 / inv_inertia_sum : 0.0;
