@@ -118,9 +118,9 @@ void SimulationBase::declare_contact(const std::string& a, const std::string& b,
 void SimulationBase::update_contact(const std::string& a, const std::string& b,
                                     const ParamValues& changes) {
   int ia = material_id(a), ib = material_id(b);
-  refuse_twisting_in_2d(dimension(), changes, fmt::format("contact '{}'-'{}'", a, b));
-  pairs_.update(ia, ib, changes, fmt::format("contact '{}'-'{}'", a, b),
-                {materials_[ia], materials_[ib]});
+  const std::string context = fmt::format("contact '{}'-'{}'", a, b);
+  refuse_twisting_in_2d(dimension(), changes, context);
+  pairs_.update(ia, ib, changes, context, {materials_[ia], materials_[ib]});
   // The time step, the spins and the adhesive reach are checked again at the
   // next prepare(); the lists hold unless something else changed too.
   const bool lists_hold = prepared_ || lists_kept_;

@@ -286,14 +286,16 @@ void check_state(const StateBlob& s, std::size_t material_count, std::size_t wal
     if (std::adjacent_find(touching.begin(), touching.end()) != touching.end())
       refuse_entry(wk + "particle", "lists a particle and wall twice");
     // Records of the size the layout entry (checked above) says.
-    for (const auto& [key, count] :
-         {std::pair{pk + "history", np}, std::pair{wk + "history", nw}}) {
-      const auto each =
-          static_cast<std::size_t>(s.i(key == pk + "history" ? pk + "layout" : wk + "layout")[1]);
-      if (s.b(key).size() != count * each)
+    struct Histories {
+      std::string prefix, counted_by;
+      std::size_t count;
+    };
+    for (const Histories& h : {Histories{pk, pk + "i", np}, Histories{wk, wk + "particle", nw}}) {
+      const auto each = static_cast<std::size_t>(s.i(h.prefix + "layout")[1]);
+      const std::string key = h.prefix + "history";
+      if (s.b(key).size() != h.count * each)
         refuse_entry(key, fmt::format("has {} bytes, expected {} contacts of {} bytes (from '{}')",
-                                      s.b(key).size(), count, each,
-                                      key == pk + "history" ? pk + "i" : wk + "particle"));
+                                      s.b(key).size(), h.count, each, h.counted_by));
     }
     for (const auto& [key, count] : {std::pair{pk + "track", np}, std::pair{wk + "track", nw}})
       if (!s.b(key).empty() && s.b(key).size() != count * sizeof(ContactTrack<D>))

@@ -364,7 +364,8 @@ TEST_CASE("twisting: a ringing normal load does not pump the twist (its energy i
   // modulated at the normal frequency; at mu_t where that is twice the twist's
   // own (2.25 mu_t^2 / 0.4 = 1/4 of the normal stiffness ratio: 0.21 for
   // hertz_mindlin's tangent, 0.26 for thornton_elastic's secant, 1.5 N / delta)
-  // a spring holding T was pumped to 0.71 and 0.86 rad/s over 0.1 s. Holding T / sqrt(k_t),
+  // a spring holding T was pumped to 0.71 and 0.86 rad/s over 0.1 s
+  // (tools/twist_pump.lua, the same scene, with build c7d4ee6). Holding T / sqrt(k_t),
   // the twist's energy I w^2 / 2 + T^2 / (2 k_t) is kept, so |w| stays near w0.
   const double e = 1e8, nu = 0.3, w0 = 0.01;
   for (const auto& [model, mu_t] : {std::pair<const char*, double>{"hertz_mindlin", 0.211},
