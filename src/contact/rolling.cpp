@@ -20,8 +20,9 @@ const char* rolling_model_name(double code) {
 std::vector<ParamSpec> rolling_parameters() {
   return {
       {"rolling_friction", "-", 0, 0, unbounded, true,
-       "rolling friction coefficient mu_r: the rolling torque is at most mu_r R* N (0: no "
-       "rolling resistance; with twisting_friction 0 too, the plain law)"},
+       "rolling friction coefficient mu_r: the rolling torque is at most mu_r R* N (N + 2Nc "
+       "for thornton_jkr; 0: no rolling resistance; with twisting_friction 0 too, the plain "
+       "law)"},
       {"twisting_friction", "-", 0, 0, unbounded, true,
        "twisting friction coefficient mu_t (3D): the torque about the contact normal is at most "
        "mu_t R* N (0: no twisting resistance)"},

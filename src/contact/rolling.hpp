@@ -54,8 +54,9 @@
 // omega_r <= sqrt(k_r-factor / 1.4) mu_r omega_n and omega_t <=
 // sqrt(k_r-factor / 0.4) mu_t omega_n, which bound the stability limit
 // (1.27 mu_r and 2.37 mu_t times omega_n with the default 2.25).
-// N is the normal force kept >= 0 (an adhesive law's tensile force gives no
-// rolling or twisting resistance).
+// N is the normal force kept >= 0; an adhesive law gives its own load and
+// stiffness (has_resisting: thornton_jkr's N + 2Nc and 4 E* a / 3, so that a
+// contact held together at N = 0 resists rolling and twisting).
 #pragma once
 
 #include <fmt/format.h>
@@ -115,6 +116,19 @@ struct has_normal_stiffness : std::false_type {};
 template <typename M>
 struct has_normal_stiffness<M, std::void_t<decltype(M::normal_stiffness(
                                    std::declval<const typename M::Params&>(), 0.0, 0.0))>>
+    : std::true_type {};
+
+// Whether model M gives the load and stiffness its contacts' rolling and
+// twisting resistance take (`M::resisting<D>(params, history, r_star, overlap,
+// N)` returning .load and .stiffness: an adhesive law, whose contacts hold
+// together at N <= 0).
+template <typename M, int D, typename = void>
+struct has_resisting : std::false_type {};
+template <typename M, int D>
+struct has_resisting<M, D,
+                     std::void_t<decltype(M::template resisting<D>(
+                         std::declval<const typename M::Params&>(),
+                         std::declval<const typename M::template History<D>&>(), 0.0, 0.0, 0.0))>>
     : std::true_type {};
 
 // Whether a law gives its normal mode's limit apart from its stability_limit
@@ -268,10 +282,15 @@ struct WithRolling {
   static Spin<D> rolling_torque(const Params& p, History<D>& h, const ContactState<D>& c,
                                 double normal_force, const Spin<D>& spin_difference, double inertia,
                                 double inv_inertia_sum) {
-    const double n_force = std::max(normal_force, 0.0);
-    const double k_n = p.roll.model == rolling_model::epsd
-                           ? normal_stiffness_of(p, c.effective_radius, c.overlap, n_force)
-                           : 0.0;
+    double n_force = std::max(normal_force, 0.0), k_n = 0;
+    if constexpr (has_resisting<M, D>::value) {
+      const auto resisting =
+          M::template resisting<D>(p.base, h.base, c.effective_radius, c.overlap, normal_force);
+      n_force = resisting.load;
+      k_n = resisting.stiffness;
+    } else if (p.roll.model == rolling_model::epsd) {
+      k_n = normal_stiffness_of(p, c.effective_radius, c.overlap, n_force);
+    }
     // A torque whose coefficient a run set to 0 holds no spring, so that it
     // starts afresh if the coefficient is raised again.
     Spin<D> torque = Dim<D>::zero_spin();

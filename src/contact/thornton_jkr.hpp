@@ -152,6 +152,29 @@ struct ThorntonJkr {
                                                   p.elastic.friction > 0 || p.surface_energy > 0);
   }
 
+  // The load and normal stiffness that rolling and twisting resistance take
+  // (rolling.hpp), after force() of the same step:
+  //  - load N + 2Nc, the load the tangential law's slip takes after peeling
+  //    (Eqs. 6.22-6.25), so that a contact at rest (N = 0) still resists
+  //    rolling and twisting, by mu_r R* 2Nc (Dominik and Tielens' adhesive
+  //    rolling resistance 6 Nc xi_crit at mu_r R* = 3 xi_crit);
+  //  - stiffness 4 E* a / 3, the secant N' / alpha' of the Hertz force of the
+  //    same contact area (Eq. 6.13, alpha' = a^2 / R*), which follows a into
+  //    tension, where the secant N / alpha of the JKR force is meaningless.
+  // At Gamma = 0 both are thornton_elastic's: N >= 0 and the secant N / alpha.
+  struct Resisting {
+    double load;       // N
+    double stiffness;  // N/m
+  };
+  template <int D>
+  static Resisting resisting(const Params& p, const History<D>& h, double r_star, double overlap,
+                             double normal) {
+    if (!(p.surface_energy > 0) || !(h.contact_radius > 0))
+      return {std::max(normal, 0.0), overlap > 0 && normal > 0 ? normal / overlap : 0.0};
+    return {std::max(0.0, normal + 2 * pull_off_force(p.surface_energy, r_star)),
+            4.0 / 3.0 * p.elastic.e_star * h.contact_radius};
+  }
+
   // Closed forms for a pair (R*, E*, Gamma), used by force() and by tests.
   static double pull_off_force(double gamma, double r_star) { return 1.5 * pi * gamma * r_star; }
   // a0: contact radius at N = 0.
