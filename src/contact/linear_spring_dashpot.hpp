@@ -98,8 +98,10 @@ struct LinearSpringDashpot {
   static double rule_time_step(const Params& p, const PairScale& s, double steps_per_contact) {
     return contact_duration(p, s.effective_mass) / steps_per_contact;
   }
-  // For the rolling stiffness (rolling.hpp).
+  // For the rolling stiffness (rolling.hpp), which is then constant: its
+  // spring holds the torque itself.
   static double normal_stiffness(const Params& p, double, double) { return p.k_normal; }
+  static constexpr bool constant_normal_stiffness = true;
   // 2 / omega of the normal spring alone (the rolling term scales this one).
   static double normal_stability_limit(const Params& p, const PairScale& s) {
     return 2.0 / std::sqrt(p.k_normal / s.effective_mass);

@@ -42,12 +42,12 @@
 // 1/I_j]^-1; with "constant" T = -M_t sign(w_t), never more than stops w_t in
 // the step. The torque T n acts on i and -T n on j, about the same axis, so
 // the pair's angular momentum is kept.
-// The springs' k_n follows the overlap (but for the linear law). The twisting
-// spring holds T / sqrt(k_t), so that a change of k_t leaves its energy alone;
-// the rolling spring holds M_k itself (as Ai et al. and LIGGGHTS write it),
-// and undamped, a normal load ringing at about twice its frequency pumps it
-// up to its cap (a parametric resonance no normal force pays for); a few per
-// cent of damping suppresses it (docs/contact_models.md).
+// The springs' k_n follows the overlap (but for the linear law). They hold
+// M_k / sqrt(k_r) and T / sqrt(k_t), so that a change of stiffness leaves
+// their energy alone: holding the torque itself (as Ai et al. and LIGGGHTS
+// write it), a spring is pumped up to its cap, undamped, by a normal load
+// ringing at about twice its frequency (a parametric resonance no normal force
+// pays for). Under the linear law the rolling spring holds M_k.
 // The EPSD springs add rotational modes, omega_r^2 = k_r / I_r and
 // omega_t^2 = k_t / I_t; as I_r >= 1.4 m* R*^2 and I_t >= 0.4 m* R*^2 for
 // spheres (R* <= each radius; equality for a sphere on a wall),
@@ -131,6 +131,14 @@ struct has_resisting<M, D,
                          std::declval<const typename M::template History<D>&>(), 0.0, 0.0, 0.0))>>
     : std::true_type {};
 
+// Whether a law's normal stiffness is one constant (the linear law), so that
+// the rolling spring's stiffness never changes under it.
+template <typename M, typename = void>
+struct has_constant_normal_stiffness : std::false_type {};
+template <typename M>
+struct has_constant_normal_stiffness<M, std::enable_if_t<M::constant_normal_stiffness>>
+    : std::true_type {};
+
 // Whether a law gives its normal mode's limit apart from its stability_limit
 // (which may count its tangential spring's mode too).
 template <class M, class = void>
@@ -211,10 +219,16 @@ struct WithRolling {
     return p;
   }
 
+  // Whether the rolling spring holds M_k / sqrt(k_r) (sqrt(J)) rather than M_k
+  // (N m): wherever k_r follows the overlap (rolling_part).
+  static constexpr bool rolling_spring_scaled = !has_constant_normal_stiffness<M>::value;
+
   template <int D>
   struct History {
     typename M::template History<D> base{};
-    Spin<D> rolling = Dim<D>::zero_spin();  // N m, the EPSD rolling spring's torque on i
+    // The EPSD rolling spring's torque on i, M_k (N m), or M_k / sqrt(k_r)
+    // (sqrt(J)) where rolling_spring_scaled.
+    Spin<D> rolling = Dim<D>::zero_spin();
     double twisting = 0;  // sqrt(J): the EPSD twisting spring's torque on i along n over sqrt(k_t)
   };
   // The history as builds without the twisting torque wrote it (checkpoints
@@ -328,18 +342,34 @@ struct WithRolling {
     }
     const double lever = r.friction * c.effective_radius;
     const double k_r = r.stiffness * k_n * lever * lever;
+    // Where k_r follows the overlap the spring holds u = M_k / sqrt(k_r), its
+    // energy u^2 / 2, so that a change of k_r leaves that energy as it was
+    // (as the twisting spring, below): holding M_k, an undamped normal load
+    // ringing at twice the rolling mode's frequency pumped the rocking up to
+    // the cap. Unloaded (k_r = 0) it holds nothing. Under the linear law k_r
+    // is constant and the spring holds M_k itself, the same spring.
+    double root = 1;
+    if constexpr (rolling_spring_scaled) {
+      if (!(k_r > 0)) {
+        held = Dim<D>::zero_spin();
+        return held;
+      }
+      root = std::sqrt(k_r);
+    }
     S spring;
     if constexpr (D == 3)
-      spring = rotate_onto_plane<3>(held, c.normal) - k_r * c.dt * w_r;
+      spring = rotate_onto_plane<3>(held, c.normal);
     else
-      spring = held - k_r * c.dt * w_r;
+      spring = held;
+    if constexpr (rolling_spring_scaled) spring *= root;
+    spring -= k_r * c.dt * w_r;
     const double spring_sq = Dim<D>::spin_sq(spring);
     if (spring_sq > cap * cap) {  // fully mobilised: the spring slips at M_m, no dashpot
       spring = spring * (cap / std::sqrt(spring_sq));
-      held = spring;
+      held = rolling_spring_scaled ? S(spring / root) : spring;
       return spring;
     }
-    held = spring;
+    held = rolling_spring_scaled ? S(spring / root) : spring;
     if (r.damping == 0) return spring;
     // The dashpot C_r = 2 eta_r sqrt(I_r k_r) acts on the particles' own inertia: at
     // C_r dt (1/I_i + 1/I_j) > 1 one step would more than stop w_r and, past 2, make

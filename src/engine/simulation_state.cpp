@@ -44,10 +44,15 @@ void from_raw_bytes(const std::vector<std::uint8_t>& in, std::vector<T, A>& v,
 }
 // A bucket's histories of `each` bytes: this build's records, or those of
 // builds before the twisting torque (is_history_without_twisting), read with
-// no twist held.
+// no twist held. `scaled_springs`: the checkpoint's rolling springs hold
+// M_k / sqrt(k_r) where the law's stiffness follows the overlap (the key
+// "rolling_springs"); those of older builds, which held M_k, cannot be
+// converted without each contact's k_r and are refused where one is wound.
 template <int D, typename M, typename A>
 void read_histories(const std::vector<std::uint8_t>& in, std::int64_t each,
-                    std::vector<typename M::template History<D>, A>& out, const std::string& what) {
+                    std::vector<typename M::template History<D>, A>& out, const std::string& what,
+                    bool scaled_springs) {
+  bool read = false;
   if constexpr (has_rolling<M>::value) {
     if (is_history_without_twisting<D, M>(each)) {
       std::vector<typename M::template HistoryWithoutTwisting<D>> old;
@@ -55,13 +60,29 @@ void read_histories(const std::vector<std::uint8_t>& in, std::int64_t each,
       out.resize(old.size());
       for (std::size_t k = 0; k < old.size(); ++k)
         out[k] = M::from_history_without_twisting(old[k]);
-      return;
+      read = true;
     }
   }
-  if (each != static_cast<std::int64_t>(sizeof(typename M::template History<D>)))
-    throw InputError(
-        fmt::format("checkpoint: {} histories have another layout (another build?)", M::name));
-  from_raw_bytes(in, out, what);
+  if (!read) {
+    if (each != static_cast<std::int64_t>(sizeof(typename M::template History<D>)))
+      throw InputError(
+          fmt::format("checkpoint: {} histories have another layout (another build?)", M::name));
+    from_raw_bytes(in, out, what);
+  }
+  if constexpr (has_rolling<M>::value) {
+    if constexpr (M::rolling_spring_scaled) {
+      if (scaled_springs) return;
+      for (const auto& h : out)
+        if (Dim<D>::spin_sq(h.rolling) > 0)
+          throw InputError(fmt::format(
+              "checkpoint: '{}' holds {} rolling springs as torques (it has no "
+              "'rolling_springs' entry), as builds before this one did; this build holds "
+              "them as M / sqrt(k_r) (docs/contact_models.md, "
+              "\"Springs whose stiffness follows the overlap\") and cannot convert a wound "
+              "one: restart with the build that wrote the checkpoint, or run the scene afresh",
+              what, M::name));
+    }
+  }
 }
 template <typename T, typename A>
 std::vector<std::int64_t> to_i64(const std::vector<T, A>& v) {
@@ -129,6 +150,8 @@ StateBlob Simulation<D>::save_state() const {
   // A callback's change still to be prepared for (step() does it first): 1 in
   // full, 2 a law's parameters only (lists_kept_).
   s.integers["prepare_due"] = {prepared_ ? 0 : lists_kept_ ? 2 : 1};
+  // The rolling springs hold M / sqrt(k_r) where k_r follows the overlap (rolling.hpp).
+  s.integers["rolling_springs"] = {1};
   // The thin walls' crossing check runs on the step after a deep contact too.
   if (thin_deep_last_step_) s.integers["thin_deep_last_step"] = {1};
   s.doubles["meta"] = {time_,
@@ -442,6 +465,11 @@ void Simulation<D>::load_state(const StateBlob& s) {
                  fmt::format("particle {} at ({}) lies beyond wall '{}' by more than its radius",
                              p_.id[i], fmt::join(to_triple(p_.position[i]), ", "), walls_[w].name));
 
+  // What the rolling springs hold: absent in checkpoints of builds that held
+  // M_k; this build writes {1}.
+  const bool scaled_springs = s.integers.count("rolling_springs") > 0;
+  if (scaled_springs && s.i("rolling_springs") != std::vector<std::int64_t>{1})
+    refuse_entry("rolling_springs", "is not {1}, the one form this build knows");
   for_each_model([&](auto index) {
     constexpr int I = decltype(index)::value;
     using M = ContactModelAt<I>;
@@ -461,7 +489,7 @@ void Simulation<D>::load_state(const StateBlob& s) {
     pb.id_i = s.i(pk + "id_i");
     pb.id_j = s.i(pk + "id_j");
     pb.offset = static_cast<std::size_t>(pl[0]);
-    read_histories<D, M>(s.b(pk + "history"), pl[1], pb.history, pk + "history");
+    read_histories<D, M>(s.b(pk + "history"), pl[1], pb.history, pk + "history", scaled_springs);
     from_raw_bytes(s.b(pk + "track"), pb.track, pk + "track");
     auto& wb = std::get<I>(wall_buckets_);
     const auto& wl = s.i(wk + "layout");
@@ -474,7 +502,7 @@ void Simulation<D>::load_state(const StateBlob& s) {
     wb.part = from_i64<std::uint8_t>(s.i(wk + "part"));
     unflatten(s.d(wk + "part_normal"), wb.part_normal, wb.part.size(), wk + "part_normal");
     wb.offset = static_cast<std::size_t>(wl[0]);
-    read_histories<D, M>(s.b(wk + "history"), wl[1], wb.history, wk + "history");
+    read_histories<D, M>(s.b(wk + "history"), wl[1], wb.history, wk + "history", scaled_springs);
     from_raw_bytes(s.b(wk + "track"), wb.track, wk + "track");
     const std::size_t np = pb.i.size(), nw = wb.particle.size();
     if (pb.j.size() != np || pb.slot.size() != np || pb.id_i.size() != np || pb.id_j.size() != np ||

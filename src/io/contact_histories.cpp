@@ -36,6 +36,9 @@ StateBlob pair_histories_of(const StateBlob& state, const std::vector<std::int64
   StateBlob out;
   const auto& meta = state.i("meta");
   out.integers["meta"] = {meta.at(1), meta.at(2)};
+  // What the rolling springs hold (Simulation::save_state): absent in files of older builds.
+  if (state.integers.count("rolling_springs"))
+    out.integers["rolling_springs"] = state.i("rolling_springs");
   for (const std::string& pk : pair_prefixes(state)) {
     const auto& id_i = state.i(pk + "id_i");
     const auto& id_j = state.i(pk + "id_j");
@@ -86,6 +89,18 @@ std::size_t seed_pair_histories(StateBlob& state, const StateBlob& saved,
       throw InputError(fmt::format(
           "load_particles: {} holds histories of the contact model '{}', which this build lacks",
           file, model_of(pk)));
+    // Rolling springs of builds that held their torque where the stiffness
+    // follows the overlap (every law's but the linear one): this build holds
+    // M / sqrt(k_r), and a file does not say each contact's k_r.
+    const std::string rolling = "+rolling", model = model_of(pk);
+    if (!saved.integers.count("rolling_springs") && model != "linear" + rolling &&
+        model.size() > rolling.size() &&
+        model.compare(model.size() - rolling.size(), rolling.size(), rolling) == 0)
+      throw InputError(fmt::format(
+          "load_particles: {} holds '{}' rolling springs as torques, as builds before this one "
+          "wrote them; this build holds them as M / sqrt(k_r) and cannot convert them: save the "
+          "histories again with this build, or load with histories = false",
+          file, model));
     const std::int64_t size = state.i(pk + "layout").at(1);
     if (saved.i(pk + "layout").at(1) != size)
       throw InputError(fmt::format(

@@ -16,10 +16,14 @@
 // rolls with a = g (sin(theta) - mu_r cos(theta)) / (1 + I / (m r^2)).
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <map>
 #include <memory>
+#include <string>
+#include <utility>
 
 #include "contact/rolling.hpp"
 #include "engine/simulation.hpp"
+#include "io/contact_histories.hpp"
 
 using namespace granule;
 
@@ -310,4 +314,178 @@ TEST_CASE("rolling: the epsd spring's own mode bounds the time step", "[rolling]
   CHECK(scene(20, rolling_model::constant) == Approx(plain));  // no spring, no mode
   CHECK_THROWS_WITH(scene(20, rolling_model::epsd),
                     Catch::Contains("stability limit") && Catch::Contains("p-p"));
+}
+
+namespace {
+// A sphere on a floor, no damping anywhere, let go at half its resting
+// overlap so that its Hertzian normal load rings, rocking at w0 about z with
+// the rolling spring unloaded (tools/twist_pump.lua -D term=rolling).
+struct Rocker {
+  std::unique_ptr<Simulation<3>> sim;
+  std::int64_t id = 0;
+  double rest = 0;  // the resting overlap
+};
+Rocker rocker(const char* model, double mu_r, double w0, double friction = 0.3) {
+  const double e = 1e8, nu = 0.3;
+  Rocker r;
+  r.sim = std::make_unique<Simulation<3>>();
+  Simulation<3>& sim = *r.sim;
+  sim.set_warning_handler([](const std::string&) {});
+  sim.add_material({"p", density, e, nu, 0});
+  sim.add_material({"w", 0, e, nu, 0});
+  ParamValues law{{"friction", friction}, {"rolling_friction", mu_r}};
+  if (std::string(model) == "hertz_mindlin") law["restitution"] = 1;
+  sim.set_contact("p", "w", model, law);
+  sim.set_gravity({0, -g, 0});
+  WallSpec w;
+  w.name = "floor";
+  w.material = 1;
+  w.normal = {0, 1, 0};
+  sim.add_wall(w);
+  const double mass = sphere_mass(radius, density);
+  const double e_star = e / (2 * (1 - nu * nu));
+  r.rest = std::pow(3 * mass * g / (4 * e_star * std::sqrt(radius)), 2.0 / 3.0);
+  ParticleSpec s;
+  s.radius = radius;
+  s.material = 0;
+  s.position = {0, radius - 0.5 * r.rest, 0};
+  s.spin = {0, 0, w0};
+  r.id = sim.add_particle(s);
+  sim.prepare();
+  return r;
+}
+}  // namespace
+
+TEST_CASE("rolling: a ringing normal load does not pump the rolling spring (its energy is kept)",
+          "[rolling]") {
+  // The rolling mode modulated by Hertz's k_n at the normal frequency, at mu_r
+  // where that is about twice the mode's own. hertz_mindlin without friction:
+  // the sphere turns about its centre, k_r / I = (2.25 / 0.4) mu_r^2 k_n / m,
+  // resonant at 0.211; thornton_elastic with friction: it rocks on the floor,
+  // resonant near 0.6 (the secant k_n). A spring holding M_k was pumped to 0.71
+  // and 0.47 rad/s over 0.1 s (build 245d0cd; tools/twist_pump.lua -D
+  // term=rolling). Holding M_k / sqrt(k_r), the rolling mode's energy is kept.
+  // (hertz_mindlin with friction still pumps the rocking, through its
+  // tangential spring, which holds its displacement while 8 G* a follows the
+  // overlap: docs/contact_models.md.)
+  const double w0 = 0.01;
+  struct Case {
+    const char* model;
+    double mu_r, friction;
+  };
+  for (const Case& c : {Case{"hertz_mindlin", 0.211, 0.0}, Case{"thornton_elastic", 0.6, 0.3}}) {
+    const char* model = c.model;
+    const double mu_r = c.mu_r;
+    Rocker r = rocker(model, mu_r, w0, c.friction);
+    Simulation<3>& sim = *r.sim;
+    double largest = 0, first_half = 0, deepest = 0, shallowest = 1;
+    const auto steps = static_cast<std::int64_t>(0.1 / sim.time_step());
+    for (std::int64_t k = 0; k < steps; ++k) {
+      sim.advance(1);
+      largest = std::max(largest, std::abs(sim.spin(r.id)[2]));
+      if (k == steps / 2) first_half = largest;
+      const double overlap = radius - sim.position(r.id)[1];
+      deepest = std::max(deepest, overlap), shallowest = std::min(shallowest, overlap);
+    }
+    INFO(model << ", mu_r " << mu_r << ": largest rocking spin " << largest << " rad/s ("
+               << first_half << " in the first half; w0 " << w0 << "), overlap "
+               << shallowest / r.rest << "-" << deepest / r.rest << " of the rest");
+    REQUIRE(shallowest > 0);          // it stayed on the floor
+    REQUIRE(deepest > 1.3 * r.rest);  // and the normal load rang
+    CHECK(largest <= 1.1 * w0);
+    CHECK(largest <= 1.001 * first_half);
+  }
+}
+
+TEST_CASE(
+    "rolling: a checkpoint whose wound springs hold torques (older builds) is refused "
+    "where the stiffness follows the overlap",
+    "[rolling][checkpoint]") {
+  Rocker whole = rocker("hertz_mindlin", 0.3, 1.0);
+  whole.sim->advance(200);
+  StateBlob saved = whole.sim->save_state();
+  REQUIRE(saved.integers.count("rolling_springs"));
+  whole.sim->advance(100);
+  // This build's checkpoint restarts bit for bit.
+  Rocker resumed = rocker("hertz_mindlin", 0.3, 1.0);
+  resumed.sim->load_state(saved);
+  resumed.sim->advance(100);
+  CHECK(resumed.sim->spin(resumed.id) == whole.sim->spin(whole.id));
+  CHECK(resumed.sim->position(resumed.id) == whole.sim->position(whole.id));
+  // Without the key (older builds, which held M_k) a wound spring is refused by name.
+  saved.integers.erase("rolling_springs");
+  Rocker refused = rocker("hertz_mindlin", 0.3, 1.0);
+  CHECK_THROWS_WITH(refused.sim->load_state(saved),
+                    Catch::Contains("hertz_mindlin+rolling") && Catch::Contains("sqrt(k_r)"));
+}
+
+TEST_CASE(
+    "rolling: contact histories saved by builds that held the springs' torques are refused "
+    "for the non-linear laws' rolling variants",
+    "[rolling][checkpoint]") {
+  // Two spheres pressed together by gravity on a floor's sphere, each law's variant.
+  auto state_of = [](const char* model) {
+    Simulation<3> sim;
+    sim.set_warning_handler([](const std::string&) {});
+    sim.add_material({"p", density, 1e8, 0.3, 0});
+    ParamValues law{{"friction", 0.3}, {"rolling_friction", 0.1}};
+    if (std::string(model) == "linear")
+      law = {{"k_normal", k_normal},
+             {"restitution", 0.5},
+             {"friction", 0.3},
+             {"rolling_friction", 0.1}};
+    else if (std::string(model) == "hertz_mindlin")
+      law["restitution"] = 0.5;
+    sim.set_contact("p", "p", model, law);
+    std::vector<std::int64_t> ids;
+    for (int k = 0; k < 2; ++k) {
+      ParticleSpec s;
+      s.radius = radius;
+      s.material = 0;
+      s.position = {k * 1.999 * radius, 0, 0};
+      ids.push_back(sim.add_particle(s));
+    }
+    sim.prepare();
+    sim.advance(1);
+    REQUIRE(ids == std::vector<std::int64_t>{0, 1});
+    return io::pair_histories_of(sim.save_state(), ids);
+  };
+  auto seed = [](StateBlob saved, const char* model) {
+    Simulation<3> sim;
+    sim.set_warning_handler([](const std::string&) {});
+    sim.add_material({"p", density, 1e8, 0.3, 0});
+    ParamValues law{{"friction", 0.3}, {"rolling_friction", 0.1}};
+    if (std::string(model) == "linear")
+      law = {{"k_normal", k_normal},
+             {"restitution", 0.5},
+             {"friction", 0.3},
+             {"rolling_friction", 0.1}};
+    else if (std::string(model) == "hertz_mindlin")
+      law["restitution"] = 0.5;
+    sim.set_contact("p", "p", model, law);
+    std::map<std::int64_t, std::int64_t> renamed;
+    for (int k = 0; k < 2; ++k) {
+      ParticleSpec s;
+      s.radius = radius;
+      s.material = 0;
+      s.position = {k * 1.999 * radius, 0, 0};
+      renamed[k] = sim.add_particle(s);
+    }
+    sim.prepare();
+    StateBlob state = sim.save_state();
+    return io::seed_pair_histories(state, saved, renamed, "old.h5");
+  };
+  for (const char* model : {"hertz_mindlin", "linear"}) {
+    StateBlob saved = state_of(model);
+    REQUIRE(saved.integers.count("rolling_springs"));
+    CHECK(seed(saved, model) == 1);
+    saved.integers.erase("rolling_springs");
+    if (std::string(model) == "linear") {
+      CHECK(seed(saved, model) == 1);  // the same spring either way
+    } else {
+      CHECK_THROWS_WITH(seed(saved, model), Catch::Contains("old.h5") &&
+                                                Catch::Contains("hertz_mindlin+rolling") &&
+                                                Catch::Contains("histories = false"));
+    }
+  }
 }
