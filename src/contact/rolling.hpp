@@ -48,12 +48,15 @@
 // write it), a spring is pumped up to its cap, undamped, by a normal load
 // ringing at about twice its frequency (a parametric resonance no normal force
 // pays for). Under the linear law the rolling spring holds M_k.
-// The EPSD springs add rotational modes, omega_r^2 = k_r / I_r and
-// omega_t^2 = k_t / I_t; as I_r >= 1.4 m* R*^2 and I_t >= 0.4 m* R*^2 for
-// spheres (R* <= each radius; equality for a sphere on a wall),
-// omega_r <= sqrt(k_r-factor / 1.4) mu_r omega_n and omega_t <=
+// The EPSD springs add rotational modes. Where friction holds the contact
+// point the rolling spring turns each sphere about its own centre against its
+// own inertia (Ai's I_r = [1/(I_i + m_i r_i^2) + ...]^-1 is the slower
+// rocking about the contact point, which the dashpot is tuned to), so both
+// springs' stiffest modes are omega^2 = k / [1/I_i + 1/I_j]^-1; as that inertia
+// is >= 0.4 m* R*^2 for spheres (R* <= each radius; equality for a sphere on
+// a wall), omega_r <= sqrt(k_r-factor / 0.4) mu_r omega_n and omega_t <=
 // sqrt(k_r-factor / 0.4) mu_t omega_n, which bound the stability limit
-// (1.27 mu_r and 2.37 mu_t times omega_n with the default 2.25).
+// (2.37 mu times omega_n with the default 2.25).
 // N is the normal force kept >= 0; an adhesive law gives its own load and
 // stiffness (has_resisting: thornton_jkr's N + 2Nc and 4 E* a / 3, so that a
 // contact held together at N = 0 resists rolling and twisting).
@@ -102,7 +105,7 @@ struct RollingParams {
 // The rolling and twisting springs' modes against the normal law's, at most
 // (the header above): omega_r / omega_n and omega_t / omega_n.
 inline double rolling_mode_ratio(const RollingParams& r) {
-  return std::sqrt(r.stiffness / 1.4) * r.friction;
+  return std::sqrt(r.stiffness / 0.4) * r.friction;
 }
 inline double twisting_mode_ratio(const RollingParams& r) {
   return std::sqrt(r.stiffness / 0.4) * r.twisting;
@@ -255,10 +258,16 @@ struct WithRolling {
   static double rule_time_step(const Params& p, const PairScale& s, double steps_per_contact) {
     return M::rule_time_step(p.base, s, steps_per_contact);
   }
-  // The law's own stiffest mode at an overlap, where it says one (has_mode_squared).
+  // The stiffest mode at an overlap, where the law says its own
+  // (has_mode_squared): the law's, or the rolling and twisting springs' (up to
+  // `ratio` times its normal mode: the law's mode stands in for it, which can
+  // only overstate the springs').
   template <class Base = M, class = std::enable_if_t<has_mode_squared<Base>::value>>
   static double mode_squared(const Params& p, const PairScale& s, double overlap) {
-    return Base::mode_squared(p.base, s, overlap);
+    const double base = Base::mode_squared(p.base, s, overlap);
+    if (p.roll.model != rolling_model::epsd) return base;
+    const double ratio = std::max(rolling_mode_ratio(p.roll), twisting_mode_ratio(p.roll));
+    return ratio > 1 ? base * ratio * ratio : base;
   }
   // The law's own limit, and the rolling and twisting springs': omega_r or omega_t
   // up to `ratio` times the normal mode's omega_n, so their limit is the normal

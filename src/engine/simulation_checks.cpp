@@ -112,6 +112,10 @@ void Simulation<D>::check_deep_contact_modes(double pair_ratio, double wall_rati
     if (by_pair.empty()) deepest_by_materials(by_pair, by_wall);
     const std::size_t at = static_cast<std::size_t>(m.material_a * nm + m.material_b);
     const double overlap_ratio = m.wall ? by_wall[at] : by_pair[at];
+    if (overlap_ratio == -INFINITY) {  // no contact of this pair now (an adhesive law's mode
+      deep_rescan_step_ = step_ + deep_rescan_every;  // is stiff from zero overlap on)
+      continue;
+    }
     const double omega_dt =
         std::sqrt(m.omega_squared(std::max(0.0, overlap_ratio) * m.smaller_radius)) * dt_;
     if (!(omega_dt > deep_mode_bound)) {
@@ -122,11 +126,12 @@ void Simulation<D>::check_deep_contact_modes(double pair_ratio, double wall_rati
     const double shorter = dt_ * 0.9 * deep_mode_bound / omega_dt;
     warn(fmt::format(
         "step {} (t = {:.6g} s): contacts are pressed {:.3g} of a radius deep, where a {} "
-        "contact's stiffest mode (its tangential spring's) has omega dt = {:.3g} at this time "
+        "contact's stiffest mode (its tangential, rolling or twisting spring's) has omega dt = "
+        "{:.3g} at this time "
         "step: above {} a dense frictional packing or an adhesive cluster can vibrate on its own "
         "and gain kinetic energy; {} "
         "(docs/contact_models.md, \"Deep contacts\")",
-        step_, time_, overlap_ratio, m.pair, omega_dt, deep_mode_bound,
+        step_, time_, std::max(0.0, overlap_ratio), m.pair, omega_dt, deep_mode_bound,
         dt_fixed_ > 0
             ? fmt::format("give time_step {:.3g} s or less", shorter)
             : fmt::format("raise steps_per_contact to {:.0f} or more (time step {:.3g} s)",

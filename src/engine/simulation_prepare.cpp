@@ -170,7 +170,7 @@ void Simulation<D>::choose_time_step() {
     const std::string rolling_hint =
         rule.limit_pair.find("+rolling") != std::string::npos
             ? "; its limit includes the epsd rolling and twisting springs' modes (omega_r up to "
-              "1.27 mu_r omega_n, omega_t up to 2.37 mu_t omega_n), which a lower "
+              "2.37 mu_r omega_n, omega_t up to 2.37 mu_t omega_n), which a lower "
               "rolling_friction or twisting_friction lifts"
             : "";
     const char* const rule_name = time_step_rule_name(rule.per_contact);

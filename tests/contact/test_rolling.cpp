@@ -283,9 +283,13 @@ TEST_CASE("rolling: the epsd torque, spring and dashpot together, stays within m
 }
 
 TEST_CASE("rolling: the epsd spring's own mode bounds the time step", "[rolling]") {
-  // omega_r <= 1.27 mu_r omega_n (a sphere on a wall): at mu_r = 20 the automatic
-  // step puts it far past leap-frog's limit, where the spin chatters step by step.
-  auto scene = [](double mu_r, double model) {
+  // The spring turns the sphere about its own centre (no friction here, and
+  // where friction holds the contact point): omega_r^2 = k_r / I =
+  // (2.25 / 0.4) mu_r^2 k_n / m, 2.37 mu_r omega_n on a wall. At mu_r = 20 the
+  // automatic step puts it far past leap-frog's limit, where the spin chatters
+  // step by step.
+  auto scene = [](double mu_r, double model, double time_step = 0, double w0 = 0,
+                  double* largest = nullptr) {
     Simulation<3> sim;
     sim.set_warning_handler([](const std::string&) {});
     sim.add_material({"p", density, 0, 0, 0});
@@ -305,15 +309,37 @@ TEST_CASE("rolling: the epsd spring's own mode bounds the time step", "[rolling]
     s.radius = radius;
     s.material = 0;
     s.position = {0, radius, 0};
-    sim.add_particle(s);
+    s.spin = {0, 0, w0};
+    const std::int64_t id = sim.add_particle(s);
+    if (time_step > 0) sim.set_time_step(time_step);
     sim.prepare();
+    if (largest) {  // the spin rings undamped for 2000 steps
+      for (int k = 0; k < 2000; ++k) {
+        sim.advance(1);
+        *largest = std::max(*largest, std::abs(sim.spin(id)[2]));
+      }
+    }
     return sim.time_step_rule().stability_limit;
   };
-  const double plain = scene(0.5, rolling_model::epsd);
-  CHECK(scene(2, rolling_model::epsd) == Approx(plain / (std::sqrt(2.25 / 1.4) * 2)));
+  const double plain = scene(0.3, rolling_model::epsd);  // ratio 0.71: the law's own limit
+  const double ratio = std::sqrt(2.25 / 0.4) * 0.7;
+  const double limit = scene(0.7, rolling_model::epsd);
+  CHECK(limit == Approx(plain / ratio));
+  CHECK(scene(2, rolling_model::epsd) == Approx(plain / (std::sqrt(2.25 / 0.4) * 2)));
   CHECK(scene(20, rolling_model::constant) == Approx(plain));  // no spring, no mode
   CHECK_THROWS_WITH(scene(20, rolling_model::epsd),
                     Catch::Contains("stability limit") && Catch::Contains("p-p"));
+  // The step that a bound with I + m r^2 (1.27 mu_r omega_n) let through at
+  // mu_r = 0.7 is refused: there omega_r dt = 1.5 ratio > 2 and the spin grows.
+  CHECK_THROWS_WITH(scene(0.7, rolling_model::epsd, 0.9 * plain),
+                    Catch::Contains("stability limit"));
+  // Within the limit the spring rings, undamped, at leap-frog's amplitude
+  // 1 / sqrt(1 - (omega dt / 2)^2) of w0 (1.15 at omega dt = 1), never growing.
+  double largest = 0;
+  const double w0 = 1;
+  scene(0.7, rolling_model::epsd, 0.5 * limit, w0, &largest);
+  INFO("largest spin " << largest << " rad/s of " << w0);
+  CHECK(largest <= 1.2 * w0);
 }
 
 namespace {
