@@ -11,13 +11,13 @@
 -- 0.01 rad/s. Prints the largest spin about the term's axis over 0.1 s
 -- (docs/contact_models.md, "Springs whose stiffness follows the overlap", has
 -- the table; tests/contact/test_twisting.cpp and test_rolling.cpp check it).
---   build/granule run tools/twist_pump.lua -D model=hertz_mindlin -D mu_t=0.211 -q
---   build/granule run tools/twist_pump.lua -D model=thornton_elastic -D mu_t=0.258 -q
---   build/granule run tools/twist_pump.lua -D term=rolling -D friction=0 -D mu_t=0.211 -q
---   build/granule run tools/twist_pump.lua -D term=rolling -D model=thornton_elastic -D mu_t=0.6 -q
+--   build/granule run tools/twist_pump.lua -D model=hertz_mindlin -D mu=0.211 -q
+--   build/granule run tools/twist_pump.lua -D model=thornton_elastic -D mu=0.258 -q
+--   build/granule run tools/twist_pump.lua -D term=rolling -D friction=0 -D mu=0.211 -q
+--   build/granule run tools/twist_pump.lua -D term=rolling -D model=thornton_elastic -D mu=0.6 -q
 local p = parameters {
   model = { default = "hertz_mindlin", doc = "hertz_mindlin (restitution 1) or thornton_elastic" },
-  mu_t = { default = 0.211, min = 0, doc = "the term's friction coefficient (mu_t, or mu_r)" },
+  mu = { default = 0.211, min = 0, doc = "the term's friction coefficient: mu_t, or mu_r" },
   term = { default = "twisting", doc = "twisting (spin about the floor's normal) or rolling (about z)" },
   friction = { default = 0.3, min = 0, doc = "Coulomb friction (0: a rolling sphere turns about its centre)" },
 }
@@ -29,7 +29,7 @@ local sim = simulation { dimension = 3 }
 sim:material { name = "bead", density = rho, young = e, poisson = nu }
 sim:material { name = "floor", density = 0, young = e, poisson = nu }
 local law = { "bead", "floor", model = p.model, friction = p.friction }
-law[p.term .. "_friction"] = p.mu_t
+law[p.term .. "_friction"] = p.mu
 if p.model == "hertz_mindlin" then law.restitution = 1 end
 sim:contact(law)
 sim:gravity { 0, -g, 0 }
@@ -46,4 +46,4 @@ local largest = 0
 sim:every { steps = 1, function(s) largest = math.max(largest, math.abs(s:particle(id).spin[axis])) end }
 sim:run { duration = 0.1 }
 print(string.format("twist_pump: %s, %s, mu %g: largest %s %.5g rad/s (started at 0.01)",
-                    p.term, p.model, p.mu_t, p.term == "twisting" and "twist" or "rocking spin", largest))
+                    p.term, p.model, p.mu, p.term == "twisting" and "twist" or "rocking spin", largest))

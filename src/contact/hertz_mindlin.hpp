@@ -170,6 +170,11 @@ struct HertzMindlin {
     const double tangential = p.friction > 0 ? 3.5 * 8 * p.shear_eff : 0.0;
     return std::max(2 * p.young_eff, tangential) * a / s.effective_mass;
   }
+  // The normal mode's alone (the rolling term scales it, rolling.hpp).
+  static double normal_mode_squared(const Params& p, const PairScale& s, double overlap) {
+    return 2 * p.young_eff * std::sqrt(s.effective_radius * std::max(overlap, 0.0)) /
+           s.effective_mass;
+  }
   // dN/da of the elastic part, 2 E* sqrt(R* a), for the rolling stiffness (rolling.hpp).
   static double normal_stiffness(const Params& p, double r_star, double overlap) {
     return overlap > 0 ? 2 * p.young_eff * std::sqrt(r_star * overlap) : 0.0;

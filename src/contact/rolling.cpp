@@ -25,7 +25,7 @@ std::vector<ParamSpec> rolling_parameters() {
        "law)"},
       {"twisting_friction", "-", 0, 0, unbounded, true,
        "twisting friction coefficient mu_t (3D): the torque about the contact normal is at most "
-       "mu_t R* N (0: no twisting resistance)"},
+       "mu_t R* N (N + 2Nc for thornton_jkr; 0: no twisting resistance)"},
       {"rolling_model", "-", rolling_model::epsd, 0, 1, true,
        "a name: \"epsd\" (default), elastic-plastic spring-dashpot, Ai et al. 2011 type C; "
        "\"constant\", constant torques mu_r R* N against the rolling and mu_t R* N against the "

@@ -48,13 +48,13 @@
 // write it), a spring is pumped up to its cap, undamped, by a normal load
 // ringing at about twice its frequency (a parametric resonance no normal force
 // pays for). Under the linear law the rolling spring holds M_k.
-// The EPSD springs add rotational modes. Where friction holds the contact
-// point the rolling spring turns each sphere about its own centre against its
-// own inertia (Ai's I_r = [1/(I_i + m_i r_i^2) + ...]^-1 is the slower
-// rocking about the contact point, which the dashpot is tuned to), so both
-// springs' stiffest modes are omega^2 = k / [1/I_i + 1/I_j]^-1; as that inertia
-// is >= 0.4 m* R*^2 for spheres (R* <= each radius; equality for a sphere on
-// a wall), omega_r <= sqrt(k_r-factor / 0.4) mu_r omega_n and omega_t <=
+// The EPSD springs add rotational modes. A sphere on a wall held by friction
+// rocks about the contact point (Ai's I_r = [1/(I_i + m_i r_i^2) + ...]^-1,
+// the inertia the dashpot is tuned to), but a sphere free to slip (no
+// friction), and two spheres turning in opposite senses, turn about their own
+// centres: omega^2 = k / [1/I_i + 1/I_j]^-1, the faster. As that inertia is
+// >= 0.4 m* R*^2 for spheres (R* <= each radius; equality for a sphere on a
+// wall), omega_r <= sqrt(k_r-factor / 0.4) mu_r omega_n and omega_t <=
 // sqrt(k_r-factor / 0.4) mu_t omega_n, which bound the stability limit
 // (2.37 mu times omega_n with the default 2.25).
 // N is the normal force kept >= 0; an adhesive law gives its own load and
@@ -162,6 +162,16 @@ struct has_mode_squared<
                                             std::declval<const PairScale&>(), 0.0))>>
     : std::true_type {};
 
+// Whether a law gives its normal mode's omega^2 at an overlap apart from its
+// stiffest one (normal_mode_squared).
+template <class M, class = void>
+struct has_normal_mode_squared : std::false_type {};
+template <class M>
+struct has_normal_mode_squared<
+    M, std::void_t<decltype(M::normal_mode_squared(std::declval<const typename M::Params&>(),
+                                                   std::declval<const PairScale&>(), 0.0))>>
+    : std::true_type {};
+
 // Whether a model carries the rolling term (the kernels add its torque).
 template <typename M, typename = void>
 struct has_rolling : std::false_type {};
@@ -260,14 +270,17 @@ struct WithRolling {
   }
   // The stiffest mode at an overlap, where the law says its own
   // (has_mode_squared): the law's, or the rolling and twisting springs' (up to
-  // `ratio` times its normal mode: the law's mode stands in for it, which can
-  // only overstate the springs').
+  // `ratio` times its normal mode; where the law does not give that apart,
+  // its stiffest mode stands in, which can only overstate the springs').
   template <class Base = M, class = std::enable_if_t<has_mode_squared<Base>::value>>
   static double mode_squared(const Params& p, const PairScale& s, double overlap) {
     const double base = Base::mode_squared(p.base, s, overlap);
     if (p.roll.model != rolling_model::epsd) return base;
     const double ratio = std::max(rolling_mode_ratio(p.roll), twisting_mode_ratio(p.roll));
-    return ratio > 1 ? base * ratio * ratio : base;
+    double normal = base;
+    if constexpr (has_normal_mode_squared<Base>::value)
+      normal = Base::normal_mode_squared(p.base, s, overlap);
+    return std::max(base, ratio * ratio * normal);
   }
   // The law's own limit, and the rolling and twisting springs': omega_r or omega_t
   // up to `ratio` times the normal mode's omega_n, so their limit is the normal

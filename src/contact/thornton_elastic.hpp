@@ -162,6 +162,11 @@ struct ThorntonElastic {
     return stiffest_mode_squared(p, s, std::sqrt(s.effective_radius * std::max(overlap, 0.0)),
                                  p.friction > 0);
   }
+  // The normal mode's alone (the rolling term scales it, rolling.hpp).
+  static double normal_mode_squared(const Params& p, const PairScale& s, double overlap) {
+    return stiffest_mode_squared(p, s, std::sqrt(s.effective_radius * std::max(overlap, 0.0)),
+                                 false);
+  }
   // The same for a contact radius a (thornton_jkr's, which a contact at zero load has
   // too); the tangential mode only where a tangential force can act.
   static double stiffest_mode_squared(const Params& p, const PairScale& s, double a,

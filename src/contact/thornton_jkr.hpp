@@ -151,6 +151,14 @@ struct ThorntonJkr {
     return ThorntonElastic::stiffest_mode_squared(p.elastic, s, a,
                                                   p.elastic.friction > 0 || p.surface_energy > 0);
   }
+  // The normal mode's alone (the rolling term scales it, rolling.hpp).
+  static double normal_mode_squared(const Params& p, const PairScale& s, double overlap) {
+    const double r_star = s.effective_radius, alpha = std::max(overlap, 0.0);
+    const double a = p.surface_energy > 0
+                         ? contact_radius_for(alpha, p.surface_energy, r_star, p.elastic.e_star, 0)
+                         : std::sqrt(r_star * alpha);
+    return ThorntonElastic::stiffest_mode_squared(p.elastic, s, a, false);
+  }
 
   // The load and normal stiffness that rolling and twisting resistance take
   // (rolling.hpp), after force() of the same step:

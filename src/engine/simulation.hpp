@@ -131,6 +131,7 @@ class Simulation final : public SimulationBase {
   StateBlob save_state() const override;
   void settle_moved_bonds() override;
   void load_state(const StateBlob& state) override;
+  std::string wound_legacy_rolling_springs(const StateBlob& saved) const override;
   // The diagnostics' accumulators and the contact tracking their events come
   // from (simulation_diagnostics.cpp).
   void save_diagnostics(StateBlob& blob) const override;

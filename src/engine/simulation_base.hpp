@@ -458,6 +458,11 @@ class SimulationBase {
   // particle at a time keeps its bonds.
   virtual void settle_moved_bonds() = 0;
   virtual void load_state(const StateBlob& state) = 0;
+  // Contact histories from a file (io/contact_histories.hpp) that lack the
+  // "rolling_springs" entry, as older builds wrote them: the first rolling
+  // law whose springs they hold wound as torques where this build holds
+  // M / sqrt(k) (rolling.hpp), or "" (nothing this build would misread).
+  virtual std::string wound_legacy_rolling_springs(const StateBlob& saved) const = 0;
   // The attached diagnostics' accumulators (simulation_diagnostics.cpp).
   // load_diagnostics() needs the same diagnostics attached, in the same order
   // and with the same options, and the particles' state loaded first.

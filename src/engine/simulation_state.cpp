@@ -323,6 +323,31 @@ StateBlob Simulation<D>::save_state() const {
 }
 
 template <int D>
+std::string Simulation<D>::wound_legacy_rolling_springs(const StateBlob& saved) const {
+  std::string found;
+  if (saved.integers.count("rolling_springs")) return found;
+  for_each_model([&](auto index) {
+    using M = ContactModelAt<decltype(index)::value>;
+    if constexpr (has_rolling<M>::value) {
+      if constexpr (M::rolling_spring_scaled) {
+        const std::string pk = fmt::format("pairs.{}.", M::name);
+        if (!found.empty() || !saved.bytes.count(pk + "history") ||
+            !saved.integers.count(pk + "layout") || saved.i(pk + "layout").size() < 2)
+          return;
+        std::vector<typename M::template History<D>> h;
+        try {
+          read_histories<D, M>(saved.b(pk + "history"), saved.i(pk + "layout")[1], h,
+                               pk + "history", false);
+        } catch (const InputError&) {
+          found = M::name;  // wound (or of another layout, which the seeding refuses)
+        }
+      }
+    }
+  });
+  return found;
+}
+
+template <int D>
 void Simulation<D>::load_state(const StateBlob& s) {
   const auto& meta = s.i("meta");
   if (meta.size() != 6)

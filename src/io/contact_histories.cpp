@@ -83,24 +83,18 @@ std::size_t seed_pair_histories(StateBlob& state, const StateBlob& saved,
           file, id));
     return it->second;
   };
+  if (saved.integers.count("rolling_springs") &&
+      saved.i("rolling_springs") != std::vector<std::int64_t>{1})
+    throw InputError(fmt::format(
+        "load_particles: {} says its rolling springs hold a form this build does not know "
+        "('rolling_springs' is not {{1}})",
+        file));
   std::size_t seeded = 0;
   for (const std::string& pk : pair_prefixes(saved)) {
     if (!state.integers.count(pk + "layout"))
       throw InputError(fmt::format(
           "load_particles: {} holds histories of the contact model '{}', which this build lacks",
           file, model_of(pk)));
-    // Rolling springs of builds that held their torque where the stiffness
-    // follows the overlap (every law's but the linear one): this build holds
-    // M / sqrt(k_r), and a file does not say each contact's k_r.
-    const std::string rolling = "+rolling", model = model_of(pk);
-    if (!saved.integers.count("rolling_springs") && model != "linear" + rolling &&
-        model.size() > rolling.size() &&
-        model.compare(model.size() - rolling.size(), rolling.size(), rolling) == 0)
-      throw InputError(fmt::format(
-          "load_particles: {} holds '{}' rolling springs as torques, as builds before this one "
-          "wrote them; this build holds them as M / sqrt(k_r) and cannot convert them: save the "
-          "histories again with this build, or load with histories = false",
-          file, model));
     const std::int64_t size = state.i(pk + "layout").at(1);
     if (saved.i(pk + "layout").at(1) != size)
       throw InputError(fmt::format(

@@ -277,6 +277,13 @@ int load_particles(lua_State* L, SimulationBase& sim) {
   if (use_histories) {
     // Through the engine's own state: the histories join its pair lists keyed
     // by id pair, and its next list rebuild gives each to its contact.
+    const std::string wound = sim.wound_legacy_rolling_springs(saved_histories);
+    if (!wound.empty())
+      throw InputError(fmt::format(
+          "load_particles: {} holds '{}' rolling springs wound as torques, as builds before "
+          "this one saved them; this build holds them as M / sqrt(k_r) and cannot convert "
+          "them: save the histories again with this build, or load with histories = false",
+          file, wound));
     sim.prepare();
     StateBlob state = sim.save_state();
     seeded = io::seed_pair_histories(state, saved_histories, renamed, file);

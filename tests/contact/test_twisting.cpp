@@ -334,6 +334,9 @@ TEST_CASE("twisting: a checkpoint of builds without the twisting torque restarts
     old.bytes[key + "history"] = cut;
     old.integers[key + "layout"][1] = sizeof(Old);
   }
+  // Nor did they say what their rolling springs held: the linear law's, M_k
+  // either way, are taken as they are (though wound, as checked above).
+  REQUIRE(old.integers.erase("rolling_springs") == 1);
   // Those builds' laws had no twisting_friction either.
   std::string& laws = old.texts.at("contacts");
   const std::string twist_entry = "\ttwisting_friction=0";
