@@ -102,13 +102,10 @@ struct RollingParams {
   double damping = 0;       // eta_r, for both dashpots
 };
 
-// The rolling and twisting springs' modes against the normal law's, at most
-// (the header above): omega_r / omega_n and omega_t / omega_n.
-inline double rolling_mode_ratio(const RollingParams& r) {
-  return std::sqrt(r.stiffness / 0.4) * r.friction;
-}
-inline double twisting_mode_ratio(const RollingParams& r) {
-  return std::sqrt(r.stiffness / 0.4) * r.twisting;
+// The rolling and twisting springs' stiffest mode against the normal law's,
+// at most (the header above): max(omega_r, omega_t) / omega_n.
+inline double spring_mode_ratio(const RollingParams& r) {
+  return std::sqrt(r.stiffness / 0.4) * std::max(r.friction, r.twisting);
 }
 
 // Whether model M states its normal stiffness at an overlap
@@ -276,7 +273,7 @@ struct WithRolling {
   static double mode_squared(const Params& p, const PairScale& s, double overlap) {
     const double base = Base::mode_squared(p.base, s, overlap);
     if (p.roll.model != rolling_model::epsd) return base;
-    const double ratio = std::max(rolling_mode_ratio(p.roll), twisting_mode_ratio(p.roll));
+    const double ratio = spring_mode_ratio(p.roll);
     double normal = base;
     if constexpr (has_normal_mode_squared<Base>::value)
       normal = Base::normal_mode_squared(p.base, s, overlap);
@@ -289,7 +286,7 @@ struct WithRolling {
   static double stability_limit(const Params& p, const PairScale& s) {
     const double base = M::stability_limit(p.base, s);
     if (p.roll.model != rolling_model::epsd) return base;
-    const double ratio = std::max(rolling_mode_ratio(p.roll), twisting_mode_ratio(p.roll));
+    const double ratio = spring_mode_ratio(p.roll);
     if (!(ratio > 1)) return base;
     double normal = base;
     if constexpr (has_normal_stability_limit<M>::value)
@@ -364,45 +361,14 @@ struct WithRolling {
     }
     const double lever = r.friction * c.effective_radius;
     const double k_r = r.stiffness * k_n * lever * lever;
-    // Where k_r follows the overlap the spring holds u = M_k / sqrt(k_r), its
-    // energy u^2 / 2, so that a change of k_r leaves that energy as it was
-    // (as the twisting spring, below): holding M_k, an undamped normal load
-    // ringing at twice the rolling mode's frequency pumped the rocking up to
-    // the cap. Unloaded (k_r = 0) it holds nothing. Under the linear law k_r
-    // is constant and the spring holds M_k itself, the same spring.
-    double root = 1;
-    if constexpr (rolling_spring_scaled) {
-      if (!(k_r > 0)) {
-        held = Dim<D>::zero_spin();
-        return held;
-      }
-      root = std::sqrt(k_r);
-    }
-    S spring;
-    if constexpr (D == 3)
-      spring = rotate_onto_plane<3>(held, c.normal);
-    else
-      spring = held;
-    if constexpr (rolling_spring_scaled) spring *= root;
-    spring -= k_r * c.dt * w_r;
-    const double spring_sq = Dim<D>::spin_sq(spring);
-    if (spring_sq > cap * cap) {  // fully mobilised: the spring slips at M_m, no dashpot
-      spring = spring * (cap / std::sqrt(spring_sq));
-      held = rolling_spring_scaled ? S(spring / root) : spring;
-      return spring;
-    }
-    held = rolling_spring_scaled ? S(spring / root) : spring;
-    if (r.damping == 0) return spring;
-    // The dashpot C_r = 2 eta_r sqrt(I_r k_r) acts on the particles' own inertia: at
-    // C_r dt (1/I_i + 1/I_j) > 1 one step would more than stop w_r and, past 2, make
-    // it grow step by step (a resting sphere spun up to the torque cap). Held at 1, a
-    // dashpot too strong for the step stops the relative spin in one step, as the
-    // constant model's torque does.
-    const double c_r =
-        std::min(2 * r.damping * std::sqrt(inertia * k_r), 1.0 / (inv_inertia_sum * c.dt));
-    const S total = spring - c_r * w_r;
-    const double total_sq = Dim<D>::spin_sq(total);
-    return total_sq > cap * cap ? S(total * (cap / std::sqrt(total_sq))) : total;
+    // Where k_r follows the overlap the spring holds M_k / sqrt(k_r) (as the
+    // twisting spring, below): holding M_k, an undamped normal load ringing at
+    // twice the rolling mode's frequency pumped the rocking up to the cap.
+    // Under the linear law k_r is constant and the spring holds M_k itself.
+    S carried = held;
+    if constexpr (D == 3) carried = rotate_onto_plane<3>(held, c.normal);
+    return spring_slider<rolling_spring_scaled, false>(held, carried, k_r, w_r, cap, r.damping,
+                                                       inertia, inv_inertia_sum, c.dt);
   }
 
   // The twisting torque along n on i, from the relative twist w_t = n . (w_i - w_j):
@@ -418,30 +384,69 @@ struct WithRolling {
     }
     const double lever = r.twisting * c.effective_radius;
     const double k_t = r.stiffness * k_n * lever * lever;
-    // The spring holds u = T / sqrt(k_t), its energy u^2 / 2, so that k_t
-    // changing with the overlap leaves that energy as it was: holding T, a
-    // normal load ringing at twice the twist's frequency pumped the twist up
-    // to the cap (a parametric resonance no normal force paid for). Unloaded
-    // (k_t = 0) it holds nothing.
-    if (!(k_t > 0)) {
-      held = 0;
-      return 0.0;
+    // I_t = 1 / (1/I_i + 1/I_j), the dashpot's inertia.
+    const double inertia = inv_inertia_sum > 0 ? 1.0 / inv_inertia_sum : 0.0;
+    return spring_slider<true, true>(held, held, k_t, w_t, cap, r.damping, inertia, inv_inertia_sum,
+                                     c.dt);
+  }
+
+  // Dim<D> of a spin value: a scalar is a 2D spin (or a twist), a vector a 3D one.
+  template <typename S>
+  using SpinOf = Dim<std::is_arithmetic_v<S> ? 2 : 3>;
+
+  // One step of an epsd spring-slider and its dashpot, on a rolling spring (a
+  // spin vector) or a twisting one (a scalar): `carried` is the spring as
+  // held, carried onto this step's tangent plane. Scaled, it holds the torque
+  // over sqrt(k), its energy u^2 / 2, so that k changing with the overlap
+  // leaves that energy as it was (holding the torque, a normal load ringing at
+  // twice the spring's frequency pumped it up to the cap: a parametric
+  // resonance no normal force paid for); unloaded (k = 0) it holds nothing.
+  // Signed: a twisting spring, compared with the cap by |T| and its sign.
+  // Returns the torque on i, at most `cap`: the spring slips there, with no
+  // dashpot (Ai's f = 0); below it the dashpot 2 eta sqrt(I k), held at what
+  // stops the relative spin w in one step (C dt (1/I_i + 1/I_j) > 1 would
+  // more than stop it and, past 2, make it grow step by step: a resting sphere
+  // spun up to the cap), as the constant model's torque is.
+  template <bool Scaled, bool Signed, typename S>
+  static S spring_slider(S& held, const S& carried, double k, const S& w, double cap,
+                         double damping, double inertia, double inv_inertia_sum, double dt) {
+    double root = 1;
+    if constexpr (Scaled) {
+      if (!(k > 0)) {
+        held = SpinOf<S>::zero_spin();  // a scalar, or a 3D spin
+        return held;
+      }
+      root = std::sqrt(k);
     }
-    const double root = std::sqrt(k_t);
-    double spring = held * root - k_t * c.dt * w_t;
-    if (std::abs(spring) > cap) {  // slips at M_t, no dashpot
-      spring = std::copysign(cap, spring);
-      held = spring / root;
+    S spring = carried;
+    if constexpr (Scaled) spring *= root;
+    spring -= k * dt * w;
+    if (beyond<Signed>(spring, cap)) {  // fully mobilised: the spring slips at the cap
+      spring = capped<Signed>(spring, cap);
+      held = Scaled ? S(spring / root) : spring;
       return spring;
     }
-    held = spring / root;
-    if (r.damping == 0) return spring;
-    // I_t = 1 / (1/I_i + 1/I_j); the dashpot held at what stops w_t in one step.
-    const double inertia = inv_inertia_sum > 0 ? 1.0 / inv_inertia_sum : 0.0;
-    const double c_t =
-        std::min(2 * r.damping * std::sqrt(inertia * k_t), 1.0 / (inv_inertia_sum * c.dt));
-    const double total = spring - c_t * w_t;
-    return std::abs(total) > cap ? std::copysign(cap, total) : total;
+    held = Scaled ? S(spring / root) : spring;
+    if (damping == 0) return spring;
+    const double c_d = std::min(2 * damping * std::sqrt(inertia * k), 1.0 / (inv_inertia_sum * dt));
+    const S total = spring - c_d * w;
+    return beyond<Signed>(total, cap) ? capped<Signed>(total, cap) : total;
+  }
+  // |v| > cap, and v brought to length cap: by |v|^2 for a spin (a 2D one is
+  // a scalar), by |v| and its sign for the twisting spring (Signed).
+  template <bool Signed, typename S>
+  static bool beyond(const S& v, double cap) {
+    if constexpr (Signed)
+      return std::abs(v) > cap;
+    else
+      return SpinOf<S>::spin_sq(v) > cap * cap;
+  }
+  template <bool Signed, typename S>
+  static S capped(const S& v, double cap) {
+    if constexpr (Signed)
+      return std::copysign(cap, v);
+    else
+      return S(v * (cap / std::sqrt(SpinOf<S>::spin_sq(v))));
   }
 };
 

@@ -142,22 +142,21 @@ struct ThorntonJkr {
   // omega^2 of the stiffest mode at an overlap: the JKR contact radius there, which
   // is a0 (Eq. 6.14 at N = 0) already at zero overlap.
   static double mode_squared(const Params& p, const PairScale& s, double overlap) {
-    const double r_star = s.effective_radius, alpha = std::max(overlap, 0.0);
-    const double a = p.surface_energy > 0
-                         ? contact_radius_for(alpha, p.surface_energy, r_star, p.elastic.e_star, 0)
-                         : std::sqrt(r_star * alpha);
     // Peeling resists sliding even at mu = 0 (Eqs. 6.18-6.21): a tangential mode
     // wherever the pair sticks or rubs.
-    return ThorntonElastic::stiffest_mode_squared(p.elastic, s, a,
+    return ThorntonElastic::stiffest_mode_squared(p.elastic, s, mode_radius(p, s, overlap),
                                                   p.elastic.friction > 0 || p.surface_energy > 0);
   }
   // The normal mode's alone (the rolling term scales it, rolling.hpp).
   static double normal_mode_squared(const Params& p, const PairScale& s, double overlap) {
+    return ThorntonElastic::stiffest_mode_squared(p.elastic, s, mode_radius(p, s, overlap), false);
+  }
+  // The contact radius the modes above take at an overlap.
+  static double mode_radius(const Params& p, const PairScale& s, double overlap) {
     const double r_star = s.effective_radius, alpha = std::max(overlap, 0.0);
-    const double a = p.surface_energy > 0
-                         ? contact_radius_for(alpha, p.surface_energy, r_star, p.elastic.e_star, 0)
-                         : std::sqrt(r_star * alpha);
-    return ThorntonElastic::stiffest_mode_squared(p.elastic, s, a, false);
+    return p.surface_energy > 0
+               ? contact_radius_for(alpha, p.surface_energy, r_star, p.elastic.e_star, 0)
+               : std::sqrt(r_star * alpha);
   }
 
   // The load and normal stiffness that rolling and twisting resistance take

@@ -42,12 +42,24 @@ void from_raw_bytes(const std::vector<std::uint8_t>& in, std::vector<T, A>& v,
   v.resize(in.size() / sizeof(T));
   if (!v.empty()) std::memcpy(static_cast<void*>(v.data()), in.data(), in.size());
 }
+// Whether histories of model M, written by builds that held the rolling
+// spring's torque M_k (no "rolling_springs" entry), hold one wound where this
+// build holds M_k / sqrt(k_r) (the law's stiffness follows the overlap): such
+// a spring cannot be converted without its contact's k_r.
+template <int D, typename M, typename A>
+bool wound_as_torques(const std::vector<typename M::template History<D>, A>& histories) {
+  if constexpr (has_rolling<M>::value) {
+    if constexpr (M::rolling_spring_scaled) {
+      for (const auto& h : histories)
+        if (Dim<D>::spin_sq(h.rolling) > 0) return true;
+    }
+  }
+  return false;
+}
 // A bucket's histories of `each` bytes: this build's records, or those of
 // builds before the twisting torque (is_history_without_twisting), read with
-// no twist held. `scaled_springs`: the checkpoint's rolling springs hold
-// M_k / sqrt(k_r) where the law's stiffness follows the overlap (the key
-// "rolling_springs"); those of older builds, which held M_k, cannot be
-// converted without each contact's k_r and are refused where one is wound.
+// no twist held. Without `scaled_springs` (the checkpoint's "rolling_springs"
+// entry) a wound spring of an older build is refused (wound_as_torques).
 template <int D, typename M, typename A>
 void read_histories(const std::vector<std::uint8_t>& in, std::int64_t each,
                     std::vector<typename M::template History<D>, A>& out, const std::string& what,
@@ -69,20 +81,14 @@ void read_histories(const std::vector<std::uint8_t>& in, std::int64_t each,
           fmt::format("checkpoint: {} histories have another layout (another build?)", M::name));
     from_raw_bytes(in, out, what);
   }
-  if constexpr (has_rolling<M>::value) {
-    if constexpr (M::rolling_spring_scaled) {
-      if (scaled_springs) return;
-      for (const auto& h : out)
-        if (Dim<D>::spin_sq(h.rolling) > 0)
-          throw InputError(fmt::format(
-              "checkpoint: '{}' holds {} rolling springs as torques (it has no "
-              "'rolling_springs' entry), as builds before this one did; this build holds "
-              "them as M / sqrt(k_r) (docs/contact_models.md, "
-              "\"Springs whose stiffness follows the overlap\") and cannot convert a wound "
-              "one: restart with the build that wrote the checkpoint, or run the scene afresh",
-              what, M::name));
-    }
-  }
+  if (!scaled_springs && wound_as_torques<D, M>(out))
+    throw InputError(fmt::format(
+        "checkpoint: '{}' holds {} rolling springs as torques (it has no 'rolling_springs' "
+        "entry), as builds before this one did; this build holds them as M / sqrt(k_r) "
+        "(docs/contact_models.md, \"Springs whose stiffness follows the overlap\") and cannot "
+        "convert a wound one: restart with the build that wrote the checkpoint, or run the "
+        "scene afresh",
+        what, M::name));
 }
 template <typename T, typename A>
 std::vector<std::int64_t> to_i64(const std::vector<T, A>& v) {
@@ -331,16 +337,15 @@ std::string Simulation<D>::wound_legacy_rolling_springs(const StateBlob& saved) 
     if constexpr (has_rolling<M>::value) {
       if constexpr (M::rolling_spring_scaled) {
         const std::string pk = fmt::format("pairs.{}.", M::name);
+        // Records of another size are refused by the seeding itself.
         if (!found.empty() || !saved.bytes.count(pk + "history") ||
-            !saved.integers.count(pk + "layout") || saved.i(pk + "layout").size() < 2)
+            !saved.integers.count(pk + "layout") || saved.i(pk + "layout").size() < 2 ||
+            !is_known_history_layout<D, M>(saved.i(pk + "layout")[1]))
           return;
         std::vector<typename M::template History<D>> h;
-        try {
-          read_histories<D, M>(saved.b(pk + "history"), saved.i(pk + "layout")[1], h,
-                               pk + "history", false);
-        } catch (const InputError&) {
-          found = M::name;  // wound (or of another layout, which the seeding refuses)
-        }
+        read_histories<D, M>(saved.b(pk + "history"), saved.i(pk + "layout")[1], h, pk + "history",
+                             true);
+        if (wound_as_torques<D, M>(h)) found = M::name;
       }
     }
   });
