@@ -33,6 +33,7 @@ local p = parameters {
   allow_tension = { default = 1, integer = true, min = 0, max = 1, unit = "-", doc = "linear: 1 the dashpot may pull at the end of an impact; 0 N >= 0" },
   calibrate_restitution = { default = 1, integer = true, min = 0, max = 1, unit = "-", doc = "hertz_mindlin: 1 damping solved for e; 0 the EDEM/LIGGGHTS formula" },
   shrink_rescale = { default = 0, integer = true, min = 0, max = 1, unit = "-", doc = "Thornton models: 1 scales T, T*, T** with the contact radius while N falls" },
+  start_gap = { default = 0.01, above = 0, max = 1, unit = "-", doc = "distance closed before touching, as a fraction of the radius: moves where within a step the contact starts" },
 }
 
 assert(p.angle >= 0 and p.angle < 90, "angle must be in [0, 90) degrees")
@@ -87,10 +88,10 @@ if p.model == "walton_braun" then
   one_contact = math.max(one_contact, impact.walton_braun_duration { mass = m_eff, k_load = p.k_load,
                                                                      restitution = p.restitution })
 end
--- The bodies close 1 % of r along the line of centres before they touch
--- (1 % of r apart when head-on), in at most one contact's time, and touch
--- with the line of centres along x, so the angle at contact is `angle`.
-local lead_time = impact.lead_time { gap = 0.01 * r, velocity = p.velocity, angle_deg = p.angle, cap = one_contact }
+-- The bodies close start_gap r (default 1 % of r) along the line of centres
+-- before they touch, in at most one contact's time, and touch with the line
+-- of centres along x, so the angle at contact is `angle`.
+local lead_time = impact.lead_time { gap = p.start_gap * r, velocity = p.velocity, angle_deg = p.angle, cap = one_contact }
 local start = impact.start { radius = r, velocity = p.velocity, angle_deg = p.angle, lead_time = lead_time,
                              target = p.target, dimension = p.dimension }
 local spin = p.dimension == 3 and { 0, 0, p.spin } or p.spin
