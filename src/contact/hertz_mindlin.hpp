@@ -188,8 +188,11 @@ struct HertzMindlin {
   // spheres chatter at mu N, piles creep, oblique impacts gain spin). So c_t is
   // capped there at m_t / dt: at most it stops the slip within a step. Below the
   // cap (every e the default step resolves) c_t is untouched, bit for bit.
-  static double tangential_damping(double c_t, double dt, double inv_mass_sum) {
-    return c_t / std::max(1.0, 3.5 * c_t * dt * inv_mass_sum);
+  // Written as min(c_t, m* / (3.5 dt)): per_slip_step is 1 / (3.5 dt) (1/s),
+  // taken once per step or batch, so no division per contact.
+  static double per_slip_step(double dt) { return 1.0 / (3.5 * dt); }
+  static double tangential_damping(double c_t, double effective_mass, double per_slip_step) {
+    return std::min(c_t, effective_mass * per_slip_step);
   }
 
   template <int D>
@@ -224,7 +227,8 @@ struct HertzMindlin {
     if (p.shrink_rescale) slip *= shrink_factor(c.overlap, c.normal_velocity, c.dt);
     slip += c.tangential_velocity * c.dt;
     // damp sqrt(S_t m*), its impulse a step at most what stops the slip: tangential_damping.
-    const double c_t = tangential_damping(c_n * p.tangential_dashpot_ratio, c.dt, c.inv_mass_sum);
+    const double c_t =
+        tangential_damping(c_n * p.tangential_dashpot_ratio, c.effective_mass, per_slip_step(c.dt));
     Vec<D> t = s_t * slip + c_t * c.tangential_velocity;
     const double limit = p.friction * normal;
     const double t_sq = t.squaredNorm();

@@ -62,7 +62,8 @@ namespace hertz_mindlin_lanes {
 // The normal force of lane l (the dashpot at the step's own time, as force()
 // solves it) and the tangential stiffness S_t and damping c_t.
 template <typename P, typename Batch>
-inline double normal_force(const P& q, const Batch& c, int l, double& s_t, double& c_t) {
+inline double normal_force(const P& q, const Batch& c, int l, double per_slip_step, double& s_t,
+                           double& c_t) {
   const double effective_mass = 1.0 / c.inv_mass_sum[l];
   const double root = std::sqrt(c.effective_radius[l] * c.overlap[l]);  // contact radius a
   const double s_n = 2 * q.young(l) * root;
@@ -72,7 +73,7 @@ inline double normal_force(const P& q, const Batch& c, int l, double& s_t, doubl
   const double normal = ((2.0 / 3.0) * s_n * c.overlap[l] + c_n * c.normal_velocity[l]) /
                         (1 + k + std::max(0.0, k - 1));
   s_t = 8 * q.shear(l) * root;
-  c_t = HertzMindlin::tangential_damping(c_n * q.ratio(l), c.dt, c.inv_mass_sum[l]);
+  c_t = HertzMindlin::tangential_damping(c_n * q.ratio(l), effective_mass, per_slip_step);
   return normal < 0 ? 0.0 : normal;
 }
 
@@ -94,8 +95,9 @@ inline void lanes_3d(const P& q, HertzMindlin::BatchHistory3& h, ContactBatch<3>
   alignas(64) double stiffness_t[L], damping_t[L];
   // Two loops, as the linear law's: in one, GCC 12 vectorises neither (the
   // roots and divisions then run one lane at a time).
+  const double per_slip_step = HertzMindlin::per_slip_step(dt);
   for (int l = 0; l < L; ++l)
-    c.normal_force[l] = normal_force(q, c, l, stiffness_t[l], damping_t[l]);
+    c.normal_force[l] = normal_force(q, c, l, per_slip_step, stiffness_t[l], damping_t[l]);
   rotate_lanes_onto_plane(c, h.sx, h.sy, h.sz, rx, ry, rz);
   if constexpr (Rescaled) {
     alignas(64) double factor[L];
@@ -127,11 +129,12 @@ inline void lanes_3d(const P& q, HertzMindlin::BatchHistory3& h, ContactBatch<3>
 template <bool Rescaled, typename P>
 inline void lanes_2d(const P& q, HertzMindlin::BatchHistory2& h, ContactBatch<2>& c) {
   const double dt = c.dt;
+  const double per_slip_step = HertzMindlin::per_slip_step(dt);
   alignas(64) double factor[batch_lanes];
   if constexpr (Rescaled) shrink_factors(q, c, factor);
   for (int l = 0; l < batch_lanes; ++l) {
     double s_t, c_t;
-    const double normal = normal_force(q, c, l, s_t, c_t);
+    const double normal = normal_force(q, c, l, per_slip_step, s_t, c_t);
     c.normal_force[l] = normal;
     // rotate_onto_plane<2>: |old| along +t or -t, the side old projects to.
     const double nx = c.nx[l], ny = c.ny[l];
