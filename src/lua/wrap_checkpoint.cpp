@@ -159,8 +159,12 @@ std::string continue_hint(const SceneContext* ctx, const std::string& checkpoint
     if (ctx->checkpoint_every_seconds > 0)
       again += fmt::format(" --checkpoint-every {:g}", ctx->checkpoint_every_seconds);
   }
-  return fmt::format("; checkpoint written to {}; continue with: granule run {} --restart {}",
-                     checkpoint, again, checkpoint);
+  // A run spread over ranks: the command names the rank count it ran on (any
+  // count restarts it, docs/parallel.md).
+  const std::string launcher =
+      ctx && ctx->ranks > 1 ? fmt::format("mpirun -np {} ", ctx->ranks) : std::string();
+  return fmt::format("; checkpoint written to {}; continue with: {}granule run {} --restart {}",
+                     checkpoint, launcher, again, checkpoint);
 }
 
 std::string checkpoint_between_runs(SceneContext& ctx) {

@@ -10,7 +10,7 @@
 # - a stop criterion that fails on one rank only ends every rank with that
 #   rank's error, not an MPI error alone;
 # - SIGTERM sent to rank 1 alone stops every rank, each naming SIGTERM, and
-#   the run exits with 143.
+#   the run exits with 143; rank 0 says how to continue, under mpirun.
 set -eu
 granule=$1
 src=$2
@@ -53,5 +53,8 @@ wait $launched || status=$?
 test "$status" = 143 || { echo "exit status $status, expected 143"; cat signal.err; exit 1; }
 grep -q "rank 0 of 2: .*SIGTERM" signal.err || { cat signal.err; exit 1; }
 ! grep -q "Ctrl-C" signal.err || { echo "a rank named Ctrl-C"; cat signal.err; exit 1; }
+# Rank 0's way to continue names the launcher and the rank count.
+grep -q "continue with: mpirun -np 2 granule run " signal.err ||
+  { echo "no 'continue with: mpirun -np 2' hint"; cat signal.err; exit 1; }
 echo "a signal to one rank stops them all, named"
 echo "ranks_disagree ok"
