@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <string_view>
 
 #include "contact/parameters.hpp"
 #include "core/errors.hpp"
@@ -13,6 +15,19 @@ namespace granule::lua {
 
 std::string type_name(lua_State* L, int index) {
   return luaL_typename(L, index);
+}
+
+bool is_library_source(const char* source) {
+  // The directory scene.cpp puts on package.path, as Lua names its files.
+  static const std::string prefix = [] {
+    const char* env = std::getenv("GRANULE_LUA_PATH");
+    return "@" + std::string(env ? env : GRANULE_LUA_DIR) + "/granule";
+  }();
+  if (!source) return false;
+  const std::string_view s(source);
+  if (s.size() <= prefix.size() || s.compare(0, prefix.size(), prefix) != 0) return false;
+  const std::string_view rest = s.substr(prefix.size());
+  return rest.front() == '/' || rest == ".lua";
 }
 
 namespace {

@@ -27,16 +27,29 @@ struct ScriptError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Pushes "file:line: " of the nearest script line calling into C (the first level
-// of the stack that runs Lua code), or "" if none: bindings are reached through
-// wrappers (the arity check, the journal), which are C levels of their own.
+// Whether a chunk's source ("@path") is a file of Granule's own Lua package
+// (granule/ or granule.lua under $GRANULE_LUA_PATH, else the built-in lua/).
+bool is_library_source(const char* source);
+
+// Pushes "file:line: " of the nearest script line calling into C, or "" if none:
+// the first level of the stack that runs Lua code outside Granule's own package
+// (a stage that granule.stage ran is the scene's line that called it), else
+// the first that runs Lua code at all. Bindings are reached through wrappers
+// (the arity check, the journal), which are C levels of their own.
 inline void push_script_where(lua_State* L) {
   lua_Debug ar;
+  int first = 0;
   for (int level = 1; lua_getstack(L, level, &ar); ++level) {
-    if (lua_getinfo(L, "Sl", &ar) && ar.currentline > 0) {
+    if (!lua_getinfo(L, "Sl", &ar) || ar.currentline <= 0) continue;
+    if (!first) first = level;
+    if (!is_library_source(ar.source)) {
       lua_pushfstring(L, "%s:%d: ", ar.short_src, ar.currentline);
       return;
     }
+  }
+  if (first && lua_getstack(L, first, &ar) && lua_getinfo(L, "Sl", &ar)) {
+    lua_pushfstring(L, "%s:%d: ", ar.short_src, ar.currentline);
+    return;
   }
   lua_pushliteral(L, "");
 }

@@ -240,6 +240,21 @@ sim:run { steps = 5 }
                  8, "boom");
 }
 
+TEST_CASE("lua: an error in a call that Granule's own package makes names the scene's line",
+          "[lua][errors]") {
+  // granule.stage (lua/granule/init.lua) runs sim:run, which refuses the value:
+  // the message points at the scene's call, not at the package's line.
+  const std::string body = R"(local granule = require "granule"
+sim:add_particle { position = {0, 0}, radius = 1e-3, material = "glass" }
+granule.stage(sim, { name = "bad", steps = 5, check_every = -1 })
+)";
+  expect_refused(body, 8, "check_every");
+  const auto r = run_scene(std::string(header) + body);
+  const std::string first_line = r.error.substr(0, r.error.find('\n'));
+  CHECK_THAT(first_line, Catch::StartsWith(r.path + ":8:"));
+  CHECK_THAT(first_line, !Catch::Contains("init.lua"));
+}
+
 TEST_CASE("lua: -D overrides declared parameters and refuses unknown ones", "[lua][parameters]") {
   const std::string scene =
       R"(local p = parameters { speed = { default = 1.0, unit = "m/s" }, label = "a", flag = false }
