@@ -33,7 +33,7 @@ local p = parameters {
   allow_tension = { default = 1, integer = true, min = 0, max = 1, unit = "-", doc = "linear: 1 the dashpot may pull at the end of an impact; 0 N >= 0" },
   calibrate_restitution = { default = 1, integer = true, min = 0, max = 1, unit = "-", doc = "hertz_mindlin: 1 damping solved for e; 0 the EDEM/LIGGGHTS formula" },
   shrink_rescale = { default = 0, integer = true, min = 0, max = 1, unit = "-", doc = "Thornton models: 1 scales T, T*, T** with the contact radius while N falls" },
-  start_gap = { default = 0.01, above = 0, max = 1, unit = "-", doc = "distance closed before touching, as a fraction of the radius: moves where within a step the contact starts" },
+  start_gap = { default = 0.01, above = 0, max = 1, unit = "-", doc = "distance closed before touching, as a fraction of the radius (at most what one contact time closes): moves where within a step the contact starts" },
 }
 
 assert(p.angle >= 0 and p.angle < 90, "angle must be in [0, 90) degrees")

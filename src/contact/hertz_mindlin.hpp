@@ -189,7 +189,7 @@ struct HertzMindlin {
   // capped there at m_t / dt: at most it stops the slip within a step. Below the
   // cap (every e the default step resolves) c_t is untouched, bit for bit.
   // Written as min(c_t, m* / (3.5 dt)): per_slip_step is 1 / (3.5 dt) (1/s),
-  // taken once per step or batch, so no division per contact.
+  // which the batch takes once, so its lanes divide once fewer per contact.
   static double per_slip_step(double dt) { return 1.0 / (3.5 * dt); }
   static double tangential_damping(double c_t, double effective_mass, double per_slip_step) {
     return std::min(c_t, effective_mass * per_slip_step);
