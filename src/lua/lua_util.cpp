@@ -17,12 +17,14 @@ std::string type_name(lua_State* L, int index) {
   return luaL_typename(L, index);
 }
 
+std::string library_dir() {
+  const char* env = std::getenv("GRANULE_LUA_PATH");
+  return env ? env : GRANULE_LUA_DIR;
+}
+
 bool is_library_source(const char* source) {
-  // The directory scene.cpp puts on package.path, as Lua names its files.
-  static const std::string prefix = [] {
-    const char* env = std::getenv("GRANULE_LUA_PATH");
-    return "@" + std::string(env ? env : GRANULE_LUA_DIR) + "/granule";
-  }();
+  // As Lua names the package's files from package.path's "DIR/?.lua;DIR/?/init.lua".
+  static const std::string prefix = "@" + library_dir() + "/granule";
   if (!source) return false;
   const std::string_view s(source);
   if (s.size() <= prefix.size() || s.compare(0, prefix.size(), prefix) != 0) return false;

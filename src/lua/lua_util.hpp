@@ -27,8 +27,11 @@ struct ScriptError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Whether a chunk's source ("@path") is a file of Granule's own Lua package
-// (granule/ or granule.lua under $GRANULE_LUA_PATH, else the built-in lua/).
+// The directory of Granule's Lua package: $GRANULE_LUA_PATH, else the
+// source tree's lua/ (what scene.cpp puts on package.path).
+std::string library_dir();
+// Whether a chunk's source ("@path") is a file of that package (granule/ or
+// granule.lua under library_dir()).
 bool is_library_source(const char* source);
 
 // Pushes "file:line: " of the nearest script line calling into C, or "" if none:
@@ -37,21 +40,20 @@ bool is_library_source(const char* source);
 // the first that runs Lua code at all. Bindings are reached through wrappers
 // (the arity check, the journal), which are C levels of their own.
 inline void push_script_where(lua_State* L) {
-  lua_Debug ar;
-  int first = 0;
+  lua_Debug ar, first;
+  bool found = false;
   for (int level = 1; lua_getstack(L, level, &ar); ++level) {
     if (!lua_getinfo(L, "Sl", &ar) || ar.currentline <= 0) continue;
-    if (!first) first = level;
+    if (!found) first = ar, found = true;
     if (!is_library_source(ar.source)) {
-      lua_pushfstring(L, "%s:%d: ", ar.short_src, ar.currentline);
-      return;
+      first = ar;
+      break;
     }
   }
-  if (first && lua_getstack(L, first, &ar) && lua_getinfo(L, "Sl", &ar)) {
-    lua_pushfstring(L, "%s:%d: ", ar.short_src, ar.currentline);
-    return;
-  }
-  lua_pushliteral(L, "");
+  if (found)
+    lua_pushfstring(L, "%s:%d: ", first.short_src, first.currentline);
+  else
+    lua_pushliteral(L, "");
 }
 
 // luaL_error with push_script_where's position instead of level 1's.

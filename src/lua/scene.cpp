@@ -409,8 +409,7 @@ lua_State* new_state(SceneContext* ctx) {
   lua_pushlightuserdata(L, ctx);
   lua_setfield(L, LUA_REGISTRYINDEX, context_key);
   // lua/ of the source tree (or $GRANULE_LUA_PATH) on package.path.
-  const char* env = std::getenv("GRANULE_LUA_PATH");
-  std::string dir = env ? env : GRANULE_LUA_DIR;
+  const std::string dir = library_dir();
   lua_getglobal(L, "package");
   lua_getfield(L, -1, "path");
   std::string path = fmt::format("{0}/?.lua;{0}/?/init.lua;{1}", dir, lua_tostring(L, -1));

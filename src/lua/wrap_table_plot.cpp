@@ -161,9 +161,8 @@ int l_plot(lua_State* L) {
     // output (the path the output names is rank 0's file).
     file = io::writable_path(file);
     const std::string source = io::readable_path(out.string());
-    const char* lua_dir = std::getenv("GRANULE_LUA_PATH");
     const std::filesystem::path tools =
-        std::filesystem::path(lua_dir ? lua_dir : GRANULE_LUA_DIR).parent_path() / "tools";
+        std::filesystem::path(library_dir()).parent_path() / "tools";
     const char* python_env = std::getenv("GRANULE_PYTHON");
     const std::string python = python_env && *python_env ? python_env : "/usr/bin/python3";
     std::vector<std::string> args{
